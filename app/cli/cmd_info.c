@@ -1,0 +1,202 @@
+/* `sinew info FILE [--json]`: what a model file holds. */
+#include <stdlib.h>
+#include <string.h>
+
+#include <cjson/cJSON.h>
+
+#include "cli.h"
+
+static const char info_usage[] =
+    "usage: sinew info FILE [--json]\n"
+    "\n"
+    "Prints what FILE holds as sinew reads it: node, joint, mesh, vertex, triangle, skin, material and\n"
+    "clip counts; each mesh; each clip with its duration in seconds and its key counts; the node tree\n"
+    "with joints marked; and the import warnings (dropped dummy meshes, missing textures, ...).\n"
+    "\n"
+    "  --json   the same as one JSON object: {\"file\", \"format\", \"counts\": {...}, \"meshes\": [...],\n"
+    "           \"clips\": [{\"index\", \"name\", \"duration\", \"tracks\", \"keys\": {...}}], \"nodes\":\n"
+    "           [{\"name\", \"parent\", \"joint\"}], \"warnings\": [...]}\n";
+
+typedef struct counts {
+    uint32_t joints, vertices, triangles, bones, skinned;
+} counts;
+
+static counts count_model(const sinew_model *m)
+{
+    counts c = {0};
+    for (uint32_t n = 0; n < m->node_count; n++)
+        c.joints += sinew_model_node_is_joint(m, n);
+    for (uint32_t i = 0; i < m->mesh_count; i++) {
+        c.vertices += m->meshes[i].vertex_count;
+        c.triangles += m->meshes[i].index_count / 3;
+        if (m->meshes[i].skin >= 0) {
+            c.skinned++;
+            c.bones += m->skins[m->meshes[i].skin].joint_count;
+        }
+    }
+    return c;
+}
+
+static void clip_keys(const sinew_clip *clip, uint32_t keys[SINEW_CHANNEL_COUNT])
+{
+    memset(keys, 0, SINEW_CHANNEL_COUNT * sizeof keys[0]);
+    for (uint32_t t = 0; t < clip->track_count; t++)
+        for (int k = 0; k < SINEW_CHANNEL_COUNT; k++)
+            keys[k] += clip->tracks[t].channels[k].key_count;
+}
+
+static void print_tree(const sinew_model *m, int32_t parent, int depth)
+{
+    for (uint32_t n = 0; n < m->node_count; n++) {
+        if (m->node_parents[n] != parent)
+            continue;
+        bool has_mesh = false;
+        for (uint32_t i = 0; i < m->instance_count; i++)
+            has_mesh |= m->instances[i].node == n;
+        printf("  %*s%s%s%s\n", depth * 2, "", m->node_names[n], sinew_model_node_is_joint(m, n) ? "  [joint]" : "",
+               has_mesh ? "  [mesh]" : "");
+        print_tree(m, (int32_t)n, depth + 1);
+    }
+}
+
+static void print_text(const sinew_model *m)
+{
+    counts c = count_model(m);
+    printf("file:       %s\n", m->source);
+    printf("format:     %s\n", m->format);
+    printf("nodes:      %u (%u joints)\n", m->node_count, c.joints);
+    printf("meshes:     %u (%u skinned), %u instances, %u vertices, %u triangles\n", m->mesh_count, c.skinned,
+           m->instance_count, c.vertices, c.triangles);
+    printf("skins:      %u (%u bones in all)\n", m->skin_count, c.bones);
+    printf("materials:  %u\n", m->material_count);
+    printf("clips:      %u\n", m->clip_count);
+    for (uint32_t i = 0; i < m->clip_count; i++) {
+        uint32_t keys[SINEW_CHANNEL_COUNT];
+        clip_keys(&m->clips[i], keys);
+        printf("  %u  \"%s\"  %.4f s  %u tracks  keys: %u translation, %u rotation, %u scale\n", i, m->clips[i].name,
+               (double)m->clips[i].duration, m->clips[i].track_count, keys[0], keys[1], keys[2]);
+    }
+    for (uint32_t i = 0; i < m->mesh_count; i++) {
+        const sinew_mesh *mesh = &m->meshes[i];
+        printf("mesh %u  \"%s\"  %u vertices, %u triangles", i, mesh->name, mesh->vertex_count, mesh->index_count / 3);
+        if (mesh->skin >= 0)
+            printf(", skinned: %u joints, up to %u influences", m->skins[mesh->skin].joint_count, mesh->influence_count);
+        else
+            printf(", rigid");
+        if (mesh->material >= 0)
+            printf(", material \"%s\"", m->materials[mesh->material].name);
+        printf("\n");
+    }
+    printf("node tree:\n");
+    print_tree(m, -1, 0);
+    printf("warnings:   %u\n", m->warning_count);
+    for (uint32_t i = 0; i < m->warning_count; i++)
+        printf("  %s\n", m->warnings[i]);
+}
+
+static cJSON *info_json(const sinew_model *m)
+{
+    counts c = count_model(m);
+    cJSON *root = cJSON_CreateObject();
+    cJSON_AddStringToObject(root, "file", m->source);
+    cJSON_AddStringToObject(root, "format", m->format);
+    cJSON *cn = cJSON_AddObjectToObject(root, "counts");
+    cJSON_AddNumberToObject(cn, "nodes", m->node_count);
+    cJSON_AddNumberToObject(cn, "joints", c.joints);
+    cJSON_AddNumberToObject(cn, "meshes", m->mesh_count);
+    cJSON_AddNumberToObject(cn, "instances", m->instance_count);
+    cJSON_AddNumberToObject(cn, "vertices", c.vertices);
+    cJSON_AddNumberToObject(cn, "triangles", c.triangles);
+    cJSON_AddNumberToObject(cn, "skins", m->skin_count);
+    cJSON_AddNumberToObject(cn, "bones", c.bones);
+    cJSON_AddNumberToObject(cn, "materials", m->material_count);
+    cJSON_AddNumberToObject(cn, "clips", m->clip_count);
+
+    cJSON *meshes = cJSON_AddArrayToObject(root, "meshes");
+    for (uint32_t i = 0; i < m->mesh_count; i++) {
+        const sinew_mesh *mesh = &m->meshes[i];
+        cJSON *o = cJSON_CreateObject();
+        cJSON_AddStringToObject(o, "name", mesh->name);
+        cJSON_AddNumberToObject(o, "vertices", mesh->vertex_count);
+        cJSON_AddNumberToObject(o, "triangles", mesh->index_count / 3);
+        cJSON_AddBoolToObject(o, "skinned", mesh->skin >= 0);
+        cJSON_AddNumberToObject(o, "joints", mesh->skin >= 0 ? m->skins[mesh->skin].joint_count : 0);
+        cJSON_AddNumberToObject(o, "influences", mesh->influence_count);
+        if (mesh->material >= 0)
+            cJSON_AddStringToObject(o, "material", m->materials[mesh->material].name);
+        else
+            cJSON_AddNullToObject(o, "material");
+        cJSON_AddItemToArray(meshes, o);
+    }
+    cJSON *clips = cJSON_AddArrayToObject(root, "clips");
+    for (uint32_t i = 0; i < m->clip_count; i++) {
+        uint32_t keys[SINEW_CHANNEL_COUNT];
+        clip_keys(&m->clips[i], keys);
+        cJSON *o = cJSON_CreateObject();
+        cJSON_AddNumberToObject(o, "index", i);
+        cJSON_AddStringToObject(o, "name", m->clips[i].name);
+        cJSON_AddNumberToObject(o, "duration", m->clips[i].duration);
+        cJSON_AddNumberToObject(o, "tracks", m->clips[i].track_count);
+        cJSON *k = cJSON_AddObjectToObject(o, "keys");
+        cJSON_AddNumberToObject(k, "translation", keys[0]);
+        cJSON_AddNumberToObject(k, "rotation", keys[1]);
+        cJSON_AddNumberToObject(k, "scale", keys[2]);
+        cJSON_AddItemToArray(clips, o);
+    }
+    cJSON *nodes = cJSON_AddArrayToObject(root, "nodes");
+    for (uint32_t n = 0; n < m->node_count; n++) {
+        cJSON *o = cJSON_CreateObject();
+        cJSON_AddStringToObject(o, "name", m->node_names[n]);
+        if (m->node_parents[n] >= 0)
+            cJSON_AddStringToObject(o, "parent", m->node_names[m->node_parents[n]]);
+        else
+            cJSON_AddNullToObject(o, "parent");
+        cJSON_AddBoolToObject(o, "joint", sinew_model_node_is_joint(m, n));
+        cJSON_AddItemToArray(nodes, o);
+    }
+    cJSON *warnings = cJSON_AddArrayToObject(root, "warnings");
+    for (uint32_t i = 0; i < m->warning_count; i++)
+        cJSON_AddItemToArray(warnings, cJSON_CreateString(m->warnings[i]));
+    return root;
+}
+
+int cmd_info(int argc, char **argv)
+{
+    const char *path = NULL;
+    bool json = false;
+    for (int i = 1; i < argc; i++) {
+        if (cli_is_help(argv[i])) {
+            fputs(info_usage, stdout);
+            return EXIT_OK;
+        } else if (strcmp(argv[i], "--json") == 0) {
+            json = true;
+        } else if (argv[i][0] == '-' && argv[i][1]) {
+            cli_error("info: unknown option \"%s\"\n%s", argv[i], info_usage);
+            return EXIT_USAGE;
+        } else if (!path) {
+            path = argv[i];
+        } else {
+            cli_error("info: one FILE only (got \"%s\" and \"%s\")", path, argv[i]);
+            return EXIT_USAGE;
+        }
+    }
+    if (!path) {
+        cli_error("info: no FILE given\n%s", info_usage);
+        return EXIT_USAGE;
+    }
+    sinew_model *model = cli_load_model(path);
+    if (!model)
+        return EXIT_BAD_INPUT;
+    if (json) {
+        cJSON *root = info_json(model);
+        char *text = cJSON_Print(root);
+        if (text)
+            puts(text);
+        free(text);
+        cJSON_Delete(root);
+    } else {
+        print_text(model);
+    }
+    sinew_model_free(model);
+    return EXIT_OK;
+}

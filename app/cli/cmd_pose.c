@@ -1,0 +1,278 @@
+/* `sinew pose FILE`: world transforms of every node at given times, and the skinned
+ * geometry as OBJ. */
+#include <errno.h>
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include <cjson/cJSON.h>
+
+#include "cli.h"
+
+static const char pose_usage[] =
+    "usage: sinew pose FILE [--clip NAME|INDEX] [--time T[,T...]] [--loop] [--json] [--mesh OUT.obj]\n"
+    "\n"
+    "Poses FILE's skeleton and prints every node's world transform (metres, Y up) keyed by name.\n"
+    "\n"
+    "  --clip C        the clip, by name or index (default: the first clip; none: the rest pose)\n"
+    "  --time T,...    times in seconds (default: ten evenly spaced times from 0 to the clip's duration,\n"
+    "                  both included); times outside the clip clamp to its ends\n"
+    "  --loop          wrap times outside the clip around its duration instead of clamping\n"
+    "  --json          print {\"file\", \"clip\": {\"index\", \"name\", \"duration\"} | null, \"frames\": [{\"time\",\n"
+    "                  \"nodes\": [{\"name\", \"parent\", \"translation\": [x,y,z], \"rotation\": [x,y,z,w],\n"
+    "                  \"scale\": [x,y,z]}]}]}\n"
+    "  --mesh OUT.obj  write every mesh, skinned and placed in world space, at the (single) time\n";
+
+#define MAX_TIMES 4096
+
+typedef struct pose_options {
+    const char *path;
+    const char *clip;
+    const char *mesh_out;
+    bool json, loop;
+    uint32_t time_count;
+    float times[MAX_TIMES];
+} pose_options;
+
+static bool parse_times(const char *text, pose_options *o)
+{
+    const char *p = text;
+    o->time_count = 0;
+    while (*p) {
+        char *end = NULL;
+        errno = 0;
+        double t = strtod(p, &end);
+        if (end == p || errno || !isfinite(t) || (*end != ',' && *end != '\0')) {
+            cli_error("pose: bad --time \"%s\": expected seconds separated by commas", text);
+            return false;
+        }
+        if (o->time_count == MAX_TIMES) {
+            cli_error("pose: more than %d times", MAX_TIMES);
+            return false;
+        }
+        o->times[o->time_count++] = (float)t;
+        p = *end ? end + 1 : end;
+    }
+    if (o->time_count == 0) {
+        cli_error("pose: --time needs at least one time");
+        return false;
+    }
+    return true;
+}
+
+/* Returns -1 to go on, or an exit code. */
+static int parse_pose_args(int argc, char **argv, pose_options *o)
+{
+    for (int i = 1; i < argc; i++) {
+        const char *a = argv[i];
+        bool has_value = i + 1 < argc;
+        if (cli_is_help(a)) {
+            fputs(pose_usage, stdout);
+            return EXIT_OK;
+        } else if (strcmp(a, "--json") == 0) {
+            o->json = true;
+        } else if (strcmp(a, "--loop") == 0) {
+            o->loop = true;
+        } else if (strcmp(a, "--clip") == 0 && has_value) {
+            o->clip = argv[++i];
+        } else if (strcmp(a, "--time") == 0 && has_value) {
+            if (!parse_times(argv[++i], o))
+                return EXIT_USAGE;
+        } else if (strcmp(a, "--mesh") == 0 && has_value) {
+            o->mesh_out = argv[++i];
+        } else if (a[0] == '-' && a[1]) {
+            cli_error("pose: unknown option or missing value \"%s\"\n%s", a, pose_usage);
+            return EXIT_USAGE;
+        } else if (!o->path) {
+            o->path = a;
+        } else {
+            cli_error("pose: one FILE only (got \"%s\" and \"%s\")", o->path, a);
+            return EXIT_USAGE;
+        }
+    }
+    if (!o->path) {
+        cli_error("pose: no FILE given\n%s", pose_usage);
+        return EXIT_USAGE;
+    }
+    if (o->mesh_out && o->time_count > 1) {
+        cli_error("pose: --mesh writes one time; give a single --time");
+        return EXIT_USAGE;
+    }
+    return -1;
+}
+
+static void default_times(const sinew_clip *clip, pose_options *o)
+{
+    float duration = clip ? clip->duration : 0.0f;
+    if (!(duration > 0.0f)) {
+        o->times[0] = 0.0f;
+        o->time_count = 1;
+        return;
+    }
+    o->time_count = 10;
+    for (uint32_t i = 0; i < 10; i++)
+        o->times[i] = duration * (float)i / 9.0f;
+}
+
+static cJSON *vector_json(const float *v, int n)
+{
+    cJSON *a = cJSON_CreateArray();
+    for (int i = 0; i < n; i++)
+        cJSON_AddItemToArray(a, cJSON_CreateNumber(fabsf(v[i]) < 1e-12f ? 0.0 : (double)v[i]));
+    return a;
+}
+
+static cJSON *frame_json(const sinew_model *m, const cli_pose *pose, float time)
+{
+    cJSON *frame = cJSON_CreateObject();
+    cJSON_AddNumberToObject(frame, "time", time);
+    cJSON *nodes = cJSON_AddArrayToObject(frame, "nodes");
+    for (uint32_t n = 0; n < m->node_count; n++) {
+        sinew_transform t;
+        sinew_mat4_decompose(&pose->worlds[n], &t);
+        cJSON *o = cJSON_CreateObject();
+        cJSON_AddStringToObject(o, "name", m->node_names[n]);
+        if (m->node_parents[n] >= 0)
+            cJSON_AddStringToObject(o, "parent", m->node_names[m->node_parents[n]]);
+        else
+            cJSON_AddNullToObject(o, "parent");
+        cJSON_AddItemToObject(o, "translation", vector_json(t.translation, 3));
+        cJSON_AddItemToObject(o, "rotation", vector_json(t.rotation, 4));
+        cJSON_AddItemToObject(o, "scale", vector_json(t.scale, 3));
+        cJSON_AddItemToArray(nodes, o);
+    }
+    return frame;
+}
+
+static void print_frame_text(const sinew_model *m, const cli_pose *pose, float time)
+{
+    printf("time %.6g s\n", (double)time);
+    for (uint32_t n = 0; n < m->node_count; n++) {
+        sinew_transform t;
+        sinew_mat4_decompose(&pose->worlds[n], &t);
+        printf("  %-32s  t (% .6f % .6f % .6f)  r (% .6f % .6f % .6f % .6f)  s (%.6g %.6g %.6g)\n", m->node_names[n],
+               (double)t.translation[0], (double)t.translation[1], (double)t.translation[2], (double)t.rotation[0],
+               (double)t.rotation[1], (double)t.rotation[2], (double)t.rotation[3], (double)t.scale[0],
+               (double)t.scale[1], (double)t.scale[2]);
+    }
+}
+
+/* Writes every mesh instance, skinned or placed at its node, in world space. */
+static bool write_obj(const sinew_model *m, cli_pose *pose, const char *out_path)
+{
+    FILE *f = fopen(out_path, "w");
+    if (!f) {
+        cli_error("%s: cannot write: %s", out_path, strerror(errno));
+        return false;
+    }
+    fprintf(f, "# sinew pose of %s\n", m->source);
+    uint32_t base = 1;
+    bool ok = true;
+    for (uint32_t i = 0; i < m->instance_count && ok; i++) {
+        const sinew_mesh *mesh = &m->meshes[m->instances[i].mesh];
+        float *pos = malloc(((size_t)mesh->vertex_count + 1) * 3 * sizeof(float));
+        float *nrm = malloc(((size_t)mesh->vertex_count + 1) * 3 * sizeof(float));
+        sinew_error error = {0};
+        ok = pos && nrm;
+        if (ok && mesh->skin >= 0) {
+            const sinew_skin *skin = &m->skins[mesh->skin];
+            ok = sinew_skin_palette(skin, pose->worlds, m->node_count, pose->palette, SINEW_MAX_JOINTS, &error) ==
+                     SINEW_OK &&
+                 sinew_skin_vertices(&(sinew_skin_desc){.mesh = mesh,
+                                                        .palette = pose->palette,
+                                                        .palette_count = skin->joint_count,
+                                                        .out_positions = pos,
+                                                        .out_normals = nrm},
+                                     &error) == SINEW_OK;
+        } else if (ok) {
+            ok = sinew_transform_vertices(mesh, &pose->worlds[m->instances[i].node], pos, nrm, 0, &error) == SINEW_OK;
+        }
+        if (ok) {
+            fprintf(f, "o %s\n", mesh->name);
+            for (uint32_t v = 0; v < mesh->vertex_count; v++)
+                fprintf(f, "v %.6f %.6f %.6f\n", (double)pos[v * 3], (double)pos[v * 3 + 1], (double)pos[v * 3 + 2]);
+            for (uint32_t v = 0; v < mesh->vertex_count; v++)
+                fprintf(f, "vn %.6f %.6f %.6f\n", (double)nrm[v * 3], (double)nrm[v * 3 + 1], (double)nrm[v * 3 + 2]);
+            for (uint32_t t = 0; t < mesh->index_count; t += 3) {
+                uint32_t a = base + mesh->indices[t], b = base + mesh->indices[t + 1], c = base + mesh->indices[t + 2];
+                fprintf(f, "f %u//%u %u//%u %u//%u\n", a, a, b, b, c, c);
+            }
+            base += mesh->vertex_count;
+        } else {
+            cli_error("%s: %s", m->source, error.message[0] ? error.message : "out of memory");
+        }
+        free(pos);
+        free(nrm);
+    }
+    if (fclose(f) != 0 && ok) {
+        cli_error("%s: cannot write: %s", out_path, strerror(errno));
+        ok = false;
+    }
+    return ok;
+}
+
+int cmd_pose(int argc, char **argv)
+{
+    static pose_options o;
+    memset(&o, 0, sizeof o);
+    int code = parse_pose_args(argc, argv, &o);
+    if (code >= 0)
+        return code;
+    sinew_model *model = cli_load_model(o.path);
+    if (!model)
+        return EXIT_BAD_INPUT;
+    int32_t clip_index;
+    cli_pose pose;
+    if (!cli_pick_clip(model, o.clip, &clip_index)) {
+        sinew_model_free(model);
+        return EXIT_USAGE;
+    }
+    const sinew_clip *clip = clip_index >= 0 ? &model->clips[clip_index] : NULL;
+    if (!cli_pose_init(&pose, model, clip)) {
+        sinew_model_free(model);
+        return EXIT_BAD_INPUT;
+    }
+    if (o.time_count == 0)
+        default_times(clip, &o);
+    sinew_wrap wrap = o.loop ? SINEW_WRAP_LOOP : SINEW_WRAP_CLAMP;
+
+    cJSON *root = NULL, *frames = NULL;
+    if (o.json) {
+        root = cJSON_CreateObject();
+        cJSON_AddStringToObject(root, "file", model->source);
+        if (clip) {
+            cJSON *c = cJSON_AddObjectToObject(root, "clip");
+            cJSON_AddNumberToObject(c, "index", clip_index);
+            cJSON_AddStringToObject(c, "name", clip->name);
+            cJSON_AddNumberToObject(c, "duration", clip->duration);
+        } else {
+            cJSON_AddNullToObject(root, "clip");
+        }
+        frames = cJSON_AddArrayToObject(root, "frames");
+    } else {
+        printf("file %s\nclip %s\n", model->source, clip ? clip->name : "(none: rest pose)");
+    }
+    code = EXIT_OK;
+    for (uint32_t i = 0; i < o.time_count && code == EXIT_OK; i++) {
+        if (!cli_pose_at(&pose, clip, o.times[i], wrap)) {
+            code = EXIT_BAD_INPUT;
+            break;
+        }
+        if (o.json)
+            cJSON_AddItemToArray(frames, frame_json(model, &pose, o.times[i]));
+        else
+            print_frame_text(model, &pose, o.times[i]);
+        if (o.mesh_out && !write_obj(model, &pose, o.mesh_out))
+            code = EXIT_BAD_INPUT;
+    }
+    if (root && code == EXIT_OK) {
+        char *text = cJSON_PrintUnformatted(root);
+        if (text)
+            puts(text);
+        free(text);
+    }
+    cJSON_Delete(root);
+    cli_pose_free(&pose);
+    sinew_model_free(model);
+    return code;
+}

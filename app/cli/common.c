@@ -1,0 +1,99 @@
+/* Loading, clip selection and posing shared by the subcommands. */
+#include <stdarg.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "cli.h"
+
+void cli_error(const char *format, ...)
+{
+    va_list args;
+    va_start(args, format);
+    fputs("sinew: ", stderr);
+    vfprintf(stderr, format, args);
+    fputc('\n', stderr);
+    va_end(args);
+}
+
+bool cli_is_help(const char *arg) { return strcmp(arg, "--help") == 0 || strcmp(arg, "-h") == 0; }
+
+sinew_model *cli_load_model(const char *path)
+{
+    sinew_model *model = NULL;
+    sinew_error error = {0};
+    sinew_import_desc desc = {.path = path, .in_process = getenv("SINEW_IMPORT_IN_PROCESS") != NULL};
+    if (sinew_import(&desc, &model, &error) != SINEW_OK) {
+        cli_error("%s", error.message);
+        return NULL;
+    }
+    return model;
+}
+
+bool cli_pick_clip(const sinew_model *model, const char *spec, int32_t *clip)
+{
+    if (!spec) {
+        *clip = model->clip_count ? 0 : -1;
+        return true;
+    }
+    int32_t by_name = sinew_model_find_clip(model, spec);
+    if (by_name >= 0) {
+        *clip = by_name;
+        return true;
+    }
+    char *end = NULL;
+    long index = strtol(spec, &end, 10);
+    if (end != spec && *end == '\0' && index >= 0 && index < (long)model->clip_count) {
+        *clip = (int32_t)index;
+        return true;
+    }
+    cli_error("%s: no clip \"%s\" (the file has %u clip%s%s)", model->source, spec, model->clip_count,
+              model->clip_count == 1 ? "" : "s", model->clip_count ? "; see `sinew info`" : "");
+    return false;
+}
+
+bool cli_pose_init(cli_pose *pose, const sinew_model *model, const sinew_clip *clip)
+{
+    memset(pose, 0, sizeof *pose);
+    pose->model = model;
+    uint32_t n = model->node_count ? model->node_count : 1;
+    pose->locals = malloc(n * sizeof *pose->locals);
+    pose->worlds = malloc(n * sizeof *pose->worlds);
+    pose->palette = malloc(SINEW_MAX_JOINTS * sizeof *pose->palette);
+    size_t context_size = sinew_sample_context_size(clip);
+    pose->context_memory = malloc(context_size);
+    if (!pose->locals || !pose->worlds || !pose->palette || !pose->context_memory ||
+        sinew_sample_context_init(pose->context_memory, context_size, clip, &pose->context, NULL) != SINEW_OK) {
+        cli_pose_free(pose);
+        cli_error("out of memory");
+        return false;
+    }
+    return true;
+}
+
+bool cli_pose_at(cli_pose *pose, const sinew_clip *clip, float time, sinew_wrap wrap)
+{
+    sinew_error error = {0};
+    const sinew_model *m = pose->model;
+    sinew_sample_desc sample = {.model = m,
+                                .clip = clip,
+                                .time = time,
+                                .wrap = wrap,
+                                .context = pose->context,
+                                .locals = pose->locals,
+                                .local_count = m->node_count};
+    if (sinew_sample(&sample, &error) != SINEW_OK ||
+        sinew_local_to_world(m, pose->locals, m->node_count, NULL, pose->worlds, m->node_count, &error) != SINEW_OK) {
+        cli_error("%s: %s", m->source, error.message);
+        return false;
+    }
+    return true;
+}
+
+void cli_pose_free(cli_pose *pose)
+{
+    free(pose->locals);
+    free(pose->worlds);
+    free(pose->palette);
+    free(pose->context_memory);
+    memset(pose, 0, sizeof *pose);
+}

@@ -1,0 +1,41 @@
+/* `sinew`: the command line. One file per subcommand; this one dispatches. */
+#include <string.h>
+
+#include "cli.h"
+
+static const char usage[] =
+    "usage: sinew COMMAND [ARGS]\n"
+    "\n"
+    "Skeletal animation, skinning and muscles.\n"
+    "\n"
+    "commands:\n"
+    "  info FILE [--json]            what a model file holds: counts, clips, the joint tree, warnings\n"
+    "  pose FILE [--clip C] [--time T[,T...]] [--loop] [--json] [--mesh OUT.obj]\n"
+    "                                world transform of every node at given times; skinned mesh as OBJ\n"
+    "\n"
+    "FILE is any format Assimp reads: COLLADA (.dae), glTF (.gltf/.glb), FBX, BVH, .x, MD5, SMD, IQM, ...\n"
+    "Output is in metres, Y up, seconds. `sinew COMMAND --help` describes one command.\n"
+    "Exit status: 0 ok, 1 usage error, 2 bad input (the message names the file and the problem).\n";
+
+int main(int argc, char **argv)
+{
+    if (argc < 2) {
+        fputs(usage, stderr);
+        return EXIT_USAGE;
+    }
+    const char *command = argv[1];
+    if (cli_is_help(command)) {
+        fputs(usage, stdout);
+        return EXIT_OK;
+    }
+    if (strcmp(command, "--version") == 0) {
+        printf("sinew %s\n", SINEW_VERSION_STRING);
+        return EXIT_OK;
+    }
+    if (strcmp(command, "info") == 0)
+        return cmd_info(argc - 1, argv + 1);
+    if (strcmp(command, "pose") == 0)
+        return cmd_pose(argc - 1, argv + 1);
+    cli_error("unknown command \"%s\" (try `sinew --help`)", command);
+    return EXIT_USAGE;
+}

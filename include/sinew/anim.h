@@ -1,0 +1,98 @@
+/* sinew/anim.h — runtime evaluation: sample a clip, build world matrices, skin meshes.
+ *
+ * What: jobs over caller-owned spans, in the style of ozz-animation's runtime jobs.
+ *   1. sinew_sample():        clip + time -> local transforms of every node (rest where untracked)
+ *   2. sinew_local_to_world(): local transforms -> world matrices, one pass, parents first
+ *   3. sinew_skin_palette():   world matrices + skin -> skinning matrices (world * inverse bind)
+ *   4. sinew_skin_vertices():  linear-blend skinning of positions and normals into caller buffers
+ * What not: no allocation, no threads, no pointers kept after a call returns. To use two
+ * threads, give each a part of the vertex range (sinew_skin_desc.first/count).
+ * Memory: frame-to-frame state (key cursors) lives in a sinew_sample_context the caller owns
+ * and sizes with sinew_sample_context_size().
+ * Errors: each job checks its spans and returns SINEW_ERROR_INVALID_ARGUMENT with a message.
+ * Conventions: see sinew/model.h.
+ */
+#ifndef SINEW_ANIM_H
+#define SINEW_ANIM_H
+
+#include "sinew/model.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+typedef enum sinew_wrap {
+    SINEW_WRAP_CLAMP = 0, /* times outside [0, duration] clamp to the ends */
+    SINEW_WRAP_LOOP = 1   /* times wrap around the duration */
+} sinew_wrap;
+
+/* Key cursors for one clip, so that forward playback does not search from scratch.
+ * Allocate sinew_sample_context_size(clip) bytes (aligned like a pointer) and call
+ * sinew_sample_context_init() on it; one context per clip being played. */
+typedef struct sinew_sample_context sinew_sample_context;
+
+size_t sinew_sample_context_size(const sinew_clip *clip);
+sinew_result sinew_sample_context_init(void *memory, size_t size, const sinew_clip *clip,
+                                       sinew_sample_context **out, sinew_error *error);
+
+typedef struct sinew_sample_desc {
+    const sinew_model *model;
+    const sinew_clip *clip;            /* NULL: every node at rest */
+    float time;                        /* seconds */
+    sinew_wrap wrap;
+    sinew_sample_context *context;     /* may be NULL (each channel is then searched) */
+    sinew_transform *locals;           /* out: model->node_count transforms */
+    uint32_t local_count;
+} sinew_sample_desc;
+
+sinew_result sinew_sample(const sinew_sample_desc *desc, sinew_error *error);
+
+/* Evaluates one channel at a clip-local time (already wrapped/clamped); out gets 3 or 4
+ * floats. Exposed for tests and tools; sinew_sample() calls it for every channel. */
+void sinew_channel_eval(const sinew_clip *clip, const sinew_channel *channel, int kind, float time,
+                        uint32_t *cursor, float *out);
+
+/* The clip-local time that `time` maps to under `wrap` (duration 0 gives 0). */
+float sinew_clip_time(const sinew_clip *clip, float time, sinew_wrap wrap);
+
+/* Translation * rotation * scale as a matrix. */
+void sinew_transform_to_mat4(const sinew_transform *transform, sinew_mat4 *out);
+
+/* Splits an affine matrix into translation, rotation and scale (a mirrored matrix gets a
+ * negative x scale). Shear is dropped. */
+void sinew_mat4_decompose(const sinew_mat4 *matrix, sinew_transform *out);
+
+/* world[i] = world[parent[i]] * local[i]; roots get root * local[i] (root NULL: identity). */
+sinew_result sinew_local_to_world(const sinew_model *model, const sinew_transform *locals,
+                                  uint32_t local_count, const sinew_mat4 *root, sinew_mat4 *worlds,
+                                  uint32_t world_count, sinew_error *error);
+
+/* palette[j] = world[skin->joints[j]] * skin->inverse_bind[j]. */
+sinew_result sinew_skin_palette(const sinew_skin *skin, const sinew_mat4 *worlds, uint32_t world_count,
+                                sinew_mat4 *palette, uint32_t palette_count, sinew_error *error);
+
+typedef struct sinew_skin_desc {
+    const sinew_mesh *mesh;      /* vertex data, joints and weights */
+    const sinew_mat4 *palette;   /* skinning matrices of the mesh's skin */
+    uint32_t palette_count;
+    uint32_t first;              /* vertex range to skin: [first, first + count) */
+    uint32_t count;              /* 0 means every vertex from first on */
+    float *out_positions;        /* indexed by vertex number (not by range), 3 floats at out_stride */
+    float *out_normals;          /* may be NULL */
+    size_t out_stride;           /* bytes between vertices; 0 means 12 */
+} sinew_skin_desc;
+
+/* v' = sum_k w_k * palette[j_k] * v; normals through the cofactor (inverse transpose up
+ * to scale) of the blended 3x3 part, renormalised, so that non-uniform scale and mirrored
+ * joints keep normals pointing out. */
+sinew_result sinew_skin_vertices(const sinew_skin_desc *desc, sinew_error *error);
+
+/* A rigid mesh at a node: positions and normals transformed by one matrix. */
+sinew_result sinew_transform_vertices(const sinew_mesh *mesh, const sinew_mat4 *matrix,
+                                      float *out_positions, float *out_normals, size_t out_stride,
+                                      sinew_error *error);
+
+#ifdef __cplusplus
+}
+#endif
+#endif

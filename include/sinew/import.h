@@ -1,0 +1,42 @@
+/* sinew/import.h — reading animated characters from files.
+ *
+ * What: sinew_import() reads any format Assimp reads (COLLADA, glTF/GLB, FBX, BVH, .x,
+ * MD5, SMD, IQM, ...) and builds a runtime sinew_model: the skeleton from the node
+ * hierarchy, every mesh and skin, materials, every clip in seconds, Y up.
+ * By default Assimp runs in a child process and hands the model back through a pipe as
+ * one flat blob, so that a crash inside Assimp becomes an error naming the file, never a
+ * dead caller.
+ * What not: no rendering, no sampling; the model is immutable once built.
+ * Memory: the model is one allocation through desc->allocator (malloc when NULL); free it
+ * with sinew_model_free().
+ * Errors: SINEW_ERROR_IO (missing, directory, unreadable), SINEW_ERROR_FORMAT (empty,
+ * unknown format, truncated), SINEW_ERROR_IMPORTER (Assimp refused or crashed: its own
+ * message is quoted), SINEW_ERROR_DATA (NaN/Inf, bad indices, zero weights), SINEW_ERROR_LIMIT.
+ * Import warnings (dropped dummy meshes, missing textures, renormalised weights) are kept in
+ * model->warnings.
+ */
+#ifndef SINEW_IMPORT_H
+#define SINEW_IMPORT_H
+
+#include "sinew/model.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+typedef struct sinew_import_desc {
+    const char *path;
+    bool in_process;                   /* run Assimp in this process (faster, not crash-safe) */
+    const sinew_allocator *allocator;  /* NULL: malloc/free */
+} sinew_import_desc;
+
+sinew_result sinew_import(const sinew_import_desc *desc, sinew_model **out, sinew_error *error);
+
+/* Imports the file into the flat blob that sinew_model_from_blob() reads; *bytes is
+ * malloc'd, the caller frees it. This is what the import child does. */
+sinew_result sinew_import_blob(const char *path, void **bytes, size_t *size, sinew_error *error);
+
+#ifdef __cplusplus
+}
+#endif
+#endif

@@ -1,0 +1,164 @@
+/* sinew/model.h — the runtime model: immutable, flat, ready to sample, pose and skin.
+ *
+ * What: nodes (names, parents before children, rest local transforms), skins (joint node
+ * indices and inverse bind matrices), meshes (positions, normals, UVs, triangles, up to
+ * SINEW_MAX_INFLUENCES influences per vertex sorted by weight and normalised), materials,
+ * clips (per-node tracks whose translation, rotation and scale channels each have their own
+ * keys and interpolation), and the import warnings.
+ * What not: no editing; the import side (sinew/import.h) builds models, the core only reads them.
+ * Memory: a model is one block owned by the sinew_model object; every pointer inside it
+ * stays valid until sinew_model_free(). The blob functions read and write the same layout
+ * as a flat byte buffer (the start of the .sinew runtime format).
+ * Errors: see sinew/result.h.
+ * Conventions: right-handed, Y up, metres, column vectors, column-major matrices,
+ * quaternions x,y,z,w, radians, seconds.
+ */
+#ifndef SINEW_MODEL_H
+#define SINEW_MODEL_H
+
+#include <stdbool.h>
+#include <stddef.h>
+#include <stdint.h>
+
+#include "sinew/result.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+#define SINEW_MAX_INFLUENCES 8   /* influences kept per vertex (the largest, renormalised) */
+#define SINEW_MAX_JOINTS 1024    /* joints per skin */
+
+/* Column-major 4x4 matrix: m[col * 4 + row]. */
+typedef struct sinew_mat4 {
+    float m[16];
+} sinew_mat4;
+
+typedef struct sinew_transform {
+    float translation[3];
+    float rotation[4]; /* x, y, z, w */
+    float scale[3];
+} sinew_transform;
+
+typedef enum sinew_interp {
+    SINEW_INTERP_STEP = 0,
+    SINEW_INTERP_LINEAR = 1, /* lerp for vectors, shortest-path slerp for rotations */
+    SINEW_INTERP_CUBIC = 2   /* cubic Hermite spline: each key stores in-tangent, value, out-tangent */
+} sinew_interp;
+
+enum { SINEW_CHANNEL_TRANSLATION = 0, SINEW_CHANNEL_ROTATION = 1, SINEW_CHANNEL_SCALE = 2, SINEW_CHANNEL_COUNT = 3 };
+
+/* One channel of one node: key_count keys at times[first_key ...]; values at
+ * values[first_value ...], 3 floats a key for translation/scale and 4 for rotation,
+ * three times that for SINEW_INTERP_CUBIC (in-tangent, value, out-tangent).
+ * key_count 0 means "not animated": the node's rest value is used. */
+typedef struct sinew_channel {
+    uint32_t key_count;
+    uint32_t interp; /* sinew_interp */
+    uint32_t first_key;
+    uint32_t first_value;
+} sinew_channel;
+
+typedef struct sinew_track {
+    uint32_t node;
+    uint32_t reserved;
+    sinew_channel channels[SINEW_CHANNEL_COUNT];
+} sinew_track;
+
+typedef struct sinew_clip {
+    const char *name;
+    float duration; /* seconds */
+    uint32_t track_count;
+    const sinew_track *tracks; /* sorted by node index, at most one per node */
+    uint32_t time_count;
+    uint32_t value_count;
+    const float *times;  /* seconds, non-decreasing within a channel */
+    const float *values;
+} sinew_clip;
+
+typedef struct sinew_skin {
+    uint32_t joint_count;
+    const uint32_t *joints;          /* node indices */
+    const sinew_mat4 *inverse_bind;  /* one a joint: mesh space -> joint space at bind time */
+} sinew_skin;
+
+typedef struct sinew_mesh {
+    const char *name;
+    uint32_t vertex_count;
+    uint32_t index_count;      /* triangles * 3 */
+    const float *positions;    /* 3 floats a vertex, mesh space */
+    const float *normals;      /* 3 floats a vertex */
+    const float *uvs;          /* 2 floats a vertex, or NULL */
+    const uint32_t *indices;
+    uint32_t influence_count;  /* per vertex, 0 for a rigid mesh, at most SINEW_MAX_INFLUENCES */
+    const uint16_t *joints;    /* influence_count a vertex, indices into the skin's joints */
+    const float *weights;      /* influence_count a vertex, sorted descending, summing to 1 */
+    int32_t skin;              /* index into skins, -1 for a rigid mesh */
+    int32_t material;          /* index into materials, -1 for none */
+} sinew_mesh;
+
+/* A mesh drawn at a node. Rigid meshes follow the node's world matrix; skinned meshes
+ * come out of skinning in world space and ignore the node (as glTF specifies). */
+typedef struct sinew_instance {
+    uint32_t mesh;
+    uint32_t node;
+} sinew_instance;
+
+typedef struct sinew_material {
+    const char *name;
+    float base_color[4];
+    const char *diffuse_texture; /* path resolved against the model's folder, or NULL */
+} sinew_material;
+
+typedef struct sinew_model {
+    const char *source; /* the file it was read from */
+    const char *format; /* "collada", "gltf2", ... as the importer named it, or "sinew" */
+
+    uint32_t node_count;
+    const char *const *node_names;
+    const int32_t *node_parents;          /* -1 for roots; parent index < node index */
+    const sinew_transform *node_rest;     /* rest local transforms */
+
+    uint32_t skin_count;
+    const sinew_skin *skins;
+    uint32_t mesh_count;
+    const sinew_mesh *meshes;
+    uint32_t instance_count;
+    const sinew_instance *instances;
+    uint32_t material_count;
+    const sinew_material *materials;
+    uint32_t clip_count;
+    const sinew_clip *clips;
+    uint32_t warning_count;
+    const char *const *warnings;
+} sinew_model;
+
+typedef struct sinew_allocator {
+    void *(*alloc)(size_t size, void *user); /* must return memory aligned to 16 bytes */
+    void (*free)(void *ptr, void *user);
+    void *user;
+} sinew_allocator;
+
+/* Builds a model from a blob written by sinew_model_write_blob() (or the import child).
+ * The bytes are validated (magic, version, sizes, checksum, every offset and index) and
+ * copied; `name` is used in messages. `allocator` may be NULL for malloc/free. */
+sinew_result sinew_model_from_blob(const void *bytes, size_t size, const char *name,
+                                   const sinew_allocator *allocator, sinew_model **out,
+                                   sinew_error *error);
+
+/* The model's own blob: the exact bytes it was loaded from. */
+void sinew_model_blob(const sinew_model *model, const void **bytes, size_t *size);
+
+void sinew_model_free(sinew_model *model);
+
+/* Index of the first node/clip with this name, or -1. */
+int32_t sinew_model_find_node(const sinew_model *model, const char *name);
+int32_t sinew_model_find_clip(const sinew_model *model, const char *name);
+
+/* True when node `node` is a joint of some skin. */
+bool sinew_model_node_is_joint(const sinew_model *model, uint32_t node);
+
+#ifdef __cplusplus
+}
+#endif
+#endif

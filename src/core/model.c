@@ -1,0 +1,472 @@
+/* The runtime model: reading and validating a model blob, lookups, freeing.
+ *
+ * Index:
+ *   reader helpers ........ span_ok, string_at, array_at (bounds, alignment, overflow)
+ *   validation ............ check_nodes, check_skins, check_meshes, check_clips, ...
+ *   sinew_model_from_blob . one allocation: the blob copy, then the pointer tables
+ */
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "internal.h"
+
+/* The allocation behind a model: this struct, the pointer tables, then the blob copy. */
+typedef struct model_block {
+    sinew_model model;
+    sinew_allocator allocator;
+    const unsigned char *blob;
+    size_t blob_size;
+} model_block;
+
+typedef struct reader {
+    const unsigned char *bytes;
+    size_t size;
+    const char *name;
+    const blob_header *header;
+    sinew_error *error;
+} reader;
+
+static void *default_alloc(size_t size, void *user)
+{
+    (void)user;
+    return aligned_alloc(BLOB_ALIGN, (size + BLOB_ALIGN - 1) & ~(size_t)(BLOB_ALIGN - 1));
+}
+
+static void default_free(void *ptr, void *user)
+{
+    (void)user;
+    free(ptr);
+}
+
+static sinew_result corrupt(const reader *r, const char *what)
+{
+    return sinew_fail(r->error, SINEW_ERROR_FORMAT, "%s: corrupted model data: %s", r->name, what);
+}
+
+/* True when [offset, offset + count * elem) lies inside the blob, aligned to 4. */
+static bool range_ok(const reader *r, uint32_t offset, uint64_t count, uint64_t elem)
+{
+    if (count == 0)
+        return true;
+    if (offset == BLOB_NONE || offset % 4u != 0 || offset < sizeof(blob_header))
+        return false;
+    uint64_t bytes = count * elem;
+    if (elem != 0 && bytes / elem != count)
+        return false;
+    return (uint64_t)offset + bytes <= r->size;
+}
+
+/* The array at offset, already checked by range_ok(); NULL when empty or absent. */
+static const void *array_at(const reader *r, uint32_t offset, uint64_t count)
+{
+    if (count == 0 || offset == BLOB_NONE)
+        return NULL;
+    return r->bytes + offset;
+}
+
+static const char *string_at(const reader *r, uint32_t offset)
+{
+    if (offset == BLOB_NONE)
+        return NULL;
+    return (const char *)r->bytes + r->header->strings.offset + offset;
+}
+
+static bool string_ok(const reader *r, uint32_t offset, bool optional)
+{
+    if (offset == BLOB_NONE)
+        return optional;
+    return offset < r->header->strings.count;
+}
+
+static bool floats_finite(const float *values, uint64_t count)
+{
+    for (uint64_t i = 0; i < count; i++)
+        if (!isfinite(values[i]))
+            return false;
+    return true;
+}
+
+static sinew_result check_header(reader *r)
+{
+    if (r->size < sizeof(blob_header))
+        return sinew_fail(r->error, SINEW_ERROR_FORMAT, "%s: truncated model data (%zu bytes, the header alone is %zu)",
+                          r->name, r->size, sizeof(blob_header));
+    const blob_header *h = (const blob_header *)r->bytes;
+    r->header = h;
+    if (memcmp(h->magic, BLOB_MAGIC, 8) != 0)
+        return sinew_fail(r->error, SINEW_ERROR_FORMAT, "%s: not a sinew model (bad magic)", r->name);
+    if (h->version != BLOB_VERSION)
+        return sinew_fail(r->error, SINEW_ERROR_FORMAT, "%s: unsupported sinew model version %u (this build reads %u)",
+                          r->name, h->version, BLOB_VERSION);
+    if (h->header_size != sizeof(blob_header) || h->flags != 0)
+        return corrupt(r, "header size or flags");
+    if (h->size != r->size)
+        return sinew_fail(r->error, SINEW_ERROR_FORMAT, "%s: truncated model data (%zu bytes of %llu)", r->name,
+                          r->size, (unsigned long long)h->size);
+    if (sinew_blob_checksum(r->bytes, r->size) != h->checksum)
+        return sinew_fail(r->error, SINEW_ERROR_FORMAT, "%s: checksum mismatch: the model data is corrupted", r->name);
+    if (h->strings.count == 0 || !range_ok(r, h->strings.offset, h->strings.count, 1) ||
+        r->bytes[h->strings.offset + h->strings.count - 1] != '\0')
+        return corrupt(r, "string pool");
+    if (!string_ok(r, h->source, false) || !string_ok(r, h->format, false))
+        return corrupt(r, "source name");
+    return SINEW_OK;
+}
+
+static sinew_result check_nodes(reader *r)
+{
+    const blob_header *h = r->header;
+    uint32_t n = h->node_names.count;
+    if (h->node_parents.count != n || h->node_rest.count != n)
+        return corrupt(r, "node table sizes differ");
+    if (!range_ok(r, h->node_names.offset, n, 4) || !range_ok(r, h->node_parents.offset, n, 4) ||
+        !range_ok(r, h->node_rest.offset, n, sizeof(sinew_transform)))
+        return corrupt(r, "node tables out of bounds");
+    const uint32_t *names = array_at(r, h->node_names.offset, n);
+    const int32_t *parents = array_at(r, h->node_parents.offset, n);
+    const sinew_transform *rest = array_at(r, h->node_rest.offset, n);
+    for (uint32_t i = 0; i < n; i++) {
+        if (!string_ok(r, names[i], false))
+            return corrupt(r, "node name");
+        if (parents[i] < -1 || parents[i] >= (int32_t)i)
+            return corrupt(r, "node parent is not before its child");
+    }
+    if (n && !floats_finite((const float *)rest, (uint64_t)n * 10))
+        return corrupt(r, "node rest transform is not finite");
+    return SINEW_OK;
+}
+
+static sinew_result check_skins(reader *r)
+{
+    const blob_header *h = r->header;
+    if (!range_ok(r, h->skins.offset, h->skins.count, sizeof(blob_skin)))
+        return corrupt(r, "skin table out of bounds");
+    const blob_skin *skins = array_at(r, h->skins.offset, h->skins.count);
+    for (uint32_t s = 0; s < h->skins.count; s++) {
+        const blob_skin *skin = &skins[s];
+        if (skin->joints.count > SINEW_MAX_JOINTS || skin->inverse_bind.count != skin->joints.count)
+            return corrupt(r, "skin joint count");
+        if (!range_ok(r, skin->joints.offset, skin->joints.count, 4) ||
+            !range_ok(r, skin->inverse_bind.offset, skin->inverse_bind.count, sizeof(sinew_mat4)))
+            return corrupt(r, "skin arrays out of bounds");
+        const uint32_t *joints = array_at(r, skin->joints.offset, skin->joints.count);
+        for (uint32_t j = 0; j < skin->joints.count; j++)
+            if (joints[j] >= h->node_names.count)
+                return corrupt(r, "skin joint is not a node");
+        if (skin->joints.count &&
+            !floats_finite(array_at(r, skin->inverse_bind.offset, 1), (uint64_t)skin->joints.count * 16))
+            return corrupt(r, "inverse bind matrix is not finite");
+    }
+    return SINEW_OK;
+}
+
+static bool mesh_arrays_ok(const reader *r, const blob_mesh *m, uint32_t joint_limit)
+{
+    uint64_t v = m->vertex_count;
+    if (!range_ok(r, m->positions, v, 12) || !range_ok(r, m->normals, v, 12) || !range_ok(r, m->indices, m->index_count, 4))
+        return false;
+    if (m->uvs != BLOB_NONE && !range_ok(r, m->uvs, v, 8))
+        return false;
+    if (m->influence_count && (!range_ok(r, m->joints, v * m->influence_count, 2) ||
+                               !range_ok(r, m->weights, v * m->influence_count, 4)))
+        return false;
+    if (v && (!floats_finite(array_at(r, m->positions, v), v * 3) ||
+              !floats_finite(array_at(r, m->normals, v), v * 3)))
+        return false;
+    if (v && m->uvs != BLOB_NONE && !floats_finite(array_at(r, m->uvs, v), v * 2))
+        return false;
+    const uint32_t *indices = array_at(r, m->indices, m->index_count);
+    for (uint32_t i = 0; i < m->index_count; i++)
+        if (indices[i] >= m->vertex_count)
+            return false;
+    if (m->influence_count) {
+        uint64_t k = v * m->influence_count;
+        const uint16_t *joints = array_at(r, m->joints, k);
+        const float *weights = array_at(r, m->weights, k);
+        for (uint64_t i = 0; i < k; i++)
+            if (joints[i] >= joint_limit || !isfinite(weights[i]) || weights[i] < 0.0f)
+                return false;
+    }
+    return true;
+}
+
+static sinew_result check_meshes(reader *r)
+{
+    const blob_header *h = r->header;
+    if (!range_ok(r, h->meshes.offset, h->meshes.count, sizeof(blob_mesh)) ||
+        !range_ok(r, h->materials.offset, h->materials.count, sizeof(blob_material)) ||
+        !range_ok(r, h->instances.offset, h->instances.count, sizeof(sinew_instance)))
+        return corrupt(r, "mesh tables out of bounds");
+    const blob_skin *skins = array_at(r, h->skins.offset, h->skins.count);
+    const blob_mesh *meshes = array_at(r, h->meshes.offset, h->meshes.count);
+    for (uint32_t i = 0; i < h->meshes.count; i++) {
+        const blob_mesh *m = &meshes[i];
+        if (!string_ok(r, m->name, false) || m->index_count % 3 != 0 || m->influence_count > SINEW_MAX_INFLUENCES)
+            return corrupt(r, "mesh header");
+        if (m->material < -1 || m->material >= (int32_t)h->materials.count)
+            return corrupt(r, "mesh material index");
+        if (m->skin < -1 || m->skin >= (int32_t)h->skins.count || (m->skin >= 0) != (m->influence_count > 0))
+            return corrupt(r, "mesh skin index");
+        uint32_t joint_limit = m->skin >= 0 ? skins[m->skin].joints.count : 0;
+        if (!mesh_arrays_ok(r, m, joint_limit))
+            return corrupt(r, "mesh arrays");
+    }
+    const blob_material *materials = array_at(r, h->materials.offset, h->materials.count);
+    for (uint32_t i = 0; i < h->materials.count; i++)
+        if (!string_ok(r, materials[i].name, false) || !string_ok(r, materials[i].diffuse_texture, true) ||
+            !floats_finite(materials[i].base_color, 4))
+            return corrupt(r, "material");
+    const sinew_instance *instances = array_at(r, h->instances.offset, h->instances.count);
+    for (uint32_t i = 0; i < h->instances.count; i++)
+        if (instances[i].mesh >= h->meshes.count || instances[i].node >= h->node_names.count)
+            return corrupt(r, "mesh instance");
+    return SINEW_OK;
+}
+
+static bool channel_ok(const reader *r, const blob_clip *c, const sinew_channel *ch, int kind)
+{
+    if (ch->key_count == 0)
+        return true;
+    if (ch->interp > SINEW_INTERP_CUBIC)
+        return false;
+    uint64_t stride = sinew_channel_stride(kind, ch->interp);
+    if ((uint64_t)ch->first_key + ch->key_count > c->times.count ||
+        (uint64_t)ch->first_value + ch->key_count * stride > c->values.count)
+        return false;
+    const float *times = (const float *)array_at(r, c->times.offset, c->times.count) + ch->first_key;
+    for (uint32_t k = 1; k < ch->key_count; k++)
+        if (!(times[k] >= times[k - 1]))
+            return false;
+    return true;
+}
+
+static sinew_result check_clips(reader *r)
+{
+    const blob_header *h = r->header;
+    if (!range_ok(r, h->clips.offset, h->clips.count, sizeof(blob_clip)))
+        return corrupt(r, "clip table out of bounds");
+    const blob_clip *clips = array_at(r, h->clips.offset, h->clips.count);
+    for (uint32_t i = 0; i < h->clips.count; i++) {
+        const blob_clip *c = &clips[i];
+        if (!string_ok(r, c->name, false) || !isfinite(c->duration) || c->duration < 0.0f)
+            return corrupt(r, "clip header");
+        if (!range_ok(r, c->tracks.offset, c->tracks.count, sizeof(sinew_track)) ||
+            !range_ok(r, c->times.offset, c->times.count, 4) || !range_ok(r, c->values.offset, c->values.count, 4))
+            return corrupt(r, "clip arrays out of bounds");
+        if ((c->times.count && !floats_finite(array_at(r, c->times.offset, 1), c->times.count)) ||
+            (c->values.count && !floats_finite(array_at(r, c->values.offset, 1), c->values.count)))
+            return corrupt(r, "clip keys are not finite");
+        const sinew_track *tracks = array_at(r, c->tracks.offset, c->tracks.count);
+        for (uint32_t t = 0; t < c->tracks.count; t++) {
+            if (tracks[t].node >= h->node_names.count || (t > 0 && tracks[t].node <= tracks[t - 1].node))
+                return corrupt(r, "track node");
+            for (int kind = 0; kind < SINEW_CHANNEL_COUNT; kind++)
+                if (!channel_ok(r, c, &tracks[t].channels[kind], kind))
+                    return corrupt(r, "track keys");
+        }
+    }
+    if (!range_ok(r, h->warnings.offset, h->warnings.count, 4))
+        return corrupt(r, "warning table");
+    const uint32_t *warnings = array_at(r, h->warnings.offset, h->warnings.count);
+    for (uint32_t i = 0; i < h->warnings.count; i++)
+        if (!string_ok(r, warnings[i], false))
+            return corrupt(r, "warning text");
+    return SINEW_OK;
+}
+
+/* Bytes of pointer tables that follow the model_block struct. */
+static size_t tables_size(const blob_header *h)
+{
+    size_t size = 0;
+    size += (size_t)h->node_names.count * sizeof(char *);
+    size += (size_t)h->warnings.count * sizeof(char *);
+    size += (size_t)h->skins.count * sizeof(sinew_skin);
+    size += (size_t)h->meshes.count * sizeof(sinew_mesh);
+    size += (size_t)h->materials.count * sizeof(sinew_material);
+    size += (size_t)h->clips.count * sizeof(sinew_clip);
+    return (size + BLOB_ALIGN - 1) & ~(size_t)(BLOB_ALIGN - 1);
+}
+
+/* Takes `bytes` from a cursor in the table area. */
+static void *take(unsigned char **cursor, size_t bytes)
+{
+    void *p = *cursor;
+    *cursor += bytes;
+    return p;
+}
+
+static void fill_model(model_block *b, const reader *r, unsigned char *tables)
+{
+    const blob_header *h = r->header;
+    sinew_model *m = &b->model;
+    unsigned char *cursor = tables;
+    m->source = string_at(r, h->source);
+    m->format = string_at(r, h->format);
+
+    m->node_count = h->node_names.count;
+    const char **names = take(&cursor, m->node_count * sizeof(char *));
+    const uint32_t *name_offsets = array_at(r, h->node_names.offset, m->node_count);
+    for (uint32_t i = 0; i < m->node_count; i++)
+        names[i] = string_at(r, name_offsets[i]);
+    m->node_names = names;
+    m->node_parents = array_at(r, h->node_parents.offset, m->node_count);
+    m->node_rest = array_at(r, h->node_rest.offset, m->node_count);
+
+    m->warning_count = h->warnings.count;
+    const char **warnings = take(&cursor, m->warning_count * sizeof(char *));
+    const uint32_t *warning_offsets = array_at(r, h->warnings.offset, m->warning_count);
+    for (uint32_t i = 0; i < m->warning_count; i++)
+        warnings[i] = string_at(r, warning_offsets[i]);
+    m->warnings = warnings;
+
+    m->skin_count = h->skins.count;
+    sinew_skin *skins = take(&cursor, m->skin_count * sizeof(sinew_skin));
+    const blob_skin *bskins = array_at(r, h->skins.offset, m->skin_count);
+    for (uint32_t i = 0; i < m->skin_count; i++) {
+        skins[i].joint_count = bskins[i].joints.count;
+        skins[i].joints = array_at(r, bskins[i].joints.offset, bskins[i].joints.count);
+        skins[i].inverse_bind = array_at(r, bskins[i].inverse_bind.offset, bskins[i].joints.count);
+    }
+    m->skins = skins;
+
+    m->mesh_count = h->meshes.count;
+    sinew_mesh *meshes = take(&cursor, m->mesh_count * sizeof(sinew_mesh));
+    const blob_mesh *bmeshes = array_at(r, h->meshes.offset, m->mesh_count);
+    for (uint32_t i = 0; i < m->mesh_count; i++) {
+        const blob_mesh *bm = &bmeshes[i];
+        uint64_t k = (uint64_t)bm->vertex_count * bm->influence_count;
+        meshes[i] = (sinew_mesh){
+            .name = string_at(r, bm->name),
+            .vertex_count = bm->vertex_count,
+            .index_count = bm->index_count,
+            .positions = array_at(r, bm->positions, bm->vertex_count),
+            .normals = array_at(r, bm->normals, bm->vertex_count),
+            .uvs = array_at(r, bm->uvs, bm->vertex_count),
+            .indices = array_at(r, bm->indices, bm->index_count),
+            .influence_count = bm->influence_count,
+            .joints = array_at(r, bm->joints, k),
+            .weights = array_at(r, bm->weights, k),
+            .skin = bm->skin,
+            .material = bm->material,
+        };
+    }
+    m->meshes = meshes;
+    m->instance_count = h->instances.count;
+    m->instances = array_at(r, h->instances.offset, h->instances.count);
+
+    m->material_count = h->materials.count;
+    sinew_material *materials = take(&cursor, m->material_count * sizeof(sinew_material));
+    const blob_material *bmats = array_at(r, h->materials.offset, m->material_count);
+    for (uint32_t i = 0; i < m->material_count; i++) {
+        materials[i].name = string_at(r, bmats[i].name);
+        memcpy(materials[i].base_color, bmats[i].base_color, sizeof materials[i].base_color);
+        materials[i].diffuse_texture = string_at(r, bmats[i].diffuse_texture);
+    }
+    m->materials = materials;
+
+    m->clip_count = h->clips.count;
+    sinew_clip *clips = take(&cursor, m->clip_count * sizeof(sinew_clip));
+    const blob_clip *bclips = array_at(r, h->clips.offset, m->clip_count);
+    for (uint32_t i = 0; i < m->clip_count; i++) {
+        const blob_clip *bc = &bclips[i];
+        clips[i] = (sinew_clip){
+            .name = string_at(r, bc->name),
+            .duration = bc->duration,
+            .track_count = bc->tracks.count,
+            .tracks = array_at(r, bc->tracks.offset, bc->tracks.count),
+            .time_count = bc->times.count,
+            .value_count = bc->values.count,
+            .times = array_at(r, bc->times.offset, bc->times.count),
+            .values = array_at(r, bc->values.offset, bc->values.count),
+        };
+    }
+    m->clips = clips;
+}
+
+sinew_result sinew_model_from_blob(const void *bytes, size_t size, const char *name, const sinew_allocator *allocator,
+                                   sinew_model **out, sinew_error *error)
+{
+    if (!out || (!bytes && size))
+        return sinew_fail(error, SINEW_ERROR_INVALID_ARGUMENT, "sinew_model_from_blob: NULL argument");
+    *out = NULL;
+    if (!name)
+        name = "model data";
+    if (allocator && (!allocator->alloc || !allocator->free))
+        return sinew_fail(error, SINEW_ERROR_INVALID_ARGUMENT, "%s: allocator without alloc or free", name);
+    sinew_allocator alloc = allocator ? *allocator : (sinew_allocator){default_alloc, default_free, NULL};
+
+    /* Validate in place first (the caller's bytes may be unaligned only for the header read:
+     * copy it into the aligned block before anything else reads arrays). */
+    size_t head = (sizeof(model_block) + BLOB_ALIGN - 1) & ~(size_t)(BLOB_ALIGN - 1);
+    if (size < sizeof(blob_header)) {
+        reader early = {.bytes = bytes, .size = size, .name = name, .error = error};
+        return check_header(&early);
+    }
+    blob_header header;
+    memcpy(&header, bytes, sizeof header);
+    size_t tables = tables_size(&header);
+    if (tables > SIZE_MAX / 2 || size > SIZE_MAX / 2)
+        return sinew_fail(error, SINEW_ERROR_FORMAT, "%s: corrupted model data: table sizes", name);
+    unsigned char *block = alloc.alloc(head + tables + size, alloc.user);
+    if (!block)
+        return sinew_fail(error, SINEW_ERROR_OUT_OF_MEMORY, "%s: out of memory for %zu bytes", name, head + tables + size);
+    unsigned char *copy = block + head + tables;
+    memcpy(copy, bytes, size);
+
+    reader r = {.bytes = copy, .size = size, .name = name, .error = error};
+    sinew_result result;
+    if ((result = check_header(&r)) || (result = check_nodes(&r)) || (result = check_skins(&r)) ||
+        (result = check_meshes(&r)) || (result = check_clips(&r))) {
+        alloc.free(block, alloc.user);
+        return result;
+    }
+    model_block *b = (model_block *)block;
+    memset(b, 0, sizeof *b);
+    b->allocator = alloc;
+    b->blob = copy;
+    b->blob_size = size;
+    fill_model(b, &r, block + head);
+    *out = &b->model;
+    return SINEW_OK;
+}
+
+void sinew_model_blob(const sinew_model *model, const void **bytes, size_t *size)
+{
+    const model_block *b = (const model_block *)model;
+    *bytes = b->blob;
+    *size = b->blob_size;
+}
+
+void sinew_model_free(sinew_model *model)
+{
+    if (!model)
+        return;
+    model_block *b = (model_block *)model;
+    b->allocator.free(b, b->allocator.user);
+}
+
+int32_t sinew_model_find_node(const sinew_model *model, const char *name)
+{
+    for (uint32_t i = 0; i < model->node_count; i++)
+        if (strcmp(model->node_names[i], name) == 0)
+            return (int32_t)i;
+    return -1;
+}
+
+int32_t sinew_model_find_clip(const sinew_model *model, const char *name)
+{
+    for (uint32_t i = 0; i < model->clip_count; i++)
+        if (strcmp(model->clips[i].name, name) == 0)
+            return (int32_t)i;
+    return -1;
+}
+
+bool sinew_model_node_is_joint(const sinew_model *model, uint32_t node)
+{
+    for (uint32_t s = 0; s < model->skin_count; s++)
+        for (uint32_t j = 0; j < model->skins[s].joint_count; j++)
+            if (model->skins[s].joints[j] == node)
+                return true;
+    return false;
+}

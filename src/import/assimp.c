@@ -1,0 +1,675 @@
+/* Assimp -> raw model.
+ *
+ * Index:
+ *   read_nodes ........ the whole node hierarchy, depth first (parents before children)
+ *   axis_conversion ... FBX files keep their up axis and unit in metadata: turn them into
+ *                       a root transform (COLLADA's Assimp already folds them into the root)
+ *   read_meshes ....... triangles, normals, UVs, a skin per skinned mesh (bone -> node by name,
+ *                       offset matrix = inverse bind with the bind-shape matrix already in it)
+ *   read_clips ........ ticks -> seconds (ticks per second 0 falls back to 25), one track per node
+ *   raw_model_from_assimp
+ */
+#include <ctype.h>
+#include <libgen.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+
+#include <assimp/cimport.h>
+#include <assimp/material.h>
+#include <assimp/metadata.h>
+#include <assimp/postprocess.h>
+#include <assimp/scene.h>
+
+#include <cglm/cglm.h>
+
+#include "../core/internal.h"
+#include "internal.h"
+#include "sinew/anim.h"
+
+/* Assimp's documented default when a file gives no rate (its viewer and docs use 25). */
+#define FALLBACK_TICKS_PER_SECOND 25.0
+
+/* What Assimp does to the scene: triangles, shared vertices, normals where missing, and
+ * its own consistency check. No LimitBoneWeights (sinew keeps up to 8 influences), no
+ * FindInvalidData (it would hide NaN input that sinew must report). */
+#define IMPORT_FLAGS                                                                                                   \
+    (aiProcess_Triangulate | aiProcess_JoinIdenticalVertices | aiProcess_SortByPType | aiProcess_GenSmoothNormals |    \
+     aiProcess_ValidateDataStructure)
+
+typedef struct context {
+    const char *path;
+    const struct aiScene *scene;
+    raw_model *model;
+    const struct aiNode **nodes; /* sinew node index -> Assimp node */
+    bool *joints;                /* nodes named by some bone, so far */
+    sinew_error *error;
+} context;
+
+static sinew_result oom(context *c)
+{
+    return sinew_fail(c->error, SINEW_ERROR_OUT_OF_MEMORY, "%s: out of memory while importing", c->path);
+}
+
+static void to_mat4(const struct aiMatrix4x4 *a, sinew_mat4 *out)
+{
+    /* aiMatrix4x4 is row-major (a1..a4 is the first row); sinew is column-major. */
+    const float rows[4][4] = {{a->a1, a->a2, a->a3, a->a4},
+                              {a->b1, a->b2, a->b3, a->b4},
+                              {a->c1, a->c2, a->c3, a->c4},
+                              {a->d1, a->d2, a->d3, a->d4}};
+    for (int c = 0; c < 4; c++)
+        for (int r = 0; r < 4; r++)
+            out->m[c * 4 + r] = rows[r][c];
+}
+
+/* ---- nodes -------------------------------------------------------------------------------- */
+
+static uint32_t count_nodes(const struct aiNode *node)
+{
+    uint32_t n = 1;
+    for (unsigned i = 0; i < node->mNumChildren; i++)
+        n += count_nodes(node->mChildren[i]);
+    return n;
+}
+
+static bool add_node(context *c, const struct aiNode *node, int32_t parent, uint32_t *next)
+{
+    raw_model *m = c->model;
+    uint32_t index = (*next)++;
+    c->nodes[index] = node;
+    m->node_parents[index] = parent;
+    if (!(m->node_names[index] = raw_strdup(node->mName.data)))
+        return false;
+    sinew_mat4 local;
+    to_mat4(&node->mTransformation, &local);
+    sinew_mat4_decompose(&local, &m->node_rest[index]);
+    for (unsigned i = 0; i < node->mNumChildren; i++)
+        if (!add_node(c, node->mChildren[i], (int32_t)index, next))
+            return false;
+    return true;
+}
+
+static sinew_result read_nodes(context *c)
+{
+    raw_model *m = c->model;
+    uint32_t n = count_nodes(c->scene->mRootNode);
+    m->node_names = calloc(n, sizeof(char *));
+    m->node_parents = calloc(n, sizeof(int32_t));
+    m->node_rest = calloc(n, sizeof(sinew_transform));
+    c->nodes = calloc(n, sizeof(*c->nodes));
+    c->joints = calloc(n, sizeof(*c->joints));
+    if (!m->node_names || !m->node_parents || !m->node_rest || !c->nodes || !c->joints)
+        return oom(c);
+    m->node_count = n;
+    uint32_t next = 0;
+    if (!add_node(c, c->scene->mRootNode, -1, &next))
+        return oom(c);
+    return SINEW_OK;
+}
+
+/* Nodes may share a name (robot.glb names mesh nodes after the bones they sit on), and
+ * Assimp links bones and channels to nodes by name alone. Among several nodes of one name
+ * sinew prefers, in order: a node already known to be a joint, a node whose parent is a
+ * joint, a node that holds no mesh, the first in depth-first order. `joints` marks nodes already known to be joints
+ * (may be NULL). Returns -1 when no node has the name; *ambiguous tells whether the rules
+ * above had to pick. */
+static int32_t find_node(const context *c, const char *name, const bool *joints, bool *ambiguous)
+{
+    int32_t best = -1, best_score = -1, matches = 0, best_ties = 0;
+    for (uint32_t i = 0; i < c->model->node_count; i++) {
+        if (strcmp(c->model->node_names[i], name) != 0)
+            continue;
+        matches++;
+        int32_t parent = c->model->node_parents[i];
+        int32_t score = (joints && joints[i]) * 4 + (joints && parent >= 0 && joints[parent]) * 2 +
+                        (c->nodes[i]->mNumMeshes == 0);
+        if (score > best_score) {
+            best = (int32_t)i;
+            best_score = score;
+            best_ties = 1;
+        } else if (score == best_score) {
+            best_ties++;
+        }
+    }
+    if (ambiguous)
+        *ambiguous = matches > 1 && best_ties > 1;
+    return best;
+}
+
+static bool metadata_int(const struct aiMetadata *meta, const char *key, int *out)
+{
+    if (!meta)
+        return false;
+    for (unsigned i = 0; i < meta->mNumProperties; i++) {
+        if (strcmp(meta->mKeys[i].data, key) != 0)
+            continue;
+        const struct aiMetadataEntry *e = &meta->mValues[i];
+        if (e->mType == AI_INT32) {
+            *out = *(const int32_t *)e->mData;
+            return true;
+        }
+        return false;
+    }
+    return false;
+}
+
+static bool metadata_real(const struct aiMetadata *meta, const char *key, double *out)
+{
+    if (!meta)
+        return false;
+    for (unsigned i = 0; i < meta->mNumProperties; i++) {
+        if (strcmp(meta->mKeys[i].data, key) != 0)
+            continue;
+        const struct aiMetadataEntry *e = &meta->mValues[i];
+        if (e->mType == AI_FLOAT)
+            *out = *(const float *)e->mData;
+        else if (e->mType == AI_DOUBLE)
+            *out = *(const double *)e->mData;
+        else
+            return false;
+        return true;
+    }
+    return false;
+}
+
+/* FBX: Assimp reports the file's axes (UpAxis, FrontAxis, CoordAxis with signs) and its
+ * unit (UnitScaleFactor, centimetres per unit) but applies neither. The conversion to
+ * Y-up metres goes into the root node's rest transform. */
+static void axis_conversion(context *c)
+{
+    const struct aiMetadata *meta = c->scene->mMetaData;
+    int up, up_sign, front, front_sign, coord, coord_sign;
+    if (!metadata_int(meta, "UpAxis", &up) || !metadata_int(meta, "UpAxisSign", &up_sign) ||
+        !metadata_int(meta, "FrontAxis", &front) || !metadata_int(meta, "FrontAxisSign", &front_sign) ||
+        !metadata_int(meta, "CoordAxis", &coord) || !metadata_int(meta, "CoordAxisSign", &coord_sign))
+        return;
+    if (up < 0 || up > 2 || front < 0 || front > 2 || coord < 0 || coord > 2 || up == front || up == coord ||
+        front == coord) {
+        raw_model_warn(c->model, "the file's axis settings (up %d, front %d, coord %d) are inconsistent; axes left as they are",
+                       up, front, coord);
+        return;
+    }
+    double unit_cm = 1.0;
+    if (!metadata_real(meta, "UnitScaleFactor", &unit_cm) || !(unit_cm > 0.0) || !isfinite(unit_cm))
+        unit_cm = 1.0;
+    float scale = (float)(unit_cm / 100.0);
+    /* new x = coord axis, new y = up axis, new z = front axis */
+    sinew_mat4 conv = {{0}};
+    conv.m[coord * 4 + 0] = (float)(coord_sign < 0 ? -1 : 1) * scale;
+    conv.m[up * 4 + 1] = (float)(up_sign < 0 ? -1 : 1) * scale;
+    conv.m[front * 4 + 2] = (float)(front_sign < 0 ? -1 : 1) * scale;
+    conv.m[15] = 1.0f;
+
+    bool identity = true;
+    for (int i = 0; i < 16; i++)
+        identity &= fabsf(conv.m[i] - ((i % 5 == 0) ? 1.0f : 0.0f)) < 1e-7f;
+    if (identity)
+        return;
+    sinew_mat4 root, converted;
+    sinew_transform_to_mat4(&c->model->node_rest[0], &root);
+    glm_mat4_mul((vec4 *)conv.m, (vec4 *)root.m, (vec4 *)converted.m);
+    sinew_mat4_decompose(&converted, &c->model->node_rest[0]);
+}
+
+/* ---- materials ---------------------------------------------------------------------------- */
+
+static char *resolve_texture(context *c, const char *texture)
+{
+    if (texture[0] == '*') {
+        raw_model_warn(c->model, "embedded texture \"%s\" is not carried by sinew yet; the material keeps its colour", texture);
+        return NULL;
+    }
+    char folder[4096];
+    snprintf(folder, sizeof folder, "%s", c->path);
+    char *dir = dirname(folder);
+    char path[8192];
+    if (texture[0] == '/')
+        snprintf(path, sizeof path, "%s", texture);
+    else
+        snprintf(path, sizeof path, "%s/%s", dir, texture);
+    for (char *p = path; *p; p++)
+        if (*p == '\\')
+            *p = '/';
+    struct stat st;
+    if (stat(path, &st) != 0 || !S_ISREG(st.st_mode)) {
+        raw_model_warn(c->model, "texture \"%s\" not found (looked for %s)", texture, path);
+        return NULL;
+    }
+    return raw_strdup(path);
+}
+
+static sinew_result read_materials(context *c)
+{
+    raw_model *m = c->model;
+    const struct aiScene *s = c->scene;
+    if (s->mNumMaterials == 0)
+        return SINEW_OK;
+    if (!(m->materials = calloc(s->mNumMaterials, sizeof *m->materials)))
+        return oom(c);
+    m->material_count = s->mNumMaterials;
+    for (unsigned i = 0; i < s->mNumMaterials; i++) {
+        const struct aiMaterial *mat = s->mMaterials[i];
+        raw_material *out = &m->materials[i];
+        struct aiString name = {0};
+        char fallback[32];
+        snprintf(fallback, sizeof fallback, "material %u", i);
+        out->name = raw_strdup(aiGetMaterialString(mat, AI_MATKEY_NAME, &name) == AI_SUCCESS && name.length ? name.data
+                                                                                                              : fallback);
+        if (!out->name)
+            return oom(c);
+        struct aiColor4D color = {0.8f, 0.8f, 0.8f, 1.0f};
+        if (aiGetMaterialColor(mat, AI_MATKEY_BASE_COLOR, &color) != AI_SUCCESS)
+            aiGetMaterialColor(mat, AI_MATKEY_COLOR_DIFFUSE, &color);
+        float opacity = 1.0f;
+        if (aiGetMaterialFloatArray(mat, AI_MATKEY_OPACITY, &opacity, NULL) == AI_SUCCESS && opacity >= 0.0f &&
+            opacity <= 1.0f)
+            color.a *= opacity;
+        float rgba[4] = {color.r, color.g, color.b, color.a};
+        for (int k = 0; k < 4; k++)
+            out->base_color[k] = isfinite(rgba[k]) ? rgba[k] : 1.0f;
+        struct aiString texture = {0};
+        if (aiGetMaterialTexture(mat, aiTextureType_DIFFUSE, 0, &texture, NULL, NULL, NULL, NULL, NULL, NULL) ==
+                AI_SUCCESS ||
+            aiGetMaterialTexture(mat, aiTextureType_BASE_COLOR, 0, &texture, NULL, NULL, NULL, NULL, NULL, NULL) ==
+                AI_SUCCESS)
+            out->diffuse_texture = texture.length ? resolve_texture(c, texture.data) : NULL;
+    }
+    return SINEW_OK;
+}
+
+/* ---- meshes ------------------------------------------------------------------------------- */
+
+/* Assimp's SkeletonMeshBuilder adds a mesh that draws the bones of skeleton-only files
+ * (BVH, animation-only COLLADA); it uses this material name. */
+static bool is_dummy_skeleton_mesh(const struct aiScene *s, const struct aiMesh *mesh)
+{
+    struct aiString name = {0};
+    if (mesh->mMaterialIndex >= s->mNumMaterials)
+        return false;
+    return aiGetMaterialString(s->mMaterials[mesh->mMaterialIndex], AI_MATKEY_NAME, &name) == AI_SUCCESS &&
+           strcmp(name.data, "SkeletonMaterial") == 0 && s->mNumMeshes == 1;
+}
+
+/* Marks the nodes that bones name as joints: unambiguous names first, then names shared
+ * by several nodes, resolved with what is known (a few passes, since each choice can
+ * settle the next). */
+static void mark_joints(context *c)
+{
+    const struct aiScene *s = c->scene;
+    for (int pass = 0; pass < 4; pass++) {
+        for (unsigned m = 0; m < s->mNumMeshes; m++) {
+            for (unsigned b = 0; b < s->mMeshes[m]->mNumBones; b++) {
+                bool ambiguous = false;
+                int32_t node = find_node(c, s->mMeshes[m]->mBones[b]->mName.data, pass ? c->joints : NULL, &ambiguous);
+                if (node >= 0 && (pass > 0 || !ambiguous))
+                    c->joints[node] = true;
+            }
+        }
+    }
+}
+
+/* A skin from a mesh's bone list: each bone's node, and Assimp's offset matrix (mesh space
+ * to bone space at bind time, with COLLADA's bind-shape matrix already multiplied in) used
+ * once, as the inverse bind matrix. joint_of_bone gets each bone's joint index, or -1 for
+ * a bone that names no node (its weights are dropped). */
+static sinew_result add_skin(context *c, const struct aiMesh *in, const char *mesh_name, int32_t *joint_of_bone,
+                             int32_t *skin_index)
+{
+    raw_model *m = c->model;
+    raw_skin *grown = realloc(m->skins, (m->skin_count + 1) * sizeof *grown);
+    if (!grown)
+        return oom(c);
+    m->skins = grown;
+    raw_skin *skin = &m->skins[m->skin_count];
+    *skin = (raw_skin){0};
+    *skin_index = (int32_t)m->skin_count++;
+    skin->joints = calloc(in->mNumBones, sizeof *skin->joints);
+    skin->inverse_bind = calloc(in->mNumBones, sizeof *skin->inverse_bind);
+    if (!skin->joints || !skin->inverse_bind)
+        return oom(c);
+    for (unsigned b = 0; b < in->mNumBones; b++) {
+        const struct aiBone *bone = in->mBones[b];
+        bool ambiguous = false;
+        int32_t node = find_node(c, bone->mName.data, c->joints, &ambiguous);
+        joint_of_bone[b] = -1;
+        if (node < 0) {
+            raw_model_warn(m, "mesh \"%s\": bone \"%s\" names no node; its weights are dropped", mesh_name,
+                           bone->mName.data);
+            continue;
+        }
+        if (ambiguous)
+            raw_model_warn(m, "mesh \"%s\": bone \"%s\" names several nodes; the first was taken", mesh_name,
+                           bone->mName.data);
+        joint_of_bone[b] = (int32_t)skin->joint_count;
+        skin->joints[skin->joint_count] = (uint32_t)node;
+        to_mat4(&bone->mOffsetMatrix, &skin->inverse_bind[skin->joint_count]);
+        skin->joint_count++;
+    }
+    return SINEW_OK;
+}
+
+/* Per-vertex influence slots from the bones' weight lists; empty slots hold UINT32_MAX. */
+static sinew_result read_influences(context *c, const struct aiMesh *in, const int32_t *joint_of_bone, raw_mesh *out)
+{
+    uint32_t *counts = calloc(in->mNumVertices ? in->mNumVertices : 1, sizeof *counts);
+    if (!counts)
+        return oom(c);
+    uint32_t most = 0;
+    for (unsigned b = 0; b < in->mNumBones; b++) {
+        const struct aiBone *bone = in->mBones[b];
+        for (unsigned w = 0; w < bone->mNumWeights; w++) {
+            unsigned v = bone->mWeights[w].mVertexId;
+            if (v >= in->mNumVertices) {
+                free(counts);
+                return sinew_fail(c->error, SINEW_ERROR_DATA, "%s: mesh \"%s\": bone \"%s\" weights vertex %u of %u",
+                                  c->path, out->name, bone->mName.data, v, in->mNumVertices);
+            }
+            if (joint_of_bone[b] >= 0 && ++counts[v] > most)
+                most = counts[v];
+        }
+    }
+    out->influence_count = most ? most : 1;
+    size_t slots = (size_t)in->mNumVertices * out->influence_count;
+    out->joints = malloc((slots ? slots : 1) * sizeof *out->joints);
+    out->weights = calloc(slots ? slots : 1, sizeof *out->weights);
+    if (!out->joints || !out->weights) {
+        free(counts);
+        return oom(c);
+    }
+    for (size_t i = 0; i < slots; i++)
+        out->joints[i] = UINT32_MAX;
+    memset(counts, 0, in->mNumVertices * sizeof *counts);
+    for (unsigned b = 0; b < in->mNumBones; b++) {
+        if (joint_of_bone[b] < 0)
+            continue;
+        const struct aiBone *bone = in->mBones[b];
+        for (unsigned w = 0; w < bone->mNumWeights; w++) {
+            unsigned v = bone->mWeights[w].mVertexId;
+            size_t slot = (size_t)v * out->influence_count + counts[v]++;
+            out->joints[slot] = (uint32_t)joint_of_bone[b];
+            out->weights[slot] = bone->mWeights[w].mWeight;
+        }
+    }
+    free(counts);
+    return SINEW_OK;
+}
+
+static sinew_result read_skin(context *c, const struct aiMesh *in, raw_mesh *out)
+{
+    int32_t *joint_of_bone = calloc(in->mNumBones, sizeof *joint_of_bone);
+    if (!joint_of_bone)
+        return oom(c);
+    sinew_result r = add_skin(c, in, out->name, joint_of_bone, &out->skin);
+    if (!r)
+        r = read_influences(c, in, joint_of_bone, out);
+    free(joint_of_bone);
+    return r;
+}
+
+static sinew_result read_mesh(context *c, const struct aiMesh *in, uint32_t index, raw_mesh *out)
+{
+    char fallback[32];
+    snprintf(fallback, sizeof fallback, "mesh %u", index);
+    if (!(out->name = raw_strdup(in->mName.length ? in->mName.data : fallback)))
+        return oom(c);
+    uint32_t v = in->mNumVertices;
+    out->vertex_count = v;
+    out->material = in->mMaterialIndex < c->scene->mNumMaterials ? (int32_t)in->mMaterialIndex : -1;
+    out->skin = -1;
+    out->positions = malloc((v ? v : 1) * 3 * sizeof(float));
+    if (!out->positions)
+        return oom(c);
+    for (uint32_t i = 0; i < v; i++)
+        memcpy(&out->positions[i * 3], &in->mVertices[i], 3 * sizeof(float));
+    if (in->mNormals) {
+        if (!(out->normals = malloc((v ? v : 1) * 3 * sizeof(float))))
+            return oom(c);
+        for (uint32_t i = 0; i < v; i++)
+            memcpy(&out->normals[i * 3], &in->mNormals[i], 3 * sizeof(float));
+    }
+    if (in->mTextureCoords[0]) {
+        if (!(out->uvs = malloc((v ? v : 1) * 2 * sizeof(float))))
+            return oom(c);
+        for (uint32_t i = 0; i < v; i++) {
+            out->uvs[i * 2] = in->mTextureCoords[0][i].x;
+            out->uvs[i * 2 + 1] = in->mTextureCoords[0][i].y;
+        }
+    }
+    uint32_t triangles = 0, other = 0;
+    for (unsigned f = 0; f < in->mNumFaces; f++)
+        in->mFaces[f].mNumIndices == 3 ? triangles++ : other++;
+    if (other)
+        raw_model_warn(c->model, "mesh \"%s\": %u line or point primitives are not drawn", out->name, other);
+    if (!(out->indices = malloc((triangles ? triangles : 1) * 3 * sizeof(uint32_t))))
+        return oom(c);
+    for (unsigned f = 0; f < in->mNumFaces; f++) {
+        const struct aiFace *face = &in->mFaces[f];
+        if (face->mNumIndices != 3)
+            continue;
+        memcpy(&out->indices[out->index_count], face->mIndices, 3 * sizeof(uint32_t));
+        out->index_count += 3;
+    }
+    return in->mNumBones ? read_skin(c, in, out) : SINEW_OK;
+}
+
+static sinew_result read_instances(context *c, const uint32_t *mesh_map)
+{
+    raw_model *m = c->model;
+    uint32_t count = 0;
+    for (uint32_t n = 0; n < m->node_count; n++)
+        count += c->nodes[n]->mNumMeshes;
+    if (!(m->instances = calloc(count ? count : 1, sizeof *m->instances)))
+        return oom(c);
+    bool *used = calloc(m->mesh_count ? m->mesh_count : 1, sizeof *used);
+    if (!used)
+        return oom(c);
+    for (uint32_t n = 0; n < m->node_count; n++) {
+        for (unsigned k = 0; k < c->nodes[n]->mNumMeshes; k++) {
+            unsigned src = c->nodes[n]->mMeshes[k];
+            if (src >= c->scene->mNumMeshes || mesh_map[src] == UINT32_MAX)
+                continue;
+            m->instances[m->instance_count++] = (sinew_instance){mesh_map[src], n};
+            used[mesh_map[src]] = true;
+        }
+    }
+    for (uint32_t i = 0; i < m->mesh_count; i++)
+        if (!used[i])
+            raw_model_warn(m, "mesh \"%s\" is not placed at any node; it is not drawn", m->meshes[i].name);
+    free(used);
+    return SINEW_OK;
+}
+
+static sinew_result read_meshes(context *c)
+{
+    raw_model *m = c->model;
+    const struct aiScene *s = c->scene;
+    uint32_t *mesh_map = malloc((s->mNumMeshes ? s->mNumMeshes : 1) * sizeof *mesh_map);
+    m->meshes = calloc(s->mNumMeshes ? s->mNumMeshes : 1, sizeof *m->meshes);
+    if (!mesh_map || !m->meshes) {
+        free(mesh_map);
+        return oom(c);
+    }
+    sinew_result result = SINEW_OK;
+    for (unsigned i = 0; i < s->mNumMeshes; i++)
+        mesh_map[i] = UINT32_MAX;
+    mark_joints(c);
+    for (unsigned i = 0; i < s->mNumMeshes && !result; i++) {
+        const struct aiMesh *in = s->mMeshes[i];
+        if (is_dummy_skeleton_mesh(s, in)) {
+            /* Keep the skeleton it names as a skin with no mesh, so the joints stay joints. */
+            int32_t *joint_of_bone = calloc(in->mNumBones ? in->mNumBones : 1, sizeof *joint_of_bone);
+            int32_t skin;
+            result = joint_of_bone ? add_skin(c, in, "skeleton", joint_of_bone, &skin) : oom(c);
+            free(joint_of_bone);
+            raw_model_warn(m, "skeleton-only file: Assimp's generated bone mesh was dropped; its %u joints are kept",
+                           in->mNumBones);
+            continue;
+        }
+        if (!(in->mPrimitiveTypes & aiPrimitiveType_TRIANGLE)) {
+            raw_model_warn(m, "mesh \"%s\" has only lines or points; it is not drawn", in->mName.data);
+            continue;
+        }
+        mesh_map[i] = m->mesh_count++;
+        result = read_mesh(c, in, i, &m->meshes[mesh_map[i]]);
+    }
+    if (!result)
+        result = read_instances(c, mesh_map);
+    free(mesh_map);
+    return result;
+}
+
+/* ---- clips -------------------------------------------------------------------------------- */
+
+static sinew_result read_vector_keys(context *c, const struct aiVectorKey *keys, unsigned count, double tps,
+                                     raw_channel *out)
+{
+    out->interp = SINEW_INTERP_LINEAR;
+    out->count = count;
+    out->times = malloc((count ? count : 1) * sizeof(float));
+    out->values = malloc((count ? count : 1) * 3 * sizeof(float));
+    if (!out->times || !out->values)
+        return oom(c);
+    for (unsigned k = 0; k < count; k++) {
+        out->times[k] = (float)(keys[k].mTime / tps);
+        memcpy(&out->values[k * 3], &keys[k].mValue, 3 * sizeof(float));
+    }
+    return SINEW_OK;
+}
+
+static sinew_result read_rotation_keys(context *c, const struct aiQuatKey *keys, unsigned count, double tps,
+                                       raw_channel *out)
+{
+    out->interp = SINEW_INTERP_LINEAR;
+    out->count = count;
+    out->times = malloc((count ? count : 1) * sizeof(float));
+    out->values = malloc((count ? count : 1) * 4 * sizeof(float));
+    if (!out->times || !out->values)
+        return oom(c);
+    for (unsigned k = 0; k < count; k++) {
+        out->times[k] = (float)(keys[k].mTime / tps);
+        const struct aiQuaternion *q = &keys[k].mValue; /* Assimp stores w, x, y, z */
+        float *v = &out->values[k * 4];
+        v[0] = q->x, v[1] = q->y, v[2] = q->z, v[3] = q->w;
+    }
+    return SINEW_OK;
+}
+
+static sinew_result read_clip(context *c, const struct aiAnimation *anim, uint32_t index, raw_clip *out)
+{
+    raw_model *m = c->model;
+    char fallback[32];
+    snprintf(fallback, sizeof fallback, "clip %u", index);
+    if (!(out->name = raw_strdup(anim->mName.length ? anim->mName.data : fallback)))
+        return oom(c);
+    double tps = anim->mTicksPerSecond;
+    if (!(tps > 0.0) || !isfinite(tps)) {
+        raw_model_warn(m, "clip \"%s\" gives no ticks per second; using %g as Assimp documents", out->name,
+                       FALLBACK_TICKS_PER_SECOND);
+        tps = FALLBACK_TICKS_PER_SECOND;
+    }
+    out->duration = (float)(anim->mDuration / tps);
+    if (anim->mNumMeshChannels || anim->mNumMorphMeshChannels)
+        raw_model_warn(m, "clip \"%s\": %u mesh and morph channels are not supported and were skipped", out->name,
+                       anim->mNumMeshChannels + anim->mNumMorphMeshChannels);
+    if (!(out->tracks = calloc(anim->mNumChannels ? anim->mNumChannels : 1, sizeof *out->tracks)))
+        return oom(c);
+    for (unsigned i = 0; i < anim->mNumChannels; i++) {
+        const struct aiNodeAnim *ch = anim->mChannels[i];
+        bool ambiguous = false;
+        int32_t node = find_node(c, ch->mNodeName.data, c->joints, &ambiguous);
+        if (ambiguous)
+            raw_model_warn(m, "clip \"%s\": channel for \"%s\" names several nodes; the first was taken", out->name,
+                           ch->mNodeName.data);
+        if (node < 0) {
+            raw_model_warn(m, "clip \"%s\": channel for \"%s\" names no node and was skipped", out->name,
+                           ch->mNodeName.data);
+            continue;
+        }
+        raw_track *track = &out->tracks[out->track_count++];
+        track->node = (uint32_t)node;
+        sinew_result r;
+        if ((r = read_vector_keys(c, ch->mPositionKeys, ch->mNumPositionKeys, tps,
+                                  &track->channels[SINEW_CHANNEL_TRANSLATION])) ||
+            (r = read_rotation_keys(c, ch->mRotationKeys, ch->mNumRotationKeys, tps,
+                                    &track->channels[SINEW_CHANNEL_ROTATION])) ||
+            (r = read_vector_keys(c, ch->mScalingKeys, ch->mNumScalingKeys, tps, &track->channels[SINEW_CHANNEL_SCALE])))
+            return r;
+    }
+    if (out->track_count && out->tracks[0].node == 0 && c->model->node_count > 0)
+        raw_model_warn(m, "clip \"%s\" animates the root node; its rest transform (with any axis conversion) is replaced",
+                       out->name);
+    return SINEW_OK;
+}
+
+static sinew_result read_clips(context *c)
+{
+    raw_model *m = c->model;
+    const struct aiScene *s = c->scene;
+    if (s->mNumAnimations == 0)
+        return SINEW_OK;
+    if (!(m->clips = calloc(s->mNumAnimations, sizeof *m->clips)))
+        return oom(c);
+    for (unsigned i = 0; i < s->mNumAnimations; i++) {
+        sinew_result r = read_clip(c, s->mAnimations[i], i, &m->clips[m->clip_count++]);
+        if (r)
+            return r;
+    }
+    return SINEW_OK;
+}
+
+/* ---- entry -------------------------------------------------------------------------------- */
+
+static char *format_name(const char *path)
+{
+    const char *dot = strrchr(path, '.');
+    const char *slash = strrchr(path, '/');
+    char name[32] = "unknown";
+    if (dot && (!slash || dot > slash) && dot[1]) {
+        size_t n = 0;
+        for (const char *p = dot + 1; *p && n + 1 < sizeof name; p++)
+            name[n++] = (char)tolower((unsigned char)*p);
+        name[n] = '\0';
+    }
+    return raw_strdup(name);
+}
+
+sinew_result raw_model_from_assimp(const char *path, raw_model *model, sinew_error *error)
+{
+    memset(model, 0, sizeof *model);
+    struct aiPropertyStore *props = aiCreatePropertyStore();
+    const struct aiScene *scene = aiImportFileExWithProperties(path, IMPORT_FLAGS, NULL, props);
+    aiReleasePropertyStore(props);
+    if (!scene || !scene->mRootNode) {
+        const char *why = aiGetErrorString();
+        sinew_result r = sinew_fail(error, SINEW_ERROR_IMPORTER, "%s: the importer (Assimp) failed: %s", path,
+                                    why && *why ? why : "no reason given");
+        if (scene)
+            aiReleaseImport(scene);
+        return r;
+    }
+    context c = {.path = path, .scene = scene, .model = model, .error = error};
+    sinew_result result = SINEW_OK;
+    if (!(model->source = raw_strdup(path)) || !(model->format = format_name(path)))
+        result = oom(&c);
+    if (!result && (scene->mFlags & AI_SCENE_FLAGS_INCOMPLETE) && scene->mNumMeshes == 0 && scene->mNumAnimations == 0)
+        raw_model_warn(model, "Assimp marked the scene incomplete and it has no meshes and no clips");
+    if (!result)
+        result = read_nodes(&c);
+    if (!result) {
+        axis_conversion(&c);
+        result = read_materials(&c);
+    }
+    if (!result)
+        result = read_meshes(&c);
+    if (!result)
+        result = read_clips(&c);
+    free(c.nodes);
+    free(c.joints);
+    aiReleaseImport(scene);
+    if (result)
+        raw_model_free(model);
+    return result;
+}

@@ -1,0 +1,727 @@
+/* The builder: raw model -> validated, repaired runtime blob.
+ *
+ * Index:
+ *   raw model helpers ...... raw_model_free, raw_model_warn, raw_strdup
+ *   validation/repair ...... check_nodes, fix_mesh (normals, influences), fix_clip (keys)
+ *   blob writer ............ writer_put, writer_string, write_* tables, raw_model_build
+ */
+#include <math.h>
+#include <stdarg.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "../core/internal.h"
+#include "internal.h"
+
+/* ---- raw model helpers ---------------------------------------------------------------- */
+
+char *raw_strdup(const char *text)
+{
+    size_t n = strlen(text) + 1;
+    char *copy = malloc(n);
+    if (copy)
+        memcpy(copy, text, n);
+    return copy;
+}
+
+bool raw_model_warn(raw_model *model, const char *format, ...)
+{
+    char text[512];
+    va_list args;
+    va_start(args, format);
+    vsnprintf(text, sizeof text, format, args);
+    va_end(args);
+    char **grown = realloc(model->warnings, (model->warning_count + 1) * sizeof(char *));
+    if (!grown)
+        return false;
+    model->warnings = grown;
+    if (!(grown[model->warning_count] = raw_strdup(text)))
+        return false;
+    model->warning_count++;
+    return true;
+}
+
+void raw_model_free(raw_model *m)
+{
+    if (!m)
+        return;
+    for (uint32_t i = 0; i < m->node_count && m->node_names; i++)
+        free(m->node_names[i]);
+    free(m->node_names);
+    free(m->node_parents);
+    free(m->node_rest);
+    for (uint32_t i = 0; i < m->skin_count; i++) {
+        free(m->skins[i].joints);
+        free(m->skins[i].inverse_bind);
+    }
+    free(m->skins);
+    for (uint32_t i = 0; i < m->mesh_count; i++) {
+        raw_mesh *mesh = &m->meshes[i];
+        free(mesh->name);
+        free(mesh->positions);
+        free(mesh->normals);
+        free(mesh->uvs);
+        free(mesh->indices);
+        free(mesh->joints);
+        free(mesh->weights);
+    }
+    free(m->meshes);
+    free(m->instances);
+    for (uint32_t i = 0; i < m->material_count; i++) {
+        free(m->materials[i].name);
+        free(m->materials[i].diffuse_texture);
+    }
+    free(m->materials);
+    for (uint32_t c = 0; c < m->clip_count; c++) {
+        raw_clip *clip = &m->clips[c];
+        for (uint32_t t = 0; t < clip->track_count; t++)
+            for (int k = 0; k < SINEW_CHANNEL_COUNT; k++) {
+                free(clip->tracks[t].channels[k].times);
+                free(clip->tracks[t].channels[k].values);
+            }
+        free(clip->tracks);
+        free(clip->name);
+    }
+    free(m->clips);
+    for (uint32_t i = 0; i < m->warning_count; i++)
+        free(m->warnings[i]);
+    free(m->warnings);
+    free(m->source);
+    free(m->format);
+    memset(m, 0, sizeof *m);
+}
+
+/* ---- validation and repair -------------------------------------------------------------- */
+
+static bool all_finite(const float *v, size_t n)
+{
+    for (size_t i = 0; i < n; i++)
+        if (!isfinite(v[i]))
+            return false;
+    return true;
+}
+
+static sinew_result oom(const raw_model *m, sinew_error *error)
+{
+    return sinew_fail(error, SINEW_ERROR_OUT_OF_MEMORY, "%s: out of memory while building the model", m->source);
+}
+
+static sinew_result check_nodes(const raw_model *m, sinew_error *error)
+{
+    for (uint32_t i = 0; i < m->node_count; i++) {
+        if (m->node_parents[i] < -1 || m->node_parents[i] >= (int32_t)i)
+            return sinew_fail(error, SINEW_ERROR_DATA, "%s: node \"%s\" comes before its parent", m->source,
+                              m->node_names[i]);
+        if (!all_finite(&m->node_rest[i].translation[0], 10))
+            return sinew_fail(error, SINEW_ERROR_DATA, "%s: node \"%s\" has a transform that is not finite (NaN or Inf)",
+                              m->source, m->node_names[i]);
+    }
+    for (uint32_t s = 0; s < m->skin_count; s++) {
+        const raw_skin *skin = &m->skins[s];
+        if (skin->joint_count > SINEW_MAX_JOINTS)
+            return sinew_fail(error, SINEW_ERROR_LIMIT, "%s: a skin has %u joints; sinew handles at most %d", m->source,
+                              skin->joint_count, SINEW_MAX_JOINTS);
+        for (uint32_t j = 0; j < skin->joint_count; j++) {
+            if (skin->joints[j] >= m->node_count)
+                return sinew_fail(error, SINEW_ERROR_DATA, "%s: skin joint %u is not a node", m->source, j);
+            if (!all_finite(skin->inverse_bind[j].m, 16))
+                return sinew_fail(error, SINEW_ERROR_DATA,
+                                  "%s: the inverse bind matrix of joint \"%s\" is not finite (NaN or Inf)", m->source,
+                                  m->node_names[skin->joints[j]]);
+        }
+    }
+    for (uint32_t i = 0; i < m->instance_count; i++)
+        if (m->instances[i].mesh >= m->mesh_count || m->instances[i].node >= m->node_count)
+            return sinew_fail(error, SINEW_ERROR_DATA, "%s: a mesh instance names a missing mesh or node", m->source);
+    return SINEW_OK;
+}
+
+/* Area-weighted smooth normals, for meshes that came without any. */
+static void compute_normals(raw_mesh *mesh)
+{
+    float *n = mesh->normals;
+    memset(n, 0, (size_t)mesh->vertex_count * 3 * sizeof(float));
+    for (uint32_t t = 0; t + 2 < mesh->index_count; t += 3) {
+        const uint32_t *tri = &mesh->indices[t];
+        const float *a = &mesh->positions[tri[0] * 3], *b = &mesh->positions[tri[1] * 3], *c = &mesh->positions[tri[2] * 3];
+        float e1[3] = {b[0] - a[0], b[1] - a[1], b[2] - a[2]}, e2[3] = {c[0] - a[0], c[1] - a[1], c[2] - a[2]};
+        float f[3] = {e1[1] * e2[2] - e1[2] * e2[1], e1[2] * e2[0] - e1[0] * e2[2], e1[0] * e2[1] - e1[1] * e2[0]};
+        for (int k = 0; k < 3; k++)
+            for (int i = 0; i < 3; i++)
+                n[tri[k] * 3 + i] += f[i];
+    }
+    for (uint32_t v = 0; v < mesh->vertex_count; v++) {
+        float *p = &n[v * 3];
+        float len = sqrtf(p[0] * p[0] + p[1] * p[1] + p[2] * p[2]);
+        if (len > 0.0f) {
+            p[0] /= len, p[1] /= len, p[2] /= len;
+        } else {
+            p[0] = 0.0f, p[1] = 1.0f, p[2] = 0.0f;
+        }
+    }
+}
+
+typedef struct influence {
+    uint32_t joint;
+    float weight;
+} influence;
+
+static int by_weight_desc(const void *a, const void *b)
+{
+    const influence *x = a, *y = b;
+    if (x->weight != y->weight)
+        return x->weight > y->weight ? -1 : 1;
+    return x->joint < y->joint ? -1 : (x->joint > y->joint);
+}
+
+/* Index of the joint that unweighted vertices of `mesh` follow: the node the mesh is
+ * instanced at, added to its skin with an identity inverse bind when missing. */
+static int32_t fallback_joint(raw_model *m, uint32_t mesh_index)
+{
+    raw_mesh *mesh = &m->meshes[mesh_index];
+    raw_skin *skin = &m->skins[mesh->skin];
+    uint32_t node = 0;
+    for (uint32_t i = 0; i < m->instance_count; i++)
+        if (m->instances[i].mesh == mesh_index) {
+            node = m->instances[i].node;
+            break;
+        }
+    static const sinew_mat4 identity = {{1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1}};
+    for (uint32_t j = 0; j < skin->joint_count; j++)
+        if (skin->joints[j] == node && memcmp(&skin->inverse_bind[j], &identity, sizeof identity) == 0)
+            return (int32_t)j;
+    if (skin->joint_count >= SINEW_MAX_JOINTS)
+        return -1;
+    uint32_t *joints = realloc(skin->joints, (skin->joint_count + 1) * sizeof *joints);
+    if (!joints)
+        return -1;
+    skin->joints = joints;
+    sinew_mat4 *ibm = realloc(skin->inverse_bind, (skin->joint_count + 1) * sizeof *ibm);
+    if (!ibm)
+        return -1;
+    skin->inverse_bind = ibm;
+    joints[skin->joint_count] = node;
+    ibm[skin->joint_count] = identity;
+    return (int32_t)skin->joint_count++;
+}
+
+/* Sorts each vertex's influences by weight, keeps the largest SINEW_MAX_INFLUENCES,
+ * normalises them, and narrows the slot count to what the mesh needs. */
+static sinew_result fix_influences(raw_model *m, uint32_t mesh_index, sinew_error *error)
+{
+    raw_mesh *mesh = &m->meshes[mesh_index];
+    const uint32_t k = mesh->influence_count;
+    const uint32_t joint_count = m->skins[mesh->skin].joint_count;
+    influence *scratch = malloc((k ? k : 1) * sizeof *scratch);
+    if (!scratch)
+        return oom(m, error);
+    uint32_t used = 1, truncated = 0, unweighted = 0, renormalised = 0;
+    int32_t fallback = -1;
+    for (uint32_t v = 0; v < mesh->vertex_count; v++) {
+        uint32_t *joints = &mesh->joints[(size_t)v * k];
+        float *weights = &mesh->weights[(size_t)v * k];
+        uint32_t n = 0, listed = 0;
+        float sum = 0.0f;
+        for (uint32_t i = 0; i < k; i++) {
+            if (joints[i] == UINT32_MAX)
+                continue;
+            listed++;
+            if (!isfinite(weights[i]) || weights[i] < 0.0f) {
+                free(scratch);
+                return sinew_fail(error, SINEW_ERROR_DATA, "%s: mesh \"%s\": vertex %u has an invalid skin weight (%g)",
+                                  m->source, mesh->name, v, (double)weights[i]);
+            }
+            if (joints[i] >= joint_count) {
+                free(scratch);
+                return sinew_fail(error, SINEW_ERROR_DATA, "%s: mesh \"%s\": vertex %u names joint %u of %u", m->source,
+                                  mesh->name, v, joints[i], joint_count);
+            }
+            if (weights[i] > 0.0f)
+                scratch[n++] = (influence){joints[i], weights[i]};
+        }
+        qsort(scratch, n, sizeof *scratch, by_weight_desc);
+        if (n > SINEW_MAX_INFLUENCES) {
+            n = SINEW_MAX_INFLUENCES;
+            truncated++;
+        }
+        for (uint32_t i = 0; i < n; i++)
+            sum += scratch[i].weight;
+        if (listed > 0 && !(sum > 0.0f)) {
+            free(scratch);
+            return sinew_fail(error, SINEW_ERROR_DATA, "%s: mesh \"%s\": the skin weights of vertex %u sum to zero", m->source,
+                              mesh->name, v);
+        }
+        if (n == 0) {
+            if (fallback < 0 && (fallback = fallback_joint(m, mesh_index)) < 0) {
+                free(scratch);
+                return oom(m, error);
+            }
+            scratch[n++] = (influence){(uint32_t)fallback, 1.0f};
+            sum = 1.0f;
+            unweighted++;
+        }
+        if (fabsf(sum - 1.0f) > 1e-3f)
+            renormalised++;
+        for (uint32_t i = 0; i < k; i++) {
+            joints[i] = i < n ? scratch[i].joint : 0;
+            weights[i] = i < n ? scratch[i].weight / sum : 0.0f;
+        }
+        if (n > used)
+            used = n;
+    }
+    free(scratch);
+    if (truncated)
+        raw_model_warn(m, "mesh \"%s\": %u vertices had more than %d influences; the %d largest were kept and renormalised",
+                       mesh->name, truncated, SINEW_MAX_INFLUENCES, SINEW_MAX_INFLUENCES);
+    if (renormalised)
+        raw_model_warn(m, "mesh \"%s\": the skin weights of %u vertices did not sum to 1 and were renormalised", mesh->name,
+                       renormalised);
+    if (unweighted)
+        raw_model_warn(m, "mesh \"%s\": %u vertices have no skin weights; they follow the mesh's node \"%s\"", mesh->name,
+                       unweighted, m->node_names[m->skins[mesh->skin].joints[fallback]]);
+    /* Narrow the slots from k to `used`, in place. */
+    for (uint32_t v = 0; v < mesh->vertex_count; v++)
+        for (uint32_t i = 0; i < used; i++) {
+            mesh->joints[(size_t)v * used + i] = mesh->joints[(size_t)v * k + i];
+            mesh->weights[(size_t)v * used + i] = mesh->weights[(size_t)v * k + i];
+        }
+    mesh->influence_count = used;
+    return SINEW_OK;
+}
+
+static sinew_result fix_mesh(raw_model *m, uint32_t index, sinew_error *error)
+{
+    raw_mesh *mesh = &m->meshes[index];
+    size_t v = mesh->vertex_count;
+    if (!all_finite(mesh->positions, v * 3))
+        return sinew_fail(error, SINEW_ERROR_DATA, "%s: mesh \"%s\" has vertex positions that are not finite (NaN or Inf)",
+                          m->source, mesh->name);
+    if (mesh->uvs && !all_finite(mesh->uvs, v * 2))
+        return sinew_fail(error, SINEW_ERROR_DATA, "%s: mesh \"%s\" has texture coordinates that are not finite", m->source,
+                          mesh->name);
+    if (mesh->index_count % 3 != 0)
+        return sinew_fail(error, SINEW_ERROR_DATA, "%s: mesh \"%s\" has %u indices, not whole triangles", m->source,
+                          mesh->name, mesh->index_count);
+    for (uint32_t i = 0; i < mesh->index_count; i++)
+        if (mesh->indices[i] >= mesh->vertex_count)
+            return sinew_fail(error, SINEW_ERROR_DATA, "%s: mesh \"%s\": index %u names vertex %u of %u", m->source,
+                              mesh->name, i, mesh->indices[i], mesh->vertex_count);
+    if (mesh->material < -1 || mesh->material >= (int32_t)m->material_count)
+        return sinew_fail(error, SINEW_ERROR_DATA, "%s: mesh \"%s\" names a missing material", m->source, mesh->name);
+    if (mesh->skin < -1 || mesh->skin >= (int32_t)m->skin_count)
+        return sinew_fail(error, SINEW_ERROR_DATA, "%s: mesh \"%s\" names a missing skin", m->source, mesh->name);
+    bool recompute = !mesh->normals || !all_finite(mesh->normals, v * 3);
+    if (!mesh->normals && !(mesh->normals = malloc((v ? v : 1) * 3 * sizeof(float))))
+        return oom(m, error);
+    if (recompute)
+        compute_normals(mesh);
+    if (mesh->skin >= 0 && (mesh->influence_count == 0 || !mesh->joints || !mesh->weights))
+        return sinew_fail(error, SINEW_ERROR_DATA, "%s: mesh \"%s\" has a skin but no influences", m->source, mesh->name);
+    if (mesh->skin < 0)
+        mesh->influence_count = 0;
+    return mesh->skin >= 0 ? fix_influences(m, index, error) : SINEW_OK;
+}
+
+typedef struct key_order {
+    float time;
+    uint32_t index;
+} key_order;
+
+static int by_time(const void *a, const void *b)
+{
+    const key_order *x = a, *y = b;
+    if (x->time != y->time)
+        return x->time < y->time ? -1 : 1;
+    return x->index < y->index ? -1 : (x->index > y->index); /* stable */
+}
+
+/* Puts keys in time order (stable) when they are not. */
+static bool sort_keys(raw_channel *ch, uint32_t stride)
+{
+    bool sorted = true;
+    for (uint32_t k = 1; k < ch->count && sorted; k++)
+        sorted = ch->times[k] >= ch->times[k - 1];
+    if (sorted)
+        return true;
+    key_order *order = malloc(ch->count * sizeof *order);
+    float *values = malloc((size_t)ch->count * stride * sizeof(float));
+    if (!order || !values) {
+        free(order);
+        free(values);
+        return false;
+    }
+    for (uint32_t k = 0; k < ch->count; k++)
+        order[k] = (key_order){ch->times[k], k};
+    qsort(order, ch->count, sizeof *order, by_time);
+    for (uint32_t k = 0; k < ch->count; k++) {
+        ch->times[k] = order[k].time;
+        memcpy(&values[(size_t)k * stride], &ch->values[(size_t)order[k].index * stride], stride * sizeof(float));
+    }
+    free(ch->values);
+    ch->values = values;
+    free(order);
+    return true;
+}
+
+/* Unit-length rotations, each on the same side as the one before (so linear keys take the
+ * short way even in readers that do not check). Cubic keys keep their sign: their tangents
+ * were made for it. */
+static bool fix_rotations(raw_channel *ch)
+{
+    uint32_t stride = sinew_channel_stride(SINEW_CHANNEL_ROTATION, ch->interp);
+    uint32_t at = ch->interp == SINEW_INTERP_CUBIC ? 4 : 0;
+    for (uint32_t k = 0; k < ch->count; k++) {
+        float *q = &ch->values[(size_t)k * stride + at];
+        float len = sqrtf(q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3]);
+        if (!(len > 1e-6f))
+            return false;
+        for (int i = 0; i < 4; i++)
+            q[i] /= len;
+        if (k > 0 && ch->interp != SINEW_INTERP_CUBIC) {
+            const float *p = q - stride;
+            if (p[0] * q[0] + p[1] * q[1] + p[2] * q[2] + p[3] * q[3] < 0.0f)
+                for (int i = 0; i < 4; i++)
+                    q[i] = -q[i];
+        }
+    }
+    return true;
+}
+
+static const char *const channel_names[SINEW_CHANNEL_COUNT] = {"translation", "rotation", "scale"};
+
+static sinew_result fix_clip(raw_model *m, raw_clip *clip, sinew_error *error)
+{
+    if (!isfinite(clip->duration) || clip->duration < 0.0f)
+        return sinew_fail(error, SINEW_ERROR_DATA, "%s: clip \"%s\" has an invalid duration (%g)", m->source, clip->name,
+                          (double)clip->duration);
+    uint32_t unsorted = 0;
+    for (uint32_t t = 0; t < clip->track_count; t++) {
+        raw_track *track = &clip->tracks[t];
+        if (track->node >= m->node_count)
+            return sinew_fail(error, SINEW_ERROR_DATA, "%s: clip \"%s\" animates a missing node", m->source, clip->name);
+        for (int kind = 0; kind < SINEW_CHANNEL_COUNT; kind++) {
+            raw_channel *ch = &track->channels[kind];
+            if (ch->count == 0)
+                continue;
+            uint32_t stride = sinew_channel_stride(kind, ch->interp);
+            if (ch->interp > SINEW_INTERP_CUBIC || !all_finite(ch->times, ch->count) ||
+                !all_finite(ch->values, (size_t)ch->count * stride))
+                return sinew_fail(error, SINEW_ERROR_DATA,
+                                  "%s: clip \"%s\": the %s keys of node \"%s\" are not finite (NaN or Inf)", m->source,
+                                  clip->name, channel_names[kind], m->node_names[track->node]);
+            bool was_sorted = true;
+            for (uint32_t k = 1; k < ch->count && was_sorted; k++)
+                was_sorted = ch->times[k] >= ch->times[k - 1];
+            if (!sort_keys(ch, stride))
+                return oom(m, error);
+            unsorted += !was_sorted;
+            if (kind == SINEW_CHANNEL_ROTATION && !fix_rotations(ch))
+                return sinew_fail(error, SINEW_ERROR_DATA, "%s: clip \"%s\": node \"%s\" has a zero-length rotation key",
+                                  m->source, clip->name, m->node_names[track->node]);
+        }
+    }
+    if (unsorted)
+        raw_model_warn(m, "clip \"%s\": %u channels had keys out of time order; they were sorted", clip->name, unsorted);
+    return SINEW_OK;
+}
+
+static int by_node(const void *a, const void *b)
+{
+    const raw_track *x = a, *y = b;
+    return x->node < y->node ? -1 : (x->node > y->node);
+}
+
+/* Tracks sorted by node, one per node: later duplicates give only the channels the first
+ * lacks, and the rest are dropped with a warning. */
+static void merge_tracks(raw_model *m, raw_clip *clip)
+{
+    qsort(clip->tracks, clip->track_count, sizeof *clip->tracks, by_node);
+    uint32_t out = 0, dropped = 0;
+    for (uint32_t t = 0; t < clip->track_count; t++) {
+        raw_track *track = &clip->tracks[t];
+        if (out > 0 && clip->tracks[out - 1].node == track->node) {
+            raw_track *keep = &clip->tracks[out - 1];
+            for (int k = 0; k < SINEW_CHANNEL_COUNT; k++) {
+                if (keep->channels[k].count == 0 && track->channels[k].count) {
+                    keep->channels[k] = track->channels[k];
+                } else {
+                    dropped += track->channels[k].count > 0;
+                    free(track->channels[k].times);
+                    free(track->channels[k].values);
+                }
+                track->channels[k] = (raw_channel){0};
+            }
+            continue;
+        }
+        clip->tracks[out++] = *track;
+    }
+    clip->track_count = out;
+    if (dropped)
+        raw_model_warn(m, "clip \"%s\": %u channels animated a node that another channel already animates; the first was kept",
+                       clip->name, dropped);
+}
+
+/* ---- blob writer ------------------------------------------------------------------------ */
+
+typedef struct writer {
+    unsigned char *bytes;
+    size_t size, capacity;
+    char *pool;
+    size_t pool_size, pool_capacity;
+    bool failed;
+} writer;
+
+static bool writer_reserve(unsigned char **buf, size_t *capacity, size_t need)
+{
+    if (need <= *capacity)
+        return true;
+    size_t cap = *capacity ? *capacity : 4096;
+    while (cap < need)
+        cap *= 2;
+    unsigned char *grown = realloc(*buf, cap);
+    if (!grown)
+        return false;
+    *buf = grown;
+    *capacity = cap;
+    return true;
+}
+
+/* Appends bytes at the next 16-byte boundary; returns their offset (BLOB_NONE for nothing). */
+static uint32_t writer_put(writer *w, const void *data, size_t bytes)
+{
+    if (w->failed || !data || bytes == 0)
+        return BLOB_NONE;
+    size_t at = (w->size + BLOB_ALIGN - 1) & ~(size_t)(BLOB_ALIGN - 1);
+    if (at + bytes > UINT32_MAX || !writer_reserve(&w->bytes, &w->capacity, at + bytes)) {
+        w->failed = true;
+        return BLOB_NONE;
+    }
+    memset(w->bytes + w->size, 0, at - w->size);
+    memcpy(w->bytes + at, data, bytes);
+    w->size = at + bytes;
+    return (uint32_t)at;
+}
+
+static uint32_t writer_string(writer *w, const char *text)
+{
+    if (!text || w->failed)
+        return BLOB_NONE;
+    size_t n = strlen(text) + 1;
+    if (w->pool_size + n > UINT32_MAX - 1 ||
+        !writer_reserve((unsigned char **)&w->pool, &w->pool_capacity, w->pool_size + n)) {
+        w->failed = true;
+        return BLOB_NONE;
+    }
+    memcpy(w->pool + w->pool_size, text, n);
+    uint32_t at = (uint32_t)w->pool_size;
+    w->pool_size += n;
+    return at;
+}
+
+static blob_span writer_strings(writer *w, char *const *texts, uint32_t count)
+{
+    uint32_t *offsets = malloc((count ? count : 1) * sizeof *offsets);
+    if (!offsets) {
+        w->failed = true;
+        return (blob_span){BLOB_NONE, 0};
+    }
+    for (uint32_t i = 0; i < count; i++)
+        offsets[i] = writer_string(w, texts[i]);
+    blob_span span = {writer_put(w, offsets, count * sizeof *offsets), count};
+    free(offsets);
+    return span;
+}
+
+static uint32_t write_mesh_joints(writer *w, const raw_mesh *mesh)
+{
+    size_t n = (size_t)mesh->vertex_count * mesh->influence_count;
+    uint16_t *joints = malloc((n ? n : 1) * sizeof *joints);
+    if (!joints) {
+        w->failed = true;
+        return BLOB_NONE;
+    }
+    for (size_t i = 0; i < n; i++)
+        joints[i] = (uint16_t)mesh->joints[i];
+    uint32_t at = writer_put(w, joints, n * sizeof *joints);
+    free(joints);
+    return at;
+}
+
+static blob_span write_meshes(writer *w, const raw_model *m)
+{
+    blob_mesh *table = calloc(m->mesh_count ? m->mesh_count : 1, sizeof *table);
+    if (!table) {
+        w->failed = true;
+        return (blob_span){BLOB_NONE, 0};
+    }
+    for (uint32_t i = 0; i < m->mesh_count; i++) {
+        const raw_mesh *mesh = &m->meshes[i];
+        size_t v = mesh->vertex_count, k = mesh->influence_count;
+        table[i] = (blob_mesh){
+            .name = writer_string(w, mesh->name),
+            .vertex_count = mesh->vertex_count,
+            .index_count = mesh->index_count,
+            .influence_count = mesh->influence_count,
+            .skin = mesh->skin,
+            .material = mesh->material,
+            .positions = writer_put(w, mesh->positions, v * 12),
+            .normals = writer_put(w, mesh->normals, v * 12),
+            .uvs = writer_put(w, mesh->uvs, v * 8),
+            .indices = writer_put(w, mesh->indices, (size_t)mesh->index_count * 4),
+            .joints = k ? write_mesh_joints(w, mesh) : BLOB_NONE,
+            .weights = k ? writer_put(w, mesh->weights, v * k * 4) : BLOB_NONE,
+        };
+    }
+    blob_span span = {writer_put(w, table, m->mesh_count * sizeof *table), m->mesh_count};
+    free(table);
+    return span;
+}
+
+static blob_span write_skins(writer *w, const raw_model *m)
+{
+    blob_skin *table = calloc(m->skin_count ? m->skin_count : 1, sizeof *table);
+    if (!table) {
+        w->failed = true;
+        return (blob_span){BLOB_NONE, 0};
+    }
+    for (uint32_t i = 0; i < m->skin_count; i++) {
+        const raw_skin *skin = &m->skins[i];
+        table[i].joints = (blob_span){writer_put(w, skin->joints, skin->joint_count * 4u), skin->joint_count};
+        table[i].inverse_bind =
+            (blob_span){writer_put(w, skin->inverse_bind, skin->joint_count * sizeof(sinew_mat4)), skin->joint_count};
+    }
+    blob_span span = {writer_put(w, table, m->skin_count * sizeof *table), m->skin_count};
+    free(table);
+    return span;
+}
+
+static blob_span write_materials(writer *w, const raw_model *m)
+{
+    blob_material *table = calloc(m->material_count ? m->material_count : 1, sizeof *table);
+    if (!table) {
+        w->failed = true;
+        return (blob_span){BLOB_NONE, 0};
+    }
+    for (uint32_t i = 0; i < m->material_count; i++) {
+        table[i].name = writer_string(w, m->materials[i].name);
+        memcpy(table[i].base_color, m->materials[i].base_color, sizeof table[i].base_color);
+        table[i].diffuse_texture = writer_string(w, m->materials[i].diffuse_texture);
+    }
+    blob_span span = {writer_put(w, table, m->material_count * sizeof *table), m->material_count};
+    free(table);
+    return span;
+}
+
+/* One clip: every channel's times and values concatenated, tracks pointing into them. */
+static bool write_clip(writer *w, const raw_clip *clip, blob_clip *out)
+{
+    size_t time_count = 0, value_count = 0;
+    for (uint32_t t = 0; t < clip->track_count; t++)
+        for (int k = 0; k < SINEW_CHANNEL_COUNT; k++) {
+            const raw_channel *ch = &clip->tracks[t].channels[k];
+            time_count += ch->count;
+            value_count += (size_t)ch->count * sinew_channel_stride(k, ch->interp);
+        }
+    if (time_count > UINT32_MAX / 4 || value_count > UINT32_MAX / 4)
+        return false;
+    float *times = malloc((time_count ? time_count : 1) * sizeof(float));
+    float *values = malloc((value_count ? value_count : 1) * sizeof(float));
+    sinew_track *tracks = calloc(clip->track_count ? clip->track_count : 1, sizeof *tracks);
+    bool ok = times && values && tracks;
+    size_t at_time = 0, at_value = 0;
+    for (uint32_t t = 0; ok && t < clip->track_count; t++) {
+        tracks[t].node = clip->tracks[t].node;
+        for (int k = 0; k < SINEW_CHANNEL_COUNT; k++) {
+            const raw_channel *ch = &clip->tracks[t].channels[k];
+            size_t n_values = (size_t)ch->count * sinew_channel_stride(k, ch->interp);
+            tracks[t].channels[k] = (sinew_channel){ch->count, ch->count ? ch->interp : SINEW_INTERP_LINEAR,
+                                                    (uint32_t)at_time, (uint32_t)at_value};
+            if (ch->count) {
+                memcpy(times + at_time, ch->times, ch->count * sizeof(float));
+                memcpy(values + at_value, ch->values, n_values * sizeof(float));
+            }
+            at_time += ch->count;
+            at_value += n_values;
+        }
+    }
+    if (ok) {
+        *out = (blob_clip){
+            .name = writer_string(w, clip->name),
+            .duration = clip->duration,
+            .tracks = {writer_put(w, tracks, clip->track_count * sizeof *tracks), clip->track_count},
+            .times = {writer_put(w, times, time_count * sizeof(float)), (uint32_t)time_count},
+            .values = {writer_put(w, values, value_count * sizeof(float)), (uint32_t)value_count},
+        };
+    }
+    free(times);
+    free(values);
+    free(tracks);
+    return ok;
+}
+
+static blob_span write_clips(writer *w, const raw_model *m)
+{
+    blob_clip *table = calloc(m->clip_count ? m->clip_count : 1, sizeof *table);
+    if (!table) {
+        w->failed = true;
+        return (blob_span){BLOB_NONE, 0};
+    }
+    for (uint32_t i = 0; i < m->clip_count && !w->failed; i++)
+        if (!write_clip(w, &m->clips[i], &table[i]))
+            w->failed = true;
+    blob_span span = {writer_put(w, table, m->clip_count * sizeof *table), m->clip_count};
+    free(table);
+    return span;
+}
+
+static sinew_result write_blob(const raw_model *m, void **bytes, size_t *size, sinew_error *error)
+{
+    writer w = {0};
+    blob_header h = {.version = BLOB_VERSION, .header_size = sizeof(blob_header)};
+    memcpy(h.magic, BLOB_MAGIC, 8);
+    writer_put(&w, &h, sizeof h);
+    h.source = writer_string(&w, m->source);
+    h.format = writer_string(&w, m->format ? m->format : "unknown");
+    h.node_names = writer_strings(&w, m->node_names, m->node_count);
+    h.node_parents = (blob_span){writer_put(&w, m->node_parents, m->node_count * 4u), m->node_count};
+    h.node_rest = (blob_span){writer_put(&w, m->node_rest, m->node_count * sizeof(sinew_transform)), m->node_count};
+    h.skins = write_skins(&w, m);
+    h.meshes = write_meshes(&w, m);
+    h.instances = (blob_span){writer_put(&w, m->instances, m->instance_count * sizeof(sinew_instance)), m->instance_count};
+    h.materials = write_materials(&w, m);
+    h.clips = write_clips(&w, m);
+    h.warnings = writer_strings(&w, m->warnings, m->warning_count);
+    h.strings = (blob_span){writer_put(&w, w.pool, w.pool_size), (uint32_t)w.pool_size};
+    free(w.pool);
+    if (w.failed) {
+        free(w.bytes);
+        return sinew_fail(error, SINEW_ERROR_LIMIT, "%s: the model does not fit in memory or in a 4 GiB blob", m->source);
+    }
+    h.size = w.size;
+    memcpy(w.bytes, &h, sizeof h);
+    h.checksum = sinew_blob_checksum(w.bytes, w.size);
+    memcpy(w.bytes, &h, sizeof h);
+    *bytes = w.bytes;
+    *size = w.size;
+    return SINEW_OK;
+}
+
+sinew_result raw_model_build(raw_model *m, void **bytes, size_t *size, sinew_error *error)
+{
+    sinew_result result = check_nodes(m, error);
+    if (result)
+        return result;
+    for (uint32_t i = 0; i < m->mesh_count; i++)
+        if ((result = fix_mesh(m, i, error)))
+            return result;
+    for (uint32_t i = 0; i < m->clip_count; i++) {
+        merge_tracks(m, &m->clips[i]);
+        if ((result = fix_clip(m, &m->clips[i], error)))
+            return result;
+    }
+    /* fix_mesh may have added fallback joints: check the skins again. */
+    if ((result = check_nodes(m, error)))
+        return result;
+    return write_blob(m, bytes, size, error);
+}

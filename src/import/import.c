@@ -1,0 +1,206 @@
+/* sinew_import: checks the path, runs Assimp (in a child process by default) and turns
+ * the blob it hands back into a runtime model.
+ *
+ * The child writes one message to the pipe: a reply header (status, error kind, payload
+ * size) and then either the model blob or the error text. A child that dies on a signal
+ * (Assimp crashing on a malformed file) or exits without a whole reply becomes an
+ * SINEW_ERROR_IMPORTER naming the file and the signal.
+ */
+#define _POSIX_C_SOURCE 200809L
+#include <errno.h>
+#include <signal.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include "../core/internal.h"
+#include "internal.h"
+#include "sinew/import.h"
+
+typedef struct reply_header {
+    uint32_t magic;
+    uint32_t kind; /* sinew_result */
+    uint64_t size; /* bytes that follow */
+} reply_header;
+
+#define REPLY_MAGIC 0x53524550u /* "PERS" */
+
+static sinew_result check_path(const char *path, sinew_error *error)
+{
+    struct stat st;
+    if (stat(path, &st) != 0)
+        return sinew_fail(error, SINEW_ERROR_IO, "%s: cannot open: %s", path, strerror(errno));
+    if (S_ISDIR(st.st_mode))
+        return sinew_fail(error, SINEW_ERROR_IO, "%s: is a directory, not a model file", path);
+    if (!S_ISREG(st.st_mode))
+        return sinew_fail(error, SINEW_ERROR_IO, "%s: not a regular file", path);
+    FILE *f = fopen(path, "rb");
+    if (!f)
+        return sinew_fail(error, SINEW_ERROR_IO, "%s: cannot read: %s", path, strerror(errno));
+    fclose(f);
+    if (st.st_size == 0)
+        return sinew_fail(error, SINEW_ERROR_FORMAT, "%s: the file is empty", path);
+    return SINEW_OK;
+}
+
+sinew_result sinew_import_blob(const char *path, void **bytes, size_t *size, sinew_error *error)
+{
+    if (!path || !bytes || !size)
+        return sinew_fail(error, SINEW_ERROR_INVALID_ARGUMENT, "sinew_import_blob: NULL argument");
+    sinew_result result = check_path(path, error);
+    if (result)
+        return result;
+    raw_model raw;
+    if ((result = raw_model_from_assimp(path, &raw, error)))
+        return result;
+    result = raw_model_build(&raw, bytes, size, error);
+    raw_model_free(&raw);
+    return result;
+}
+
+static bool write_all(int fd, const void *data, size_t size)
+{
+    const char *p = data;
+    while (size > 0) {
+        ssize_t n = write(fd, p, size);
+        if (n < 0 && errno == EINTR)
+            continue;
+        if (n <= 0)
+            return false;
+        p += n;
+        size -= (size_t)n;
+    }
+    return true;
+}
+
+/* In the child: import, reply, and leave without running atexit handlers. */
+static void child_main(int fd, const char *path)
+{
+    sinew_error error = {0};
+    void *bytes = NULL;
+    size_t size = 0;
+    sinew_result result = sinew_import_blob(path, &bytes, &size, &error);
+    reply_header reply = {.magic = REPLY_MAGIC, .kind = result};
+    const void *payload = bytes;
+    if (result) {
+        payload = error.message;
+        size = strlen(error.message) + 1;
+    }
+    reply.size = size;
+    bool ok = write_all(fd, &reply, sizeof reply) && write_all(fd, payload, size);
+    close(fd);
+    _exit(ok ? 0 : 3);
+}
+
+/* Reads everything until end of file into a malloc'd buffer. */
+static bool read_all(int fd, unsigned char **out, size_t *out_size)
+{
+    size_t size = 0, cap = 1 << 16;
+    unsigned char *buf = malloc(cap);
+    if (!buf)
+        return false;
+    for (;;) {
+        if (size == cap) {
+            unsigned char *grown = realloc(buf, cap * 2);
+            if (!grown) {
+                free(buf);
+                return false;
+            }
+            buf = grown;
+            cap *= 2;
+        }
+        ssize_t n = read(fd, buf + size, cap - size);
+        if (n < 0 && errno == EINTR)
+            continue;
+        if (n < 0) {
+            free(buf);
+            return false;
+        }
+        if (n == 0)
+            break;
+        size += (size_t)n;
+    }
+    *out = buf;
+    *out_size = size;
+    return true;
+}
+
+static sinew_result child_status(const char *path, int status, sinew_error *error)
+{
+    if (WIFSIGNALED(status)) {
+        int sig = WTERMSIG(status);
+        return sinew_fail(error, SINEW_ERROR_IMPORTER,
+                          "%s: the importer (Assimp) crashed while reading this file (signal %d, %s); the file is "
+                          "probably malformed",
+                          path, sig, strsignal(sig));
+    }
+    return sinew_fail(error, SINEW_ERROR_IMPORTER, "%s: the import process failed (exit status %d)", path,
+                      WIFEXITED(status) ? WEXITSTATUS(status) : -1);
+}
+
+static sinew_result import_in_child(const sinew_import_desc *desc, sinew_model **out, sinew_error *error)
+{
+    const char *path = desc->path;
+    int fds[2];
+    if (pipe(fds) != 0)
+        return sinew_fail(error, SINEW_ERROR_IO, "%s: cannot start the import process: %s", path, strerror(errno));
+    fflush(NULL);
+    pid_t pid = fork();
+    if (pid < 0) {
+        close(fds[0]);
+        close(fds[1]);
+        return sinew_fail(error, SINEW_ERROR_IO, "%s: cannot start the import process: %s", path, strerror(errno));
+    }
+    if (pid == 0) {
+        close(fds[0]);
+        child_main(fds[1], path);
+    }
+    close(fds[1]);
+    unsigned char *buf = NULL;
+    size_t size = 0;
+    bool read_ok = read_all(fds[0], &buf, &size);
+    close(fds[0]);
+    int status = 0;
+    while (waitpid(pid, &status, 0) < 0 && errno == EINTR)
+        ;
+    if (!read_ok)
+        return sinew_fail(error, SINEW_ERROR_OUT_OF_MEMORY, "%s: cannot read the import process's reply", path);
+
+    sinew_result result;
+    reply_header reply;
+    if (size >= sizeof reply)
+        memcpy(&reply, buf, sizeof reply);
+    if (size < sizeof reply || reply.magic != REPLY_MAGIC || reply.size != size - sizeof reply ||
+        !(WIFEXITED(status) && WEXITSTATUS(status) == 0)) {
+        result = child_status(path, status, error);
+    } else if (reply.kind != SINEW_OK) {
+        buf[size - 1] = '\0';
+        result = sinew_fail(error, (sinew_result)reply.kind, "%s", (const char *)buf + sizeof reply);
+    } else {
+        result = sinew_model_from_blob(buf + sizeof reply, size - sizeof reply, path, desc->allocator, out, error);
+    }
+    free(buf);
+    return result;
+}
+
+sinew_result sinew_import(const sinew_import_desc *desc, sinew_model **out, sinew_error *error)
+{
+    if (!desc || !desc->path || !out)
+        return sinew_fail(error, SINEW_ERROR_INVALID_ARGUMENT, "sinew_import: NULL path or output");
+    *out = NULL;
+    sinew_result result = check_path(desc->path, error);
+    if (result)
+        return result;
+    if (!desc->in_process)
+        return import_in_child(desc, out, error);
+    void *bytes = NULL;
+    size_t size = 0;
+    if ((result = sinew_import_blob(desc->path, &bytes, &size, error)))
+        return result;
+    result = sinew_model_from_blob(bytes, size, desc->path, desc->allocator, out, error);
+    free(bytes);
+    return result;
+}

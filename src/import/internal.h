@@ -1,0 +1,103 @@
+/* Cross-file internals of src/import: the raw (offline, editable) model that importers
+ * fill and the builder turns into a runtime blob. No promise to library users.
+ *
+ * Raw data is loose: influences per vertex up to any count and unsorted, keys in any
+ * order, quaternions with either sign. The builder (builder.c) validates it, repairs what
+ * can be repaired with a warning, and writes the blob that sinew_model_from_blob() reads.
+ */
+#ifndef SINEW_IMPORT_INTERNAL_H
+#define SINEW_IMPORT_INTERNAL_H
+
+#include <stddef.h>
+#include <stdint.h>
+
+#include "sinew/model.h"
+
+typedef struct raw_channel {
+    uint32_t interp;   /* sinew_interp */
+    uint32_t count;    /* keys */
+    float *times;      /* seconds */
+    float *values;     /* sinew_channel_stride(kind, interp) floats a key */
+} raw_channel;
+
+typedef struct raw_track {
+    uint32_t node;
+    raw_channel channels[SINEW_CHANNEL_COUNT];
+} raw_track;
+
+typedef struct raw_clip {
+    char *name;
+    float duration;
+    uint32_t track_count;
+    raw_track *tracks;
+} raw_clip;
+
+typedef struct raw_skin {
+    uint32_t joint_count;
+    uint32_t *joints;           /* node indices */
+    sinew_mat4 *inverse_bind;
+} raw_skin;
+
+typedef struct raw_mesh {
+    char *name;
+    uint32_t vertex_count;
+    uint32_t index_count;
+    float *positions;           /* 3 a vertex */
+    float *normals;             /* 3 a vertex, or NULL: the builder computes smooth normals */
+    float *uvs;                 /* 2 a vertex, or NULL */
+    uint32_t *indices;
+    int32_t skin;               /* -1 rigid */
+    int32_t material;
+    uint32_t influence_count;   /* slots a vertex, any number; unused slots have weight 0 */
+    uint32_t *joints;           /* influence_count a vertex, indices into the skin's joints */
+    float *weights;
+} raw_mesh;
+
+typedef struct raw_material {
+    char *name;
+    float base_color[4];
+    char *diffuse_texture;      /* resolved path, or NULL */
+} raw_material;
+
+typedef struct raw_model {
+    char *source;
+    char *format;
+    uint32_t node_count;
+    char **node_names;
+    int32_t *node_parents;      /* parents before children */
+    sinew_transform *node_rest;
+    uint32_t skin_count;
+    raw_skin *skins;
+    uint32_t mesh_count;
+    raw_mesh *meshes;
+    uint32_t instance_count;
+    sinew_instance *instances;
+    uint32_t material_count;
+    raw_material *materials;
+    uint32_t clip_count;
+    raw_clip *clips;
+    uint32_t warning_count;
+    char **warnings;
+} raw_model;
+
+/* Every pointer in a raw model is from malloc/calloc (or NULL); this frees them all. */
+void raw_model_free(raw_model *model);
+
+/* Appends a formatted warning; returns false when out of memory. */
+bool raw_model_warn(raw_model *model, const char *format, ...)
+#if defined(__GNUC__)
+    __attribute__((format(printf, 2, 3)))
+#endif
+    ;
+
+char *raw_strdup(const char *text);
+
+/* Validates and repairs the raw model (sorting and limiting influences, sorting keys,
+ * making consecutive rotation keys take the short way, computing missing normals) and
+ * writes the runtime blob into *bytes (malloc'd). */
+sinew_result raw_model_build(raw_model *model, void **bytes, size_t *size, sinew_error *error);
+
+/* Reads a file through Assimp into a raw model, in this process. */
+sinew_result raw_model_from_assimp(const char *path, raw_model *model, sinew_error *error);
+
+#endif

@@ -1,0 +1,133 @@
+#include "helpers.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+
+static const char *env_path(const char *var, const char *rel, char *buf, size_t size)
+{
+    const char *dir = getenv(var);
+    if (!dir)
+        return NULL;
+    snprintf(buf, size, "%s/%s", dir, rel);
+    return buf;
+}
+
+const char *testdata_path(const char *rel, char *buf, size_t size)
+{
+    struct stat st;
+    const char *p = env_path("SINEW_TESTDATA", rel, buf, size);
+    if (!p || stat(p, &st) != 0) {
+        print_message("skipping: shared test data not found (%s); set SINEW_TESTDATA to ../shared/testdata\n", rel);
+        return NULL;
+    }
+    return p;
+}
+
+const char *fixture_path(const char *rel, char *buf, size_t size)
+{
+    const char *p = env_path("SINEW_FIXTURES", rel, buf, size);
+    assert_non_null(p);
+    return p;
+}
+
+const char *tmp_path(const char *name, char *buf, size_t size)
+{
+    const char *p = env_path("SINEW_TMP", name, buf, size);
+    if (!p) {
+        snprintf(buf, size, "/tmp/%s", name);
+        p = buf;
+    }
+    return p;
+}
+
+sinew_model *load_or_fail(const char *path)
+{
+    sinew_model *model = NULL;
+    sinew_error error = {0};
+    sinew_import_desc desc = {.path = path};
+    if (sinew_import(&desc, &model, &error) != SINEW_OK)
+        fail_msg("import of %s failed: %s", path, error.message);
+    return model;
+}
+
+void write_file(const char *path, const void *bytes, size_t size)
+{
+    FILE *f = fopen(path, "wb");
+    assert_non_null(f);
+    if (size)
+        assert_int_equal(fwrite(bytes, 1, size, f), size);
+    assert_int_equal(fclose(f), 0);
+}
+
+void *read_file(const char *path, size_t *size)
+{
+    FILE *f = fopen(path, "rb");
+    if (!f)
+        return NULL;
+    fseek(f, 0, SEEK_END);
+    long n = ftell(f);
+    fseek(f, 0, SEEK_SET);
+    char *buf = malloc((size_t)n + 1);
+    assert_non_null(buf);
+    assert_int_equal(fread(buf, 1, (size_t)n, f), (size_t)n);
+    buf[n] = '\0';
+    fclose(f);
+    *size = (size_t)n;
+    return buf;
+}
+
+void assert_near(double a, double b, double tol, const char *what)
+{
+    if (!(fabs(a - b) <= tol))
+        fail_msg("%s: %.9g differs from %.9g by more than %g", what, a, b, tol);
+}
+
+sinew_mat4 *pose_worlds(const sinew_model *model, const sinew_clip *clip, float t)
+{
+    uint32_t n = model->node_count;
+    sinew_transform *locals = malloc((n + 1) * sizeof *locals);
+    sinew_mat4 *worlds = malloc((n + 1) * sizeof *worlds);
+    assert_non_null(locals);
+    assert_non_null(worlds);
+    sinew_error error = {0};
+    sinew_sample_desc desc = {.model = model, .clip = clip, .time = t, .locals = locals, .local_count = n};
+    if (sinew_sample(&desc, &error) || sinew_local_to_world(model, locals, n, NULL, worlds, n, &error))
+        fail_msg("posing %s: %s", model->source, error.message);
+    free(locals);
+    return worlds;
+}
+
+float *posed_vertices(const sinew_model *model, const sinew_mat4 *worlds, uint32_t *count)
+{
+    size_t total = 0;
+    for (uint32_t i = 0; i < model->instance_count; i++)
+        total += model->meshes[model->instances[i].mesh].vertex_count;
+    float *out = malloc((total + 1) * 3 * sizeof(float));
+    sinew_mat4 *palette = malloc(SINEW_MAX_JOINTS * sizeof *palette);
+    assert_non_null(out);
+    assert_non_null(palette);
+    size_t at = 0;
+    sinew_error error = {0};
+    for (uint32_t i = 0; i < model->instance_count; i++) {
+        const sinew_mesh *mesh = &model->meshes[model->instances[i].mesh];
+        if (mesh->skin >= 0) {
+            const sinew_skin *skin = &model->skins[mesh->skin];
+            if (sinew_skin_palette(skin, worlds, model->node_count, palette, SINEW_MAX_JOINTS, &error) ||
+                sinew_skin_vertices(&(sinew_skin_desc){.mesh = mesh,
+                                                       .palette = palette,
+                                                       .palette_count = skin->joint_count,
+                                                       .out_positions = out + at * 3},
+                                    &error))
+                fail_msg("skinning %s: %s", model->source, error.message);
+        } else if (sinew_transform_vertices(mesh, &worlds[model->instances[i].node], out + at * 3, NULL, 0, &error)) {
+            fail_msg("placing %s: %s", model->source, error.message);
+        }
+        at += mesh->vertex_count;
+    }
+    free(palette);
+    *count = (uint32_t)total;
+    return out;
+}

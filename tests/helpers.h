@@ -1,0 +1,38 @@
+/* Shared test helpers: where the test data lives, loading models, comparing floats. */
+#ifndef SINEW_TEST_HELPERS_H
+#define SINEW_TEST_HELPERS_H
+
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+
+#include <cmocka.h>
+
+#include "sinew/sinew.h"
+
+/* $SINEW_TESTDATA/rel, or NULL (with a message) when the shared test data is absent. */
+const char *testdata_path(const char *rel, char *buf, size_t size);
+/* $SINEW_FIXTURES/rel (sinew's own fixtures, always present). */
+const char *fixture_path(const char *rel, char *buf, size_t size);
+/* A path under the build's scratch folder. */
+const char *tmp_path(const char *name, char *buf, size_t size);
+
+/* Imports in a child process, failing the test with the message on error. */
+sinew_model *load_or_fail(const char *path);
+
+/* Writes bytes to a file. */
+void write_file(const char *path, const void *bytes, size_t size);
+/* Reads a whole file (malloc'd); NULL when missing. */
+void *read_file(const char *path, size_t *size);
+
+/* Fails the test when |a - b| > tol, naming what. */
+void assert_near(double a, double b, double tol, const char *what);
+
+/* World matrices of a model at time t of clip (NULL: rest), malloc'd. */
+sinew_mat4 *pose_worlds(const sinew_model *model, const sinew_clip *clip, float t);
+
+/* All mesh instances skinned/placed at the pose, as one malloc'd xyz array. */
+float *posed_vertices(const sinew_model *model, const sinew_mat4 *worlds, uint32_t *count);
+
+#endif
