@@ -35,12 +35,12 @@ const char *fixture_path(const char *rel, char *buf, size_t size)
 
 const char *tmp_path(const char *name, char *buf, size_t size)
 {
-    const char *p = env_path("SINEW_TMP", name, buf, size);
-    if (!p) {
-        snprintf(buf, size, "/tmp/%s", name);
-        p = buf;
-    }
-    return p;
+    const char *dir = getenv("SINEW_TMP");
+    if (!dir)
+        dir = "/tmp/sinew-tests";
+    mkdir(dir, 0755);
+    snprintf(buf, size, "%s/%s", dir, name);
+    return buf;
 }
 
 sinew_model *load_or_fail(const char *path)

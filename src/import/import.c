@@ -76,9 +76,14 @@ static bool write_all(int fd, const void *data, size_t size)
     return true;
 }
 
-/* In the child: import, reply, and leave without running atexit handlers. */
+/* In the child: import, reply, and leave without running atexit handlers. The caller's
+ * signal handlers (a test runner's, a GUI's) are reset so that a crash in Assimp ends
+ * the child with its signal, which the parent reports. */
 static void child_main(int fd, const char *path)
 {
+    static const int fatal[] = {SIGSEGV, SIGBUS, SIGFPE, SIGILL, SIGABRT, SIGTRAP, SIGSYS};
+    for (size_t i = 0; i < sizeof fatal / sizeof fatal[0]; i++)
+        signal(fatal[i], SIG_DFL);
     sinew_error error = {0};
     void *bytes = NULL;
     size_t size = 0;

@@ -1,2 +1,310 @@
+/* The `sinew` command as a user runs it: exit codes, messages, the JSON interface of
+ * `sinew pose` and `sinew info`, OBJ output. */
+#include <fcntl.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <cjson/cJSON.h>
+
 #include "helpers.h"
-int main(void) { return 0; }
+
+typedef struct run_result {
+    int code;
+    char *out, *err;
+    size_t out_size, err_size;
+} run_result;
+
+/* Runs $SINEW_EXE with the given arguments (NULL-terminated), capturing both streams. */
+static run_result run_sinew(const char *const *args)
+{
+    const char *exe = getenv("SINEW_EXE");
+    assert_non_null(exe);
+    char out_path[1024], err_path[1024];
+    tmp_path("cli.out", out_path, sizeof out_path);
+    tmp_path("cli.err", err_path, sizeof err_path);
+    const char *argv[32] = {exe};
+    int n = 1;
+    for (; args[n - 1] && n < 31; n++)
+        argv[n] = args[n - 1];
+    argv[n] = NULL;
+    pid_t pid = fork();
+    assert_true(pid >= 0);
+    if (pid == 0) {
+        int o = open(out_path, O_WRONLY | O_CREAT | O_TRUNC, 0644), e = open(err_path, O_WRONLY | O_CREAT | O_TRUNC, 0644);
+        dup2(o, 1);
+        dup2(e, 2);
+        execv(exe, (char *const *)argv);
+        _exit(127);
+    }
+    int status = 0;
+    waitpid(pid, &status, 0);
+    run_result r = {.code = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status)};
+    r.out = read_file(out_path, &r.out_size);
+    r.err = read_file(err_path, &r.err_size);
+    return r;
+}
+
+static void run_free(run_result *r)
+{
+    free(r->out);
+    free(r->err);
+}
+
+#define RUN(...) run_sinew((const char *const[]){__VA_ARGS__, NULL})
+
+static void test_usage_and_help(void **state)
+{
+    (void)state;
+    run_result r = run_sinew((const char *const[]){NULL});
+    assert_int_equal(r.code, 1);
+    assert_non_null(strstr(r.err, "usage: sinew"));
+    run_free(&r);
+    r = RUN("--help");
+    assert_int_equal(r.code, 0);
+    assert_non_null(strstr(r.out, "info FILE"));
+    assert_non_null(strstr(r.out, "pose FILE"));
+    run_free(&r);
+    static const char *const commands[] = {"info", "pose"};
+    for (int i = 0; i < 2; i++) {
+        r = RUN(commands[i], "--help");
+        assert_int_equal(r.code, 0);
+        assert_non_null(strstr(r.out, "usage: sinew"));
+        run_free(&r);
+        r = RUN(commands[i]);
+        assert_int_equal(r.code, 1);
+        assert_non_null(strstr(r.err, "no FILE"));
+        run_free(&r);
+    }
+    r = RUN("frobnicate");
+    assert_int_equal(r.code, 1);
+    assert_non_null(strstr(r.err, "unknown command"));
+    run_free(&r);
+}
+
+static void test_bad_input_exits_2(void **state)
+{
+    (void)state;
+    char path[1024];
+    run_result r = RUN("info", tmp_path("missing.dae", path, sizeof path));
+    assert_int_equal(r.code, 2);
+    assert_non_null(strstr(r.err, path));
+    run_free(&r);
+    tmp_path("half.dae", path, sizeof path);
+    char src[1024];
+    size_t size;
+    char *bytes = read_file(fixture_path("two_bone.dae", src, sizeof src), &size);
+    for (size_t n = 0; n < size - 1; n += 97) {
+        write_file(path, bytes, n);
+        r = RUN("pose", path, "--json");
+        if (r.code != 2 || !strstr(r.err, path) || r.out_size != 0)
+            fail_msg("prefix of %zu bytes: exit %d, stderr \"%s\"", n, r.code, r.err);
+        run_free(&r);
+    }
+    free(bytes);
+    fixture_path("two_bone.dae", path, sizeof path);
+    static const char *const bad_usage[][4] = {
+        {"pose", "--time", "abc", NULL},
+        {"pose", "--time", "", NULL},
+        {"pose", "--clip", "nosuch", NULL},
+        {"pose", "--mesh", "/tmp/x.obj", "--time"},
+        {"info", "--frob", NULL, NULL},
+    };
+    for (size_t i = 0; i < sizeof bad_usage / sizeof bad_usage[0]; i++) {
+        const char *args[8] = {bad_usage[i][0], path};
+        int n = 2;
+        for (int k = 1; k < 4 && bad_usage[i][k]; k++)
+            args[n++] = bad_usage[i][k];
+        args[n] = NULL;
+        r = run_sinew(args);
+        if (r.code != 1 || r.err_size == 0)
+            fail_msg("%s %s %s: exit %d", args[0], args[2], args[3] ? args[3] : "", r.code);
+        run_free(&r);
+    }
+    r = RUN("pose", path, "--mesh", "/tmp/x.obj", "--time", "0,1");
+    assert_int_equal(r.code, 1);
+    assert_non_null(strstr(r.err, "single --time"));
+    run_free(&r);
+    r = RUN("pose", path, "--mesh", "/nonexistent-dir/x.obj", "--time", "0");
+    assert_int_equal(r.code, 2);
+    assert_non_null(strstr(r.err, "/nonexistent-dir/x.obj"));
+    run_free(&r);
+}
+
+static const cJSON *node_named(const cJSON *frame, const char *name)
+{
+    const cJSON *node;
+    cJSON_ArrayForEach(node, cJSON_GetObjectItem(frame, "nodes"))
+    {
+        if (strcmp(cJSON_GetObjectItem(node, "name")->valuestring, name) == 0)
+            return node;
+    }
+    fail_msg("no node %s", name);
+    return NULL;
+}
+
+static double at(const cJSON *node, const char *key, int i)
+{
+    return cJSON_GetArrayItem(cJSON_GetObjectItem(node, key), i)->valuedouble;
+}
+
+/* The stable JSON interface: keys, default times, values on the hand-made fixture. */
+static void test_pose_json(void **state)
+{
+    (void)state;
+    char path[1024];
+    fixture_path("two_bone.dae", path, sizeof path);
+    run_result r = RUN("pose", path, "--json");
+    assert_int_equal(r.code, 0);
+    cJSON *root = cJSON_Parse(r.out);
+    assert_non_null(root);
+    assert_string_equal(cJSON_GetObjectItem(root, "file")->valuestring, path);
+    const cJSON *clip = cJSON_GetObjectItem(root, "clip");
+    assert_int_equal(cJSON_GetObjectItem(clip, "index")->valueint, 0);
+    assert_non_null(cJSON_GetObjectItem(clip, "name")->valuestring);
+    assert_near(cJSON_GetObjectItem(clip, "duration")->valuedouble, 1, 1e-6, "duration");
+    const cJSON *frames = cJSON_GetObjectItem(root, "frames");
+    assert_int_equal(cJSON_GetArraySize(frames), 10);
+    for (int i = 0; i < 10; i++)
+        assert_near(cJSON_GetObjectItem(cJSON_GetArrayItem(frames, i), "time")->valuedouble, i / 9.0, 1e-6, "time");
+    const cJSON *last = cJSON_GetArrayItem(frames, 9);
+    const cJSON *tip = node_named(last, "tip");
+    assert_string_equal(cJSON_GetObjectItem(tip, "parent")->valuestring, "root");
+    assert_true(cJSON_IsNull(cJSON_GetObjectItem(node_named(last, "scene"), "parent")));
+    assert_near(at(tip, "translation", 1), 1, 1e-6, "tip y");
+    assert_near(fabs(at(tip, "rotation", 2)), sqrt(0.5), 1e-6, "tip turned 90 degrees about z");
+    assert_near(at(tip, "scale", 0), 1, 1e-6, "tip scale");
+    cJSON_Delete(root);
+    run_free(&r);
+
+    /* clamping and looping */
+    r = RUN("pose", path, "--json", "--time", "0.5,7");
+    root = cJSON_Parse(r.out);
+    frames = cJSON_GetObjectItem(root, "frames");
+    assert_near(fabs(at(node_named(cJSON_GetArrayItem(frames, 0), "tip"), "rotation", 2)), sin(M_PI / 8), 1e-6, "t=0.5");
+    assert_near(fabs(at(node_named(cJSON_GetArrayItem(frames, 1), "tip"), "rotation", 2)), sqrt(0.5), 1e-6, "t=7 clamps");
+    cJSON_Delete(root);
+    run_free(&r);
+    r = RUN("pose", path, "--json", "--time", "7.5", "--loop", "--clip", "0");
+    root = cJSON_Parse(r.out);
+    frames = cJSON_GetObjectItem(root, "frames");
+    assert_near(fabs(at(node_named(cJSON_GetArrayItem(frames, 0), "tip"), "rotation", 2)), sin(M_PI / 8), 1e-6,
+                "t=7.5 loops to 0.5");
+    cJSON_Delete(root);
+    run_free(&r);
+}
+
+static void test_pose_mesh_obj(void **state)
+{
+    (void)state;
+    char path[1024], obj[1024];
+    fixture_path("two_bone.dae", path, sizeof path);
+    tmp_path("bent.obj", obj, sizeof obj);
+    run_result r = RUN("pose", path, "--time", "1", "--mesh", obj);
+    assert_int_equal(r.code, 0);
+    run_free(&r);
+    size_t size;
+    char *text = read_file(obj, &size);
+    assert_non_null(text);
+    float v[4][3];
+    int n = 0;
+    for (char *line = strtok(text, "\n"); line && n < 4; line = strtok(NULL, "\n"))
+        if (sscanf(line, "v %f %f %f", &v[n][0], &v[n][1], &v[n][2]) == 3)
+            n++;
+    assert_int_equal(n, 4);
+    /* the top edge (0,2,0) and (1,2,0) turns 90 degrees about the tip joint at (0,1,0) */
+    assert_near(v[2][0], -1, 1e-5, "x");
+    assert_near(v[2][1], 1, 1e-5, "y");
+    assert_near(v[3][0], -1, 1e-5, "x");
+    assert_near(v[3][1], 2, 1e-5, "y");
+    assert_near(v[1][0], 1, 1e-5, "bottom stays");
+    free(text);
+}
+
+static void test_info_json_and_text(void **state)
+{
+    (void)state;
+    char path[1024];
+    fixture_path("two_bone_cubic.gltf", path, sizeof path);
+    run_result r = RUN("info", path, "--json");
+    assert_int_equal(r.code, 0);
+    cJSON *root = cJSON_Parse(r.out);
+    assert_non_null(root);
+    const cJSON *counts = cJSON_GetObjectItem(root, "counts");
+    assert_int_equal(cJSON_GetObjectItem(counts, "joints")->valueint, 2);
+    assert_int_equal(cJSON_GetObjectItem(counts, "meshes")->valueint, 1);
+    const cJSON *clip = cJSON_GetArrayItem(cJSON_GetObjectItem(root, "clips"), 0);
+    assert_string_equal(cJSON_GetObjectItem(clip, "name")->valuestring, "bend");
+    assert_int_equal(cJSON_GetObjectItem(cJSON_GetObjectItem(clip, "keys"), "rotation")->valueint, 2);
+    cJSON_Delete(root);
+    run_free(&r);
+    r = RUN("info", path);
+    assert_int_equal(r.code, 0);
+    assert_non_null(strstr(r.out, "tip_joint  [joint]"));
+    assert_non_null(strstr(r.out, "\"bend\""));
+    run_free(&r);
+}
+
+/* A model without clips poses at rest: clip null, one frame. */
+static void test_pose_without_animation(void **state)
+{
+    (void)state;
+    char path[1024];
+    if (!testdata_path("collada-cts/SkinController.dae", path, sizeof path))
+        skip();
+    run_result r = RUN("pose", path, "--json");
+    assert_int_equal(r.code, 0);
+    cJSON *root = cJSON_Parse(r.out);
+    assert_true(cJSON_IsNull(cJSON_GetObjectItem(root, "clip")));
+    assert_int_equal(cJSON_GetArraySize(cJSON_GetObjectItem(root, "frames")), 1);
+    cJSON_Delete(root);
+    run_free(&r);
+}
+
+/* `sinew pose` on the two files of one scene gives the same joint positions. */
+static void test_pose_pairs_agree(void **state)
+{
+    (void)state;
+    char a[1024], b[1024];
+    if (!testdata_path("ufbx/maya_transformed_skin_7700_ascii.fbx", a, sizeof a))
+        skip();
+    testdata_path("ufbx/maya_transformed_skin_7700_binary.fbx", b, sizeof b);
+    run_result ra = RUN("pose", a, "--json"), rb = RUN("pose", b, "--json");
+    assert_int_equal(ra.code, 0);
+    assert_int_equal(rb.code, 0);
+    cJSON *ja = cJSON_Parse(ra.out), *jb = cJSON_Parse(rb.out);
+    const cJSON *fa = cJSON_GetObjectItem(ja, "frames"), *fb = cJSON_GetObjectItem(jb, "frames");
+    assert_int_equal(cJSON_GetArraySize(fa), 10);
+    for (int f = 0; f < 10; f++) {
+        const cJSON *na, *nb = cJSON_GetObjectItem(cJSON_GetArrayItem(fb, f), "nodes")->child;
+        cJSON_ArrayForEach(na, cJSON_GetObjectItem(cJSON_GetArrayItem(fa, f), "nodes"))
+        {
+            assert_string_equal(cJSON_GetObjectItem(na, "name")->valuestring,
+                                cJSON_GetObjectItem(nb, "name")->valuestring);
+            for (int i = 0; i < 3; i++)
+                assert_near(at(na, "translation", i), at(nb, "translation", i), 1e-6, "pair translation");
+            nb = nb->next;
+        }
+    }
+    cJSON_Delete(ja);
+    cJSON_Delete(jb);
+    run_free(&ra);
+    run_free(&rb);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_usage_and_help),
+        cmocka_unit_test(test_bad_input_exits_2),
+        cmocka_unit_test(test_pose_json),
+        cmocka_unit_test(test_pose_mesh_obj),
+        cmocka_unit_test(test_info_json_and_text),
+        cmocka_unit_test(test_pose_without_animation),
+        cmocka_unit_test(test_pose_pairs_agree),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}
