@@ -87,13 +87,14 @@ static bool floats_finite(const float *values, uint64_t count)
     return true;
 }
 
+/* Checks the header and that every top-level table fits in the blob, before anything is
+ * allocated from its counts. Reads the bytes one at a time (they may be unaligned). */
 static sinew_result check_header(reader *r)
 {
     if (r->size < sizeof(blob_header))
         return sinew_fail(r->error, SINEW_ERROR_FORMAT, "%s: truncated model data (%zu bytes, the header alone is %zu)",
                           r->name, r->size, sizeof(blob_header));
-    const blob_header *h = (const blob_header *)r->bytes;
-    r->header = h;
+    const blob_header *h = r->header;
     if (memcmp(h->magic, BLOB_MAGIC, 8) != 0)
         return sinew_fail(r->error, SINEW_ERROR_FORMAT, "%s: not a sinew model (bad magic)", r->name);
     if (h->version != BLOB_VERSION)
@@ -111,6 +112,13 @@ static sinew_result check_header(reader *r)
         return corrupt(r, "string pool");
     if (!string_ok(r, h->source, false) || !string_ok(r, h->format, false))
         return corrupt(r, "source name");
+    if (!range_ok(r, h->node_names.offset, h->node_names.count, 4) ||
+        !range_ok(r, h->warnings.offset, h->warnings.count, 4) ||
+        !range_ok(r, h->skins.offset, h->skins.count, sizeof(blob_skin)) ||
+        !range_ok(r, h->meshes.offset, h->meshes.count, sizeof(blob_mesh)) ||
+        !range_ok(r, h->materials.offset, h->materials.count, sizeof(blob_material)) ||
+        !range_ok(r, h->clips.offset, h->clips.count, sizeof(blob_clip)))
+        return corrupt(r, "tables out of bounds");
     return SINEW_OK;
 }
 
@@ -396,28 +404,26 @@ sinew_result sinew_model_from_blob(const void *bytes, size_t size, const char *n
         return sinew_fail(error, SINEW_ERROR_INVALID_ARGUMENT, "%s: allocator without alloc or free", name);
     sinew_allocator alloc = allocator ? *allocator : (sinew_allocator){default_alloc, default_free, NULL};
 
-    /* Validate in place first (the caller's bytes may be unaligned only for the header read:
-     * copy it into the aligned block before anything else reads arrays). */
+    /* The header and the table sizes are checked on the caller's bytes (through a copy of
+     * the header) before their counts size any allocation. */
     size_t head = (sizeof(model_block) + BLOB_ALIGN - 1) & ~(size_t)(BLOB_ALIGN - 1);
-    if (size < sizeof(blob_header)) {
-        reader early = {.bytes = bytes, .size = size, .name = name, .error = error};
-        return check_header(&early);
-    }
-    blob_header header;
-    memcpy(&header, bytes, sizeof header);
+    blob_header header = {0};
+    if (size >= sizeof header)
+        memcpy(&header, bytes, sizeof header);
+    reader early = {.bytes = bytes, .size = size, .name = name, .header = &header, .error = error};
+    sinew_result result = check_header(&early);
+    if (result)
+        return result;
     size_t tables = tables_size(&header);
-    if (tables > SIZE_MAX / 2 || size > SIZE_MAX / 2)
-        return sinew_fail(error, SINEW_ERROR_FORMAT, "%s: corrupted model data: table sizes", name);
     unsigned char *block = alloc.alloc(head + tables + size, alloc.user);
     if (!block)
         return sinew_fail(error, SINEW_ERROR_OUT_OF_MEMORY, "%s: out of memory for %zu bytes", name, head + tables + size);
     unsigned char *copy = block + head + tables;
     memcpy(copy, bytes, size);
 
-    reader r = {.bytes = copy, .size = size, .name = name, .error = error};
-    sinew_result result;
-    if ((result = check_header(&r)) || (result = check_nodes(&r)) || (result = check_skins(&r)) ||
-        (result = check_meshes(&r)) || (result = check_clips(&r))) {
+    reader r = {.bytes = copy, .size = size, .name = name, .header = (const blob_header *)copy, .error = error};
+    if ((result = check_nodes(&r)) || (result = check_skins(&r)) || (result = check_meshes(&r)) ||
+        (result = check_clips(&r))) {
         alloc.free(block, alloc.user);
         return result;
     }

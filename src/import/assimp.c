@@ -6,7 +6,8 @@
  *                       a root transform (COLLADA's Assimp already folds them into the root)
  *   read_meshes ....... triangles, normals, UVs, a skin per skinned mesh (bone -> node by name,
  *                       offset matrix = inverse bind with the bind-shape matrix already in it)
- *   read_clips ........ ticks -> seconds (ticks per second 0 falls back to 25), one track per node
+ *   read_clips ........ ticks -> seconds (ticks per second 0 falls back to 25), one track per node;
+ *                       glTF STEP/CUBICSPLINE samplers are read again by gltf_keys.c
  *   raw_model_from_assimp
  */
 #include <ctype.h>
@@ -29,7 +30,7 @@
 #include "internal.h"
 #include "sinew/anim.h"
 
-/* Assimp's documented default when a file gives no rate (its viewer and docs use 25). */
+/* The rate Assimp's own viewer assumes when a file gives none (aiAnimation::mTicksPerSecond 0). */
 #define FALLBACK_TICKS_PER_SECOND 25.0
 
 /* What Assimp does to the scene: triangles, shared vertices, normals where missing, and
@@ -566,7 +567,7 @@ static sinew_result read_clip(context *c, const struct aiAnimation *anim, uint32
         return oom(c);
     double tps = anim->mTicksPerSecond;
     if (!(tps > 0.0) || !isfinite(tps)) {
-        raw_model_warn(m, "clip \"%s\" gives no ticks per second; using %g as Assimp documents", out->name,
+        raw_model_warn(m, "clip \"%s\" gives no ticks per second; using %g, the rate Assimp's own viewer assumes", out->name,
                        FALLBACK_TICKS_PER_SECOND);
         tps = FALLBACK_TICKS_PER_SECOND;
     }
@@ -666,6 +667,8 @@ sinew_result raw_model_from_assimp(const char *path, raw_model *model, sinew_err
         result = read_meshes(&c);
     if (!result)
         result = read_clips(&c);
+    if (!result && (strcmp(model->format, "gltf") == 0 || strcmp(model->format, "glb") == 0))
+        gltf_restore_interpolation(path, model);
     free(c.nodes);
     free(c.joints);
     aiReleaseImport(scene);

@@ -100,4 +100,12 @@ sinew_result raw_model_build(raw_model *model, void **bytes, size_t *size, sinew
 /* Reads a file through Assimp into a raw model, in this process. */
 sinew_result raw_model_from_assimp(const char *path, raw_model *model, sinew_error *error);
 
+/* glTF files: puts back the STEP and CUBICSPLINE samplers Assimp flattened to linear keys
+ * (gltf_keys.c). Leaves the model as it is when the file cannot be read again. */
+void gltf_restore_interpolation(const char *path, raw_model *model);
+
+/* glTF files: puts back the STEP and CUBICSPLINE samplers Assimp flattened to linear keys
+ * (gltf_keys.c). Leaves the model as it is when the file cannot be read again. */
+void gltf_restore_interpolation(const char *path, raw_model *model);
+
 #endif
