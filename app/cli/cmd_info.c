@@ -80,7 +80,8 @@ static void print_text(const sinew_model *m)
         const sinew_mesh *mesh = &m->meshes[i];
         printf("mesh %u  \"%s\"  %u vertices, %u triangles", i, mesh->name, mesh->vertex_count, mesh->index_count / 3);
         if (mesh->skin >= 0)
-            printf(", skinned: %u joints, up to %u influences", m->skins[mesh->skin].joint_count, mesh->influence_count);
+            printf(", skinned: %u joints, up to %u influences", m->skins[mesh->skin].joint_count,
+                   mesh->influence_count);
         else
             printf(", rigid");
         if (mesh->material >= 0)

@@ -15,7 +15,10 @@ void cli_error(const char *format, ...)
     va_end(args);
 }
 
-bool cli_is_help(const char *arg) { return strcmp(arg, "--help") == 0 || strcmp(arg, "-h") == 0; }
+bool cli_is_help(const char *arg)
+{
+    return strcmp(arg, "--help") == 0 || strcmp(arg, "-h") == 0;
+}
 
 sinew_model *cli_load_model(const char *path)
 {

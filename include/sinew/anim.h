@@ -32,16 +32,16 @@ typedef enum sinew_wrap {
 typedef struct sinew_sample_context sinew_sample_context;
 
 size_t sinew_sample_context_size(const sinew_clip *clip);
-sinew_result sinew_sample_context_init(void *memory, size_t size, const sinew_clip *clip,
-                                       sinew_sample_context **out, sinew_error *error);
+sinew_result sinew_sample_context_init(void *memory, size_t size, const sinew_clip *clip, sinew_sample_context **out,
+                                       sinew_error *error);
 
 typedef struct sinew_sample_desc {
     const sinew_model *model;
-    const sinew_clip *clip;            /* NULL: every node at rest */
-    float time;                        /* seconds */
+    const sinew_clip *clip; /* NULL: every node at rest */
+    float time;             /* seconds */
     sinew_wrap wrap;
-    sinew_sample_context *context;     /* may be NULL (each channel is then searched) */
-    sinew_transform *locals;           /* out: model->node_count transforms */
+    sinew_sample_context *context; /* may be NULL (each channel is then searched) */
+    sinew_transform *locals;       /* out: model->node_count transforms */
     uint32_t local_count;
 } sinew_sample_desc;
 
@@ -49,8 +49,8 @@ sinew_result sinew_sample(const sinew_sample_desc *desc, sinew_error *error);
 
 /* Evaluates one channel at a clip-local time (already wrapped/clamped); out gets 3 or 4
  * floats. Exposed for tests and tools; sinew_sample() calls it for every channel. */
-void sinew_channel_eval(const sinew_clip *clip, const sinew_channel *channel, int kind, float time,
-                        uint32_t *cursor, float *out);
+void sinew_channel_eval(const sinew_clip *clip, const sinew_channel *channel, int kind, float time, uint32_t *cursor,
+                        float *out);
 
 /* The clip-local time that `time` maps to under `wrap` (duration 0 gives 0). */
 float sinew_clip_time(const sinew_clip *clip, float time, sinew_wrap wrap);
@@ -63,23 +63,22 @@ void sinew_transform_to_mat4(const sinew_transform *transform, sinew_mat4 *out);
 void sinew_mat4_decompose(const sinew_mat4 *matrix, sinew_transform *out);
 
 /* world[i] = world[parent[i]] * local[i]; roots get root * local[i] (root NULL: identity). */
-sinew_result sinew_local_to_world(const sinew_model *model, const sinew_transform *locals,
-                                  uint32_t local_count, const sinew_mat4 *root, sinew_mat4 *worlds,
-                                  uint32_t world_count, sinew_error *error);
+sinew_result sinew_local_to_world(const sinew_model *model, const sinew_transform *locals, uint32_t local_count,
+                                  const sinew_mat4 *root, sinew_mat4 *worlds, uint32_t world_count, sinew_error *error);
 
 /* palette[j] = world[skin->joints[j]] * skin->inverse_bind[j]. */
 sinew_result sinew_skin_palette(const sinew_skin *skin, const sinew_mat4 *worlds, uint32_t world_count,
                                 sinew_mat4 *palette, uint32_t palette_count, sinew_error *error);
 
 typedef struct sinew_skin_desc {
-    const sinew_mesh *mesh;      /* vertex data, joints and weights */
-    const sinew_mat4 *palette;   /* skinning matrices of the mesh's skin */
+    const sinew_mesh *mesh;    /* vertex data, joints and weights */
+    const sinew_mat4 *palette; /* skinning matrices of the mesh's skin */
     uint32_t palette_count;
-    uint32_t first;              /* vertex range to skin: [first, first + count) */
-    uint32_t count;              /* 0 means every vertex from first on */
-    float *out_positions;        /* indexed by vertex number (not by range), 3 floats at out_stride */
-    float *out_normals;          /* may be NULL */
-    size_t out_stride;           /* bytes between vertices; 0 means 12 */
+    uint32_t first;       /* vertex range to skin: [first, first + count) */
+    uint32_t count;       /* 0 means every vertex from first on */
+    float *out_positions; /* indexed by vertex number (not by range), 3 floats at out_stride */
+    float *out_normals;   /* may be NULL */
+    size_t out_stride;    /* bytes between vertices; 0 means 12 */
 } sinew_skin_desc;
 
 /* v' = sum_k w_k * palette[j_k] * v; normals through the cofactor (inverse transpose up
@@ -88,9 +87,8 @@ typedef struct sinew_skin_desc {
 sinew_result sinew_skin_vertices(const sinew_skin_desc *desc, sinew_error *error);
 
 /* A rigid mesh at a node: positions and normals transformed by one matrix. */
-sinew_result sinew_transform_vertices(const sinew_mesh *mesh, const sinew_mat4 *matrix,
-                                      float *out_positions, float *out_normals, size_t out_stride,
-                                      sinew_error *error);
+sinew_result sinew_transform_vertices(const sinew_mesh *mesh, const sinew_mat4 *matrix, float *out_positions,
+                                      float *out_normals, size_t out_stride, sinew_error *error);
 
 #ifdef __cplusplus
 }

@@ -26,8 +26,8 @@ extern "C" {
 
 typedef struct sinew_import_desc {
     const char *path;
-    bool in_process;                   /* run Assimp in this process (faster, not crash-safe) */
-    const sinew_allocator *allocator;  /* NULL: malloc/free */
+    bool in_process;                  /* run Assimp in this process (faster, not crash-safe) */
+    const sinew_allocator *allocator; /* NULL: malloc/free */
 } sinew_import_desc;
 
 sinew_result sinew_import(const sinew_import_desc *desc, sinew_model **out, sinew_error *error);

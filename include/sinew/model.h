@@ -26,8 +26,8 @@
 extern "C" {
 #endif
 
-#define SINEW_MAX_INFLUENCES 8   /* influences kept per vertex (the largest, renormalised) */
-#define SINEW_MAX_JOINTS 1024    /* joints per skin */
+#define SINEW_MAX_INFLUENCES 8 /* influences kept per vertex (the largest, renormalised) */
+#define SINEW_MAX_JOINTS 1024  /* joints per skin */
 
 /* Column-major 4x4 matrix: m[col * 4 + row]. */
 typedef struct sinew_mat4 {
@@ -72,29 +72,29 @@ typedef struct sinew_clip {
     const sinew_track *tracks; /* sorted by node index, at most one per node */
     uint32_t time_count;
     uint32_t value_count;
-    const float *times;  /* seconds, non-decreasing within a channel */
+    const float *times; /* seconds, non-decreasing within a channel */
     const float *values;
 } sinew_clip;
 
 typedef struct sinew_skin {
     uint32_t joint_count;
-    const uint32_t *joints;          /* node indices */
-    const sinew_mat4 *inverse_bind;  /* one a joint: mesh space -> joint space at bind time */
+    const uint32_t *joints;         /* node indices */
+    const sinew_mat4 *inverse_bind; /* one a joint: mesh space -> joint space at bind time */
 } sinew_skin;
 
 typedef struct sinew_mesh {
     const char *name;
     uint32_t vertex_count;
-    uint32_t index_count;      /* triangles * 3 */
-    const float *positions;    /* 3 floats a vertex, mesh space */
-    const float *normals;      /* 3 floats a vertex */
-    const float *uvs;          /* 2 floats a vertex, or NULL */
+    uint32_t index_count;   /* triangles * 3 */
+    const float *positions; /* 3 floats a vertex, mesh space */
+    const float *normals;   /* 3 floats a vertex */
+    const float *uvs;       /* 2 floats a vertex, or NULL */
     const uint32_t *indices;
-    uint32_t influence_count;  /* per vertex, 0 for a rigid mesh, at most SINEW_MAX_INFLUENCES */
-    const uint16_t *joints;    /* influence_count a vertex, indices into the skin's joints */
-    const float *weights;      /* influence_count a vertex, sorted descending, summing to 1 */
-    int32_t skin;              /* index into skins, -1 for a rigid mesh */
-    int32_t material;          /* index into materials, -1 for none */
+    uint32_t influence_count; /* per vertex, 0 for a rigid mesh, at most SINEW_MAX_INFLUENCES */
+    const uint16_t *joints;   /* influence_count a vertex, indices into the skin's joints */
+    const float *weights;     /* influence_count a vertex, sorted descending, summing to 1 */
+    int32_t skin;             /* index into skins, -1 for a rigid mesh */
+    int32_t material;         /* index into materials, -1 for none */
 } sinew_mesh;
 
 /* A mesh drawn at a node. Rigid meshes follow the node's world matrix; skinned meshes
@@ -116,8 +116,8 @@ typedef struct sinew_model {
 
     uint32_t node_count;
     const char *const *node_names;
-    const int32_t *node_parents;          /* -1 for roots; parent index < node index */
-    const sinew_transform *node_rest;     /* rest local transforms */
+    const int32_t *node_parents;      /* -1 for roots; parent index < node index */
+    const sinew_transform *node_rest; /* rest local transforms */
 
     uint32_t skin_count;
     const sinew_skin *skins;
@@ -142,9 +142,8 @@ typedef struct sinew_allocator {
 /* Builds a model from a blob written by sinew_model_write_blob() (or the import child).
  * The bytes are validated (magic, version, sizes, checksum, every offset and index) and
  * copied; `name` is used in messages. `allocator` may be NULL for malloc/free. */
-sinew_result sinew_model_from_blob(const void *bytes, size_t size, const char *name,
-                                   const sinew_allocator *allocator, sinew_model **out,
-                                   sinew_error *error);
+sinew_result sinew_model_from_blob(const void *bytes, size_t size, const char *name, const sinew_allocator *allocator,
+                                   sinew_model **out, sinew_error *error);
 
 /* The model's own blob: the exact bytes it was loaded from. */
 void sinew_model_blob(const sinew_model *model, const void **bytes, size_t *size);

@@ -6,14 +6,22 @@
 const char *sinew_result_string(sinew_result result)
 {
     switch (result) {
-    case SINEW_OK: return "ok";
-    case SINEW_ERROR_INVALID_ARGUMENT: return "invalid argument";
-    case SINEW_ERROR_IO: return "i/o error";
-    case SINEW_ERROR_FORMAT: return "format error";
-    case SINEW_ERROR_IMPORTER: return "importer error";
-    case SINEW_ERROR_DATA: return "invalid data";
-    case SINEW_ERROR_LIMIT: return "over a limit";
-    case SINEW_ERROR_OUT_OF_MEMORY: return "out of memory";
+    case SINEW_OK:
+        return "ok";
+    case SINEW_ERROR_INVALID_ARGUMENT:
+        return "invalid argument";
+    case SINEW_ERROR_IO:
+        return "i/o error";
+    case SINEW_ERROR_FORMAT:
+        return "format error";
+    case SINEW_ERROR_IMPORTER:
+        return "importer error";
+    case SINEW_ERROR_DATA:
+        return "invalid data";
+    case SINEW_ERROR_LIMIT:
+        return "over a limit";
+    case SINEW_ERROR_OUT_OF_MEMORY:
+        return "out of memory";
     }
     return "unknown error";
 }

@@ -37,23 +37,23 @@ typedef struct blob_header {
     uint64_t size;
     uint32_t checksum;
     uint32_t flags;
-    blob_span strings;       /* bytes */
-    uint32_t source;         /* string */
-    uint32_t format;         /* string */
-    blob_span node_names;    /* uint32_t strings */
-    blob_span node_parents;  /* int32_t */
-    blob_span node_rest;     /* sinew_transform */
-    blob_span skins;         /* blob_skin */
-    blob_span meshes;        /* blob_mesh */
-    blob_span instances;     /* sinew_instance */
-    blob_span materials;     /* blob_material */
-    blob_span clips;         /* blob_clip */
-    blob_span warnings;      /* uint32_t strings */
+    blob_span strings;      /* bytes */
+    uint32_t source;        /* string */
+    uint32_t format;        /* string */
+    blob_span node_names;   /* uint32_t strings */
+    blob_span node_parents; /* int32_t */
+    blob_span node_rest;    /* sinew_transform */
+    blob_span skins;        /* blob_skin */
+    blob_span meshes;       /* blob_mesh */
+    blob_span instances;    /* sinew_instance */
+    blob_span materials;    /* blob_material */
+    blob_span clips;        /* blob_clip */
+    blob_span warnings;     /* uint32_t strings */
 } blob_header;
 
 typedef struct blob_skin {
-    blob_span joints;        /* uint32_t */
-    blob_span inverse_bind;  /* sinew_mat4 */
+    blob_span joints;       /* uint32_t */
+    blob_span inverse_bind; /* sinew_mat4 */
 } blob_skin;
 
 typedef struct blob_mesh {
@@ -63,11 +63,11 @@ typedef struct blob_mesh {
     uint32_t influence_count;
     int32_t skin;
     int32_t material;
-    uint32_t positions;      /* offsets of vertex_count elements (influence_count per vertex for joints/weights) */
+    uint32_t positions; /* offsets of vertex_count elements (influence_count per vertex for joints/weights) */
     uint32_t normals;
-    uint32_t uvs;            /* BLOB_NONE when absent */
+    uint32_t uvs; /* BLOB_NONE when absent */
     uint32_t indices;
-    uint32_t joints;         /* BLOB_NONE for a rigid mesh */
+    uint32_t joints; /* BLOB_NONE for a rigid mesh */
     uint32_t weights;
 } blob_mesh;
 
@@ -80,9 +80,9 @@ typedef struct blob_material {
 typedef struct blob_clip {
     uint32_t name;
     float duration;
-    blob_span tracks;        /* sinew_track */
-    blob_span times;         /* float */
-    blob_span values;        /* float */
+    blob_span tracks; /* sinew_track */
+    blob_span times;  /* float */
+    blob_span values; /* float */
 } blob_clip;
 
 uint32_t sinew_crc32(uint32_t crc, const void *bytes, size_t size);
@@ -98,7 +98,10 @@ sinew_result sinew_fail(sinew_error *error, sinew_result kind, const char *forma
     ;
 
 /* Width in floats of one key value of a channel kind (translation/scale 3, rotation 4). */
-static inline uint32_t sinew_channel_width(int kind) { return kind == SINEW_CHANNEL_ROTATION ? 4u : 3u; }
+static inline uint32_t sinew_channel_width(int kind)
+{
+    return kind == SINEW_CHANNEL_ROTATION ? 4u : 3u;
+}
 
 /* Floats one key takes in the value array. */
 static inline uint32_t sinew_channel_stride(int kind, uint32_t interp)

@@ -172,15 +172,15 @@ static sinew_result check_skins(reader *r)
 static bool mesh_arrays_ok(const reader *r, const blob_mesh *m, uint32_t joint_limit)
 {
     uint64_t v = m->vertex_count;
-    if (!range_ok(r, m->positions, v, 12) || !range_ok(r, m->normals, v, 12) || !range_ok(r, m->indices, m->index_count, 4))
+    if (!range_ok(r, m->positions, v, 12) || !range_ok(r, m->normals, v, 12) ||
+        !range_ok(r, m->indices, m->index_count, 4))
         return false;
     if (m->uvs != BLOB_NONE && !range_ok(r, m->uvs, v, 8))
         return false;
-    if (m->influence_count && (!range_ok(r, m->joints, v * m->influence_count, 2) ||
-                               !range_ok(r, m->weights, v * m->influence_count, 4)))
+    if (m->influence_count &&
+        (!range_ok(r, m->joints, v * m->influence_count, 2) || !range_ok(r, m->weights, v * m->influence_count, 4)))
         return false;
-    if (v && (!floats_finite(array_at(r, m->positions, v), v * 3) ||
-              !floats_finite(array_at(r, m->normals, v), v * 3)))
+    if (v && (!floats_finite(array_at(r, m->positions, v), v * 3) || !floats_finite(array_at(r, m->normals, v), v * 3)))
         return false;
     if (v && m->uvs != BLOB_NONE && !floats_finite(array_at(r, m->uvs, v), v * 2))
         return false;
@@ -417,7 +417,8 @@ sinew_result sinew_model_from_blob(const void *bytes, size_t size, const char *n
     size_t tables = tables_size(&header);
     unsigned char *block = alloc.alloc(head + tables + size, alloc.user);
     if (!block)
-        return sinew_fail(error, SINEW_ERROR_OUT_OF_MEMORY, "%s: out of memory for %zu bytes", name, head + tables + size);
+        return sinew_fail(error, SINEW_ERROR_OUT_OF_MEMORY, "%s: out of memory for %zu bytes", name,
+                          head + tables + size);
     unsigned char *copy = block + head + tables;
     memcpy(copy, bytes, size);
 

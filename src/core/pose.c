@@ -76,13 +76,15 @@ sinew_result sinew_skin_palette(const sinew_skin *skin, const sinew_mat4 *worlds
     if (!skin || !worlds || !palette)
         return sinew_fail(error, SINEW_ERROR_INVALID_ARGUMENT, "sinew_skin_palette: NULL argument");
     if (palette_count < skin->joint_count)
-        return sinew_fail(error, SINEW_ERROR_INVALID_ARGUMENT, "sinew_skin_palette: %u matrices given, the skin has %u joints",
-                          palette_count, skin->joint_count);
+        return sinew_fail(error, SINEW_ERROR_INVALID_ARGUMENT,
+                          "sinew_skin_palette: %u matrices given, the skin has %u joints", palette_count,
+                          skin->joint_count);
     for (uint32_t j = 0; j < skin->joint_count; j++) {
         uint32_t node = skin->joints[j];
         if (node >= world_count)
             return sinew_fail(error, SINEW_ERROR_INVALID_ARGUMENT,
-                              "sinew_skin_palette: joint %u is node %u, past the %u world matrices", j, node, world_count);
+                              "sinew_skin_palette: joint %u is node %u, past the %u world matrices", j, node,
+                              world_count);
         glm_mat4_mul(AS_MAT4(&worlds[node]), AS_MAT4(&skin->inverse_bind[j]), AS_MAT4(&palette[j]));
     }
     return SINEW_OK;

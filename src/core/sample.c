@@ -159,8 +159,9 @@ sinew_result sinew_sample(const sinew_sample_desc *desc, sinew_error *error)
     const sinew_model *model = desc->model;
     const sinew_clip *clip = desc->clip;
     if (desc->local_count < model->node_count)
-        return sinew_fail(error, SINEW_ERROR_INVALID_ARGUMENT, "sinew_sample: %u local transforms given, the model has %u nodes",
-                          desc->local_count, model->node_count);
+        return sinew_fail(error, SINEW_ERROR_INVALID_ARGUMENT,
+                          "sinew_sample: %u local transforms given, the model has %u nodes", desc->local_count,
+                          model->node_count);
     if (desc->context && desc->context->clip != clip)
         return sinew_fail(error, SINEW_ERROR_INVALID_ARGUMENT, "sinew_sample: the context was made for another clip");
     if (!isfinite(desc->time))

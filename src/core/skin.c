@@ -39,17 +39,19 @@ sinew_result sinew_skin_vertices(const sinew_skin_desc *desc, sinew_error *error
         return sinew_fail(error, SINEW_ERROR_INVALID_ARGUMENT, "sinew_skin_vertices: NULL mesh, palette or output");
     const sinew_mesh *mesh = desc->mesh;
     if (mesh->influence_count == 0 || !mesh->joints || !mesh->weights)
-        return sinew_fail(error, SINEW_ERROR_INVALID_ARGUMENT, "sinew_skin_vertices: mesh \"%s\" is not skinned", mesh->name);
+        return sinew_fail(error, SINEW_ERROR_INVALID_ARGUMENT, "sinew_skin_vertices: mesh \"%s\" is not skinned",
+                          mesh->name);
     if (desc->first > mesh->vertex_count)
-        return sinew_fail(error, SINEW_ERROR_INVALID_ARGUMENT, "sinew_skin_vertices: first vertex %u past the %u vertices",
-                          desc->first, mesh->vertex_count);
+        return sinew_fail(error, SINEW_ERROR_INVALID_ARGUMENT,
+                          "sinew_skin_vertices: first vertex %u past the %u vertices", desc->first, mesh->vertex_count);
     uint32_t count = desc->count ? desc->count : mesh->vertex_count - desc->first;
     if (count > mesh->vertex_count - desc->first)
         return sinew_fail(error, SINEW_ERROR_INVALID_ARGUMENT, "sinew_skin_vertices: range %u+%u past the %u vertices",
                           desc->first, count, mesh->vertex_count);
     size_t stride = desc->out_stride ? desc->out_stride : 3 * sizeof(float);
     if (stride < 3 * sizeof(float))
-        return sinew_fail(error, SINEW_ERROR_INVALID_ARGUMENT, "sinew_skin_vertices: stride %zu below 12 bytes", stride);
+        return sinew_fail(error, SINEW_ERROR_INVALID_ARGUMENT, "sinew_skin_vertices: stride %zu below 12 bytes",
+                          stride);
 
     const uint32_t k = mesh->influence_count;
     for (uint32_t v = desc->first; v < desc->first + count; v++) {
@@ -85,9 +87,11 @@ sinew_result sinew_transform_vertices(const sinew_mesh *mesh, const sinew_mat4 *
         return sinew_fail(error, SINEW_ERROR_INVALID_ARGUMENT, "sinew_transform_vertices: NULL argument");
     size_t stride = out_stride ? out_stride : 3 * sizeof(float);
     if (stride < 3 * sizeof(float))
-        return sinew_fail(error, SINEW_ERROR_INVALID_ARGUMENT, "sinew_transform_vertices: stride %zu below 12 bytes", stride);
+        return sinew_fail(error, SINEW_ERROR_INVALID_ARGUMENT, "sinew_transform_vertices: stride %zu below 12 bytes",
+                          stride);
     for (uint32_t v = 0; v < mesh->vertex_count; v++) {
-        transform_point(matrix->m, &mesh->positions[(size_t)v * 3], (float *)((char *)out_positions + (size_t)v * stride));
+        transform_point(matrix->m, &mesh->positions[(size_t)v * 3],
+                        (float *)((char *)out_positions + (size_t)v * stride));
         if (out_normals)
             transform_normal(matrix->m, &mesh->normals[(size_t)v * 3],
                              (float *)((char *)out_normals + (size_t)v * stride));

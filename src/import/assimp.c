@@ -125,8 +125,8 @@ static int32_t find_node(const context *c, const char *name, const bool *joints,
             continue;
         matches++;
         int32_t parent = c->model->node_parents[i];
-        int32_t score = (joints && joints[i]) * 4 + (joints && parent >= 0 && joints[parent]) * 2 +
-                        (c->nodes[i]->mNumMeshes == 0);
+        int32_t score =
+            (joints && joints[i]) * 4 + (joints && parent >= 0 && joints[parent]) * 2 + (c->nodes[i]->mNumMeshes == 0);
         if (score > best_score) {
             best = (int32_t)i;
             best_score = score;
@@ -189,7 +189,8 @@ static void axis_conversion(context *c)
         return;
     if (up < 0 || up > 2 || front < 0 || front > 2 || coord < 0 || coord > 2 || up == front || up == coord ||
         front == coord) {
-        raw_model_warn(c->model, "the file's axis settings (up %d, front %d, coord %d) are inconsistent; axes left as they are",
+        raw_model_warn(c->model,
+                       "the file's axis settings (up %d, front %d, coord %d) are inconsistent; axes left as they are",
                        up, front, coord);
         return;
     }
@@ -220,7 +221,8 @@ static void axis_conversion(context *c)
 static char *resolve_texture(context *c, const char *texture)
 {
     if (texture[0] == '*') {
-        raw_model_warn(c->model, "embedded texture \"%s\" is not carried by sinew yet; the material keeps its colour", texture);
+        raw_model_warn(c->model, "embedded texture \"%s\" is not carried by sinew yet; the material keeps its colour",
+                       texture);
         return NULL;
     }
     char folder[4096];
@@ -258,7 +260,7 @@ static sinew_result read_materials(context *c)
         char fallback[32];
         snprintf(fallback, sizeof fallback, "material %u", i);
         out->name = raw_strdup(aiGetMaterialString(mat, AI_MATKEY_NAME, &name) == AI_SUCCESS && name.length ? name.data
-                                                                                                              : fallback);
+                                                                                                            : fallback);
         if (!out->name)
             return oom(c);
         struct aiColor4D color = {0.8f, 0.8f, 0.8f, 1.0f};
@@ -567,8 +569,8 @@ static sinew_result read_clip(context *c, const struct aiAnimation *anim, uint32
         return oom(c);
     double tps = anim->mTicksPerSecond;
     if (!(tps > 0.0) || !isfinite(tps)) {
-        raw_model_warn(m, "clip \"%s\" gives no ticks per second; using %g, the rate Assimp's own viewer assumes", out->name,
-                       FALLBACK_TICKS_PER_SECOND);
+        raw_model_warn(m, "clip \"%s\" gives no ticks per second; using %g, the rate Assimp's own viewer assumes",
+                       out->name, FALLBACK_TICKS_PER_SECOND);
         tps = FALLBACK_TICKS_PER_SECOND;
     }
     out->duration = (float)(anim->mDuration / tps);
@@ -596,11 +598,13 @@ static sinew_result read_clip(context *c, const struct aiAnimation *anim, uint32
                                   &track->channels[SINEW_CHANNEL_TRANSLATION])) ||
             (r = read_rotation_keys(c, ch->mRotationKeys, ch->mNumRotationKeys, tps,
                                     &track->channels[SINEW_CHANNEL_ROTATION])) ||
-            (r = read_vector_keys(c, ch->mScalingKeys, ch->mNumScalingKeys, tps, &track->channels[SINEW_CHANNEL_SCALE])))
+            (r = read_vector_keys(c, ch->mScalingKeys, ch->mNumScalingKeys, tps,
+                                  &track->channels[SINEW_CHANNEL_SCALE])))
             return r;
     }
     if (out->track_count && out->tracks[0].node == 0 && c->model->node_count > 0)
-        raw_model_warn(m, "clip \"%s\" animates the root node; its rest transform (with any axis conversion) is replaced",
+        raw_model_warn(m,
+                       "clip \"%s\" animates the root node; its rest transform (with any axis conversion) is replaced",
                        out->name);
     return SINEW_OK;
 }

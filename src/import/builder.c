@@ -114,8 +114,9 @@ static sinew_result check_nodes(const raw_model *m, sinew_error *error)
             return sinew_fail(error, SINEW_ERROR_DATA, "%s: node \"%s\" comes before its parent", m->source,
                               m->node_names[i]);
         if (!all_finite(&m->node_rest[i].translation[0], 10))
-            return sinew_fail(error, SINEW_ERROR_DATA, "%s: node \"%s\" has a transform that is not finite (NaN or Inf)",
-                              m->source, m->node_names[i]);
+            return sinew_fail(error, SINEW_ERROR_DATA,
+                              "%s: node \"%s\" has a transform that is not finite (NaN or Inf)", m->source,
+                              m->node_names[i]);
     }
     for (uint32_t s = 0; s < m->skin_count; s++) {
         const raw_skin *skin = &m->skins[s];
@@ -144,7 +145,8 @@ static void compute_normals(raw_mesh *mesh)
     memset(n, 0, (size_t)mesh->vertex_count * 3 * sizeof(float));
     for (uint32_t t = 0; t + 2 < mesh->index_count; t += 3) {
         const uint32_t *tri = &mesh->indices[t];
-        const float *a = &mesh->positions[tri[0] * 3], *b = &mesh->positions[tri[1] * 3], *c = &mesh->positions[tri[2] * 3];
+        const float *a = &mesh->positions[tri[0] * 3], *b = &mesh->positions[tri[1] * 3],
+                    *c = &mesh->positions[tri[2] * 3];
         float e1[3] = {b[0] - a[0], b[1] - a[1], b[2] - a[2]}, e2[3] = {c[0] - a[0], c[1] - a[1], c[2] - a[2]};
         float f[3] = {e1[1] * e2[2] - e1[2] * e2[1], e1[2] * e2[0] - e1[0] * e2[2], e1[0] * e2[1] - e1[1] * e2[0]};
         for (int k = 0; k < 3; k++)
@@ -249,8 +251,8 @@ static sinew_result fix_influences(raw_model *m, uint32_t mesh_index, sinew_erro
             sum += scratch[i].weight;
         if (listed > 0 && !(sum > 0.0f)) {
             free(scratch);
-            return sinew_fail(error, SINEW_ERROR_DATA, "%s: mesh \"%s\": the skin weights of vertex %u sum to zero", m->source,
-                              mesh->name, v);
+            return sinew_fail(error, SINEW_ERROR_DATA, "%s: mesh \"%s\": the skin weights of vertex %u sum to zero",
+                              m->source, mesh->name, v);
         }
         if (n == 0) {
             if (fallback < 0 && (fallback = fallback_joint(m, mesh_index)) < 0) {
@@ -272,14 +274,15 @@ static sinew_result fix_influences(raw_model *m, uint32_t mesh_index, sinew_erro
     }
     free(scratch);
     if (truncated)
-        raw_model_warn(m, "mesh \"%s\": %u vertices had more than %d influences; the %d largest were kept and renormalised",
-                       mesh->name, truncated, SINEW_MAX_INFLUENCES, SINEW_MAX_INFLUENCES);
+        raw_model_warn(
+            m, "mesh \"%s\": %u vertices had more than %d influences; the %d largest were kept and renormalised",
+            mesh->name, truncated, SINEW_MAX_INFLUENCES, SINEW_MAX_INFLUENCES);
     if (renormalised)
-        raw_model_warn(m, "mesh \"%s\": the skin weights of %u vertices did not sum to 1 and were renormalised", mesh->name,
-                       renormalised);
+        raw_model_warn(m, "mesh \"%s\": the skin weights of %u vertices did not sum to 1 and were renormalised",
+                       mesh->name, renormalised);
     if (unweighted)
-        raw_model_warn(m, "mesh \"%s\": %u vertices have no skin weights; they follow the mesh's node \"%s\"", mesh->name,
-                       unweighted, m->node_names[m->skins[mesh->skin].joints[fallback]]);
+        raw_model_warn(m, "mesh \"%s\": %u vertices have no skin weights; they follow the mesh's node \"%s\"",
+                       mesh->name, unweighted, m->node_names[m->skins[mesh->skin].joints[fallback]]);
     /* Narrow the slots from k to `used`, in place. */
     for (uint32_t v = 0; v < mesh->vertex_count; v++)
         for (uint32_t i = 0; i < used; i++) {
@@ -295,11 +298,12 @@ static sinew_result fix_mesh(raw_model *m, uint32_t index, sinew_error *error)
     raw_mesh *mesh = &m->meshes[index];
     size_t v = mesh->vertex_count;
     if (!all_finite(mesh->positions, v * 3))
-        return sinew_fail(error, SINEW_ERROR_DATA, "%s: mesh \"%s\" has vertex positions that are not finite (NaN or Inf)",
-                          m->source, mesh->name);
-    if (mesh->uvs && !all_finite(mesh->uvs, v * 2))
-        return sinew_fail(error, SINEW_ERROR_DATA, "%s: mesh \"%s\" has texture coordinates that are not finite", m->source,
+        return sinew_fail(error, SINEW_ERROR_DATA,
+                          "%s: mesh \"%s\" has vertex positions that are not finite (NaN or Inf)", m->source,
                           mesh->name);
+    if (mesh->uvs && !all_finite(mesh->uvs, v * 2))
+        return sinew_fail(error, SINEW_ERROR_DATA, "%s: mesh \"%s\" has texture coordinates that are not finite",
+                          m->source, mesh->name);
     if (mesh->index_count % 3 != 0)
         return sinew_fail(error, SINEW_ERROR_DATA, "%s: mesh \"%s\" has %u indices, not whole triangles", m->source,
                           mesh->name, mesh->index_count);
@@ -317,7 +321,8 @@ static sinew_result fix_mesh(raw_model *m, uint32_t index, sinew_error *error)
     if (recompute)
         compute_normals(mesh);
     if (mesh->skin >= 0 && (mesh->influence_count == 0 || !mesh->joints || !mesh->weights))
-        return sinew_fail(error, SINEW_ERROR_DATA, "%s: mesh \"%s\" has a skin but no influences", m->source, mesh->name);
+        return sinew_fail(error, SINEW_ERROR_DATA, "%s: mesh \"%s\" has a skin but no influences", m->source,
+                          mesh->name);
     if (mesh->skin < 0)
         mesh->influence_count = 0;
     return mesh->skin >= 0 ? fix_influences(m, index, error) : SINEW_OK;
@@ -393,13 +398,14 @@ static const char *const channel_names[SINEW_CHANNEL_COUNT] = {"translation", "r
 static sinew_result fix_clip(raw_model *m, raw_clip *clip, sinew_error *error)
 {
     if (!isfinite(clip->duration) || clip->duration < 0.0f)
-        return sinew_fail(error, SINEW_ERROR_DATA, "%s: clip \"%s\" has an invalid duration (%g)", m->source, clip->name,
-                          (double)clip->duration);
+        return sinew_fail(error, SINEW_ERROR_DATA, "%s: clip \"%s\" has an invalid duration (%g)", m->source,
+                          clip->name, (double)clip->duration);
     uint32_t unsorted = 0;
     for (uint32_t t = 0; t < clip->track_count; t++) {
         raw_track *track = &clip->tracks[t];
         if (track->node >= m->node_count)
-            return sinew_fail(error, SINEW_ERROR_DATA, "%s: clip \"%s\" animates a missing node", m->source, clip->name);
+            return sinew_fail(error, SINEW_ERROR_DATA, "%s: clip \"%s\" animates a missing node", m->source,
+                              clip->name);
         for (int kind = 0; kind < SINEW_CHANNEL_COUNT; kind++) {
             raw_channel *ch = &track->channels[kind];
             if (ch->count == 0)
@@ -417,12 +423,14 @@ static sinew_result fix_clip(raw_model *m, raw_clip *clip, sinew_error *error)
                 return oom(m, error);
             unsorted += !was_sorted;
             if (kind == SINEW_CHANNEL_ROTATION && !fix_rotations(ch))
-                return sinew_fail(error, SINEW_ERROR_DATA, "%s: clip \"%s\": node \"%s\" has a zero-length rotation key",
-                                  m->source, clip->name, m->node_names[track->node]);
+                return sinew_fail(error, SINEW_ERROR_DATA,
+                                  "%s: clip \"%s\": node \"%s\" has a zero-length rotation key", m->source, clip->name,
+                                  m->node_names[track->node]);
         }
     }
     if (unsorted)
-        raw_model_warn(m, "clip \"%s\": %u channels had keys out of time order; they were sorted", clip->name, unsorted);
+        raw_model_warn(m, "clip \"%s\": %u channels had keys out of time order; they were sorted", clip->name,
+                       unsorted);
     return SINEW_OK;
 }
 
@@ -458,8 +466,9 @@ static void merge_tracks(raw_model *m, raw_clip *clip)
     }
     clip->track_count = out;
     if (dropped)
-        raw_model_warn(m, "clip \"%s\": %u channels animated a node that another channel already animates; the first was kept",
-                       clip->name, dropped);
+        raw_model_warn(
+            m, "clip \"%s\": %u channels animated a node that another channel already animates; the first was kept",
+            clip->name, dropped);
 }
 
 /* ---- blob writer ------------------------------------------------------------------------ */
@@ -688,7 +697,8 @@ static sinew_result write_blob(const raw_model *m, void **bytes, size_t *size, s
     h.node_rest = (blob_span){writer_put(&w, m->node_rest, m->node_count * sizeof(sinew_transform)), m->node_count};
     h.skins = write_skins(&w, m);
     h.meshes = write_meshes(&w, m);
-    h.instances = (blob_span){writer_put(&w, m->instances, m->instance_count * sizeof(sinew_instance)), m->instance_count};
+    h.instances =
+        (blob_span){writer_put(&w, m->instances, m->instance_count * sizeof(sinew_instance)), m->instance_count};
     h.materials = write_materials(&w, m);
     h.clips = write_clips(&w, m);
     h.warnings = writer_strings(&w, m->warnings, m->warning_count);
@@ -696,7 +706,8 @@ static sinew_result write_blob(const raw_model *m, void **bytes, size_t *size, s
     free(w.pool);
     if (w.failed) {
         free(w.bytes);
-        return sinew_fail(error, SINEW_ERROR_LIMIT, "%s: the model does not fit in memory or in a 4 GiB blob", m->source);
+        return sinew_fail(error, SINEW_ERROR_LIMIT, "%s: the model does not fit in memory or in a 4 GiB blob",
+                          m->source);
     }
     h.size = w.size;
     memcpy(w.bytes, &h, sizeof h);

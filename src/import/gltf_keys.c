@@ -29,9 +29,9 @@ typedef struct blob {
 typedef struct document {
     const char *path;
     cJSON *json;
-    blob file;      /* the whole file (a .glb's BIN chunk points into it) */
-    blob glb_bin;   /* not owned */
-    blob *buffers;  /* decoded buffers, loaded on demand */
+    blob file;     /* the whole file (a .glb's BIN chunk points into it) */
+    blob glb_bin;  /* not owned */
+    blob *buffers; /* decoded buffers, loaded on demand */
     int buffer_count;
 } document;
 
@@ -55,7 +55,10 @@ static bool read_whole_file(const char *path, blob *out)
     return true;
 }
 
-static uint32_t le32(const unsigned char *p) { return p[0] | p[1] << 8 | p[2] << 16 | (uint32_t)p[3] << 24; }
+static uint32_t le32(const unsigned char *p)
+{
+    return p[0] | p[1] << 8 | p[2] << 16 | (uint32_t)p[3] << 24;
+}
 
 /* Parses a .gltf (JSON) or .glb (12-byte header, JSON chunk, optional BIN chunk). */
 static bool load_document(const char *path, document *doc)
@@ -191,12 +194,23 @@ static int json_int(const cJSON *object, const char *key, int fallback)
 static bool read_component(const unsigned char *p, int type, float *out)
 {
     switch (type) {
-    case 5126: memcpy(out, p, 4); return isfinite(*out);
-    case 5120: *out = fmaxf((float)(int8_t)p[0] / 127.0f, -1.0f); return true;
-    case 5121: *out = (float)p[0] / 255.0f; return true;
-    case 5122: *out = fmaxf((float)(int16_t)(p[0] | p[1] << 8) / 32767.0f, -1.0f); return true;
-    case 5123: *out = (float)(uint16_t)(p[0] | p[1] << 8) / 65535.0f; return true;
-    default: return false;
+    case 5126:
+        memcpy(out, p, 4);
+        return isfinite(*out);
+    case 5120:
+        *out = fmaxf((float)(int8_t)p[0] / 127.0f, -1.0f);
+        return true;
+    case 5121:
+        *out = (float)p[0] / 255.0f;
+        return true;
+    case 5122:
+        *out = fmaxf((float)(int16_t)(p[0] | p[1] << 8) / 32767.0f, -1.0f);
+        return true;
+    case 5123:
+        *out = (float)(uint16_t)(p[0] | p[1] << 8) / 65535.0f;
+        return true;
+    default:
+        return false;
     }
 }
 
@@ -211,7 +225,8 @@ static bool read_accessor(document *doc, int index, int want_components, float *
         return false;
     int n = json_int(acc, "count", -1), ctype = json_int(acc, "componentType", 0);
     int csize = ctype == 5126 ? 4 : (ctype == 5122 || ctype == 5123) ? 2 : 1;
-    const cJSON *view = cJSON_GetArrayItem(cJSON_GetObjectItem(doc->json, "bufferViews"), json_int(acc, "bufferView", -1));
+    const cJSON *view =
+        cJSON_GetArrayItem(cJSON_GetObjectItem(doc->json, "bufferViews"), json_int(acc, "bufferView", -1));
     const blob *buf = view ? buffer_bytes(doc, json_int(view, "buffer", -1)) : NULL;
     if (!buf || n <= 0)
         return false;
@@ -291,18 +306,19 @@ void gltf_restore_interpolation(const char *path, raw_model *m)
                 continue;
             uint32_t interp = strcmp(how->valuestring, "STEP") == 0          ? SINEW_INTERP_STEP
                               : strcmp(how->valuestring, "CUBICSPLINE") == 0 ? SINEW_INTERP_CUBIC
-                                                                              : SINEW_INTERP_LINEAR;
+                                                                             : SINEW_INTERP_LINEAR;
             if (interp == SINEW_INTERP_LINEAR)
                 continue;
             const cJSON *target = cJSON_GetObjectItem(channel, "target");
             const cJSON *path_item = cJSON_GetObjectItem(target, "path");
             const cJSON *name = cJSON_GetObjectItem(cJSON_GetArrayItem(nodes, json_int(target, "node", -1)), "name");
-            int kind = !cJSON_IsString(path_item)                        ? -1
+            int kind = !cJSON_IsString(path_item)                           ? -1
                        : strcmp(path_item->valuestring, "translation") == 0 ? SINEW_CHANNEL_TRANSLATION
                        : strcmp(path_item->valuestring, "rotation") == 0    ? SINEW_CHANNEL_ROTATION
                        : strcmp(path_item->valuestring, "scale") == 0       ? SINEW_CHANNEL_SCALE
                                                                             : -1;
-            raw_track *track = kind >= 0 && cJSON_IsString(name) ? track_of_node(m, &m->clips[a], name->valuestring) : NULL;
+            raw_track *track =
+                kind >= 0 && cJSON_IsString(name) ? track_of_node(m, &m->clips[a], name->valuestring) : NULL;
             if (track && restore_channel(&doc, sampler, interp, kind, &track->channels[kind]))
                 restored++;
             else if (kind >= 0)

@@ -14,10 +14,10 @@
 #include "sinew/model.h"
 
 typedef struct raw_channel {
-    uint32_t interp;   /* sinew_interp */
-    uint32_t count;    /* keys */
-    float *times;      /* seconds */
-    float *values;     /* sinew_channel_stride(kind, interp) floats a key */
+    uint32_t interp; /* sinew_interp */
+    uint32_t count;  /* keys */
+    float *times;    /* seconds */
+    float *values;   /* sinew_channel_stride(kind, interp) floats a key */
 } raw_channel;
 
 typedef struct raw_track {
@@ -34,7 +34,7 @@ typedef struct raw_clip {
 
 typedef struct raw_skin {
     uint32_t joint_count;
-    uint32_t *joints;           /* node indices */
+    uint32_t *joints; /* node indices */
     sinew_mat4 *inverse_bind;
 } raw_skin;
 
@@ -42,21 +42,21 @@ typedef struct raw_mesh {
     char *name;
     uint32_t vertex_count;
     uint32_t index_count;
-    float *positions;           /* 3 a vertex */
-    float *normals;             /* 3 a vertex, or NULL: the builder computes smooth normals */
-    float *uvs;                 /* 2 a vertex, or NULL */
+    float *positions; /* 3 a vertex */
+    float *normals;   /* 3 a vertex, or NULL: the builder computes smooth normals */
+    float *uvs;       /* 2 a vertex, or NULL */
     uint32_t *indices;
-    int32_t skin;               /* -1 rigid */
+    int32_t skin; /* -1 rigid */
     int32_t material;
-    uint32_t influence_count;   /* slots a vertex, any number; unused slots have weight 0 */
-    uint32_t *joints;           /* influence_count a vertex, indices into the skin's joints */
+    uint32_t influence_count; /* slots a vertex, any number; unused slots have weight 0 */
+    uint32_t *joints;         /* influence_count a vertex, indices into the skin's joints */
     float *weights;
 } raw_mesh;
 
 typedef struct raw_material {
     char *name;
     float base_color[4];
-    char *diffuse_texture;      /* resolved path, or NULL */
+    char *diffuse_texture; /* resolved path, or NULL */
 } raw_material;
 
 typedef struct raw_model {
@@ -64,7 +64,7 @@ typedef struct raw_model {
     char *format;
     uint32_t node_count;
     char **node_names;
-    int32_t *node_parents;      /* parents before children */
+    int32_t *node_parents; /* parents before children */
     sinew_transform *node_rest;
     uint32_t skin_count;
     raw_skin *skins;

@@ -34,7 +34,8 @@ static run_result run_sinew(const char *const *args)
     pid_t pid = fork();
     assert_true(pid >= 0);
     if (pid == 0) {
-        int o = open(out_path, O_WRONLY | O_CREAT | O_TRUNC, 0644), e = open(err_path, O_WRONLY | O_CREAT | O_TRUNC, 0644);
+        int o = open(out_path, O_WRONLY | O_CREAT | O_TRUNC, 0644),
+            e = open(err_path, O_WRONLY | O_CREAT | O_TRUNC, 0644);
         dup2(o, 1);
         dup2(e, 2);
         execv(exe, (char *const *)argv);
@@ -55,6 +56,20 @@ static void run_free(run_result *r)
 }
 
 #define RUN(...) run_sinew((const char *const[]){__VA_ARGS__, NULL})
+
+/* Runs sinew, expects exit 0 and JSON on stdout; returns the parsed document. */
+static cJSON *run_json(const char *const *args)
+{
+    run_result r = run_sinew(args);
+    if (r.code != 0)
+        fail_msg("%s %s: exit %d: %s", args[0], args[1], r.code, r.err);
+    cJSON *root = cJSON_Parse(r.out);
+    assert_non_null(root);
+    run_free(&r);
+    return root;
+}
+
+#define RUN_JSON(...) run_json((const char *const[]){__VA_ARGS__, NULL})
 
 static void test_usage_and_help(void **state)
 {
@@ -107,10 +122,8 @@ static void test_bad_input_exits_2(void **state)
     free(bytes);
     fixture_path("two_bone.dae", path, sizeof path);
     static const char *const bad_usage[][4] = {
-        {"pose", "--time", "abc", NULL},
-        {"pose", "--time", "", NULL},
-        {"pose", "--clip", "nosuch", NULL},
-        {"pose", "--mesh", "/tmp/x.obj", "--time"},
+        {"pose", "--time", "abc", NULL},    {"pose", "--time", "", NULL},
+        {"pose", "--clip", "nosuch", NULL}, {"pose", "--mesh", "/tmp/x.obj", "--time"},
         {"info", "--frob", NULL, NULL},
     };
     for (size_t i = 0; i < sizeof bad_usage / sizeof bad_usage[0]; i++) {
@@ -157,10 +170,7 @@ static void test_pose_json(void **state)
     (void)state;
     char path[1024];
     fixture_path("two_bone.dae", path, sizeof path);
-    run_result r = RUN("pose", path, "--json");
-    assert_int_equal(r.code, 0);
-    cJSON *root = cJSON_Parse(r.out);
-    assert_non_null(root);
+    cJSON *root = RUN_JSON("pose", path, "--json");
     assert_string_equal(cJSON_GetObjectItem(root, "file")->valuestring, path);
     const cJSON *clip = cJSON_GetObjectItem(root, "clip");
     assert_int_equal(cJSON_GetObjectItem(clip, "index")->valueint, 0);
@@ -178,23 +188,20 @@ static void test_pose_json(void **state)
     assert_near(fabs(at(tip, "rotation", 2)), sqrt(0.5), 1e-6, "tip turned 90 degrees about z");
     assert_near(at(tip, "scale", 0), 1, 1e-6, "tip scale");
     cJSON_Delete(root);
-    run_free(&r);
 
     /* clamping and looping */
-    r = RUN("pose", path, "--json", "--time", "0.5,7");
-    root = cJSON_Parse(r.out);
+    root = RUN_JSON("pose", path, "--json", "--time", "0.5,7");
     frames = cJSON_GetObjectItem(root, "frames");
-    assert_near(fabs(at(node_named(cJSON_GetArrayItem(frames, 0), "tip"), "rotation", 2)), sin(M_PI / 8), 1e-6, "t=0.5");
-    assert_near(fabs(at(node_named(cJSON_GetArrayItem(frames, 1), "tip"), "rotation", 2)), sqrt(0.5), 1e-6, "t=7 clamps");
+    assert_near(fabs(at(node_named(cJSON_GetArrayItem(frames, 0), "tip"), "rotation", 2)), sin(M_PI / 8), 1e-6,
+                "t=0.5");
+    assert_near(fabs(at(node_named(cJSON_GetArrayItem(frames, 1), "tip"), "rotation", 2)), sqrt(0.5), 1e-6,
+                "t=7 clamps");
     cJSON_Delete(root);
-    run_free(&r);
-    r = RUN("pose", path, "--json", "--time", "7.5", "--loop", "--clip", "0");
-    root = cJSON_Parse(r.out);
+    root = RUN_JSON("pose", path, "--json", "--time", "7.5", "--loop", "--clip", "0");
     frames = cJSON_GetObjectItem(root, "frames");
     assert_near(fabs(at(node_named(cJSON_GetArrayItem(frames, 0), "tip"), "rotation", 2)), sin(M_PI / 8), 1e-6,
                 "t=7.5 loops to 0.5");
     cJSON_Delete(root);
-    run_free(&r);
 }
 
 static void test_pose_mesh_obj(void **state)
@@ -229,10 +236,7 @@ static void test_info_json_and_text(void **state)
     (void)state;
     char path[1024];
     fixture_path("two_bone_cubic.gltf", path, sizeof path);
-    run_result r = RUN("info", path, "--json");
-    assert_int_equal(r.code, 0);
-    cJSON *root = cJSON_Parse(r.out);
-    assert_non_null(root);
+    cJSON *root = RUN_JSON("info", path, "--json");
     const cJSON *counts = cJSON_GetObjectItem(root, "counts");
     assert_int_equal(cJSON_GetObjectItem(counts, "joints")->valueint, 2);
     assert_int_equal(cJSON_GetObjectItem(counts, "meshes")->valueint, 1);
@@ -240,8 +244,7 @@ static void test_info_json_and_text(void **state)
     assert_string_equal(cJSON_GetObjectItem(clip, "name")->valuestring, "bend");
     assert_int_equal(cJSON_GetObjectItem(cJSON_GetObjectItem(clip, "keys"), "rotation")->valueint, 2);
     cJSON_Delete(root);
-    run_free(&r);
-    r = RUN("info", path);
+    run_result r = RUN("info", path);
     assert_int_equal(r.code, 0);
     assert_non_null(strstr(r.out, "tip_joint  [joint]"));
     assert_non_null(strstr(r.out, "\"bend\""));
@@ -255,13 +258,10 @@ static void test_pose_without_animation(void **state)
     char path[1024];
     if (!testdata_path("collada-cts/SkinController.dae", path, sizeof path))
         skip();
-    run_result r = RUN("pose", path, "--json");
-    assert_int_equal(r.code, 0);
-    cJSON *root = cJSON_Parse(r.out);
+    cJSON *root = RUN_JSON("pose", path, "--json");
     assert_true(cJSON_IsNull(cJSON_GetObjectItem(root, "clip")));
     assert_int_equal(cJSON_GetArraySize(cJSON_GetObjectItem(root, "frames")), 1);
     cJSON_Delete(root);
-    run_free(&r);
 }
 
 /* `sinew pose` on the two files of one scene gives the same joint positions. */
@@ -272,10 +272,7 @@ static void test_pose_pairs_agree(void **state)
     if (!testdata_path("ufbx/maya_transformed_skin_7700_ascii.fbx", a, sizeof a))
         skip();
     testdata_path("ufbx/maya_transformed_skin_7700_binary.fbx", b, sizeof b);
-    run_result ra = RUN("pose", a, "--json"), rb = RUN("pose", b, "--json");
-    assert_int_equal(ra.code, 0);
-    assert_int_equal(rb.code, 0);
-    cJSON *ja = cJSON_Parse(ra.out), *jb = cJSON_Parse(rb.out);
+    cJSON *ja = RUN_JSON("pose", a, "--json"), *jb = RUN_JSON("pose", b, "--json");
     const cJSON *fa = cJSON_GetObjectItem(ja, "frames"), *fb = cJSON_GetObjectItem(jb, "frames");
     assert_int_equal(cJSON_GetArraySize(fa), 10);
     for (int f = 0; f < 10; f++) {
@@ -291,19 +288,14 @@ static void test_pose_pairs_agree(void **state)
     }
     cJSON_Delete(ja);
     cJSON_Delete(jb);
-    run_free(&ra);
-    run_free(&rb);
 }
 
 int main(void)
 {
     const struct CMUnitTest tests[] = {
-        cmocka_unit_test(test_usage_and_help),
-        cmocka_unit_test(test_bad_input_exits_2),
-        cmocka_unit_test(test_pose_json),
-        cmocka_unit_test(test_pose_mesh_obj),
-        cmocka_unit_test(test_info_json_and_text),
-        cmocka_unit_test(test_pose_without_animation),
+        cmocka_unit_test(test_usage_and_help),     cmocka_unit_test(test_bad_input_exits_2),
+        cmocka_unit_test(test_pose_json),          cmocka_unit_test(test_pose_mesh_obj),
+        cmocka_unit_test(test_info_json_and_text), cmocka_unit_test(test_pose_without_animation),
         cmocka_unit_test(test_pose_pairs_agree),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

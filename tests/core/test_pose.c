@@ -92,8 +92,14 @@ static void test_skin_two_bone_cylinder(void **state)
     const float normals[] = {1, 0, 0, 1, 0, 0, 1, 0, 0, -1, 0, 0};
     const uint16_t joints[] = {0, 1, 0, 1, 1, 0, 1, 0};
     const float weights[] = {1, 0, 0.5f, 0.5f, 1, 0, 1, 0};
-    sinew_mesh mesh = {.name = "cylinder", .vertex_count = 4, .positions = positions, .normals = normals,
-                       .influence_count = 2, .joints = joints, .weights = weights, .skin = 0};
+    sinew_mesh mesh = {.name = "cylinder",
+                       .vertex_count = 4,
+                       .positions = positions,
+                       .normals = normals,
+                       .influence_count = 2,
+                       .joints = joints,
+                       .weights = weights,
+                       .skin = 0};
     const char *names[] = {"j0", "j1"};
     const int32_t parents[] = {-1, 0};
     const sinew_transform bind[] = {{{0, 0, 0}, {0, 0, 0, 1}, {1, 1, 1}}, {{0, 1, 0}, {0, 0, 0, 1}, {1, 1, 1}}};
@@ -110,8 +116,8 @@ static void test_skin_two_bone_cylinder(void **state)
     float out_p[12], out_n[12];
     assert_int_equal(sinew_local_to_world(&m, bent, 2, NULL, worlds, 2, NULL), SINEW_OK);
     assert_int_equal(sinew_skin_palette(&skin, worlds, 2, palette, 2, NULL), SINEW_OK);
-    sinew_skin_desc desc = {.mesh = &mesh, .palette = palette, .palette_count = 2, .out_positions = out_p,
-                            .out_normals = out_n};
+    sinew_skin_desc desc = {
+        .mesh = &mesh, .palette = palette, .palette_count = 2, .out_positions = out_p, .out_normals = out_n};
     assert_int_equal(sinew_skin_vertices(&desc, NULL), SINEW_OK);
     assert_point(&out_p[0], r, 0, 0, 1e-6, "root vertex");
     assert_point(&out_p[3], r / 2, 1 + r / 2, 0, 1e-6, "elbow vertex");
@@ -159,12 +165,19 @@ static void test_skin_normals_non_uniform(void **state)
     const float normals[] = {S45, S45, 0, 1, 0, 0};
     const uint16_t joints[] = {0, 1};
     const float weights[] = {1, 1};
-    sinew_mesh mesh = {.name = "m", .vertex_count = 2, .positions = positions, .normals = normals,
-                       .influence_count = 1, .joints = joints, .weights = weights, .skin = 0};
+    sinew_mesh mesh = {.name = "m",
+                       .vertex_count = 2,
+                       .positions = positions,
+                       .normals = normals,
+                       .influence_count = 1,
+                       .joints = joints,
+                       .weights = weights,
+                       .skin = 0};
     sinew_mat4 palette[2] = {{{2, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1}},
                              {{-1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1}}};
     float p[6], n[6];
-    sinew_skin_desc desc = {.mesh = &mesh, .palette = palette, .palette_count = 2, .out_positions = p, .out_normals = n};
+    sinew_skin_desc desc = {
+        .mesh = &mesh, .palette = palette, .palette_count = 2, .out_positions = p, .out_normals = n};
     assert_int_equal(sinew_skin_vertices(&desc, NULL), SINEW_OK);
     assert_point(&p[0], 2, 1, 0, 1e-6, "stretched position");
     /* inverse transpose of diag(2,1,1) on (1,1,0): (0.5,1,0), normalised */

@@ -19,8 +19,13 @@ static sinew_transform sample(const sinew_clip *clip, float t, sinew_wrap wrap, 
 {
     sinew_transform out;
     sinew_error error = {0};
-    sinew_sample_desc desc = {
-        .model = &one_node, .clip = clip, .time = t, .wrap = wrap, .context = context, .locals = &out, .local_count = 1};
+    sinew_sample_desc desc = {.model = &one_node,
+                              .clip = clip,
+                              .time = t,
+                              .wrap = wrap,
+                              .context = context,
+                              .locals = &out,
+                              .local_count = 1};
     assert_int_equal(sinew_sample(&desc, &error), SINEW_OK);
     return out;
 }
@@ -33,8 +38,14 @@ static sinew_clip line_clip(sinew_interp interp, sinew_track *track)
 {
     memset(track, 0, sizeof *track);
     track->channels[SINEW_CHANNEL_TRANSLATION] = (sinew_channel){3, interp, 0, 0};
-    return (sinew_clip){.name = "line", .duration = 2, .track_count = 1, .tracks = track, .time_count = 3,
-                        .value_count = 9, .times = line_times, .values = line_values};
+    return (sinew_clip){.name = "line",
+                        .duration = 2,
+                        .track_count = 1,
+                        .tracks = track,
+                        .time_count = 3,
+                        .value_count = 9,
+                        .times = line_times,
+                        .values = line_values};
 }
 
 static void test_step(void **state)
@@ -95,8 +106,13 @@ static void test_slerp_across_sign_flip(void **state)
     (void)state;
     sinew_track track = {0};
     track.channels[SINEW_CHANNEL_ROTATION] = (sinew_channel){2, SINEW_INTERP_LINEAR, 0, 0};
-    sinew_clip clip = {.duration = 1, .track_count = 1, .tracks = &track, .time_count = 2, .value_count = 8,
-                       .times = flip_times, .values = flip_values};
+    sinew_clip clip = {.duration = 1,
+                       .track_count = 1,
+                       .tracks = &track,
+                       .time_count = 2,
+                       .value_count = 8,
+                       .times = flip_times,
+                       .values = flip_values};
     assert_quat_near(sample(&clip, 0, SINEW_WRAP_CLAMP, NULL).rotation, 0, 0, 0, 1, "slerp 0");
     /* the short way: 45 degrees about +Z, not 135 degrees the long way round */
     assert_quat_near(sample(&clip, 0.5f, SINEW_WRAP_CLAMP, NULL).rotation, 0, 0, sinf((float)M_PI / 8),
@@ -118,8 +134,13 @@ static void test_cubic_spline(void **state)
     (void)state;
     sinew_track track = {0};
     track.channels[SINEW_CHANNEL_TRANSLATION] = (sinew_channel){2, SINEW_INTERP_CUBIC, 0, 0};
-    sinew_clip clip = {.duration = 2, .track_count = 1, .tracks = &track, .time_count = 2, .value_count = 18,
-                       .times = cubic_times, .values = cubic_values};
+    sinew_clip clip = {.duration = 2,
+                       .track_count = 1,
+                       .tracks = &track,
+                       .time_count = 2,
+                       .value_count = 18,
+                       .times = cubic_times,
+                       .values = cubic_values};
     /* s = 0.5: h10 = 0.125, dt = 2 -> 0.25; h01 = 0.5 */
     assert_near(sample(&clip, 1, SINEW_WRAP_CLAMP, NULL).translation[0], 0.75, 1e-6, "cubic s=1/2");
     /* s = 0.25: h10 = 0.140625 -> 0.28125; h01 = 0.15625 */
@@ -133,10 +154,9 @@ static void test_cubic_spline(void **state)
 /* Translation: 2 keys at 0 and 2. Rotation: 3 keys at 0.5, 1, 1.5 (starts late, ends early).
  * Scale: one key. */
 static const float mixed_times[] = {0, 2, 0.5f, 1, 1.5f, 0.7f};
-static const float mixed_values[] = {
-    0, 0, 0, 4, 0, 0,                                  /* translation */
-    0, 0, 0, 1, 0, 0, S45, S45, 0, 0, 1, 0,            /* rotation: 0, 90, 180 degrees about Z */
-    3, 3, 3};                                          /* scale */
+static const float mixed_values[] = {0, 0, 0, 4, 0, 0,                       /* translation */
+                                     0, 0, 0, 1, 0, 0, S45, S45, 0, 0, 1, 0, /* rotation: 0, 90, 180 degrees about Z */
+                                     3, 3, 3};                               /* scale */
 
 static void test_channels_have_their_own_keys(void **state)
 {
@@ -145,8 +165,13 @@ static void test_channels_have_their_own_keys(void **state)
     track.channels[SINEW_CHANNEL_TRANSLATION] = (sinew_channel){2, SINEW_INTERP_LINEAR, 0, 0};
     track.channels[SINEW_CHANNEL_ROTATION] = (sinew_channel){3, SINEW_INTERP_LINEAR, 2, 6};
     track.channels[SINEW_CHANNEL_SCALE] = (sinew_channel){1, SINEW_INTERP_LINEAR, 5, 18};
-    sinew_clip clip = {.duration = 2, .track_count = 1, .tracks = &track, .time_count = 6, .value_count = 21,
-                       .times = mixed_times, .values = mixed_values};
+    sinew_clip clip = {.duration = 2,
+                       .track_count = 1,
+                       .tracks = &track,
+                       .time_count = 6,
+                       .value_count = 21,
+                       .times = mixed_times,
+                       .values = mixed_values};
     sinew_transform t = sample(&clip, 0.75f, SINEW_WRAP_CLAMP, NULL);
     assert_near(t.translation[0], 1.5, 1e-6, "translation at 0.75");
     assert_quat_near(t.rotation, 0, 0, sinf((float)M_PI / 8), cosf((float)M_PI / 8), "rotation at 0.75");
@@ -166,8 +191,13 @@ static void test_cursor_forward_and_back(void **state)
         values[i * 3] = (float)(i * i), values[i * 3 + 1] = 0, values[i * 3 + 2] = 0;
     sinew_track track = {0};
     track.channels[SINEW_CHANNEL_TRANSLATION] = (sinew_channel){11, SINEW_INTERP_LINEAR, 0, 0};
-    sinew_clip clip = {.duration = 1, .track_count = 1, .tracks = &track, .time_count = 11, .value_count = 33,
-                       .times = times, .values = values};
+    sinew_clip clip = {.duration = 1,
+                       .track_count = 1,
+                       .tracks = &track,
+                       .time_count = 11,
+                       .value_count = 33,
+                       .times = times,
+                       .values = values};
     unsigned char memory[256];
     sinew_sample_context *context = NULL;
     assert_true(sinew_sample_context_size(&clip) <= sizeof memory);
@@ -203,7 +233,8 @@ static void test_bad_spans(void **state)
     assert_near(out.translation[0], 9, 0, "no clip: rest pose");
     unsigned char small[4];
     sinew_sample_context *context;
-    assert_int_equal(sinew_sample_context_init(small, sizeof small, NULL, &context, &error), SINEW_ERROR_INVALID_ARGUMENT);
+    assert_int_equal(sinew_sample_context_init(small, sizeof small, NULL, &context, &error),
+                     SINEW_ERROR_INVALID_ARGUMENT);
 }
 
 int main(void)

@@ -51,8 +51,8 @@ static void test_unknown_format_and_garbage(void **state)
         x = x * 1103515245u + 12345u;
         junk[i] = (unsigned char)(x >> 16);
     }
-    static const char *const names[] = {"junk.dae", "junk.gltf", "junk.glb", "junk.fbx", "junk.x", "junk.bvh", "junk.md5mesh",
-                                        "junk.smd", "junk.iqm"};
+    static const char *const names[] = {"junk.dae", "junk.gltf",    "junk.glb", "junk.fbx", "junk.x",
+                                        "junk.bvh", "junk.md5mesh", "junk.smd", "junk.iqm"};
     for (size_t i = 0; i < sizeof names / sizeof names[0]; i++) {
         tmp_path(names[i], path, sizeof path);
         write_file(path, junk, sizeof junk);
@@ -115,7 +115,8 @@ static void test_every_prefix_of_gltf(void **state)
 }
 
 /* The fixture with one string replaced. */
-static void write_edited(const char *fixture, const char *from, const char *to, const char *name, char *path, size_t size)
+static void write_edited(const char *fixture, const char *from, const char *to, const char *name, char *path,
+                         size_t size)
 {
     char src[1024];
     size_t n;
@@ -163,8 +164,8 @@ static void test_zero_weights(void **state)
     else
         assert_non_null(strstr(error.message, path));
 
-    write_edited("two_bone.dae", "count=\"2\">1 1</float_array>", "count=\"2\">1 0</float_array>", "zero-weight.dae", path,
-                 sizeof path);
+    write_edited("two_bone.dae", "count=\"2\">1 1</float_array>", "count=\"2\">1 0</float_array>", "zero-weight.dae",
+                 path, sizeof path);
     m = load_or_fail(path);
     bool warned = false;
     for (uint32_t i = 0; i < m->warning_count; i++)
@@ -188,35 +189,41 @@ static void write_many_joints(const char *path, uint32_t joints)
     FILE *f = fopen(path, "w");
     assert_non_null(f);
     uint32_t verts = joints + (3 - joints % 3) % 3;
-    fprintf(f, "<?xml version=\"1.0\"?>\n<COLLADA xmlns=\"http://www.collada.org/2005/11/COLLADASchema\" "
-               "version=\"1.4.1\"><asset><up_axis>Y_UP</up_axis></asset>\n<library_geometries><geometry id=\"g\"><mesh>"
-               "<source id=\"p\"><float_array id=\"pa\" count=\"%u\">",
+    fprintf(f,
+            "<?xml version=\"1.0\"?>\n<COLLADA xmlns=\"http://www.collada.org/2005/11/COLLADASchema\" "
+            "version=\"1.4.1\"><asset><up_axis>Y_UP</up_axis></asset>\n<library_geometries><geometry id=\"g\"><mesh>"
+            "<source id=\"p\"><float_array id=\"pa\" count=\"%u\">",
             verts * 3);
     for (uint32_t i = 0; i < verts; i++)
         fprintf(f, "%u %u 0 ", i % 2, i);
-    fprintf(f, "</float_array><technique_common><accessor source=\"#pa\" count=\"%u\" stride=\"3\"><param name=\"X\" "
-               "type=\"float\"/><param name=\"Y\" type=\"float\"/><param name=\"Z\" type=\"float\"/></accessor>"
-               "</technique_common></source><vertices id=\"v\"><input semantic=\"POSITION\" source=\"#p\"/></vertices>"
-               "<triangles count=\"%u\"><input semantic=\"VERTEX\" source=\"#v\" offset=\"0\"/><p>",
+    fprintf(f,
+            "</float_array><technique_common><accessor source=\"#pa\" count=\"%u\" stride=\"3\"><param name=\"X\" "
+            "type=\"float\"/><param name=\"Y\" type=\"float\"/><param name=\"Z\" type=\"float\"/></accessor>"
+            "</technique_common></source><vertices id=\"v\"><input semantic=\"POSITION\" source=\"#p\"/></vertices>"
+            "<triangles count=\"%u\"><input semantic=\"VERTEX\" source=\"#v\" offset=\"0\"/><p>",
             verts, verts / 3);
     for (uint32_t i = 0; i < verts; i++)
         fprintf(f, "%u ", i);
-    fprintf(f, "</p></triangles></mesh></geometry></library_geometries>\n<library_controllers><controller id=\"c\"><skin "
-               "source=\"#g\"><source id=\"j\"><Name_array id=\"ja\" count=\"%u\">",
+    fprintf(f,
+            "</p></triangles></mesh></geometry></library_geometries>\n<library_controllers><controller id=\"c\"><skin "
+            "source=\"#g\"><source id=\"j\"><Name_array id=\"ja\" count=\"%u\">",
             joints);
     for (uint32_t i = 0; i < joints; i++)
         fprintf(f, "j%u ", i);
-    fprintf(f, "</Name_array><technique_common><accessor source=\"#ja\" count=\"%u\"><param name=\"JOINT\" type=\"name\"/>"
-               "</accessor></technique_common></source><source id=\"m\"><float_array id=\"ma\" count=\"%u\">",
+    fprintf(f,
+            "</Name_array><technique_common><accessor source=\"#ja\" count=\"%u\"><param name=\"JOINT\" type=\"name\"/>"
+            "</accessor></technique_common></source><source id=\"m\"><float_array id=\"ma\" count=\"%u\">",
             joints, joints * 16);
     for (uint32_t i = 0; i < joints; i++)
         fprintf(f, "1 0 0 0 0 1 0 %d 0 0 1 0 0 0 0 1 ", -(int)i);
-    fprintf(f, "</float_array><technique_common><accessor source=\"#ma\" count=\"%u\" stride=\"16\"><param name=\"T\" "
-               "type=\"float4x4\"/></accessor></technique_common></source><source id=\"w\"><float_array id=\"wa\" "
-               "count=\"1\">1</float_array><technique_common><accessor source=\"#wa\" count=\"1\"><param name=\"W\" "
-               "type=\"float\"/></accessor></technique_common></source><joints><input semantic=\"JOINT\" source=\"#j\"/>"
-               "<input semantic=\"INV_BIND_MATRIX\" source=\"#m\"/></joints><vertex_weights count=\"%u\"><input "
-               "semantic=\"JOINT\" source=\"#j\" offset=\"0\"/><input semantic=\"WEIGHT\" source=\"#w\" offset=\"1\"/><vcount>",
+    fprintf(f,
+            "</float_array><technique_common><accessor source=\"#ma\" count=\"%u\" stride=\"16\"><param name=\"T\" "
+            "type=\"float4x4\"/></accessor></technique_common></source><source id=\"w\"><float_array id=\"wa\" "
+            "count=\"1\">1</float_array><technique_common><accessor source=\"#wa\" count=\"1\"><param name=\"W\" "
+            "type=\"float\"/></accessor></technique_common></source><joints><input semantic=\"JOINT\" source=\"#j\"/>"
+            "<input semantic=\"INV_BIND_MATRIX\" source=\"#m\"/></joints><vertex_weights count=\"%u\"><input "
+            "semantic=\"JOINT\" source=\"#j\" offset=\"0\"/><input semantic=\"WEIGHT\" source=\"#w\" "
+            "offset=\"1\"/><vcount>",
             joints, verts);
     for (uint32_t i = 0; i < verts; i++)
         fprintf(f, "1 ");

@@ -153,8 +153,8 @@ static void test_models_assimp_fails_on(void **state)
 
 /* World positions of every node at ten times through clip 0 of two files; the nodes are
  * paired by name (b's name = prefix + a's name with '.' turned into '_'). */
-static double max_joint_distance(const sinew_model *a, const sinew_clip *ca, const sinew_model *b,
-                                 const sinew_clip *cb, const char *b_prefix, const bool *compare, uint32_t *pairs)
+static double max_joint_distance(const sinew_model *a, const sinew_clip *ca, const sinew_model *b, const sinew_clip *cb,
+                                 const char *b_prefix, const bool *compare, uint32_t *pairs)
 {
     double worst = 0;
     *pairs = 0;
@@ -408,8 +408,10 @@ static void test_ufbx_reference_meshes(void **state)
             for (int r = 0; r < 3; r++)
                 ours[v * 3 + r] += shift[r];
         double d = fmax(one_way_distance(ref, n_ref, ours, n_ours), one_way_distance(ours, n_ours, ref, n_ref));
-        print_message("%s %-38s t=%.4f: %u reference points, %u ours, size %.3g m, offset (%.3g %.3g %.3g), largest gap %.3g (%.2g of the size)\n",
-                      refs[i].exact ? "checked " : "measured", refs[i].fbx, (double)refs[i].time, n_ref, n_ours, size, (double)shift[0], (double)shift[1], (double)shift[2], d, d / size);
+        print_message("%s %-38s t=%.4f: %u reference points, %u ours, size %.3g m, offset (%.3g %.3g %.3g), largest "
+                      "gap %.3g (%.2g of the size)\n",
+                      refs[i].exact ? "checked " : "measured", refs[i].fbx, (double)refs[i].time, n_ref, n_ours, size,
+                      (double)shift[0], (double)shift[1], (double)shift[2], d, d / size);
         if (refs[i].exact && !(d <= 1e-6 * size))
             fail_msg("%s at t=%g differs from %s by %g (size %g)", refs[i].fbx, (double)refs[i].time, refs[i].obj, d,
                      size);
@@ -419,7 +421,6 @@ static void test_ufbx_reference_meshes(void **state)
         sinew_model_free(m);
     }
 }
-
 
 /* ---- the importer traps, each on a real file ------------------------------------------- */
 
@@ -462,8 +463,8 @@ static void test_skeleton_comes_from_the_hierarchy(void **state)
     assert_true(control_animated);
     /* the foot follows its control bone: it moves during the clip */
     sinew_mat4 *a = pose_worlds(m, &m->clips[0], 0), *b = pose_worlds(m, &m->clips[0], m->clips[0].duration / 2);
-    double moved = fabs(a[foot].m[12] - b[foot].m[12]) + fabs(a[foot].m[13] - b[foot].m[13]) +
-                   fabs(a[foot].m[14] - b[foot].m[14]);
+    double moved =
+        fabs(a[foot].m[12] - b[foot].m[12]) + fabs(a[foot].m[13] - b[foot].m[13]) + fabs(a[foot].m[14] - b[foot].m[14]);
     assert_true(moved > 1e-3);
     free(a);
     free(b);
