@@ -654,6 +654,46 @@ static void test_clip_names_and_times(void **state)
     sinew_model_free(m);
 }
 
+/* robot.glb names eight mesh nodes after bones ("Foot.L" holds a mesh and is also a bone
+ * under "Bone"). Assimp links bones and channels by name; sinew must pick the bones: the
+ * file's rest pose is its bind pose, so at rest every palette matrix of a skin is the same
+ * (a wrong node would move its vertices), and the animated "Foot.L" is the bone. */
+static void test_duplicate_names_resolved(void **state)
+{
+    (void)state;
+    sinew_model *m = load_testdata("raylib/robot.glb");
+    if (!m)
+        skip();
+    sinew_mat4 *w = pose_worlds(m, NULL, 0);
+    sinew_mat4 palette[SINEW_MAX_JOINTS];
+    double spread = 0;
+    for (uint32_t s = 0; s < m->skin_count; s++) {
+        assert_int_equal(sinew_skin_palette(&m->skins[s], w, m->node_count, palette, SINEW_MAX_JOINTS, NULL), SINEW_OK);
+        for (uint32_t j = 1; j < m->skins[s].joint_count; j++)
+            for (int k = 0; k < 16; k++)
+                spread = fmax(spread, fabs(palette[j].m[k] - palette[0].m[k]));
+    }
+    print_message("robot.glb: largest difference between palette matrices at rest %.3g\n", spread);
+    assert_true(spread < 1e-4);
+    uint32_t checked = 0;
+    for (uint32_t s = 0; s < m->skin_count; s++)
+        for (uint32_t j = 0; j < m->skins[s].joint_count; j++, checked++) {
+            uint32_t node = m->skins[s].joints[j];
+            for (uint32_t i = 0; i < m->instance_count; i++)
+                if (m->instances[i].node == node)
+                    fail_msg("joint \"%s\" is a node that holds a mesh", m->node_names[node]);
+        }
+    assert_true(checked > 0);
+    int32_t walk = sinew_model_find_clip(m, "Robot_Walking");
+    for (uint32_t t = 0; t < m->clips[walk].track_count; t++) {
+        uint32_t node = m->clips[walk].tracks[t].node;
+        assert_true(sinew_model_node_is_joint(m, node) || strstr(m->node_names[node], "PoleTarget") ||
+                    strcmp(m->node_names[node], "RobotArmature") == 0);
+    }
+    free(w);
+    sinew_model_free(m);
+}
+
 /* sinew's own glTF fixture: rotation CUBICSPLINE with zero tangents, translation LINEAR,
  * scale STEP, keys at 0 and 1 s. Assimp makes all three linear; sinew reads the STEP and
  * CUBICSPLINE samplers again, so scale holds until t = 1 and the rotation eases in. */
@@ -720,6 +760,7 @@ int main(void)
         cmocka_unit_test(test_up_axis_and_units),
         cmocka_unit_test(test_bind_shape_matrix_once),
         cmocka_unit_test(test_clip_names_and_times),
+        cmocka_unit_test(test_duplicate_names_resolved),
         cmocka_unit_test(test_gltf_step_and_cubic_restored),
         cmocka_unit_test(test_ticks_per_second_fallback),
     };
