@@ -18,6 +18,10 @@ sinew_model *cli_load_model(const char *path);
  * Returns false (after printing why) when the clip does not exist. */
 bool cli_pick_clip(const sinew_model *model, const char *spec, int32_t *clip);
 
+/* The double nearest the shortest decimal that reads back as `value`, so JSON shows
+ * 0.1 rather than 0.100000001490116 for a float 0.1; tiny values below 1e-12 become 0. */
+double cli_json_float(float value);
+
 /* True when `arg` is --help or -h. */
 bool cli_is_help(const char *arg);
 

@@ -136,7 +136,7 @@ static cJSON *info_json(const sinew_model *m)
         cJSON *o = cJSON_CreateObject();
         cJSON_AddNumberToObject(o, "index", i);
         cJSON_AddStringToObject(o, "name", m->clips[i].name);
-        cJSON_AddNumberToObject(o, "duration", m->clips[i].duration);
+        cJSON_AddNumberToObject(o, "duration", cli_json_float(m->clips[i].duration));
         cJSON_AddNumberToObject(o, "tracks", m->clips[i].track_count);
         cJSON *k = cJSON_AddObjectToObject(o, "keys");
         cJSON_AddNumberToObject(k, "translation", keys[0]);

@@ -118,14 +118,14 @@ static cJSON *vector_json(const float *v, int n)
 {
     cJSON *a = cJSON_CreateArray();
     for (int i = 0; i < n; i++)
-        cJSON_AddItemToArray(a, cJSON_CreateNumber(fabsf(v[i]) < 1e-12f ? 0.0 : (double)v[i]));
+        cJSON_AddItemToArray(a, cJSON_CreateNumber(cli_json_float(v[i])));
     return a;
 }
 
 static cJSON *frame_json(const sinew_model *m, const cli_pose *pose, float time)
 {
     cJSON *frame = cJSON_CreateObject();
-    cJSON_AddNumberToObject(frame, "time", time);
+    cJSON_AddNumberToObject(frame, "time", cli_json_float(time));
     cJSON *nodes = cJSON_AddArrayToObject(frame, "nodes");
     for (uint32_t n = 0; n < m->node_count; n++) {
         sinew_transform t;
@@ -244,7 +244,7 @@ int cmd_pose(int argc, char **argv)
             cJSON *c = cJSON_AddObjectToObject(root, "clip");
             cJSON_AddNumberToObject(c, "index", clip_index);
             cJSON_AddStringToObject(c, "name", clip->name);
-            cJSON_AddNumberToObject(c, "duration", clip->duration);
+            cJSON_AddNumberToObject(c, "duration", cli_json_float(clip->duration));
         } else {
             cJSON_AddNullToObject(root, "clip");
         }

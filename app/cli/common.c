@@ -1,4 +1,5 @@
 /* Loading, clip selection and posing shared by the subcommands. */
+#include <math.h>
 #include <stdarg.h>
 #include <stdlib.h>
 #include <string.h>
@@ -13,6 +14,20 @@ void cli_error(const char *format, ...)
     vfprintf(stderr, format, args);
     fputc('\n', stderr);
     va_end(args);
+}
+
+double cli_json_float(float value)
+{
+    if (fabsf(value) < 1e-12f)
+        return 0.0;
+    char text[32];
+    for (int digits = 6; digits < 9; digits++) {
+        snprintf(text, sizeof text, "%.*g", digits, (double)value);
+        if ((float)strtod(text, NULL) == value)
+            return strtod(text, NULL);
+    }
+    snprintf(text, sizeof text, "%.9g", (double)value);
+    return strtod(text, NULL);
 }
 
 bool cli_is_help(const char *arg)
