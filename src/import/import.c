@@ -6,8 +6,9 @@
  * (Assimp crashing on a malformed file) or exits without a whole reply becomes an
  * SINEW_ERROR_IMPORTER naming the file and the signal.
  */
-#define _POSIX_C_SOURCE 200809L
+#define _GNU_SOURCE /* pipe2 */
 #include <errno.h>
+#include <fcntl.h>
 #include <signal.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -78,12 +79,19 @@ static bool write_all(int fd, const void *data, size_t size)
 
 /* In the child: import, reply, and leave without running atexit handlers. The caller's
  * signal handlers (a test runner's, a GUI's) are reset so that a crash in Assimp ends
- * the child with its signal, which the parent reports. */
+ * the child with its signal, which the parent reports; its output goes to /dev/null. */
 static void child_main(int fd, const char *path)
 {
     static const int fatal[] = {SIGSEGV, SIGBUS, SIGFPE, SIGILL, SIGABRT, SIGTRAP, SIGSYS};
     for (size_t i = 0; i < sizeof fatal / sizeof fatal[0]; i++)
         signal(fatal[i], SIG_DFL);
+    /* The library never prints: Assimp's own asserts and logs go nowhere. */
+    int null = open("/dev/null", O_WRONLY);
+    if (null >= 0) {
+        dup2(null, STDOUT_FILENO);
+        dup2(null, STDERR_FILENO);
+        close(null);
+    }
     sinew_error error = {0};
     void *bytes = NULL;
     size_t size = 0;
@@ -150,9 +158,8 @@ static sinew_result import_in_child(const sinew_import_desc *desc, sinew_model *
 {
     const char *path = desc->path;
     int fds[2];
-    if (pipe(fds) != 0)
+    if (pipe2(fds, O_CLOEXEC) != 0)
         return sinew_fail(error, SINEW_ERROR_IO, "%s: cannot start the import process: %s", path, strerror(errno));
-    fflush(NULL);
     pid_t pid = fork();
     if (pid < 0) {
         close(fds[0]);
