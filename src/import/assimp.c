@@ -11,6 +11,7 @@
  *   raw_model_from_assimp
  */
 #include <ctype.h>
+#include <limits.h>
 #include <libgen.h>
 #include <math.h>
 #include <stdio.h>
@@ -241,7 +242,8 @@ static char *resolve_texture(context *c, const char *texture)
         raw_model_warn(c->model, "texture \"%s\" not found (looked for %s)", texture, path);
         return NULL;
     }
-    return raw_strdup(path);
+    char resolved[PATH_MAX];
+    return raw_strdup(realpath(path, resolved) ? resolved : path);
 }
 
 static sinew_result read_materials(context *c)

@@ -694,6 +694,44 @@ static void test_duplicate_names_resolved(void **state)
     sinew_model_free(m);
 }
 
+/* Materials: a texture beside the file resolves to a path that exists; a missing one is a
+ * warning that names it; base colours come through. */
+static void test_materials_and_textures(void **state)
+{
+    (void)state;
+    sinew_model *m = load_testdata("collada-cts/JointsInLN/JointsInLN.dae");
+    if (!m)
+        skip();
+    uint32_t textured = 0;
+    for (uint32_t i = 0; i < m->material_count; i++) {
+        const char *t = m->materials[i].diffuse_texture;
+        if (!t)
+            continue;
+        textured++;
+        size_t size;
+        void *bytes = read_file(t, &size);
+        assert_non_null(bytes);
+        free(bytes);
+        assert_non_null(strstr(t, "JointsInLN/boy_10.png"));
+    }
+    assert_true(textured >= 1);
+    sinew_model_free(m);
+    m = load_testdata("assimp/Collada/duck.dae");
+    assert_int_equal(m->material_count, 1);
+    assert_null(m->materials[0].diffuse_texture);
+    assert_int_equal(m->warning_count, 1);
+    assert_non_null(strstr(m->warnings[0], "duckCM.tga"));
+    sinew_model_free(m);
+    m = load_testdata("raylib/robot.glb");
+    int32_t main_material = -1;
+    for (uint32_t i = 0; i < m->material_count; i++)
+        if (strcmp(m->materials[i].name, "Main") == 0)
+            main_material = (int32_t)i;
+    assert_true(main_material >= 0);
+    assert_true(m->materials[main_material].base_color[0] > m->materials[main_material].base_color[2]); /* orange */
+    sinew_model_free(m);
+}
+
 /* sinew's own glTF fixture: rotation CUBICSPLINE with zero tangents, translation LINEAR,
  * scale STEP, keys at 0 and 1 s. Assimp makes all three linear; sinew reads the STEP and
  * CUBICSPLINE samplers again, so scale holds until t = 1 and the rotation eases in. */
@@ -761,6 +799,7 @@ int main(void)
         cmocka_unit_test(test_bind_shape_matrix_once),
         cmocka_unit_test(test_clip_names_and_times),
         cmocka_unit_test(test_duplicate_names_resolved),
+        cmocka_unit_test(test_materials_and_textures),
         cmocka_unit_test(test_gltf_step_and_cubic_restored),
         cmocka_unit_test(test_ticks_per_second_fallback),
     };
