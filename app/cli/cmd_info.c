@@ -10,10 +10,12 @@ static const char info_usage[] =
     "usage: sinew info FILE [--json]\n"
     "\n"
     "Prints what FILE holds as sinew reads it: node, joint, mesh, vertex, triangle, skin, material and\n"
-    "clip counts; each mesh; each clip with its duration in seconds and its key counts; the node tree\n"
-    "with joints marked; and the import warnings (dropped dummy meshes, missing textures, ...).\n"
+    "clip counts; each clip with its duration in seconds and its key counts; each mesh; each material\n"
+    "with its colour and texture; the node tree with joints and meshes marked; and the import warnings\n"
+    "(dropped dummy meshes, missing textures, repaired weights, ...).\n"
     "\n"
     "  --json   the same as one JSON object: {\"file\", \"format\", \"counts\": {...}, \"meshes\": [...],\n"
+    "           \"materials\": [{\"name\", \"base_color\", \"diffuse_texture\"}],\n"
     "           \"clips\": [{\"index\", \"name\", \"duration\", \"tracks\", \"keys\": {...}}], \"nodes\":\n"
     "           [{\"name\", \"parent\", \"joint\"}], \"warnings\": [...]}\n";
 
@@ -88,6 +90,12 @@ static void print_text(const sinew_model *m)
             printf(", material \"%s\"", m->materials[mesh->material].name);
         printf("\n");
     }
+    for (uint32_t i = 0; i < m->material_count; i++) {
+        const sinew_material *mat = &m->materials[i];
+        printf("material %u  \"%s\"  colour (%.3g %.3g %.3g %.3g)%s%s\n", i, mat->name, (double)mat->base_color[0],
+               (double)mat->base_color[1], (double)mat->base_color[2], (double)mat->base_color[3],
+               mat->diffuse_texture ? "  texture " : "", mat->diffuse_texture ? mat->diffuse_texture : "");
+    }
     printf("node tree:\n");
     print_tree(m, -1, 0);
     printf("warnings:   %u\n", m->warning_count);
@@ -128,6 +136,20 @@ static cJSON *info_json(const sinew_model *m)
         else
             cJSON_AddNullToObject(o, "material");
         cJSON_AddItemToArray(meshes, o);
+    }
+    cJSON *materials = cJSON_AddArrayToObject(root, "materials");
+    for (uint32_t i = 0; i < m->material_count; i++) {
+        const sinew_material *mat = &m->materials[i];
+        cJSON *o = cJSON_CreateObject();
+        cJSON_AddStringToObject(o, "name", mat->name);
+        cJSON *colour = cJSON_AddArrayToObject(o, "base_color");
+        for (int k = 0; k < 4; k++)
+            cJSON_AddItemToArray(colour, cJSON_CreateNumber(cli_json_float(mat->base_color[k])));
+        if (mat->diffuse_texture)
+            cJSON_AddStringToObject(o, "diffuse_texture", mat->diffuse_texture);
+        else
+            cJSON_AddNullToObject(o, "diffuse_texture");
+        cJSON_AddItemToArray(materials, o);
     }
     cJSON *clips = cJSON_AddArrayToObject(root, "clips");
     for (uint32_t i = 0; i < m->clip_count; i++) {
