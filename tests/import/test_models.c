@@ -504,14 +504,17 @@ static void test_rigid_meshes_and_sign_flips(void **state)
     print_message("%u of 64 rigid boxes moved between t=0 and t=%.3f\n", moved, (double)clip->duration / 3);
     assert_true(moved >= 32);
     uint32_t checked = 0;
+    double most_turned = 0;
     for (uint32_t t = 0; t < clip->track_count; t++) {
         const sinew_channel *ch = &clip->tracks[t].channels[SINEW_CHANNEL_ROTATION];
         const float *q = clip->values + ch->first_value;
         const float *times = clip->times + ch->first_key;
+        double turned = 0;
         for (uint32_t k = 1; k < ch->key_count; k++, checked++) {
             const float *p = q + (k - 1) * 4, *c = q + k * 4;
             float dot = p[0] * c[0] + p[1] * c[1] + p[2] * c[2] + p[3] * c[3];
             assert_true(dot >= 0);
+            turned += 2 * acos(fmin(1.0, dot)) * 180 / M_PI;
             float mid[4];
             uint32_t cursor = 0;
             sinew_channel_eval(clip, ch, SINEW_CHANNEL_ROTATION, (times[k - 1] + times[k]) / 2, &cursor, mid);
@@ -519,7 +522,12 @@ static void test_rigid_meshes_and_sign_flips(void **state)
             /* angle(p, mid) = angle(p, c) / 2 */
             assert_near(acos(fmin(1.0, dm)), acos(fmin(1.0, dot)) / 2, 2e-3, "half-way rotation");
         }
+        most_turned = fmax(most_turned, turned);
     }
+    /* The file keys 0 and 360+ degree angles; Assimp splits them into keys at most 90 degrees
+     * apart, so the boxes really spin (the short way between keys would not turn at all). */
+    print_message("the most a box turns through the clip: %.0f degrees\n", most_turned);
+    assert_true(most_turned >= 359);
     assert_true(checked > 100);
     free(va);
     free(vb);
