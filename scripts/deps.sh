@@ -5,7 +5,7 @@ set -euo pipefail
 
 packages=(
   build-essential cmake pkg-config
-  libassimp-dev libcglm-dev libcjson-dev libcmocka-dev
+  libassimp-dev libcglm-dev libcjson-dev libcmocka-dev libxml2-dev
 )
 
 missing=()

@@ -7,7 +7,8 @@
  *   read_meshes ....... triangles, normals, UVs, a skin per skinned mesh (bone -> node by name,
  *                       offset matrix = inverse bind with the bind-shape matrix already in it)
  *   read_clips ........ ticks -> seconds (ticks per second 0 falls back to 25), one track per node;
- *                       glTF STEP/CUBICSPLINE samplers are read again by gltf_keys.c
+ *                       glTF STEP/CUBICSPLINE samplers are read again by gltf_keys.c, and
+ *                       COLLADA <animation_clip>s cut out of Assimp's one clip by collada_clips.c
  *   raw_model_from_assimp
  */
 #include <ctype.h>
@@ -675,6 +676,8 @@ sinew_result raw_model_from_assimp(const char *path, raw_model *model, sinew_err
         result = read_clips(&c);
     if (!result && (strcmp(model->format, "gltf") == 0 || strcmp(model->format, "glb") == 0))
         gltf_restore_interpolation(path, model);
+    if (!result && strcmp(model->format, "dae") == 0)
+        collada_split_clips(path, model);
     free(c.nodes);
     free(c.joints);
     aiReleaseImport(scene);

@@ -42,6 +42,17 @@ bool raw_model_warn(raw_model *model, const char *format, ...)
     return true;
 }
 
+void raw_clip_free(raw_clip *clip)
+{
+    for (uint32_t t = 0; t < clip->track_count; t++)
+        for (int k = 0; k < SINEW_CHANNEL_COUNT; k++) {
+            free(clip->tracks[t].channels[k].times);
+            free(clip->tracks[t].channels[k].values);
+        }
+    free(clip->tracks);
+    free(clip->name);
+}
+
 void raw_model_free(raw_model *m)
 {
     if (!m)
@@ -73,16 +84,8 @@ void raw_model_free(raw_model *m)
         free(m->materials[i].diffuse_texture);
     }
     free(m->materials);
-    for (uint32_t c = 0; c < m->clip_count; c++) {
-        raw_clip *clip = &m->clips[c];
-        for (uint32_t t = 0; t < clip->track_count; t++)
-            for (int k = 0; k < SINEW_CHANNEL_COUNT; k++) {
-                free(clip->tracks[t].channels[k].times);
-                free(clip->tracks[t].channels[k].values);
-            }
-        free(clip->tracks);
-        free(clip->name);
-    }
+    for (uint32_t c = 0; c < m->clip_count; c++)
+        raw_clip_free(&m->clips[c]);
     free(m->clips);
     for (uint32_t i = 0; i < m->warning_count; i++)
         free(m->warnings[i]);

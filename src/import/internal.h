@@ -80,6 +80,9 @@ typedef struct raw_model {
     char **warnings;
 } raw_model;
 
+/* Frees what a raw clip points to (not the clip itself). */
+void raw_clip_free(raw_clip *clip);
+
 /* Every pointer in a raw model is from malloc/calloc (or NULL); this frees them all. */
 void raw_model_free(raw_model *model);
 
@@ -107,5 +110,9 @@ void gltf_restore_interpolation(const char *path, raw_model *model);
 /* glTF files: puts back the STEP and CUBICSPLINE samplers Assimp flattened to linear keys
  * (gltf_keys.c). Leaves the model as it is when the file cannot be read again. */
 void gltf_restore_interpolation(const char *path, raw_model *model);
+
+/* COLLADA files: cuts the one clip Assimp makes of a file's <animation_clip>s into those
+ * clips (collada_clips.c). Leaves the model as it is when there are none. */
+void collada_split_clips(const char *path, raw_model *model);
 
 #endif

@@ -50,8 +50,8 @@ static const expected models[] = {
     {"collada-cts/skin_long_tube.dae", 20, 15, 1, 0, -1, NULL},
     {"collada-cts/non_identity.dae", 10, 4, 1, 0, -1, NULL},
     {"collada-cts/JointsInLN/JointsInLN.dae", 24, 16, 4, 0, -1, NULL},
-    {"collada-cts/clip_2_clips_on_same_animation_different_time.dae", 5, 0, 1, 1, 5.0f,
-     "Assimp merges the two clips into one"},
+    {"collada-cts/clip_2_clips_on_same_animation_different_time.dae", 5, 0, 1, 2, 1.0f,
+     "two clips: Assimp merges them into one 5 s clip, sinew cuts it again"},
     {"collada-dae-parser/leg-with-control-bones.dae", 12, 4, 1, 1, 3.3333f, NULL},
     {"ozz/pab/walk.dae", 78, 78, 0, 1, 1.9f, "skeleton only"},
     {"ozz/pab/arnaud.fbx", 59, 53, 1, 0, -1, NULL},
@@ -740,6 +740,44 @@ static void test_materials_and_textures(void **state)
     sinew_model_free(m);
 }
 
+/* clip_2_clips_on_same_animation_different_time.dae: one animation turns "prop" from 0 to
+ * 360 degrees about Z over 5 s; two <animation_clip>s take 1-2 s and 3-4 s of it. Assimp
+ * makes one 5 s clip; sinew cuts the two clips out: 72 -> 144 and 216 -> 288 degrees. */
+static void test_collada_animation_clips(void **state)
+{
+    (void)state;
+    sinew_model *m = load_testdata("collada-cts/clip_2_clips_on_same_animation_different_time.dae");
+    if (!m)
+        skip();
+    assert_int_equal(m->clip_count, 2);
+    int32_t prop = sinew_model_find_node(m, "prop");
+    assert_true(prop >= 0);
+    static const struct {
+        uint32_t clip;
+        float t;
+        double degrees;
+    } expect[] = {{0, 0, 72}, {0, 0.5f, 108}, {0, 1, 144}, {1, 0, 216}, {1, 1, 288}, {1, 9, 288}};
+    sinew_transform locals[8];
+    assert_true(m->node_count <= 8);
+    for (size_t i = 0; i < sizeof expect / sizeof expect[0]; i++) {
+        assert_near(m->clips[expect[i].clip].duration, 1, 1e-5, "clip duration");
+        sinew_sample_desc desc = {.model = m,
+                                  .clip = &m->clips[expect[i].clip],
+                                  .time = expect[i].t,
+                                  .locals = locals,
+                                  .local_count = m->node_count};
+        assert_int_equal(sinew_sample(&desc, NULL), SINEW_OK);
+        const float *q = locals[prop].rotation;
+        double half = expect[i].degrees * M_PI / 360;
+        /* about +Z by the angle: (0, 0, sin, cos) up to sign */
+        double dot = fabs(q[2] * sin(half) + q[3] * cos(half));
+        if (fabs(dot - 1) > 1e-5)
+            fail_msg("clip %u at %.2f s: rotation (%g %g %g %g), expected %.0f degrees about z", expect[i].clip,
+                     (double)expect[i].t, (double)q[0], (double)q[1], (double)q[2], (double)q[3], expect[i].degrees);
+    }
+    sinew_model_free(m);
+}
+
 /* sinew's own glTF fixture: rotation CUBICSPLINE with zero tangents, translation LINEAR,
  * scale STEP, keys at 0 and 1 s. Assimp makes all three linear; sinew reads the STEP and
  * CUBICSPLINE samplers again, so scale holds until t = 1 and the rotation eases in. */
@@ -808,6 +846,7 @@ int main(void)
         cmocka_unit_test(test_clip_names_and_times),
         cmocka_unit_test(test_duplicate_names_resolved),
         cmocka_unit_test(test_materials_and_textures),
+        cmocka_unit_test(test_collada_animation_clips),
         cmocka_unit_test(test_gltf_step_and_cubic_restored),
         cmocka_unit_test(test_ticks_per_second_fallback),
     };
