@@ -15,6 +15,20 @@ static const sinew_transform node_rest[] = {{{9, 9, 9}, {0, 0, 0, 1}, {1, 1, 1}}
 static const sinew_model one_node = {
     .source = "test", .node_count = 1, .node_names = node_names, .node_parents = node_parents, .node_rest = node_rest};
 
+/* A clip of one track over the given key arrays. */
+static sinew_clip one_track_clip(const sinew_track *track, float duration, const float *times, uint32_t time_count,
+                                 const float *values, uint32_t value_count)
+{
+    return (sinew_clip){.name = "test",
+                        .duration = duration,
+                        .track_count = 1,
+                        .tracks = track,
+                        .time_count = time_count,
+                        .value_count = value_count,
+                        .times = times,
+                        .values = values};
+}
+
 static sinew_transform sample(const sinew_clip *clip, float t, sinew_wrap wrap, sinew_sample_context *context)
 {
     sinew_transform out;
@@ -38,14 +52,7 @@ static sinew_clip line_clip(sinew_interp interp, sinew_track *track)
 {
     memset(track, 0, sizeof *track);
     track->channels[SINEW_CHANNEL_TRANSLATION] = (sinew_channel){3, interp, 0, 0};
-    return (sinew_clip){.name = "line",
-                        .duration = 2,
-                        .track_count = 1,
-                        .tracks = track,
-                        .time_count = 3,
-                        .value_count = 9,
-                        .times = line_times,
-                        .values = line_values};
+    return one_track_clip(track, 2, line_times, 3, line_values, 9);
 }
 
 static void test_step(void **state)
@@ -106,13 +113,7 @@ static void test_slerp_across_sign_flip(void **state)
     (void)state;
     sinew_track track = {0};
     track.channels[SINEW_CHANNEL_ROTATION] = (sinew_channel){2, SINEW_INTERP_LINEAR, 0, 0};
-    sinew_clip clip = {.duration = 1,
-                       .track_count = 1,
-                       .tracks = &track,
-                       .time_count = 2,
-                       .value_count = 8,
-                       .times = flip_times,
-                       .values = flip_values};
+    sinew_clip clip = one_track_clip(&track, 1, flip_times, 2, flip_values, 8);
     assert_quat_near(sample(&clip, 0, SINEW_WRAP_CLAMP, NULL).rotation, 0, 0, 0, 1, "slerp 0");
     /* the short way: 45 degrees about +Z, not 135 degrees the long way round */
     assert_quat_near(sample(&clip, 0.5f, SINEW_WRAP_CLAMP, NULL).rotation, 0, 0, sinf((float)M_PI / 8),
@@ -134,13 +135,7 @@ static void test_cubic_spline(void **state)
     (void)state;
     sinew_track track = {0};
     track.channels[SINEW_CHANNEL_TRANSLATION] = (sinew_channel){2, SINEW_INTERP_CUBIC, 0, 0};
-    sinew_clip clip = {.duration = 2,
-                       .track_count = 1,
-                       .tracks = &track,
-                       .time_count = 2,
-                       .value_count = 18,
-                       .times = cubic_times,
-                       .values = cubic_values};
+    sinew_clip clip = one_track_clip(&track, 2, cubic_times, 2, cubic_values, 18);
     /* s = 0.5: h10 = 0.125, dt = 2 -> 0.25; h01 = 0.5 */
     assert_near(sample(&clip, 1, SINEW_WRAP_CLAMP, NULL).translation[0], 0.75, 1e-6, "cubic s=1/2");
     /* s = 0.25: h10 = 0.140625 -> 0.28125; h01 = 0.15625 */
@@ -165,13 +160,7 @@ static void test_channels_have_their_own_keys(void **state)
     track.channels[SINEW_CHANNEL_TRANSLATION] = (sinew_channel){2, SINEW_INTERP_LINEAR, 0, 0};
     track.channels[SINEW_CHANNEL_ROTATION] = (sinew_channel){3, SINEW_INTERP_LINEAR, 2, 6};
     track.channels[SINEW_CHANNEL_SCALE] = (sinew_channel){1, SINEW_INTERP_LINEAR, 5, 18};
-    sinew_clip clip = {.duration = 2,
-                       .track_count = 1,
-                       .tracks = &track,
-                       .time_count = 6,
-                       .value_count = 21,
-                       .times = mixed_times,
-                       .values = mixed_values};
+    sinew_clip clip = one_track_clip(&track, 2, mixed_times, 6, mixed_values, 21);
     sinew_transform t = sample(&clip, 0.75f, SINEW_WRAP_CLAMP, NULL);
     assert_near(t.translation[0], 1.5, 1e-6, "translation at 0.75");
     assert_quat_near(t.rotation, 0, 0, sinf((float)M_PI / 8), cosf((float)M_PI / 8), "rotation at 0.75");
@@ -191,13 +180,7 @@ static void test_cursor_forward_and_back(void **state)
         values[i * 3] = (float)(i * i), values[i * 3 + 1] = 0, values[i * 3 + 2] = 0;
     sinew_track track = {0};
     track.channels[SINEW_CHANNEL_TRANSLATION] = (sinew_channel){11, SINEW_INTERP_LINEAR, 0, 0};
-    sinew_clip clip = {.duration = 1,
-                       .track_count = 1,
-                       .tracks = &track,
-                       .time_count = 11,
-                       .value_count = 33,
-                       .times = times,
-                       .values = values};
+    sinew_clip clip = one_track_clip(&track, 1, times, 11, values, 33);
     unsigned char memory[256];
     sinew_sample_context *context = NULL;
     assert_true(sinew_sample_context_size(&clip) <= sizeof memory);
