@@ -3,6 +3,7 @@
 #   make test   install missing packages, build, run the whole suite, then again under ASan + UBSan
 BUILD      ?= build
 BUILD_SAN  ?= build-asan
+MAKEFLAGS  += --no-print-directory
 JOBS       ?= $(shell nproc 2>/dev/null || echo 2)
 CMAKE_ARGS ?=
 
