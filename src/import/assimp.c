@@ -12,12 +12,14 @@
  *   raw_model_from_assimp
  */
 #include <ctype.h>
+#include <iconv.h>
 #include <limits.h>
 #include <libgen.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <strings.h>
 #include <sys/stat.h>
 
 #include <assimp/cimport.h>
@@ -644,11 +646,61 @@ static char *format_name(const char *path)
     return raw_strdup(name);
 }
 
+/* A COLLADA file in UTF-16 (legal XML, written by some Windows exporters) as UTF-8, or
+ * NULL when it is not UTF-16 or cannot be converted. Assimp 5.2.5 reads only 8-bit XML
+ * ("malformed XML" on cube_UTF16LE.dae); its XML reader takes an 8-bit buffer as UTF-8
+ * whatever the declaration says. */
+static char *utf16_collada_as_utf8(const char *path, size_t *size)
+{
+    FILE *f = fopen(path, "rb");
+    if (!f)
+        return NULL;
+    unsigned char bom[2] = {0};
+    bool utf16 = fread(bom, 1, 2, f) == 2 && ((bom[0] == 0xff && bom[1] == 0xfe) || (bom[0] == 0xfe && bom[1] == 0xff));
+    char *in = NULL, *out = NULL;
+    long n = -1;
+    if (utf16 && fseek(f, 0, SEEK_END) == 0 && (n = ftell(f)) > 2 && fseek(f, 0, SEEK_SET) == 0 &&
+        (in = malloc((size_t)n)) && fread(in, 1, (size_t)n, f) == (size_t)n) {
+        iconv_t cd = iconv_open("UTF-8", "UTF-16"); /* the BOM tells the byte order */
+        size_t in_left = (size_t)n, cap = (size_t)n * 2 + 16, out_left = cap;
+        out = cd != (iconv_t)-1 ? malloc(cap) : NULL;
+        char *src = in, *dst = out;
+        if (out && iconv(cd, &src, &in_left, &dst, &out_left) != (size_t)-1 && in_left == 0) {
+            *size = cap - out_left;
+        } else {
+            free(out);
+            out = NULL;
+        }
+        if (cd != (iconv_t)-1)
+            iconv_close(cd);
+    }
+    free(in);
+    fclose(f);
+    return out;
+}
+
+static const struct aiScene *import_scene(const char *path, const struct aiPropertyStore *props)
+{
+    const char *dot = strrchr(path, '.');
+    if (dot && strcasecmp(dot, ".dae") == 0) {
+        size_t size = 0;
+        char *utf8 = utf16_collada_as_utf8(path, &size);
+        if (utf8 && size <= UINT32_MAX) {
+            const struct aiScene *scene =
+                aiImportFileFromMemoryWithProperties(utf8, (unsigned)size, IMPORT_FLAGS, "dae", props);
+            free(utf8);
+            return scene;
+        }
+        free(utf8);
+    }
+    return aiImportFileExWithProperties(path, IMPORT_FLAGS, NULL, props);
+}
+
 sinew_result raw_model_from_assimp(const char *path, raw_model *model, sinew_error *error)
 {
     memset(model, 0, sizeof *model);
     struct aiPropertyStore *props = aiCreatePropertyStore();
-    const struct aiScene *scene = aiImportFileExWithProperties(path, IMPORT_FLAGS, NULL, props);
+    const struct aiScene *scene = import_scene(path, props);
     aiReleasePropertyStore(props);
     if (!scene || !scene->mRootNode) {
         const char *why = aiGetErrorString();

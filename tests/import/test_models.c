@@ -22,6 +22,7 @@ static const expected models[] = {
     {"assimp/Collada/anims_with_full_rotations_between_keys.DAE", 129, 0, 64, 1, -1,
      "64 boxes: the manifest's count is after FindInstances merged them"},
     {"assimp/Collada/duck.dae", 4, 0, 1, 0, -1, NULL},
+    {"assimp/Collada/cube_UTF16LE.dae", 6, 0, 1, 0, -1, "UTF-16: Assimp refuses it, sinew converts it to UTF-8 first"},
     {"assimp/Collada/teapot_instancenodes.DAE", 4, 0, 1, 0, -1, "one mesh placed at two nodes"},
     {"assimp/Collada/regr01.dae", 2, 0, 6, 0, -1, NULL},
     {"assimp/Collada/kwxport_test_vcolors.dae", 2, 0, 3, 0, -1, NULL},
@@ -124,7 +125,6 @@ static void test_models_assimp_fails_on(void **state)
         bool may_load;
     } failing[] = {
         {"assimp/Collada/library_animation_clips.dae", "Cannot parse string", false},
-        {"assimp/Collada/cube_UTF16LE.dae", "malformed XML", false},
         {"assimp/X/malformed_skinweights_oob.x", "crashed", false},
         {"collada-cts/skin_4_influence.dae", "crashed", true},
         {"raylib/guyanim.iqm", "mNumMeshes is 0", false},
@@ -778,6 +778,41 @@ static void test_collada_animation_clips(void **state)
     sinew_model_free(m);
 }
 
+/* UTF-16 COLLADA, both byte orders (sinew's fixture re-encoded): the same model as the
+ * UTF-8 file, though Assimp alone refuses it. */
+static void test_utf16_collada(void **state)
+{
+    (void)state;
+    char src[1024], path[1024];
+    size_t size;
+    unsigned char *text = read_file(fixture_path("two_bone.dae", src, sizeof src), &size);
+    sinew_model *utf8 = load_or_fail(src);
+    sinew_mat4 *want = pose_worlds(utf8, &utf8->clips[0], 0.5f);
+    for (int big_endian = 0; big_endian < 2; big_endian++) {
+        unsigned char *wide = malloc(2 * size + 2);
+        wide[0] = big_endian ? 0xfe : 0xff;
+        wide[1] = big_endian ? 0xff : 0xfe;
+        for (size_t i = 0; i < size; i++) {
+            wide[2 + 2 * i + (big_endian ? 1 : 0)] = text[i];
+            wide[2 + 2 * i + (big_endian ? 0 : 1)] = 0;
+        }
+        write_file(tmp_path(big_endian ? "utf16be.dae" : "utf16le.dae", path, sizeof path), wide, 2 * size + 2);
+        free(wide);
+        sinew_model *m = load_or_fail(path);
+        assert_int_equal(m->node_count, utf8->node_count);
+        assert_int_equal(m->clip_count, 1);
+        sinew_mat4 *got = pose_worlds(m, &m->clips[0], 0.5f);
+        for (uint32_t n = 0; n < m->node_count; n++)
+            for (int k = 0; k < 16; k++)
+                assert_near(got[n].m[k], want[n].m[k], 1e-6, big_endian ? "UTF-16BE pose" : "UTF-16LE pose");
+        free(got);
+        sinew_model_free(m);
+    }
+    free(want);
+    free(text);
+    sinew_model_free(utf8);
+}
+
 /* sinew's own glTF fixture: rotation CUBICSPLINE with zero tangents, translation LINEAR,
  * scale STEP, keys at 0 and 1 s. Assimp makes all three linear; sinew reads the STEP and
  * CUBICSPLINE samplers again, so scale holds until t = 1 and the rotation eases in. */
@@ -847,6 +882,7 @@ int main(void)
         cmocka_unit_test(test_duplicate_names_resolved),
         cmocka_unit_test(test_materials_and_textures),
         cmocka_unit_test(test_collada_animation_clips),
+        cmocka_unit_test(test_utf16_collada),
         cmocka_unit_test(test_gltf_step_and_cubic_restored),
         cmocka_unit_test(test_ticks_per_second_fallback),
     };
