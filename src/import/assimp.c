@@ -144,40 +144,33 @@ static int32_t find_node(const context *c, const char *name, const bool *joints,
     return best;
 }
 
+static const struct aiMetadataEntry *metadata_find(const struct aiMetadata *meta, const char *key)
+{
+    for (unsigned i = 0; meta && i < meta->mNumProperties; i++)
+        if (strcmp(meta->mKeys[i].data, key) == 0)
+            return &meta->mValues[i];
+    return NULL;
+}
+
 static bool metadata_int(const struct aiMetadata *meta, const char *key, int *out)
 {
-    if (!meta)
+    const struct aiMetadataEntry *e = metadata_find(meta, key);
+    if (!e || e->mType != AI_INT32)
         return false;
-    for (unsigned i = 0; i < meta->mNumProperties; i++) {
-        if (strcmp(meta->mKeys[i].data, key) != 0)
-            continue;
-        const struct aiMetadataEntry *e = &meta->mValues[i];
-        if (e->mType == AI_INT32) {
-            *out = *(const int32_t *)e->mData;
-            return true;
-        }
-        return false;
-    }
-    return false;
+    *out = *(const int32_t *)e->mData;
+    return true;
 }
 
 static bool metadata_real(const struct aiMetadata *meta, const char *key, double *out)
 {
-    if (!meta)
+    const struct aiMetadataEntry *e = metadata_find(meta, key);
+    if (e && e->mType == AI_FLOAT)
+        *out = *(const float *)e->mData;
+    else if (e && e->mType == AI_DOUBLE)
+        *out = *(const double *)e->mData;
+    else
         return false;
-    for (unsigned i = 0; i < meta->mNumProperties; i++) {
-        if (strcmp(meta->mKeys[i].data, key) != 0)
-            continue;
-        const struct aiMetadataEntry *e = &meta->mValues[i];
-        if (e->mType == AI_FLOAT)
-            *out = *(const float *)e->mData;
-        else if (e->mType == AI_DOUBLE)
-            *out = *(const double *)e->mData;
-        else
-            return false;
-        return true;
-    }
-    return false;
+    return true;
 }
 
 /* FBX: Assimp reports the file's axes (UpAxis, FrontAxis, CoordAxis with signs) and its
