@@ -19,7 +19,6 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <strings.h>
 #include <sys/stat.h>
 
 #include <assimp/cimport.h>
@@ -650,32 +649,31 @@ static char *utf16_collada_as_utf8(const char *path, size_t *size)
         return NULL;
     unsigned char bom[2] = {0};
     bool utf16 = fread(bom, 1, 2, f) == 2 && ((bom[0] == 0xff && bom[1] == 0xfe) || (bom[0] == 0xfe && bom[1] == 0xff));
-    char *in = NULL, *out = NULL;
-    long n = -1;
-    if (utf16 && fseek(f, 0, SEEK_END) == 0 && (n = ftell(f)) > 2 && fseek(f, 0, SEEK_SET) == 0 &&
-        (in = malloc((size_t)n)) && fread(in, 1, (size_t)n, f) == (size_t)n) {
-        iconv_t cd = iconv_open("UTF-8", "UTF-16"); /* the BOM tells the byte order */
-        size_t in_left = (size_t)n, cap = (size_t)n * 2 + 16, out_left = cap;
-        out = cd != (iconv_t)-1 ? malloc(cap) : NULL;
-        char *src = in, *dst = out;
+    fclose(f);
+    unsigned char *in = NULL;
+    size_t n = 0;
+    if (!utf16 || !import_read_file(path, &in, &n))
+        return NULL;
+    char *out = NULL;
+    iconv_t cd = iconv_open("UTF-8", "UTF-16"); /* the BOM tells the byte order */
+    if (cd != (iconv_t)-1) {
+        size_t in_left = n, cap = n * 2 + 16, out_left = cap;
+        char *src = (char *)in, *dst = out = malloc(cap);
         if (out && iconv(cd, &src, &in_left, &dst, &out_left) != (size_t)-1 && in_left == 0) {
             *size = cap - out_left;
         } else {
             free(out);
             out = NULL;
         }
-        if (cd != (iconv_t)-1)
-            iconv_close(cd);
+        iconv_close(cd);
     }
     free(in);
-    fclose(f);
     return out;
 }
 
-static const struct aiScene *import_scene(const char *path, const struct aiPropertyStore *props)
+static const struct aiScene *import_scene(const char *path, const char *format, const struct aiPropertyStore *props)
 {
-    const char *dot = strrchr(path, '.');
-    if (dot && strcasecmp(dot, ".dae") == 0) {
+    if (strcmp(format, "dae") == 0) {
         size_t size = 0;
         char *utf8 = utf16_collada_as_utf8(path, &size);
         if (utf8 && size <= UINT32_MAX) {
@@ -692,8 +690,12 @@ static const struct aiScene *import_scene(const char *path, const struct aiPrope
 sinew_result raw_model_from_assimp(const char *path, raw_model *model, sinew_error *error)
 {
     memset(model, 0, sizeof *model);
+    if (!(model->source = raw_strdup(path)) || !(model->format = format_name(path))) {
+        raw_model_free(model);
+        return sinew_fail(error, SINEW_ERROR_OUT_OF_MEMORY, "%s: out of memory while importing", path);
+    }
     struct aiPropertyStore *props = aiCreatePropertyStore();
-    const struct aiScene *scene = import_scene(path, props);
+    const struct aiScene *scene = import_scene(path, model->format, props);
     aiReleasePropertyStore(props);
     if (!scene || !scene->mRootNode) {
         const char *why = aiGetErrorString();
@@ -701,16 +703,13 @@ sinew_result raw_model_from_assimp(const char *path, raw_model *model, sinew_err
                                     why && *why ? why : "no reason given");
         if (scene)
             aiReleaseImport(scene);
+        raw_model_free(model);
         return r;
     }
     context c = {.path = path, .scene = scene, .model = model, .error = error};
-    sinew_result result = SINEW_OK;
-    if (!(model->source = raw_strdup(path)) || !(model->format = format_name(path)))
-        result = oom(&c);
-    if (!result && (scene->mFlags & AI_SCENE_FLAGS_INCOMPLETE) && scene->mNumMeshes == 0 && scene->mNumAnimations == 0)
+    if ((scene->mFlags & AI_SCENE_FLAGS_INCOMPLETE) && scene->mNumMeshes == 0 && scene->mNumAnimations == 0)
         raw_model_warn(model, "Assimp marked the scene incomplete and it has no meshes and no clips");
-    if (!result)
-        result = read_nodes(&c);
+    sinew_result result = read_nodes(&c);
     if (!result) {
         axis_conversion(&c);
         result = read_materials(&c);

@@ -35,26 +35,6 @@ typedef struct document {
     int buffer_count;
 } document;
 
-static bool read_whole_file(const char *path, blob *out)
-{
-    FILE *f = fopen(path, "rb");
-    if (!f)
-        return false;
-    bool ok = fseek(f, 0, SEEK_END) == 0;
-    long n = ok ? ftell(f) : -1;
-    ok = n >= 0 && fseek(f, 0, SEEK_SET) == 0;
-    out->bytes = ok ? malloc((size_t)n + 1) : NULL;
-    ok = out->bytes && fread(out->bytes, 1, (size_t)n, f) == (size_t)n;
-    fclose(f);
-    if (!ok) {
-        free(out->bytes);
-        out->bytes = NULL;
-        return false;
-    }
-    out->size = (size_t)n;
-    return true;
-}
-
 static uint32_t le32(const unsigned char *p)
 {
     return p[0] | p[1] << 8 | p[2] << 16 | (uint32_t)p[3] << 24;
@@ -65,7 +45,7 @@ static bool load_document(const char *path, document *doc)
 {
     memset(doc, 0, sizeof *doc);
     doc->path = path;
-    if (!read_whole_file(path, &doc->file))
+    if (!import_read_file(path, &doc->file.bytes, &doc->file.size))
         return false;
     const unsigned char *b = doc->file.bytes;
     size_t n = doc->file.size;
@@ -169,7 +149,7 @@ static const blob *buffer_bytes(document *doc, int index)
     const char *slash = strrchr(doc->path, '/');
     int dir = slash ? (int)(slash - doc->path + 1) : 0;
     snprintf(path, sizeof path, "%.*s%s", dir, doc->path, u);
-    return read_whole_file(path, b) ? b : NULL;
+    return import_read_file(path, &b->bytes, &b->size) ? b : NULL;
 }
 
 static int component_count(const char *type)

@@ -47,6 +47,26 @@ static sinew_result check_path(const char *path, sinew_error *error)
     return SINEW_OK;
 }
 
+bool import_read_file(const char *path, unsigned char **bytes, size_t *size)
+{
+    FILE *f = fopen(path, "rb");
+    if (!f)
+        return false;
+    bool ok = fseek(f, 0, SEEK_END) == 0;
+    long n = ok ? ftell(f) : -1;
+    ok = n >= 0 && fseek(f, 0, SEEK_SET) == 0;
+    unsigned char *buf = ok ? malloc((size_t)n + 1) : NULL;
+    ok = buf && fread(buf, 1, (size_t)n, f) == (size_t)n;
+    fclose(f);
+    if (!ok) {
+        free(buf);
+        return false;
+    }
+    *bytes = buf;
+    *size = (size_t)n;
+    return true;
+}
+
 sinew_result sinew_import_blob(const char *path, void **bytes, size_t *size, sinew_error *error)
 {
     if (!path || !bytes || !size)

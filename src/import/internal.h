@@ -95,6 +95,10 @@ bool raw_model_warn(raw_model *model, const char *format, ...)
 
 char *raw_strdup(const char *text);
 
+/* Reads a whole file into *bytes (malloc'd, one spare byte at the end); false when it
+ * cannot be read. */
+bool import_read_file(const char *path, unsigned char **bytes, size_t *size);
+
 /* Validates and repairs the raw model (sorting and limiting influences, sorting keys,
  * making consecutive rotation keys take the short way, computing missing normals) and
  * writes the runtime blob into *bytes (malloc'd). */
