@@ -88,7 +88,8 @@ static bool floats_finite(const float *values, uint64_t count)
 }
 
 /* Checks the header and that every top-level table fits in the blob, before anything is
- * allocated from its counts. Reads the bytes one at a time (they may be unaligned). */
+ * allocated from its counts (the check_* functions below rely on it). Reads the bytes
+ * one at a time (they may be unaligned). */
 static sinew_result check_header(reader *r)
 {
     if (r->size < sizeof(blob_header))
@@ -112,8 +113,13 @@ static sinew_result check_header(reader *r)
         return corrupt(r, "string pool");
     if (!string_ok(r, h->source, false) || !string_ok(r, h->format, false))
         return corrupt(r, "source name");
-    if (!range_ok(r, h->node_names.offset, h->node_names.count, 4) ||
+    uint32_t n = h->node_names.count;
+    if (h->node_parents.count != n || h->node_rest.count != n)
+        return corrupt(r, "node table sizes differ");
+    if (!range_ok(r, h->node_names.offset, n, 4) || !range_ok(r, h->node_parents.offset, n, 4) ||
+        !range_ok(r, h->node_rest.offset, n, sizeof(sinew_transform)) ||
         !range_ok(r, h->warnings.offset, h->warnings.count, 4) ||
+        !range_ok(r, h->instances.offset, h->instances.count, sizeof(sinew_instance)) ||
         !range_ok(r, h->skins.offset, h->skins.count, sizeof(blob_skin)) ||
         !range_ok(r, h->meshes.offset, h->meshes.count, sizeof(blob_mesh)) ||
         !range_ok(r, h->materials.offset, h->materials.count, sizeof(blob_material)) ||
@@ -126,11 +132,6 @@ static sinew_result check_nodes(reader *r)
 {
     const blob_header *h = r->header;
     uint32_t n = h->node_names.count;
-    if (h->node_parents.count != n || h->node_rest.count != n)
-        return corrupt(r, "node table sizes differ");
-    if (!range_ok(r, h->node_names.offset, n, 4) || !range_ok(r, h->node_parents.offset, n, 4) ||
-        !range_ok(r, h->node_rest.offset, n, sizeof(sinew_transform)))
-        return corrupt(r, "node tables out of bounds");
     const uint32_t *names = array_at(r, h->node_names.offset, n);
     const int32_t *parents = array_at(r, h->node_parents.offset, n);
     const sinew_transform *rest = array_at(r, h->node_rest.offset, n);
@@ -148,8 +149,6 @@ static sinew_result check_nodes(reader *r)
 static sinew_result check_skins(reader *r)
 {
     const blob_header *h = r->header;
-    if (!range_ok(r, h->skins.offset, h->skins.count, sizeof(blob_skin)))
-        return corrupt(r, "skin table out of bounds");
     const blob_skin *skins = array_at(r, h->skins.offset, h->skins.count);
     for (uint32_t s = 0; s < h->skins.count; s++) {
         const blob_skin *skin = &skins[s];
@@ -202,10 +201,6 @@ static bool mesh_arrays_ok(const reader *r, const blob_mesh *m, uint32_t joint_l
 static sinew_result check_meshes(reader *r)
 {
     const blob_header *h = r->header;
-    if (!range_ok(r, h->meshes.offset, h->meshes.count, sizeof(blob_mesh)) ||
-        !range_ok(r, h->materials.offset, h->materials.count, sizeof(blob_material)) ||
-        !range_ok(r, h->instances.offset, h->instances.count, sizeof(sinew_instance)))
-        return corrupt(r, "mesh tables out of bounds");
     const blob_skin *skins = array_at(r, h->skins.offset, h->skins.count);
     const blob_mesh *meshes = array_at(r, h->meshes.offset, h->meshes.count);
     for (uint32_t i = 0; i < h->meshes.count; i++) {
@@ -252,8 +247,6 @@ static bool channel_ok(const reader *r, const blob_clip *c, const sinew_channel 
 static sinew_result check_clips(reader *r)
 {
     const blob_header *h = r->header;
-    if (!range_ok(r, h->clips.offset, h->clips.count, sizeof(blob_clip)))
-        return corrupt(r, "clip table out of bounds");
     const blob_clip *clips = array_at(r, h->clips.offset, h->clips.count);
     for (uint32_t i = 0; i < h->clips.count; i++) {
         const blob_clip *c = &clips[i];
@@ -274,8 +267,6 @@ static sinew_result check_clips(reader *r)
                     return corrupt(r, "track keys");
         }
     }
-    if (!range_ok(r, h->warnings.offset, h->warnings.count, 4))
-        return corrupt(r, "warning table");
     const uint32_t *warnings = array_at(r, h->warnings.offset, h->warnings.count);
     for (uint32_t i = 0; i < h->warnings.count; i++)
         if (!string_ok(r, warnings[i], false))
