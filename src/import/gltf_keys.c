@@ -31,7 +31,7 @@ typedef struct document {
     cJSON *json;
     blob file;     /* the whole file (a .glb's BIN chunk points into it) */
     blob glb_bin;  /* not owned */
-    blob *buffers; /* decoded buffers, loaded on demand */
+    blob *buffers; /* buffers loaded on demand (the GLB one is glb_bin itself) */
     int buffer_count;
 } document;
 
@@ -69,7 +69,8 @@ static bool load_document(const char *path, document *doc)
 static void free_document(document *doc)
 {
     for (int i = 0; i < doc->buffer_count; i++)
-        free(doc->buffers[i].bytes);
+        if (doc->buffers[i].bytes != doc->glb_bin.bytes)
+            free(doc->buffers[i].bytes);
     free(doc->buffers);
     cJSON_Delete(doc->json);
     free(doc->file.bytes);
@@ -131,11 +132,7 @@ static const blob *buffer_bytes(document *doc, int index)
     if (!cJSON_IsString(uri)) {
         if (index != 0 || !doc->glb_bin.bytes)
             return NULL;
-        b->bytes = malloc(doc->glb_bin.size + 1);
-        if (!b->bytes)
-            return NULL;
-        memcpy(b->bytes, doc->glb_bin.bytes, doc->glb_bin.size);
-        b->size = doc->glb_bin.size;
+        *b = doc->glb_bin; /* points into doc->file, not freed on its own */
         return b;
     }
     const char *u = uri->valuestring;

@@ -816,11 +816,10 @@ static void test_utf16_collada(void **state)
 /* sinew's own glTF fixture: rotation CUBICSPLINE with zero tangents, translation LINEAR,
  * scale STEP, keys at 0 and 1 s. Assimp makes all three linear; sinew reads the STEP and
  * CUBICSPLINE samplers again, so scale holds until t = 1 and the rotation eases in. */
-static void test_gltf_step_and_cubic_restored(void **state)
+static void check_step_and_cubic(const char *fixture)
 {
-    (void)state;
     char path[1024];
-    sinew_model *m = load_or_fail(fixture_path("two_bone_cubic.gltf", path, sizeof path));
+    sinew_model *m = load_or_fail(fixture_path(fixture, path, sizeof path));
     int32_t tip = sinew_model_find_node(m, "tip_joint");
     assert_true(tip >= 0);
     const sinew_clip *clip = &m->clips[0];
@@ -843,6 +842,14 @@ static void test_gltf_step_and_cubic_restored(void **state)
     assert_int_equal(sinew_sample(&desc, NULL), SINEW_OK);
     assert_near(locals[tip].scale[0], 2, 0, "step scale at the key");
     sinew_model_free(m);
+}
+
+/* The same scene as .gltf (buffer in a data: URI) and .glb (buffer in the BIN chunk). */
+static void test_gltf_step_and_cubic_restored(void **state)
+{
+    (void)state;
+    check_step_and_cubic("two_bone_cubic.gltf");
+    check_step_and_cubic("two_bone_cubic.glb");
 }
 
 /* sinew's own .x fixture has no AnimTicksPerSecond: Assimp reports 0 ticks per second,
