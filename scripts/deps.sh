@@ -6,6 +6,7 @@ set -euo pipefail
 packages=(
   build-essential cmake pkg-config
   libassimp-dev libcglm-dev libcjson-dev libcmocka-dev libxml2-dev
+  libepoxy-dev libegl-dev libegl-mesa0 libgl1-mesa-dri libstb-dev
 )
 
 missing=()

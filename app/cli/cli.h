@@ -6,7 +6,8 @@
 
 #include "sinew/sinew.h"
 
-enum { EXIT_OK = 0, EXIT_USAGE = 1, EXIT_BAD_INPUT = 2 };
+/* 3: this machine lacks something the command needs (an OpenGL 3.3 context, ffmpeg). */
+enum { EXIT_OK = 0, EXIT_USAGE = 1, EXIT_BAD_INPUT = 2, EXIT_UNAVAILABLE = 3 };
 
 /* Prints "sinew: <message>" to stderr. */
 void cli_error(const char *format, ...) __attribute__((format(printf, 1, 2)));
@@ -39,7 +40,61 @@ bool cli_pose_init(cli_pose *pose, const sinew_model *model, const sinew_clip *c
 bool cli_pose_at(cli_pose *pose, const sinew_clip *clip, float time, sinew_wrap wrap);
 void cli_pose_free(cli_pose *pose);
 
+/* A model posed and drawn off-screen: what `render` and `bench render` share. */
+typedef struct cli_scene_desc {
+    const char *path, *clip, *camera, *select, *heatmap;
+    int width, height, samples;
+    bool loop, skeleton_set;
+    uint32_t gpu_joint_limit;
+    sinew_render_options options;
+} cli_scene_desc;
+
+typedef struct cli_scene {
+    sinew_model *model;
+    const sinew_clip *clip;
+    cli_pose pose;
+    sinew_headless *headless;
+    sinew_renderer *renderer;
+    sinew_camera camera;
+    bool frame_all; /* the camera spec left the distance to framing */
+    sinew_render_options frame_options;
+    sinew_wrap wrap;
+    int width, height;
+    uint8_t *pixels; /* width * height * 4, top row first */
+    const char *gl_name;
+} cli_scene;
+
+/* Loads, makes the context and the renderer; prints the error and returns an exit code. */
+int cli_scene_open(cli_scene *scene, const cli_scene_desc *desc);
+/* Places the camera on the posed bounds over [from, to] (as the camera spec asks). */
+bool cli_scene_frame_all(cli_scene *scene, double from, double to);
+bool cli_scene_pose(cli_scene *scene, double time);
+/* Poses at `time` and draws (no read-back). */
+bool cli_scene_draw(cli_scene *scene, double time);
+/* Reads the frame into scene->pixels. */
+bool cli_scene_read(cli_scene *scene);
+void cli_scene_close(cli_scene *scene);
+
+/* PNG output through stb_image_write; prints the error and returns false on failure. */
+bool cli_write_png(const char *path, const uint8_t *rgba, int width, int height);
+
+/* Video output: raw RGBA frames piped into the ffmpeg program. */
+typedef struct cli_video {
+    const char *path;
+    int fd;
+    int pid;
+    size_t frame_bytes;
+} cli_video;
+
+bool cli_video_open(cli_video *video, const char *path, int width, int height, double fps);
+bool cli_video_write(cli_video *video, const uint8_t *rgba);
+bool cli_video_close(cli_video *video);
+/* A dead ffmpeg must give a write error, not kill sinew. */
+void cli_ignore_sigpipe(void);
+
 int cmd_info(int argc, char **argv);
+int cmd_render(int argc, char **argv);
+int cmd_bench(int argc, char **argv);
 int cmd_pose(int argc, char **argv);
 
 #endif

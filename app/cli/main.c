@@ -15,7 +15,8 @@ static const char usage[] =
     "\n"
     "FILE is any format Assimp reads: COLLADA (.dae), glTF (.gltf/.glb), FBX, BVH, .x, MD5, SMD, IQM, ...\n"
     "Output is in metres, Y up, seconds. `sinew COMMAND --help` describes one command.\n"
-    "Exit status: 0 ok, 1 usage error, 2 bad input (the message names the file and the problem).\n";
+    "Exit status: 0 ok, 1 usage error, 2 bad input (the message names the file and the problem),\n"
+    "3 this machine lacks what the command needs (an OpenGL 3.3 context through EGL, ffmpeg).\n";
 
 int main(int argc, char **argv)
 {
@@ -36,6 +37,8 @@ int main(int argc, char **argv)
         return cmd_info(argc - 1, argv + 1);
     if (strcmp(command, "pose") == 0)
         return cmd_pose(argc - 1, argv + 1);
+    if (strcmp(command, "render") == 0)
+        return cmd_render(argc - 1, argv + 1);
     cli_error("unknown command \"%s\" (try `sinew --help`)", command);
     return EXIT_USAGE;
 }

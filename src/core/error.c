@@ -22,6 +22,8 @@ const char *sinew_result_string(sinew_result result)
         return "over a limit";
     case SINEW_ERROR_OUT_OF_MEMORY:
         return "out of memory";
+    case SINEW_ERROR_GRAPHICS:
+        return "graphics error";
     }
     return "unknown error";
 }

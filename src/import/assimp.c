@@ -311,12 +311,60 @@ static void mark_joints(context *c)
     }
 }
 
+/* True when a node of this name holds one of the scene's cameras or lights. */
+static bool names_camera_or_light(const struct aiScene *s, const char *name)
+{
+    for (unsigned i = 0; i < s->mNumCameras; i++)
+        if (strcmp(s->mCameras[i]->mName.data, name) == 0)
+            return true;
+    for (unsigned i = 0; i < s->mNumLights; i++)
+        if (strcmp(s->mLights[i]->mName.data, name) == 0)
+            return true;
+    return false;
+}
+
+static bool is_animated(const struct aiScene *s, const char *name)
+{
+    for (unsigned a = 0; a < s->mNumAnimations; a++)
+        for (unsigned k = 0; k < s->mAnimations[a]->mNumChannels; k++)
+            if (strcmp(s->mAnimations[a]->mChannels[k]->mNodeName.data, name) == 0)
+                return true;
+    return false;
+}
+
+/* True when a clip moves this node or a node below it. */
+static bool moves_subtree(const struct aiScene *s, const struct aiNode *node)
+{
+    if (is_animated(s, node->mName.data))
+        return true;
+    for (unsigned i = 0; i < node->mNumChildren; i++)
+        if (moves_subtree(s, node->mChildren[i]))
+            return true;
+    return false;
+}
+
+/* Whether a bone of Assimp's generated skeleton mesh (one bone a node) is part of the
+ * skeleton: not a camera or light, and, when the file has clips, moved by one of them
+ * (itself or below it) or hanging from a moved node (BVH end sites), which leaves out
+ * helpers such as 3ds Max's sky light and camera targets. */
+static bool in_generated_skeleton(const context *c, const char *name, int32_t node)
+{
+    if (names_camera_or_light(c->scene, name))
+        return false;
+    if (c->scene->mNumAnimations == 0 || node < 0)
+        return true;
+    const struct aiNode *n = c->nodes[node];
+    return moves_subtree(c->scene, n) || (n->mParent && is_animated(c->scene, n->mParent->mName.data));
+}
+
 /* A skin from a mesh's bone list: each bone's node, and Assimp's offset matrix (mesh space
  * to bone space at bind time, with COLLADA's bind-shape matrix already multiplied in) used
  * once, as the inverse bind matrix. joint_of_bone gets each bone's joint index, or -1 for
- * a bone that names no node (its weights are dropped). */
-static sinew_result add_skin(context *c, const struct aiMesh *in, const char *mesh_name, int32_t *joint_of_bone,
-                             int32_t *skin_index)
+ * a bone that names no node (its weights are dropped). `skeleton_only`: the mesh is
+ * Assimp's generated bone mesh, whose bones are every node, cameras and lights included;
+ * only the skeleton's nodes are kept (in_generated_skeleton). */
+static sinew_result add_skin(context *c, const struct aiMesh *in, const char *mesh_name, bool skeleton_only,
+                             int32_t *joint_of_bone, int32_t *skin_index)
 {
     raw_model *m = c->model;
     raw_skin *grown = realloc(m->skins, (m->skin_count + 1) * sizeof *grown);
@@ -335,6 +383,8 @@ static sinew_result add_skin(context *c, const struct aiMesh *in, const char *me
         bool ambiguous = false;
         int32_t node = find_node(c, bone->mName.data, c->joints, &ambiguous);
         joint_of_bone[b] = -1;
+        if (skeleton_only && !in_generated_skeleton(c, bone->mName.data, node))
+            continue;
         if (node < 0) {
             raw_model_warn(m, "mesh \"%s\": bone \"%s\" names no node; its weights are dropped", mesh_name,
                            bone->mName.data);
@@ -402,7 +452,7 @@ static sinew_result read_skin(context *c, const struct aiMesh *in, raw_mesh *out
     int32_t *joint_of_bone = calloc(in->mNumBones, sizeof *joint_of_bone);
     if (!joint_of_bone)
         return oom(c);
-    sinew_result r = add_skin(c, in, out->name, joint_of_bone, &out->skin);
+    sinew_result r = add_skin(c, in, out->name, false, joint_of_bone, &out->skin);
     if (!r)
         r = read_influences(c, in, joint_of_bone, out);
     free(joint_of_bone);
@@ -502,10 +552,11 @@ static sinew_result read_meshes(context *c)
             /* Keep the skeleton it names as a skin with no mesh, so the joints stay joints. */
             int32_t *joint_of_bone = calloc(in->mNumBones ? in->mNumBones : 1, sizeof *joint_of_bone);
             int32_t skin;
-            result = joint_of_bone ? add_skin(c, in, "skeleton", joint_of_bone, &skin) : oom(c);
+            result = joint_of_bone ? add_skin(c, in, "skeleton", true, joint_of_bone, &skin) : oom(c);
             free(joint_of_bone);
-            raw_model_warn(m, "skeleton-only file: Assimp's generated bone mesh was dropped; its %u joints are kept",
-                           in->mNumBones);
+            if (!result)
+                raw_model_warn(m, "skeleton-only file: Assimp's generated bone mesh was dropped; its %u joints are kept",
+                               m->skins[skin].joint_count);
             continue;
         }
         if (!(in->mPrimitiveTypes & aiPrimitiveType_TRIANGLE)) {

@@ -1,0 +1,319 @@
+/* `sinew render FILE`: draws frames headless (EGL, no window) to PNG files or a video. */
+#include <errno.h>
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+#include <strings.h>
+
+#include "cli.h"
+
+static const char render_usage[] =
+    "usage: sinew render FILE [--clip C] [--time T] [--size WxH] [--camera SPEC] [display options] -o OUT.png\n"
+    "       sinew render FILE [--clip C] [--from A] [--to B] [--fps N] [...] -o DIR/frame%04d.png | -o OUT.mp4\n"
+    "\n"
+    "Renders FILE's animation off-screen with OpenGL (Mesa's llvmpipe without a GPU) and writes PNG images,\n"
+    "or an MP4 video through the ffmpeg program.\n"
+    "\n"
+    "  --clip C            clip by name or index (default: the first; none: the rest pose)\n"
+    "  --time T            the moment in seconds for one image (default 0)\n"
+    "  --from A --to B     a sequence from A to B seconds, both included (default: the whole clip)\n"
+    "  --fps N             frames per second of the sequence (default 30)\n"
+    "  --loop              wrap times outside the clip instead of clamping\n"
+    "  --size WxH          image size in pixels (default 1280x720)\n"
+    "  --samples N         multisampling (default 4, 1 = off)\n"
+    "  --camera SPEC       orbit:YAW,PITCH[,DISTANCE] or fly:X,Y,Z,YAW,PITCH, degrees and metres\n"
+    "                      (default orbit:30,15: framed on the posed model over the frames drawn)\n"
+    "  -o, --output PATH   OUT.png, a pattern with one %d (frame number), or OUT.mp4\n"
+    "\n"
+    "display options (--NAME turns a switch on, --no-NAME off):\n"
+    "  --materials --lighting --grid           on by default\n"
+    "  --skeleton (--bones) --joint-axes --joint-names --wireframe --normals --axes\n"
+    "                                          off by default (a file without meshes shows its skeleton)\n"
+    "  --meshes                                on by default; --no-meshes shows the skeleton alone\n"
+    "  --shading phong|gouraud|flat            lit per pixel (default), per vertex, or per triangle\n"
+    "  --skinning gpu|cpu                      vertex shader (default) or the library's CPU skinning\n"
+    "  --select JOINT                          highlight a joint (name) and show its name\n"
+    "  --heatmap JOINT                         colour the mesh by that joint's skin weights\n"
+    "  --background RRGGBB                     background colour (default 292b30)\n"
+    "  --normal-length L                       length of drawn normals (default 3% of the model)\n"
+    "  --gpu-joint-limit N                     skin larger skins on the CPU (tests the fallback)\n";
+
+#define MAX_FRAMES 100000
+
+typedef struct render_args {
+    const char *path, *clip, *out, *camera, *select, *heatmap;
+    int width, height, samples;
+    double time, from, to, fps;
+    bool from_set, to_set, fps_set, loop, skeleton_set;
+    uint32_t gpu_joint_limit;
+    sinew_render_options options;
+} render_args;
+
+static bool parse_size(const char *text, int *w, int *h)
+{
+    char *end = NULL;
+    errno = 0;
+    long a = strtol(text, &end, 10);
+    if (end == text || (*end != 'x' && *end != 'X') || errno)
+        return false;
+    const char *b_text = end + 1;
+    long b = strtol(b_text, &end, 10);
+    if (end == b_text || *end || errno || a < 1 || b < 1 || a > 16384 || b > 16384)
+        return false;
+    *w = (int)a, *h = (int)b;
+    return true;
+}
+
+static bool parse_seconds(const char *option, const char *text, double *out)
+{
+    char *end = NULL;
+    errno = 0;
+    *out = strtod(text, &end);
+    if (end == text || *end || errno || !isfinite(*out)) {
+        cli_error("render: bad %s \"%s\": expected seconds", option, text);
+        return false;
+    }
+    return true;
+}
+
+/* A display option: --NAME, --no-NAME, or --NAME VALUE. Returns the arguments used (0: not one). */
+static int parse_display_option(int argc, char **argv, int i, render_args *a, bool *bad)
+{
+    const char *arg = argv[i] + 2;
+    sinew_error error = {0};
+    if (strcmp(arg, "bones") == 0)
+        arg = "skeleton";
+    bool off = strncmp(arg, "no-", 3) == 0 && sinew_render_option_is_switch(arg + 3);
+    const char *name = off ? arg + 3 : arg;
+    if (sinew_render_option_is_switch(name)) {
+        sinew_render_option_set(&a->options, name, off ? "off" : "on", NULL);
+        if (strcmp(name, "skeleton") == 0)
+            a->skeleton_set = true;
+        return 1;
+    }
+    for (const char *const *n = sinew_render_option_names(); *n; n++) {
+        if (strcmp(*n, name) != 0)
+            continue;
+        if (i + 1 >= argc) {
+            cli_error("render: --%s needs a value", name);
+            *bad = true;
+            return 1;
+        }
+        if (sinew_render_option_set(&a->options, name, argv[i + 1], &error) != SINEW_OK) {
+            cli_error("render: %s", error.message);
+            *bad = true;
+        }
+        return 2;
+    }
+    return 0;
+}
+
+static int parse_value_option(int argc, char **argv, int i, render_args *a, bool *bad)
+{
+    const char *o = argv[i];
+    if (i + 1 >= argc)
+        return 0;
+    const char *v = argv[i + 1];
+    if (strcmp(o, "--clip") == 0)
+        a->clip = v;
+    else if (strcmp(o, "-o") == 0 || strcmp(o, "--output") == 0)
+        a->out = v;
+    else if (strcmp(o, "--camera") == 0)
+        a->camera = v;
+    else if (strcmp(o, "--select") == 0)
+        a->select = v;
+    else if (strcmp(o, "--heatmap") == 0)
+        a->heatmap = v;
+    else if (strcmp(o, "--time") == 0)
+        *bad = !parse_seconds(o, v, &a->time);
+    else if (strcmp(o, "--from") == 0)
+        *bad = !parse_seconds(o, v, &a->from), a->from_set = true;
+    else if (strcmp(o, "--to") == 0)
+        *bad = !parse_seconds(o, v, &a->to), a->to_set = true;
+    else if (strcmp(o, "--fps") == 0) {
+        a->fps_set = true;
+        if (!parse_seconds(o, v, &a->fps) || !(a->fps > 0.0 && a->fps <= 1000.0)) {
+            cli_error("render: --fps \"%s\": expected a rate in (0, 1000]", v);
+            *bad = true;
+        }
+    } else if (strcmp(o, "--size") == 0) {
+        if (!parse_size(v, &a->width, &a->height)) {
+            cli_error("render: bad --size \"%s\": expected WIDTHxHEIGHT, each 1..16384", v);
+            *bad = true;
+        }
+    } else if (strcmp(o, "--samples") == 0 || strcmp(o, "--gpu-joint-limit") == 0) {
+        char *end = NULL;
+        long n = strtol(v, &end, 10);
+        if (end == v || *end || n < 1 || n > 1 << 20) {
+            cli_error("render: bad %s \"%s\": expected a positive whole number", o, v);
+            *bad = true;
+        } else if (o[2] == 's') {
+            a->samples = (int)n;
+        } else {
+            a->gpu_joint_limit = (uint32_t)n;
+        }
+    } else
+        return 0;
+    return 2;
+}
+
+/* Returns -1 to go on, or an exit code. */
+static int parse_render_args(int argc, char **argv, render_args *a)
+{
+    for (int i = 1; i < argc;) {
+        const char *arg = argv[i];
+        bool bad = false;
+        if (cli_is_help(arg)) {
+            fputs(render_usage, stdout);
+            return EXIT_OK;
+        }
+        int used = 0;
+        if (strcmp(arg, "--loop") == 0)
+            a->loop = true, used = 1;
+        if (!used)
+            used = parse_value_option(argc, argv, i, a, &bad);
+        if (!used && arg[0] == '-' && arg[1] == '-')
+            used = parse_display_option(argc, argv, i, a, &bad);
+        if (bad)
+            return EXIT_USAGE;
+        if (!used) {
+            if (arg[0] == '-' && arg[1]) {
+                cli_error("render: unknown option or missing value \"%s\" (see `sinew render --help`)", arg);
+                return EXIT_USAGE;
+            }
+            if (a->path) {
+                cli_error("render: one FILE only (got \"%s\" and \"%s\")", a->path, arg);
+                return EXIT_USAGE;
+            }
+            a->path = arg;
+            used = 1;
+        }
+        i += used;
+    }
+    if (!a->path || !a->out) {
+        cli_error("render: %s (see `sinew render --help`)", !a->path ? "no FILE given" : "no -o OUTPUT given");
+        return EXIT_USAGE;
+    }
+    return -1;
+}
+
+typedef enum output_kind { OUTPUT_PNG, OUTPUT_PATTERN, OUTPUT_VIDEO } output_kind;
+
+/* A pattern has exactly one %d, %Nd or %0Nd and no other conversion (%% is a percent sign). */
+static bool is_frame_pattern(const char *path, bool *malformed)
+{
+    int conversions = 0;
+    *malformed = false;
+    for (const char *p = path; (p = strchr(p, '%')); p++) {
+        if (p[1] == '%') {
+            p++;
+            continue;
+        }
+        const char *q = p + 1;
+        while (*q >= '0' && *q <= '9')
+            q++;
+        if (*q != 'd')
+            *malformed = true;
+        conversions++;
+    }
+    if (conversions > 1)
+        *malformed = true;
+    return conversions > 0;
+}
+
+static bool ends_with(const char *s, const char *suffix)
+{
+    size_t a = strlen(s), b = strlen(suffix);
+    return a >= b && strcasecmp(s + a - b, suffix) == 0;
+}
+
+int cmd_render(int argc, char **argv)
+{
+    render_args a = {.width = 1280, .height = 720, .fps = 30.0, .options = sinew_render_options_default()};
+    int code = parse_render_args(argc, argv, &a);
+    if (code >= 0)
+        return code;
+    bool malformed = false;
+    output_kind kind = ends_with(a.out, ".mp4")                ? OUTPUT_VIDEO
+                       : is_frame_pattern(a.out, &malformed) ? OUTPUT_PATTERN
+                                                              : OUTPUT_PNG;
+    if (malformed) {
+        cli_error("render: -o \"%s\": a frame pattern takes one %%d (or %%04d) for the frame number", a.out);
+        return EXIT_USAGE;
+    }
+    bool sequence = a.from_set || a.to_set || a.fps_set;
+    if (sequence && kind == OUTPUT_PNG) {
+        cli_error("render: --from/--to/--fps write several frames: give -o DIR/frame%%04d.png or -o OUT.mp4");
+        return EXIT_USAGE;
+    }
+    cli_scene_desc desc = {.path = a.path,
+                           .clip = a.clip,
+                           .width = a.width,
+                           .height = a.height,
+                           .samples = a.samples,
+                           .camera = a.camera,
+                           .select = a.select,
+                           .heatmap = a.heatmap,
+                           .loop = a.loop,
+                           .skeleton_set = a.skeleton_set,
+                           .gpu_joint_limit = a.gpu_joint_limit,
+                           .options = a.options};
+    cli_scene scene;
+    code = cli_scene_open(&scene, &desc);
+    if (code != EXIT_OK)
+        return code;
+
+    double from = a.time, to = a.time, step = 1.0;
+    uint32_t frames = 1;
+    if (kind != OUTPUT_PNG) {
+        from = a.from_set ? a.from : 0.0;
+        to = a.to_set ? a.to : (scene.clip ? scene.clip->duration : 0.0);
+        if (to < from) {
+            cli_error("render: --to %g is before --from %g", to, from);
+            cli_scene_close(&scene);
+            return EXIT_USAGE;
+        }
+        step = 1.0 / a.fps;
+        double count = floor((to - from) * a.fps + 1e-6) + 1.0;
+        if (count > MAX_FRAMES) {
+            cli_error("render: %.0f frames is more than %d; lower --fps or shorten --from/--to", count, MAX_FRAMES);
+            cli_scene_close(&scene);
+            return EXIT_USAGE;
+        }
+        frames = (uint32_t)count;
+    }
+    code = cli_scene_frame_all(&scene, from, to) ? EXIT_OK : EXIT_BAD_INPUT;
+    cli_video video = {.fd = -1};
+    if (code == EXIT_OK && kind == OUTPUT_VIDEO) {
+        cli_ignore_sigpipe();
+        if (!cli_video_open(&video, a.out, a.width, a.height, a.fps))
+            code = EXIT_BAD_INPUT;
+    }
+    for (uint32_t f = 0; f < frames && code == EXIT_OK; f++) {
+        double t = from + step * f;
+        if (!cli_scene_draw(&scene, t) || !cli_scene_read(&scene)) {
+            code = EXIT_BAD_INPUT;
+            break;
+        }
+        if (kind == OUTPUT_VIDEO) {
+            if (!cli_video_write(&video, scene.pixels))
+                code = EXIT_BAD_INPUT;
+            continue;
+        }
+        char path[4096];
+        if (kind == OUTPUT_PATTERN)
+            snprintf(path, sizeof path, a.out, (int)f);
+        else
+            snprintf(path, sizeof path, "%s", a.out);
+        if (!cli_write_png(path, scene.pixels, a.width, a.height))
+            code = EXIT_BAD_INPUT;
+    }
+    if (kind == OUTPUT_VIDEO && video.fd >= 0 && !cli_video_close(&video))
+        code = EXIT_BAD_INPUT;
+    if (code == EXIT_OK)
+        printf("%s: %u frame%s %dx%d, t = %g..%g s, %s skinning, %s\n", a.out, frames, frames == 1 ? "" : "s",
+               a.width, a.height, from, from + step * (frames - 1),
+               scene.frame_options.skinning == SINEW_SKINNING_CPU ? "CPU" : "GPU", scene.gl_name);
+    cli_scene_close(&scene);
+    return code;
+}

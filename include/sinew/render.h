@@ -1,0 +1,125 @@
+/* sinew/render.h — draws a posed model into the current OpenGL 3.3 core context.
+ *
+ * What: a renderer that uploads a model's meshes once and draws a pose (world matrices
+ * from sinew_local_to_world) each frame. Skinning runs in the vertex shader with every
+ * skin's palette in a texture buffer (up to SINEW_MAX_JOINTS joints, up to
+ * SINEW_MAX_INFLUENCES influences, no mesh splitting), or on the CPU through the core's
+ * sinew_skin_vertices() (same picture). Display switches: materials (base colour and
+ * diffuse texture) or clay; lighting (key + fill) or unlit; flat, Gouraud or Phong
+ * shading; wireframe overlay; the skeleton drawn over the mesh (bones, joint dots, one
+ * selected joint highlighted, optional axes and names); a joint's weight heat map; vertex
+ * normals; ground grid and world axes; background colour.
+ * What not: no windows and no context creation: a GtkGLArea, or sinew/headless.h for
+ * an off-screen EGL context, makes the context current first. No input handling.
+ * Memory: create allocates GL objects and CPU scratch for the model (textures decoded
+ * with stb_image); sinew_renderer_draw() allocates nothing.
+ * Errors: sinew_result values with a message (GL version too old, shader that does not
+ * compile, model too big for a buffer). Textures that cannot be read are warnings
+ * (sinew_renderer_warning()), the material then shows its base colour.
+ * Threads: every call must come from the thread whose context is current.
+ * Conventions: see sinew/model.h; the frame's pixels are not read back here.
+ */
+#ifndef SINEW_RENDER_H
+#define SINEW_RENDER_H
+
+#include <stdbool.h>
+#include <stdint.h>
+
+#include "sinew/camera.h"
+#include "sinew/model.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+typedef enum sinew_shading {
+    SINEW_SHADING_PHONG = 0,   /* lit per pixel (the default) */
+    SINEW_SHADING_GOURAUD = 1, /* lit per vertex, colours interpolated */
+    SINEW_SHADING_FLAT = 2     /* one normal a triangle */
+} sinew_shading;
+
+typedef enum sinew_skinning {
+    SINEW_SKINNING_GPU = 0, /* vertex shader, palette in a texture buffer (the default) */
+    SINEW_SKINNING_CPU = 1  /* sinew_skin_vertices() each frame, vertices streamed */
+} sinew_skinning;
+
+/* Display switches. Start from sinew_render_options_default(): several defaults are "on". */
+typedef struct sinew_render_options {
+    bool materials;         /* base colour + diffuse texture; off = clay */
+    bool lighting;          /* key + fill light; off = unlit colour */
+    sinew_shading shading;  /* used when lighting is on */
+    bool wireframe;         /* triangle edges over the surface */
+    bool meshes;            /* draw the meshes at all */
+    bool skeleton;          /* bones and joint dots over the mesh */
+    bool joint_axes;        /* each joint's local X/Y/Z axes (red/green/blue) */
+    bool joint_names;       /* joint names next to the dots */
+    bool normals;           /* vertex normals as short lines */
+    bool grid;              /* ground grid on y = 0 */
+    bool axes;              /* world X/Y/Z axes at the origin */
+    int32_t selected_joint; /* node index to highlight, -1 for none */
+    int32_t heatmap_joint;  /* node index whose skin weights colour the mesh, -1 for none */
+    float background[3];    /* 0..1 RGB as displayed (sRGB) */
+    float normal_length;    /* world units; 0 = 3% of the scene radius */
+    sinew_skinning skinning;
+    const bool *hidden_instances; /* instance_count flags, true = hidden; NULL = all shown */
+} sinew_render_options;
+
+sinew_render_options sinew_render_options_default(void);
+
+/* Display switches by name, for command lines and settings files. Names: materials,
+ * lighting, wireframe, meshes, skeleton, joint-axes, joint-names, normals, grid, axes
+ * (booleans: on/off, true/false, yes/no, 1/0; a NULL value means on), shading
+ * (phong|gouraud|flat), skinning (gpu|cpu), background (RRGGBB, #RRGGBB, or r,g,b in 0..1),
+ * normal-length (world units, 0 = automatic). Joint choices are node indices and are set
+ * directly. An unknown name or a bad value gives SINEW_ERROR_INVALID_ARGUMENT. */
+sinew_result sinew_render_option_set(sinew_render_options *options, const char *name, const char *value,
+                                     sinew_error *error);
+/* The value as sinew_render_option_set() reads it ("on", "phong", "#2a2b30", ...). */
+sinew_result sinew_render_option_get(const sinew_render_options *options, const char *name, char *out, size_t size,
+                                     sinew_error *error);
+/* The names above, NULL-terminated; and whether one is a boolean switch. */
+const char *const *sinew_render_option_names(void);
+bool sinew_render_option_is_switch(const char *name);
+
+typedef struct sinew_renderer sinew_renderer;
+
+typedef struct sinew_renderer_desc {
+    const sinew_model *model; /* kept by pointer: must outlive the renderer */
+    /* Joints a skin may have for GPU skinning; 0 = what the GL texture-buffer limit
+     * allows (SINEW_MAX_JOINTS or more). Larger skins are skinned on the CPU. */
+    uint32_t max_gpu_joints;
+    const sinew_allocator *allocator; /* NULL for malloc/free */
+} sinew_renderer_desc;
+
+/* Needs a current OpenGL >= 3.3 core context. */
+sinew_result sinew_renderer_create(const sinew_renderer_desc *desc, sinew_renderer **out, sinew_error *error);
+void sinew_renderer_destroy(sinew_renderer *renderer);
+
+/* Warnings from create (unreadable textures, skins skinned on the CPU). */
+uint32_t sinew_renderer_warning_count(const sinew_renderer *renderer);
+const char *sinew_renderer_warning(const sinew_renderer *renderer, uint32_t index);
+
+/* The GL_RENDERER and GL_VERSION strings of the context it was created in. */
+const char *sinew_renderer_gl_name(const sinew_renderer *renderer);
+
+typedef struct sinew_frame {
+    const sinew_mat4 *worlds; /* model->node_count world matrices */
+    uint32_t world_count;
+    const sinew_camera *camera;
+    int width, height; /* viewport in pixels */
+    const sinew_render_options *options;
+} sinew_frame;
+
+/* Clears the bound framebuffer's viewport and draws the frame. */
+sinew_result sinew_renderer_draw(sinew_renderer *renderer, const sinew_frame *frame, sinew_error *error);
+
+/* Bounds of the posed model's vertices (skinned and rigid instances, hidden ones too)
+ * from world matrices, computed on the CPU; the box of the joints when no mesh has a
+ * vertex (skeleton-only files). Returns false when the model has nothing with a position. */
+bool sinew_renderer_bounds(sinew_renderer *renderer, const sinew_mat4 *worlds, uint32_t world_count, float min[3],
+                           float max[3]);
+
+#ifdef __cplusplus
+}
+#endif
+#endif

@@ -1,0 +1,57 @@
+/* Internals of the renderer shared between its files; no promise outside src/render. */
+#ifndef SINEW_RENDER_INTERNAL_H
+#define SINEW_RENDER_INTERNAL_H
+
+#include <epoxy/gl.h>
+
+#include "../core/internal.h"
+#include "sinew/render.h"
+
+typedef struct render_programs {
+    GLuint mesh;    /* surfaces, wireframe */
+    GLuint normals; /* vertex normals as lines (geometry stage) */
+    GLuint overlay; /* skeleton, grid, axes, text */
+} render_programs;
+
+sinew_result render_programs_create(render_programs *programs, sinew_error *error);
+void render_programs_destroy(render_programs *programs);
+
+/* One vertex of the overlay: position and sRGB colour (the layout stb_easy_font writes). */
+typedef struct overlay_vertex {
+    float position[3];
+    uint8_t color[4];
+} overlay_vertex;
+
+/* Growing list of overlay vertices in a buffer sized once at creation. */
+typedef struct overlay_list {
+    overlay_vertex *vertices;
+    uint32_t count, capacity;
+} overlay_list;
+
+/* The per-frame facts the overlay needs. */
+typedef struct overlay_frame {
+    const sinew_model *model;
+    const bool *skeleton_nodes; /* node_count flags: drawn as part of the skeleton */
+    const sinew_mat4 *worlds;
+    const sinew_render_options *options;
+    const sinew_camera *camera;
+    const float *view_proj; /* 16 floats */
+    int width, height;
+    float scene_radius;
+} overlay_frame;
+
+/* Fill `list` with world-space geometry; each returns false when the list is full. */
+void overlay_add_grid(overlay_list *list, const overlay_frame *frame);
+void overlay_add_axes(overlay_list *list, const overlay_frame *frame);
+void overlay_add_bones(overlay_list *list, const overlay_frame *frame);
+void overlay_add_joint_axes(overlay_list *list, const overlay_frame *frame);
+void overlay_add_joints(overlay_list *list, const overlay_frame *frame, bool selected_only);
+/* Pixel-space quads of joint names (4 vertices a quad). */
+void overlay_add_names(overlay_list *list, const overlay_frame *frame);
+
+/* Vertices the overlay may need for a model with `node_count` nodes. */
+uint32_t overlay_capacity(uint32_t node_count);
+/* Vertices reserved for text quads. */
+#define OVERLAY_TEXT_VERTICES (64u * 1024u)
+
+#endif

@@ -1,0 +1,824 @@
+/* The renderer: uploads a model once, draws a pose each frame.
+ *
+ * Index: memory layout and creation (meshes, textures, palette texture buffer, overlay
+ * buffers) - per-frame palette and CPU skinning - mesh passes (surface, wireframe,
+ * normals) - overlay passes (grid, skeleton, names) - bounds.
+ */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include <cglm/cglm.h>
+#include <stb_image.h>
+
+#include "internal.h"
+#include "sinew/anim.h"
+
+#define WARNING_SIZE 320
+#define ALIGN16(x) (((x) + 15) & ~(size_t)15)
+
+enum { BUF_POSITION, BUF_NORMAL, BUF_UV, BUF_JOINTS0, BUF_JOINTS1, BUF_WEIGHTS0, BUF_WEIGHTS1, BUF_STREAM, BUF_COUNT };
+
+typedef struct render_mesh {
+    GLuint vao_static; /* rest vertices: rigid meshes and GPU skinning */
+    GLuint vao_stream; /* CPU-skinned positions and normals from BUF_STREAM */
+    GLuint buffers[BUF_COUNT];
+    GLuint indices;
+    int influence_sets; /* 0 rigid, 1 for up to 4 influences, 2 for up to 8 */
+} render_mesh;
+
+typedef struct mesh_uniforms {
+    GLint model, view_proj, gpu_sets, palette_offset, palette, heat_joint, heat_rigid, gouraud, key_dir, fill_dir, eye,
+        base_color, use_texture, texture, mode, heat, override, normal_length;
+} mesh_uniforms;
+
+struct sinew_renderer {
+    const sinew_model *model;
+    sinew_allocator allocator;
+    render_programs programs;
+    mesh_uniforms mesh_u, normals_u;
+    GLint overlay_matrix, overlay_point_size, overlay_round;
+    render_mesh *meshes;
+    GLuint *textures;           /* a material, 0 when it has none or it could not be read */
+    uint32_t *skin_offsets;     /* first palette matrix of each skin */
+    bool *skin_on_gpu;          /* false: this skin is too big for the GPU path */
+    uint32_t total_joints;
+    sinew_mat4 *palettes;       /* total_joints matrices */
+    float *stream;              /* largest mesh's vertex count * 6 floats */
+    bool *skeleton_nodes;       /* node_count flags */
+    overlay_list overlay;       /* world-space geometry, then text quads */
+    GLuint palette_buffer, palette_texture;
+    GLuint overlay_vao, overlay_buffer, quad_indices;
+    char (*warnings)[WARNING_SIZE];
+    uint32_t warning_count, warning_capacity;
+    char gl_name[256];
+};
+
+static void *default_alloc(size_t size, void *user)
+{
+    (void)user;
+    return aligned_alloc(16, ALIGN16(size));
+}
+
+static void default_free(void *ptr, void *user)
+{
+    (void)user;
+    free(ptr);
+}
+
+sinew_render_options sinew_render_options_default(void)
+{
+    return (sinew_render_options){.materials = true,
+                                  .lighting = true,
+                                  .shading = SINEW_SHADING_PHONG,
+                                  .meshes = true,
+                                  .grid = true,
+                                  .selected_joint = -1,
+                                  .heatmap_joint = -1,
+                                  .background = {0.16f, 0.17f, 0.19f}};
+}
+
+static void warn(sinew_renderer *r, const char *format, ...) __attribute__((format(printf, 2, 3)));
+static void warn(sinew_renderer *r, const char *format, ...)
+{
+    if (r->warning_count >= r->warning_capacity)
+        return;
+    va_list args;
+    va_start(args, format);
+    vsnprintf(r->warnings[r->warning_count++], WARNING_SIZE, format, args);
+    va_end(args);
+}
+
+/* Sizes every CPU-side array once, so the whole renderer is one allocation. */
+typedef struct layout {
+    size_t meshes, textures, skin_offsets, skin_on_gpu, palettes, stream, skeleton, overlay, warnings, total;
+} layout;
+
+static layout plan_layout(const sinew_model *m, uint32_t total_joints, uint32_t max_vertices, uint32_t warnings)
+{
+    layout l;
+    size_t at = ALIGN16(sizeof(sinew_renderer));
+#define PLACE(field, bytes)                                                                                            \
+    l.field = at;                                                                                                      \
+    at += ALIGN16(bytes)
+    PLACE(meshes, (size_t)m->mesh_count * sizeof(render_mesh));
+    PLACE(textures, (size_t)m->material_count * sizeof(GLuint));
+    PLACE(skin_offsets, (size_t)m->skin_count * sizeof(uint32_t));
+    PLACE(skin_on_gpu, (size_t)m->skin_count * sizeof(bool));
+    PLACE(palettes, (size_t)total_joints * sizeof(sinew_mat4));
+    PLACE(stream, (size_t)max_vertices * 6 * sizeof(float));
+    PLACE(skeleton, (size_t)m->node_count * sizeof(bool));
+    PLACE(overlay, ((size_t)overlay_capacity(m->node_count) + OVERLAY_TEXT_VERTICES) * sizeof(overlay_vertex));
+    PLACE(warnings, (size_t)warnings * WARNING_SIZE);
+#undef PLACE
+    l.total = at;
+    return l;
+}
+
+static GLuint make_buffer(GLenum target, size_t bytes, const void *data, GLenum usage)
+{
+    GLuint b = 0;
+    glGenBuffers(1, &b);
+    glBindBuffer(target, b);
+    glBufferData(target, (GLsizeiptr)bytes, data, usage);
+    return b;
+}
+
+static void float_attribute(GLuint location, GLuint buffer, int size, GLsizei stride, size_t offset)
+{
+    glBindBuffer(GL_ARRAY_BUFFER, buffer);
+    glEnableVertexAttribArray(location);
+    glVertexAttribPointer(location, size, GL_FLOAT, GL_FALSE, stride, (const void *)offset);
+}
+
+/* Joints and weights of a mesh spread over `sets` groups of four, zero-padded, so the
+ * shader always reads uvec4/vec4 pairs whatever the file's influence count. */
+static void upload_influences(render_mesh *rm, const sinew_mesh *mesh, int sets, void *scratch)
+{
+    uint32_t n = mesh->vertex_count, k = mesh->influence_count;
+    for (int set = 0; set < sets; set++) {
+        uint16_t *joints = scratch;
+        for (uint32_t v = 0; v < n; v++)
+            for (uint32_t c = 0; c < 4; c++) {
+                uint32_t src = (uint32_t)set * 4 + c;
+                joints[v * 4 + c] = src < k ? mesh->joints[(size_t)v * k + src] : 0;
+            }
+        rm->buffers[BUF_JOINTS0 + set] = make_buffer(GL_ARRAY_BUFFER, (size_t)n * 8, joints, GL_STATIC_DRAW);
+        float *weights = scratch;
+        for (uint32_t v = 0; v < n; v++)
+            for (uint32_t c = 0; c < 4; c++) {
+                uint32_t src = (uint32_t)set * 4 + c;
+                weights[v * 4 + c] = src < k ? mesh->weights[(size_t)v * k + src] : 0.0f;
+            }
+        rm->buffers[BUF_WEIGHTS0 + set] = make_buffer(GL_ARRAY_BUFFER, (size_t)n * 16, weights, GL_STATIC_DRAW);
+    }
+}
+
+/* Binds the attributes both VAOs share: UVs, joints, weights (constant when absent). */
+static void bind_shared_attributes(const render_mesh *rm)
+{
+    if (rm->buffers[BUF_UV])
+        float_attribute(2, rm->buffers[BUF_UV], 2, 0, 0);
+    else
+        glVertexAttrib2f(2, 0.0f, 0.0f);
+    for (int set = 0; set < 2; set++) {
+        if (set < rm->influence_sets) {
+            glBindBuffer(GL_ARRAY_BUFFER, rm->buffers[BUF_JOINTS0 + set]);
+            glEnableVertexAttribArray(3 + set);
+            glVertexAttribIPointer(3 + set, 4, GL_UNSIGNED_SHORT, 0, NULL);
+            float_attribute(5 + set, rm->buffers[BUF_WEIGHTS0 + set], 4, 0, 0);
+        } else {
+            glVertexAttribI4ui(3 + set, 0, 0, 0, 0);
+            glVertexAttrib4f(5 + set, 0.0f, 0.0f, 0.0f, 0.0f);
+        }
+    }
+    glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, rm->indices);
+}
+
+static void upload_mesh(render_mesh *rm, const sinew_mesh *mesh, void *scratch)
+{
+    size_t n = mesh->vertex_count;
+    rm->influence_sets = mesh->skin >= 0 && mesh->influence_count ? (mesh->influence_count > 4 ? 2 : 1) : 0;
+    rm->buffers[BUF_POSITION] = make_buffer(GL_ARRAY_BUFFER, n * 12, mesh->positions, GL_STATIC_DRAW);
+    rm->buffers[BUF_NORMAL] = make_buffer(GL_ARRAY_BUFFER, n * 12, mesh->normals, GL_STATIC_DRAW);
+    if (mesh->uvs)
+        rm->buffers[BUF_UV] = make_buffer(GL_ARRAY_BUFFER, n * 8, mesh->uvs, GL_STATIC_DRAW);
+    upload_influences(rm, mesh, rm->influence_sets, scratch);
+    glGenVertexArrays(1, &rm->vao_static);
+    glBindVertexArray(rm->vao_static);
+    rm->indices = make_buffer(GL_ELEMENT_ARRAY_BUFFER, (size_t)mesh->index_count * 4, mesh->indices, GL_STATIC_DRAW);
+    float_attribute(0, rm->buffers[BUF_POSITION], 3, 0, 0);
+    float_attribute(1, rm->buffers[BUF_NORMAL], 3, 0, 0);
+    bind_shared_attributes(rm);
+    if (rm->influence_sets) {
+        glGenVertexArrays(1, &rm->vao_stream);
+        glBindVertexArray(rm->vao_stream);
+        rm->buffers[BUF_STREAM] = make_buffer(GL_ARRAY_BUFFER, n * 24, NULL, GL_STREAM_DRAW);
+        float_attribute(0, rm->buffers[BUF_STREAM], 3, 24, 0);
+        float_attribute(1, rm->buffers[BUF_STREAM], 3, 24, 12);
+        bind_shared_attributes(rm);
+    }
+    glBindVertexArray(0);
+}
+
+/* Decodes a material's diffuse texture (any stb_image format) into an sRGB texture with
+ * mipmaps; rows are flipped because UVs have v up (OpenGL) and images store the top row first. */
+static GLuint load_texture(sinew_renderer *r, const sinew_material *material)
+{
+    int w = 0, h = 0, channels = 0;
+    unsigned char *pixels = stbi_load(material->diffuse_texture, &w, &h, &channels, 4);
+    if (!pixels) {
+        warn(r, "%s: material \"%s\": cannot read texture %s (%s); its base colour is shown", r->model->source,
+             material->name, material->diffuse_texture, stbi_failure_reason());
+        return 0;
+    }
+    size_t row = (size_t)w * 4;
+    for (int y = 0; y < h / 2; y++) {
+        unsigned char *a = pixels + row * y, *b = pixels + row * (h - 1 - y);
+        for (size_t i = 0; i < row; i++) {
+            unsigned char t = a[i];
+            a[i] = b[i];
+            b[i] = t;
+        }
+    }
+    GLuint t = 0;
+    glGenTextures(1, &t);
+    glBindTexture(GL_TEXTURE_2D, t);
+    glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
+    glTexImage2D(GL_TEXTURE_2D, 0, GL_SRGB8_ALPHA8, w, h, 0, GL_RGBA, GL_UNSIGNED_BYTE, pixels);
+    glGenerateMipmap(GL_TEXTURE_2D);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_LINEAR_MIPMAP_LINEAR);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+    stbi_image_free(pixels);
+    return t;
+}
+
+static void lookup_mesh_uniforms(GLuint program, mesh_uniforms *u)
+{
+#define U(name) u->name = glGetUniformLocation(program, "u_" #name)
+    U(model), U(view_proj), U(gpu_sets), U(palette_offset), U(palette), U(heat_joint), U(heat_rigid), U(gouraud);
+    U(key_dir), U(fill_dir), U(eye), U(base_color), U(use_texture), U(texture), U(mode), U(heat), U(override);
+    U(normal_length);
+#undef U
+}
+
+/* Which skins go to the GPU: each must fit max_gpu_joints and the texture buffer. */
+static void place_skins(sinew_renderer *r, uint32_t max_gpu_joints, uint32_t buffer_joints)
+{
+    const sinew_model *m = r->model;
+    uint32_t at = 0;
+    for (uint32_t s = 0; s < m->skin_count; s++) {
+        uint32_t n = m->skins[s].joint_count;
+        r->skin_offsets[s] = at;
+        at += n;
+        r->skin_on_gpu[s] = n <= max_gpu_joints && at <= buffer_joints;
+        if (!r->skin_on_gpu[s])
+            warn(r, "%s: skin %u has %u joints, more than GPU skinning allows here (%u); it is skinned on the CPU",
+                 m->source, s, n, max_gpu_joints < buffer_joints ? max_gpu_joints : buffer_joints);
+    }
+}
+
+static void mark_skeleton(sinew_renderer *r)
+{
+    const sinew_model *m = r->model;
+    for (uint32_t n = 0; n < m->node_count; n++)
+        r->skeleton_nodes[n] = m->skin_count ? sinew_model_node_is_joint(m, n) : true;
+}
+
+static sinew_result create_gl_objects(sinew_renderer *r, uint32_t max_vertices, sinew_error *error)
+{
+    const sinew_model *m = r->model;
+    sinew_result result = render_programs_create(&r->programs, error);
+    if (result != SINEW_OK)
+        return result;
+    lookup_mesh_uniforms(r->programs.mesh, &r->mesh_u);
+    lookup_mesh_uniforms(r->programs.normals, &r->normals_u);
+    r->overlay_matrix = glGetUniformLocation(r->programs.overlay, "u_matrix");
+    r->overlay_point_size = glGetUniformLocation(r->programs.overlay, "u_point_size");
+    r->overlay_round = glGetUniformLocation(r->programs.overlay, "u_round");
+
+    /* Scratch for padding joints/weights: 16 bytes a vertex. */
+    void *scratch = malloc((size_t)(max_vertices ? max_vertices : 1) * 16);
+    if (!scratch)
+        return sinew_fail(error, SINEW_ERROR_OUT_OF_MEMORY, "%s: out of memory uploading meshes", m->source);
+    for (uint32_t i = 0; i < m->mesh_count; i++)
+        upload_mesh(&r->meshes[i], &m->meshes[i], scratch);
+    free(scratch);
+    for (uint32_t i = 0; i < m->material_count; i++)
+        r->textures[i] = m->materials[i].diffuse_texture ? load_texture(r, &m->materials[i]) : 0;
+
+    r->palette_buffer = make_buffer(GL_TEXTURE_BUFFER, (size_t)(r->total_joints ? r->total_joints : 1) * 64, NULL,
+                                    GL_STREAM_DRAW);
+    glGenTextures(1, &r->palette_texture);
+    glBindTexture(GL_TEXTURE_BUFFER, r->palette_texture);
+    glTexBuffer(GL_TEXTURE_BUFFER, GL_RGBA32F, r->palette_buffer);
+
+    glGenVertexArrays(1, &r->overlay_vao);
+    glBindVertexArray(r->overlay_vao);
+    r->overlay_buffer =
+        make_buffer(GL_ARRAY_BUFFER, r->overlay.capacity * sizeof(overlay_vertex), NULL, GL_STREAM_DRAW);
+    glEnableVertexAttribArray(0);
+    glVertexAttribPointer(0, 3, GL_FLOAT, GL_FALSE, sizeof(overlay_vertex), (const void *)0);
+    glEnableVertexAttribArray(1);
+    glVertexAttribPointer(1, 4, GL_UNSIGNED_BYTE, GL_TRUE, sizeof(overlay_vertex), (const void *)12);
+    uint32_t quads = OVERLAY_TEXT_VERTICES / 4;
+    uint32_t *idx = malloc((size_t)quads * 6 * sizeof *idx);
+    if (!idx)
+        return sinew_fail(error, SINEW_ERROR_OUT_OF_MEMORY, "%s: out of memory", m->source);
+    for (uint32_t q = 0; q < quads; q++) {
+        static const uint32_t pattern[6] = {0, 1, 2, 0, 2, 3};
+        for (int k = 0; k < 6; k++)
+            idx[q * 6 + k] = q * 4 + pattern[k];
+    }
+    r->quad_indices = make_buffer(GL_ELEMENT_ARRAY_BUFFER, (size_t)quads * 6 * sizeof *idx, idx, GL_STATIC_DRAW);
+    free(idx);
+    glBindVertexArray(0);
+    GLenum gl_error = glGetError();
+    if (gl_error != GL_NO_ERROR)
+        return sinew_fail(error, SINEW_ERROR_GRAPHICS, "%s: OpenGL error 0x%04x while uploading the model", m->source,
+                          gl_error);
+    return SINEW_OK;
+}
+
+sinew_result sinew_renderer_create(const sinew_renderer_desc *desc, sinew_renderer **out, sinew_error *error)
+{
+    if (!desc || !desc->model || !out)
+        return sinew_fail(error, SINEW_ERROR_INVALID_ARGUMENT, "sinew_renderer_create: no model or no output");
+    *out = NULL;
+    const sinew_model *m = desc->model;
+    if (!epoxy_is_desktop_gl() || epoxy_gl_version() < 33)
+        return sinew_fail(error, SINEW_ERROR_GRAPHICS, "OpenGL 3.3 core is needed; the current context is %s %s",
+                          epoxy_is_desktop_gl() ? "OpenGL" : "OpenGL ES", (const char *)glGetString(GL_VERSION));
+    if (desc->allocator && (!desc->allocator->alloc || !desc->allocator->free))
+        return sinew_fail(error, SINEW_ERROR_INVALID_ARGUMENT, "sinew_renderer_create: allocator without alloc or free");
+    sinew_allocator alloc = desc->allocator ? *desc->allocator : (sinew_allocator){default_alloc, default_free, NULL};
+
+    uint32_t total_joints = 0, max_vertices = 0;
+    for (uint32_t s = 0; s < m->skin_count; s++)
+        total_joints += m->skins[s].joint_count;
+    for (uint32_t i = 0; i < m->mesh_count; i++)
+        if (m->meshes[i].vertex_count > max_vertices)
+            max_vertices = m->meshes[i].vertex_count;
+    uint32_t warnings = m->material_count + m->skin_count + 1;
+    layout l = plan_layout(m, total_joints, max_vertices, warnings);
+    unsigned char *block = alloc.alloc(l.total, alloc.user);
+    if (!block)
+        return sinew_fail(error, SINEW_ERROR_OUT_OF_MEMORY, "%s: out of memory for the renderer", m->source);
+    memset(block, 0, l.total);
+    sinew_renderer *r = (sinew_renderer *)block;
+    r->model = m;
+    r->allocator = alloc;
+    r->meshes = (render_mesh *)(block + l.meshes);
+    r->textures = (GLuint *)(block + l.textures);
+    r->skin_offsets = (uint32_t *)(block + l.skin_offsets);
+    r->skin_on_gpu = (bool *)(block + l.skin_on_gpu);
+    r->palettes = (sinew_mat4 *)(block + l.palettes);
+    r->stream = (float *)(block + l.stream);
+    r->skeleton_nodes = (bool *)(block + l.skeleton);
+    r->overlay.vertices = (overlay_vertex *)(block + l.overlay);
+    r->overlay.capacity = overlay_capacity(m->node_count) + OVERLAY_TEXT_VERTICES;
+    r->warnings = (char(*)[WARNING_SIZE])(block + l.warnings);
+    r->warning_capacity = warnings;
+    r->total_joints = total_joints;
+    snprintf(r->gl_name, sizeof r->gl_name, "%s / %s", (const char *)glGetString(GL_RENDERER),
+             (const char *)glGetString(GL_VERSION));
+
+    GLint texels = 0;
+    glGetIntegerv(GL_MAX_TEXTURE_BUFFER_SIZE, &texels);
+    uint32_t max_gpu = desc->max_gpu_joints ? desc->max_gpu_joints : UINT32_MAX;
+    place_skins(r, max_gpu, (uint32_t)texels / 4);
+    mark_skeleton(r);
+    sinew_result result = create_gl_objects(r, max_vertices, error);
+    if (result != SINEW_OK) {
+        sinew_renderer_destroy(r);
+        return result;
+    }
+    *out = r;
+    return SINEW_OK;
+}
+
+void sinew_renderer_destroy(sinew_renderer *r)
+{
+    if (!r)
+        return;
+    for (uint32_t i = 0; i < r->model->mesh_count; i++) {
+        render_mesh *rm = &r->meshes[i];
+        glDeleteVertexArrays(1, &rm->vao_static);
+        glDeleteVertexArrays(1, &rm->vao_stream);
+        glDeleteBuffers(BUF_COUNT, rm->buffers);
+        glDeleteBuffers(1, &rm->indices);
+    }
+    glDeleteTextures((GLsizei)r->model->material_count, r->textures);
+    glDeleteTextures(1, &r->palette_texture);
+    glDeleteBuffers(1, &r->palette_buffer);
+    glDeleteVertexArrays(1, &r->overlay_vao);
+    glDeleteBuffers(1, &r->overlay_buffer);
+    glDeleteBuffers(1, &r->quad_indices);
+    render_programs_destroy(&r->programs);
+    r->allocator.free(r, r->allocator.user);
+}
+
+uint32_t sinew_renderer_warning_count(const sinew_renderer *r)
+{
+    return r ? r->warning_count : 0;
+}
+
+const char *sinew_renderer_warning(const sinew_renderer *r, uint32_t index)
+{
+    return r && index < r->warning_count ? r->warnings[index] : NULL;
+}
+
+const char *sinew_renderer_gl_name(const sinew_renderer *r)
+{
+    return r ? r->gl_name : "";
+}
+
+/* ---- per frame ------------------------------------------------------------------ */
+
+static sinew_result compute_palettes(sinew_renderer *r, const sinew_mat4 *worlds, uint32_t world_count,
+                                     sinew_error *error)
+{
+    const sinew_model *m = r->model;
+    for (uint32_t s = 0; s < m->skin_count; s++) {
+        sinew_result result = sinew_skin_palette(&m->skins[s], worlds, world_count, &r->palettes[r->skin_offsets[s]],
+                                                 m->skins[s].joint_count, error);
+        if (result != SINEW_OK)
+            return result;
+    }
+    return SINEW_OK;
+}
+
+static bool mesh_is_skinned(const sinew_mesh *mesh)
+{
+    return mesh->skin >= 0 && mesh->influence_count > 0;
+}
+
+/* Skins a mesh on the CPU into r->stream (position, normal interleaved). */
+static sinew_result skin_on_cpu(sinew_renderer *r, const sinew_mesh *mesh, sinew_error *error)
+{
+    const sinew_skin *skin = &r->model->skins[mesh->skin];
+    sinew_skin_desc d = {.mesh = mesh,
+                         .palette = &r->palettes[r->skin_offsets[mesh->skin]],
+                         .palette_count = skin->joint_count,
+                         .out_positions = r->stream,
+                         .out_normals = r->stream + 3,
+                         .out_stride = 24};
+    return sinew_skin_vertices(&d, error);
+}
+
+/* Index of `node` in the mesh's skin, or -1. */
+static int32_t skin_joint_of(const sinew_model *m, const sinew_mesh *mesh, int32_t node)
+{
+    if (node < 0 || mesh->skin < 0)
+        return -1;
+    const sinew_skin *skin = &m->skins[mesh->skin];
+    for (uint32_t j = 0; j < skin->joint_count; j++)
+        if (skin->joints[j] == (uint32_t)node)
+            return (int32_t)j;
+    return -1;
+}
+
+typedef struct frame_state {
+    const sinew_frame *frame;
+    const sinew_render_options *o;
+    float view_proj[16];
+    float eye[3], key[3], fill[3];
+} frame_state;
+
+static void set_common_uniforms(GLuint program, const mesh_uniforms *u, const frame_state *fs)
+{
+    glUseProgram(program);
+    glUniformMatrix4fv(u->view_proj, 1, GL_FALSE, fs->view_proj);
+    glUniform3fv(u->eye, 1, fs->eye);
+    glUniform3fv(u->key_dir, 1, fs->key);
+    glUniform3fv(u->fill_dir, 1, fs->fill);
+    glUniform1i(u->palette, 0);
+    glUniform1i(u->texture, 1);
+}
+
+/* Binds the VAO and sets the skinning uniforms of one instance; streams CPU-skinned
+ * vertices first when needed. */
+static sinew_result prepare_instance(sinew_renderer *r, const mesh_uniforms *u, const frame_state *fs,
+                                     const sinew_instance *inst, sinew_error *error)
+{
+    static const float IDENTITY[16] = {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1};
+    const sinew_mesh *mesh = &r->model->meshes[inst->mesh];
+    const render_mesh *rm = &r->meshes[inst->mesh];
+    int32_t heat_node = fs->o->heatmap_joint;
+    if (!mesh_is_skinned(mesh)) {
+        glBindVertexArray(rm->vao_static);
+        glUniformMatrix4fv(u->model, 1, GL_FALSE, fs->frame->worlds[inst->node].m);
+        glUniform1i(u->gpu_sets, 0);
+        glUniform1i(u->heat_joint, -1);
+        glUniform1f(u->heat_rigid, (int32_t)inst->node == heat_node ? 1.0f : 0.0f);
+        return SINEW_OK;
+    }
+    glUniformMatrix4fv(u->model, 1, GL_FALSE, IDENTITY);
+    int32_t heat = skin_joint_of(r->model, mesh, heat_node);
+    glUniform1i(u->heat_joint, heat);
+    glUniform1f(u->heat_rigid, 0.0f);
+    if (fs->o->skinning == SINEW_SKINNING_CPU || !r->skin_on_gpu[mesh->skin]) {
+        sinew_result result = skin_on_cpu(r, mesh, error);
+        if (result != SINEW_OK)
+            return result;
+        glBindBuffer(GL_ARRAY_BUFFER, rm->buffers[BUF_STREAM]);
+        glBufferSubData(GL_ARRAY_BUFFER, 0, (GLsizeiptr)mesh->vertex_count * 24, r->stream);
+        glBindVertexArray(rm->vao_stream);
+        glUniform1i(u->gpu_sets, 0);
+    } else {
+        glBindVertexArray(rm->vao_static);
+        glUniform1i(u->gpu_sets, rm->influence_sets);
+        glUniform1i(u->palette_offset, (GLint)r->skin_offsets[mesh->skin]);
+    }
+    return SINEW_OK;
+}
+
+static void set_material(sinew_renderer *r, const frame_state *fs, const sinew_mesh *mesh)
+{
+    static const float CLAY[4] = {0.50f, 0.48f, 0.45f, 1.0f};
+    static const float NO_MATERIAL[4] = {0.70f, 0.70f, 0.70f, 1.0f};
+    const mesh_uniforms *u = &r->mesh_u;
+    const float *color = CLAY;
+    GLuint texture = 0;
+    if (fs->o->materials) {
+        color = NO_MATERIAL;
+        if (mesh->material >= 0) {
+            color = r->model->materials[mesh->material].base_color;
+            texture = r->textures[mesh->material];
+        }
+    }
+    glUniform4fv(u->base_color, 1, color);
+    glUniform1i(u->use_texture, texture != 0);
+    glActiveTexture(GL_TEXTURE1);
+    glBindTexture(GL_TEXTURE_2D, texture);
+    glActiveTexture(GL_TEXTURE0);
+}
+
+static int shading_mode(const sinew_render_options *o)
+{
+    if (!o->lighting)
+        return 0;
+    return o->shading == SINEW_SHADING_GOURAUD ? 2 : o->shading == SINEW_SHADING_FLAT ? 3 : 1;
+}
+
+static bool instance_hidden(const sinew_render_options *o, uint32_t i)
+{
+    return o->hidden_instances && o->hidden_instances[i];
+}
+
+static sinew_result draw_meshes(sinew_renderer *r, const frame_state *fs, sinew_error *error)
+{
+    const sinew_model *m = r->model;
+    const sinew_render_options *o = fs->o;
+    const mesh_uniforms *u = &r->mesh_u;
+    set_common_uniforms(r->programs.mesh, u, fs);
+    int mode = shading_mode(o);
+    glUniform1i(u->mode, mode);
+    glUniform1i(u->gouraud, mode == 2);
+    glUniform1i(u->heat, o->heatmap_joint >= 0);
+    static const float WIRE[4] = {0.06f, 0.06f, 0.08f, 1.0f}, NONE[4] = {0, 0, 0, 0};
+    for (uint32_t i = 0; i < m->instance_count; i++) {
+        if (instance_hidden(o, i))
+            continue;
+        const sinew_mesh *mesh = &m->meshes[m->instances[i].mesh];
+        sinew_result result = prepare_instance(r, u, fs, &m->instances[i], error);
+        if (result != SINEW_OK)
+            return result;
+        set_material(r, fs, mesh);
+        glUniform4fv(u->override, 1, NONE);
+        if (o->wireframe) {
+            glEnable(GL_POLYGON_OFFSET_FILL);
+            glPolygonOffset(1.0f, 1.0f);
+        }
+        glDrawElements(GL_TRIANGLES, (GLsizei)mesh->index_count, GL_UNSIGNED_INT, NULL);
+        glDisable(GL_POLYGON_OFFSET_FILL);
+        if (o->wireframe) {
+            glUniform4fv(u->override, 1, WIRE);
+            glPolygonMode(GL_FRONT_AND_BACK, GL_LINE);
+            glDrawElements(GL_TRIANGLES, (GLsizei)mesh->index_count, GL_UNSIGNED_INT, NULL);
+            glPolygonMode(GL_FRONT_AND_BACK, GL_FILL);
+        }
+    }
+    return SINEW_OK;
+}
+
+static sinew_result draw_normals(sinew_renderer *r, const frame_state *fs, float length, sinew_error *error)
+{
+    const sinew_model *m = r->model;
+    const mesh_uniforms *u = &r->normals_u;
+    set_common_uniforms(r->programs.normals, u, fs);
+    glUniform1i(u->gouraud, 0);
+    glUniform1f(u->normal_length, length);
+    for (uint32_t i = 0; i < m->instance_count; i++) {
+        if (instance_hidden(fs->o, i))
+            continue;
+        sinew_result result = prepare_instance(r, u, fs, &m->instances[i], error);
+        if (result != SINEW_OK)
+            return result;
+        glDrawArrays(GL_POINTS, 0, (GLsizei)m->meshes[m->instances[i].mesh].vertex_count);
+    }
+    return SINEW_OK;
+}
+
+/* ---- overlay ------------------------------------------------------------------------ */
+
+typedef struct overlay_range {
+    uint32_t first, count;
+} overlay_range;
+
+static overlay_range add_range(overlay_list *list, const overlay_frame *of,
+                               void (*add)(overlay_list *, const overlay_frame *))
+{
+    overlay_range range = {list->count, 0};
+    add(list, of);
+    range.count = list->count - range.first;
+    return range;
+}
+
+static void draw_overlay_range(GLenum mode, overlay_range range)
+{
+    if (range.count)
+        glDrawArrays(mode, (GLint)range.first, (GLsizei)range.count);
+}
+
+static void add_all_joints(overlay_list *list, const overlay_frame *of)
+{
+    overlay_add_joints(list, of, false);
+}
+
+static void add_selected_joint(overlay_list *list, const overlay_frame *of)
+{
+    overlay_add_joints(list, of, true);
+}
+
+static void draw_overlay(sinew_renderer *r, const frame_state *fs, bool before_meshes)
+{
+    const sinew_render_options *o = fs->o;
+    overlay_frame of = {.model = r->model,
+                        .skeleton_nodes = r->skeleton_nodes,
+                        .worlds = fs->frame->worlds,
+                        .options = o,
+                        .camera = fs->frame->camera,
+                        .view_proj = fs->view_proj,
+                        .width = fs->frame->width,
+                        .height = fs->frame->height,
+                        .scene_radius = fs->frame->camera->scene_radius > 0.0f ? fs->frame->camera->scene_radius : 1.0f};
+    overlay_list *list = &r->overlay;
+    list->count = 0;
+    overlay_range grid = {0}, axes = {0}, bones = {0}, joint_axes = {0}, joints = {0}, selected = {0}, names = {0};
+    if (before_meshes) {
+        if (o->grid)
+            grid = add_range(list, &of, overlay_add_grid);
+        if (o->axes)
+            axes = add_range(list, &of, overlay_add_axes);
+    } else {
+        if (o->skeleton) {
+            bones = add_range(list, &of, overlay_add_bones);
+            joints = add_range(list, &of, add_all_joints);
+        }
+        if (o->joint_axes)
+            joint_axes = add_range(list, &of, overlay_add_joint_axes);
+        if (o->skeleton || o->joint_names)
+            selected = add_range(list, &of, add_selected_joint);
+        names = add_range(list, &of, overlay_add_names);
+    }
+    if (!list->count)
+        return;
+    glUseProgram(r->programs.overlay);
+    glBindVertexArray(r->overlay_vao);
+    glBindBuffer(GL_ARRAY_BUFFER, r->overlay_buffer);
+    glBufferData(GL_ARRAY_BUFFER, (GLsizeiptr)(r->overlay.capacity * sizeof(overlay_vertex)), NULL, GL_STREAM_DRAW);
+    glBufferSubData(GL_ARRAY_BUFFER, 0, (GLsizeiptr)(list->count * sizeof(overlay_vertex)), list->vertices);
+    glUniformMatrix4fv(r->overlay_matrix, 1, GL_FALSE, fs->view_proj);
+    glUniform1i(r->overlay_round, 0);
+    if (before_meshes) {
+        draw_overlay_range(GL_LINES, grid);
+        draw_overlay_range(GL_LINES, axes);
+        return;
+    }
+    /* The skeleton goes over the mesh: bones depth-tested among themselves only. */
+    glClear(GL_DEPTH_BUFFER_BIT);
+    draw_overlay_range(GL_TRIANGLES, bones);
+    glDisable(GL_DEPTH_TEST);
+    draw_overlay_range(GL_LINES, joint_axes);
+    glUniform1i(r->overlay_round, 1);
+    float dot = fs->frame->height >= 1000 ? 2.0f : 1.0f;
+    glUniform1f(r->overlay_point_size, 7.0f * dot);
+    draw_overlay_range(GL_POINTS, joints);
+    glUniform1f(r->overlay_point_size, 12.0f * dot);
+    draw_overlay_range(GL_POINTS, selected);
+    glUniform1i(r->overlay_round, 0);
+    if (names.count) {
+        mat4 ortho;
+        glm_ortho(0.0f, (float)fs->frame->width, (float)fs->frame->height, 0.0f, -1.0f, 1.0f, ortho);
+        glUniformMatrix4fv(r->overlay_matrix, 1, GL_FALSE, (const float *)ortho);
+        glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, r->quad_indices);
+        glDrawElementsBaseVertex(GL_TRIANGLES, (GLsizei)(names.count / 4 * 6), GL_UNSIGNED_INT, NULL,
+                                 (GLint)names.first);
+    }
+    glEnable(GL_DEPTH_TEST);
+}
+
+/* Lights ride with the camera: the key from above-left, the fill from the right. */
+static void camera_lights(const sinew_camera *camera, frame_state *fs)
+{
+    float f[3], right[3], up[3];
+    sinew_camera_basis(camera, f, right, up);
+    for (int i = 0; i < 3; i++) {
+        fs->key[i] = -f[i] * 0.8f + up[i] * 0.75f - right[i] * 0.45f;
+        fs->fill[i] = -f[i] * 0.6f - up[i] * 0.15f + right[i] * 0.8f;
+    }
+    glm_vec3_normalize(fs->key);
+    glm_vec3_normalize(fs->fill);
+    sinew_camera_eye(camera, fs->eye);
+}
+
+sinew_result sinew_renderer_draw(sinew_renderer *r, const sinew_frame *frame, sinew_error *error)
+{
+    if (!r || !frame || !frame->camera || !frame->options || !frame->worlds)
+        return sinew_fail(error, SINEW_ERROR_INVALID_ARGUMENT, "sinew_renderer_draw: missing frame fields");
+    const sinew_model *m = r->model;
+    if (frame->world_count < m->node_count)
+        return sinew_fail(error, SINEW_ERROR_INVALID_ARGUMENT, "sinew_renderer_draw: %u world matrices for %u nodes",
+                          frame->world_count, m->node_count);
+    if (frame->width <= 0 || frame->height <= 0)
+        return sinew_fail(error, SINEW_ERROR_INVALID_ARGUMENT, "sinew_renderer_draw: viewport %dx%d",
+                          frame->width, frame->height);
+    frame_state fs = {.frame = frame, .o = frame->options};
+    sinew_mat4 view, proj;
+    sinew_camera_view(frame->camera, &view);
+    sinew_camera_projection(frame->camera, (float)frame->width / (float)frame->height, &proj);
+    glm_mat4_mul((vec4 *)proj.m, (vec4 *)view.m, (vec4 *)fs.view_proj);
+    camera_lights(frame->camera, &fs);
+
+    sinew_result result = compute_palettes(r, frame->worlds, frame->world_count, error);
+    if (result != SINEW_OK)
+        return result;
+    if (r->total_joints) {
+        glBindBuffer(GL_TEXTURE_BUFFER, r->palette_buffer);
+        glBufferSubData(GL_TEXTURE_BUFFER, 0, (GLsizeiptr)r->total_joints * 64, r->palettes);
+    }
+    glActiveTexture(GL_TEXTURE0);
+    glBindTexture(GL_TEXTURE_BUFFER, r->palette_texture);
+
+    const float *bg = frame->options->background;
+    glViewport(0, 0, frame->width, frame->height);
+    glClearColor(bg[0], bg[1], bg[2], 1.0f);
+    glClearDepth(1.0);
+    glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+    glEnable(GL_DEPTH_TEST);
+    glDepthFunc(GL_LEQUAL);
+    glDisable(GL_CULL_FACE);
+    glDisable(GL_BLEND);
+    glEnable(GL_PROGRAM_POINT_SIZE);
+    draw_overlay(r, &fs, true);
+    if (frame->options->meshes) {
+        result = draw_meshes(r, &fs, error);
+        if (result == SINEW_OK && frame->options->normals) {
+            float radius = frame->camera->scene_radius > 0.0f ? frame->camera->scene_radius : 1.0f;
+            float length = frame->options->normal_length > 0.0f ? frame->options->normal_length : radius * 0.03f;
+            result = draw_normals(r, &fs, length, error);
+        }
+        if (result != SINEW_OK)
+            return result;
+    }
+    draw_overlay(r, &fs, false);
+    glBindVertexArray(0);
+    glUseProgram(0);
+    GLenum gl_error = glGetError();
+    if (gl_error != GL_NO_ERROR)
+        return sinew_fail(error, SINEW_ERROR_GRAPHICS, "%s: OpenGL error 0x%04x while drawing", m->source, gl_error);
+    return SINEW_OK;
+}
+
+/* ---- bounds --------------------------------------------------------------------------- */
+
+static void grow(float min[3], float max[3], const float p[3])
+{
+    for (int i = 0; i < 3; i++) {
+        if (p[i] < min[i])
+            min[i] = p[i];
+        if (p[i] > max[i])
+            max[i] = p[i];
+    }
+}
+
+bool sinew_renderer_bounds(sinew_renderer *r, const sinew_mat4 *worlds, uint32_t world_count, float min[3],
+                           float max[3])
+{
+    const sinew_model *m = r->model;
+    for (int i = 0; i < 3; i++)
+        min[i] = INFINITY, max[i] = -INFINITY;
+    if (world_count < m->node_count || compute_palettes(r, worlds, world_count, NULL) != SINEW_OK)
+        return false;
+    bool any = false;
+    for (uint32_t i = 0; i < m->instance_count; i++) {
+        const sinew_mesh *mesh = &m->meshes[m->instances[i].mesh];
+        if (mesh_is_skinned(mesh)) {
+            if (skin_on_cpu(r, mesh, NULL) != SINEW_OK)
+                continue;
+            for (uint32_t v = 0; v < mesh->vertex_count; v++)
+                grow(min, max, &r->stream[v * 6]);
+        } else {
+            const float *w = worlds[m->instances[i].node].m;
+            for (uint32_t v = 0; v < mesh->vertex_count; v++) {
+                const float *p = &mesh->positions[v * 3];
+                float q[3];
+                for (int k = 0; k < 3; k++)
+                    q[k] = w[k] * p[0] + w[4 + k] * p[1] + w[8 + k] * p[2] + w[12 + k];
+                grow(min, max, q);
+            }
+        }
+        any = any || mesh->vertex_count > 0;
+    }
+    if (any)
+        return true;
+    /* Nothing with vertices (a skeleton-only file): the joints. */
+    for (uint32_t n = 0; n < m->node_count; n++)
+        if (r->skeleton_nodes[n]) {
+            grow(min, max, &worlds[n].m[12]);
+            any = true;
+        }
+    return any;
+}

@@ -1,0 +1,259 @@
+/* GLSL 3.30 sources of the renderer and the helpers that compile and link them.
+ *
+ * Index: mesh vertex stage (skinning, normals through the cofactor, heat weight, Gouraud
+ * lighting) - mesh fragment stage (materials, heat map, flat/Gouraud/Phong, sRGB out) -
+ * normals geometry stage (a line per vertex) - overlay stages (coloured lines, points,
+ * triangles, text) - compile/link.
+ */
+#include <stdio.h>
+
+#include "internal.h"
+
+/* Lighting shared by the vertex (Gouraud) and fragment (flat, Phong) stages: a key and a
+ * fill light fixed to the camera, a sky/ground ambient, and a mild Blinn-Phong highlight.
+ * Works in linear RGB. */
+static const char *const LIGHTING =
+    "uniform vec3 u_key_dir;   // towards the key light, world space\n"
+    "uniform vec3 u_fill_dir;  // towards the fill light\n"
+    "uniform vec3 u_eye;\n"
+    "void light_terms(vec3 n, vec3 p, out vec3 diffuse, out vec3 specular) {\n"
+    "    vec3 v = normalize(u_eye - p);\n"
+    "    float hemi = 0.5 + 0.5 * n.y;\n"
+    "    vec3 ambient = mix(vec3(0.10, 0.09, 0.08), vec3(0.20, 0.22, 0.26), hemi);\n"
+    "    float key = max(dot(n, u_key_dir), 0.0);\n"
+    "    float fill = max(dot(n, u_fill_dir), 0.0);\n"
+    "    diffuse = ambient + key * vec3(0.85, 0.82, 0.78) + fill * vec3(0.25, 0.28, 0.33);\n"
+    "    vec3 h = normalize(u_key_dir + v);\n"
+    "    specular = key > 0.0 ? vec3(0.18) * pow(max(dot(n, h), 0.0), 32.0) : vec3(0.0);\n"
+    "}\n";
+
+static const char *const MESH_VS =
+    "layout(location = 0) in vec3 a_position;\n"
+    "layout(location = 1) in vec3 a_normal;\n"
+    "layout(location = 2) in vec2 a_uv;\n"
+    "layout(location = 3) in uvec4 a_joints0;\n"
+    "layout(location = 4) in uvec4 a_joints1;\n"
+    "layout(location = 5) in vec4 a_weights0;\n"
+    "layout(location = 6) in vec4 a_weights1;\n"
+    "uniform mat4 u_model;          // rigid or CPU-skinned: vertices to world\n"
+    "uniform mat4 u_view_proj;\n"
+    "uniform int u_gpu_sets;        // 0: no GPU skinning; 1: 4 influences; 2: 8\n"
+    "uniform int u_palette_offset;  // first matrix of this skin in u_palette\n"
+    "uniform samplerBuffer u_palette;\n"
+    "uniform int u_heat_joint;      // skin-local joint index, -1 for none\n"
+    "uniform float u_heat_rigid;    // weight of rigid meshes (1 when at the joint)\n"
+    "uniform bool u_gouraud;\n"
+    "out vec3 v_world;\n"
+    "out vec3 v_normal;\n"
+    "out vec2 v_uv;\n"
+    "out float v_heat;\n"
+    "out vec3 v_diffuse;\n"
+    "out vec3 v_specular;\n"
+    "mat4 joint_matrix(uint j) {\n"
+    "    int base = (u_palette_offset + int(j)) * 4;\n"
+    "    return mat4(texelFetch(u_palette, base), texelFetch(u_palette, base + 1),\n"
+    "                texelFetch(u_palette, base + 2), texelFetch(u_palette, base + 3));\n"
+    "}\n"
+    "float heat_of(uvec4 j, vec4 w) {\n"
+    "    uint h = uint(u_heat_joint);\n"
+    "    return dot(w, vec4(equal(j, uvec4(h))));\n"
+    "}\n"
+    "void main() {\n"
+    "    mat4 m = u_model;\n"
+    "    if (u_gpu_sets > 0) {\n"
+    "        m = a_weights0.x * joint_matrix(a_joints0.x) + a_weights0.y * joint_matrix(a_joints0.y)\n"
+    "          + a_weights0.z * joint_matrix(a_joints0.z) + a_weights0.w * joint_matrix(a_joints0.w);\n"
+    "        if (u_gpu_sets > 1)\n"
+    "            m += a_weights1.x * joint_matrix(a_joints1.x) + a_weights1.y * joint_matrix(a_joints1.y)\n"
+    "               + a_weights1.z * joint_matrix(a_joints1.z) + a_weights1.w * joint_matrix(a_joints1.w);\n"
+    "    }\n"
+    "    vec4 world = m * vec4(a_position, 1.0);\n"
+    "    mat3 a = mat3(m);\n"
+    "    mat3 cof = mat3(cross(a[1], a[2]), cross(a[2], a[0]), cross(a[0], a[1]));\n"
+    "    float side = dot(a[0], cof[0]) < 0.0 ? -1.0 : 1.0;\n"
+    "    vec3 n = side * (cof * a_normal);\n"
+    "    float len = length(n);\n"
+    "    v_normal = len > 0.0 ? n / len : vec3(0.0, 1.0, 0.0);\n"
+    "    v_world = world.xyz;\n"
+    "    v_uv = a_uv;\n"
+    "    v_heat = u_heat_joint < 0 ? u_heat_rigid : heat_of(a_joints0, a_weights0) + heat_of(a_joints1, a_weights1);\n"
+    "    v_diffuse = vec3(1.0);\n"
+    "    v_specular = vec3(0.0);\n"
+    "    if (u_gouraud)\n"
+    "        light_terms(v_normal, v_world, v_diffuse, v_specular);\n"
+    "    gl_Position = u_view_proj * world;\n"
+    "}\n";
+
+static const char *const MESH_FS =
+    "in vec3 v_world;\n"
+    "in vec3 v_normal;\n"
+    "in vec2 v_uv;\n"
+    "in float v_heat;\n"
+    "in vec3 v_diffuse;\n"
+    "in vec3 v_specular;\n"
+    "uniform vec4 u_base_color;     // linear RGB\n"
+    "uniform bool u_use_texture;\n"
+    "uniform sampler2D u_texture;   // sRGB texture, decoded to linear by GL\n"
+    "uniform int u_mode;            // 0 unlit, 1 Phong, 2 Gouraud, 3 flat\n"
+    "uniform bool u_heat;\n"
+    "uniform vec4 u_override;       // a > 0: draw this sRGB colour (wireframe)\n"
+    "out vec4 o_color;\n"
+    "vec3 heat_color(float w) {\n"
+    "    w = clamp(w, 0.0, 1.0);\n"
+    "    vec3 c0 = vec3(0.02, 0.03, 0.35), c1 = vec3(0.0, 0.55, 0.9), c2 = vec3(0.1, 0.8, 0.1);\n"
+    "    vec3 c3 = vec3(0.95, 0.85, 0.05), c4 = vec3(0.9, 0.05, 0.02);\n"
+    "    if (w < 0.25) return mix(c0, c1, w * 4.0);\n"
+    "    if (w < 0.5) return mix(c1, c2, w * 4.0 - 1.0);\n"
+    "    if (w < 0.75) return mix(c2, c3, w * 4.0 - 2.0);\n"
+    "    return mix(c3, c4, w * 4.0 - 3.0);\n"
+    "}\n"
+    "vec3 to_srgb(vec3 c) {\n"
+    "    c = clamp(c, 0.0, 1.0);\n"
+    "    return mix(c * 12.92, 1.055 * pow(c, vec3(1.0 / 2.4)) - 0.055, step(vec3(0.0031308), c));\n"
+    "}\n"
+    "void main() {\n"
+    "    if (u_override.a > 0.0) {\n"
+    "        o_color = vec4(u_override.rgb, 1.0);\n"
+    "        return;\n"
+    "    }\n"
+    "    vec3 albedo = u_base_color.rgb;\n"
+    "    if (u_use_texture)\n"
+    "        albedo *= texture(u_texture, v_uv).rgb;\n"
+    "    if (u_heat)\n"
+    "        albedo = heat_color(v_heat);\n"
+    "    vec3 color = albedo;\n"
+    "    if (u_mode == 2) {\n"
+    "        color = albedo * v_diffuse + v_specular;\n"
+    "    } else if (u_mode != 0) {\n"
+    "        vec3 n = u_mode == 3 ? normalize(cross(dFdx(v_world), dFdy(v_world))) : normalize(v_normal);\n"
+    "        if (u_mode == 1 && !gl_FrontFacing)\n"
+    "            n = -n;\n"
+    "        vec3 diffuse, specular;\n"
+    "        light_terms(n, v_world, diffuse, specular);\n"
+    "        color = albedo * diffuse + specular;\n"
+    "    }\n"
+    "    o_color = vec4(to_srgb(color), 1.0);\n"
+    "}\n";
+
+/* Normals as lines: the mesh vertex stage runs unchanged, this stage turns each vertex
+ * (drawn as a point) into a line along its normal. */
+static const char *const NORMALS_GS =
+    "layout(points) in;\n"
+    "layout(line_strip, max_vertices = 2) out;\n"
+    "in vec3 v_world[];\n"
+    "in vec3 v_normal[];\n"
+    "uniform mat4 u_view_proj;\n"
+    "uniform float u_normal_length;\n"
+    "out vec3 g_color;\n"
+    "void main() {\n"
+    "    g_color = vec3(0.2, 0.45, 1.0);\n"
+    "    gl_Position = u_view_proj * vec4(v_world[0], 1.0);\n"
+    "    EmitVertex();\n"
+    "    g_color = vec3(0.75, 0.9, 1.0);\n"
+    "    gl_Position = u_view_proj * vec4(v_world[0] + v_normal[0] * u_normal_length, 1.0);\n"
+    "    EmitVertex();\n"
+    "    EndPrimitive();\n"
+    "}\n";
+
+static const char *const NORMALS_FS = "in vec3 g_color;\n"
+                                      "out vec4 o_color;\n"
+                                      "void main() { o_color = vec4(g_color, 1.0); }\n";
+
+/* Overlay: positions (world or pixel space, through u_matrix) and sRGB byte colours. */
+static const char *const OVERLAY_VS = "layout(location = 0) in vec3 a_position;\n"
+                                      "layout(location = 1) in vec4 a_color;\n"
+                                      "uniform mat4 u_matrix;\n"
+                                      "uniform float u_point_size;\n"
+                                      "out vec4 v_color;\n"
+                                      "void main() {\n"
+                                      "    v_color = a_color;\n"
+                                      "    gl_PointSize = u_point_size;\n"
+                                      "    gl_Position = u_matrix * vec4(a_position, 1.0);\n"
+                                      "}\n";
+
+static const char *const OVERLAY_FS = "in vec4 v_color;\n"
+                                      "uniform bool u_round;\n"
+                                      "out vec4 o_color;\n"
+                                      "void main() {\n"
+                                      "    if (u_round && length(gl_PointCoord - vec2(0.5)) > 0.5)\n"
+                                      "        discard;\n"
+                                      "    o_color = v_color;\n"
+                                      "}\n";
+
+static GLuint compile(GLenum stage, const char *const *parts, int part_count, const char *what, sinew_error *error)
+{
+    GLuint shader = glCreateShader(stage);
+    glShaderSource(shader, part_count, parts, NULL);
+    glCompileShader(shader);
+    GLint ok = 0;
+    glGetShaderiv(shader, GL_COMPILE_STATUS, &ok);
+    if (!ok) {
+        char log[400] = "";
+        glGetShaderInfoLog(shader, sizeof log, NULL, log);
+        sinew_fail(error, SINEW_ERROR_GRAPHICS, "the %s shader does not compile: %s", what, log);
+        glDeleteShader(shader);
+        return 0;
+    }
+    return shader;
+}
+
+/* Links a program from a vertex, an optional geometry and a fragment stage, each made of
+ * the version line, `lighting` when asked, and the stage's body. */
+static GLuint link_program(const char *vs, const char *gs, const char *fs, bool lighting, const char *what,
+                           sinew_error *error)
+{
+    static const char *const VERSION = "#version 330 core\n";
+    const char *vs_parts[] = {VERSION, lighting ? LIGHTING : "", vs};
+    const char *gs_parts[] = {VERSION, gs ? gs : ""};
+    const char *fs_parts[] = {VERSION, lighting ? LIGHTING : "", fs};
+    GLuint stages[3] = {0}, program = 0;
+    stages[0] = compile(GL_VERTEX_SHADER, vs_parts, 3, what, error);
+    stages[1] = gs ? compile(GL_GEOMETRY_SHADER, gs_parts, 2, what, error) : 0;
+    stages[2] = compile(GL_FRAGMENT_SHADER, fs_parts, 3, what, error);
+    if (!stages[0] || (gs && !stages[1]) || !stages[2])
+        goto out_delete_stages;
+    program = glCreateProgram();
+    for (int i = 0; i < 3; i++)
+        if (stages[i])
+            glAttachShader(program, stages[i]);
+    glLinkProgram(program);
+    GLint ok = 0;
+    glGetProgramiv(program, GL_LINK_STATUS, &ok);
+    if (!ok) {
+        char log[400] = "";
+        glGetProgramInfoLog(program, sizeof log, NULL, log);
+        sinew_fail(error, SINEW_ERROR_GRAPHICS, "the %s program does not link: %s", what, log);
+        glDeleteProgram(program);
+        program = 0;
+    }
+out_delete_stages:
+    for (int i = 0; i < 3; i++)
+        if (stages[i])
+            glDeleteShader(stages[i]);
+    return program;
+}
+
+sinew_result render_programs_create(render_programs *programs, sinew_error *error)
+{
+    programs->mesh = link_program(MESH_VS, NULL, MESH_FS, true, "mesh", error);
+    if (!programs->mesh)
+        goto fail;
+    programs->normals = link_program(MESH_VS, NORMALS_GS, NORMALS_FS, true, "normals", error);
+    if (!programs->normals)
+        goto fail;
+    programs->overlay = link_program(OVERLAY_VS, NULL, OVERLAY_FS, false, "overlay", error);
+    if (!programs->overlay)
+        goto fail;
+    return SINEW_OK;
+fail:
+    render_programs_destroy(programs);
+    return error ? error->kind : SINEW_ERROR_GRAPHICS;
+}
+
+void render_programs_destroy(render_programs *programs)
+{
+    glDeleteProgram(programs->mesh);
+    glDeleteProgram(programs->normals);
+    glDeleteProgram(programs->overlay);
+    programs->mesh = programs->normals = programs->overlay = 0;
+}
