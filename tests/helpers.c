@@ -4,7 +4,10 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <fcntl.h>
 #include <sys/stat.h>
+#include <sys/wait.h>
+#include <unistd.h>
 
 static const char *env_path(const char *var, const char *rel, char *buf, size_t size)
 {
@@ -130,4 +133,44 @@ float *posed_vertices(const sinew_model *model, const sinew_mat4 *worlds, uint32
     free(palette);
     *count = (uint32_t)total;
     return out;
+}
+
+run_result run_sinew(const char *const *env, const char *const *args)
+{
+    const char *exe = getenv("SINEW_EXE");
+    assert_non_null(exe);
+    char out_path[1024], err_path[1024], name[64];
+    snprintf(name, sizeof name, "run-%d.out", (int)getpid());
+    tmp_path(name, out_path, sizeof out_path);
+    snprintf(name, sizeof name, "run-%d.err", (int)getpid());
+    tmp_path(name, err_path, sizeof err_path);
+    const char *argv[64] = {exe};
+    int n = 1;
+    for (; args[n - 1] && n < 63; n++)
+        argv[n] = args[n - 1];
+    argv[n] = NULL;
+    pid_t pid = fork();
+    assert_true(pid >= 0);
+    if (pid == 0) {
+        int o = open(out_path, O_WRONLY | O_CREAT | O_TRUNC, 0644),
+            e = open(err_path, O_WRONLY | O_CREAT | O_TRUNC, 0644);
+        dup2(o, 1);
+        dup2(e, 2);
+        for (int i = 0; env && env[i]; i++)
+            putenv((char *)env[i]);
+        execv(exe, (char *const *)argv);
+        _exit(127);
+    }
+    int status = 0;
+    waitpid(pid, &status, 0);
+    run_result r = {.code = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status)};
+    r.out = read_file(out_path, &r.out_size);
+    r.err = read_file(err_path, &r.err_size);
+    return r;
+}
+
+void run_free(run_result *r)
+{
+    free(r->out);
+    free(r->err);
 }

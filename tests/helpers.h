@@ -35,4 +35,20 @@ sinew_mat4 *pose_worlds(const sinew_model *model, const sinew_clip *clip, float 
 /* All mesh instances skinned/placed at the pose, as one malloc'd xyz array. */
 float *posed_vertices(const sinew_model *model, const sinew_mat4 *worlds, uint32_t *count);
 
+/* What a run of the sinew command gave: exit code (128 + signal when killed) and both
+ * streams, NUL-terminated (malloc'd). */
+typedef struct run_result {
+    int code;
+    char *out, *err;
+    size_t out_size, err_size;
+} run_result;
+
+/* Runs $SINEW_EXE with NULL-terminated arguments; `env` (NULL or NULL-terminated
+ * "NAME=value" strings) is added to the child's environment. */
+run_result run_sinew(const char *const *env, const char *const *args);
+void run_free(run_result *result);
+
+#define RUN(...) run_sinew(NULL, (const char *const[]){__VA_ARGS__, NULL})
+#define RUN_ENV(env, ...) run_sinew((env), (const char *const[]){__VA_ARGS__, NULL})
+
 #endif

@@ -84,6 +84,7 @@ typedef struct cli_video {
     int fd;
     int pid;
     size_t frame_bytes;
+    bool unavailable; /* open failed because ffmpeg is not installed */
 } cli_video;
 
 bool cli_video_open(cli_video *video, const char *path, int width, int height, double fps);

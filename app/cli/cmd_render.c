@@ -25,7 +25,7 @@ static const char render_usage[] =
     "                      (default orbit:30,15: framed on the posed model over the frames drawn)\n"
     "  -o, --output PATH   OUT.png, a pattern with one %d (frame number), or OUT.mp4\n"
     "\n"
-    "display options (--NAME turns a switch on, --no-NAME off):\n"
+    "display options (--NAME or --NAME on turns a switch on, --no-NAME or --NAME off turns it off):\n"
     "  --materials --lighting --grid           on by default\n"
     "  --skeleton (--bones) --joint-axes --joint-names --wireframe --normals --axes\n"
     "                                          off by default (a file without meshes shows its skeleton)\n"
@@ -86,10 +86,15 @@ static int parse_display_option(int argc, char **argv, int i, render_args *a, bo
     bool off = strncmp(arg, "no-", 3) == 0 && sinew_render_option_is_switch(arg + 3);
     const char *name = off ? arg + 3 : arg;
     if (sinew_render_option_is_switch(name)) {
-        sinew_render_option_set(&a->options, name, off ? "off" : "on", NULL);
+        /* An explicit value may follow: --grid off. */
+        int used = 1;
+        if (!off && i + 1 < argc && sinew_render_option_set(&a->options, name, argv[i + 1], NULL) == SINEW_OK)
+            used = 2;
+        else
+            sinew_render_option_set(&a->options, name, off ? "off" : "on", NULL);
         if (strcmp(name, "skeleton") == 0)
             a->skeleton_set = true;
-        return 1;
+        return used;
     }
     for (const char *const *n = sinew_render_option_names(); *n; n++) {
         if (strcmp(*n, name) != 0)
@@ -287,7 +292,7 @@ int cmd_render(int argc, char **argv)
     if (code == EXIT_OK && kind == OUTPUT_VIDEO) {
         cli_ignore_sigpipe();
         if (!cli_video_open(&video, a.out, a.width, a.height, a.fps))
-            code = EXIT_BAD_INPUT;
+            code = video.unavailable ? EXIT_UNAVAILABLE : EXIT_BAD_INPUT;
     }
     for (uint32_t f = 0; f < frames && code == EXIT_OK; f++) {
         double t = from + step * f;

@@ -47,9 +47,11 @@ static bool find_program(const char *name, char *out, size_t size)
 bool cli_video_open(cli_video *video, const char *path, int width, int height, double fps)
 {
     memset(video, 0, sizeof *video);
+    video->fd = -1;
     video->path = path;
     char program[4096];
     if (!find_program("ffmpeg", program, sizeof program)) {
+        video->unavailable = true;
         cli_error("%s: writing video needs the ffmpeg program, which is not installed (Debian: apt-get install "
                   "ffmpeg); or write PNG frames with -o DIR/frame%%04d.png",
                   path);

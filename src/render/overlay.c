@@ -48,11 +48,14 @@ static void node_position(const overlay_frame *frame, uint32_t node, float out[3
     out[0] = m[12], out[1] = m[13], out[2] = m[14];
 }
 
-/* Power of ten near half the scene radius: 1 m lines for a person, 1 cm for a toy. */
+/* A 1-2-5 step near a quarter of the scene radius: about a dozen lines each side. */
 static float grid_spacing(float radius)
 {
     float r = radius > 1e-6f ? radius : 1.0f;
-    return powf(10.0f, floorf(log10f(r * 0.5f)));
+    float target = r * 0.25f;
+    float decade = powf(10.0f, floorf(log10f(target)));
+    float m = target / decade;
+    return decade * (m < 1.5f ? 1.0f : m < 3.5f ? 2.0f : m < 7.5f ? 5.0f : 10.0f);
 }
 
 void overlay_add_grid(overlay_list *list, const overlay_frame *frame)
@@ -88,7 +91,7 @@ void overlay_add_grid(overlay_list *list, const overlay_frame *frame)
 void overlay_add_axes(overlay_list *list, const overlay_frame *frame)
 {
     static const uint8_t colors[3][3] = {{230, 60, 60}, {80, 200, 80}, {70, 120, 240}};
-    float length = grid_spacing(frame->scene_radius);
+    float length = 2.0f * grid_spacing(frame->scene_radius);
     float origin[3] = {0.0f, 0.0f, 0.0f};
     for (int axis = 0; axis < 3; axis++) {
         float tip[3] = {0.0f, 0.0f, 0.0f};

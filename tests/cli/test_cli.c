@@ -1,66 +1,20 @@
 /* The `sinew` command as a user runs it: exit codes, messages, the JSON interface of
  * `sinew pose` and `sinew info`, OBJ output. */
-#include <fcntl.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <sys/wait.h>
 #include <unistd.h>
 
 #include <cjson/cJSON.h>
 
 #include "helpers.h"
 
-typedef struct run_result {
-    int code;
-    char *out, *err;
-    size_t out_size, err_size;
-} run_result;
-
-/* Runs $SINEW_EXE with the given arguments (NULL-terminated), capturing both streams. */
-static run_result run_sinew(const char *const *args)
-{
-    const char *exe = getenv("SINEW_EXE");
-    assert_non_null(exe);
-    char out_path[1024], err_path[1024];
-    tmp_path("cli.out", out_path, sizeof out_path);
-    tmp_path("cli.err", err_path, sizeof err_path);
-    const char *argv[32] = {exe};
-    int n = 1;
-    for (; args[n - 1] && n < 31; n++)
-        argv[n] = args[n - 1];
-    argv[n] = NULL;
-    pid_t pid = fork();
-    assert_true(pid >= 0);
-    if (pid == 0) {
-        int o = open(out_path, O_WRONLY | O_CREAT | O_TRUNC, 0644),
-            e = open(err_path, O_WRONLY | O_CREAT | O_TRUNC, 0644);
-        dup2(o, 1);
-        dup2(e, 2);
-        execv(exe, (char *const *)argv);
-        _exit(127);
-    }
-    int status = 0;
-    waitpid(pid, &status, 0);
-    run_result r = {.code = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status)};
-    r.out = read_file(out_path, &r.out_size);
-    r.err = read_file(err_path, &r.err_size);
-    return r;
-}
-
-static void run_free(run_result *r)
-{
-    free(r->out);
-    free(r->err);
-}
-
-#define RUN(...) run_sinew((const char *const[]){__VA_ARGS__, NULL})
 
 /* Runs sinew, expects exit 0 and JSON on stdout; returns the parsed document. */
 static cJSON *run_json(const char *const *args)
 {
-    run_result r = run_sinew(args);
+    run_result r = run_sinew(NULL, args);
     if (r.code != 0)
         fail_msg("%s %s: exit %d: %s", args[0], args[1], r.code, r.err);
     cJSON *root = cJSON_Parse(r.out);
@@ -74,7 +28,7 @@ static cJSON *run_json(const char *const *args)
 static void test_usage_and_help(void **state)
 {
     (void)state;
-    run_result r = run_sinew((const char *const[]){NULL});
+    run_result r = run_sinew(NULL, (const char *const[]){NULL});
     assert_int_equal(r.code, 1);
     assert_non_null(strstr(r.err, "usage: sinew"));
     run_free(&r);
@@ -132,7 +86,7 @@ static void test_bad_input_exits_2(void **state)
         for (int k = 1; k < 4 && bad_usage[i][k]; k++)
             args[n++] = bad_usage[i][k];
         args[n] = NULL;
-        r = run_sinew(args);
+        r = run_sinew(NULL, args);
         if (r.code != 1 || r.err_size == 0)
             fail_msg("%s %s %s: exit %d", args[0], args[2], args[3] ? args[3] : "", r.code);
         run_free(&r);

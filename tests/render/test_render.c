@@ -1,0 +1,393 @@
+/* `sinew render` as a user runs it, tested as pictures: golden images, GPU against CPU
+ * skinning, animated against static models, skeleton-only files, video and frame
+ * sequences, bad input.
+ *
+ * Golden images: tests/golden/NAME.png, 320x240, rendered headless by Mesa's llvmpipe.
+ * A pixel differs when one channel differs by more than PIXEL_TOLERANCE; an image
+ * matches when at most IMAGE_TOLERANCE of its pixels differ (anti-aliasing and
+ * rasteriser rounding move a few edge pixels; a wrong pose, colour or camera moves
+ * thousands, as test_tolerance_catches_a_wrong_pose shows). On a mismatch the actual
+ * image and a diff (differing pixels red) are written beside the test's scratch files.
+ * Refresh after an intended change: `make golden` (SINEW_UPDATE_GOLDEN=1), then look at
+ * the new images before committing them. */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include <stb_image.h>
+#include <stb_image_write.h>
+
+#include "helpers.h"
+
+#define PIXEL_TOLERANCE 32
+#define IMAGE_TOLERANCE 0.005
+#define SIZE "320x240"
+
+typedef struct image {
+    int width, height;
+    unsigned char *rgb;
+} image;
+
+static image load_image(const char *path)
+{
+    image im = {0};
+    int channels = 0;
+    im.rgb = stbi_load(path, &im.width, &im.height, &channels, 3);
+    return im;
+}
+
+/* Pixels where some channel differs by more than PIXEL_TOLERANCE; fills `diff` (RGB, may
+ * be NULL) with the actual image dimmed and the differing pixels red. */
+static long differing_pixels(const image *a, const image *b, unsigned char *diff)
+{
+    long count = 0;
+    long n = (long)a->width * a->height;
+    for (long i = 0; i < n; i++) {
+        int worst = 0;
+        for (int c = 0; c < 3; c++) {
+            int d = abs(a->rgb[i * 3 + c] - b->rgb[i * 3 + c]);
+            worst = d > worst ? d : worst;
+        }
+        bool differs = worst > PIXEL_TOLERANCE;
+        count += differs;
+        if (diff)
+            for (int c = 0; c < 3; c++)
+                diff[i * 3 + c] = differs ? (c == 0 ? 255 : 0) : (unsigned char)(a->rgb[i * 3 + c] / 3);
+    }
+    return count;
+}
+
+static bool same_picture(const image *a, const image *b, long *differing)
+{
+    *differing = -1;
+    if (!a->rgb || !b->rgb || a->width != b->width || a->height != b->height)
+        return false;
+    *differing = differing_pixels(a, b, NULL);
+    return *differing <= (long)(IMAGE_TOLERANCE * a->width * a->height);
+}
+
+/* Renders with sinew into the scratch folder; fails the test on a non-zero exit. */
+static image render(const char *out_name, const char *const *args)
+{
+    char out[1024];
+    tmp_path(out_name, out, sizeof out);
+    const char *argv[48] = {"render"};
+    int n = 1;
+    for (; args[n - 1] && n < 44; n++)
+        argv[n] = args[n - 1];
+    argv[n++] = "-o";
+    argv[n++] = out;
+    argv[n] = NULL;
+    run_result r = run_sinew(NULL, argv);
+    if (r.code != 0)
+        fail_msg("sinew render %s: exit %d: %s", args[0], r.code, r.err);
+    run_free(&r);
+    image im = load_image(out);
+    assert_non_null(im.rgb);
+    return im;
+}
+
+#define RENDER(name, ...) render((name), (const char *const[]){__VA_ARGS__, NULL})
+
+static void compare_with_golden(const char *name, const image *actual)
+{
+    const char *dir = getenv("SINEW_GOLDEN");
+    assert_non_null(dir);
+    char golden_path[1024];
+    snprintf(golden_path, sizeof golden_path, "%s/%s.png", dir, name);
+    if (getenv("SINEW_UPDATE_GOLDEN")) {
+        assert_true(stbi_write_png(golden_path, actual->width, actual->height, 3, actual->rgb, actual->width * 3));
+        printf("golden %s: refreshed %s\n", name, golden_path);
+        return;
+    }
+    image golden = load_image(golden_path);
+    if (!golden.rgb)
+        fail_msg("golden %s: cannot read %s (refresh with `make golden`)", name, golden_path);
+    long differing = 0;
+    bool ok = same_picture(actual, &golden, &differing);
+    printf("golden %-24s %ld of %d pixels differ (allowed %.1f%%)\n", name, differing, actual->width * actual->height,
+           IMAGE_TOLERANCE * 100.0);
+    if (!ok) {
+        char actual_path[1024], diff_path[1024], file[256];
+        snprintf(file, sizeof file, "%s-actual.png", name);
+        tmp_path(file, actual_path, sizeof actual_path);
+        snprintf(file, sizeof file, "%s-diff.png", name);
+        tmp_path(file, diff_path, sizeof diff_path);
+        stbi_write_png(actual_path, actual->width, actual->height, 3, actual->rgb, actual->width * 3);
+        if (differing >= 0) {
+            unsigned char *diff = malloc((size_t)actual->width * actual->height * 3);
+            differing_pixels(actual, &golden, diff);
+            stbi_write_png(diff_path, actual->width, actual->height, 3, diff, actual->width * 3);
+            free(diff);
+        }
+        stbi_image_free(golden.rgb);
+        fail_msg("golden %s: %ld pixels differ from %s; wrote %s and %s", name, differing, golden_path, actual_path,
+                 diff_path);
+    }
+    stbi_image_free(golden.rgb);
+}
+
+static void free_image(image *im)
+{
+    stbi_image_free(im->rgb);
+    im->rgb = NULL;
+}
+
+/* ---- golden images ------------------------------------------------------------------------ */
+
+static void test_golden_fixture(void **state)
+{
+    (void)state;
+    char path[1024];
+    fixture_path("two_bone_cubic.gltf", path, sizeof path);
+    image im = RENDER("g-fixture.png", path, "--time", "0.75", "--size", SIZE, "--wireframe", "--shading", "flat",
+                      "--normals", "--axes", "--skeleton", "--camera", "orbit:40,20");
+    compare_with_golden("two_bone_cubic-flat-wire-normals", &im);
+    free_image(&im);
+}
+
+typedef struct golden_case {
+    const char *name;
+    const char *model;
+    const char *args[16];
+} golden_case;
+
+static const golden_case GOLDEN[] = {
+    {"robot-walk-phong", "raylib/robot.glb", {"--clip", "Robot_Walking", "--time", "0.3"}},
+    {"robot-wave-heat-gouraud",
+     "raylib/robot.glb",
+     {"--clip", "Robot_Wave", "--time", "0.6", "--heatmap", "Head", "--skeleton", "--select", "UpperArm.R",
+      "--shading", "gouraud", "--camera", "orbit:-20,10"}},
+    {"wuson-clay-flat", "assimp/X/Testwuson.X", {"--time", "1", "--materials", "off", "--shading", "flat"}},
+    {"bvh-skeleton-names", "assimp/BVH/01_01.bvh", {"--time", "1", "--select", "LeftForeArm", "--camera", "orbit:60,10"}},
+    {"jointsinln-textured-unlit", "collada-cts/JointsInLN/JointsInLN.dae", {"--no-lighting", "--no-grid"}},
+    {"arnaud-joint-axes", "ozz/pab/arnaud.fbx", {"--joint-axes", "--camera", "orbit:0,0", "--background", "ffffff"}},
+};
+
+static void test_golden_models(void **state)
+{
+    (void)state;
+    for (size_t i = 0; i < sizeof GOLDEN / sizeof GOLDEN[0]; i++) {
+        const golden_case *g = &GOLDEN[i];
+        char path[1024];
+        if (!testdata_path(g->model, path, sizeof path))
+            skip();
+        const char *argv[24] = {path, "--size", SIZE};
+        int n = 3;
+        for (int k = 0; g->args[k]; k++)
+            argv[n++] = g->args[k];
+        argv[n] = NULL;
+        image im = render("g-model.png", argv);
+        compare_with_golden(g->name, &im);
+        free_image(&im);
+    }
+}
+
+/* A pose a tenth of a second off must fail the comparison: the tolerance is not loose. */
+static void test_tolerance_catches_a_wrong_pose(void **state)
+{
+    (void)state;
+    char path[1024];
+    if (!testdata_path("raylib/robot.glb", path, sizeof path))
+        skip();
+    image a = RENDER("tol-a.png", path, "--clip", "Robot_Walking", "--time", "0.3", "--size", SIZE);
+    image b = RENDER("tol-b.png", path, "--clip", "Robot_Walking", "--time", "0.4", "--size", SIZE);
+    long differing = 0;
+    assert_false(same_picture(&a, &b, &differing));
+    printf("robot walk 0.3 s vs 0.4 s: %ld pixels differ\n", differing);
+    free_image(&a);
+    free_image(&b);
+}
+
+/* ---- behaviour ---------------------------------------------------------------------------- */
+
+static void test_gpu_and_cpu_skinning_agree(void **state)
+{
+    (void)state;
+    char path[1024];
+    if (!testdata_path("raylib/robot.glb", path, sizeof path))
+        skip();
+    const char *common[] = {"--clip", "Robot_Wave", "--time", "0.6", "--size", SIZE, "--heatmap", "Hips",
+                            "--normals", "--skeleton"};
+    image gpu = RENDER("skin-gpu.png", path, common[0], common[1], common[2], common[3], common[4], common[5], common[6],
+                       common[7], common[8], common[9], "--skinning", "gpu");
+    image cpu = RENDER("skin-cpu.png", path, common[0], common[1], common[2], common[3], common[4], common[5], common[6],
+                       common[7], common[8], common[9], "--skinning", "cpu");
+    long differing = 0;
+    bool same = same_picture(&gpu, &cpu, &differing);
+    printf("robot wave, GPU vs CPU skinning: %ld pixels differ\n", differing);
+    assert_true(same);
+    free_image(&gpu);
+    free_image(&cpu);
+}
+
+/* Skins over the GPU limit go to the CPU with a warning, and the picture is the same. */
+static void test_gpu_joint_limit_falls_back_to_cpu(void **state)
+{
+    (void)state;
+    char path[1024], out[1024];
+    if (!testdata_path("raylib/robot.glb", path, sizeof path))
+        skip();
+    tmp_path("limit.png", out, sizeof out);
+    run_result r = RUN("render", path, "--clip", "Robot_Wave", "--time", "0.6", "--size", SIZE, "--gpu-joint-limit",
+                       "16", "-o", out);
+    assert_int_equal(r.code, 0);
+    assert_non_null(strstr(r.err, "skinned on the CPU"));
+    run_free(&r);
+    image fallback = load_image(out);
+    image gpu = RENDER("limit-gpu.png", path, "--clip", "Robot_Wave", "--time", "0.6", "--size", SIZE);
+    long differing = 0;
+    assert_true(same_picture(&fallback, &gpu, &differing));
+    free_image(&fallback);
+    free_image(&gpu);
+}
+
+static void test_animated_frames_differ_static_do_not(void **state)
+{
+    (void)state;
+    char fixture[1024], duck[1024];
+    fixture_path("two_bone.dae", fixture, sizeof fixture);
+    image a = RENDER("anim-a.png", fixture, "--time", "0", "--size", SIZE);
+    image b = RENDER("anim-b.png", fixture, "--time", "1", "--size", SIZE);
+    long differing = 0;
+    assert_false(same_picture(&a, &b, &differing));
+    assert_true(differing > 500);
+    free_image(&a);
+    free_image(&b);
+    if (!testdata_path("assimp/Collada/duck.dae", duck, sizeof duck))
+        skip();
+    a = RENDER("static-a.png", duck, "--time", "0", "--size", SIZE);
+    b = RENDER("static-b.png", duck, "--time", "1", "--size", SIZE);
+    assert_int_equal(differing_pixels(&a, &b, NULL), 0);
+    free_image(&a);
+    free_image(&b);
+}
+
+static long lit_pixels(const image *im)
+{
+    long lit = 0;
+    for (long i = 0; i < (long)im->width * im->height; i++)
+        lit += im->rgb[i * 3] + im->rgb[i * 3 + 1] + im->rgb[i * 3 + 2] > 60;
+    return lit;
+}
+
+/* A skeleton-only file shows bones without being asked: bone-coloured pixels appear. */
+static void test_bone_only_file_shows_bones(void **state)
+{
+    (void)state;
+    char path[1024];
+    if (!testdata_path("assimp/BVH/01_01.bvh", path, sizeof path))
+        skip();
+    image im = RENDER("bvh.png", path, "--time", "1", "--size", SIZE, "--no-grid", "--background", "000000");
+    long lit = lit_pixels(&im);
+    printf("BVH skeleton: %ld lit pixels of %d\n", lit, im.width * im.height);
+    assert_true(lit > 300);
+    free_image(&im);
+    image off = RENDER("bvh-off.png", path, "--time", "1", "--size", SIZE, "--no-grid", "--background", "000000",
+                       "--no-skeleton");
+    assert_int_equal(lit_pixels(&off), 0);
+    free_image(&off);
+}
+
+static void test_frame_sequence_and_video(void **state)
+{
+    (void)state;
+    char fixture[1024], pattern[1024], first[1024], last[1024], beyond[1024];
+    fixture_path("two_bone_cubic.gltf", fixture, sizeof fixture);
+    tmp_path("seq-%03d.png", pattern, sizeof pattern);
+    tmp_path("seq-005.png", beyond, sizeof beyond);
+    remove(beyond);
+    run_result r = RUN("render", fixture, "--from", "0", "--to", "0.4", "--fps", "10", "--size", "64x48", "-o",
+                       pattern);
+    assert_int_equal(r.code, 0);
+    run_free(&r);
+    tmp_path("seq-000.png", first, sizeof first);
+    tmp_path("seq-004.png", last, sizeof last);
+    size_t size = 0;
+    void *bytes = read_file(first, &size);
+    assert_non_null(bytes);
+    free(bytes);
+    bytes = read_file(last, &size);
+    assert_non_null(bytes);
+    free(bytes);
+    assert_null(read_file(beyond, &size));
+
+    char video[1024];
+    tmp_path("clip.mp4", video, sizeof video);
+    remove(video);
+    static const char *const no_path[] = {"PATH=/nonexistent", NULL};
+    r = RUN_ENV(no_path, "render", fixture, "--fps", "10", "--size", "64x48", "-o", video);
+    assert_int_equal(r.code, 3);
+    assert_non_null(strstr(r.err, "ffmpeg"));
+    run_free(&r);
+    if (system("command -v ffmpeg >/dev/null 2>&1") != 0) {
+        printf("ffmpeg is not installed: the MP4 path is not tested\n");
+        return;
+    }
+    r = RUN("render", fixture, "--fps", "10", "--size", "65x47", "-o", video);
+    if (r.code != 0)
+        fail_msg("mp4: %s", r.err);
+    run_free(&r);
+    unsigned char *mp4 = read_file(video, &size);
+    assert_non_null(mp4);
+    assert_true(size > 100);
+    assert_memory_equal(mp4 + 4, "ftyp", 4);
+    free(mp4);
+}
+
+static void expect_failure(int code, const char *message, const char *const *args)
+{
+    run_result r = run_sinew(NULL, args);
+    if (r.code != code || !strstr(r.err, message))
+        fail_msg("sinew %s %s: exit %d (expected %d), stderr \"%s\" (expected \"%s\")", args[0], args[1], r.code, code,
+                 r.err, message);
+    run_free(&r);
+}
+
+#define EXPECT_FAILURE(code, message, ...) expect_failure((code), (message), (const char *const[]){__VA_ARGS__, NULL})
+
+static void test_bad_input(void **state)
+{
+    (void)state;
+    char fixture[1024], out[1024], garbage[1024];
+    fixture_path("two_bone_cubic.gltf", fixture, sizeof fixture);
+    tmp_path("bad.png", out, sizeof out);
+    tmp_path("garbage.dae", garbage, sizeof garbage);
+    write_file(garbage, "<COLLADA>not really", 19);
+    EXPECT_FAILURE(2, "garbage.dae", "render", garbage, "-o", out);
+    EXPECT_FAILURE(2, "no-such-file.glb", "render", "no-such-file.glb", "-o", out);
+    EXPECT_FAILURE(1, "--size", "render", fixture, "--size", "0x100", "-o", out);
+    EXPECT_FAILURE(1, "--size", "render", fixture, "--size", "wide", "-o", out);
+    EXPECT_FAILURE(1, "orbit:YAW,PITCH", "render", fixture, "--camera", "orbit:abc", "-o", out);
+    EXPECT_FAILURE(1, "fly:X,Y,Z,YAW,PITCH", "render", fixture, "--camera", "fly:1,2,3", "-o", out);
+    EXPECT_FAILURE(1, "shading", "render", fixture, "--shading", "toon", "-o", out);
+    EXPECT_FAILURE(1, "background", "render", fixture, "--background", "purple", "-o", out);
+    EXPECT_FAILURE(1, "no -o", "render", fixture);
+    EXPECT_FAILURE(1, "frame%04d.png", "render", fixture, "--fps", "10", "-o", "frames.png");
+    EXPECT_FAILURE(1, "one %d", "render", fixture, "--fps", "10", "-o", "frame%s%d.png");
+    EXPECT_FAILURE(2, "no clip \"nope\"", "render", fixture, "--clip", "nope", "-o", out);
+    EXPECT_FAILURE(2, "no node of that name", "render", fixture, "--select", "nope", "-o", out);
+    EXPECT_FAILURE(2, "cannot write", "render", fixture, "--size", "8x8", "-o", "/nonexistent/dir/x.png");
+    static const char *const no_egl[] = {"SINEW_EGL_PLATFORM=none", NULL};
+    run_result r = RUN_ENV(no_egl, "render", fixture, "-o", out);
+    assert_int_equal(r.code, 3);
+    assert_non_null(strstr(r.err, "no OpenGL 3.3 core context through EGL"));
+    run_free(&r);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_golden_fixture),
+        cmocka_unit_test(test_golden_models),
+        cmocka_unit_test(test_tolerance_catches_a_wrong_pose),
+        cmocka_unit_test(test_gpu_and_cpu_skinning_agree),
+        cmocka_unit_test(test_gpu_joint_limit_falls_back_to_cpu),
+        cmocka_unit_test(test_animated_frames_differ_static_do_not),
+        cmocka_unit_test(test_bone_only_file_shows_bones),
+        cmocka_unit_test(test_frame_sequence_and_video),
+        cmocka_unit_test(test_bad_input),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}
