@@ -43,6 +43,7 @@ void cli_pose_free(cli_pose *pose);
 /* A model posed and drawn off-screen: what `render` and `bench render` share. */
 typedef struct cli_scene_desc {
     const char *path, *clip, *camera, *select, *heatmap;
+    sinew_model *model; /* instead of loading path: a model the scene takes over */
     int width, height, samples;
     bool loop, skeleton_set;
     uint32_t gpu_joint_limit;

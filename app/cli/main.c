@@ -39,6 +39,8 @@ int main(int argc, char **argv)
         return cmd_pose(argc - 1, argv + 1);
     if (strcmp(command, "render") == 0)
         return cmd_render(argc - 1, argv + 1);
+    if (strcmp(command, "bench") == 0)
+        return cmd_bench(argc - 1, argv + 1);
     cli_error("unknown command \"%s\" (try `sinew --help`)", command);
     return EXIT_USAGE;
 }

@@ -68,7 +68,7 @@ int cli_scene_open(cli_scene *s, const cli_scene_desc *d)
         cli_error("%s", error.message);
         return EXIT_USAGE;
     }
-    s->model = cli_load_model(d->path);
+    s->model = d->model ? d->model : cli_load_model(d->path);
     if (!s->model)
         return EXIT_BAD_INPUT;
     int32_t clip = -1;

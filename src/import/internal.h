@@ -111,10 +111,6 @@ sinew_result raw_model_from_assimp(const char *path, raw_model *model, sinew_err
  * (gltf_keys.c). Leaves the model as it is when the file cannot be read again. */
 void gltf_restore_interpolation(const char *path, raw_model *model);
 
-/* glTF files: puts back the STEP and CUBICSPLINE samplers Assimp flattened to linear keys
- * (gltf_keys.c). Leaves the model as it is when the file cannot be read again. */
-void gltf_restore_interpolation(const char *path, raw_model *model);
-
 /* COLLADA files: cuts the one clip Assimp makes of a file's <animation_clip>s into those
  * clips (collada_clips.c). Leaves the model as it is when there are none. */
 void collada_split_clips(const char *path, raw_model *model);

@@ -1,0 +1,193 @@
+/* `sinew bench`: speed measurements, reported per unit and as ratios. */
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+
+#include <cjson/cJSON.h>
+#include <epoxy/gl.h>
+
+#include "cli.h"
+
+static const char bench_usage[] =
+    "usage: sinew bench render [FILE] [--clip C] [--size WxH] [--samples N] [--frames N] [--png OUT] [--json]\n"
+    "\n"
+    "  render   frames per second of `sinew render`'s drawing (pose, palette, draw, glFinish; no read-back)\n"
+    "           with GPU skinning and with CPU skinning, at 1280x720 by default, with 4x multisampling\n"
+    "           and without (--samples N measures only N).\n"
+    "           FILE defaults to a generated 64-joint character of 10,016 vertices, 4 influences each.\n"
+    "           The clip plays forward at 60 Hz from 0, looping; N frames (default 300) after 10 warm-up frames.\n"
+    "           --png OUT writes the last GPU-skinned frame, to see what was measured.\n";
+
+static double now_seconds(void)
+{
+    struct timespec t;
+    clock_gettime(CLOCK_MONOTONIC, &t);
+    return (double)t.tv_sec + (double)t.tv_nsec * 1e-9;
+}
+
+typedef struct render_bench_args {
+    const char *path, *clip, *png;
+    int width, height, frames, samples;
+    bool json;
+} render_bench_args;
+
+/* Seconds a frame, drawing `frames` frames after a warm-up. */
+static bool time_frames(cli_scene *scene, int frames, double *seconds_per_frame)
+{
+    double t = 0.0;
+    for (int i = 0; i < 10; i++, t += 1.0 / 60.0)
+        if (!cli_scene_draw(scene, t))
+            return false;
+    glFinish();
+    double start = now_seconds();
+    for (int i = 0; i < frames; i++, t += 1.0 / 60.0)
+        if (!cli_scene_draw(scene, t))
+            return false;
+    glFinish();
+    *seconds_per_frame = (now_seconds() - start) / frames;
+    return true;
+}
+
+static uint32_t vertex_total(const sinew_model *m)
+{
+    uint32_t n = 0;
+    for (uint32_t i = 0; i < m->instance_count; i++)
+        n += m->meshes[m->instances[i].mesh].vertex_count;
+    return n;
+}
+
+/* Opens a scene (FILE, or the generated character) and times it with one skinning mode. */
+static int run_render_bench(const render_bench_args *a, int samples, int mode, double *spf, char *source,
+                            size_t source_size, char *gl_name, size_t gl_size, uint32_t *vertices, uint32_t *joints)
+{
+    cli_scene_desc d = {.path = a->path,
+                        .clip = a->clip,
+                        .width = a->width,
+                        .height = a->height,
+                        .samples = samples,
+                        .loop = true,
+                        .options = sinew_render_options_default()};
+    d.options.skinning = mode ? SINEW_SKINNING_CPU : SINEW_SKINNING_GPU;
+    if (!a->path) {
+        sinew_error error = {0};
+        sinew_synthetic_desc sd = {.joints = 64, .vertices = 10000, .influences = 4};
+        if (sinew_synthetic_model(&sd, &d.model, &error) != SINEW_OK) {
+            cli_error("%s", error.message);
+            return EXIT_BAD_INPUT;
+        }
+    }
+    cli_scene scene;
+    int code = cli_scene_open(&scene, &d);
+    if (code != EXIT_OK)
+        return code;
+    bool ok = cli_scene_frame_all(&scene, 0.0, scene.clip ? scene.clip->duration : 0.0) &&
+              time_frames(&scene, a->frames, spf);
+    if (ok && a->png && mode == 0)
+        ok = cli_scene_read(&scene) && cli_write_png(a->png, scene.pixels, a->width, a->height);
+    *vertices = vertex_total(scene.model);
+    *joints = 0;
+    for (uint32_t s = 0; s < scene.model->skin_count; s++)
+        *joints += scene.model->skins[s].joint_count;
+    snprintf(source, source_size, "%s", scene.model->source);
+    snprintf(gl_name, gl_size, "%s", scene.gl_name);
+    cli_scene_close(&scene);
+    return ok ? EXIT_OK : EXIT_BAD_INPUT;
+}
+
+static int bench_render(int argc, char **argv)
+{
+    render_bench_args a = {.width = 1280, .height = 720, .frames = 300};
+    for (int i = 1; i < argc; i++) {
+        const char *o = argv[i];
+        bool v = i + 1 < argc;
+        if (cli_is_help(o)) {
+            fputs(bench_usage, stdout);
+            return EXIT_OK;
+        } else if (strcmp(o, "--json") == 0) {
+            a.json = true;
+        } else if (strcmp(o, "--samples") == 0 && v) {
+            a.samples = atoi(argv[++i]);
+            if (a.samples < 1 || a.samples > 64) {
+                cli_error("bench render: --samples must be 1..64");
+                return EXIT_USAGE;
+            }
+        } else if (strcmp(o, "--png") == 0 && v) {
+            a.png = argv[++i];
+        } else if (strcmp(o, "--clip") == 0 && v) {
+            a.clip = argv[++i];
+        } else if (strcmp(o, "--frames") == 0 && v) {
+            a.frames = atoi(argv[++i]);
+            if (a.frames < 1 || a.frames > 100000) {
+                cli_error("bench render: --frames must be 1..100000");
+                return EXIT_USAGE;
+            }
+        } else if (strcmp(o, "--size") == 0 && v) {
+            const char *size = argv[++i];
+            if (sscanf(size, "%dx%d", &a.width, &a.height) != 2 || a.width < 1 || a.height < 1 || a.width > 16384 ||
+                a.height > 16384) {
+                cli_error("bench render: bad --size \"%s\": expected WIDTHxHEIGHT", size);
+                return EXIT_USAGE;
+            }
+        } else if (o[0] == '-') {
+            cli_error("bench render: unknown option or missing value \"%s\"\n%s", o, bench_usage);
+            return EXIT_USAGE;
+        } else {
+            a.path = o;
+        }
+    }
+    /* Seconds a frame: [sample setting][0 GPU, 1 CPU skinning]. */
+    int settings[2] = {a.samples ? a.samples : 4, 1};
+    int setting_count = a.samples ? 1 : 2;
+    double spf[2][2] = {{0, 0}, {0, 0}};
+    char gl_name[320] = "", source[512] = "";
+    uint32_t vertices = 0, joints = 0;
+    for (int k = 0; k < setting_count; k++)
+        for (int mode = 0; mode < 2; mode++) {
+            int code = run_render_bench(&a, settings[k], mode, &spf[k][mode], source, sizeof source, gl_name,
+                                        sizeof gl_name, &vertices, &joints);
+            if (code != EXIT_OK)
+                return code;
+        }
+    if (a.json) {
+        cJSON *o = cJSON_CreateObject();
+        cJSON_AddStringToObject(o, "model", source);
+        cJSON_AddNumberToObject(o, "vertices", vertices);
+        cJSON_AddNumberToObject(o, "joints", joints);
+        cJSON_AddNumberToObject(o, "width", a.width);
+        cJSON_AddNumberToObject(o, "height", a.height);
+        cJSON_AddStringToObject(o, "gl", gl_name);
+        cJSON *runs = cJSON_AddArrayToObject(o, "runs");
+        for (int k = 0; k < setting_count; k++) {
+            cJSON *r = cJSON_CreateObject();
+            cJSON_AddNumberToObject(r, "samples", settings[k]);
+            cJSON_AddNumberToObject(r, "gpu_skinning_fps", 1.0 / spf[k][0]);
+            cJSON_AddNumberToObject(r, "cpu_skinning_fps", 1.0 / spf[k][1]);
+            cJSON_AddItemToArray(runs, r);
+        }
+        char *text = cJSON_Print(o);
+        puts(text);
+        free(text);
+        cJSON_Delete(o);
+        return EXIT_OK;
+    }
+    printf("model:   %s (%u vertices, %u joints)\n", source, vertices, joints);
+    printf("target:  %dx%d, %s\n", a.width, a.height, gl_name);
+    for (int k = 0; k < setting_count; k++) {
+        printf("%dx MSAA, GPU skinning: %8.1f fps  %7.3f ms/frame\n", settings[k], 1.0 / spf[k][0], spf[k][0] * 1e3);
+        printf("%dx MSAA, CPU skinning: %8.1f fps  %7.3f ms/frame  (GPU/CPU time %.2f)\n", settings[k],
+               1.0 / spf[k][1], spf[k][1] * 1e3, spf[k][0] / spf[k][1]);
+    }
+    return EXIT_OK;
+}
+
+int cmd_bench(int argc, char **argv)
+{
+    if (argc < 2 || cli_is_help(argv[1])) {
+        fputs(bench_usage, argc < 2 ? stderr : stdout);
+        return argc < 2 ? EXIT_USAGE : EXIT_OK;
+    }
+    if (strcmp(argv[1], "render") == 0)
+        return bench_render(argc - 1, argv + 1);
+    cli_error("bench: unknown benchmark \"%s\"\n%s", argv[1], bench_usage);
+    return EXIT_USAGE;
+}
