@@ -58,6 +58,8 @@ typedef struct cli_scene {
     sinew_renderer *renderer;
     sinew_camera camera;
     bool frame_all; /* the camera spec left the distance to framing */
+    bool tracking;  /* track_centre holds the last tracked centre */
+    float track_centre[3];
     sinew_render_options frame_options;
     sinew_wrap wrap;
     int width, height;
@@ -70,6 +72,9 @@ int cli_scene_open(cli_scene *scene, const cli_scene_desc *desc);
 /* Places the camera on the posed bounds over [from, to] (as the camera spec asks). */
 bool cli_scene_frame_all(cli_scene *scene, double from, double to);
 bool cli_scene_pose(cli_scene *scene, double time);
+/* Moves the orbit target (or the fly eye, by the same step) to the centre of the pose
+ * at `time`, keeping distance and angles: the camera follows a walking character. */
+bool cli_scene_track(cli_scene *scene, double time);
 /* Poses at `time` and draws (no read-back). */
 bool cli_scene_draw(cli_scene *scene, double time);
 /* Reads the frame into scene->pixels. */

@@ -19,6 +19,7 @@ static const char render_usage[] =
     "  --from A --to B     a sequence from A to B seconds, both included (default: the whole clip)\n"
     "  --fps N             frames per second of the sequence (default 30)\n"
     "  --loop              wrap times outside the clip instead of clamping\n"
+    "  --track             the camera follows the model (its posed centre) through a sequence\n"
     "  --size WxH          image size in pixels (default 1280x720)\n"
     "  --samples N         multisampling (default 4, 1 = off)\n"
     "  --camera SPEC       orbit:YAW,PITCH[,DISTANCE] or fly:X,Y,Z,YAW,PITCH, degrees and metres\n"
@@ -44,7 +45,7 @@ typedef struct render_args {
     const char *path, *clip, *out, *camera, *select, *heatmap;
     int width, height, samples;
     double time, from, to, fps;
-    bool from_set, to_set, fps_set, loop, skeleton_set;
+    bool from_set, to_set, fps_set, loop, skeleton_set, track;
     uint32_t gpu_joint_limit;
     sinew_render_options options;
 } render_args;
@@ -175,6 +176,8 @@ static int parse_render_args(int argc, char **argv, render_args *a)
         int used = 0;
         if (strcmp(arg, "--loop") == 0)
             a->loop = true, used = 1;
+        if (strcmp(arg, "--track") == 0)
+            a->track = true, used = 1;
         if (!used)
             used = parse_value_option(argc, argv, i, a, &bad);
         if (!used && arg[0] == '-' && arg[1] == '-')
@@ -287,7 +290,7 @@ int cmd_render(int argc, char **argv)
         }
         frames = (uint32_t)count;
     }
-    code = cli_scene_frame_all(&scene, from, to) ? EXIT_OK : EXIT_BAD_INPUT;
+    code = cli_scene_frame_all(&scene, from, a.track ? from : to) ? EXIT_OK : EXIT_BAD_INPUT;
     cli_video video = {.fd = -1};
     if (code == EXIT_OK && kind == OUTPUT_VIDEO) {
         cli_ignore_sigpipe();
@@ -296,7 +299,7 @@ int cmd_render(int argc, char **argv)
     }
     for (uint32_t f = 0; f < frames && code == EXIT_OK; f++) {
         double t = from + step * f;
-        if (!cli_scene_draw(&scene, t) || !cli_scene_read(&scene)) {
+        if ((a.track && !cli_scene_track(&scene, t)) || !cli_scene_draw(&scene, t) || !cli_scene_read(&scene)) {
             code = EXIT_BAD_INPUT;
             break;
         }

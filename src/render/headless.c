@@ -81,7 +81,6 @@ static bool open_context(sinew_headless *h, char *tried, size_t tried_size)
         if (try_display(eglGetPlatformDisplayEXT(EGL_PLATFORM_SURFACELESS_MESA, EGL_DEFAULT_DISPLAY, NULL), &display)) {
             if (context_on(h, display))
                 return true;
-            eglTerminate(display);
         }
     }
     if ((any || !strcmp(only, "device")) && has_extension(client, "EGL_EXT_platform_device") &&
@@ -95,7 +94,6 @@ static bool open_context(sinew_headless *h, char *tried, size_t tried_size)
                 if (try_display(eglGetPlatformDisplayEXT(EGL_PLATFORM_DEVICE_EXT, devices[i], NULL), &display)) {
                     if (context_on(h, display))
                         return true;
-                    eglTerminate(display);
                 }
             }
         }
@@ -106,7 +104,6 @@ static bool open_context(sinew_headless *h, char *tried, size_t tried_size)
         if (try_display(eglGetDisplay(EGL_DEFAULT_DISPLAY), &display)) {
             if (context_on(h, display))
                 return true;
-            eglTerminate(display);
         }
     }
     return false;
@@ -210,7 +207,10 @@ void sinew_headless_destroy(sinew_headless *h)
         glDeleteRenderbuffers(1, &h->resolve_color);
         eglMakeCurrent(h->display, EGL_NO_SURFACE, EGL_NO_SURFACE, EGL_NO_CONTEXT);
         eglDestroyContext(h->display, h->context);
-        eglTerminate(h->display);
+        /* No eglTerminate: an EGL display is one per process and platform, shared with
+         * anyone else in the process using it (a toolkit, a second renderer); terminating
+         * it would pull it from under them. */
+        eglReleaseThread();
     }
     free(h);
 }

@@ -873,6 +873,52 @@ static void test_ticks_per_second_fallback(void **state)
     sinew_model_free(m);
 }
 
+/* The generated benchmark character: the sizes asked for, a clip that moves it, and
+ * finite skinned vertices through the clip; out-of-range requests refused. */
+static void test_synthetic_model(void **state)
+{
+    (void)state;
+    sinew_model *m = NULL;
+    sinew_error e = {0};
+    assert_int_equal(sinew_synthetic_model(NULL, &m, &e), SINEW_OK);
+    assert_int_equal(m->node_count, 64);
+    assert_int_equal(m->skins[0].joint_count, 64);
+    assert_true(m->meshes[0].vertex_count >= 10000);
+    assert_int_equal(m->meshes[0].influence_count, 4);
+    assert_int_equal(m->clip_count, 1);
+    assert_near(m->clips[0].duration, 2.0, 1e-6, "duration");
+    assert_int_equal(m->clips[0].tracks[5].channels[SINEW_CHANNEL_ROTATION].key_count, 61);
+    float top_rest[3] = {0}, top_moved[3] = {0};
+    for (int i = 0; i < 10; i++) {
+        float t = 2.0f * (float)i / 9.0f;
+        sinew_mat4 *w = pose_worlds(m, &m->clips[0], t);
+        uint32_t n = 0;
+        float *v = posed_vertices(m, w, &n);
+        assert_int_equal(n, m->meshes[0].vertex_count);
+        for (uint32_t k = 0; k < n * 3; k++)
+            assert_true(isfinite(v[k]));
+        if (i == 0 || i == 2)
+            memcpy(i == 0 ? top_rest : top_moved, &v[(n - 1) * 3], sizeof top_rest);
+        free(v);
+        free(w);
+    }
+    sinew_model_free(m);
+    /* It stands about 1.8 m tall; between 0 s and 0.44 s the clip sways the top visibly. */
+    assert_true(top_rest[1] > 1.5f);
+    float dx = top_moved[0] - top_rest[0], dz = top_moved[2] - top_rest[2];
+    assert_true(dx * dx + dz * dz > 1e-4f || fabsf(top_moved[1] - top_rest[1]) > 1e-3f);
+    sinew_synthetic_desc big = {.joints = 128, .vertices = 50000, .influences = 8};
+    assert_int_equal(sinew_synthetic_model(&big, &m, &e), SINEW_OK);
+    assert_int_equal(m->meshes[0].influence_count, 8);
+    sinew_model_free(m);
+    static const sinew_synthetic_desc bad[] = {{.joints = 1}, {.joints = 2000}, {.influences = 9},
+                                               {.joints = 3, .influences = 4}, {.duration = 1e9f}};
+    for (size_t i = 0; i < sizeof bad / sizeof bad[0]; i++) {
+        assert_int_equal(sinew_synthetic_model(&bad[i], &m, &e), SINEW_ERROR_INVALID_ARGUMENT);
+        assert_null(m);
+    }
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -892,6 +938,7 @@ int main(void)
         cmocka_unit_test(test_utf16_collada),
         cmocka_unit_test(test_gltf_step_and_cubic_restored),
         cmocka_unit_test(test_ticks_per_second_fallback),
+        cmocka_unit_test(test_synthetic_model),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
