@@ -7,7 +7,7 @@ MAKEFLAGS  += --no-print-directory
 JOBS       ?= $(shell nproc 2>/dev/null || echo 2)
 CMAKE_ARGS ?=
 
-.PHONY: all deps build build-asan run test test-fast test-asan clean
+.PHONY: all deps build build-asan run test test-fast test-asan golden clean
 
 all: build
 
@@ -33,6 +33,10 @@ test-asan: build-asan
 		ctest --output-on-failure -j $(JOBS)
 
 test: test-fast test-asan
+
+# Re-render tests/golden/*.png after an intended change to the pictures; look at them before committing.
+golden: build
+	@cd $(BUILD) && SINEW_UPDATE_GOLDEN=1 ctest -R test_render --output-on-failure
 
 clean:
 	rm -rf $(BUILD) $(BUILD_SAN)
