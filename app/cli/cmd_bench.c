@@ -174,8 +174,8 @@ static int bench_render(int argc, char **argv)
     printf("target:  %dx%d, %s\n", a.width, a.height, gl_name);
     for (int k = 0; k < setting_count; k++) {
         printf("%dx MSAA, GPU skinning: %8.1f fps  %7.3f ms/frame\n", settings[k], 1.0 / spf[k][0], spf[k][0] * 1e3);
-        printf("%dx MSAA, CPU skinning: %8.1f fps  %7.3f ms/frame  (GPU/CPU time %.2f)\n", settings[k],
-               1.0 / spf[k][1], spf[k][1] * 1e3, spf[k][0] / spf[k][1]);
+        printf("%dx MSAA, CPU skinning: %8.1f fps  %7.3f ms/frame  (GPU/CPU time %.2f)\n", settings[k], 1.0 / spf[k][1],
+               spf[k][1] * 1e3, spf[k][0] / spf[k][1]);
     }
     return EXIT_OK;
 }

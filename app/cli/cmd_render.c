@@ -242,9 +242,9 @@ int cmd_render(int argc, char **argv)
     if (code >= 0)
         return code;
     bool malformed = false;
-    output_kind kind = ends_with(a.out, ".mp4")                ? OUTPUT_VIDEO
+    output_kind kind = ends_with(a.out, ".mp4")              ? OUTPUT_VIDEO
                        : is_frame_pattern(a.out, &malformed) ? OUTPUT_PATTERN
-                                                              : OUTPUT_PNG;
+                                                             : OUTPUT_PNG;
     if (malformed) {
         cli_error("render: -o \"%s\": a frame pattern takes one %%d (or %%04d) for the frame number", a.out);
         return EXIT_USAGE;
@@ -319,8 +319,8 @@ int cmd_render(int argc, char **argv)
     if (kind == OUTPUT_VIDEO && video.fd >= 0 && !cli_video_close(&video))
         code = EXIT_BAD_INPUT;
     if (code == EXIT_OK)
-        printf("%s: %u frame%s %dx%d, t = %g..%g s, %s skinning, %s\n", a.out, frames, frames == 1 ? "" : "s",
-               a.width, a.height, from, from + step * (frames - 1),
+        printf("%s: %u frame%s %dx%d, t = %g..%g s, %s skinning, %s\n", a.out, frames, frames == 1 ? "" : "s", a.width,
+               a.height, from, from + step * (frames - 1),
                scene.frame_options.skinning == SINEW_SKINNING_CPU ? "CPU" : "GPU", scene.gl_name);
     cli_scene_close(&scene);
     return code;

@@ -77,10 +77,29 @@ bool cli_video_open(cli_video *video, const char *path, int width, int height, d
         close(fds[0]);
         close(fds[1]);
         /* yuv420p (what players expect) needs even sizes: pad odd ones by a pixel. */
-        char *const args[] = {program,   "-hide_banner", "-loglevel", "error", "-y", "-f", "rawvideo", "-pix_fmt",
-                              "rgba",    "-s",           size,        "-r",    rate, "-i", "-",        "-vf",
-                              "pad=ceil(iw/2)*2:ceil(ih/2)*2",        "-pix_fmt", "yuv420p", "-movflags",
-                              "+faststart", (char *)path, NULL};
+        char *const args[] = {program,
+                              "-hide_banner",
+                              "-loglevel",
+                              "error",
+                              "-y",
+                              "-f",
+                              "rawvideo",
+                              "-pix_fmt",
+                              "rgba",
+                              "-s",
+                              size,
+                              "-r",
+                              rate,
+                              "-i",
+                              "-",
+                              "-vf",
+                              "pad=ceil(iw/2)*2:ceil(ih/2)*2",
+                              "-pix_fmt",
+                              "yuv420p",
+                              "-movflags",
+                              "+faststart",
+                              (char *)path,
+                              NULL};
         execv(program, args);
         _exit(127);
     }

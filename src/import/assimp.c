@@ -555,7 +555,8 @@ static sinew_result read_meshes(context *c)
             result = joint_of_bone ? add_skin(c, in, "skeleton", true, joint_of_bone, &skin) : oom(c);
             free(joint_of_bone);
             if (!result)
-                raw_model_warn(m, "skeleton-only file: Assimp's generated bone mesh was dropped; its %u joints are kept",
+                raw_model_warn(m,
+                               "skeleton-only file: Assimp's generated bone mesh was dropped; its %u joints are kept",
                                m->skins[skin].joint_count);
             continue;
         }

@@ -175,9 +175,9 @@ sinew_result sinew_synthetic_model(const sinew_synthetic_desc *desc, sinew_model
     d.influences = d.influences ? d.influences : 4;
     d.duration = d.duration > 0.0f ? d.duration : 2.0f;
     d.keys_per_second = d.keys_per_second > 0.0f ? d.keys_per_second : 30.0f;
-    if (d.joints < 2 || d.joints > SINEW_MAX_JOINTS || d.influences > SINEW_MAX_INFLUENCES ||
-        d.influences > d.joints || d.vertices > 16u * 1024u * 1024u || !isfinite(d.duration) ||
-        d.duration > 3600.0f || d.keys_per_second > 1000.0f)
+    if (d.joints < 2 || d.joints > SINEW_MAX_JOINTS || d.influences > SINEW_MAX_INFLUENCES || d.influences > d.joints ||
+        d.vertices > 16u * 1024u * 1024u || !isfinite(d.duration) || d.duration > 3600.0f ||
+        d.keys_per_second > 1000.0f)
         return sinew_fail(error, SINEW_ERROR_INVALID_ARGUMENT,
                           "synthetic model: %u joints (2..%d), %u influences (1..8, at most the joints), %u vertices, "
                           "%g s, %g keys/s are out of range",

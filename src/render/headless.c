@@ -13,7 +13,7 @@ struct sinew_headless {
     EGLDisplay display;
     EGLContext context;
     int width, height, samples;
-    GLuint fbo, color, depth;         /* what is drawn into (multisampled when samples > 1) */
+    GLuint fbo, color, depth;          /* what is drawn into (multisampled when samples > 1) */
     GLuint resolve_fbo, resolve_color; /* single-sample copy for reading, when samples > 1 */
     char description[320];
 };
@@ -48,13 +48,9 @@ static bool context_on(sinew_headless *h, EGLDisplay display)
     EGLint count = 0;
     if (!eglChooseConfig(display, config_attributes, &config, 1, &count) || count < 1)
         return false;
-    static const EGLint context_attributes[] = {EGL_CONTEXT_MAJOR_VERSION,
-                                                3,
-                                                EGL_CONTEXT_MINOR_VERSION,
-                                                3,
-                                                EGL_CONTEXT_OPENGL_PROFILE_MASK,
-                                                EGL_CONTEXT_OPENGL_CORE_PROFILE_BIT,
-                                                EGL_NONE};
+    static const EGLint context_attributes[] = {
+        EGL_CONTEXT_MAJOR_VERSION,           3,       EGL_CONTEXT_MINOR_VERSION, 3, EGL_CONTEXT_OPENGL_PROFILE_MASK,
+        EGL_CONTEXT_OPENGL_CORE_PROFILE_BIT, EGL_NONE};
     EGLContext context = eglCreateContext(display, config, EGL_NO_CONTEXT, context_attributes);
     if (context == EGL_NO_CONTEXT)
         return false;
@@ -239,8 +235,7 @@ sinew_result sinew_headless_read(sinew_headless *h, uint8_t *rgba, sinew_error *
     glBindFramebuffer(GL_FRAMEBUFFER, h->fbo);
     GLenum gl_error = glGetError();
     if (gl_error != GL_NO_ERROR)
-        return sinew_fail(error, SINEW_ERROR_GRAPHICS, "reading the frame back failed (OpenGL error 0x%04x)",
-                          gl_error);
+        return sinew_fail(error, SINEW_ERROR_GRAPHICS, "reading the frame back failed (OpenGL error 0x%04x)", gl_error);
     /* GL's first row is the bottom one. */
     size_t row = (size_t)h->width * 4;
     for (int y = 0; y < h->height / 2; y++) {

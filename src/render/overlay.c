@@ -160,8 +160,9 @@ void overlay_add_bones(overlay_list *list, const overlay_frame *frame)
         float a[3], b[3];
         node_position(frame, (uint32_t)p, a);
         node_position(frame, n, b);
-        const uint8_t *color = p == selected ? SELECTED_COLOR : (int32_t)n == selected ? CHILD_OF_SELECTED_COLOR
-                                                                                       : BONE_COLOR;
+        const uint8_t *color = p == selected            ? SELECTED_COLOR
+                               : (int32_t)n == selected ? CHILD_OF_SELECTED_COLOR
+                                                        : BONE_COLOR;
         add_bone(list, a, b, frame->scene_radius * 0.04f, light, color);
     }
 }

@@ -40,14 +40,14 @@ struct sinew_renderer {
     mesh_uniforms mesh_u, normals_u;
     GLint overlay_matrix, overlay_point_size, overlay_round;
     render_mesh *meshes;
-    GLuint *textures;           /* a material, 0 when it has none or it could not be read */
-    uint32_t *skin_offsets;     /* first palette matrix of each skin */
-    bool *skin_on_gpu;          /* false: this skin is too big for the GPU path */
+    GLuint *textures;       /* a material, 0 when it has none or it could not be read */
+    uint32_t *skin_offsets; /* first palette matrix of each skin */
+    bool *skin_on_gpu;      /* false: this skin is too big for the GPU path */
     uint32_t total_joints;
-    sinew_mat4 *palettes;       /* total_joints matrices */
-    float *stream;              /* largest mesh's vertex count * 6 floats */
-    bool *skeleton_nodes;       /* node_count flags */
-    overlay_list overlay;       /* world-space geometry, then text quads */
+    sinew_mat4 *palettes; /* total_joints matrices */
+    float *stream;        /* largest mesh's vertex count * 6 floats */
+    bool *skeleton_nodes; /* node_count flags */
+    overlay_list overlay; /* world-space geometry, then text quads */
     GLuint palette_buffer, palette_texture;
     GLuint overlay_vao, overlay_buffer, quad_indices;
     char (*warnings)[WARNING_SIZE];
@@ -137,20 +137,17 @@ static void float_attribute(GLuint location, GLuint buffer, int size, GLsizei st
 static void upload_influences(render_mesh *rm, const sinew_mesh *mesh, int sets, void *scratch)
 {
     uint32_t n = mesh->vertex_count, k = mesh->influence_count;
+    float *weights = scratch;                                 /* 16 bytes a vertex */
+    uint16_t *joints = (uint16_t *)(weights + 4 * (size_t)n); /* then 8 bytes a vertex */
     for (int set = 0; set < sets; set++) {
-        uint16_t *joints = scratch;
         for (uint32_t v = 0; v < n; v++)
             for (uint32_t c = 0; c < 4; c++) {
                 uint32_t src = (uint32_t)set * 4 + c;
-                joints[v * 4 + c] = src < k ? mesh->joints[(size_t)v * k + src] : 0;
+                bool used = src < k;
+                joints[v * 4 + c] = used ? mesh->joints[(size_t)v * k + src] : 0;
+                weights[v * 4 + c] = used ? mesh->weights[(size_t)v * k + src] : 0.0f;
             }
         rm->buffers[BUF_JOINTS0 + set] = make_buffer(GL_ARRAY_BUFFER, (size_t)n * 8, joints, GL_STATIC_DRAW);
-        float *weights = scratch;
-        for (uint32_t v = 0; v < n; v++)
-            for (uint32_t c = 0; c < 4; c++) {
-                uint32_t src = (uint32_t)set * 4 + c;
-                weights[v * 4 + c] = src < k ? mesh->weights[(size_t)v * k + src] : 0.0f;
-            }
         rm->buffers[BUF_WEIGHTS0 + set] = make_buffer(GL_ARRAY_BUFFER, (size_t)n * 16, weights, GL_STATIC_DRAW);
     }
 }
@@ -278,8 +275,8 @@ static sinew_result create_gl_objects(sinew_renderer *r, uint32_t max_vertices, 
     r->overlay_point_size = glGetUniformLocation(r->programs.overlay, "u_point_size");
     r->overlay_round = glGetUniformLocation(r->programs.overlay, "u_round");
 
-    /* Scratch for padding joints/weights: 16 bytes a vertex. */
-    void *scratch = malloc((size_t)(max_vertices ? max_vertices : 1) * 16);
+    /* Scratch for padding joints and weights: 24 bytes a vertex. */
+    void *scratch = malloc((size_t)(max_vertices ? max_vertices : 1) * 24);
     if (!scratch)
         return sinew_fail(error, SINEW_ERROR_OUT_OF_MEMORY, "%s: out of memory uploading meshes", m->source);
     for (uint32_t i = 0; i < m->mesh_count; i++)
@@ -288,8 +285,8 @@ static sinew_result create_gl_objects(sinew_renderer *r, uint32_t max_vertices, 
     for (uint32_t i = 0; i < m->material_count; i++)
         r->textures[i] = m->materials[i].diffuse_texture ? load_texture(r, &m->materials[i]) : 0;
 
-    r->palette_buffer = make_buffer(GL_TEXTURE_BUFFER, (size_t)(r->total_joints ? r->total_joints : 1) * 64, NULL,
-                                    GL_STREAM_DRAW);
+    r->palette_buffer =
+        make_buffer(GL_TEXTURE_BUFFER, (size_t)(r->total_joints ? r->total_joints : 1) * 64, NULL, GL_STREAM_DRAW);
     glGenTextures(1, &r->palette_texture);
     glBindTexture(GL_TEXTURE_BUFFER, r->palette_texture);
     glTexBuffer(GL_TEXTURE_BUFFER, GL_RGBA32F, r->palette_buffer);
@@ -331,7 +328,8 @@ sinew_result sinew_renderer_create(const sinew_renderer_desc *desc, sinew_render
         return sinew_fail(error, SINEW_ERROR_GRAPHICS, "OpenGL 3.3 core is needed; the current context is %s %s",
                           epoxy_is_desktop_gl() ? "OpenGL" : "OpenGL ES", (const char *)glGetString(GL_VERSION));
     if (desc->allocator && (!desc->allocator->alloc || !desc->allocator->free))
-        return sinew_fail(error, SINEW_ERROR_INVALID_ARGUMENT, "sinew_renderer_create: allocator without alloc or free");
+        return sinew_fail(error, SINEW_ERROR_INVALID_ARGUMENT,
+                          "sinew_renderer_create: allocator without alloc or free");
     sinew_allocator alloc = desc->allocator ? *desc->allocator : (sinew_allocator){default_alloc, default_free, NULL};
 
     uint32_t total_joints = 0, max_vertices = 0;
@@ -643,7 +641,8 @@ static void draw_overlay(sinew_renderer *r, const frame_state *fs, bool before_m
                         .view_proj = fs->view_proj,
                         .width = fs->frame->width,
                         .height = fs->frame->height,
-                        .scene_radius = fs->frame->camera->scene_radius > 0.0f ? fs->frame->camera->scene_radius : 1.0f};
+                        .scene_radius =
+                            fs->frame->camera->scene_radius > 0.0f ? fs->frame->camera->scene_radius : 1.0f};
     overlay_list *list = &r->overlay;
     list->count = 0;
     overlay_range grid = {0}, axes = {0}, bones = {0}, joint_axes = {0}, joints = {0}, selected = {0}, names = {0};
@@ -723,8 +722,8 @@ sinew_result sinew_renderer_draw(sinew_renderer *r, const sinew_frame *frame, si
         return sinew_fail(error, SINEW_ERROR_INVALID_ARGUMENT, "sinew_renderer_draw: %u world matrices for %u nodes",
                           frame->world_count, m->node_count);
     if (frame->width <= 0 || frame->height <= 0)
-        return sinew_fail(error, SINEW_ERROR_INVALID_ARGUMENT, "sinew_renderer_draw: viewport %dx%d",
-                          frame->width, frame->height);
+        return sinew_fail(error, SINEW_ERROR_INVALID_ARGUMENT, "sinew_renderer_draw: viewport %dx%d", frame->width,
+                          frame->height);
     frame_state fs = {.frame = frame, .o = frame->options};
     sinew_mat4 view, proj;
     sinew_camera_view(frame->camera, &view);

@@ -10,7 +10,6 @@
 
 #include "helpers.h"
 
-
 /* Runs sinew, expects exit 0 and JSON on stdout; returns the parsed document. */
 static cJSON *run_json(const char *const *args)
 {

@@ -911,8 +911,8 @@ static void test_synthetic_model(void **state)
     assert_int_equal(sinew_synthetic_model(&big, &m, &e), SINEW_OK);
     assert_int_equal(m->meshes[0].influence_count, 8);
     sinew_model_free(m);
-    static const sinew_synthetic_desc bad[] = {{.joints = 1}, {.joints = 2000}, {.influences = 9},
-                                               {.joints = 3, .influences = 4}, {.duration = 1e9f}};
+    static const sinew_synthetic_desc bad[] = {
+        {.joints = 1}, {.joints = 2000}, {.influences = 9}, {.joints = 3, .influences = 4}, {.duration = 1e9f}};
     for (size_t i = 0; i < sizeof bad / sizeof bad[0]; i++) {
         assert_int_equal(sinew_synthetic_model(&bad[i], &m, &e), SINEW_ERROR_INVALID_ARGUMENT);
         assert_null(m);

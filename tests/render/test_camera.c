@@ -140,8 +140,9 @@ static void test_parse(void **state)
     assert_int_equal(sinew_camera_parse("fly:1,2,3,45,0", &c, &frame_all, &e), SINEW_OK);
     assert_int_equal(c.mode, SINEW_CAMERA_FLY);
     assert_near(c.position[2], 3.0, 1e-6, "fly z");
-    static const char *const bad[] = {"", "orbit:", "orbit:1", "orbit:1,2,0", "orbit:1,2,-3", "orbit:1,2,3,4",
-                                      "orbit:a,b", "fly:1,2,3,4", "fly:1,2,3,4,5,6", "fly:1,2,3,4,nan", "spin:1,2"};
+    static const char *const bad[] = {
+        "",          "orbit:",      "orbit:1",         "orbit:1,2,0",     "orbit:1,2,-3", "orbit:1,2,3,4",
+        "orbit:a,b", "fly:1,2,3,4", "fly:1,2,3,4,5,6", "fly:1,2,3,4,nan", "spin:1,2"};
     for (size_t i = 0; i < sizeof bad / sizeof bad[0]; i++) {
         if (sinew_camera_parse(bad[i], &c, &frame_all, &e) != SINEW_ERROR_INVALID_ARGUMENT)
             fail_msg("camera \"%s\" was accepted", bad[i]);
@@ -171,9 +172,9 @@ static void test_options_round_trip(void **state)
     char value[64];
     sinew_render_option_get(&o, "background", value, sizeof value, &e);
     assert_string_equal(value, "#ff8000");
-    static const char *const bad[][2] = {{"grid", "maybe"},   {"shading", "toon"}, {"skinning", "tpu"},
-                                         {"background", "red"}, {"background", "2,0,0"},
-                                         {"normal-length", "-1"}, {"colour", "on"},  {"shading", NULL}};
+    static const char *const bad[][2] = {{"grid", "maybe"},     {"shading", "toon"},     {"skinning", "tpu"},
+                                         {"background", "red"}, {"background", "2,0,0"}, {"normal-length", "-1"},
+                                         {"colour", "on"},      {"shading", NULL}};
     for (size_t i = 0; i < sizeof bad / sizeof bad[0]; i++)
         assert_int_equal(sinew_render_option_set(&o, bad[i][0], bad[i][1], &e), SINEW_ERROR_INVALID_ARGUMENT);
 }
@@ -181,9 +182,12 @@ static void test_options_round_trip(void **state)
 int main(void)
 {
     const struct CMUnitTest tests[] = {
-        cmocka_unit_test(test_default_looks_along_minus_z), cmocka_unit_test(test_mode_switch_keeps_the_view),
-        cmocka_unit_test(test_pitch_is_clamped),            cmocka_unit_test(test_frame_all_shows_the_box),
-        cmocka_unit_test(test_zoom_and_pan),                cmocka_unit_test(test_parse),
+        cmocka_unit_test(test_default_looks_along_minus_z),
+        cmocka_unit_test(test_mode_switch_keeps_the_view),
+        cmocka_unit_test(test_pitch_is_clamped),
+        cmocka_unit_test(test_frame_all_shows_the_box),
+        cmocka_unit_test(test_zoom_and_pan),
+        cmocka_unit_test(test_parse),
         cmocka_unit_test(test_options_round_trip),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

@@ -157,10 +157,12 @@ static const golden_case GOLDEN[] = {
     {"robot-walk-phong", "raylib/robot.glb", {"--clip", "Robot_Walking", "--time", "0.3"}},
     {"robot-wave-heat-gouraud",
      "raylib/robot.glb",
-     {"--clip", "Robot_Wave", "--time", "0.6", "--heatmap", "Head", "--skeleton", "--select", "UpperArm.R",
-      "--shading", "gouraud", "--camera", "orbit:-20,10"}},
+     {"--clip", "Robot_Wave", "--time", "0.6", "--heatmap", "Head", "--skeleton", "--select", "UpperArm.R", "--shading",
+      "gouraud", "--camera", "orbit:-20,10"}},
     {"wuson-clay-flat", "assimp/X/Testwuson.X", {"--time", "1", "--materials", "off", "--shading", "flat"}},
-    {"bvh-skeleton-names", "assimp/BVH/01_01.bvh", {"--time", "1", "--select", "LeftForeArm", "--camera", "orbit:60,10"}},
+    {"bvh-skeleton-names",
+     "assimp/BVH/01_01.bvh",
+     {"--time", "1", "--select", "LeftForeArm", "--camera", "orbit:60,10"}},
     {"jointsinln-textured-unlit", "collada-cts/JointsInLN/JointsInLN.dae", {"--no-lighting", "--no-grid"}},
     {"arnaud-joint-axes", "ozz/pab/arnaud.fbx", {"--joint-axes", "--camera", "orbit:0,0", "--background", "ffffff"}},
 };
@@ -208,12 +210,12 @@ static void test_gpu_and_cpu_skinning_agree(void **state)
     char path[1024];
     if (!testdata_path("raylib/robot.glb", path, sizeof path))
         skip();
-    const char *common[] = {"--clip", "Robot_Wave", "--time", "0.6", "--size", SIZE, "--heatmap", "Hips",
-                            "--normals", "--skeleton"};
-    image gpu = RENDER("skin-gpu.png", path, common[0], common[1], common[2], common[3], common[4], common[5], common[6],
-                       common[7], common[8], common[9], "--skinning", "gpu");
-    image cpu = RENDER("skin-cpu.png", path, common[0], common[1], common[2], common[3], common[4], common[5], common[6],
-                       common[7], common[8], common[9], "--skinning", "cpu");
+    const char *common[] = {"--clip", "Robot_Wave", "--time", "0.6",       "--size",
+                            SIZE,     "--heatmap",  "Hips",   "--normals", "--skeleton"};
+    image gpu = RENDER("skin-gpu.png", path, common[0], common[1], common[2], common[3], common[4], common[5],
+                       common[6], common[7], common[8], common[9], "--skinning", "gpu");
+    image cpu = RENDER("skin-cpu.png", path, common[0], common[1], common[2], common[3], common[4], common[5],
+                       common[6], common[7], common[8], common[9], "--skinning", "cpu");
     long differing = 0;
     bool same = same_picture(&gpu, &cpu, &differing);
     printf("robot wave, GPU vs CPU skinning: %ld pixels differ\n", differing);
@@ -298,8 +300,8 @@ static void test_frame_sequence_and_video(void **state)
     tmp_path("seq-%03d.png", pattern, sizeof pattern);
     tmp_path("seq-005.png", beyond, sizeof beyond);
     remove(beyond);
-    run_result r = RUN("render", fixture, "--from", "0", "--to", "0.4", "--fps", "10", "--size", "64x48", "-o",
-                       pattern);
+    run_result r =
+        RUN("render", fixture, "--from", "0", "--to", "0.4", "--fps", "10", "--size", "64x48", "-o", pattern);
     assert_int_equal(r.code, 0);
     run_free(&r);
     tmp_path("seq-000.png", first, sizeof first);
