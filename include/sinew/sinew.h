@@ -10,6 +10,7 @@
 #include "sinew/headless.h"
 #include "sinew/import.h"
 #include "sinew/model.h"
+#include "sinew/muscle.h"
 #include "sinew/render.h"
 #include "sinew/result.h"
 
