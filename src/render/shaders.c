@@ -180,17 +180,32 @@ static const char *const OVERLAY_FS = "in vec4 v_color;\n"
                                       "    o_color = v_color;\n"
                                       "}\n";
 
+/* True when the shader compiled or the program linked; otherwise the error gets GL's log. */
+static bool gl_succeeded(GLuint object, bool program, const char *what, sinew_error *error)
+{
+    GLint ok = 0;
+    char log[400] = "";
+    if (program)
+        glGetProgramiv(object, GL_LINK_STATUS, &ok);
+    else
+        glGetShaderiv(object, GL_COMPILE_STATUS, &ok);
+    if (ok)
+        return true;
+    if (program)
+        glGetProgramInfoLog(object, sizeof log, NULL, log);
+    else
+        glGetShaderInfoLog(object, sizeof log, NULL, log);
+    sinew_fail(error, SINEW_ERROR_GRAPHICS, "the %s %s: %s", what,
+               program ? "program does not link" : "shader does not compile", log);
+    return false;
+}
+
 static GLuint compile(GLenum stage, const char *const *parts, int part_count, const char *what, sinew_error *error)
 {
     GLuint shader = glCreateShader(stage);
     glShaderSource(shader, part_count, parts, NULL);
     glCompileShader(shader);
-    GLint ok = 0;
-    glGetShaderiv(shader, GL_COMPILE_STATUS, &ok);
-    if (!ok) {
-        char log[400] = "";
-        glGetShaderInfoLog(shader, sizeof log, NULL, log);
-        sinew_fail(error, SINEW_ERROR_GRAPHICS, "the %s shader does not compile: %s", what, log);
+    if (!gl_succeeded(shader, false, what, error)) {
         glDeleteShader(shader);
         return 0;
     }
@@ -217,12 +232,7 @@ static GLuint link_program(const char *vs, const char *gs, const char *fs, bool 
         if (stages[i])
             glAttachShader(program, stages[i]);
     glLinkProgram(program);
-    GLint ok = 0;
-    glGetProgramiv(program, GL_LINK_STATUS, &ok);
-    if (!ok) {
-        char log[400] = "";
-        glGetProgramInfoLog(program, sizeof log, NULL, log);
-        sinew_fail(error, SINEW_ERROR_GRAPHICS, "the %s program does not link: %s", what, log);
+    if (!gl_succeeded(program, true, what, error)) {
         glDeleteProgram(program);
         program = 0;
     }

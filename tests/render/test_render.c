@@ -378,6 +378,21 @@ static void test_bad_input(void **state)
     run_free(&r);
 }
 
+/* The benchmark runs and reports (its numbers are not judged here: never a timed test). */
+static void test_bench_render_reports(void **state)
+{
+    (void)state;
+    run_result r = RUN("bench", "render", "--frames", "2", "--size", "64x48", "--json");
+    if (r.code != 0)
+        fail_msg("bench render: exit %d: %s", r.code, r.err);
+    assert_non_null(strstr(r.out, "\"vertices\":\t10016"));
+    assert_non_null(strstr(r.out, "\"gpu_skinning_fps\""));
+    assert_non_null(strstr(r.out, "\"cpu_skinning_fps\""));
+    run_free(&r);
+    EXPECT_FAILURE(1, "whole number", "bench", "render", "--frames", "12x");
+    EXPECT_FAILURE(1, "unknown benchmark", "bench", "fly");
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -390,6 +405,7 @@ int main(void)
         cmocka_unit_test(test_bone_only_file_shows_bones),
         cmocka_unit_test(test_frame_sequence_and_video),
         cmocka_unit_test(test_bad_input),
+        cmocka_unit_test(test_bench_render_reports),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
