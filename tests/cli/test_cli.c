@@ -35,9 +35,15 @@ static void test_usage_and_help(void **state)
     assert_int_equal(r.code, 0);
     assert_non_null(strstr(r.out, "info FILE"));
     assert_non_null(strstr(r.out, "pose FILE"));
+    assert_non_null(strstr(r.out, "render FILE"));
+    assert_non_null(strstr(r.out, "bench render"));
     run_free(&r);
-    static const char *const commands[] = {"info", "pose"};
-    for (int i = 0; i < 2; i++) {
+    r = RUN("bench", "--help");
+    assert_int_equal(r.code, 0);
+    assert_non_null(strstr(r.out, "usage: sinew bench"));
+    run_free(&r);
+    static const char *const commands[] = {"info", "pose", "render"};
+    for (int i = 0; i < 3; i++) {
         r = RUN(commands[i], "--help");
         assert_int_equal(r.code, 0);
         assert_non_null(strstr(r.out, "usage: sinew"));
