@@ -11,6 +11,7 @@
 #include "sinew/import.h"
 #include "sinew/model.h"
 #include "sinew/muscle.h"
+#include "sinew/muscle_file.h"
 #include "sinew/render.h"
 #include "sinew/result.h"
 
