@@ -102,6 +102,7 @@ void cli_ignore_sigpipe(void);
 int cmd_info(int argc, char **argv);
 int cmd_render(int argc, char **argv);
 int cmd_bench(int argc, char **argv);
+int cmd_muscle(int argc, char **argv);
 int cmd_pose(int argc, char **argv);
 
 #endif

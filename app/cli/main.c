@@ -14,7 +14,9 @@ static const char usage[] =
     "                                world transform of every node at given times; skinned mesh as OBJ\n"
     "  render FILE [--time T | --from A --to B --fps N] [--camera SPEC] [display options] -o OUT\n"
     "                                draw frames off-screen (OpenGL through EGL) to PNG, PNG sequences or MP4\n"
-    "  bench render [FILE]           frames per second of the renderer, GPU against CPU skinning\n"    "\n"
+    "  bench render [FILE]           frames per second of the renderer, GPU against CPU skinning\n"
+    "  muscle FILE.json [--name M] [--length L] [--json]\n"
+    "                                a volume-preserving muscle at a length: delta, radii, volume, valid range\n"    "\n"
     "FILE is any format Assimp reads: COLLADA (.dae), glTF (.gltf/.glb), FBX, BVH, .x, MD5, SMD, IQM, ...\n"
     "Output is in metres, Y up, seconds. `sinew COMMAND --help` describes one command.\n"
     "Exit status: 0 ok, 1 usage error, 2 bad input (the message names the file and the problem),\n"
@@ -43,6 +45,8 @@ int main(int argc, char **argv)
         return cmd_render(argc - 1, argv + 1);
     if (strcmp(command, "bench") == 0)
         return cmd_bench(argc - 1, argv + 1);
+    if (strcmp(command, "muscle") == 0)
+        return cmd_muscle(argc - 1, argv + 1);
     cli_error("unknown command \"%s\" (try `sinew --help`)", command);
     return EXIT_USAGE;
 }

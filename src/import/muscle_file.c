@@ -259,8 +259,8 @@ static sinew_result read_muscle(reader *r, const cJSON *m, muscle_draft *d)
         push_key(r, ends[e]);
         if (!o)
             return field_error(r, "missing: every muscle needs an origin and an insertion");
-        sinew_result result = read_attachment(r, o, e ? &d->def.insertion : &d->def.origin,
-                                              e ? &d->insertion_joint : &d->origin_joint);
+        sinew_result result =
+            read_attachment(r, o, e ? &d->def.insertion : &d->def.origin, e ? &d->insertion_joint : &d->origin_joint);
         if (result != SINEW_OK)
             return result;
         r->depth--;
@@ -338,8 +338,8 @@ static sinew_result build_set(const char *name, const muscle_draft *drafts, uint
     size_t numbers = 0, texts = text_size(name);
     for (uint32_t i = 0; i < count; i++) {
         numbers += 2 * (size_t)drafts[i].def.node_count;
-        texts += text_size(drafts[i].def.name) + text_size(drafts[i].origin_joint) +
-                 text_size(drafts[i].insertion_joint);
+        texts +=
+            text_size(drafts[i].def.name) + text_size(drafts[i].origin_joint) + text_size(drafts[i].insertion_joint);
     }
     size_t head = sizeof(sinew_muscle_set) + count * sizeof(sinew_muscle_def);
     head = (head + 7) & ~(size_t)7;

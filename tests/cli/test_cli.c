@@ -42,8 +42,8 @@ static void test_usage_and_help(void **state)
     assert_int_equal(r.code, 0);
     assert_non_null(strstr(r.out, "usage: sinew bench"));
     run_free(&r);
-    static const char *const commands[] = {"info", "pose", "render"};
-    for (int i = 0; i < 3; i++) {
+    static const char *const commands[] = {"info", "pose", "render", "muscle"};
+    for (int i = 0; i < 4; i++) {
         r = RUN(commands[i], "--help");
         assert_int_equal(r.code, 0);
         assert_non_null(strstr(r.out, "usage: sinew"));
@@ -249,13 +249,60 @@ static void test_pose_pairs_agree(void **state)
     cJSON_Delete(jb);
 }
 
+/* `sinew muscle` on the arm's shipped muscle file and on bad ones. */
+static void test_muscle_command(void **state)
+{
+    (void)state;
+    const char *data = getenv("SINEW_DATA");
+    assert_non_null(data);
+    char arm[1024];
+    snprintf(arm, sizeof arm, "%s/arm.muscles.json", data);
+    cJSON *root = RUN_JSON("muscle", arm, "--name", "biceps", "--length", "0.22", "--json");
+    static const char *const keys[] = {"muscle",      "length",     "rest_length",  "delta", "volume",
+                                       "rest_volume", "rest_radii", "coefficients", "radii", "valid_length"};
+    for (size_t i = 0; i < sizeof keys / sizeof keys[0]; i++)
+        if (!cJSON_GetObjectItemCaseSensitive(root, keys[i]))
+            fail_msg("muscle --json lacks \"%s\"", keys[i]);
+    double volume = cJSON_GetObjectItem(root, "volume")->valuedouble;
+    double rest = cJSON_GetObjectItem(root, "rest_volume")->valuedouble;
+    assert_near(volume / rest, 1.0, 1e-9, "volume kept");
+    assert_near(cJSON_GetObjectItem(root, "length")->valuedouble, 0.22, 0.0, "length");
+    assert_true(cJSON_GetObjectItem(root, "delta")->valuedouble > 0.0); /* shorter: the belly grows */
+    assert_int_equal(cJSON_GetArraySize(cJSON_GetObjectItem(root, "radii")), 9);
+    cJSON_Delete(root);
+
+    char path[1024];
+    tmp_path("mixed.muscles.json", path, sizeof path);
+    const char *mixed = "{\"muscles\": [{\"name\": \"m\", \"origin\": {}, \"insertion\": {}, \"rest_length\": 10,"
+                        " \"radii\": [1, 1.5, 2, 2, 1.5, 1], \"coefficients\": [-0.5, 0.2, 1, 1, 0.2, -0.5]}]}";
+    write_file(path, mixed, strlen(mixed));
+    run_result r = RUN("muscle", path, "--length", "2");
+    assert_int_equal(r.code, 2);
+    assert_non_null(strstr(r.err, "outside the valid range (3.6"));
+    run_free(&r);
+    tmp_path("bad.muscles.json", path, sizeof path);
+    const char *bad = "{\"muscles\": [{\"name\": \"m\",\n \"radii\": [1, -1]}]}";
+    write_file(path, bad, strlen(bad));
+    r = RUN("muscle", path);
+    assert_int_equal(r.code, 2);
+    assert_non_null(strstr(r.err, ":1:14: muscles[0].origin: missing"));
+    run_free(&r);
+    r = RUN("muscle", arm, "--name", "triceps");
+    assert_int_equal(r.code, 2);
+    assert_non_null(strstr(r.err, "no muscle \"triceps\""));
+    run_free(&r);
+    r = RUN("muscle", arm, "--length", "-1");
+    assert_int_equal(r.code, 1);
+    run_free(&r);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_usage_and_help),     cmocka_unit_test(test_bad_input_exits_2),
         cmocka_unit_test(test_pose_json),          cmocka_unit_test(test_pose_mesh_obj),
         cmocka_unit_test(test_info_json_and_text), cmocka_unit_test(test_pose_without_animation),
-        cmocka_unit_test(test_pose_pairs_agree),
+        cmocka_unit_test(test_pose_pairs_agree),   cmocka_unit_test(test_muscle_command),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
