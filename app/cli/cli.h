@@ -81,6 +81,14 @@ bool cli_scene_draw(cli_scene *scene, double time);
 bool cli_scene_read(cli_scene *scene);
 void cli_scene_close(cli_scene *scene);
 
+/* Muscles for a model: `spec` is a muscle file, or "" for the one beside the model
+ * (MODEL.muscles.json). Prints the error and returns NULL on failure. */
+sinew_muscle_rig *cli_load_muscles(const sinew_model *model, const char *spec);
+
+/* Takes --muscles [FILE.json] at argv[*i]: the file when the next argument ends in .json,
+ * else "" (the file beside the model). */
+const char *cli_muscles_arg(int argc, char **argv, int *i);
+
 /* PNG output through stb_image_write; prints the error and returns false on failure. */
 bool cli_write_png(const char *path, const uint8_t *rgba, int width, int height);
 

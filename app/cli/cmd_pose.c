@@ -11,6 +11,7 @@
 
 static const char pose_usage[] =
     "usage: sinew pose FILE [--clip NAME|INDEX] [--time T[,T...]] [--loop] [--json] [--mesh OUT.obj]\n"
+    "                  [--muscles [FILE.json]]\n"
     "\n"
     "Poses FILE's skeleton and prints every node's world transform (metres, Y up) keyed by name.\n"
     "\n"
@@ -21,7 +22,11 @@ static const char pose_usage[] =
     "  --json          print {\"file\", \"clip\": {\"index\", \"name\", \"duration\"} | null, \"frames\": [{\"time\",\n"
     "                  \"nodes\": [{\"name\", \"parent\", \"translation\": [x,y,z], \"rotation\": [x,y,z,w],\n"
     "                  \"scale\": [x,y,z]}]}]}\n"
-    "  --mesh OUT.obj  write every mesh, skinned and placed in world space, at the (single) time\n";
+    "  --mesh OUT.obj  write every mesh, skinned and placed in world space, at the (single) time\n"
+    "  --muscles [M]   muscles attached to the joints (M, or FILE's stem + .muscles.json beside it):\n"
+    "                  each frame gives every muscle's length, delta and volume; in JSON a frame's\n"
+    "                  \"muscles\": [{\"name\", \"length\", \"delta\", \"volume\", \"rest_volume\", \"in_range\",\n"
+    "                  \"origin\": [x,y,z], \"insertion\": [x,y,z], \"radii\": [...]}]\n";
 
 #define MAX_TIMES 4096
 
@@ -29,6 +34,7 @@ typedef struct pose_options {
     const char *path;
     const char *clip;
     const char *mesh_out;
+    const char *muscles; /* NULL: none; "": beside the model */
     bool json, loop;
     uint32_t time_count;
     float times[MAX_TIMES];
@@ -78,6 +84,8 @@ static int parse_pose_args(int argc, char **argv, pose_options *o)
         } else if (strcmp(a, "--time") == 0 && has_value) {
             if (!parse_times(argv[++i], o))
                 return EXIT_USAGE;
+        } else if (strcmp(a, "--muscles") == 0) {
+            o->muscles = cli_muscles_arg(argc, argv, &i);
         } else if (strcmp(a, "--mesh") == 0 && has_value) {
             o->mesh_out = argv[++i];
         } else if (a[0] == '-' && a[1]) {
@@ -142,6 +150,51 @@ static cJSON *frame_json(const sinew_model *m, const cli_pose *pose, float time)
         cJSON_AddItemToArray(nodes, o);
     }
     return frame;
+}
+
+/* Every muscle at this pose; false (after printing why) when the rig cannot be updated. */
+static bool update_muscles(sinew_muscle_rig *rig, const sinew_model *m, const cli_pose *pose, sinew_muscle_pose *out)
+{
+    sinew_error error = {0};
+    if (sinew_muscle_rig_update(rig, pose->worlds, m->node_count, out, sinew_muscle_rig_count(rig), &error) !=
+        SINEW_OK) {
+        cli_error("%s", error.message);
+        return false;
+    }
+    return true;
+}
+
+static cJSON *muscles_json(const sinew_muscle_pose *poses, uint32_t count)
+{
+    cJSON *a = cJSON_CreateArray();
+    for (uint32_t i = 0; i < count; i++) {
+        const sinew_muscle_pose *p = &poses[i];
+        cJSON *o = cJSON_CreateObject();
+        cJSON_AddStringToObject(o, "name", p->name);
+        cJSON_AddNumberToObject(o, "length", p->distance);
+        cJSON_AddNumberToObject(o, "rest_length", p->state.rest_length);
+        cJSON_AddNumberToObject(o, "delta", p->state.delta);
+        cJSON_AddNumberToObject(o, "volume", p->state.volume);
+        cJSON_AddNumberToObject(o, "rest_volume", p->state.rest_volume);
+        cJSON_AddBoolToObject(o, "in_range", p->in_range);
+        cJSON_AddItemToObject(o, "origin", vector_json(p->origin, 3));
+        cJSON_AddItemToObject(o, "insertion", vector_json(p->insertion, 3));
+        cJSON *radii = cJSON_AddArrayToObject(o, "radii");
+        for (uint32_t k = 0; k < p->node_count; k++)
+            cJSON_AddItemToArray(radii, cJSON_CreateNumber(p->radii[k]));
+        cJSON_AddItemToArray(a, o);
+    }
+    return a;
+}
+
+static void print_muscles_text(const sinew_muscle_pose *poses, uint32_t count)
+{
+    for (uint32_t i = 0; i < count; i++) {
+        const sinew_muscle_pose *p = &poses[i];
+        printf("  muscle %-25s length %.6g (rest %.6g)  delta %.6g  volume %.9g (rest %.9g)%s\n", p->name, p->distance,
+               p->state.rest_length, p->state.delta, p->state.volume, p->state.rest_volume,
+               p->in_range ? "" : "  OUT OF RANGE: solved at the nearest valid length");
+    }
 }
 
 static void print_frame_text(const sinew_model *m, const cli_pose *pose, float time)
@@ -234,6 +287,21 @@ int cmd_pose(int argc, char **argv)
     }
     if (o.time_count == 0)
         default_times(clip, &o);
+    sinew_muscle_rig *rig = NULL;
+    sinew_muscle_pose *muscle_poses = NULL;
+    uint32_t muscle_count = 0;
+    if (o.muscles) {
+        rig = cli_load_muscles(model, o.muscles);
+        muscle_count = sinew_muscle_rig_count(rig);
+        muscle_poses = calloc(muscle_count ? muscle_count : 1, sizeof *muscle_poses);
+        if (!rig || !muscle_poses) {
+            free(muscle_poses);
+            sinew_muscle_rig_free(rig);
+            cli_pose_free(&pose);
+            sinew_model_free(model);
+            return EXIT_BAD_INPUT;
+        }
+    }
     sinew_wrap wrap = o.loop ? SINEW_WRAP_LOOP : SINEW_WRAP_CLAMP;
 
     cJSON *root = NULL, *frames = NULL;
@@ -258,10 +326,20 @@ int cmd_pose(int argc, char **argv)
             code = EXIT_BAD_INPUT;
             break;
         }
-        if (o.json)
-            cJSON_AddItemToArray(frames, frame_json(model, &pose, o.times[i]));
-        else
+        if (rig && !update_muscles(rig, model, &pose, muscle_poses)) {
+            code = EXIT_BAD_INPUT;
+            break;
+        }
+        if (o.json) {
+            cJSON *frame = frame_json(model, &pose, o.times[i]);
+            if (rig)
+                cJSON_AddItemToObject(frame, "muscles", muscles_json(muscle_poses, muscle_count));
+            cJSON_AddItemToArray(frames, frame);
+        } else {
             print_frame_text(model, &pose, o.times[i]);
+            if (rig)
+                print_muscles_text(muscle_poses, muscle_count);
+        }
         if (o.mesh_out && !write_obj(model, &pose, o.mesh_out))
             code = EXIT_BAD_INPUT;
     }
@@ -272,6 +350,8 @@ int cmd_pose(int argc, char **argv)
         free(text);
     }
     cJSON_Delete(root);
+    free(muscle_poses);
+    sinew_muscle_rig_free(rig);
     cli_pose_free(&pose);
     sinew_model_free(model);
     return code;

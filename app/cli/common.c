@@ -115,3 +115,39 @@ void cli_pose_free(cli_pose *pose)
     free(pose->context_memory);
     memset(pose, 0, sizeof *pose);
 }
+
+sinew_muscle_rig *cli_load_muscles(const sinew_model *model, const char *spec)
+{
+    char beside[4096];
+    const char *path = spec;
+    if (!spec || !spec[0]) {
+        sinew_muscle_path_for(model->source, beside, sizeof beside);
+        path = beside;
+    }
+    sinew_muscle_set *set = NULL;
+    sinew_muscle_rig *rig = NULL;
+    sinew_error error = {0};
+    if (sinew_muscle_set_read(path, &set, &error) != SINEW_OK ||
+        sinew_muscle_rig_create(model, set, &rig, &error) != SINEW_OK) {
+        if (error.kind == SINEW_ERROR_IO && path == beside)
+            cli_error("%s: no muscle file beside the model (%s); give one with --muscles FILE.json", model->source,
+                      beside);
+        else
+            cli_error("%s", error.message);
+    }
+    sinew_muscle_set_free(set);
+    return rig;
+}
+
+const char *cli_muscles_arg(int argc, char **argv, int *i)
+{
+    if (*i + 1 < argc) {
+        const char *next = argv[*i + 1];
+        size_t n = strlen(next);
+        if (n > 5 && strcmp(next + n - 5, ".json") == 0) {
+            ++*i;
+            return next;
+        }
+    }
+    return "";
+}

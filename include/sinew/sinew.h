@@ -12,6 +12,7 @@
 #include "sinew/model.h"
 #include "sinew/muscle.h"
 #include "sinew/muscle_file.h"
+#include "sinew/muscle_rig.h"
 #include "sinew/render.h"
 #include "sinew/result.h"
 

@@ -296,6 +296,51 @@ static void test_muscle_command(void **state)
     run_free(&r);
 }
 
+/* `sinew pose --muscles`: the file beside the model, lengths and volumes per frame. */
+static void test_pose_with_muscles(void **state)
+{
+    (void)state;
+    char fixture[1024], model[1024], beside[1024];
+    fixture_path("two_bone.dae", fixture, sizeof fixture);
+    tmp_path("walker.dae", model, sizeof model);
+    tmp_path("walker.muscles.json", beside, sizeof beside);
+    size_t size = 0;
+    void *bytes = read_file(fixture, &size);
+    assert_non_null(bytes);
+    write_file(model, bytes, size);
+    free(bytes);
+    remove(beside);
+    run_result r = RUN("pose", model, "--muscles");
+    assert_int_equal(r.code, 2);
+    assert_non_null(strstr(r.err, "no muscle file beside the model"));
+    run_free(&r);
+    const char *json = "{\"muscles\": [{\"name\": \"m\", \"origin\": {\"joint\": \"root\", \"offset\": [0.1, 0.3, 0]},"
+                       " \"insertion\": {\"joint\": \"tip\", \"offset\": [0.1, 0.4, 0]},"
+                       " \"radii\": [0.02, 0.05, 0.02], \"coefficients\": [0, 1, 0]}]}";
+    write_file(beside, json, strlen(json));
+    cJSON *root = RUN_JSON("pose", model, "--muscles", "--json");
+    cJSON *frames = cJSON_GetObjectItem(root, "frames");
+    assert_int_equal(cJSON_GetArraySize(frames), 10);
+    cJSON *frame;
+    cJSON_ArrayForEach(frame, frames)
+    {
+        cJSON *m = cJSON_GetArrayItem(cJSON_GetObjectItem(frame, "muscles"), 0);
+        assert_non_null(m);
+        assert_string_equal(cJSON_GetObjectItem(m, "name")->valuestring, "m");
+        double v = cJSON_GetObjectItem(m, "volume")->valuedouble,
+               v0 = cJSON_GetObjectItem(m, "rest_volume")->valuedouble;
+        assert_near(v / v0, 1.0, 1e-9, "volume");
+        assert_non_null(cJSON_GetObjectItem(m, "delta"));
+        assert_non_null(cJSON_GetObjectItem(m, "length"));
+        assert_int_equal(cJSON_GetArraySize(cJSON_GetObjectItem(m, "radii")), 3);
+    }
+    cJSON_Delete(root);
+    r = RUN("pose", model, "--muscles", beside, "--time", "0.5");
+    assert_int_equal(r.code, 0);
+    assert_non_null(strstr(r.out, "muscle m"));
+    run_free(&r);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -303,6 +348,7 @@ int main(void)
         cmocka_unit_test(test_pose_json),          cmocka_unit_test(test_pose_mesh_obj),
         cmocka_unit_test(test_info_json_and_text), cmocka_unit_test(test_pose_without_animation),
         cmocka_unit_test(test_pose_pairs_agree),   cmocka_unit_test(test_muscle_command),
+        cmocka_unit_test(test_pose_with_muscles),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -1,4 +1,5 @@
 /* Muscle files: what a good file gives, and errors that name line, column and field. */
+#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -122,6 +123,102 @@ static void test_files_and_paths(void **state)
     assert_non_null(strstr(e.message, "/nonexistent/x.json"));
 }
 
+/* On animated models, muscle ends are the joints' world matrices applied to the offsets,
+ * at ten times through a clip, and every muscle keeps its volume. */
+static void check_rig(const char *model_path, const char *clip_name, const char *muscles_json)
+{
+    sinew_model *model = load_or_fail(model_path);
+    sinew_muscle_set *set = NULL;
+    sinew_muscle_rig *rig = NULL;
+    sinew_error e = {0};
+    assert_int_equal(sinew_muscle_set_parse(muscles_json, strlen(muscles_json), "rig.json", &set, &e), SINEW_OK);
+    if (sinew_muscle_rig_create(model, set, &rig, &e) != SINEW_OK)
+        fail_msg("%s", e.message);
+    int32_t clip = clip_name ? sinew_model_find_clip(model, clip_name) : 0;
+    assert_true(clip >= 0 && (uint32_t)clip < model->clip_count);
+    const sinew_clip *c = &model->clips[clip];
+    sinew_muscle_pose poses[4];
+    double moved = 0.0, worst = 0.0;
+    for (int i = 0; i < 10; i++) {
+        float t = c->duration * (float)i / 9.0f;
+        sinew_mat4 *w = pose_worlds(model, c, t);
+        assert_int_equal(sinew_muscle_rig_update(rig, w, model->node_count, poses, 4, &e), SINEW_OK);
+        for (uint32_t m = 0; m < set->muscle_count; m++) {
+            const sinew_muscle_def *d = &set->muscles[m];
+            const sinew_muscle_attachment *ends[2] = {&d->origin, &d->insertion};
+            const float *got[2] = {poses[m].origin, poses[m].insertion};
+            for (int end = 0; end < 2; end++) {
+                int32_t node = -1;
+                for (uint32_t n = 0; n < model->node_count && node < 0; n++)
+                    if (!strcmp(model->node_names[n], ends[end]->joint) && sinew_model_node_is_joint(model, n))
+                        node = (int32_t)n;
+                assert_true(node >= 0);
+                const float *x = w[node].m, *o = ends[end]->offset;
+                for (int k = 0; k < 3; k++) {
+                    double expected = x[k] * o[0] + x[4 + k] * o[1] + x[8 + k] * o[2] + x[12 + k];
+                    worst = fmax(worst, fabs(expected - got[end][k]));
+                }
+            }
+            assert_true(poses[m].in_range);
+            assert_near(poses[m].state.volume / poses[m].state.rest_volume, 1.0, 1e-9, "volume on the rig");
+            moved = fmax(moved, fabs(poses[m].distance - poses[m].state.rest_length));
+        }
+        free(w);
+    }
+    printf("%s: muscle ends within %.2g of the transformed offsets; length changed by up to %.3g\n", model_path, worst,
+           moved);
+    assert_true(worst < 1e-5);
+    assert_true(moved > 1e-3); /* the clip really bends the muscle */
+    sinew_muscle_rig_free(rig);
+    sinew_muscle_set_free(set);
+    sinew_model_free(model);
+}
+
+static void test_rig_follows_joints(void **state)
+{
+    (void)state;
+    char path[1024];
+    fixture_path("two_bone.dae", path, sizeof path);
+    check_rig(path, NULL,
+              "{\"muscles\": [{\"name\": \"m\", \"origin\": {\"joint\": \"root\", \"offset\": [0.1, 0.3, 0]},"
+              " \"insertion\": {\"joint\": \"tip\", \"offset\": [0.1, 0.4, 0]},"
+              " \"radii\": [0.02, 0.05, 0.02], \"coefficients\": [0, 1, 0]}]}");
+    if (!testdata_path("raylib/robot.glb", path, sizeof path))
+        skip();
+    check_rig(path, "Robot_Wave",
+              "{\"muscles\": [{\"name\": \"biceps.R\", \"origin\": {\"joint\": \"UpperArm.R\", \"offset\": "
+              "[0, 0.15, 0.12]}, \"insertion\": {\"joint\": \"LowerArm.R\", \"offset\": [0, 0.25, 0.1]},"
+              " \"radii\": [0.03, 0.08, 0.12, 0.08, 0.03], \"coefficients\": [0, 0.5, 1, 0.5, 0]},"
+              " {\"name\": \"biceps.L\", \"origin\": {\"joint\": \"UpperArm.L\", \"offset\": [0, 0.15, 0.12]},"
+              " \"insertion\": {\"joint\": \"LowerArm.L\", \"offset\": [0, 0.25, 0.1]},"
+              " \"radii\": [0.03, 0.08, 0.12, 0.08, 0.03], \"coefficients\": [0, 0.5, 1, 0.5, 0]}]}");
+}
+
+static void test_rig_errors(void **state)
+{
+    (void)state;
+    char path[1024];
+    fixture_path("two_bone.dae", path, sizeof path);
+    sinew_model *model = load_or_fail(path);
+    sinew_muscle_set *set = NULL;
+    sinew_muscle_rig *rig = NULL;
+    sinew_error e = {0};
+    const char *unknown = "{\"muscles\": [{\"name\": \"m\", \"origin\": {\"joint\": \"elbow\"}, \"insertion\": "
+                          "{\"joint\": \"tip\"}, \"radii\": [1, 1], \"coefficients\": [1, 1]}]}";
+    assert_int_equal(sinew_muscle_set_parse(unknown, strlen(unknown), "u.json", &set, &e), SINEW_OK);
+    assert_int_equal(sinew_muscle_rig_create(model, set, &rig, &e), SINEW_ERROR_DATA);
+    assert_non_null(strstr(e.message, "u.json: muscle \"m\": origin joint \"elbow\" is not a node of"));
+    assert_null(rig);
+    sinew_muscle_set_free(set);
+    const char *same = "{\"muscles\": [{\"name\": \"m\", \"origin\": {\"joint\": \"tip\"}, \"insertion\": "
+                       "{\"joint\": \"tip\"}, \"radii\": [1, 1], \"coefficients\": [1, 1]}]}";
+    assert_int_equal(sinew_muscle_set_parse(same, strlen(same), "s.json", &set, &e), SINEW_OK);
+    assert_int_equal(sinew_muscle_rig_create(model, set, &rig, &e), SINEW_ERROR_DATA);
+    assert_non_null(strstr(e.message, "no rest length"));
+    sinew_muscle_set_free(set);
+    sinew_model_free(model);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -129,6 +226,8 @@ int main(void)
         cmocka_unit_test(test_errors_name_line_column_and_field),
         cmocka_unit_test(test_every_prefix_refused),
         cmocka_unit_test(test_files_and_paths),
+        cmocka_unit_test(test_rig_follows_joints),
+        cmocka_unit_test(test_rig_errors),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
