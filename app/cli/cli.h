@@ -43,7 +43,8 @@ void cli_pose_free(cli_pose *pose);
 /* A model posed and drawn off-screen: what `render` and `bench render` share. */
 typedef struct cli_scene_desc {
     const char *path, *clip, *camera, *select, *heatmap;
-    sinew_model *model; /* instead of loading path: a model the scene takes over */
+    sinew_model *model;  /* instead of loading path: a model the scene takes over */
+    const char *muscles; /* NULL: none; "": the file beside the model; else a muscle file */
     int width, height, samples;
     bool loop, skeleton_set;
     uint32_t gpu_joint_limit;
@@ -64,6 +65,10 @@ typedef struct cli_scene {
     sinew_wrap wrap;
     int width, height;
     uint8_t *pixels; /* width * height * 4, top row first */
+    sinew_muscle_set *muscle_set;
+    sinew_muscle_rig *muscle_rig;
+    sinew_muscle_pose *muscle_poses;
+    uint32_t muscle_count;
     const char *gl_name;
 } cli_scene;
 
@@ -84,6 +89,8 @@ void cli_scene_close(cli_scene *scene);
 /* Muscles for a model: `spec` is a muscle file, or "" for the one beside the model
  * (MODEL.muscles.json). Prints the error and returns NULL on failure. */
 sinew_muscle_rig *cli_load_muscles(const sinew_model *model, const char *spec);
+/* The same, keeping the muscle set too (the renderer sizes its buffers from it). */
+sinew_muscle_rig *cli_load_muscle_set(const sinew_model *model, const char *spec, sinew_muscle_set **set);
 
 /* Takes --muscles [FILE.json] at argv[*i]: the file when the next argument ends in .json,
  * else "" (the file beside the model). */

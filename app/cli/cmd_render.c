@@ -37,12 +37,14 @@ static const char render_usage[] =
     "  --heatmap JOINT                         colour the mesh by that joint's skin weights\n"
     "  --background RRGGBB                     background colour (default 292b30)\n"
     "  --normal-length L                       length of drawn normals (default 3% of the model)\n"
-    "  --gpu-joint-limit N                     skin larger skins on the CPU (tests the fallback)\n";
+    "  --gpu-joint-limit N                     skin larger skins on the CPU (tests the fallback)\n"
+    "  --muscles [M.json]                      attach and draw muscles (M, or FILE's stem + .muscles.json);\n"
+    "                                          --no-muscles hides them\n";
 
 #define MAX_FRAMES 100000
 
 typedef struct render_args {
-    const char *path, *clip, *out, *camera, *select, *heatmap;
+    const char *path, *clip, *out, *camera, *select, *heatmap, *muscles;
     int width, height, samples;
     double time, from, to, fps;
     bool from_set, to_set, fps_set, loop, skeleton_set, track;
@@ -178,6 +180,10 @@ static int parse_render_args(int argc, char **argv, render_args *a)
             a->loop = true, used = 1;
         if (strcmp(arg, "--track") == 0)
             a->track = true, used = 1;
+        if (strcmp(arg, "--muscles") == 0) {
+            a->muscles = cli_muscles_arg(argc, argv, &i);
+            used = 1;
+        }
         if (!used)
             used = parse_value_option(argc, argv, i, a, &bad);
         if (!used && arg[0] == '-' && arg[1] == '-')
@@ -265,6 +271,7 @@ int cmd_render(int argc, char **argv)
                            .loop = a.loop,
                            .skeleton_set = a.skeleton_set,
                            .gpu_joint_limit = a.gpu_joint_limit,
+                           .muscles = a.muscles,
                            .options = a.options};
     cli_scene scene;
     code = cli_scene_open(&scene, &desc);

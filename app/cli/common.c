@@ -118,6 +118,14 @@ void cli_pose_free(cli_pose *pose)
 
 sinew_muscle_rig *cli_load_muscles(const sinew_model *model, const char *spec)
 {
+    sinew_muscle_set *set = NULL;
+    sinew_muscle_rig *rig = cli_load_muscle_set(model, spec, &set);
+    sinew_muscle_set_free(set);
+    return rig;
+}
+
+sinew_muscle_rig *cli_load_muscle_set(const sinew_model *model, const char *spec, sinew_muscle_set **set_out)
+{
     char beside[4096];
     const char *path = spec;
     if (!spec || !spec[0]) {
@@ -135,7 +143,11 @@ sinew_muscle_rig *cli_load_muscles(const sinew_model *model, const char *spec)
         else
             cli_error("%s", error.message);
     }
-    sinew_muscle_set_free(set);
+    if (!rig) {
+        sinew_muscle_set_free(set);
+        set = NULL;
+    }
+    *set_out = set;
     return rig;
 }
 

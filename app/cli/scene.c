@@ -41,7 +41,7 @@ static int open_graphics(cli_scene *s, const cli_scene_desc *d)
         cli_error("%s", error.message);
         return error.kind == SINEW_ERROR_INVALID_ARGUMENT ? EXIT_USAGE : EXIT_UNAVAILABLE;
     }
-    sinew_renderer_desc rd = {.model = s->model, .max_gpu_joints = d->gpu_joint_limit};
+    sinew_renderer_desc rd = {.model = s->model, .max_gpu_joints = d->gpu_joint_limit, .muscles = s->muscle_set};
     if (sinew_renderer_create(&rd, &s->renderer, &error) != SINEW_OK) {
         cli_error("%s: %s", s->model->source, error.message);
         return error.kind == SINEW_ERROR_GRAPHICS ? EXIT_UNAVAILABLE : EXIT_BAD_INPUT;
@@ -85,6 +85,15 @@ int cli_scene_open(cli_scene *s, const cli_scene_desc *d)
     if (!cli_pose_init(&s->pose, s->model, s->clip)) {
         cli_scene_close(s);
         return EXIT_BAD_INPUT;
+    }
+    if (d->muscles) {
+        s->muscle_rig = cli_load_muscle_set(s->model, d->muscles, &s->muscle_set);
+        s->muscle_count = sinew_muscle_rig_count(s->muscle_rig);
+        s->muscle_poses = calloc(s->muscle_count ? s->muscle_count : 1, sizeof *s->muscle_poses);
+        if (!s->muscle_rig || !s->muscle_poses) {
+            cli_scene_close(s);
+            return EXIT_BAD_INPUT;
+        }
     }
     s->pixels = malloc((size_t)d->width * (size_t)d->height * 4);
     if (!s->pixels) {
@@ -156,13 +165,20 @@ bool cli_scene_draw(cli_scene *s, double time)
 {
     if (!cli_scene_pose(s, time))
         return false;
+    sinew_error error = {0};
+    if (s->muscle_rig && sinew_muscle_rig_update(s->muscle_rig, s->pose.worlds, s->model->node_count, s->muscle_poses,
+                                                 s->muscle_count, &error) != SINEW_OK) {
+        cli_error("%s", error.message);
+        return false;
+    }
     sinew_frame frame = {.worlds = s->pose.worlds,
                          .world_count = s->model->node_count,
                          .camera = &s->camera,
                          .width = s->width,
                          .height = s->height,
-                         .options = &s->frame_options};
-    sinew_error error = {0};
+                         .options = &s->frame_options,
+                         .muscles = s->muscle_poses,
+                         .muscle_count = s->muscle_count};
     if (sinew_renderer_draw(s->renderer, &frame, &error) != SINEW_OK) {
         cli_error("%s: %s", s->model->source, error.message);
         return false;
@@ -188,5 +204,8 @@ void cli_scene_close(cli_scene *s)
     if (s->model)
         sinew_model_free(s->model);
     free(s->pixels);
+    free(s->muscle_poses);
+    sinew_muscle_rig_free(s->muscle_rig);
+    sinew_muscle_set_free(s->muscle_set);
     memset(s, 0, sizeof *s);
 }

@@ -8,7 +8,8 @@
  * diffuse texture) or clay; lighting (key + fill) or unlit; flat, Gouraud or Phong
  * shading; wireframe overlay; the skeleton drawn over the mesh (bones, joint dots, one
  * selected joint highlighted, optional axes and names); a joint's weight heat map; vertex
- * normals; ground grid and world axes; background colour.
+ * normals; ground grid and world axes; background colour; volume-preserving muscles
+ * (sinew/muscle_rig.h) as Gouraud-shaded tubes.
  * What not: no windows and no context creation: a GtkGLArea, or sinew/headless.h for
  * an off-screen EGL context, makes the context current first. No input handling.
  * Memory: create allocates GL objects and CPU scratch for the model (textures decoded
@@ -27,6 +28,7 @@
 
 #include "sinew/camera.h"
 #include "sinew/model.h"
+#include "sinew/muscle_rig.h"
 
 #ifdef __cplusplus
 extern "C" {
@@ -56,6 +58,7 @@ typedef struct sinew_render_options {
     bool normals;           /* vertex normals as short lines */
     bool grid;              /* ground grid on y = 0 */
     bool axes;              /* world X/Y/Z axes at the origin */
+    bool muscles;           /* the frame's muscles, Gouraud-shaded in their colours */
     int32_t selected_joint; /* node index to highlight, -1 for none */
     int32_t heatmap_joint;  /* node index whose skin weights colour the mesh, -1 for none */
     float background[3];    /* 0..1 RGB as displayed (sRGB) */
@@ -67,8 +70,8 @@ typedef struct sinew_render_options {
 sinew_render_options sinew_render_options_default(void);
 
 /* Display switches by name, for command lines and settings files. Names: materials,
- * lighting, wireframe, meshes, skeleton, joint-axes, joint-names, normals, grid, axes
- * (booleans: on/off, true/false, yes/no, 1/0; a NULL value means on), shading
+ * lighting, wireframe, meshes, skeleton, joint-axes, joint-names, normals, grid, axes,
+ * muscles (booleans: on/off, true/false, yes/no, 1/0; a NULL value means on), shading
  * (phong|gouraud|flat), skinning (gpu|cpu), background (RRGGBB, #RRGGBB, or r,g,b in 0..1),
  * normal-length (world units, 0 = automatic). Joint choices are node indices and are set
  * directly. An unknown name or a bad value gives SINEW_ERROR_INVALID_ARGUMENT. */
@@ -89,6 +92,8 @@ typedef struct sinew_renderer_desc {
      * allows (SINEW_MAX_JOINTS or more). Larger skins are skinned on the CPU. */
     uint32_t max_gpu_joints;
     const sinew_allocator *allocator; /* NULL for malloc/free */
+    /* The muscles frames will carry (NULL: none), to size the surface buffers once. */
+    const sinew_muscle_set *muscles;
 } sinew_renderer_desc;
 
 /* Needs a current OpenGL >= 3.3 core context. */
@@ -108,6 +113,8 @@ typedef struct sinew_frame {
     const sinew_camera *camera;
     int width, height; /* viewport in pixels */
     const sinew_render_options *options;
+    const sinew_muscle_pose *muscles; /* from sinew_muscle_rig_update(), or NULL */
+    uint32_t muscle_count;
 } sinew_frame;
 
 /* Clears the bound framebuffer's viewport and draws the frame. */

@@ -25,6 +25,7 @@ static const switch_entry SWITCHES[] = {
     {"normals", offsetof(sinew_render_options, normals)},
     {"grid", offsetof(sinew_render_options, grid)},
     {"axes", offsetof(sinew_render_options, axes)},
+    {"muscles", offsetof(sinew_render_options, muscles)},
 };
 #define SWITCH_COUNT (sizeof SWITCHES / sizeof SWITCHES[0])
 

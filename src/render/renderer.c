@@ -49,6 +49,10 @@ struct sinew_renderer {
     bool *skeleton_nodes; /* node_count flags */
     overlay_list overlay; /* world-space geometry, then text quads */
     GLuint palette_buffer, palette_texture;
+    GLuint muscle_vao, muscle_vertices, muscle_indices;
+    uint32_t muscle_vertex_capacity, muscle_index_capacity;
+    float *muscle_scratch; /* position + normal a vertex */
+    uint32_t *muscle_index_scratch;
     GLuint overlay_vao, overlay_buffer, quad_indices;
     char (*warnings)[WARNING_SIZE];
     uint32_t warning_count, warning_capacity;
@@ -74,6 +78,7 @@ sinew_render_options sinew_render_options_default(void)
                                   .shading = SINEW_SHADING_PHONG,
                                   .meshes = true,
                                   .grid = true,
+                                  .muscles = true,
                                   .selected_joint = -1,
                                   .heatmap_joint = -1,
                                   .background = {0.16f, 0.17f, 0.19f}};
@@ -92,10 +97,12 @@ static void warn(sinew_renderer *r, const char *format, ...)
 
 /* Sizes every CPU-side array once, so the whole renderer is one allocation. */
 typedef struct layout {
-    size_t meshes, textures, skin_offsets, skin_on_gpu, palettes, stream, skeleton, overlay, warnings, total;
+    size_t meshes, textures, skin_offsets, skin_on_gpu, palettes, stream, skeleton, overlay, warnings, muscle,
+        muscle_index, total;
 } layout;
 
-static layout plan_layout(const sinew_model *m, uint32_t total_joints, uint32_t max_vertices, uint32_t warnings)
+static layout plan_layout(const sinew_model *m, uint32_t total_joints, uint32_t max_vertices, uint32_t warnings,
+                          uint32_t muscle_vertices, uint32_t muscle_indices)
 {
     layout l;
     size_t at = ALIGN16(sizeof(sinew_renderer));
@@ -111,6 +118,8 @@ static layout plan_layout(const sinew_model *m, uint32_t total_joints, uint32_t 
     PLACE(skeleton, (size_t)m->node_count * sizeof(bool));
     PLACE(overlay, ((size_t)overlay_capacity(m->node_count) + OVERLAY_TEXT_VERTICES) * sizeof(overlay_vertex));
     PLACE(warnings, (size_t)warnings * WARNING_SIZE);
+    PLACE(muscle, (size_t)muscle_vertices * 6 * sizeof(float));
+    PLACE(muscle_index, (size_t)muscle_indices * sizeof(uint32_t));
 #undef PLACE
     l.total = at;
     return l;
@@ -291,6 +300,20 @@ static sinew_result create_gl_objects(sinew_renderer *r, uint32_t max_vertices, 
     glBindTexture(GL_TEXTURE_BUFFER, r->palette_texture);
     glTexBuffer(GL_TEXTURE_BUFFER, GL_RGBA32F, r->palette_buffer);
 
+    if (r->muscle_vertex_capacity) {
+        glGenVertexArrays(1, &r->muscle_vao);
+        glBindVertexArray(r->muscle_vao);
+        r->muscle_vertices = make_buffer(GL_ARRAY_BUFFER, (size_t)r->muscle_vertex_capacity * 24, NULL, GL_STREAM_DRAW);
+        float_attribute(0, r->muscle_vertices, 3, 24, 0);
+        float_attribute(1, r->muscle_vertices, 3, 24, 12);
+        glVertexAttrib2f(2, 0.0f, 0.0f);
+        glVertexAttribI4ui(3, 0, 0, 0, 0);
+        glVertexAttribI4ui(4, 0, 0, 0, 0);
+        glVertexAttrib4f(5, 0.0f, 0.0f, 0.0f, 0.0f);
+        glVertexAttrib4f(6, 0.0f, 0.0f, 0.0f, 0.0f);
+        r->muscle_indices =
+            make_buffer(GL_ELEMENT_ARRAY_BUFFER, (size_t)r->muscle_index_capacity * 4, NULL, GL_STREAM_DRAW);
+    }
     glGenVertexArrays(1, &r->overlay_vao);
     glBindVertexArray(r->overlay_vao);
     r->overlay_buffer =
@@ -339,7 +362,14 @@ sinew_result sinew_renderer_create(const sinew_renderer_desc *desc, sinew_render
         if (m->meshes[i].vertex_count > max_vertices)
             max_vertices = m->meshes[i].vertex_count;
     uint32_t warnings = m->material_count + m->skin_count + 1;
-    layout l = plan_layout(m, total_joints, max_vertices, warnings);
+    uint32_t muscle_vertices = 0, muscle_indices = 0;
+    for (uint32_t i = 0; desc->muscles && i < desc->muscles->muscle_count; i++) {
+        uint32_t v, n;
+        sinew_muscle_surface_size(desc->muscles->muscles[i].node_count, desc->muscles->muscles[i].segments, &v, &n);
+        muscle_vertices = v > muscle_vertices ? v : muscle_vertices;
+        muscle_indices = n > muscle_indices ? n : muscle_indices;
+    }
+    layout l = plan_layout(m, total_joints, max_vertices, warnings, muscle_vertices, muscle_indices);
     unsigned char *block = alloc.alloc(l.total, alloc.user);
     if (!block)
         return sinew_fail(error, SINEW_ERROR_OUT_OF_MEMORY, "%s: out of memory for the renderer", m->source);
@@ -358,6 +388,10 @@ sinew_result sinew_renderer_create(const sinew_renderer_desc *desc, sinew_render
     r->overlay.capacity = overlay_capacity(m->node_count) + OVERLAY_TEXT_VERTICES;
     r->warnings = (char(*)[WARNING_SIZE])(block + l.warnings);
     r->warning_capacity = warnings;
+    r->muscle_scratch = (float *)(block + l.muscle);
+    r->muscle_index_scratch = (uint32_t *)(block + l.muscle_index);
+    r->muscle_vertex_capacity = muscle_vertices;
+    r->muscle_index_capacity = muscle_indices;
     r->total_joints = total_joints;
     snprintf(r->gl_name, sizeof r->gl_name, "%s / %s", (const char *)glGetString(GL_RENDERER),
              (const char *)glGetString(GL_VERSION));
@@ -391,6 +425,9 @@ void sinew_renderer_destroy(sinew_renderer *r)
     glDeleteTextures(1, &r->palette_texture);
     glDeleteBuffers(1, &r->palette_buffer);
     glDeleteVertexArrays(1, &r->overlay_vao);
+    glDeleteVertexArrays(1, &r->muscle_vao);
+    glDeleteBuffers(1, &r->muscle_vertices);
+    glDeleteBuffers(1, &r->muscle_indices);
     glDeleteBuffers(1, &r->overlay_buffer);
     glDeleteBuffers(1, &r->quad_indices);
     render_programs_destroy(&r->programs);
@@ -599,6 +636,64 @@ static sinew_result draw_normals(sinew_renderer *r, const frame_state *fs, float
     return SINEW_OK;
 }
 
+/* sRGB colour component to linear (the mesh shader works in linear light). */
+static float srgb_to_linear(float c)
+{
+    return c <= 0.04045f ? c / 12.92f : powf((c + 0.055f) / 1.055f, 2.4f);
+}
+
+/* Muscles as Gouraud-shaded tubes, each built on the CPU into the scratch sized at create. */
+static sinew_result draw_muscles(sinew_renderer *r, const frame_state *fs, sinew_error *error)
+{
+    static const float IDENTITY[16] = {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1};
+    const mesh_uniforms *u = &r->mesh_u;
+    set_common_uniforms(r->programs.mesh, u, fs);
+    int mode = fs->o->lighting ? 2 : 0;
+    glUniform1i(u->mode, mode);
+    glUniform1i(u->gouraud, mode == 2);
+    glUniform1i(u->heat, 0);
+    glUniform1i(u->gpu_sets, 0);
+    glUniform1i(u->heat_joint, -1);
+    glUniform1i(u->use_texture, 0);
+    glUniformMatrix4fv(u->model, 1, GL_FALSE, IDENTITY);
+    static const float NONE[4] = {0, 0, 0, 0};
+    glUniform4fv(u->override, 1, NONE);
+    glBindVertexArray(r->muscle_vao);
+    for (uint32_t i = 0; i < fs->frame->muscle_count; i++) {
+        const sinew_muscle_pose *p = &fs->frame->muscles[i];
+        uint32_t nv, ni;
+        sinew_muscle_surface_size(p->node_count, p->segments, &nv, &ni);
+        sinew_muscle_surface_desc d = {.node_count = p->node_count,
+                                       .radii = p->radii,
+                                       .segments = p->segments,
+                                       .out_positions = r->muscle_scratch,
+                                       .out_normals = r->muscle_scratch + 3,
+                                       .out_stride = 24,
+                                       .vertex_capacity = r->muscle_vertex_capacity,
+                                       .out_indices = r->muscle_index_scratch,
+                                       .index_capacity = r->muscle_index_capacity};
+        memcpy(d.origin, p->origin, sizeof d.origin);
+        memcpy(d.insertion, p->insertion, sizeof d.insertion);
+        sinew_error local = {0};
+        if (sinew_muscle_surface(&d, &local) != SINEW_OK) {
+            if (nv > r->muscle_vertex_capacity || ni > r->muscle_index_capacity)
+                return sinew_fail(error, SINEW_ERROR_INVALID_ARGUMENT,
+                                  "muscle \"%s\" is larger than the muscles the renderer was created for", p->name);
+            continue; /* ends at one point: nothing to draw this frame */
+        }
+        float color[4] = {srgb_to_linear(p->color[0]), srgb_to_linear(p->color[1]), srgb_to_linear(p->color[2]), 1};
+        if (!p->in_range) /* stretched or squashed past what it can do: washed out */
+            for (int k = 0; k < 3; k++)
+                color[k] = 0.5f * color[k] + 0.25f;
+        glUniform4fv(u->base_color, 1, color);
+        glBindBuffer(GL_ARRAY_BUFFER, r->muscle_vertices);
+        glBufferSubData(GL_ARRAY_BUFFER, 0, (GLsizeiptr)nv * 24, r->muscle_scratch);
+        glBufferSubData(GL_ELEMENT_ARRAY_BUFFER, 0, (GLsizeiptr)ni * 4, r->muscle_index_scratch);
+        glDrawElements(GL_TRIANGLES, (GLsizei)ni, GL_UNSIGNED_INT, NULL);
+    }
+    return SINEW_OK;
+}
+
 /* ---- overlay ------------------------------------------------------------------------ */
 
 typedef struct overlay_range {
@@ -759,6 +854,14 @@ sinew_result sinew_renderer_draw(sinew_renderer *r, const sinew_frame *frame, si
             float length = frame->options->normal_length > 0.0f ? frame->options->normal_length : radius * 0.03f;
             result = draw_normals(r, &fs, length, error);
         }
+        if (result != SINEW_OK)
+            return result;
+    }
+    if (frame->muscle_count && !r->muscle_vao)
+        return sinew_fail(error, SINEW_ERROR_INVALID_ARGUMENT,
+                          "sinew_renderer_draw: muscles in a frame of a renderer created without them");
+    if (frame->options->muscles && frame->muscle_count) {
+        result = draw_muscles(r, &fs, error);
         if (result != SINEW_OK)
             return result;
     }

@@ -147,6 +147,24 @@ static void test_golden_fixture(void **state)
     free_image(&im);
 }
 
+/* Muscles from the file beside the fixture, Gouraud-shaded over a bending two-bone strip. */
+static void test_golden_muscles(void **state)
+{
+    (void)state;
+    char path[1024];
+    fixture_path("two_bone.dae", path, sizeof path);
+    image with = RENDER("g-muscle.png", path, "--time", "1", "--size", SIZE, "--muscles", "--skeleton", "--camera",
+                        "orbit:60,15");
+    compare_with_golden("two_bone-muscle", &with);
+    image without = RENDER("g-no-muscle.png", path, "--time", "1", "--size", SIZE, "--muscles", "--no-muscles",
+                           "--skeleton", "--camera", "orbit:60,15");
+    long differing = 0;
+    assert_false(same_picture(&with, &without, &differing));
+    printf("muscle drawn: %ld pixels differ from the same view without it\n", differing);
+    free_image(&with);
+    free_image(&without);
+}
+
 typedef struct golden_case {
     const char *name;
     const char *model;
@@ -398,6 +416,7 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_golden_fixture),
         cmocka_unit_test(test_golden_models),
+        cmocka_unit_test(test_golden_muscles),
         cmocka_unit_test(test_tolerance_catches_a_wrong_pose),
         cmocka_unit_test(test_gpu_and_cpu_skinning_agree),
         cmocka_unit_test(test_gpu_joint_limit_falls_back_to_cpu),
