@@ -194,28 +194,34 @@ static void test_rig_follows_joints(void **state)
               " \"radii\": [0.03, 0.08, 0.12, 0.08, 0.03], \"coefficients\": [0, 0.5, 1, 0.5, 0]}]}");
 }
 
+/* Binding `json` to `model` fails with SINEW_ERROR_DATA and a message containing `message`. */
+static void expect_rig_error(const sinew_model *model, const char *json, const char *message)
+{
+    sinew_muscle_set *set = NULL;
+    sinew_muscle_rig *rig = NULL;
+    sinew_error e = {0};
+    assert_int_equal(sinew_muscle_set_parse(json, strlen(json), "u.json", &set, &e), SINEW_OK);
+    assert_int_equal(sinew_muscle_rig_create(model, set, &rig, &e), SINEW_ERROR_DATA);
+    if (!strstr(e.message, message))
+        fail_msg("got \"%s\", expected \"%s\"", e.message, message);
+    assert_null(rig);
+    sinew_muscle_set_free(set);
+}
+
 static void test_rig_errors(void **state)
 {
     (void)state;
     char path[1024];
     fixture_path("two_bone.dae", path, sizeof path);
     sinew_model *model = load_or_fail(path);
-    sinew_muscle_set *set = NULL;
-    sinew_muscle_rig *rig = NULL;
-    sinew_error e = {0};
-    const char *unknown = "{\"muscles\": [{\"name\": \"m\", \"origin\": {\"joint\": \"elbow\"}, \"insertion\": "
-                          "{\"joint\": \"tip\"}, \"radii\": [1, 1], \"coefficients\": [1, 1]}]}";
-    assert_int_equal(sinew_muscle_set_parse(unknown, strlen(unknown), "u.json", &set, &e), SINEW_OK);
-    assert_int_equal(sinew_muscle_rig_create(model, set, &rig, &e), SINEW_ERROR_DATA);
-    assert_non_null(strstr(e.message, "u.json: muscle \"m\": origin joint \"elbow\" is not a node of"));
-    assert_null(rig);
-    sinew_muscle_set_free(set);
-    const char *same = "{\"muscles\": [{\"name\": \"m\", \"origin\": {\"joint\": \"tip\"}, \"insertion\": "
-                       "{\"joint\": \"tip\"}, \"radii\": [1, 1], \"coefficients\": [1, 1]}]}";
-    assert_int_equal(sinew_muscle_set_parse(same, strlen(same), "s.json", &set, &e), SINEW_OK);
-    assert_int_equal(sinew_muscle_rig_create(model, set, &rig, &e), SINEW_ERROR_DATA);
-    assert_non_null(strstr(e.message, "no rest length"));
-    sinew_muscle_set_free(set);
+    expect_rig_error(model,
+                     "{\"muscles\": [{\"name\": \"m\", \"origin\": {\"joint\": \"elbow\"}, \"insertion\": "
+                     "{\"joint\": \"tip\"}, \"radii\": [1, 1], \"coefficients\": [1, 1]}]}",
+                     "u.json: muscle \"m\": origin joint \"elbow\" is not a node of");
+    expect_rig_error(model,
+                     "{\"muscles\": [{\"name\": \"m\", \"origin\": {\"joint\": \"tip\"}, \"insertion\": "
+                     "{\"joint\": \"tip\"}, \"radii\": [1, 1], \"coefficients\": [1, 1]}]}",
+                     "no rest length");
     sinew_model_free(model);
 }
 
