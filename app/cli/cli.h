@@ -12,7 +12,22 @@ enum { EXIT_OK = 0, EXIT_USAGE = 1, EXIT_BAD_INPUT = 2, EXIT_UNAVAILABLE = 3 };
 /* Prints "sinew: <message>" to stderr. */
 void cli_error(const char *format, ...) __attribute__((format(printf, 1, 2)));
 
-/* Loads a model file (any format Assimp reads) or prints the error; NULL on failure. */
+/* sinew's data folder (data/ in the source tree, or $SINEW_DATA): buf = folder/name. */
+const char *cli_data_path(const char *name, char *buf, size_t size);
+
+/* The seed's arm (sinew/arm.h) with the distances from data/arm.muscles.json. */
+typedef struct cli_arm_spec {
+    double angle;              /* elbow angle, radians */
+    double length;             /* > 0: the muscle length instead of the angle */
+    double flex_from, flex_to; /* a "flex" clip between these angles, both 0: none */
+    sinew_transform place;     /* rotate, move, scale the whole arm */
+} cli_arm_spec;
+sinew_model *cli_arm_model(const cli_arm_spec *spec);
+
+#define CLI_BUILTIN_ARM "builtin:arm"
+
+/* Loads a model file (any format Assimp reads), or the built-in arm for "builtin:arm"; prints
+ * the error and returns NULL on failure. */
 sinew_model *cli_load_model(const char *path);
 
 /* Resolves --clip NAME|INDEX; NULL spec picks clip 0 (or none when the model has none).
@@ -45,6 +60,7 @@ typedef struct cli_scene_desc {
     const char *path, *clip, *camera, *select, *heatmap;
     sinew_model *model;  /* instead of loading path: a model the scene takes over */
     const char *muscles; /* NULL: none; "": the file beside the model; else a muscle file */
+    double muscle_scale; /* sinew_muscle_rig_set_scale(); 0 = 1 */
     int width, height, samples;
     bool loop, skeleton_set;
     uint32_t gpu_joint_limit;
@@ -118,6 +134,7 @@ int cmd_info(int argc, char **argv);
 int cmd_render(int argc, char **argv);
 int cmd_bench(int argc, char **argv);
 int cmd_muscle(int argc, char **argv);
+int cmd_arm(int argc, char **argv);
 int cmd_pose(int argc, char **argv);
 
 #endif

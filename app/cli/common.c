@@ -1,5 +1,6 @@
 /* Loading, clip selection and posing shared by the subcommands. */
 #include <math.h>
+#include <stdio.h>
 #include <stdarg.h>
 #include <stdlib.h>
 #include <string.h>
@@ -35,10 +36,53 @@ bool cli_is_help(const char *arg)
     return strcmp(arg, "--help") == 0 || strcmp(arg, "-h") == 0;
 }
 
+const char *cli_data_path(const char *name, char *buf, size_t size)
+{
+    const char *dir = getenv("SINEW_DATA");
+    snprintf(buf, size, "%s/%s", dir && dir[0] ? dir : SINEW_DATA_DIR, name);
+    return buf;
+}
+
+sinew_model *cli_arm_model(const cli_arm_spec *spec)
+{
+    char path[4096];
+    cli_data_path("arm.muscles.json", path, sizeof path);
+    sinew_arm_desc desc = {0};
+    sinew_error error = {0};
+    sinew_model *model = NULL;
+    if (sinew_arm_read(path, &desc, &error) != SINEW_OK) {
+        cli_error("%s", error.message);
+        return NULL;
+    }
+    double angle = spec->angle;
+    if (spec->length > 0.0 &&
+        sinew_arm_angle(desc.origin_to_elbow, desc.elbow_to_insertion, spec->length, &angle, &error) != SINEW_OK) {
+        cli_error("%s", error.message);
+        return NULL;
+    }
+    desc.elbow_angle = angle;
+    desc.flex_from = spec->flex_from;
+    desc.flex_to = spec->flex_to;
+    desc.place = spec->place;
+    if (sinew_arm_model(&desc, &model, &error) != SINEW_OK) {
+        cli_error("%s", error.message);
+        return NULL;
+    }
+    return model;
+}
+
 sinew_model *cli_load_model(const char *path)
 {
     sinew_model *model = NULL;
     sinew_error error = {0};
+    if (strcmp(path, CLI_BUILTIN_ARM) == 0) {
+        /* The seed's arm at 150 degrees, with a clip that flexes it to 40 degrees and back. */
+        cli_arm_spec arm = {.angle = 150.0 * M_PI / 180.0,
+                            .flex_from = 150.0 * M_PI / 180.0,
+                            .flex_to = 40.0 * M_PI / 180.0,
+                            .place = {.translation = {0.0f, 0.15f, 0.0f}}};
+        return cli_arm_model(&arm);
+    }
     sinew_import_desc desc = {.path = path, .in_process = getenv("SINEW_IMPORT_IN_PROCESS") != NULL};
     if (sinew_import(&desc, &model, &error) != SINEW_OK) {
         cli_error("%s", error.message);
@@ -128,7 +172,9 @@ sinew_muscle_rig *cli_load_muscle_set(const sinew_model *model, const char *spec
 {
     char beside[4096];
     const char *path = spec;
-    if (!spec || !spec[0]) {
+    if ((!spec || !spec[0]) && strcmp(model->source, "built-in arm") == 0) {
+        path = cli_data_path("arm.muscles.json", beside, sizeof beside);
+    } else if (!spec || !spec[0]) {
         sinew_muscle_path_for(model->source, beside, sizeof beside);
         path = beside;
     }

@@ -17,8 +17,11 @@ static const char usage[] =
     "  bench render [FILE]           frames per second of the renderer, GPU against CPU skinning\n"
     "  muscle FILE.json [--name M] [--length L] [--json]\n"
     "                                a volume-preserving muscle at a length: delta, radii, volume, valid range\n"
+    "  arm [--angle DEG | --length L | --contract F] [--rotate/--move/--scale] [--json] [-o OUT.png]\n"
+    "                                the seed's two-rod arm and its biceps (law of cosines), numbers and picture\n"
     "\n"
-    "FILE is any format Assimp reads: COLLADA (.dae), glTF (.gltf/.glb), FBX, BVH, .x, MD5, SMD, IQM, ...\n"
+    "FILE is any format Assimp reads: COLLADA (.dae), glTF (.gltf/.glb), FBX, BVH, .x, MD5, SMD, IQM, ...,\n"
+    "or builtin:arm (the seed's arm with a \"flex\" clip; --muscles finds its biceps).\n"
     "Output is in metres, Y up, seconds. `sinew COMMAND --help` describes one command.\n"
     "Exit status: 0 ok, 1 usage error, 2 bad input (the message names the file and the problem),\n"
     "3 this machine lacks what the command needs (an OpenGL 3.3 context through EGL, ffmpeg).\n";
@@ -48,6 +51,8 @@ int main(int argc, char **argv)
         return cmd_bench(argc - 1, argv + 1);
     if (strcmp(command, "muscle") == 0)
         return cmd_muscle(argc - 1, argv + 1);
+    if (strcmp(command, "arm") == 0)
+        return cmd_arm(argc - 1, argv + 1);
     cli_error("unknown command \"%s\" (try `sinew --help`)", command);
     return EXIT_USAGE;
 }

@@ -89,6 +89,7 @@ int cli_scene_open(cli_scene *s, const cli_scene_desc *d)
     if (d->muscles) {
         s->muscle_rig = cli_load_muscle_set(s->model, d->muscles, &s->muscle_set);
         s->muscle_count = sinew_muscle_rig_count(s->muscle_rig);
+        sinew_muscle_rig_set_scale(s->muscle_rig, d->muscle_scale);
         s->muscle_poses = calloc(s->muscle_count ? s->muscle_count : 1, sizeof *s->muscle_poses);
         if (!s->muscle_rig || !s->muscle_poses) {
             cli_scene_close(s);

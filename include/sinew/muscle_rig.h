@@ -47,6 +47,12 @@ sinew_result sinew_muscle_rig_create(const sinew_model *model, const sinew_muscl
 void sinew_muscle_rig_free(sinew_muscle_rig *rig);
 uint32_t sinew_muscle_rig_count(const sinew_muscle_rig *rig);
 
+/* The muscles' file units shown `scale` times larger in world space (a model drawn scaled):
+ * lengths are divided by it before solving; radii, lengths and volumes come out scaled
+ * (volumes by scale cubed). 0 or 1: none. Meant for rest lengths given in the file: a rest
+ * length taken from the rest pose is already a world length. */
+void sinew_muscle_rig_set_scale(sinew_muscle_rig *rig, double scale);
+
 /* worlds: the model's world matrices (may be NULL, with world_count 0, when no attachment
  * names a joint). Fills poses[0..count-1]. */
 sinew_result sinew_muscle_rig_update(sinew_muscle_rig *rig, const sinew_mat4 *worlds, uint32_t world_count,

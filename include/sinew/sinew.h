@@ -6,6 +6,7 @@
 #define SINEW_SINEW_H
 
 #include "sinew/anim.h"
+#include "sinew/arm.h"
 #include "sinew/camera.h"
 #include "sinew/headless.h"
 #include "sinew/import.h"

@@ -62,6 +62,7 @@ bool import_read_file(const char *path, unsigned char **bytes, size_t *size)
         free(buf);
         return false;
     }
+    buf[n] = 0;
     *bytes = buf;
     *size = (size_t)n;
     return true;

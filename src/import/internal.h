@@ -95,7 +95,7 @@ bool raw_model_warn(raw_model *model, const char *format, ...)
 
 char *raw_strdup(const char *text);
 
-/* Reads a whole file into *bytes (malloc'd, one spare byte at the end); false when it
+/* Reads a whole file into *bytes (malloc'd, with a NUL byte after the end); false when it
  * cannot be read. */
 bool import_read_file(const char *path, unsigned char **bytes, size_t *size);
 

@@ -15,6 +15,7 @@
 
 #include "../core/internal.h"
 #include "internal.h"
+#include "sinew/arm.h"
 #include "sinew/muscle_file.h"
 
 /* ---- positions in the text --------------------------------------------------------------- */
@@ -463,4 +464,59 @@ void sinew_muscle_path_for(const char *model_path, char *out, size_t size)
     const char *dot = strrchr(model_path, '.');
     size_t stem = dot && (!slash || dot > slash) ? (size_t)(dot - model_path) : strlen(model_path);
     snprintf(out, size, "%.*s.muscles.json", (int)stem, model_path);
+}
+
+/* ---- the arm's distances ------------------------------------------------------------------- */
+
+static sinew_result read_arm(reader *r, const cJSON *root, sinew_arm_desc *out)
+{
+    static const char *const names[5] = {"free_to_origin", "origin_to_elbow", "elbow_to_insertion", "insertion_to_free",
+                                         "rod_radius"};
+    double *fields[5] = {&out->free_to_origin, &out->origin_to_elbow, &out->elbow_to_insertion, &out->insertion_to_free,
+                         &out->rod_radius};
+    const cJSON *arm = cJSON_GetObjectItemCaseSensitive(root, "arm");
+    push_key(r, "arm");
+    if (!cJSON_IsObject(root) || !cJSON_IsObject(arm))
+        return field_error(r, "expected {\"arm\": {\"free_to_origin\": .., \"origin_to_elbow\": .., "
+                              "\"elbow_to_insertion\": .., \"insertion_to_free\": ..}}");
+    for (int i = 0; i < 5; i++) {
+        const cJSON *v = cJSON_GetObjectItemCaseSensitive(arm, names[i]);
+        push_key(r, names[i]);
+        if (!v && i == 4) {
+            r->depth--;
+            continue;
+        }
+        if (!v)
+            return field_error(r, "missing: the arm needs its four distances");
+        if (!cJSON_IsNumber(v) || !(v->valuedouble > 0.0) || !isfinite(v->valuedouble))
+            return field_error(r, "expected a distance greater than 0");
+        *fields[i] = v->valuedouble;
+        r->depth--;
+    }
+    return SINEW_OK;
+}
+
+sinew_result sinew_arm_read(const char *path, sinew_arm_desc *out, sinew_error *error)
+{
+    if (!path || !out)
+        return sinew_fail(error, SINEW_ERROR_INVALID_ARGUMENT, "sinew_arm_read: no path or no output");
+    unsigned char *bytes = NULL;
+    size_t size = 0;
+    if (!import_read_file(path, &bytes, &size))
+        return sinew_fail(error, SINEW_ERROR_IO, "%s: cannot read the arm file", path);
+    reader r = {.text = (const char *)bytes, .size = size, .name = path, .error = error};
+    const char *end = NULL;
+    cJSON *root = cJSON_ParseWithOpts((const char *)bytes, &end, false);
+    sinew_result result;
+    if (!root) {
+        int line, column;
+        size_t at = end ? (size_t)(end - (const char *)bytes) : 0;
+        line_column((const char *)bytes, at > size ? size : at, &line, &column);
+        result = sinew_fail(error, SINEW_ERROR_FORMAT, "%s:%d:%d: not valid JSON here", path, line, column);
+    } else {
+        result = read_arm(&r, root, out);
+        cJSON_Delete(root);
+    }
+    free(bytes);
+    return result;
 }

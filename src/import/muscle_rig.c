@@ -17,6 +17,7 @@ typedef struct rig_muscle {
 
 struct sinew_muscle_rig {
     uint32_t count;
+    double scale;
     rig_muscle *muscles;
 };
 
@@ -121,6 +122,7 @@ sinew_result sinew_muscle_rig_create(const sinew_model *model, const sinew_muscl
     }
     sinew_muscle_rig *rig = (sinew_muscle_rig *)block;
     rig->count = set->muscle_count;
+    rig->scale = 1.0;
     rig->muscles = (rig_muscle *)(rig + 1);
     double *num = (double *)(block + head);
     char *text = (char *)(num + numbers);
@@ -152,6 +154,12 @@ sinew_result sinew_muscle_rig_create(const sinew_model *model, const sinew_muscl
 void sinew_muscle_rig_free(sinew_muscle_rig *rig)
 {
     free(rig);
+}
+
+void sinew_muscle_rig_set_scale(sinew_muscle_rig *rig, double scale)
+{
+    if (rig)
+        rig->scale = scale > 0.0 && isfinite(scale) ? scale : 1.0;
 }
 
 uint32_t sinew_muscle_rig_count(const sinew_muscle_rig *rig)
@@ -190,13 +198,22 @@ sinew_result sinew_muscle_rig_update(sinew_muscle_rig *rig, const sinew_mat4 *wo
         p->node_count = rm->def.node_count;
         p->radii = rm->radii;
         p->range = rm->range;
-        double length = distance(p->origin, p->insertion);
-        double solve_at = clamp_length(&rm->range, length);
-        p->in_range = solve_at == length;
+        double length = distance(p->origin, p->insertion), s = rig->scale;
+        double solve_at = clamp_length(&rm->range, length / s);
+        p->in_range = solve_at == length / s;
         sinew_result result =
             sinew_muscle_solve(&rm->profile, solve_at, rm->radii, rm->def.node_count, &p->state, error);
         if (result != SINEW_OK)
             return result;
+        if (s != 1.0) {
+            for (uint32_t k = 0; k < rm->def.node_count; k++)
+                rm->radii[k] *= s;
+            p->state.length *= s;
+            p->state.rest_length *= s;
+            p->state.delta *= s;
+            p->state.volume *= s * s * s;
+            p->state.rest_volume *= s * s * s;
+        }
         p->distance = length;
     }
     return SINEW_OK;

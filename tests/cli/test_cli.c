@@ -341,6 +341,45 @@ static void test_pose_with_muscles(void **state)
     run_free(&r);
 }
 
+/* `sinew arm`: angle and length agree through the law of cosines; the biceps keeps its volume. */
+static void test_arm_command(void **state)
+{
+    (void)state;
+    cJSON *root = RUN_JSON("arm", "--angle", "60", "--json");
+    cJSON *m = cJSON_GetObjectItem(root, "muscle");
+    double length = cJSON_GetObjectItem(m, "length")->valuedouble;
+    double v = cJSON_GetObjectItem(m, "volume")->valuedouble, v0 = cJSON_GetObjectItem(m, "rest_volume")->valuedouble;
+    assert_near(v / v0, 1.0, 1e-9, "volume");
+    /* data/arm.muscles.json: origin 0.28 from the elbow, insertion 0.05. */
+    double exact = sqrt(0.28 * 0.28 + 0.05 * 0.05 - 2 * 0.28 * 0.05 * cos(M_PI / 3));
+    assert_near(length, exact, 1e-6, "length at 60 (measured between float world positions)");
+    cJSON_Delete(root);
+    char text[32];
+    snprintf(text, sizeof text, "%.17g", exact);
+    root = RUN_JSON("arm", "--length", text, "--json");
+    assert_near(cJSON_GetObjectItem(root, "elbow_angle")->valuedouble, 60.0, 1e-9, "angle back");
+    cJSON_Delete(root);
+    root = RUN_JSON("arm", "--contract", "0.1", "--json");
+    m = cJSON_GetObjectItem(root, "muscle");
+    assert_near(cJSON_GetObjectItem(m, "length")->valuedouble, 0.27, 1e-6, "contracted by a tenth");
+    assert_true(cJSON_GetObjectItem(m, "delta")->valuedouble > 0.0);
+    cJSON_Delete(root);
+    run_result r = RUN("arm", "--length", "0.5");
+    assert_int_equal(r.code, 2);
+    assert_non_null(strstr(r.err, "outside"));
+    run_free(&r);
+    r = RUN("arm", "--angle", "200");
+    assert_int_equal(r.code, 1);
+    run_free(&r);
+    r = RUN("arm", "--angle", "60", "--length", "0.3");
+    assert_int_equal(r.code, 1);
+    run_free(&r);
+    r = RUN("pose", "builtin:arm", "--muscles", "--time", "0,1");
+    assert_int_equal(r.code, 0);
+    assert_non_null(strstr(r.out, "muscle biceps"));
+    run_free(&r);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -348,7 +387,7 @@ int main(void)
         cmocka_unit_test(test_pose_json),          cmocka_unit_test(test_pose_mesh_obj),
         cmocka_unit_test(test_info_json_and_text), cmocka_unit_test(test_pose_without_animation),
         cmocka_unit_test(test_pose_pairs_agree),   cmocka_unit_test(test_muscle_command),
-        cmocka_unit_test(test_pose_with_muscles),
+        cmocka_unit_test(test_pose_with_muscles),  cmocka_unit_test(test_arm_command),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

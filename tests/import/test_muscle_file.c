@@ -225,6 +225,67 @@ static void test_rig_errors(void **state)
     sinew_model_free(model);
 }
 
+/* The built-in arm: the distance between origin and insertion is the law of cosines' length
+ * at every elbow angle, wherever the arm is put; scale multiplies it. */
+static void test_arm_model(void **state)
+{
+    (void)state;
+    const char *data = getenv("SINEW_DATA");
+    assert_non_null(data);
+    char path[1024];
+    snprintf(path, sizeof path, "%s/arm.muscles.json", data);
+    sinew_arm_desc desc = {0};
+    sinew_error e = {0};
+    assert_int_equal(sinew_arm_read(path, &desc, &e), SINEW_OK);
+    assert_true(desc.origin_to_elbow > 0.0 && desc.elbow_to_insertion > 0.0);
+    double worst = 0.0;
+    for (int deg = 0; deg <= 180; deg += 15) {
+        for (int placed = 0; placed < 2; placed++) {
+            desc.elbow_angle = deg * M_PI / 180.0;
+            desc.place = placed ? (sinew_transform){{0.3f, -1.0f, 2.0f}, {0.2f, 0.5f, -0.1f, 0.83f}, {2.5f, 2.5f, 2.5f}}
+                                : (sinew_transform){0};
+            if (placed) {
+                float *q = desc.place.rotation, n = sqrtf(q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3]);
+                for (int k = 0; k < 4; k++)
+                    q[k] /= n;
+            }
+            sinew_model *model = NULL;
+            assert_int_equal(sinew_arm_model(&desc, &model, &e), SINEW_OK);
+            assert_int_equal(model->node_count, 3);
+            sinew_mat4 *w = pose_worlds(model, NULL, 0.0f);
+            const float *up = w[1].m, *low = w[2].m;
+            /* Origin: free_to_origin along the upper rod; insertion: elbow_to_insertion along the lower. */
+            float o[3], in[3];
+            for (int k = 0; k < 3; k++) {
+                o[k] = up[k] * (float)desc.free_to_origin + up[12 + k];
+                in[k] = low[k] * (float)desc.elbow_to_insertion + low[12 + k];
+            }
+            double d = sqrt((o[0] - in[0]) * (o[0] - in[0]) + (o[1] - in[1]) * (o[1] - in[1]) +
+                            (o[2] - in[2]) * (o[2] - in[2]));
+            double expected;
+            assert_int_equal(
+                sinew_arm_length(desc.origin_to_elbow, desc.elbow_to_insertion, desc.elbow_angle, &expected, NULL),
+                SINEW_OK);
+            double scale = placed ? 2.5 : 1.0;
+            worst = fmax(worst, fabs(d / scale - expected));
+            free(w);
+            sinew_model_free(model);
+        }
+    }
+    printf("arm: muscle ends match the law of cosines to %.2g at 0..180 degrees, placed or not\n", worst);
+    assert_true(worst < 1e-6);
+    desc.elbow_angle = 4.0;
+    sinew_model *model = NULL;
+    assert_int_equal(sinew_arm_model(&desc, &model, &e), SINEW_ERROR_INVALID_ARGUMENT);
+    assert_non_null(strstr(e.message, "outside 0..180"));
+    char bad[1024];
+    tmp_path("arm-bad.json", bad, sizeof bad);
+    const char *text = "{\"arm\": {\"free_to_origin\": 0.04,\n \"origin_to_elbow\": -1}}";
+    write_file(bad, text, strlen(text));
+    assert_int_equal(sinew_arm_read(bad, &desc, &e), SINEW_ERROR_DATA);
+    assert_non_null(strstr(e.message, "arm-bad.json:2:21: arm.origin_to_elbow: expected a distance greater than 0"));
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -234,6 +295,7 @@ int main(void)
         cmocka_unit_test(test_files_and_paths),
         cmocka_unit_test(test_rig_follows_joints),
         cmocka_unit_test(test_rig_errors),
+        cmocka_unit_test(test_arm_model),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
