@@ -1,4 +1,5 @@
 /* `sinew bench`: speed measurements, reported per unit and as ratios. */
+#include <math.h>
 #include <stdlib.h>
 #include <string.h>
 #include <time.h>
@@ -16,7 +17,10 @@ static const char bench_usage[] =
     "           and without (--samples N measures only N).\n"
     "           FILE defaults to a generated 64-joint character of 10,016 vertices, 4 influences each.\n"
     "           The clip plays forward at 60 Hz from 0, looping; N frames (default 300) after 10 warm-up frames.\n"
-    "           --png OUT writes the last GPU-skinned frame, to see what was measured.\n";
+    "           --png OUT writes the last GPU-skinned frame, to see what was measured.\n"
+    "\n"
+    "usage: sinew bench muscle [--json]\n"
+    "  muscle   time to solve the shipped biceps (9 nodes) at a length, and to build its tube surface.\n";
 
 static double now_seconds(void)
 {
@@ -187,6 +191,65 @@ static int bench_render(int argc, char **argv)
     return EXIT_OK;
 }
 
+/* Solve and surface cost of one muscle (the shipped biceps: 9 nodes, 24 segments). */
+static int bench_muscle(int argc, char **argv)
+{
+    bool json = argc > 1 && strcmp(argv[1], "--json") == 0;
+    char path[4096];
+    sinew_muscle_set *set = NULL;
+    sinew_error error = {0};
+    if (sinew_muscle_set_read(cli_data_path("arm.muscles.json", path, sizeof path), &set, &error) != SINEW_OK) {
+        cli_error("%s", error.message);
+        return EXIT_BAD_INPUT;
+    }
+    const sinew_muscle_def *m = &set->muscles[0];
+    sinew_muscle_profile profile = {m->node_count, m->radii, m->coefficients, m->rest_length};
+    double radii[SINEW_MUSCLE_MAX_NODES], drift = 0.0, sink = 0.0;
+    const int solves = 2000000;
+    double start = now_seconds();
+    for (int i = 0; i < solves; i++) {
+        double length = m->rest_length * (0.75 + 0.5 * (double)(i % 1000) / 1000.0);
+        sinew_muscle_state st;
+        if (sinew_muscle_solve(&profile, length, radii, SINEW_MUSCLE_MAX_NODES, &st, NULL) != SINEW_OK)
+            continue;
+        sink += radii[m->node_count / 2];
+        if (i < 1000)
+            drift = fmax(drift, fabs(st.volume - st.rest_volume) / st.rest_volume);
+    }
+    double solve_ns = (now_seconds() - start) / solves * 1e9;
+    uint32_t nv, ni;
+    sinew_muscle_surface_size(m->node_count, m->segments, &nv, &ni);
+    float *vertices = malloc((size_t)nv * 24);
+    uint32_t *indices = malloc((size_t)ni * 4);
+    const int surfaces = 20000;
+    start = now_seconds();
+    for (int i = 0; vertices && indices && i < surfaces; i++) {
+        sinew_muscle_surface_desc d = {.node_count = m->node_count,
+                                       .radii = radii,
+                                       .insertion = {0.0f, 0.0f, 0.3f},
+                                       .segments = m->segments,
+                                       .out_positions = vertices,
+                                       .out_normals = vertices + 3,
+                                       .out_stride = 24,
+                                       .vertex_capacity = nv,
+                                       .out_indices = indices,
+                                       .index_capacity = ni};
+        sinew_muscle_surface(&d, NULL);
+    }
+    double surface_us = (now_seconds() - start) / surfaces * 1e6;
+    free(vertices);
+    free(indices);
+    if (json)
+        printf("{\"muscle\": \"%s\", \"nodes\": %u, \"solve_ns\": %.1f, \"surface_us\": %.2f, "
+               "\"surface_vertices\": %u, \"volume_drift\": %.3g}\n",
+               m->name, m->node_count, solve_ns, surface_us, nv, drift);
+    else
+        printf("muscle %s (%u nodes): solve %.1f ns (volume drift %.2g); surface of %u vertices %.2f us%s\n", m->name,
+               m->node_count, solve_ns, drift, nv, surface_us, sink < 0.0 ? " " : "");
+    sinew_muscle_set_free(set);
+    return EXIT_OK;
+}
+
 int cmd_bench(int argc, char **argv)
 {
     if (argc < 2 || cli_is_help(argv[1])) {
@@ -195,6 +258,8 @@ int cmd_bench(int argc, char **argv)
     }
     if (strcmp(argv[1], "render") == 0)
         return bench_render(argc - 1, argv + 1);
+    if (strcmp(argv[1], "muscle") == 0)
+        return bench_muscle(argc - 1, argv + 1);
     cli_error("bench: unknown benchmark \"%s\"\n%s", argv[1], bench_usage);
     return EXIT_USAGE;
 }

@@ -407,6 +407,10 @@ static void test_bench_render_reports(void **state)
     assert_non_null(strstr(r.out, "\"gpu_skinning_fps\""));
     assert_non_null(strstr(r.out, "\"cpu_skinning_fps\""));
     run_free(&r);
+    r = RUN("bench", "muscle", "--json");
+    assert_int_equal(r.code, 0);
+    assert_non_null(strstr(r.out, "\"solve_ns\""));
+    run_free(&r);
     EXPECT_FAILURE(1, "whole number", "bench", "render", "--frames", "12x");
     EXPECT_FAILURE(1, "unknown benchmark", "bench", "fly");
 }
