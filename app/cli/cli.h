@@ -112,6 +112,11 @@ sinew_muscle_rig *cli_load_muscle_set(const sinew_model *model, const char *spec
  * else "" (the file beside the model). */
 const char *cli_muscles_arg(int argc, char **argv, int *i);
 
+/* One muscle of a rig as JSON: {"name", "length", "rest_length", "delta", "volume",
+ * "rest_volume", "in_range", "origin", "insertion", "radii"}. */
+struct cJSON;
+struct cJSON *cli_muscle_pose_json(const sinew_muscle_pose *pose);
+
 /* PNG output through stb_image_write; prints the error and returns false on failure. */
 bool cli_write_png(const char *path, const uint8_t *rgba, int width, int height);
 

@@ -21,7 +21,8 @@ static const char arm_usage[] =
     "  --length L     the muscle's length instead (between |a - b| and a + b of the two rods)\n"
     "  --contract F   shorten (F > 0) or lengthen (F < 0) the muscle by F of its rest length\n"
     "  --rotate Y,P,R --move X,Y,Z --scale S   place the whole arm (degrees, metres)\n"
-    "  --json         {\"elbow_angle\": degrees, \"muscle\": {what `sinew muscle --json` prints}}\n"
+    "  --json         {\"elbow_angle\": degrees, \"muscle\": {\"name\", \"length\", \"rest_length\", \"delta\",\n"
+    "                 \"volume\", \"rest_volume\", \"in_range\", \"origin\", \"insertion\", \"radii\"}}\n"
     "  -o OUT.png     also draw it (muscle Gouraud-shaded); --size, --camera as for `sinew render`\n";
 
 static bool parse_list(const char *option, const char *text, double *out, int count)
@@ -112,17 +113,7 @@ static void print_arm(const arm_args *a, double angle, const sinew_muscle_pose *
     if (a->json) {
         cJSON *o = cJSON_CreateObject();
         cJSON_AddNumberToObject(o, "elbow_angle", angle * 180.0 / M_PI);
-        cJSON *m = cJSON_AddObjectToObject(o, "muscle");
-        cJSON_AddStringToObject(m, "muscle", p->name);
-        cJSON_AddNumberToObject(m, "length", p->distance);
-        cJSON_AddNumberToObject(m, "rest_length", p->state.rest_length);
-        cJSON_AddNumberToObject(m, "delta", p->state.delta);
-        cJSON_AddNumberToObject(m, "volume", p->state.volume);
-        cJSON_AddNumberToObject(m, "rest_volume", p->state.rest_volume);
-        cJSON *radii = cJSON_AddArrayToObject(m, "radii");
-        for (uint32_t k = 0; k < p->node_count; k++)
-            cJSON_AddItemToArray(radii, cJSON_CreateNumber(p->radii[k]));
-        cJSON_AddBoolToObject(m, "in_range", p->in_range);
+        cJSON_AddItemToObject(o, "muscle", cli_muscle_pose_json(p));
         char *text = cJSON_Print(o);
         puts(text);
         free(text);

@@ -167,23 +167,8 @@ static bool update_muscles(sinew_muscle_rig *rig, const sinew_model *m, const cl
 static cJSON *muscles_json(const sinew_muscle_pose *poses, uint32_t count)
 {
     cJSON *a = cJSON_CreateArray();
-    for (uint32_t i = 0; i < count; i++) {
-        const sinew_muscle_pose *p = &poses[i];
-        cJSON *o = cJSON_CreateObject();
-        cJSON_AddStringToObject(o, "name", p->name);
-        cJSON_AddNumberToObject(o, "length", p->distance);
-        cJSON_AddNumberToObject(o, "rest_length", p->state.rest_length);
-        cJSON_AddNumberToObject(o, "delta", p->state.delta);
-        cJSON_AddNumberToObject(o, "volume", p->state.volume);
-        cJSON_AddNumberToObject(o, "rest_volume", p->state.rest_volume);
-        cJSON_AddBoolToObject(o, "in_range", p->in_range);
-        cJSON_AddItemToObject(o, "origin", vector_json(p->origin, 3));
-        cJSON_AddItemToObject(o, "insertion", vector_json(p->insertion, 3));
-        cJSON *radii = cJSON_AddArrayToObject(o, "radii");
-        for (uint32_t k = 0; k < p->node_count; k++)
-            cJSON_AddItemToArray(radii, cJSON_CreateNumber(p->radii[k]));
-        cJSON_AddItemToArray(a, o);
-    }
+    for (uint32_t i = 0; i < count; i++)
+        cJSON_AddItemToArray(a, cli_muscle_pose_json(&poses[i]));
     return a;
 }
 

@@ -5,6 +5,8 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include <cjson/cJSON.h>
+
 #include "cli.h"
 
 void cli_error(const char *format, ...)
@@ -208,4 +210,25 @@ const char *cli_muscles_arg(int argc, char **argv, int *i)
         }
     }
     return "";
+}
+
+cJSON *cli_muscle_pose_json(const sinew_muscle_pose *p)
+{
+    cJSON *o = cJSON_CreateObject();
+    cJSON_AddStringToObject(o, "name", p->name);
+    cJSON_AddNumberToObject(o, "length", p->distance);
+    cJSON_AddNumberToObject(o, "rest_length", p->state.rest_length);
+    cJSON_AddNumberToObject(o, "delta", p->state.delta);
+    cJSON_AddNumberToObject(o, "volume", p->state.volume);
+    cJSON_AddNumberToObject(o, "rest_volume", p->state.rest_volume);
+    cJSON_AddBoolToObject(o, "in_range", p->in_range);
+    cJSON *ends[2] = {cJSON_AddArrayToObject(o, "origin"), cJSON_AddArrayToObject(o, "insertion")};
+    for (int k = 0; k < 3; k++) {
+        cJSON_AddItemToArray(ends[0], cJSON_CreateNumber(cli_json_float(p->origin[k])));
+        cJSON_AddItemToArray(ends[1], cJSON_CreateNumber(cli_json_float(p->insertion[k])));
+    }
+    cJSON *radii = cJSON_AddArrayToObject(o, "radii");
+    for (uint32_t k = 0; k < p->node_count; k++)
+        cJSON_AddItemToArray(radii, cJSON_CreateNumber(p->radii[k]));
+    return o;
 }

@@ -374,6 +374,20 @@ static sinew_result build_set(const char *name, const muscle_draft *drafts, uint
 
 /* ---- public ----------------------------------------------------------------------------------- */
 
+/* Parses NUL-terminated text; NULL with a FILE:LINE:COLUMN error when it is not JSON. */
+static cJSON *parse_json(const char *text, size_t size, const char *name, sinew_error *error)
+{
+    const char *end = NULL;
+    cJSON *root = cJSON_ParseWithOpts(text, &end, true);
+    if (!root) {
+        int line, column;
+        size_t at = end && end >= text ? (size_t)(end - text) : 0;
+        line_column(text, at > size ? size : at, &line, &column);
+        sinew_fail(error, SINEW_ERROR_FORMAT, "%s:%d:%d: not valid JSON here", name, line, column);
+    }
+    return root;
+}
+
 static sinew_result read_document(reader *r, const cJSON *root, sinew_muscle_set **out)
 {
     const cJSON *muscles = cJSON_GetObjectItemCaseSensitive(root, "muscles");
@@ -416,18 +430,9 @@ sinew_result sinew_muscle_set_parse(const char *text, size_t size, const char *n
         memcpy(copy, text, size);
     copy[size] = '\0';
     reader r = {.text = copy, .size = size, .name = name, .error = error};
-    const char *end = NULL;
-    cJSON *root = cJSON_ParseWithOpts(copy, &end, true);
-    sinew_result result;
-    if (!root) {
-        int line, column;
-        size_t at = end && end >= copy ? (size_t)(end - copy) : 0;
-        line_column(copy, at > size ? size : at, &line, &column);
-        result = sinew_fail(error, SINEW_ERROR_FORMAT, "%s:%d:%d: not valid JSON here", name, line, column);
-    } else {
-        result = read_document(&r, root, out);
-        cJSON_Delete(root);
-    }
+    cJSON *root = parse_json(copy, size, name, error);
+    sinew_result result = root ? read_document(&r, root, out) : SINEW_ERROR_FORMAT;
+    cJSON_Delete(root);
     free(copy);
     return result;
 }
@@ -505,18 +510,9 @@ sinew_result sinew_arm_read(const char *path, sinew_arm_desc *out, sinew_error *
     if (!import_read_file(path, &bytes, &size))
         return sinew_fail(error, SINEW_ERROR_IO, "%s: cannot read the arm file", path);
     reader r = {.text = (const char *)bytes, .size = size, .name = path, .error = error};
-    const char *end = NULL;
-    cJSON *root = cJSON_ParseWithOpts((const char *)bytes, &end, false);
-    sinew_result result;
-    if (!root) {
-        int line, column;
-        size_t at = end ? (size_t)(end - (const char *)bytes) : 0;
-        line_column((const char *)bytes, at > size ? size : at, &line, &column);
-        result = sinew_fail(error, SINEW_ERROR_FORMAT, "%s:%d:%d: not valid JSON here", path, line, column);
-    } else {
-        result = read_arm(&r, root, out);
-        cJSON_Delete(root);
-    }
+    cJSON *root = parse_json((const char *)bytes, size, path, error);
+    sinew_result result = root ? read_arm(&r, root, out) : SINEW_ERROR_FORMAT;
+    cJSON_Delete(root);
     free(bytes);
     return result;
 }
