@@ -12,12 +12,7 @@ static bool resolve_joint(const sinew_model *m, const char *name, const char *op
     *out = -1;
     if (!name)
         return true;
-    /* Files may name a mesh node like a bone (robot.glb): the joint wins. */
-    for (uint32_t n = 0; n < m->node_count && *out < 0; n++)
-        if (strcmp(m->node_names[n], name) == 0 && sinew_model_node_is_joint(m, n))
-            *out = (int32_t)n;
-    if (*out < 0)
-        *out = sinew_model_find_node(m, name);
+    *out = sinew_model_find_joint(m, name);
     if (*out < 0) {
         cli_error("%s: %s \"%s\": no node of that name (see `sinew info`)", m->source, option, name);
         return false;

@@ -154,6 +154,10 @@ void sinew_model_free(sinew_model *model);
 int32_t sinew_model_find_node(const sinew_model *model, const char *name);
 int32_t sinew_model_find_clip(const sinew_model *model, const char *name);
 
+/* The node a user means by a joint name: the first joint of that name, else the first node
+ * of that name (files may name a mesh node like a bone, as robot.glb does), or -1. */
+int32_t sinew_model_find_joint(const sinew_model *model, const char *name);
+
 /* True when node `node` is a joint of some skin. */
 bool sinew_model_node_is_joint(const sinew_model *model, uint32_t node);
 

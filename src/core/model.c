@@ -452,6 +452,14 @@ int32_t sinew_model_find_node(const sinew_model *model, const char *name)
     return -1;
 }
 
+int32_t sinew_model_find_joint(const sinew_model *model, const char *name)
+{
+    for (uint32_t i = 0; i < model->node_count; i++)
+        if (strcmp(model->node_names[i], name) == 0 && sinew_model_node_is_joint(model, i))
+            return (int32_t)i;
+    return sinew_model_find_node(model, name);
+}
+
 int32_t sinew_model_find_clip(const sinew_model *model, const char *name)
 {
     for (uint32_t i = 0; i < model->clip_count; i++)

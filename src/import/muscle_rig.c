@@ -21,15 +21,6 @@ struct sinew_muscle_rig {
     rig_muscle *muscles;
 };
 
-/* A node by name, preferring a joint when a mesh node has the same name. */
-static int32_t find_joint(const sinew_model *m, const char *name)
-{
-    for (uint32_t n = 0; n < m->node_count; n++)
-        if (strcmp(m->node_names[n], name) == 0 && sinew_model_node_is_joint(m, n))
-            return (int32_t)n;
-    return sinew_model_find_node(m, name);
-}
-
 static void end_point(const rig_muscle *rm, int end, const sinew_mat4 *worlds, float out[3])
 {
     const float *o = end ? rm->def.insertion.offset : rm->def.origin.offset;
@@ -59,7 +50,7 @@ static sinew_result bind(const sinew_model *model, const sinew_muscle_set *set, 
         rm->nodes[e] = -1;
         if (!ends[e]->joint)
             continue;
-        rm->nodes[e] = model ? find_joint(model, ends[e]->joint) : -1;
+        rm->nodes[e] = model ? sinew_model_find_joint(model, ends[e]->joint) : -1;
         if (rm->nodes[e] < 0)
             return sinew_fail(error, SINEW_ERROR_DATA, "%s: muscle \"%s\": %s joint \"%s\" is not a node of %s",
                               set->source, rm->def.name, e ? "insertion" : "origin", ends[e]->joint,

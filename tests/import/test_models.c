@@ -692,6 +692,12 @@ static void test_duplicate_names_resolved(void **state)
                     fail_msg("joint \"%s\" is a node that holds a mesh", m->node_names[node]);
         }
     assert_true(checked > 0);
+    /* "Head" names a mesh node and a bone: a user asking for the joint gets the bone. */
+    int32_t first = sinew_model_find_node(m, "Head"), joint = sinew_model_find_joint(m, "Head");
+    assert_true(first >= 0 && joint >= 0 && sinew_model_node_is_joint(m, (uint32_t)joint));
+    assert_int_not_equal(first, joint);
+    assert_int_equal(sinew_model_find_joint(m, "RobotArmature"), sinew_model_find_node(m, "RobotArmature"));
+    assert_int_equal(sinew_model_find_joint(m, "no such node"), -1);
     int32_t walk = sinew_model_find_clip(m, "Robot_Walking");
     for (uint32_t t = 0; t < m->clips[walk].track_count; t++) {
         uint32_t node = m->clips[walk].tracks[t].node;

@@ -148,11 +148,8 @@ static void check_rig(const char *model_path, const char *clip_name, const char 
             const sinew_muscle_attachment *ends[2] = {&d->origin, &d->insertion};
             const float *got[2] = {poses[m].origin, poses[m].insertion};
             for (int end = 0; end < 2; end++) {
-                int32_t node = -1;
-                for (uint32_t n = 0; n < model->node_count && node < 0; n++)
-                    if (!strcmp(model->node_names[n], ends[end]->joint) && sinew_model_node_is_joint(model, n))
-                        node = (int32_t)n;
-                assert_true(node >= 0);
+                int32_t node = sinew_model_find_joint(model, ends[end]->joint);
+                assert_true(node >= 0 && sinew_model_node_is_joint(model, (uint32_t)node));
                 const float *x = w[node].m, *o = ends[end]->offset;
                 for (int k = 0; k < 3; k++) {
                     double expected = x[k] * o[0] + x[4 + k] * o[1] + x[8 + k] * o[2] + x[12 + k];
