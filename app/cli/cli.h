@@ -38,6 +38,11 @@ bool cli_pick_clip(const sinew_model *model, const char *spec, int32_t *clip);
  * 0.1 rather than 0.100000001490116 for a float 0.1; tiny values below 1e-12 become 0. */
 double cli_json_float(float value);
 
+/* Option values, strictly (all of the text); each prints "COMMAND: bad OPTION ..." and
+ * returns false otherwise. Sizes are WIDTHxHEIGHT, each 1..16384. */
+bool cli_parse_count(const char *command, const char *option, const char *text, long lo, long hi, long *out);
+bool cli_parse_size(const char *command, const char *text, int *width, int *height);
+
 /* True when `arg` is --help or -h. */
 bool cli_is_help(const char *arg);
 

@@ -45,7 +45,8 @@ static bool parse_list(const char *option, const char *text, double *out, int co
 typedef struct arm_args {
     double angle_deg, length, contract, rotate[3], move[3], scale;
     bool angle_set, length_set, contract_set, json;
-    const char *out, *size, *camera;
+    const char *out, *camera;
+    int width, height;
 } arm_args;
 
 static int parse_arm_args(int argc, char **argv, arm_args *a)
@@ -77,7 +78,7 @@ static int parse_arm_args(int argc, char **argv, arm_args *a)
         } else if ((strcmp(o, "-o") == 0 || strcmp(o, "--output") == 0) && v) {
             a->out = argv[++i];
         } else if (strcmp(o, "--size") == 0 && v) {
-            a->size = argv[++i];
+            ok = cli_parse_size("arm", argv[++i], &a->width, &a->height);
         } else if (strcmp(o, "--camera") == 0 && v) {
             a->camera = argv[++i];
         } else {
@@ -133,7 +134,7 @@ static void print_arm(const arm_args *a, double angle, const sinew_muscle_pose *
 
 int cmd_arm(int argc, char **argv)
 {
-    arm_args a = {.scale = 1.0};
+    arm_args a = {.scale = 1.0, .width = 1280, .height = 720};
     int code = parse_arm_args(argc, argv, &a);
     if (code >= 0)
         return code;
@@ -173,14 +174,9 @@ int cmd_arm(int argc, char **argv)
                          .muscles = "",
                          .muscle_scale = a.scale,
                          .camera = a.camera,
-                         .width = 1280,
-                         .height = 720,
+                         .width = a.width,
+                         .height = a.height,
                          .options = sinew_render_options_default()};
-    if (a.size && sscanf(a.size, "%dx%d", &sd.width, &sd.height) != 2) {
-        cli_error("arm: bad --size \"%s\": expected WIDTHxHEIGHT", a.size);
-        sinew_model_free(model);
-        return EXIT_USAGE;
-    }
     /* Numbers need no GL: the rig alone; a picture goes through the headless scene. */
     sinew_muscle_rig *rig = cli_load_muscles(model, "");
     sinew_muscle_rig_set_scale(rig, a.scale);

@@ -52,19 +52,6 @@ static bool time_frames(cli_scene *scene, int frames, double *seconds_per_frame)
     return true;
 }
 
-/* A whole number in [lo, hi], all of the text. */
-static bool parse_count(const char *option, const char *text, long lo, long hi, int *out)
-{
-    char *end = NULL;
-    long n = strtol(text, &end, 10);
-    if (end == text || *end || n < lo || n > hi) {
-        cli_error("bench render: %s \"%s\": expected a whole number in %ld..%ld", option, text, lo, hi);
-        return false;
-    }
-    *out = (int)n;
-    return true;
-}
-
 static uint32_t vertex_total(const sinew_model *m)
 {
     uint32_t n = 0;
@@ -123,22 +110,22 @@ static int bench_render(int argc, char **argv)
         } else if (strcmp(o, "--json") == 0) {
             a.json = true;
         } else if (strcmp(o, "--samples") == 0 && v) {
-            if (!parse_count(o, argv[++i], 1, 64, &a.samples))
+            long n = 0;
+            if (!cli_parse_count("bench render", o, argv[++i], 1, 64, &n))
                 return EXIT_USAGE;
+            a.samples = (int)n;
         } else if (strcmp(o, "--png") == 0 && v) {
             a.png = argv[++i];
         } else if (strcmp(o, "--clip") == 0 && v) {
             a.clip = argv[++i];
         } else if (strcmp(o, "--frames") == 0 && v) {
-            if (!parse_count(o, argv[++i], 1, 100000, &a.frames))
+            long n = 0;
+            if (!cli_parse_count("bench render", o, argv[++i], 1, 100000, &n))
                 return EXIT_USAGE;
+            a.frames = (int)n;
         } else if (strcmp(o, "--size") == 0 && v) {
-            const char *size = argv[++i];
-            if (sscanf(size, "%dx%d", &a.width, &a.height) != 2 || a.width < 1 || a.height < 1 || a.width > 16384 ||
-                a.height > 16384) {
-                cli_error("bench render: bad --size \"%s\": expected WIDTHxHEIGHT", size);
+            if (!cli_parse_size("bench render", argv[++i], &a.width, &a.height))
                 return EXIT_USAGE;
-            }
         } else if (o[0] == '-') {
             cli_error("bench render: unknown option or missing value \"%s\"\n%s", o, bench_usage);
             return EXIT_USAGE;

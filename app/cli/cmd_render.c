@@ -52,21 +52,6 @@ typedef struct render_args {
     sinew_render_options options;
 } render_args;
 
-static bool parse_size(const char *text, int *w, int *h)
-{
-    char *end = NULL;
-    errno = 0;
-    long a = strtol(text, &end, 10);
-    if (end == text || (*end != 'x' && *end != 'X') || errno)
-        return false;
-    const char *b_text = end + 1;
-    long b = strtol(b_text, &end, 10);
-    if (end == b_text || *end || errno || a < 1 || b < 1 || a > 16384 || b > 16384)
-        return false;
-    *w = (int)a, *h = (int)b;
-    return true;
-}
-
 static bool parse_seconds(const char *option, const char *text, double *out)
 {
     char *end = NULL;
@@ -145,21 +130,14 @@ static int parse_value_option(int argc, char **argv, int i, render_args *a, bool
             *bad = true;
         }
     } else if (strcmp(o, "--size") == 0) {
-        if (!parse_size(v, &a->width, &a->height)) {
-            cli_error("render: bad --size \"%s\": expected WIDTHxHEIGHT, each 1..16384", v);
-            *bad = true;
-        }
+        *bad = !cli_parse_size("render", v, &a->width, &a->height);
     } else if (strcmp(o, "--samples") == 0 || strcmp(o, "--gpu-joint-limit") == 0) {
-        char *end = NULL;
-        long n = strtol(v, &end, 10);
-        if (end == v || *end || n < 1 || n > 1 << 20) {
-            cli_error("render: bad %s \"%s\": expected a positive whole number", o, v);
-            *bad = true;
-        } else if (o[2] == 's') {
+        long n = 0;
+        *bad = !cli_parse_count("render", o, v, 1, 1 << 20, &n);
+        if (o[2] == 's')
             a->samples = (int)n;
-        } else {
+        else
             a->gpu_joint_limit = (uint32_t)n;
-        }
     } else
         return 0;
     return 2;

@@ -1,4 +1,5 @@
 /* Loading, clip selection and posing shared by the subcommands. */
+#include <errno.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdarg.h>
@@ -231,4 +232,36 @@ cJSON *cli_muscle_pose_json(const sinew_muscle_pose *p)
     for (uint32_t k = 0; k < p->node_count; k++)
         cJSON_AddItemToArray(radii, cJSON_CreateNumber(p->radii[k]));
     return o;
+}
+
+bool cli_parse_count(const char *command, const char *option, const char *text, long lo, long hi, long *out)
+{
+    char *end = NULL;
+    errno = 0;
+    long n = strtol(text, &end, 10);
+    if (end == text || *end || errno || n < lo || n > hi) {
+        cli_error("%s: bad %s \"%s\": expected a whole number in %ld..%ld", command, option, text, lo, hi);
+        return false;
+    }
+    *out = n;
+    return true;
+}
+
+bool cli_parse_size(const char *command, const char *text, int *width, int *height)
+{
+    char *end = NULL;
+    errno = 0;
+    long w = strtol(text, &end, 10), h = 0;
+    bool ok = end != text && (*end == 'x' || *end == 'X') && !errno;
+    if (ok) {
+        const char *rest = end + 1;
+        h = strtol(rest, &end, 10);
+        ok = end != rest && !*end && !errno && w >= 1 && h >= 1 && w <= 16384 && h <= 16384;
+    }
+    if (!ok) {
+        cli_error("%s: bad --size \"%s\": expected WIDTHxHEIGHT, each 1..16384", command, text);
+        return false;
+    }
+    *width = (int)w, *height = (int)h;
+    return true;
 }

@@ -412,6 +412,8 @@ static void test_bench_render_reports(void **state)
     assert_non_null(strstr(r.out, "\"solve_ns\""));
     run_free(&r);
     EXPECT_FAILURE(1, "whole number", "bench", "render", "--frames", "12x");
+    EXPECT_FAILURE(1, "bad --size", "bench", "render", "--size", "64x48junk");
+    EXPECT_FAILURE(1, "bad --size", "arm", "--size", "0x5", "-o", "arm.png");
     EXPECT_FAILURE(1, "unknown benchmark", "bench", "fly");
 }
 
