@@ -43,6 +43,9 @@ double cli_json_float(float value);
 bool cli_parse_count(const char *command, const char *option, const char *text, long lo, long hi, long *out);
 bool cli_parse_size(const char *command, const char *text, int *width, int *height);
 
+/* Vertices drawn: every mesh instance's vertices (0 for a skeleton-only file). */
+uint32_t cli_vertex_count(const sinew_model *model);
+
 /* True when `arg` is --help or -h. */
 bool cli_is_help(const char *arg);
 

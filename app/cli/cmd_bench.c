@@ -52,14 +52,6 @@ static bool time_frames(cli_scene *scene, int frames, double *seconds_per_frame)
     return true;
 }
 
-static uint32_t vertex_total(const sinew_model *m)
-{
-    uint32_t n = 0;
-    for (uint32_t i = 0; i < m->instance_count; i++)
-        n += m->meshes[m->instances[i].mesh].vertex_count;
-    return n;
-}
-
 /* Opens a scene (FILE, or the generated character) and times it with one skinning mode. */
 static int run_render_bench(const render_bench_args *a, int samples, int mode, double *spf, char *source,
                             size_t source_size, char *gl_name, size_t gl_size, uint32_t *vertices, uint32_t *joints)
@@ -88,7 +80,7 @@ static int run_render_bench(const render_bench_args *a, int samples, int mode, d
               time_frames(&scene, a->frames, spf);
     if (ok && a->png && mode == 0)
         ok = cli_scene_read(&scene) && cli_write_png(a->png, scene.pixels, a->width, a->height);
-    *vertices = vertex_total(scene.model);
+    *vertices = cli_vertex_count(scene.model);
     *joints = 0;
     for (uint32_t s = 0; s < scene.model->skin_count; s++)
         *joints += scene.model->skins[s].joint_count;

@@ -265,3 +265,11 @@ bool cli_parse_size(const char *command, const char *text, int *width, int *heig
     *width = (int)w, *height = (int)h;
     return true;
 }
+
+uint32_t cli_vertex_count(const sinew_model *model)
+{
+    uint32_t n = 0;
+    for (uint32_t i = 0; i < model->instance_count; i++)
+        n += model->meshes[model->instances[i].mesh].vertex_count;
+    return n;
+}

@@ -20,14 +20,6 @@ static bool resolve_joint(const sinew_model *m, const char *name, const char *op
     return true;
 }
 
-static bool has_vertices(const sinew_model *m)
-{
-    for (uint32_t i = 0; i < m->instance_count; i++)
-        if (m->meshes[m->instances[i].mesh].vertex_count)
-            return true;
-    return false;
-}
-
 static int open_graphics(cli_scene *s, const cli_scene_desc *d)
 {
     sinew_error error = {0};
@@ -75,7 +67,7 @@ int cli_scene_open(cli_scene *s, const cli_scene_desc *d)
     }
     s->clip = clip >= 0 ? &s->model->clips[clip] : NULL;
     /* Nothing to see but a skeleton: show it unless asked not to. */
-    if (!has_vertices(s->model) && !d->skeleton_set)
+    if (cli_vertex_count(s->model) == 0 && !d->skeleton_set)
         s->frame_options.skeleton = true;
     if (!cli_pose_init(&s->pose, s->model, s->clip)) {
         cli_scene_close(s);

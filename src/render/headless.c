@@ -236,17 +236,20 @@ sinew_result sinew_headless_read(sinew_headless *h, uint8_t *rgba, sinew_error *
     GLenum gl_error = glGetError();
     if (gl_error != GL_NO_ERROR)
         return sinew_fail(error, SINEW_ERROR_GRAPHICS, "reading the frame back failed (OpenGL error 0x%04x)", gl_error);
-    /* GL's first row is the bottom one. */
-    size_t row = (size_t)h->width * 4;
-    for (int y = 0; y < h->height / 2; y++) {
-        uint8_t *a = rgba + row * (size_t)y, *b = rgba + row * (size_t)(h->height - 1 - y);
-        for (size_t i = 0; i < row; i++) {
-            uint8_t t = a[i];
+    render_flip_rows(rgba, (size_t)h->width * 4, h->height);
+    return SINEW_OK;
+}
+
+void render_flip_rows(unsigned char *pixels, size_t row_bytes, int rows)
+{
+    for (int y = 0; y < rows / 2; y++) {
+        unsigned char *a = pixels + row_bytes * (size_t)y, *b = pixels + row_bytes * (size_t)(rows - 1 - y);
+        for (size_t i = 0; i < row_bytes; i++) {
+            unsigned char t = a[i];
             a[i] = b[i];
             b[i] = t;
         }
     }
-    return SINEW_OK;
 }
 
 const char *sinew_headless_description(const sinew_headless *h)

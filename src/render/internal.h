@@ -16,6 +16,10 @@ typedef struct render_programs {
 sinew_result render_programs_create(render_programs *programs, sinew_error *error);
 void render_programs_destroy(render_programs *programs);
 
+/* Reverses the order of `rows` rows of `row_bytes` each, in place (images store the top row
+ * first, OpenGL the bottom one). */
+void render_flip_rows(unsigned char *pixels, size_t row_bytes, int rows);
+
 /* One vertex of the overlay: position and sRGB colour (the layout stb_easy_font writes). */
 typedef struct overlay_vertex {
     float position[3];

@@ -219,15 +219,7 @@ static GLuint load_texture(sinew_renderer *r, const sinew_material *material)
              material->name, material->diffuse_texture, stbi_failure_reason());
         return 0;
     }
-    size_t row = (size_t)w * 4;
-    for (int y = 0; y < h / 2; y++) {
-        unsigned char *a = pixels + row * y, *b = pixels + row * (h - 1 - y);
-        for (size_t i = 0; i < row; i++) {
-            unsigned char t = a[i];
-            a[i] = b[i];
-            b[i] = t;
-        }
-    }
+    render_flip_rows(pixels, (size_t)w * 4, h);
     GLuint t = 0;
     glGenTextures(1, &t);
     glBindTexture(GL_TEXTURE_2D, t);
