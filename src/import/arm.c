@@ -59,30 +59,14 @@ static sinew_result make_rod(raw_model *m, uint32_t index, const char *name, dou
 static sinew_result make_flex_clip(raw_model *m, const sinew_arm_desc *d)
 {
     float duration = d->flex_duration > 0.0f ? d->flex_duration : 2.0f;
-    m->clip_count = 1;
-    m->clips = calloc(1, sizeof *m->clips);
-    if (!m->clips)
-        return SINEW_ERROR_OUT_OF_MEMORY;
-    raw_clip *clip = &m->clips[0];
-    clip->name = raw_strdup("flex");
-    clip->duration = duration;
-    clip->track_count = 1;
-    clip->tracks = calloc(1, sizeof *clip->tracks);
-    if (!clip->name || !clip->tracks)
+    raw_clip *clip = raw_model_add_rotation_clip(m, "flex", duration, 1, FLEX_KEYS);
+    if (!clip)
         return SINEW_ERROR_OUT_OF_MEMORY;
     clip->tracks[0].node = NODE_LOWER;
-    raw_channel *c = &clip->tracks[0].channels[SINEW_CHANNEL_ROTATION];
-    c->interp = SINEW_INTERP_LINEAR;
-    c->count = FLEX_KEYS;
-    c->times = malloc(FLEX_KEYS * sizeof(float));
-    c->values = malloc(FLEX_KEYS * 4 * sizeof(float));
-    if (!c->times || !c->values)
-        return SINEW_ERROR_OUT_OF_MEMORY;
+    float *values = clip->tracks[0].channels[SINEW_CHANNEL_ROTATION].values;
     for (int k = 0; k < FLEX_KEYS; k++) {
-        double s = (double)k / (FLEX_KEYS - 1);
-        double blend = 0.5 - 0.5 * cos(2.0 * M_PI * s); /* from, to, back, easing at both ends */
-        c->times[k] = (float)s * duration;
-        elbow_rotation(d->flex_from + (d->flex_to - d->flex_from) * blend, &c->values[k * 4]);
+        double blend = 0.5 - 0.5 * cos(2.0 * M_PI * k / (FLEX_KEYS - 1)); /* from, to, back, easing at both ends */
+        elbow_rotation(d->flex_from + (d->flex_to - d->flex_from) * blend, &values[k * 4]);
     }
     return SINEW_OK;
 }

@@ -25,6 +25,34 @@ char *raw_strdup(const char *text)
     return copy;
 }
 
+raw_clip *raw_model_add_rotation_clip(raw_model *m, const char *name, float duration, uint32_t track_count,
+                                      uint32_t keys)
+{
+    m->clips = calloc(1, sizeof *m->clips);
+    if (!m->clips)
+        return NULL;
+    m->clip_count = 1;
+    raw_clip *clip = &m->clips[0];
+    clip->name = raw_strdup(name);
+    clip->duration = duration;
+    clip->tracks = calloc(track_count, sizeof *clip->tracks);
+    if (!clip->name || !clip->tracks)
+        return NULL;
+    clip->track_count = track_count;
+    for (uint32_t t = 0; t < track_count; t++) {
+        raw_channel *c = &clip->tracks[t].channels[SINEW_CHANNEL_ROTATION];
+        c->interp = SINEW_INTERP_LINEAR;
+        c->times = malloc(keys * sizeof(float));
+        c->values = malloc(keys * 4 * sizeof(float));
+        if (!c->times || !c->values)
+            return NULL;
+        c->count = keys;
+        for (uint32_t k = 0; k < keys; k++)
+            c->times[k] = duration * (float)k / (float)(keys - 1);
+    }
+    return clip;
+}
+
 bool raw_model_warn(raw_model *model, const char *format, ...)
 {
     char text[512];

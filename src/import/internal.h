@@ -95,6 +95,12 @@ bool raw_model_warn(raw_model *model, const char *format, ...)
 
 char *raw_strdup(const char *text);
 
+/* Makes `model`'s clips one clip of `track_count` tracks, each with a linear rotation channel
+ * of `keys` (>= 2) keys at evenly spaced times over `duration`; the caller sets each track's
+ * node and the quaternions. NULL when out of memory (the model stays freeable). */
+raw_clip *raw_model_add_rotation_clip(raw_model *model, const char *name, float duration, uint32_t track_count,
+                                      uint32_t keys);
+
 /* Reads a whole file into *bytes (malloc'd, with a NUL byte after the end); false when it
  * cannot be read. */
 bool import_read_file(const char *path, unsigned char **bytes, size_t *size);

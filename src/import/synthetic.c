@@ -127,36 +127,19 @@ static sinew_result make_mesh(raw_model *m, uint32_t joints, uint32_t vertices, 
 static sinew_result make_clip(raw_model *m, uint32_t joints, float duration, float keys_per_second)
 {
     uint32_t keys = (uint32_t)ceilf(duration * keys_per_second) + 1;
-    m->clip_count = 1;
-    m->clips = calloc(1, sizeof *m->clips);
-    if (!m->clips)
-        return SINEW_ERROR_OUT_OF_MEMORY;
-    raw_clip *clip = &m->clips[0];
-    clip->name = raw_strdup("sway");
-    clip->duration = duration;
-    clip->track_count = joints;
-    clip->tracks = calloc(joints, sizeof *clip->tracks);
-    if (!clip->name || !clip->tracks)
+    raw_clip *clip = raw_model_add_rotation_clip(m, "sway", duration, joints, keys);
+    if (!clip)
         return SINEW_ERROR_OUT_OF_MEMORY;
     float amplitude = 1.05f / (float)joints; /* about 60 degrees over the chain */
     for (uint32_t j = 0; j < joints; j++) {
-        raw_track *t = &clip->tracks[j];
-        t->node = j;
-        raw_channel *c = &t->channels[SINEW_CHANNEL_ROTATION];
-        c->interp = SINEW_INTERP_LINEAR;
-        c->count = keys;
-        c->times = malloc(keys * sizeof(float));
-        c->values = malloc(keys * 4 * sizeof(float));
-        if (!c->times || !c->values)
-            return SINEW_ERROR_OUT_OF_MEMORY;
+        raw_channel *c = &clip->tracks[j].channels[SINEW_CHANNEL_ROTATION];
+        clip->tracks[j].node = j;
         for (uint32_t k = 0; k < keys; k++) {
-            float time = duration * (float)k / (float)(keys - 1);
-            float phase = 6.28318531f * time / duration;
+            float phase = 6.28318531f * c->times[k] / duration;
             float ax = amplitude * sinf(phase + (float)j * 0.15f), az = amplitude * 0.7f * cosf(phase);
             float ay = amplitude * 0.5f * sinf(phase * 2.0f);
             /* Small rotations: the quaternion of a rotation vector (ax, ay, az). */
             float angle = sqrtf(ax * ax + ay * ay + az * az), s = angle > 0.0f ? sinf(angle * 0.5f) / angle : 0.5f;
-            c->times[k] = time;
             float *q = &c->values[k * 4];
             q[0] = ax * s, q[1] = ay * s, q[2] = az * s, q[3] = cosf(angle * 0.5f);
         }
