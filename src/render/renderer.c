@@ -308,8 +308,7 @@ static sinew_result create_gl_objects(sinew_renderer *r, uint32_t max_vertices, 
     }
     glGenVertexArrays(1, &r->overlay_vao);
     glBindVertexArray(r->overlay_vao);
-    r->overlay_buffer =
-        make_buffer(GL_ARRAY_BUFFER, r->overlay.capacity * sizeof(overlay_vertex), NULL, GL_STREAM_DRAW);
+    r->overlay_buffer = make_buffer(GL_ARRAY_BUFFER, 0, NULL, GL_STREAM_DRAW); /* filled each pass */
     glEnableVertexAttribArray(0);
     glVertexAttribPointer(0, 3, GL_FLOAT, GL_FALSE, sizeof(overlay_vertex), (const void *)0);
     glEnableVertexAttribArray(1);
@@ -754,8 +753,9 @@ static void draw_overlay(sinew_renderer *r, const frame_state *fs, bool before_m
     glUseProgram(r->programs.overlay);
     glBindVertexArray(r->overlay_vao);
     glBindBuffer(GL_ARRAY_BUFFER, r->overlay_buffer);
-    glBufferData(GL_ARRAY_BUFFER, (GLsizeiptr)(r->overlay.capacity * sizeof(overlay_vertex)), NULL, GL_STREAM_DRAW);
-    glBufferSubData(GL_ARRAY_BUFFER, 0, (GLsizeiptr)(list->count * sizeof(overlay_vertex)), list->vertices);
+    /* A fresh store of just what this pass uses (the whole capacity, text room included, is
+     * over a megabyte and would be orphaned twice a frame). */
+    glBufferData(GL_ARRAY_BUFFER, (GLsizeiptr)(list->count * sizeof(overlay_vertex)), list->vertices, GL_STREAM_DRAW);
     glUniformMatrix4fv(r->overlay_matrix, 1, GL_FALSE, fs->view_proj);
     glUniform1i(r->overlay_round, 0);
     if (before_meshes) {
