@@ -26,6 +26,7 @@ typedef struct render_mesh {
     GLuint buffers[BUF_COUNT];
     GLuint indices;
     int influence_sets; /* 0 rigid, 1 for up to 4 influences, 2 for up to 8 */
+    uint64_t streamed;  /* the frame whose CPU-skinned vertices BUF_STREAM holds (0: none) */
 } render_mesh;
 
 typedef struct mesh_uniforms {
@@ -56,6 +57,7 @@ struct sinew_renderer {
     GLuint overlay_vao, overlay_buffer, quad_indices;
     char (*warnings)[WARNING_SIZE];
     uint32_t warning_count, warning_capacity;
+    uint64_t frame; /* counts draws, so a mesh is skinned on the CPU once a frame */
     char gl_name[256];
 };
 
@@ -510,7 +512,7 @@ static sinew_result prepare_instance(sinew_renderer *r, const mesh_uniforms *u, 
 {
     static const float IDENTITY[16] = {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1};
     const sinew_mesh *mesh = &r->model->meshes[inst->mesh];
-    const render_mesh *rm = &r->meshes[inst->mesh];
+    render_mesh *rm = &r->meshes[inst->mesh];
     int32_t heat_node = fs->o->heatmap_joint;
     if (!mesh_is_skinned(mesh)) {
         glBindVertexArray(rm->vao_static);
@@ -525,11 +527,15 @@ static sinew_result prepare_instance(sinew_renderer *r, const mesh_uniforms *u, 
     glUniform1i(u->heat_joint, heat);
     glUniform1f(u->heat_rigid, 0.0f);
     if (fs->o->skinning == SINEW_SKINNING_CPU || !r->skin_on_gpu[mesh->skin]) {
-        sinew_result result = skin_on_cpu(r, mesh, error);
-        if (result != SINEW_OK)
-            return result;
-        glBindBuffer(GL_ARRAY_BUFFER, rm->buffers[BUF_STREAM]);
-        glBufferSubData(GL_ARRAY_BUFFER, 0, (GLsizeiptr)mesh->vertex_count * 24, r->stream);
+        /* Once a frame: the normals pass and further instances reuse the streamed vertices. */
+        if (rm->streamed != r->frame) {
+            sinew_result result = skin_on_cpu(r, mesh, error);
+            if (result != SINEW_OK)
+                return result;
+            glBindBuffer(GL_ARRAY_BUFFER, rm->buffers[BUF_STREAM]);
+            glBufferSubData(GL_ARRAY_BUFFER, 0, (GLsizeiptr)mesh->vertex_count * 24, r->stream);
+            rm->streamed = r->frame;
+        }
         glBindVertexArray(rm->vao_stream);
         glUniform1i(u->gpu_sets, 0);
     } else {
@@ -812,6 +818,7 @@ sinew_result sinew_renderer_draw(sinew_renderer *r, const sinew_frame *frame, si
         return sinew_fail(error, SINEW_ERROR_INVALID_ARGUMENT, "sinew_renderer_draw: viewport %dx%d", frame->width,
                           frame->height);
     frame_state fs = {.frame = frame, .o = frame->options};
+    r->frame++;
     sinew_mat4 view, proj;
     sinew_camera_view(frame->camera, &view);
     sinew_camera_projection(frame->camera, (float)frame->width / (float)frame->height, &proj);
