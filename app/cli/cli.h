@@ -89,7 +89,8 @@ typedef struct cli_scene {
     sinew_wrap wrap;
     int width, height;
     uint8_t *pixels; /* width * height * 4, top row first */
-    sinew_muscle_set *muscle_set;
+    sinew_muscle_set *owned_muscles; /* read from a file; NULL for a model's own */
+    const sinew_muscle_set *muscle_set;
     sinew_muscle_rig *muscle_rig;
     sinew_muscle_pose *muscle_poses;
     uint32_t muscle_count;
@@ -110,11 +111,12 @@ bool cli_scene_draw(cli_scene *scene, double time);
 bool cli_scene_read(cli_scene *scene);
 void cli_scene_close(cli_scene *scene);
 
-/* Muscles for a model: `spec` is a muscle file, or "" for the one beside the model
- * (MODEL.muscles.json). Prints the error and returns NULL on failure. */
+/* Muscles for a model: `spec` is a muscle file, or "" for the model's own (a .sinew file
+ * converted with muscles) or else the one beside the model (MODEL.muscles.json). Prints the error and returns NULL on failure. */
 sinew_muscle_rig *cli_load_muscles(const sinew_model *model, const char *spec);
 /* The same, keeping the muscle set too (the renderer sizes its buffers from it). */
-sinew_muscle_rig *cli_load_muscle_set(const sinew_model *model, const char *spec, sinew_muscle_set **set);
+sinew_muscle_rig *cli_load_muscle_set(const sinew_model *model, const char *spec, sinew_muscle_set **owned,
+                                      const sinew_muscle_set **set);
 
 /* Takes --muscles [FILE.json] at argv[*i]: the file when the next argument ends in .json,
  * else "" (the file beside the model). */
@@ -148,6 +150,7 @@ int cmd_render(int argc, char **argv);
 int cmd_bench(int argc, char **argv);
 int cmd_muscle(int argc, char **argv);
 int cmd_arm(int argc, char **argv);
+int cmd_convert(int argc, char **argv);
 int cmd_pose(int argc, char **argv);
 
 #endif

@@ -14,7 +14,8 @@ static const char info_usage[] =
     "with its colour and texture; the node tree with joints and meshes marked; and the import warnings\n"
     "(dropped dummy meshes, missing textures, repaired weights, ...).\n"
     "\n"
-    "  --json   the same as one JSON object: {\"file\", \"format\", \"counts\": {...}, \"meshes\": [...],\n"
+    "  --json   the same as one JSON object: {\"file\", \"format\", [\"converted_from\", \"converted_from_format\",]\n"
+    "           \"counts\": {...}, \"meshes\": [...],\n"
     "           \"materials\": [{\"name\", \"base_color\", \"diffuse_texture\"}],\n"
     "           \"clips\": [{\"index\", \"name\", \"duration\", \"tracks\", \"keys\": {...}}], \"nodes\":\n"
     "           [{\"name\", \"parent\", \"joint\"}], \"warnings\": [...]}\n";
@@ -65,13 +66,18 @@ static void print_text(const sinew_model *m)
 {
     counts c = count_model(m);
     printf("file:       %s\n", m->source);
-    printf("format:     %s\n", m->format);
+    if (m->converted_from)
+        printf("format:     sinew, converted from %s (%s)\n", m->converted_from, m->format);
+    else
+        printf("format:     %s\n", m->format);
     printf("nodes:      %u (%u joints)\n", m->node_count, c.joints);
     printf("meshes:     %u (%u skinned), %u instances, %u vertices, %u triangles\n", m->mesh_count, c.skinned,
            m->instance_count, c.vertices, c.triangles);
     printf("skins:      %u (%u bones in all)\n", m->skin_count, c.bones);
     printf("materials:  %u\n", m->material_count);
     printf("clips:      %u\n", m->clip_count);
+    if (m->muscles)
+        printf("muscles:    %u stored with the model\n", m->muscles->muscle_count);
     for (uint32_t i = 0; i < m->clip_count; i++) {
         uint32_t keys[SINEW_CHANNEL_COUNT];
         clip_keys(&m->clips[i], keys);
@@ -108,7 +114,11 @@ static cJSON *info_json(const sinew_model *m)
     counts c = count_model(m);
     cJSON *root = cJSON_CreateObject();
     cJSON_AddStringToObject(root, "file", m->source);
-    cJSON_AddStringToObject(root, "format", m->format);
+    cJSON_AddStringToObject(root, "format", m->converted_from ? "sinew" : m->format);
+    if (m->converted_from) {
+        cJSON_AddStringToObject(root, "converted_from", m->converted_from);
+        cJSON_AddStringToObject(root, "converted_from_format", m->format);
+    }
     cJSON *cn = cJSON_AddObjectToObject(root, "counts");
     cJSON_AddNumberToObject(cn, "nodes", m->node_count);
     cJSON_AddNumberToObject(cn, "joints", c.joints);
@@ -120,6 +130,7 @@ static cJSON *info_json(const sinew_model *m)
     cJSON_AddNumberToObject(cn, "bones", c.bones);
     cJSON_AddNumberToObject(cn, "materials", m->material_count);
     cJSON_AddNumberToObject(cn, "clips", m->clip_count);
+    cJSON_AddNumberToObject(cn, "muscles", m->muscles ? m->muscles->muscle_count : 0);
 
     cJSON *meshes = cJSON_AddArrayToObject(root, "meshes");
     for (uint32_t i = 0; i < m->mesh_count; i++) {

@@ -165,14 +165,28 @@ void cli_pose_free(cli_pose *pose)
 
 sinew_muscle_rig *cli_load_muscles(const sinew_model *model, const char *spec)
 {
-    sinew_muscle_set *set = NULL;
-    sinew_muscle_rig *rig = cli_load_muscle_set(model, spec, &set);
-    sinew_muscle_set_free(set);
+    sinew_muscle_set *owned = NULL;
+    const sinew_muscle_set *set = NULL;
+    sinew_muscle_rig *rig = cli_load_muscle_set(model, spec, &owned, &set);
+    sinew_muscle_set_free(owned);
     return rig;
 }
 
-sinew_muscle_rig *cli_load_muscle_set(const sinew_model *model, const char *spec, sinew_muscle_set **set_out)
+sinew_muscle_rig *cli_load_muscle_set(const sinew_model *model, const char *spec, sinew_muscle_set **owned,
+                                      const sinew_muscle_set **set_out)
 {
+    *owned = NULL;
+    *set_out = NULL;
+    sinew_error error = {0};
+    if ((!spec || !spec[0]) && model->muscles) {
+        /* A .sinew file that carries its muscles. */
+        sinew_muscle_rig *rig = NULL;
+        if (sinew_muscle_rig_create(model, model->muscles, &rig, &error) != SINEW_OK)
+            cli_error("%s", error.message);
+        else
+            *set_out = model->muscles;
+        return rig;
+    }
     char beside[4096];
     const char *path = spec;
     if ((!spec || !spec[0]) && strcmp(model->source, "built-in arm") == 0) {
@@ -183,7 +197,6 @@ sinew_muscle_rig *cli_load_muscle_set(const sinew_model *model, const char *spec
     }
     sinew_muscle_set *set = NULL;
     sinew_muscle_rig *rig = NULL;
-    sinew_error error = {0};
     if (sinew_muscle_set_read(path, &set, &error) != SINEW_OK ||
         sinew_muscle_rig_create(model, set, &rig, &error) != SINEW_OK) {
         if (error.kind == SINEW_ERROR_IO && path == beside)
@@ -196,6 +209,7 @@ sinew_muscle_rig *cli_load_muscle_set(const sinew_model *model, const char *spec
         sinew_muscle_set_free(set);
         set = NULL;
     }
+    *owned = set;
     *set_out = set;
     return rig;
 }

@@ -15,6 +15,8 @@ static const char usage[] =
     "                                muscles' length, delta and volume\n"
     "  render FILE [--time T | --from A --to B --fps N] [--camera SPEC] [display options] -o OUT\n"
     "                                draw frames off-screen (OpenGL through EGL) to PNG, PNG sequences or MP4\n"
+    "  convert IN OUT.sinew [--muscles [M.json] | --no-muscles]\n"
+    "                                write a model (and its muscles) as sinew's runtime format\n"
     "  bench render [FILE]           frames per second of the renderer, GPU against CPU skinning\n"
     "  bench muscle                  time to solve a muscle and build its surface\n"
     "  muscle FILE.json [--name M] [--length L] [--json]\n"
@@ -23,7 +25,7 @@ static const char usage[] =
     "                                the seed's two-rod arm and its biceps (law of cosines), numbers and picture\n"
     "\n"
     "FILE is any format Assimp reads: COLLADA (.dae), glTF (.gltf/.glb), FBX, BVH, .x, MD5, SMD, IQM, ...,\n"
-    "or builtin:arm (the seed's arm with a \"flex\" clip; --muscles finds its biceps).\n"
+    "a .sinew file (`sinew convert`; its stored muscles are used), or builtin:arm (the seed's arm with a \"flex\" clip; --muscles finds its biceps).\n"
     "Output is in metres, Y up, seconds. `sinew COMMAND --help` describes one command.\n"
     "Exit status: 0 ok, 1 usage error, 2 bad input (the message names the file and the problem),\n"
     "3 this machine lacks what the command needs (an OpenGL 3.3 context through EGL, ffmpeg).\n";
@@ -53,6 +55,8 @@ int main(int argc, char **argv)
         return cmd_bench(argc - 1, argv + 1);
     if (strcmp(command, "muscle") == 0)
         return cmd_muscle(argc - 1, argv + 1);
+    if (strcmp(command, "convert") == 0)
+        return cmd_convert(argc - 1, argv + 1);
     if (strcmp(command, "arm") == 0)
         return cmd_arm(argc - 1, argv + 1);
     cli_error("unknown command \"%s\" (try `sinew --help`)", command);

@@ -74,7 +74,7 @@ int cli_scene_open(cli_scene *s, const cli_scene_desc *d)
         return EXIT_BAD_INPUT;
     }
     if (d->muscles) {
-        s->muscle_rig = cli_load_muscle_set(s->model, d->muscles, &s->muscle_set);
+        s->muscle_rig = cli_load_muscle_set(s->model, d->muscles, &s->owned_muscles, &s->muscle_set);
         s->muscle_count = sinew_muscle_rig_count(s->muscle_rig);
         sinew_muscle_rig_set_scale(s->muscle_rig, d->muscle_scale);
         s->muscle_poses = calloc(s->muscle_count ? s->muscle_count : 1, sizeof *s->muscle_poses);
@@ -194,6 +194,6 @@ void cli_scene_close(cli_scene *s)
     free(s->pixels);
     free(s->muscle_poses);
     sinew_muscle_rig_free(s->muscle_rig);
-    sinew_muscle_set_free(s->muscle_set);
+    sinew_muscle_set_free(s->owned_muscles);
     memset(s, 0, sizeof *s);
 }

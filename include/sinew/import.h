@@ -36,6 +36,16 @@ sinew_result sinew_import(const sinew_import_desc *desc, sinew_model **out, sine
  * malloc'd, the caller frees it. This is what the import child does. */
 sinew_result sinew_import_blob(const char *path, void **bytes, size_t *size, sinew_error *error);
 
+/* Serialises a model as the bytes of a .sinew file (tagged, versioned, checksummed; see
+ * sinew_model_load()). `muscles`, when not NULL, are stored with it in place of the
+ * model's own (model->muscles). *bytes is malloc'd. */
+sinew_result sinew_model_write_blob(const sinew_model *model, const struct sinew_muscle_set *muscles, void **bytes,
+                                    size_t *size, sinew_error *error);
+
+/* The same written to `path`, through a temporary file renamed into place. */
+sinew_result sinew_model_save(const sinew_model *model, const struct sinew_muscle_set *muscles, const char *path,
+                              sinew_error *error);
+
 /* A generated character for benchmarks and tests (no file involved): a chain of `joints`
  * joints standing 1.8 m tall along +Y, skinned by a tube of at least `vertices` vertices
  * (32 around) with `influences` smooth weights a vertex (1..8), and one looping clip

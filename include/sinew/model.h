@@ -111,8 +111,10 @@ typedef struct sinew_material {
 } sinew_material;
 
 typedef struct sinew_model {
-    const char *source; /* the file it was read from */
-    const char *format; /* "collada", "gltf2", ... as the importer named it, or "sinew" */
+    const char *source;         /* the file it was read from */
+    const char *converted_from; /* a .sinew file: the file `sinew convert` read; else NULL */
+    const char *format; /* "collada", "gltf2", ... as the importer named it (for a .sinew file, that of
+                         * the file it was converted from) */
 
     uint32_t node_count;
     const char *const *node_names;
@@ -131,6 +133,10 @@ typedef struct sinew_model {
     const sinew_clip *clips;
     uint32_t warning_count;
     const char *const *warnings;
+
+    /* Muscle definitions stored with the model (a .sinew file converted with muscles), or
+     * NULL; see sinew/muscle_file.h and sinew_muscle_rig_create(). */
+    const struct sinew_muscle_set *muscles;
 } sinew_model;
 
 typedef struct sinew_allocator {
@@ -139,11 +145,18 @@ typedef struct sinew_allocator {
     void *user;
 } sinew_allocator;
 
-/* Builds a model from a blob written by sinew_model_write_blob() (or the import child).
+/* Builds a model from a blob written by sinew_model_write_blob() (or the import child):
+ * the bytes of a .sinew file.
  * The bytes are validated (magic, version, sizes, checksum, every offset and index) and
  * copied; `name` is used in messages. `allocator` may be NULL for malloc/free. */
 sinew_result sinew_model_from_blob(const void *bytes, size_t size, const char *name, const sinew_allocator *allocator,
                                    sinew_model **out, sinew_error *error);
+
+/* Reads a .sinew file (sinew_model_save() writes one) and validates it like
+ * sinew_model_from_blob(): every prefix, changed byte or foreign file is refused with
+ * SINEW_ERROR_FORMAT naming the path; SINEW_ERROR_IO when it cannot be read. */
+sinew_result sinew_model_load(const char *path, const sinew_allocator *allocator, sinew_model **out,
+                              sinew_error *error);
 
 /* The model's own blob: the exact bytes it was loaded from. */
 void sinew_model_blob(const sinew_model *model, const void **bytes, size_t *size);

@@ -1,8 +1,15 @@
-/* Checksums of model blobs: CRC-32 (IEEE), the one zlib and PNG use. */
+/* Checksums of model blobs: CRC-32C (Castagnoli, the iSCSI/ext4 polynomial), which x86
+ * computes eight bytes an instruction (SSE4.2 crc32). The table-driven version is the
+ * reference the tests hold the instruction path to, and the path on other processors. */
 #include <string.h>
 #include <threads.h>
 
 #include "internal.h"
+
+#if defined(__x86_64__) && defined(__GNUC__)
+#include <nmmintrin.h>
+#define SINEW_HAVE_SSE42_CRC 1
+#endif
 
 static uint32_t crc_table[256];
 static once_flag crc_once = ONCE_FLAG_INIT;
@@ -12,13 +19,12 @@ static void crc_table_init(void)
     for (uint32_t i = 0; i < 256; i++) {
         uint32_t c = i;
         for (int k = 0; k < 8; k++)
-            c = (c & 1u) ? 0xedb88320u ^ (c >> 1) : c >> 1;
+            c = (c & 1u) ? 0x82f63b78u ^ (c >> 1) : c >> 1;
         crc_table[i] = c;
     }
 }
 
-/* CRC-32 (IEEE 802.3), continued from `crc` (0 to start), as zlib's crc32() computes it. */
-uint32_t sinew_crc32(uint32_t crc, const void *bytes, size_t size)
+uint32_t sinew_crc32c_scalar(uint32_t crc, const void *bytes, size_t size)
 {
     call_once(&crc_once, crc_table_init);
     const uint32_t *table = crc_table;
@@ -29,11 +35,37 @@ uint32_t sinew_crc32(uint32_t crc, const void *bytes, size_t size)
     return crc ^ 0xffffffffu;
 }
 
+#ifdef SINEW_HAVE_SSE42_CRC
+__attribute__((target("sse4.2"))) static uint32_t crc32c_sse42(uint32_t crc, const void *bytes, size_t size)
+{
+    const unsigned char *p = bytes;
+    uint64_t c = crc ^ 0xffffffffu;
+    for (; size >= 8; size -= 8, p += 8) {
+        uint64_t word;
+        memcpy(&word, p, 8);
+        c = _mm_crc32_u64(c, word);
+    }
+    uint32_t c32 = (uint32_t)c;
+    for (; size > 0; size--, p++)
+        c32 = _mm_crc32_u8(c32, *p);
+    return c32 ^ 0xffffffffu;
+}
+#endif
+
+uint32_t sinew_crc32c(uint32_t crc, const void *bytes, size_t size)
+{
+#ifdef SINEW_HAVE_SSE42_CRC
+    if (__builtin_cpu_supports("sse4.2"))
+        return crc32c_sse42(crc, bytes, size);
+#endif
+    return sinew_crc32c_scalar(crc, bytes, size);
+}
+
 uint32_t sinew_blob_checksum(const void *bytes, size_t size)
 {
-    blob_header header;
+    blob_file_header header;
     memcpy(&header, bytes, sizeof header);
     header.checksum = 0;
-    uint32_t crc = sinew_crc32(0, &header, sizeof header);
-    return sinew_crc32(crc, (const unsigned char *)bytes + sizeof header, size - sizeof header);
+    uint32_t crc = sinew_crc32c(0, &header, sizeof header);
+    return sinew_crc32c(crc, (const unsigned char *)bytes + sizeof header, size - sizeof header);
 }

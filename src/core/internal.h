@@ -1,15 +1,19 @@
 /* Cross-file internals of src/core (no promise to library users).
  *
- * The model blob, version 1: the layout sinew_model_from_blob() reads and the import
- * builder writes; the start of the .sinew runtime file format. Little-endian.
+ * The model blob, version 2: the .sinew runtime file format, which sinew_model_from_blob()
+ * and sinew_model_load() read and the import builder writes. Little-endian throughout.
  *
- *   blob_header                      at offset 0
+ *   blob_file_header                 at offset 0 (48 bytes)
+ *   blob_section[section_count]      the directory, right after the header
  *   string pool, tables, arrays      anywhere after it, each aligned to 16 bytes
  *
- * Every reference is a byte offset from the start of the blob (blob_span: offset and
- * element count). Strings are offsets into the pool, which ends with a NUL; BLOB_NONE
- * marks an absent string or array. The checksum is CRC-32 (IEEE) of
- * the whole blob, computed with the checksum field set to 0.
+ * Each directory entry is tagged with four characters and gives the offset, element count
+ * and element size of one table; readers skip tags they do not know (a later minor
+ * addition) but still check that their bytes lie inside the file, and refuse a known tag
+ * twice or with another element size. Every reference is a byte offset from the start of
+ * the blob; strings are offsets into the pool (section STRS), which ends with a NUL;
+ * BLOB_NONE marks an absent string or array. The checksum is CRC-32C (Castagnoli) of the
+ * whole blob computed with the checksum field set to 0.
  */
 #ifndef SINEW_CORE_INTERNAL_H
 #define SINEW_CORE_INTERNAL_H
@@ -21,35 +25,61 @@
 #include "sinew/model.h"
 
 #define BLOB_MAGIC "SINEW\r\n\x1a"
-#define BLOB_VERSION 1u
+#define BLOB_VERSION 2u
 #define BLOB_NONE 0xffffffffu
 #define BLOB_ALIGN 16u
+#define BLOB_MAX_SECTIONS 64u
 
 typedef struct blob_span {
     uint32_t offset;
     uint32_t count;
 } blob_span;
 
-typedef struct blob_header {
+typedef struct blob_file_header {
     char magic[8];
     uint32_t version;
-    uint32_t header_size;
-    uint64_t size;
+    uint32_t header_size; /* sizeof(blob_file_header) */
+    uint64_t size;        /* of the whole blob */
     uint32_t checksum;
-    uint32_t flags;
-    blob_span strings;      /* bytes */
-    uint32_t source;        /* string */
-    uint32_t format;        /* string */
-    blob_span node_names;   /* uint32_t strings */
-    blob_span node_parents; /* int32_t */
-    blob_span node_rest;    /* sinew_transform */
-    blob_span skins;        /* blob_skin */
-    blob_span meshes;       /* blob_mesh */
-    blob_span instances;    /* sinew_instance */
-    blob_span materials;    /* blob_material */
-    blob_span clips;        /* blob_clip */
-    blob_span warnings;     /* uint32_t strings */
+    uint32_t flags; /* 0 */
+    uint32_t section_count;
+    uint32_t source; /* string: the file the model was converted from */
+    uint32_t format; /* string: its format, as the importer named it */
+    uint32_t reserved;
+} blob_file_header;
+
+typedef struct blob_section {
+    char tag[4];
+    uint32_t offset;
+    uint32_t count;
+    uint32_t elem_size;
+} blob_section;
+
+/* The sections by name, as the writer fills them and the reader finds them (not on disk). */
+typedef struct blob_header {
+    uint32_t source, format;
+    blob_span strings;      /* STRS bytes */
+    blob_span node_names;   /* NNAM uint32_t strings */
+    blob_span node_parents; /* NPAR int32_t */
+    blob_span node_rest;    /* NRST sinew_transform */
+    blob_span skins;        /* SKIN blob_skin */
+    blob_span meshes;       /* MESH blob_mesh */
+    blob_span instances;    /* INST sinew_instance */
+    blob_span materials;    /* MATL blob_material */
+    blob_span clips;        /* CLIP blob_clip */
+    blob_span warnings;     /* WARN uint32_t strings */
+    blob_span muscles;      /* MUSC blob_muscle */
 } blob_header;
+
+/* One known section: its tag, where its span lives in blob_header, its element size. */
+typedef struct blob_section_kind {
+    char tag[5];
+    size_t field; /* offsetof(blob_header, ...) */
+    uint32_t elem_size;
+} blob_section_kind;
+
+extern const blob_section_kind blob_section_kinds[];
+extern const uint32_t blob_section_kind_count;
 
 typedef struct blob_skin {
     blob_span joints;       /* uint32_t */
@@ -77,6 +107,18 @@ typedef struct blob_material {
     uint32_t diffuse_texture; /* BLOB_NONE when absent */
 } blob_material;
 
+typedef struct blob_muscle {
+    double rest_length;  /* 0: taken from the rest pose */
+    uint32_t name;       /* string */
+    uint32_t origin_joint, insertion_joint; /* strings, BLOB_NONE for a point in model space */
+    float origin_offset[3], insertion_offset[3];
+    uint32_t node_count; /* 1..SINEW_MUSCLE_MAX_NODES */
+    uint32_t segments;
+    uint32_t radii;        /* offset of node_count doubles */
+    uint32_t coefficients; /* offset of node_count doubles */
+    float color[3];
+} blob_muscle;
+
 typedef struct blob_clip {
     uint32_t name;
     float duration;
@@ -85,9 +127,12 @@ typedef struct blob_clip {
     blob_span values; /* float */
 } blob_clip;
 
-uint32_t sinew_crc32(uint32_t crc, const void *bytes, size_t size);
+/* CRC-32C (Castagnoli), continued from `crc` (0 to start): the SSE4.2 instruction where
+ * the processor has it, else sinew_crc32c_scalar(), the table-driven reference. */
+uint32_t sinew_crc32c(uint32_t crc, const void *bytes, size_t size);
+uint32_t sinew_crc32c_scalar(uint32_t crc, const void *bytes, size_t size);
 
-/* The checksum a blob of `size` >= sizeof(blob_header) bytes should carry. */
+/* The checksum a blob of `size` >= sizeof(blob_file_header) bytes should carry. */
 uint32_t sinew_blob_checksum(const void *bytes, size_t size);
 
 /* Fills error (when not NULL) with kind and a printf-style message; returns kind. */

@@ -1,19 +1,37 @@
 /* The runtime model: reading and validating a model blob, lookups, freeing.
  *
  * Index:
- *   reader helpers ........ span_ok, string_at, array_at (bounds, alignment, overflow)
- *   validation ............ check_nodes, check_skins, check_meshes, check_clips, ...
+ *   section kinds ......... the tags of the .sinew directory (format in internal.h)
+ *   reader helpers ........ range_ok, string_at, array_at (bounds, alignment, overflow)
+ *   validation ............ check_header (directory), check_nodes, check_skins, ...
  *   sinew_model_from_blob . one allocation: the blob copy, then the pointer tables
+ *   sinew_model_load ...... the same from a file, read straight into that allocation
  */
+#include <errno.h>
 #include <math.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
 #include "internal.h"
+#include "sinew/muscle_file.h"
+
+#define SECTION(tag, field, type) {tag, offsetof(blob_header, field), sizeof(type)}
+const blob_section_kind blob_section_kinds[] = {
+    SECTION("STRS", strings, char),           SECTION("NNAM", node_names, uint32_t),
+    SECTION("NPAR", node_parents, int32_t),   SECTION("NRST", node_rest, sinew_transform),
+    SECTION("SKIN", skins, blob_skin),        SECTION("MESH", meshes, blob_mesh),
+    SECTION("INST", instances, sinew_instance), SECTION("MATL", materials, blob_material),
+    SECTION("CLIP", clips, blob_clip),        SECTION("WARN", warnings, uint32_t),
+    SECTION("MUSC", muscles, blob_muscle),
+};
+#undef SECTION
+const uint32_t blob_section_kind_count = sizeof blob_section_kinds / sizeof blob_section_kinds[0];
 
 /* The allocation behind a model: this struct, the pointer tables, then the blob copy. */
 typedef struct model_block {
     sinew_model model;
+    sinew_muscle_set muscles;
     sinew_allocator allocator;
     const unsigned char *blob;
     size_t blob_size;
@@ -23,7 +41,7 @@ typedef struct reader {
     const unsigned char *bytes;
     size_t size;
     const char *name;
-    const blob_header *header;
+    const blob_header *header; /* the directory, decoded */
     sinew_error *error;
 } reader;
 
@@ -49,7 +67,7 @@ static bool range_ok(const reader *r, uint32_t offset, uint64_t count, uint64_t 
 {
     if (count == 0)
         return true;
-    if (offset == BLOB_NONE || offset % 4u != 0 || offset < sizeof(blob_header))
+    if (offset == BLOB_NONE || offset % 4u != 0 || offset < sizeof(blob_file_header))
         return false;
     uint64_t bytes = count * elem;
     if (elem != 0 && bytes / elem != count)
@@ -87,44 +105,70 @@ static bool floats_finite(const float *values, uint64_t count)
     return true;
 }
 
-/* Checks the header and that every top-level table fits in the blob, before anything is
- * allocated from its counts (the check_* functions below rely on it). Reads the bytes
- * one at a time (they may be unaligned). */
-static sinew_result check_header(reader *r)
+/* Decodes the directory of a blob whose header was checked into r->header. */
+static sinew_result read_directory(reader *r, const blob_file_header *f, blob_header *h)
 {
-    if (r->size < sizeof(blob_header))
+    memset(h, 0, sizeof *h);
+    h->source = f->source;
+    h->format = f->format;
+    if (f->section_count > BLOB_MAX_SECTIONS ||
+        sizeof *f + (uint64_t)f->section_count * sizeof(blob_section) > r->size)
+        return corrupt(r, "section directory");
+    bool seen[sizeof blob_section_kinds / sizeof blob_section_kinds[0]] = {false};
+    for (uint32_t i = 0; i < f->section_count; i++) {
+        blob_section sec;
+        memcpy(&sec, r->bytes + sizeof *f + i * sizeof sec, sizeof sec);
+        if (!range_ok(r, sec.offset, sec.count, sec.elem_size))
+            return corrupt(r, "section out of bounds");
+        for (uint32_t k = 0; k < blob_section_kind_count; k++) {
+            const blob_section_kind *kind = &blob_section_kinds[k];
+            if (memcmp(sec.tag, kind->tag, 4) != 0)
+                continue;
+            if (seen[k] || sec.elem_size != kind->elem_size)
+                return sinew_fail(r->error, SINEW_ERROR_FORMAT, "%s: corrupted model data: section %.4s %s", r->name,
+                                  kind->tag, seen[k] ? "appears twice" : "has the wrong element size");
+            seen[k] = true;
+            blob_span *span = (blob_span *)((char *)h + kind->field);
+            *span = (blob_span){sec.offset, sec.count};
+        }
+    }
+    return SINEW_OK;
+}
+
+/* Checks the header, the directory and that every top-level table fits in the blob, before
+ * anything is allocated from its counts (the check_* functions below rely on it). Reads
+ * the header and directory through copies (the bytes may be unaligned). */
+static sinew_result check_header(reader *r, blob_header *h)
+{
+    blob_file_header f;
+    if (r->size < sizeof f)
         return sinew_fail(r->error, SINEW_ERROR_FORMAT, "%s: truncated model data (%zu bytes, the header alone is %zu)",
-                          r->name, r->size, sizeof(blob_header));
-    const blob_header *h = r->header;
-    if (memcmp(h->magic, BLOB_MAGIC, 8) != 0)
+                          r->name, r->size, sizeof f);
+    memcpy(&f, r->bytes, sizeof f);
+    if (memcmp(f.magic, BLOB_MAGIC, 8) != 0)
         return sinew_fail(r->error, SINEW_ERROR_FORMAT, "%s: not a sinew model (bad magic)", r->name);
-    if (h->version != BLOB_VERSION)
-        return sinew_fail(r->error, SINEW_ERROR_FORMAT, "%s: unsupported sinew model version %u (this build reads %u)",
-                          r->name, h->version, BLOB_VERSION);
-    if (h->header_size != sizeof(blob_header) || h->flags != 0)
+    if (f.version != BLOB_VERSION)
+        return sinew_fail(r->error, SINEW_ERROR_FORMAT,
+                          "%s: unsupported sinew model version %u (this build reads %u; convert the source file again)",
+                          r->name, f.version, BLOB_VERSION);
+    if (f.header_size != sizeof f || f.flags != 0)
         return corrupt(r, "header size or flags");
-    if (h->size != r->size)
+    if (f.size != r->size)
         return sinew_fail(r->error, SINEW_ERROR_FORMAT, "%s: truncated model data (%zu bytes of %llu)", r->name,
-                          r->size, (unsigned long long)h->size);
-    if (sinew_blob_checksum(r->bytes, r->size) != h->checksum)
+                          r->size, (unsigned long long)f.size);
+    if (sinew_blob_checksum(r->bytes, r->size) != f.checksum)
         return sinew_fail(r->error, SINEW_ERROR_FORMAT, "%s: checksum mismatch: the model data is corrupted", r->name);
-    if (h->strings.count == 0 || !range_ok(r, h->strings.offset, h->strings.count, 1) ||
-        r->bytes[h->strings.offset + h->strings.count - 1] != '\0')
+    sinew_result result = read_directory(r, &f, h);
+    if (result)
+        return result;
+    r->header = h;
+    if (h->strings.count == 0 || r->bytes[h->strings.offset + h->strings.count - 1] != '\0')
         return corrupt(r, "string pool");
     if (!string_ok(r, h->source, false) || !string_ok(r, h->format, false))
         return corrupt(r, "source name");
     uint32_t n = h->node_names.count;
     if (h->node_parents.count != n || h->node_rest.count != n)
         return corrupt(r, "node table sizes differ");
-    if (!range_ok(r, h->node_names.offset, n, 4) || !range_ok(r, h->node_parents.offset, n, 4) ||
-        !range_ok(r, h->node_rest.offset, n, sizeof(sinew_transform)) ||
-        !range_ok(r, h->warnings.offset, h->warnings.count, 4) ||
-        !range_ok(r, h->instances.offset, h->instances.count, sizeof(sinew_instance)) ||
-        !range_ok(r, h->skins.offset, h->skins.count, sizeof(blob_skin)) ||
-        !range_ok(r, h->meshes.offset, h->meshes.count, sizeof(blob_mesh)) ||
-        !range_ok(r, h->materials.offset, h->materials.count, sizeof(blob_material)) ||
-        !range_ok(r, h->clips.offset, h->clips.count, sizeof(blob_clip)))
-        return corrupt(r, "tables out of bounds");
     return SINEW_OK;
 }
 
@@ -274,6 +318,39 @@ static sinew_result check_clips(reader *r)
     return SINEW_OK;
 }
 
+static bool numbers_ok(const reader *r, uint32_t offset, uint32_t count, bool positive)
+{
+    if (offset % 8u != 0 || !range_ok(r, offset, count, sizeof(double)))
+        return false;
+    const double *values = array_at(r, offset, count);
+    for (uint32_t i = 0; i < count; i++)
+        if (!isfinite(values[i]) || (positive && !(values[i] > 0.0)))
+            return false;
+    return true;
+}
+
+/* The same limits as the muscle JSON reader puts on a muscle. */
+static sinew_result check_muscles(reader *r)
+{
+    const blob_header *h = r->header;
+    const blob_muscle *muscles = array_at(r, h->muscles.offset, h->muscles.count);
+    for (uint32_t i = 0; i < h->muscles.count; i++) {
+        const blob_muscle *m = &muscles[i];
+        if (!string_ok(r, m->name, false) || !string_ok(r, m->origin_joint, true) ||
+            !string_ok(r, m->insertion_joint, true))
+            return corrupt(r, "muscle name");
+        if (m->node_count == 0 || m->node_count > SINEW_MUSCLE_MAX_NODES || m->segments < 3 || m->segments > 256 ||
+            !isfinite(m->rest_length) || m->rest_length < 0.0)
+            return corrupt(r, "muscle header");
+        if (!floats_finite(m->origin_offset, 3) || !floats_finite(m->insertion_offset, 3) ||
+            !floats_finite(m->color, 3))
+            return corrupt(r, "muscle attachment");
+        if (!numbers_ok(r, m->radii, m->node_count, true) || !numbers_ok(r, m->coefficients, m->node_count, false))
+            return corrupt(r, "muscle radii or coefficients");
+    }
+    return SINEW_OK;
+}
+
 /* Bytes of pointer tables that follow the model_block struct. */
 static size_t tables_size(const blob_header *h)
 {
@@ -284,6 +361,7 @@ static size_t tables_size(const blob_header *h)
     size += (size_t)h->meshes.count * sizeof(sinew_mesh);
     size += (size_t)h->materials.count * sizeof(sinew_material);
     size += (size_t)h->clips.count * sizeof(sinew_clip);
+    size += (size_t)h->muscles.count * sizeof(sinew_muscle_def);
     return (size + BLOB_ALIGN - 1) & ~(size_t)(BLOB_ALIGN - 1);
 }
 
@@ -381,13 +459,35 @@ static void fill_model(model_block *b, const reader *r, unsigned char *tables)
         };
     }
     m->clips = clips;
+
+    sinew_muscle_def *defs = take(&cursor, h->muscles.count * sizeof(sinew_muscle_def));
+    const blob_muscle *bmuscles = array_at(r, h->muscles.offset, h->muscles.count);
+    for (uint32_t i = 0; i < h->muscles.count; i++) {
+        const blob_muscle *bm = &bmuscles[i];
+        defs[i] = (sinew_muscle_def){
+            .name = string_at(r, bm->name),
+            .origin = {.joint = string_at(r, bm->origin_joint)},
+            .insertion = {.joint = string_at(r, bm->insertion_joint)},
+            .rest_length = bm->rest_length,
+            .node_count = bm->node_count,
+            .radii = array_at(r, bm->radii, bm->node_count),
+            .coefficients = array_at(r, bm->coefficients, bm->node_count),
+            .segments = bm->segments,
+        };
+        memcpy(defs[i].origin.offset, bm->origin_offset, sizeof bm->origin_offset);
+        memcpy(defs[i].insertion.offset, bm->insertion_offset, sizeof bm->insertion_offset);
+        memcpy(defs[i].color, bm->color, sizeof bm->color);
+    }
+    if (h->muscles.count) {
+        b->muscles = (sinew_muscle_set){.source = m->source, .muscle_count = h->muscles.count, .muscles = defs};
+        m->muscles = &b->muscles;
+    }
 }
 
-sinew_result sinew_model_from_blob(const void *bytes, size_t size, const char *name, const sinew_allocator *allocator,
-                                   sinew_model **out, sinew_error *error)
+/* from_blob and load: `file` is the .sinew path the bytes came from, or NULL. */
+static sinew_result open_blob(const void *bytes, size_t size, const char *name, const char *file,
+                              const sinew_allocator *allocator, sinew_model **out, sinew_error *error)
 {
-    if (!out || (!bytes && size))
-        return sinew_fail(error, SINEW_ERROR_INVALID_ARGUMENT, "sinew_model_from_blob: NULL argument");
     *out = NULL;
     if (!name)
         name = "model data";
@@ -395,17 +495,15 @@ sinew_result sinew_model_from_blob(const void *bytes, size_t size, const char *n
         return sinew_fail(error, SINEW_ERROR_INVALID_ARGUMENT, "%s: allocator without alloc or free", name);
     sinew_allocator alloc = allocator ? *allocator : (sinew_allocator){default_alloc, default_free, NULL};
 
-    /* The header and the table sizes are checked on the caller's bytes (through a copy of
-     * the header) before their counts size any allocation. */
+    /* The header, the directory and the table sizes are checked on the caller's bytes
+     * before their counts size any allocation; the copy has the same directory. */
     size_t head = (sizeof(model_block) + BLOB_ALIGN - 1) & ~(size_t)(BLOB_ALIGN - 1);
-    blob_header header = {0};
-    if (size >= sizeof header)
-        memcpy(&header, bytes, sizeof header);
-    reader early = {.bytes = bytes, .size = size, .name = name, .header = &header, .error = error};
-    sinew_result result = check_header(&early);
+    blob_header header;
+    reader early = {.bytes = bytes, .size = size, .name = name, .error = error};
+    sinew_result result = check_header(&early, &header);
     if (result)
         return result;
-    size_t tables = tables_size(&header);
+    size_t tables = tables_size(&header) + (file ? (strlen(file) + BLOB_ALIGN) & ~(size_t)(BLOB_ALIGN - 1) : 0);
     unsigned char *block = alloc.alloc(head + tables + size, alloc.user);
     if (!block)
         return sinew_fail(error, SINEW_ERROR_OUT_OF_MEMORY, "%s: out of memory for %zu bytes", name,
@@ -413,9 +511,9 @@ sinew_result sinew_model_from_blob(const void *bytes, size_t size, const char *n
     unsigned char *copy = block + head + tables;
     memcpy(copy, bytes, size);
 
-    reader r = {.bytes = copy, .size = size, .name = name, .header = (const blob_header *)copy, .error = error};
+    reader r = {.bytes = copy, .size = size, .name = name, .header = &header, .error = error};
     if ((result = check_nodes(&r)) || (result = check_skins(&r)) || (result = check_meshes(&r)) ||
-        (result = check_clips(&r))) {
+        (result = check_clips(&r)) || (result = check_muscles(&r))) {
         alloc.free(block, alloc.user);
         return result;
     }
@@ -425,8 +523,51 @@ sinew_result sinew_model_from_blob(const void *bytes, size_t size, const char *n
     b->blob = copy;
     b->blob_size = size;
     fill_model(b, &r, block + head);
+    if (file) {
+        char *path = (char *)block + head + tables_size(&header);
+        strcpy(path, file);
+        b->model.converted_from = b->model.source;
+        b->model.source = path;
+        b->muscles.source = path;
+    }
     *out = &b->model;
     return SINEW_OK;
+}
+
+sinew_result sinew_model_from_blob(const void *bytes, size_t size, const char *name, const sinew_allocator *allocator,
+                                   sinew_model **out, sinew_error *error)
+{
+    if (!out || (!bytes && size))
+        return sinew_fail(error, SINEW_ERROR_INVALID_ARGUMENT, "sinew_model_from_blob: NULL argument");
+    return open_blob(bytes, size, name, NULL, allocator, out, error);
+}
+
+sinew_result sinew_model_load(const char *path, const sinew_allocator *allocator, sinew_model **out,
+                              sinew_error *error)
+{
+    if (!path || !out)
+        return sinew_fail(error, SINEW_ERROR_INVALID_ARGUMENT, "sinew_model_load: NULL argument");
+    *out = NULL;
+    FILE *f = fopen(path, "rb");
+    if (!f)
+        return sinew_fail(error, SINEW_ERROR_IO, "%s: cannot open: %s", path, strerror(errno));
+    long n = fseek(f, 0, SEEK_END) == 0 ? ftell(f) : -1;
+    if (n < 0 || fseek(f, 0, SEEK_SET) != 0) {
+        fclose(f);
+        return sinew_fail(error, SINEW_ERROR_IO, "%s: cannot read: not a regular file", path);
+    }
+    void *bytes = malloc(n ? (size_t)n : 1);
+    if (!bytes) {
+        fclose(f);
+        return sinew_fail(error, SINEW_ERROR_OUT_OF_MEMORY, "%s: out of memory for %ld bytes", path, n);
+    }
+    size_t got = fread(bytes, 1, (size_t)n, f);
+    bool failed = ferror(f);
+    fclose(f);
+    sinew_result result = failed ? sinew_fail(error, SINEW_ERROR_IO, "%s: cannot read: %s", path, strerror(errno))
+                                 : open_blob(bytes, got, path, path, allocator, out, error);
+    free(bytes);
+    return result;
 }
 
 void sinew_model_blob(const sinew_model *model, const void **bytes, size_t *size)

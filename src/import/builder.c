@@ -13,6 +13,7 @@
 
 #include "../core/internal.h"
 #include "internal.h"
+#include "sinew/muscle_file.h"
 
 /* ---- raw model helpers ---------------------------------------------------------------- */
 
@@ -715,12 +716,52 @@ static blob_span write_clips(writer *w, const raw_model *m)
     return span;
 }
 
-static sinew_result write_blob(const raw_model *m, void **bytes, size_t *size, sinew_error *error)
+static uint32_t write_numbers(writer *w, const double *values, uint32_t count)
+{
+    return writer_put(w, values, (size_t)count * sizeof(double));
+}
+
+static blob_span write_muscles(writer *w, const sinew_muscle_set *set)
+{
+    uint32_t count = set ? set->muscle_count : 0;
+    blob_muscle *table = calloc(count ? count : 1, sizeof *table);
+    if (!table) {
+        w->failed = true;
+        return (blob_span){BLOB_NONE, 0};
+    }
+    for (uint32_t i = 0; i < count; i++) {
+        const sinew_muscle_def *d = &set->muscles[i];
+        table[i] = (blob_muscle){
+            .rest_length = d->rest_length,
+            .name = writer_string(w, d->name),
+            .origin_joint = writer_string(w, d->origin.joint),
+            .insertion_joint = writer_string(w, d->insertion.joint),
+            .node_count = d->node_count,
+            .segments = d->segments,
+            .radii = write_numbers(w, d->radii, d->node_count),
+            .coefficients = write_numbers(w, d->coefficients, d->node_count),
+        };
+        memcpy(table[i].origin_offset, d->origin.offset, sizeof table[i].origin_offset);
+        memcpy(table[i].insertion_offset, d->insertion.offset, sizeof table[i].insertion_offset);
+        memcpy(table[i].color, d->color, sizeof table[i].color);
+    }
+    blob_span span = {writer_put(w, table, count * sizeof *table), count};
+    free(table);
+    return span;
+}
+
+/* Header and directory first (filled in at the end), then the tables, then the pool. */
+sinew_result raw_model_write(const raw_model *m, void **bytes, size_t *size, sinew_error *error)
 {
     writer w = {0};
-    blob_header h = {.version = BLOB_VERSION, .header_size = sizeof(blob_header)};
-    memcpy(h.magic, BLOB_MAGIC, 8);
-    writer_put(&w, &h, sizeof h);
+    const uint32_t sections = blob_section_kind_count;
+    size_t head = sizeof(blob_file_header) + sections * sizeof(blob_section);
+    unsigned char *zeros = calloc(1, head);
+    if (!zeros)
+        return sinew_fail(error, SINEW_ERROR_OUT_OF_MEMORY, "%s: out of memory", m->source);
+    writer_put(&w, zeros, head);
+    free(zeros);
+    blob_header h = {0};
     h.source = writer_string(&w, m->source);
     h.format = writer_string(&w, m->format ? m->format : "unknown");
     h.node_names = writer_strings(&w, m->node_names, m->node_count);
@@ -733,6 +774,7 @@ static sinew_result write_blob(const raw_model *m, void **bytes, size_t *size, s
     h.materials = write_materials(&w, m);
     h.clips = write_clips(&w, m);
     h.warnings = writer_strings(&w, m->warnings, m->warning_count);
+    h.muscles = write_muscles(&w, m->muscles);
     h.strings = (blob_span){writer_put(&w, w.pool, w.pool_size), (uint32_t)w.pool_size};
     free(w.pool);
     if (w.failed) {
@@ -740,10 +782,25 @@ static sinew_result write_blob(const raw_model *m, void **bytes, size_t *size, s
         return sinew_fail(error, SINEW_ERROR_LIMIT, "%s: the model does not fit in memory or in a 4 GiB blob",
                           m->source);
     }
-    h.size = w.size;
-    memcpy(w.bytes, &h, sizeof h);
-    h.checksum = sinew_blob_checksum(w.bytes, w.size);
-    memcpy(w.bytes, &h, sizeof h);
+    blob_file_header f = {.version = BLOB_VERSION,
+                          .header_size = sizeof f,
+                          .size = w.size,
+                          .section_count = sections,
+                          .source = h.source,
+                          .format = h.format};
+    memcpy(f.magic, BLOB_MAGIC, 8);
+    for (uint32_t k = 0; k < sections; k++) {
+        const blob_section_kind *kind = &blob_section_kinds[k];
+        const blob_span *span = (const blob_span *)((const char *)&h + kind->field);
+        blob_section sec = {.offset = span->count ? span->offset : BLOB_NONE,
+                            .count = span->count,
+                            .elem_size = kind->elem_size};
+        memcpy(sec.tag, kind->tag, 4);
+        memcpy(w.bytes + sizeof f + k * sizeof sec, &sec, sizeof sec);
+    }
+    memcpy(w.bytes, &f, sizeof f);
+    f.checksum = sinew_blob_checksum(w.bytes, w.size);
+    memcpy(w.bytes, &f, sizeof f);
     *bytes = w.bytes;
     *size = w.size;
     return SINEW_OK;
@@ -765,5 +822,5 @@ sinew_result raw_model_build(raw_model *m, void **bytes, size_t *size, sinew_err
     /* fix_mesh may have added fallback joints: check the skins again. */
     if ((result = check_nodes(m, error)))
         return result;
-    return write_blob(m, bytes, size, error);
+    return raw_model_write(m, bytes, size, error);
 }

@@ -1,5 +1,5 @@
-/* sinew_import: checks the path, runs Assimp (in a child process by default) and turns
- * the blob it hands back into a runtime model.
+/* sinew_import: checks the path, reads a .sinew file directly or runs Assimp (in a child
+ * process by default) and turns the blob it hands back into a runtime model.
  *
  * The child writes one message to the pipe: a reply header (status, error kind, payload
  * size) and then either the model blob or the error text. A child that dies on a signal
@@ -45,6 +45,18 @@ static sinew_result check_path(const char *path, sinew_error *error)
     if (st.st_size == 0)
         return sinew_fail(error, SINEW_ERROR_FORMAT, "%s: the file is empty", path);
     return SINEW_OK;
+}
+
+/* A .sinew file, by its magic (whatever its name): read by sinew_model_load(), not Assimp. */
+static bool is_sinew_file(const char *path)
+{
+    char magic[8] = {0};
+    FILE *f = fopen(path, "rb");
+    if (!f)
+        return false;
+    size_t n = fread(magic, 1, sizeof magic, f);
+    fclose(f);
+    return n == sizeof magic && memcmp(magic, BLOB_MAGIC, sizeof magic) == 0;
 }
 
 bool import_read_file(const char *path, unsigned char **bytes, size_t *size)
@@ -227,6 +239,8 @@ sinew_result sinew_import(const sinew_import_desc *desc, sinew_model **out, sine
     sinew_result result = check_path(desc->path, error);
     if (result)
         return result;
+    if (is_sinew_file(desc->path))
+        return sinew_model_load(desc->path, desc->allocator, out, error);
     if (!desc->in_process)
         return import_in_child(desc, out, error);
     void *bytes = NULL;

@@ -78,6 +78,7 @@ typedef struct raw_model {
     raw_clip *clips;
     uint32_t warning_count;
     char **warnings;
+    const struct sinew_muscle_set *muscles; /* borrowed, not freed: stored with the model, or NULL */
 } raw_model;
 
 /* Frees what a raw clip points to (not the clip itself). */
@@ -109,6 +110,10 @@ bool import_read_file(const char *path, unsigned char **bytes, size_t *size);
  * making consecutive rotation keys take the short way, computing missing normals) and
  * writes the runtime blob into *bytes (malloc'd). */
 sinew_result raw_model_build(raw_model *model, void **bytes, size_t *size, sinew_error *error);
+
+/* Writes the blob of a raw model that is already valid (one copied from a runtime model)
+ * without repairing anything. */
+sinew_result raw_model_write(const raw_model *model, void **bytes, size_t *size, sinew_error *error);
 
 /* Reads a file through Assimp into a raw model, in this process. */
 sinew_result raw_model_from_assimp(const char *path, raw_model *model, sinew_error *error);

@@ -1,0 +1,192 @@
+/* Writing a runtime model back out as a .sinew file: the model's tables are copied into a
+ * raw model (already valid: nothing is repaired) and written with the blob writer, so a
+ * model saved without new muscles gives back the bytes it was loaded from. */
+#include <errno.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <unistd.h>
+
+#include "../core/internal.h"
+#include "internal.h"
+#include "sinew/import.h"
+#include "sinew/muscle_file.h"
+
+static void *copy_array(const void *src, size_t count, size_t elem, bool *ok)
+{
+    if (!src || count == 0)
+        return NULL;
+    void *p = malloc(count * elem);
+    if (!p) {
+        *ok = false;
+        return NULL;
+    }
+    return memcpy(p, src, count * elem);
+}
+
+static char *copy_string(const char *text, bool *ok)
+{
+    if (!text)
+        return NULL;
+    char *p = raw_strdup(text);
+    if (!p)
+        *ok = false;
+    return p;
+}
+
+static char **copy_strings(const char *const *texts, uint32_t count, bool *ok)
+{
+    char **out = count ? calloc(count, sizeof *out) : NULL;
+    if (count && !out)
+        *ok = false;
+    for (uint32_t i = 0; out && i < count; i++)
+        out[i] = copy_string(texts[i], ok);
+    return out;
+}
+
+static void copy_mesh(const sinew_mesh *src, raw_mesh *dst, bool *ok)
+{
+    size_t v = src->vertex_count, k = (size_t)v * src->influence_count;
+    *dst = (raw_mesh){
+        .name = copy_string(src->name, ok),
+        .vertex_count = src->vertex_count,
+        .index_count = src->index_count,
+        .positions = copy_array(src->positions, v * 3, sizeof(float), ok),
+        .normals = copy_array(src->normals, v * 3, sizeof(float), ok),
+        .uvs = copy_array(src->uvs, v * 2, sizeof(float), ok),
+        .indices = copy_array(src->indices, src->index_count, sizeof(uint32_t), ok),
+        .skin = src->skin,
+        .material = src->material,
+        .influence_count = src->influence_count,
+        .weights = copy_array(src->weights, k, sizeof(float), ok),
+    };
+    if (k) {
+        dst->joints = malloc(k * sizeof *dst->joints);
+        if (!dst->joints)
+            *ok = false;
+        for (size_t i = 0; dst->joints && i < k; i++)
+            dst->joints[i] = src->joints[i];
+    }
+}
+
+static void copy_clip(const sinew_clip *src, raw_clip *dst, bool *ok)
+{
+    dst->name = copy_string(src->name, ok);
+    dst->duration = src->duration;
+    dst->track_count = src->track_count;
+    dst->tracks = src->track_count ? calloc(src->track_count, sizeof *dst->tracks) : NULL;
+    if (src->track_count && !dst->tracks) {
+        *ok = false;
+        dst->track_count = 0;
+    }
+    for (uint32_t t = 0; t < dst->track_count; t++) {
+        const sinew_track *track = &src->tracks[t];
+        dst->tracks[t].node = track->node;
+        for (int kind = 0; kind < SINEW_CHANNEL_COUNT; kind++) {
+            const sinew_channel *ch = &track->channels[kind];
+            raw_channel *out = &dst->tracks[t].channels[kind];
+            out->interp = ch->interp;
+            out->count = ch->key_count;
+            out->times = copy_array(src->times + ch->first_key, ch->key_count, sizeof(float), ok);
+            out->values = copy_array(src->values + ch->first_value,
+                                     (size_t)ch->key_count * sinew_channel_stride(kind, ch->interp), sizeof(float), ok);
+        }
+    }
+}
+
+/* A raw copy of a runtime model; false when out of memory (the copy stays freeable). */
+static bool raw_model_from_model(const sinew_model *m, raw_model *raw)
+{
+    bool ok = true;
+    memset(raw, 0, sizeof *raw);
+    raw->source = copy_string(m->source, &ok);
+    raw->format = copy_string(m->format, &ok);
+    raw->node_count = m->node_count;
+    raw->node_names = copy_strings(m->node_names, m->node_count, &ok);
+    raw->node_parents = copy_array(m->node_parents, m->node_count, sizeof(int32_t), &ok);
+    raw->node_rest = copy_array(m->node_rest, m->node_count, sizeof(sinew_transform), &ok);
+    raw->skins = m->skin_count ? calloc(m->skin_count, sizeof *raw->skins) : NULL;
+    raw->skin_count = raw->skins ? m->skin_count : 0;
+    for (uint32_t i = 0; i < raw->skin_count; i++) {
+        const sinew_skin *s = &m->skins[i];
+        raw->skins[i].joint_count = s->joint_count;
+        raw->skins[i].joints = copy_array(s->joints, s->joint_count, sizeof(uint32_t), &ok);
+        raw->skins[i].inverse_bind = copy_array(s->inverse_bind, s->joint_count, sizeof(sinew_mat4), &ok);
+    }
+    raw->meshes = m->mesh_count ? calloc(m->mesh_count, sizeof *raw->meshes) : NULL;
+    raw->mesh_count = raw->meshes ? m->mesh_count : 0;
+    for (uint32_t i = 0; i < raw->mesh_count; i++)
+        copy_mesh(&m->meshes[i], &raw->meshes[i], &ok);
+    raw->instance_count = m->instance_count;
+    raw->instances = copy_array(m->instances, m->instance_count, sizeof(sinew_instance), &ok);
+    raw->materials = m->material_count ? calloc(m->material_count, sizeof *raw->materials) : NULL;
+    raw->material_count = raw->materials ? m->material_count : 0;
+    for (uint32_t i = 0; i < raw->material_count; i++) {
+        raw->materials[i].name = copy_string(m->materials[i].name, &ok);
+        memcpy(raw->materials[i].base_color, m->materials[i].base_color, sizeof raw->materials[i].base_color);
+        raw->materials[i].diffuse_texture = copy_string(m->materials[i].diffuse_texture, &ok);
+    }
+    raw->clips = m->clip_count ? calloc(m->clip_count, sizeof *raw->clips) : NULL;
+    raw->clip_count = raw->clips ? m->clip_count : 0;
+    for (uint32_t i = 0; i < raw->clip_count; i++)
+        copy_clip(&m->clips[i], &raw->clips[i], &ok);
+    raw->warning_count = m->warning_count;
+    raw->warnings = copy_strings(m->warnings, m->warning_count, &ok);
+    if (!raw->warnings)
+        raw->warning_count = 0;
+    ok = ok && raw->skin_count == m->skin_count && raw->mesh_count == m->mesh_count &&
+         raw->material_count == m->material_count && raw->clip_count == m->clip_count;
+    return ok;
+}
+
+sinew_result sinew_model_write_blob(const sinew_model *model, const sinew_muscle_set *muscles, void **bytes,
+                                    size_t *size, sinew_error *error)
+{
+    if (!model || !bytes || !size)
+        return sinew_fail(error, SINEW_ERROR_INVALID_ARGUMENT, "sinew_model_write_blob: NULL argument");
+    raw_model raw;
+    bool ok = raw_model_from_model(model, &raw);
+    raw.muscles = muscles ? muscles : model->muscles;
+    if (model->converted_from) { /* a .sinew file saved again keeps naming the original */
+        free(raw.source);
+        raw.source = raw_strdup(model->converted_from);
+        ok = ok && raw.source;
+    }
+    sinew_result result = ok ? raw_model_write(&raw, bytes, size, error)
+                             : sinew_fail(error, SINEW_ERROR_OUT_OF_MEMORY, "%s: out of memory", model->source);
+    raw_model_free(&raw);
+    return result;
+}
+
+sinew_result sinew_model_save(const sinew_model *model, const sinew_muscle_set *muscles, const char *path,
+                              sinew_error *error)
+{
+    if (!path)
+        return sinew_fail(error, SINEW_ERROR_INVALID_ARGUMENT, "sinew_model_save: NULL path");
+    void *bytes = NULL;
+    size_t size = 0;
+    sinew_result result = sinew_model_write_blob(model, muscles, &bytes, &size, error);
+    if (result)
+        return result;
+    /* Written beside the target and renamed over it: a failed write leaves no half file. */
+    size_t n = strlen(path) + 16;
+    char *temp = malloc(n);
+    FILE *f = NULL;
+    if (temp) {
+        snprintf(temp, n, "%s.tmp%ld", path, (long)getpid());
+        f = fopen(temp, "wb");
+    }
+    if (!f) {
+        result = sinew_fail(error, SINEW_ERROR_IO, "%s: cannot write: %s", path, strerror(errno));
+    } else {
+        bool written = fwrite(bytes, 1, size, f) == size;
+        written = (fclose(f) == 0) && written;
+        if (!written || rename(temp, path) != 0) {
+            result = sinew_fail(error, SINEW_ERROR_IO, "%s: cannot write: %s", path, strerror(errno));
+            remove(temp);
+        }
+    }
+    free(temp);
+    free(bytes);
+    return result;
+}
