@@ -7,7 +7,7 @@ MAKEFLAGS  += --no-print-directory
 JOBS       ?= $(shell nproc 2>/dev/null || echo 2)
 CMAKE_ARGS ?=
 
-.PHONY: all deps build build-asan run test test-fast test-asan golden clean
+.PHONY: all deps build build-asan run test test-fast test-asan golden fuzz clean
 
 all: build
 
@@ -38,5 +38,14 @@ test: test-fast test-asan
 golden: build
 	@cd $(BUILD) && SINEW_UPDATE_GOLDEN=1 ctest -R test_render --output-on-failure
 
+# libFuzzer on the .sinew reader (needs clang), seeded from fuzz/corpus; FUZZ_SECONDS=60 by default.
+# New inputs go to build-fuzz/corpus; crashes to build-fuzz/crash-*.
+FUZZ_SECONDS ?= 60
+fuzz: deps
+	@cmake -S . -B build-fuzz -DCMAKE_C_COMPILER=clang -DSINEW_FUZZ=ON -DSINEW_TESTS=OFF -DCMAKE_BUILD_TYPE=RelWithDebInfo >/dev/null
+	@cmake --build build-fuzz -j $(JOBS) --target fuzz_model
+	@mkdir -p build-fuzz/corpus
+	@cd build-fuzz && ./fuzz_model -max_total_time=$(FUZZ_SECONDS) -max_len=65536 corpus ../fuzz/corpus
+
 clean:
-	rm -rf $(BUILD) $(BUILD_SAN)
+	rm -rf $(BUILD) $(BUILD_SAN) build-fuzz

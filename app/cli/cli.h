@@ -151,6 +151,17 @@ int cmd_bench(int argc, char **argv);
 int cmd_muscle(int argc, char **argv);
 int cmd_arm(int argc, char **argv);
 int cmd_convert(int argc, char **argv);
+int cmd_demo(int argc, char **argv);
+int bench_eval(int argc, char **argv);
+
+/* `sinew demo`: writes the demo content into dir (humanoid.dae, arm.dae and their muscle
+ * files); prints each file when verbose. */
+#define CLI_DEMO_HUMANOID "humanoid.dae"
+bool cli_demo_write(const char *dir, bool verbose);
+/* Removes a folder of plain files. */
+bool cli_remove_tree(const char *dir);
+/* Reads a whole file, NUL-terminated (malloc'd). */
+bool cli_read_file(const char *path, unsigned char **bytes, size_t *size);
 int cmd_pose(int argc, char **argv);
 
 #endif

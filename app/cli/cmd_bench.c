@@ -19,6 +19,10 @@ static const char bench_usage[] =
     "           The clip plays forward at 60 Hz from 0, looping; N frames (default 300) after 10 warm-up frames.\n"
     "           --png OUT writes the last GPU-skinned frame, to see what was measured.\n"
     "\n"
+    "usage: sinew bench eval [--json] [--collada FILE.dae]\n"
+    "  eval     the runtime's speed: sampling + world matrices, skinning, 1000 characters, .sinew loading\n"
+    "           (`sinew bench eval --help` says what each figure is)\n"
+    "\n"
     "usage: sinew bench muscle [--json]\n"
     "  muscle   time to solve the shipped biceps (9 nodes) at a length, and to build its tube surface.\n";
 
@@ -237,6 +241,8 @@ int cmd_bench(int argc, char **argv)
     }
     if (strcmp(argv[1], "render") == 0)
         return bench_render(argc - 1, argv + 1);
+    if (strcmp(argv[1], "eval") == 0)
+        return bench_eval(argc - 1, argv + 1);
     if (strcmp(argv[1], "muscle") == 0)
         return bench_muscle(argc - 1, argv + 1);
     cli_error("bench: unknown benchmark \"%s\"\n%s", argv[1], bench_usage);

@@ -70,7 +70,7 @@ int cmd_convert(int argc, char **argv)
     char beside[4096];
     sinew_muscle_path_for(model->source, beside, sizeof beside);
     struct stat st;
-    bool have_beside = stat(beside, &st) == 0;
+    bool have_beside = stat(beside, &st) == 0 || strcmp(model->source, "built-in arm") == 0;
     sinew_muscle_set *owned = NULL;
     const sinew_muscle_set *set = NULL;
     int status = EXIT_OK;

@@ -15,10 +15,12 @@ static const char usage[] =
     "                                muscles' length, delta and volume\n"
     "  render FILE [--time T | --from A --to B --fps N] [--camera SPEC] [display options] -o OUT\n"
     "                                draw frames off-screen (OpenGL through EGL) to PNG, PNG sequences or MP4\n"
+    "  demo DIR                      write the demo content (humanoid and arm as COLLADA, muscle files)\n"
     "  convert IN OUT.sinew [--muscles [M.json] | --no-muscles]\n"
     "                                write a model (and its muscles) as sinew's runtime format\n"
     "  bench render [FILE]           frames per second of the renderer, GPU against CPU skinning\n"
     "  bench muscle                  time to solve a muscle and build its surface\n"
+    "  bench eval [--json]           runtime speed: sampling, skinning, crowds, .sinew loading\n"
     "  muscle FILE.json [--name M] [--length L] [--json]\n"
     "                                a volume-preserving muscle at a length: delta, radii, volume, valid range\n"
     "  arm [--angle DEG | --length L | --contract F] [--rotate/--move/--scale] [--json] [-o OUT.png]\n"
@@ -55,6 +57,8 @@ int main(int argc, char **argv)
         return cmd_bench(argc - 1, argv + 1);
     if (strcmp(command, "muscle") == 0)
         return cmd_muscle(argc - 1, argv + 1);
+    if (strcmp(command, "demo") == 0)
+        return cmd_demo(argc - 1, argv + 1);
     if (strcmp(command, "convert") == 0)
         return cmd_convert(argc - 1, argv + 1);
     if (strcmp(command, "arm") == 0)

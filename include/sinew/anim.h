@@ -90,6 +90,32 @@ sinew_result sinew_skin_vertices(const sinew_skin_desc *desc, sinew_error *error
 sinew_result sinew_transform_vertices(const sinew_mesh *mesh, const sinew_mat4 *matrix, float *out_positions,
                                       float *out_normals, size_t out_stride, sinew_error *error);
 
+/* ---- sinew_player: the fast path for playing one clip on one character ----
+ *
+ * Made once from a model and a clip; each update samples the clip and writes every node's
+ * world matrix, with no allocation and no search in forward play. Keys of channels that
+ * share their times are stored together in time order; rotations blend component-wise and
+ * are normalised (nlerp: within about 1e-4 rad of sinew_sample()'s slerp for keys 1/30 s
+ * apart); step and cubic keys are exact. A player holds one character's pose, so use one
+ * player per character (players of different characters may update on different threads).
+ * AVX2+FMA where the processor has them, else scalar code that gives the same results. */
+typedef struct sinew_player sinew_player;
+
+/* clip may be NULL (the rest pose). The model and clip must outlive the player. */
+sinew_result sinew_player_create(const sinew_model *model, const sinew_clip *clip, sinew_player **out,
+                                 sinew_error *error);
+void sinew_player_free(sinew_player *player);
+
+/* Samples the clip at `time` (wrapped or clamped as sinew_clip_time() does) and writes
+ * worlds[0 .. node_count): world[i] = world[parent] * local[i], roots get root * local
+ * (root NULL: identity). */
+sinew_result sinew_player_update(sinew_player *player, float time, sinew_wrap wrap, const sinew_mat4 *root,
+                                 sinew_mat4 *worlds, uint32_t world_count, sinew_error *error);
+
+/* Skins positions (and normals) like sinew_skin_vertices() with the plain C reference code,
+ * never SIMD: what tests and benchmarks compare the SIMD path with. */
+sinew_result sinew_skin_vertices_scalar(const sinew_skin_desc *desc, sinew_error *error);
+
 #ifdef __cplusplus
 }
 #endif

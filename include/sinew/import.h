@@ -58,9 +58,28 @@ typedef struct sinew_synthetic_desc {
     uint32_t influences;
     float duration;
     float keys_per_second;
+    bool keyed_trs; /* key translation and scale on every joint too, as baked exports do */
 } sinew_synthetic_desc;
 
 sinew_result sinew_synthetic_model(const sinew_synthetic_desc *desc, sinew_model **out, sinew_error *error);
+
+/* The demo humanoid (`sinew demo`, the viewer's and `make run`'s first model): 24 joints
+ * named as Unity's humanoid avatar names bones (Hips, Spine, Chest, ..., LeftUpperArm,
+ * RightLowerArm, LeftUpperLeg, ...), a 15,000-vertex body skinned with smooth weights, a staff on its own node under
+ * Hand.R, and the clips "walk" (1 s cycle in place) and "wave" (2 s), keyed 30 times a
+ * second. Y up, metres, facing +z. */
+sinew_result sinew_demo_humanoid(sinew_model **out, sinew_error *error);
+
+/* Its muscles as muscle JSON (sinew/muscle_file.h): LeftBiceps and RightBiceps. Static text. */
+const char *sinew_demo_humanoid_muscles(void);
+
+/* Writes a model as a COLLADA 1.4.1 file that other COLLADA readers open: nodes with
+ * matrices (id = sid = the name with characters other than letters, digits, '_' and '-'
+ * made '_'; name = the name: Assimp names nodes by id), meshes (positions, normals, UVs), skins as controllers, materials as Phong
+ * effects, and each clip as a time range of one timeline (<animation_clip>s; every
+ * animated node gets one matrix channel keyed at its keys' times). Linear and step keys
+ * are written as they are; cubic ones sampled 60 times a second. */
+sinew_result sinew_model_write_collada(const sinew_model *model, const char *path, sinew_error *error);
 
 #ifdef __cplusplus
 }

@@ -22,6 +22,7 @@
 #include <stddef.h>
 #include <stdint.h>
 
+#include "sinew/anim.h"
 #include "sinew/model.h"
 
 #define BLOB_MAGIC "SINEW\r\n\x1a"
@@ -134,6 +135,9 @@ uint32_t sinew_crc32c_scalar(uint32_t crc, const void *bytes, size_t size);
 
 /* The checksum a blob of `size` >= sizeof(blob_file_header) bytes should carry. */
 uint32_t sinew_blob_checksum(const void *bytes, size_t size);
+
+/* Chooses the player's SIMD path (when the processor has it) or the scalar reference. */
+void sinew_player_set_simd(sinew_player *player, bool simd);
 
 /* Fills error (when not NULL) with kind and a printf-style message; returns kind. */
 sinew_result sinew_fail(sinew_error *error, sinew_result kind, const char *format, ...)

@@ -94,15 +94,28 @@ static void hermite(const float *v0, const float *out_tangent0, const float *in_
         out[i] = h00 * v0[i] + h10 * dt * out_tangent0[i] + h01 * v1[i] + h11 * dt * in_tangent1[i];
 }
 
-/* Shortest-path spherical interpolation of unit quaternions. */
+/* Shortest-path spherical interpolation of unit quaternions. Keys less than about 3 degrees
+ * apart are lerped and normalised (the same to float precision); not through cglm's
+ * glm_quat_slerp, which returns the first key outright when their dot product rounds to 1,
+ * so that a slow turn (keys 0.03 degrees apart) would step instead of turning. */
 static void slerp_shortest(const float *a, const float *b, float s, float *out)
 {
     versor from, to;
     glm_vec4_copy((float *)a, from);
     glm_vec4_copy((float *)b, to);
-    if (glm_vec4_dot(from, to) < 0.0f)
+    float cosine = glm_vec4_dot(from, to);
+    if (cosine < 0.0f) {
         glm_vec4_negate(to);
-    glm_quat_slerp(from, to, s, out);
+        cosine = -cosine;
+    }
+    if (cosine > 0.9997f) {
+        glm_vec4_lerp(from, to, s, out);
+    } else {
+        float angle = acosf(cosine), inv = 1.0f / sinf(angle);
+        float wa = sinf((1.0f - s) * angle) * inv, wb = sinf(s * angle) * inv;
+        for (int i = 0; i < 4; i++)
+            out[i] = wa * from[i] + wb * to[i];
+    }
     glm_quat_normalize(out);
 }
 
@@ -167,7 +180,8 @@ sinew_result sinew_sample(const sinew_sample_desc *desc, sinew_error *error)
     if (!isfinite(desc->time))
         return sinew_fail(error, SINEW_ERROR_INVALID_ARGUMENT, "sinew_sample: time is not finite");
 
-    memcpy(desc->locals, model->node_rest, (size_t)model->node_count * sizeof(sinew_transform));
+    if (model->node_count)
+        memcpy(desc->locals, model->node_rest, (size_t)model->node_count * sizeof(sinew_transform));
     if (!clip)
         return SINEW_OK;
     float t = sinew_clip_time(clip, desc->time, desc->wrap);

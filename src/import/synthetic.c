@@ -124,7 +124,27 @@ static sinew_result make_mesh(raw_model *m, uint32_t joints, uint32_t vertices, 
     return SINEW_OK;
 }
 
-static sinew_result make_clip(raw_model *m, uint32_t joints, float duration, float keys_per_second)
+/* A linear channel with the rotation channel's times, for translation or scale. */
+static bool key_vectors(raw_track *track, int kind, const float *rest, float amount)
+{
+    const raw_channel *r = &track->channels[SINEW_CHANNEL_ROTATION];
+    raw_channel *c = &track->channels[kind];
+    c->interp = SINEW_INTERP_LINEAR;
+    c->times = malloc(r->count * sizeof(float));
+    c->values = malloc(r->count * 3 * sizeof(float));
+    if (!c->times || !c->values)
+        return false;
+    c->count = r->count;
+    memcpy(c->times, r->times, r->count * sizeof(float));
+    for (uint32_t k = 0; k < r->count; k++) {
+        float wave = amount * sinf(6.28318531f * (float)k / (float)(r->count - 1) + (float)track->node);
+        for (int i = 0; i < 3; i++)
+            c->values[k * 3 + i] = rest[i] + (i == 1 ? wave : 0.5f * wave);
+    }
+    return true;
+}
+
+static sinew_result make_clip(raw_model *m, uint32_t joints, float duration, float keys_per_second, bool trs)
 {
     uint32_t keys = (uint32_t)ceilf(duration * keys_per_second) + 1;
     raw_clip *clip = raw_model_add_rotation_clip(m, "sway", duration, joints, keys);
@@ -143,6 +163,10 @@ static sinew_result make_clip(raw_model *m, uint32_t joints, float duration, flo
             float *q = &c->values[k * 4];
             q[0] = ax * s, q[1] = ay * s, q[2] = az * s, q[3] = cosf(angle * 0.5f);
         }
+        static const float unit[3] = {1.0f, 1.0f, 1.0f};
+        if (trs && (!key_vectors(&clip->tracks[j], SINEW_CHANNEL_TRANSLATION, m->node_rest[j].translation, 0.002f) ||
+                    !key_vectors(&clip->tracks[j], SINEW_CHANNEL_SCALE, unit, 0.01f)))
+            return SINEW_ERROR_OUT_OF_MEMORY;
     }
     return SINEW_OK;
 }
@@ -174,7 +198,7 @@ sinew_result sinew_synthetic_model(const sinew_synthetic_desc *desc, sinew_model
     if (result == SINEW_OK)
         result = make_mesh(&raw, d.joints, d.vertices, d.influences);
     if (result == SINEW_OK)
-        result = make_clip(&raw, d.joints, d.duration, d.keys_per_second);
+        result = make_clip(&raw, d.joints, d.duration, d.keys_per_second, d.keyed_trs);
     if (result != SINEW_OK) {
         raw_model_free(&raw);
         return sinew_fail(error, result, "synthetic model: out of memory");

@@ -1,0 +1,519 @@
+/* `sinew bench eval`: the runtime's speed per unit, as an engine embedding it sees it.
+ *
+ * Every figure is the best of 5 batches of about 0.1 s each (the machine is shared: the
+ * best batch is the one least disturbed), per unit (one character update, one vertex).
+ * Threads: a second worker thread that waits on a barrier between frames, as a game's job
+ * system would; the work splits by characters (crowd) or by vertex ranges (skinning). */
+#include <pthread.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+#include <unistd.h>
+
+#include <cjson/cJSON.h>
+
+#include "cli.h"
+
+#define BATCHES 5
+
+static double now_seconds(void)
+{
+    struct timespec t;
+    clock_gettime(CLOCK_MONOTONIC, &t);
+    return (double)t.tv_sec + (double)t.tv_nsec * 1e-9;
+}
+
+/* ---- two-thread pool ---------------------------------------------------------------------- */
+
+typedef void (*part_fn)(void *context, int part, int parts);
+
+typedef struct pool {
+    pthread_t thread;
+    pthread_barrier_t start, done;
+    part_fn fn;
+    void *context;
+    bool quit;
+} pool;
+
+static void *pool_worker(void *arg)
+{
+    pool *p = arg;
+    for (;;) {
+        pthread_barrier_wait(&p->start);
+        if (p->quit)
+            return NULL;
+        p->fn(p->context, 1, 2);
+        pthread_barrier_wait(&p->done);
+    }
+}
+
+static bool pool_open(pool *p)
+{
+    memset(p, 0, sizeof *p);
+    pthread_barrier_init(&p->start, NULL, 2);
+    pthread_barrier_init(&p->done, NULL, 2);
+    return pthread_create(&p->thread, NULL, pool_worker, p) == 0;
+}
+
+static void pool_run(pool *p, part_fn fn, void *context)
+{
+    p->fn = fn;
+    p->context = context;
+    pthread_barrier_wait(&p->start);
+    fn(context, 0, 2);
+    pthread_barrier_wait(&p->done);
+}
+
+static void pool_close(pool *p)
+{
+    p->quit = true;
+    pthread_barrier_wait(&p->start);
+    pthread_join(p->thread, NULL);
+    pthread_barrier_destroy(&p->start);
+    pthread_barrier_destroy(&p->done);
+}
+
+/* Best seconds per unit over BATCHES batches of `units` calls of step(context, i). */
+typedef void (*step_fn)(void *context, uint32_t i);
+
+static double best_per_unit(step_fn step, void *context, uint32_t units)
+{
+    double best = 1e30;
+    uint32_t i = 0;
+    for (uint32_t w = 0; w < units / 4 + 1; w++)
+        step(context, i++); /* warm caches and cursors */
+    for (int b = 0; b < BATCHES; b++) {
+        double start = now_seconds();
+        for (uint32_t u = 0; u < units; u++)
+            step(context, i++);
+        double per = (now_seconds() - start) / units;
+        if (per < best)
+            best = per;
+    }
+    return best;
+}
+
+/* ---- sampling + world matrices ------------------------------------------------------------ */
+
+typedef struct sample_bench {
+    const sinew_model *model;
+    sinew_player *player;
+    sinew_sample_context *context;
+    sinew_transform *locals;
+    sinew_mat4 *worlds;
+    float times[1024]; /* random seek times */
+    bool seek;
+} sample_bench;
+
+static void step_player(void *ctx, uint32_t i)
+{
+    sample_bench *b = ctx;
+    float t = b->seek ? b->times[i & 1023] : (float)i * (1.0f / 60.0f);
+    sinew_player_update(b->player, t, SINEW_WRAP_LOOP, NULL, b->worlds, b->model->node_count, NULL);
+}
+
+static void step_reference(void *ctx, uint32_t i)
+{
+    sample_bench *b = ctx;
+    float t = b->seek ? b->times[i & 1023] : (float)i * (1.0f / 60.0f);
+    sinew_sample_desc d = {.model = b->model,
+                           .clip = &b->model->clips[0],
+                           .time = t,
+                           .wrap = SINEW_WRAP_LOOP,
+                           .context = b->context,
+                           .locals = b->locals,
+                           .local_count = b->model->node_count};
+    sinew_sample(&d, NULL);
+    sinew_local_to_world(b->model, b->locals, b->model->node_count, NULL, b->worlds, b->model->node_count, NULL);
+}
+
+static sinew_model *character(uint32_t joints, uint32_t vertices)
+{
+    sinew_synthetic_desc d = {.joints = joints, .vertices = vertices, .influences = 4, .keyed_trs = true};
+    sinew_model *model = NULL;
+    sinew_error error = {0};
+    if (sinew_synthetic_model(&d, &model, &error) != SINEW_OK)
+        cli_error("%s", error.message);
+    return model;
+}
+
+typedef struct sample_result {
+    double forward_us, seek_us, reference_forward_us, reference_seek_us;
+} sample_result;
+
+static bool bench_sampling(uint32_t joints, sample_result *out)
+{
+    sample_bench b = {.model = character(joints, 256)};
+    if (!b.model)
+        return false;
+    const sinew_clip *clip = &b.model->clips[0];
+    size_t context_size = sinew_sample_context_size(clip);
+    void *context_memory = malloc(context_size);
+    b.locals = malloc(b.model->node_count * sizeof *b.locals);
+    b.worlds = malloc(b.model->node_count * sizeof *b.worlds);
+    bool ok = context_memory && b.locals && b.worlds &&
+              sinew_player_create(b.model, clip, &b.player, NULL) == SINEW_OK &&
+              sinew_sample_context_init(context_memory, context_size, clip, &b.context, NULL) == SINEW_OK;
+    uint32_t seed = 12345;
+    for (int i = 0; i < 1024; i++) {
+        seed = seed * 1664525u + 1013904223u;
+        b.times[i] = clip->duration * (float)(seed >> 8) / 16777216.0f;
+    }
+    if (ok) {
+        out->forward_us = 1e6 * best_per_unit(step_player, &b, 20000);
+        out->reference_forward_us = 1e6 * best_per_unit(step_reference, &b, 5000);
+        b.seek = true;
+        out->seek_us = 1e6 * best_per_unit(step_player, &b, 20000);
+        out->reference_seek_us = 1e6 * best_per_unit(step_reference, &b, 5000);
+    }
+    sinew_player_free(b.player);
+    free(context_memory);
+    free(b.locals);
+    free(b.worlds);
+    sinew_model_free((sinew_model *)b.model);
+    return ok;
+}
+
+/* ---- skinning ------------------------------------------------------------------------------- */
+
+typedef struct skin_bench {
+    const sinew_mesh *mesh;
+    sinew_mat4 *palette;
+    uint32_t palette_count;
+    float *positions, *normals;
+    bool scalar;
+    pool *threads;
+} skin_bench;
+
+static void skin_part(void *ctx, int part, int parts)
+{
+    skin_bench *b = ctx;
+    uint32_t n = b->mesh->vertex_count, first = (uint32_t)((uint64_t)n * part / parts);
+    uint32_t last = (uint32_t)((uint64_t)n * (part + 1) / parts);
+    sinew_skin_desc d = {.mesh = b->mesh,
+                         .palette = b->palette,
+                         .palette_count = b->palette_count,
+                         .first = first,
+                         .count = last - first,
+                         .out_positions = b->positions,
+                         .out_normals = b->normals};
+    if (last > first)
+        (b->scalar ? sinew_skin_vertices_scalar : sinew_skin_vertices)(&d, NULL);
+}
+
+static void step_skin_1t(void *ctx, uint32_t i)
+{
+    (void)i;
+    skin_part(ctx, 0, 1);
+}
+
+static void step_skin_2t(void *ctx, uint32_t i)
+{
+    (void)i;
+    skin_bench *b = ctx;
+    pool_run(b->threads, skin_part, b);
+}
+
+typedef struct skin_result {
+    uint32_t vertices;
+    double mverts_1t, mverts_2t, mverts_scalar;
+} skin_result;
+
+static bool bench_skinning(pool *threads, skin_result *out)
+{
+    sinew_model *model = character(64, 50000);
+    if (!model)
+        return false;
+    const sinew_mesh *mesh = &model->meshes[0];
+    const sinew_skin *skin = &model->skins[mesh->skin];
+    sinew_mat4 *worlds = malloc(model->node_count * sizeof *worlds);
+    skin_bench b = {.mesh = mesh,
+                    .palette = malloc(skin->joint_count * sizeof(sinew_mat4)),
+                    .palette_count = skin->joint_count,
+                    .positions = malloc((size_t)mesh->vertex_count * 12),
+                    .normals = malloc((size_t)mesh->vertex_count * 12),
+                    .threads = threads};
+    sinew_player *player = NULL;
+    bool ok = worlds && b.palette && b.positions && b.normals &&
+              sinew_player_create(model, &model->clips[0], &player, NULL) == SINEW_OK &&
+              sinew_player_update(player, 0.5f, SINEW_WRAP_LOOP, NULL, worlds, model->node_count, NULL) == SINEW_OK &&
+              sinew_skin_palette(skin, worlds, model->node_count, b.palette, b.palette_count, NULL) == SINEW_OK;
+    if (ok) {
+        out->vertices = mesh->vertex_count;
+        out->mverts_1t = mesh->vertex_count / best_per_unit(step_skin_1t, &b, 100) * 1e-6;
+        out->mverts_2t = mesh->vertex_count / best_per_unit(step_skin_2t, &b, 100) * 1e-6;
+        b.scalar = true;
+        out->mverts_scalar = mesh->vertex_count / best_per_unit(step_skin_1t, &b, 20) * 1e-6;
+    }
+    sinew_player_free(player);
+    free(worlds);
+    free(b.palette);
+    free(b.positions);
+    free(b.normals);
+    sinew_model_free(model);
+    return ok;
+}
+
+/* ---- a crowd ------------------------------------------------------------------------------- */
+
+#define CROWD 1000
+
+typedef struct crowd_bench {
+    const sinew_model *model;
+    sinew_player *players[CROWD];
+    sinew_mat4 *worlds;  /* node_count a character */
+    sinew_mat4 *palette; /* joint_count a character */
+    float time;
+    pool *threads;
+} crowd_bench;
+
+static void crowd_part(void *ctx, int part, int parts)
+{
+    crowd_bench *b = ctx;
+    const sinew_skin *skin = &b->model->skins[0];
+    uint32_t n = b->model->node_count, j = skin->joint_count;
+    for (uint32_t c = (uint32_t)(CROWD * part / parts); c < (uint32_t)(CROWD * (part + 1) / parts); c++) {
+        sinew_mat4 *worlds = b->worlds + (size_t)c * n;
+        sinew_player_update(b->players[c], b->time + (float)c * 0.013f, SINEW_WRAP_LOOP, NULL, worlds, n, NULL);
+        sinew_skin_palette(skin, worlds, n, b->palette + (size_t)c * j, j, NULL);
+    }
+}
+
+static void step_crowd_1t(void *ctx, uint32_t i)
+{
+    crowd_bench *b = ctx;
+    b->time = (float)i / 60.0f;
+    crowd_part(b, 0, 1);
+}
+
+static void step_crowd_2t(void *ctx, uint32_t i)
+{
+    crowd_bench *b = ctx;
+    b->time = (float)i / 60.0f;
+    pool_run(b->threads, crowd_part, b);
+}
+
+typedef struct crowd_result {
+    double ms_1t, ms_2t;
+} crowd_result;
+
+static bool bench_crowd(pool *threads, crowd_result *out)
+{
+    crowd_bench *b = calloc(1, sizeof *b);
+    sinew_model *model = character(64, 256);
+    bool ok = b && model;
+    if (ok) {
+        b->model = model;
+        b->threads = threads;
+        b->worlds = malloc((size_t)CROWD * model->node_count * sizeof(sinew_mat4));
+        b->palette = malloc((size_t)CROWD * model->skins[0].joint_count * sizeof(sinew_mat4));
+        ok = b->worlds && b->palette;
+        for (int c = 0; ok && c < CROWD; c++)
+            ok = sinew_player_create(model, &model->clips[0], &b->players[c], NULL) == SINEW_OK;
+    }
+    if (ok) {
+        out->ms_1t = 1e3 * best_per_unit(step_crowd_1t, b, 60);
+        out->ms_2t = 1e3 * best_per_unit(step_crowd_2t, b, 60);
+    }
+    for (int c = 0; b && c < CROWD; c++)
+        sinew_player_free(b->players[c]);
+    if (b) {
+        free(b->worlds);
+        free(b->palette);
+    }
+    free(b);
+    sinew_model_free(model);
+    return ok;
+}
+
+/* ---- loading ------------------------------------------------------------------------------- */
+
+typedef struct load_result {
+    double sinew_ms, assimp_ms;
+    long sinew_bytes, source_bytes;
+} load_result;
+
+static long file_size(const char *path)
+{
+    FILE *f = fopen(path, "rb");
+    long n = -1;
+    if (f && fseek(f, 0, SEEK_END) == 0)
+        n = ftell(f);
+    if (f)
+        fclose(f);
+    return n;
+}
+
+static bool bench_load(const char *collada, const char *converted, load_result *out)
+{
+    sinew_error error = {0};
+    double best_assimp = 1e30, best_sinew = 1e30;
+    for (int i = 0; i < 3; i++) {
+        sinew_model *m = NULL;
+        sinew_import_desc d = {.path = collada, .in_process = true};
+        double start = now_seconds();
+        if (sinew_import(&d, &m, &error) != SINEW_OK) {
+            cli_error("%s", error.message);
+            return false;
+        }
+        double t = now_seconds() - start;
+        best_assimp = t < best_assimp ? t : best_assimp;
+        if (i == 0 && sinew_model_save(m, NULL, converted, &error) != SINEW_OK) {
+            cli_error("%s", error.message);
+            sinew_model_free(m);
+            return false;
+        }
+        sinew_model_free(m);
+    }
+    for (int i = 0; i < 50; i++) {
+        sinew_model *m = NULL;
+        double start = now_seconds();
+        if (sinew_model_load(converted, NULL, &m, &error) != SINEW_OK) {
+            cli_error("%s", error.message);
+            return false;
+        }
+        double t = now_seconds() - start;
+        best_sinew = t < best_sinew ? t : best_sinew;
+        sinew_model_free(m);
+    }
+    *out = (load_result){best_sinew * 1e3, best_assimp * 1e3, file_size(converted), file_size(collada)};
+    return true;
+}
+
+/* ---- the command ---------------------------------------------------------------------------- */
+
+static void machine_name(char *out, size_t size)
+{
+    char model[256] = "unknown processor";
+    FILE *f = fopen("/proc/cpuinfo", "r");
+    char line[512];
+    while (f && fgets(line, sizeof line, f)) {
+        if (strncmp(line, "model name", 10) == 0) {
+            const char *colon = strchr(line, ':');
+            if (colon) {
+                snprintf(model, sizeof model, "%s", colon + 2);
+                model[strcspn(model, "\n")] = 0;
+            }
+            break;
+        }
+    }
+    if (f)
+        fclose(f);
+    bool simd = false;
+#if defined(__x86_64__) && defined(__GNUC__)
+    simd = __builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma");
+#endif
+    snprintf(out, size, "%s, %ld cores, %s", model, sysconf(_SC_NPROCESSORS_ONLN), simd ? "AVX2+FMA" : "scalar");
+}
+
+static const char eval_usage[] =
+    "usage: sinew bench eval [--json] [--collada FILE.dae]\n"
+    "\n"
+    "The runtime's speed per unit (best of 5 batches), against the goals of the evaluation:\n"
+    "  sampling + world matrices of one character, 64 and 128 joints, a 2 s clip keyed 30 times a second\n"
+    "    on translation, rotation and scale of every joint: forward play at 60 Hz and random seeking\n"
+    "    (sinew_player; the reference sinew_sample + sinew_local_to_world beside it);\n"
+    "  skinning 50,000 vertices of 4 influences, positions and normals: Mvertices/s on 1 and 2 threads\n"
+    "    (and the scalar reference);\n"
+    "  1000 characters of 64 joints updated a frame (sampling, world matrices, skinning palettes) on 1\n"
+    "    and 2 threads;\n"
+    "  loading a .sinew file against Assimp importing the COLLADA file it came from (in this process):\n"
+    "    FILE.dae, or the demo humanoid that `sinew demo` writes (made in a temporary folder).\n"
+    "--json prints one object with sample_world_us_64, sample_world_us_128, seek_us_64, skin_mverts_1t,\n"
+    "skin_mverts_2t, crowd1000_speedup_2t, load_speedup_vs_assimp, machine and the other figures.\n";
+
+int bench_eval(int argc, char **argv)
+{
+    bool json = false;
+    const char *collada = NULL;
+    for (int i = 1; i < argc; i++) {
+        if (cli_is_help(argv[i])) {
+            fputs(eval_usage, stdout);
+            return EXIT_OK;
+        } else if (strcmp(argv[i], "--json") == 0) {
+            json = true;
+        } else if (strcmp(argv[i], "--collada") == 0 && i + 1 < argc) {
+            collada = argv[++i];
+        } else {
+            cli_error("bench eval: unknown option %s\n%s", argv[i], eval_usage);
+            return EXIT_USAGE;
+        }
+    }
+    char dir[] = "/tmp/sinew-bench-XXXXXX";
+    if (!mkdtemp(dir)) {
+        cli_error("bench eval: cannot make a temporary folder in /tmp");
+        return EXIT_UNAVAILABLE;
+    }
+    char demo_dae[512], converted[512];
+    snprintf(converted, sizeof converted, "%s/model.sinew", dir);
+    if (!collada) {
+        if (!cli_demo_write(dir, false))
+            return EXIT_BAD_INPUT;
+        snprintf(demo_dae, sizeof demo_dae, "%s/%s", dir, CLI_DEMO_HUMANOID);
+        collada = demo_dae;
+    }
+    pool threads;
+    if (!pool_open(&threads)) {
+        cli_error("bench eval: cannot start a thread");
+        return EXIT_UNAVAILABLE;
+    }
+    sample_result s64 = {0}, s128 = {0};
+    skin_result skin = {0};
+    crowd_result crowd = {0};
+    load_result load = {0};
+    bool ok = bench_sampling(64, &s64) && bench_sampling(128, &s128) && bench_skinning(&threads, &skin) &&
+              bench_crowd(&threads, &crowd) && bench_load(collada, converted, &load);
+    pool_close(&threads);
+    cli_remove_tree(dir);
+    if (!ok)
+        return EXIT_BAD_INPUT;
+
+    char machine[384];
+    machine_name(machine, sizeof machine);
+    double crowd_speedup = crowd.ms_1t / crowd.ms_2t, load_speedup = load.assimp_ms / load.sinew_ms;
+    if (json) {
+        cJSON *o = cJSON_CreateObject();
+        cJSON_AddNumberToObject(o, "sample_world_us_64", s64.forward_us);
+        cJSON_AddNumberToObject(o, "sample_world_us_128", s128.forward_us);
+        cJSON_AddNumberToObject(o, "seek_us_64", s64.seek_us);
+        cJSON_AddNumberToObject(o, "seek_us_128", s128.seek_us);
+        cJSON_AddNumberToObject(o, "reference_sample_world_us_64", s64.reference_forward_us);
+        cJSON_AddNumberToObject(o, "reference_seek_us_64", s64.reference_seek_us);
+        cJSON_AddNumberToObject(o, "skin_vertices", skin.vertices);
+        cJSON_AddNumberToObject(o, "skin_mverts_1t", skin.mverts_1t);
+        cJSON_AddNumberToObject(o, "skin_mverts_2t", skin.mverts_2t);
+        cJSON_AddNumberToObject(o, "skin_mverts_scalar_1t", skin.mverts_scalar);
+        cJSON_AddNumberToObject(o, "crowd1000_ms_1t", crowd.ms_1t);
+        cJSON_AddNumberToObject(o, "crowd1000_ms_2t", crowd.ms_2t);
+        cJSON_AddNumberToObject(o, "crowd1000_speedup_2t", crowd_speedup);
+        cJSON_AddNumberToObject(o, "load_ms_sinew", load.sinew_ms);
+        cJSON_AddNumberToObject(o, "load_ms_assimp", load.assimp_ms);
+        cJSON_AddNumberToObject(o, "load_speedup_vs_assimp", load_speedup);
+        cJSON_AddStringToObject(o, "load_collada", collada == demo_dae ? "sinew demo humanoid" : collada);
+        cJSON_AddStringToObject(o, "machine", machine);
+        char *text = cJSON_Print(o);
+        puts(text);
+        free(text);
+        cJSON_Delete(o);
+        return EXIT_OK;
+    }
+    printf("machine: %s\n\n", machine);
+    printf("%-44s %12s %12s %10s\n", "", "sinew", "reference", "goal");
+    printf("%-44s %9.3f us %9.3f us %10s\n", "sample + world, 64 joints, forward 60 Hz", s64.forward_us,
+           s64.reference_forward_us, "<= 0.75 us");
+    printf("%-44s %9.3f us %9.3f us\n", "sample + world, 64 joints, random seek", s64.seek_us, s64.reference_seek_us);
+    printf("%-44s %9.3f us %9.3f us\n", "sample + world, 128 joints, forward 60 Hz", s128.forward_us,
+           s128.reference_forward_us);
+    printf("%-44s %9.3f us %9.3f us\n", "sample + world, 128 joints, random seek", s128.seek_us,
+           s128.reference_seek_us);
+    printf("%-44s %6.0f Mv/s %6.0f Mv/s %10s\n", "skinning (pos + normal, 4 infl), 1 thread", skin.mverts_1t,
+           skin.mverts_scalar, ">= 350");
+    printf("%-44s %6.0f Mv/s %12s %10s\n", "skinning, 2 threads", skin.mverts_2t, "", "");
+    printf("%-44s %9.3f ms %9.3f ms %10s\n", "1000 characters a frame, 1 | 2 threads", crowd.ms_1t, crowd.ms_2t, "");
+    printf("%-44s %11.2fx %12s %10s\n", "  speed-up from 2 threads", crowd_speedup, "", ">= 1.8x");
+    printf("%-44s %9.3f ms %9.3f ms %10s\n", "load .sinew | Assimp COLLADA", load.sinew_ms, load.assimp_ms, "");
+    printf("%-44s %11.0fx %12s %10s\n", "  .sinew load speed-up", load_speedup, "", ">= 100x");
+    printf("\n(%ld-byte COLLADA file, %ld-byte .sinew; skinning over %u vertices)\n", load.source_bytes,
+           load.sinew_bytes, skin.vertices);
+    return EXIT_OK;
+}
