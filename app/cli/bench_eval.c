@@ -1,6 +1,6 @@
 /* `sinew bench eval`: the runtime's speed per unit, as an engine embedding it sees it.
  *
- * Every figure is the best of 5 batches of about 0.1 s each (the machine is shared: the
+ * Every figure is the best of 5 batches of 0.02 to 0.2 s each (the machine is shared: the
  * best batch is the one least disturbed), per unit (one character update, one vertex).
  * Threads: a second worker thread that waits on a barrier between frames, as a game's job
  * system would; the work splits by characters (crowd) or by vertex ranges (skinning). */
@@ -14,7 +14,8 @@
 
 #include "cli.h"
 
-#define BATCHES 5
+static int batches = 5;   /* --quick: 1 */
+static double unit_scale = 1.0; /* --quick: 0.02 */
 
 static double now_seconds(void)
 {
@@ -80,9 +81,10 @@ static double best_per_unit(step_fn step, void *context, uint32_t units)
 {
     double best = 1e30;
     uint32_t i = 0;
+    units = (uint32_t)(units * unit_scale) + 1;
     for (uint32_t w = 0; w < units / 4 + 1; w++)
         step(context, i++); /* warm caches and cursors */
-    for (int b = 0; b < BATCHES; b++) {
+    for (int b = 0; b < batches; b++) {
         double start = now_seconds();
         for (uint32_t u = 0; u < units; u++)
             step(context, i++);
@@ -348,7 +350,7 @@ static bool bench_load(const char *collada, const char *converted, load_result *
 {
     sinew_error error = {0};
     double best_assimp = 1e30, best_sinew = 1e30;
-    for (int i = 0; i < 3; i++) {
+    for (int i = 0; i < (batches > 1 ? 3 : 1); i++) {
         sinew_model *m = NULL;
         sinew_import_desc d = {.path = collada, .in_process = true};
         double start = now_seconds();
@@ -365,7 +367,7 @@ static bool bench_load(const char *collada, const char *converted, load_result *
         }
         sinew_model_free(m);
     }
-    for (int i = 0; i < 50; i++) {
+    for (int i = 0; i < (batches > 1 ? 50 : 2); i++) {
         sinew_model *m = NULL;
         double start = now_seconds();
         if (sinew_model_load(converted, NULL, &m, &error) != SINEW_OK) {
@@ -407,7 +409,7 @@ static void machine_name(char *out, size_t size)
 }
 
 static const char eval_usage[] =
-    "usage: sinew bench eval [--json] [--collada FILE.dae]\n"
+    "usage: sinew bench eval [--json] [--collada FILE.dae] [--quick]\n"
     "\n"
     "The runtime's speed per unit (best of 5 batches), against the goals of the evaluation:\n"
     "  sampling + world matrices of one character, 64 and 128 joints, a 2 s clip keyed 30 times a second\n"
@@ -419,6 +421,7 @@ static const char eval_usage[] =
     "    and 2 threads;\n"
     "  loading a .sinew file against Assimp importing the COLLADA file it came from (in this process):\n"
     "    FILE.dae, or the demo humanoid that `sinew demo` writes (made in a temporary folder).\n"
+    "--quick runs one short batch of each (a smoke test; the figures mean little).\n"
     "--json prints one object with sample_world_us_64, sample_world_us_128, seek_us_64, skin_mverts_1t,\n"
     "skin_mverts_2t, crowd1000_speedup_2t, load_speedup_vs_assimp, machine and the other figures.\n";
 
@@ -432,6 +435,9 @@ int bench_eval(int argc, char **argv)
             return EXIT_OK;
         } else if (strcmp(argv[i], "--json") == 0) {
             json = true;
+        } else if (strcmp(argv[i], "--quick") == 0) {
+            batches = 1;
+            unit_scale = 0.02;
         } else if (strcmp(argv[i], "--collada") == 0 && i + 1 < argc) {
             collada = argv[++i];
         } else {

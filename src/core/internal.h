@@ -136,6 +136,9 @@ uint32_t sinew_crc32c_scalar(uint32_t crc, const void *bytes, size_t size);
 /* The checksum a blob of `size` >= sizeof(blob_file_header) bytes should carry. */
 uint32_t sinew_blob_checksum(const void *bytes, size_t size);
 
+/* Shortest-path slerp of unit quaternions a -> b at s in [0, 1], normalised (sample.c). */
+void sinew_slerp_shortest(const float *a, const float *b, float s, float *out);
+
 /* Chooses the player's SIMD path (when the processor has it) or the scalar reference. */
 void sinew_player_set_simd(sinew_player *player, bool simd);
 

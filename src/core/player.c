@@ -11,6 +11,11 @@
  * parent's times its local one. Channels with one key and nodes with no channel are
  * written into the pose once, at creation. Nothing is allocated after creation.
  *
+ * nlerp is within 5e-7 rad of slerp when neighbouring keys are less than 0.03 rad apart on
+ * the quaternion sphere (any clip keyed 30 times a second that turns less than 100 degrees
+ * a second); a rotation channel with a wider segment anywhere is slerped after the blend,
+ * so sparse keys (two keys a quarter turn apart) come out exact too.
+ *
  * SIMD: AVX2+FMA paths where the processor has them, chosen once; the scalar functions
  * beside them are the reference (tests/core/test_player.c compares the two, and the
  * player with sinew_sample() + sinew_local_to_world()).
@@ -36,16 +41,24 @@ typedef struct run {
     uint32_t length;
 } run;
 
+/* A rotation channel slerped after the blend: its lanes in the row, its places in the pose. */
+typedef struct slerp_fix {
+    uint32_t lane[4];
+    uint32_t dst[4];
+} slerp_fix;
+
 typedef struct group {
     uint32_t key_count;
     uint32_t interp;
     uint32_t lane_count;
     uint32_t row_floats; /* lane_count, or 3 * lane_count for cubic (value, in, out) */
     uint32_t run_count;
+    uint32_t fix_count;
     uint32_t cursor;
     const float *times; /* the clip's, key_count */
     float *rows;        /* key_count * row_floats */
     run *runs;
+    slerp_fix *fixes;
 } group;
 
 struct sinew_player {
@@ -88,6 +101,19 @@ static bool same_times(const sinew_clip *clip, const sinew_channel *a, const sin
 {
     return a->key_count == b->key_count && a->interp == b->interp &&
            memcmp(clip->times + a->first_key, clip->times + b->first_key, a->key_count * sizeof(float)) == 0;
+}
+
+/* True when neighbouring keys of a rotation channel are far enough apart on the quaternion
+ * sphere (over 0.03 rad) that nlerp would stray from slerp by more than 5e-7 rad. */
+static bool wide_segment(const sinew_clip *clip, const sinew_channel *ch)
+{
+    const float *q = clip->values + ch->first_value;
+    for (uint32_t k = 0; k + 1 < ch->key_count; k++, q += 4) {
+        float dot = fabsf(q[0] * q[4] + q[1] * q[5] + q[2] * q[6] + q[3] * q[7]);
+        if (dot < 0.9995f)
+            return true;
+    }
+    return false;
 }
 
 static void write_rest(sinew_player *p)
@@ -145,7 +171,8 @@ sinew_result sinew_player_create(const sinew_model *model, const sinew_clip *cli
     if (stride == 0)
         stride = 8;
     size_t bytes = sizeof(sinew_player) + (size_t)C_COUNT * stride * 4 + (size_t)M_COUNT * stride * 4 +
-                   group_count * (sizeof(group) + 32) + floats_total * 4 + lanes_total * sizeof(run) + 64;
+                   group_count * (sizeof(group) + 64) + floats_total * 4 + lanes_total * sizeof(run) +
+                   ref_count * sizeof(slerp_fix) + 64;
     unsigned char *block = aligned_alloc(32, (bytes + 31) & ~(size_t)31);
     lane_src *lanes = malloc((lanes_total + 1) * sizeof *lanes);
     if (!block || !lanes) {
@@ -229,6 +256,19 @@ sinew_result sinew_player_create(const sinew_model *model, const sinew_clip *cli
         }
         at += (size_t)gr->run_count * sizeof(run);
         at = (unsigned char *)(((uintptr_t)at + 31) & ~(uintptr_t)31);
+        gr->fixes = (slerp_fix *)at;
+        for (uint32_t r = 0; r < ref_count; r++)
+            if (refs[r].group == g && refs[r].kind == SINEW_CHANNEL_ROTATION &&
+                refs[r].channel->interp == SINEW_INTERP_LINEAR && wide_segment(clip, refs[r].channel)) {
+                slerp_fix *fix = &gr->fixes[gr->fix_count++];
+                for (uint32_t l = 0; l < lane_count; l++)
+                    if (lanes[l].channel == r) {
+                        fix->lane[lanes[l].component] = l;
+                        fix->dst[lanes[l].component] = lanes[l].dst;
+                    }
+            }
+        at += (size_t)gr->fix_count * sizeof(slerp_fix);
+        at = (unsigned char *)(((uintptr_t)at + 31) & ~(uintptr_t)31);
     }
     free(lanes);
     free(refs);
@@ -300,6 +340,24 @@ static void hermite_weights(float s, float dt, float w[4])
     w[1] = (s3 - 2.0f * s2 + s) * dt;
     w[2] = -2.0f * s3 + 3.0f * s2;
     w[3] = (s3 - s2) * dt;
+}
+
+/* The group's wide rotation channels, slerped over what the blend wrote. */
+static void slerp_fixes(float *pose, const group *g, const segment *seg)
+{
+    if (seg->copy || g->interp != SINEW_INTERP_LINEAR)
+        return;
+    const float *a = g->rows + (size_t)seg->k * g->row_floats;
+    const float *b = a + g->row_floats;
+    for (uint32_t f = 0; f < g->fix_count; f++) {
+        const slerp_fix *fix = &g->fixes[f];
+        float qa[4], qb[4], q[4];
+        for (int c = 0; c < 4; c++)
+            qa[c] = a[fix->lane[c]], qb[c] = b[fix->lane[c]];
+        sinew_slerp_shortest(qa, qb, seg->s, q);
+        for (int c = 0; c < 4; c++)
+            pose[fix->dst[c]] = q[c];
+    }
 }
 
 static void blend_scalar(float *pose, const group *g, const segment *seg)
@@ -487,6 +545,7 @@ sinew_result sinew_player_update(sinew_player *p, float time, sinew_wrap wrap, c
         for (uint32_t g = 0; g < p->group_count; g++) {
             segment seg = find(&p->groups[g], t);
             blend_avx2(p->pose, &p->groups[g], &seg);
+            slerp_fixes(p->pose, &p->groups[g], &seg);
         }
         locals_avx2(p);
         world_avx2(p, root, worlds);
@@ -496,6 +555,7 @@ sinew_result sinew_player_update(sinew_player *p, float time, sinew_wrap wrap, c
     for (uint32_t g = 0; g < p->group_count; g++) {
         segment seg = find(&p->groups[g], t);
         blend_scalar(p->pose, &p->groups[g], &seg);
+        slerp_fixes(p->pose, &p->groups[g], &seg);
     }
     locals_scalar(p);
     world_scalar(p, root, worlds);

@@ -98,7 +98,7 @@ static void hermite(const float *v0, const float *out_tangent0, const float *in_
  * apart are lerped and normalised (the same to float precision); not through cglm's
  * glm_quat_slerp, which returns the first key outright when their dot product rounds to 1,
  * so that a slow turn (keys 0.03 degrees apart) would step instead of turning. */
-static void slerp_shortest(const float *a, const float *b, float s, float *out)
+void sinew_slerp_shortest(const float *a, const float *b, float s, float *out)
 {
     versor from, to;
     glm_vec4_copy((float *)a, from);
@@ -156,7 +156,7 @@ void sinew_channel_eval(const sinew_clip *clip, const sinew_channel *channel, in
         return;
     default:
         if (kind == SINEW_CHANNEL_ROTATION) {
-            slerp_shortest(a, b, s, out);
+            sinew_slerp_shortest(a, b, s, out);
         } else {
             for (uint32_t i = 0; i < width; i++)
                 out[i] = a[i] + (b[i] - a[i]) * s;

@@ -380,6 +380,88 @@ static void test_arm_command(void **state)
     run_free(&r);
 }
 
+/* `sinew demo`, `sinew convert` and every command on the .sinew file it writes. */
+static void test_demo_convert_and_sinew_files(void **state)
+{
+    (void)state;
+    char dir[2048], dae[4096], out[4096], muscles[4096];
+    tmp_path("demo", dir, sizeof dir);
+    run_result r = RUN("demo", dir);
+    assert_int_equal(r.code, 0);
+    assert_non_null(strstr(r.out, "humanoid.dae"));
+    run_free(&r);
+    snprintf(dae, sizeof dae, "%s/humanoid.dae", dir);
+    snprintf(muscles, sizeof muscles, "%s/humanoid.muscles.json", dir);
+    tmp_path("humanoid.sinew", out, sizeof out);
+    r = RUN("convert", dae, out);
+    assert_int_equal(r.code, 0);
+    assert_non_null(strstr(r.out, "2 clips, 2 muscles from"));
+    run_free(&r);
+    r = RUN("info", out, "--json");
+    assert_int_equal(r.code, 0);
+    cJSON *info = cJSON_Parse(r.out);
+    assert_non_null(info);
+    assert_string_equal(cJSON_GetObjectItem(info, "format")->valuestring, "sinew");
+    assert_string_equal(cJSON_GetObjectItem(info, "converted_from")->valuestring, dae);
+    cJSON *counts = cJSON_GetObjectItem(info, "counts");
+    assert_int_equal(cJSON_GetObjectItem(counts, "joints")->valueint, 24);
+    assert_int_equal(cJSON_GetObjectItem(counts, "muscles")->valueint, 2);
+    cJSON_Delete(info);
+    run_free(&r);
+    /* the stored muscles are used with no file beside the .sinew; poses equal the COLLADA's */
+    run_result a = RUN("pose", out, "--clip", "wave", "--time", "0.5", "--muscles", "--json");
+    run_result b = RUN("pose", dae, "--clip", "wave", "--time", "0.5", "--muscles", muscles, "--json");
+    assert_int_equal(a.code, 0);
+    assert_int_equal(b.code, 0);
+    const char *fa = strstr(a.out, "\"frames\""), *fb = strstr(b.out, "\"frames\"");
+    assert_non_null(fa);
+    assert_non_null(fb);
+    assert_string_equal(fa, fb);
+    assert_non_null(strstr(a.out, "RightBiceps"));
+    run_free(&a);
+    run_free(&b);
+    /* refusals */
+    r = RUN("convert", dae, "out.obj");
+    assert_int_equal(r.code, 1);
+    assert_non_null(strstr(r.err, "must be a .sinew file"));
+    run_free(&r);
+    char broken[4096];
+    tmp_path("broken.sinew", broken, sizeof broken);
+    size_t size = 0;
+    unsigned char *bytes = read_file(out, &size);
+    write_file(broken, bytes, size / 2);
+    free(bytes);
+    r = RUN("info", broken);
+    assert_int_equal(r.code, 2);
+    assert_non_null(strstr(r.err, broken));
+    assert_non_null(strstr(r.err, "truncated"));
+    run_free(&r);
+    r = RUN("convert", dae, out, "--no-muscles");
+    assert_int_equal(r.code, 0);
+    assert_non_null(strstr(r.out, "0 muscles"));
+    run_free(&r);
+}
+
+static void test_bench_eval_json(void **state)
+{
+    (void)state;
+    run_result r = RUN("bench", "eval", "--json", "--quick");
+    assert_int_equal(r.code, 0);
+    cJSON *o = cJSON_Parse(r.out);
+    assert_non_null(o);
+    static const char *const keys[] = {"sample_world_us_64", "sample_world_us_128", "seek_us_64",
+                                       "skin_mverts_1t", "skin_mverts_2t", "crowd1000_speedup_2t",
+                                       "load_speedup_vs_assimp"};
+    for (size_t i = 0; i < sizeof keys / sizeof keys[0]; i++) {
+        cJSON *v = cJSON_GetObjectItem(o, keys[i]);
+        if (!cJSON_IsNumber(v) || !(v->valuedouble > 0.0))
+            fail_msg("bench eval --json: %s missing or not positive", keys[i]);
+    }
+    assert_true(cJSON_IsString(cJSON_GetObjectItem(o, "machine")));
+    cJSON_Delete(o);
+    run_free(&r);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -388,6 +470,7 @@ int main(void)
         cmocka_unit_test(test_info_json_and_text), cmocka_unit_test(test_pose_without_animation),
         cmocka_unit_test(test_pose_pairs_agree),   cmocka_unit_test(test_muscle_command),
         cmocka_unit_test(test_pose_with_muscles),  cmocka_unit_test(test_arm_command),
+        cmocka_unit_test(test_demo_convert_and_sinew_files), cmocka_unit_test(test_bench_eval_json),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
