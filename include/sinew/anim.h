@@ -107,6 +107,11 @@ sinew_result sinew_player_create(const sinew_model *model, const sinew_clip *cli
                                  sinew_error *error);
 void sinew_player_free(sinew_player *player);
 
+/* Another player of the same clip for another character: it has its own pose and cursors
+ * (a few kilobytes) and shares the source's key rows (the clip's keys, laid out once), so
+ * a crowd playing one clip keeps one copy of it. The source must outlive the clone. */
+sinew_result sinew_player_clone(const sinew_player *source, sinew_player **out, sinew_error *error);
+
 /* Samples the clip at `time` (wrapped or clamped as sinew_clip_time() does) and writes
  * worlds[0 .. node_count): world[i] = world[parent] * local[i], roots get root * local
  * (root NULL: identity). */

@@ -277,6 +277,33 @@ sinew_result sinew_player_create(const sinew_model *model, const sinew_clip *cli
     return SINEW_OK;
 }
 
+sinew_result sinew_player_clone(const sinew_player *source, sinew_player **out, sinew_error *error)
+{
+    if (!source || !out)
+        return sinew_fail(error, SINEW_ERROR_INVALID_ARGUMENT, "sinew_player_clone: NULL player or output");
+    *out = NULL;
+    /* Own: the player, the pose and local matrices, the groups (for their cursors);
+     * shared: the key rows, runs and slerp lists the groups point to. */
+    size_t head = (sizeof *source + 31) & ~(size_t)31;
+    size_t pose = (size_t)C_COUNT * source->stride * 4, locals = (size_t)M_COUNT * source->stride * 4;
+    size_t groups = source->group_count * sizeof(group);
+    unsigned char *block = aligned_alloc(32, (head + pose + locals + groups + 31) & ~(size_t)31);
+    if (!block)
+        return sinew_fail(error, SINEW_ERROR_OUT_OF_MEMORY, "%s: out of memory for a player", source->model->source);
+    sinew_player *p = (sinew_player *)block;
+    *p = *source;
+    p->block = block;
+    p->pose = (float *)(block + head);
+    p->locals = (float *)(block + head + pose);
+    p->groups = (group *)(block + head + pose + locals);
+    memcpy(p->pose, source->pose, pose);
+    memcpy(p->groups, source->groups, groups);
+    for (uint32_t g = 0; g < p->group_count; g++)
+        p->groups[g].cursor = 0;
+    *out = p;
+    return SINEW_OK;
+}
+
 void sinew_player_free(sinew_player *player)
 {
     if (player)

@@ -29,9 +29,12 @@ static double check_player(const sinew_model *m, double tolerance)
     double worst = 0.0, simd_vs_scalar = 0.0;
     for (uint32_t c = 0; c <= m->clip_count; c++) {
         const sinew_clip *clip = c < m->clip_count ? &m->clips[c] : NULL;
-        sinew_player *simd = NULL, *scalar = NULL;
+        sinew_player *source = NULL, *simd = NULL, *scalar = NULL;
         sinew_error error = {0};
-        assert_int_equal(sinew_player_create(m, clip, &simd, &error), SINEW_OK);
+        assert_int_equal(sinew_player_create(m, clip, &source, &error), SINEW_OK);
+        assert_int_equal(sinew_player_update(source, 0.3f, SINEW_WRAP_LOOP, NULL, fast, n, &error), SINEW_OK);
+        /* clones share the source's keys and keep their own pose and cursors */
+        assert_int_equal(sinew_player_clone(source, &simd, &error), SINEW_OK);
         assert_int_equal(sinew_player_create(m, clip, &scalar, &error), SINEW_OK);
         sinew_player_set_simd(scalar, false);
         float duration = clip ? clip->duration : 1.0f;
@@ -51,6 +54,7 @@ static double check_player(const sinew_model *m, double tolerance)
         }
         sinew_player_free(simd);
         sinew_player_free(scalar);
+        sinew_player_free(source);
     }
     print_message("%s: player vs reference %.2e, SIMD vs scalar player %.2e\n", m->source, worst, simd_vs_scalar);
     assert_true(worst <= tolerance);
