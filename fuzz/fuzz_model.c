@@ -24,7 +24,7 @@ static void exercise(const sinew_model *m)
         for (int step = 0; step < 3; step++) {
             sinew_sample_desc desc = {.model = m,
                                       .clip = clip,
-                                      .time = duration * (float)step * 0.5f,
+                                      .time = duration * ((float)step * 0.5f), /* finite for any duration */
                                       .locals = locals,
                                       .local_count = m->node_count};
             if (sinew_sample(&desc, NULL) != SINEW_OK ||
