@@ -160,8 +160,7 @@ int bench_eval(int argc, char **argv);
 bool cli_demo_write(const char *dir, bool verbose);
 /* Removes a folder of plain files. */
 bool cli_remove_tree(const char *dir);
-/* Reads a whole file, NUL-terminated (malloc'd). */
-bool cli_read_file(const char *path, unsigned char **bytes, size_t *size);
+
 int cmd_pose(int argc, char **argv);
 
 #endif

@@ -33,6 +33,29 @@ static bool write_text(const char *path, const char *text)
     return ok;
 }
 
+/* Copies sinew's data file `from` to `to`. */
+static bool copy_file(const char *from, const char *to)
+{
+    FILE *in = fopen(from, "rb");
+    if (!in) {
+        cli_error("%s: cannot read sinew's data file: %s", from, strerror(errno));
+        return false;
+    }
+    FILE *out = fopen(to, "wb");
+    bool ok = out != NULL;
+    char chunk[4096];
+    size_t n;
+    while (ok && (n = fread(chunk, 1, sizeof chunk, in)) > 0)
+        ok = fwrite(chunk, 1, n, out) == n;
+    ok = ok && !ferror(in);
+    fclose(in);
+    if (out && fclose(out) != 0)
+        ok = false;
+    if (!ok)
+        cli_error("%s: cannot write: %s", to, strerror(errno));
+    return ok;
+}
+
 static bool write_model(const sinew_model *model, const char *dir, const char *name, bool verbose)
 {
     char path[4096];
@@ -76,17 +99,10 @@ bool cli_demo_write(const char *dir, bool verbose)
     sinew_model *arm = ok ? cli_arm_model(&spec) : NULL;
     ok = ok && arm && write_model(arm, dir, "arm.dae", verbose);
     sinew_model_free(arm);
-    size_t size = 0;
-    unsigned char *text = NULL;
-    if (ok && !cli_read_file(cli_data_path("arm.muscles.json", data, sizeof data), &text, &size)) {
-        cli_error("%s: cannot read sinew's data file", data);
-        ok = false;
-    }
     snprintf(path, sizeof path, "%s/arm.muscles.json", dir);
-    ok = ok && write_text(path, (const char *)text);
+    ok = ok && copy_file(cli_data_path("arm.muscles.json", data, sizeof data), path);
     if (ok && verbose)
         printf("%s: biceps\n", path);
-    free(text);
     return ok;
 }
 

@@ -287,22 +287,3 @@ uint32_t cli_vertex_count(const sinew_model *model)
         n += model->meshes[model->instances[i].mesh].vertex_count;
     return n;
 }
-
-bool cli_read_file(const char *path, unsigned char **bytes, size_t *size)
-{
-    FILE *f = fopen(path, "rb");
-    if (!f)
-        return false;
-    long n = fseek(f, 0, SEEK_END) == 0 ? ftell(f) : -1;
-    unsigned char *buf = n >= 0 && fseek(f, 0, SEEK_SET) == 0 ? malloc((size_t)n + 1) : NULL;
-    bool ok = buf && fread(buf, 1, (size_t)n, f) == (size_t)n;
-    fclose(f);
-    if (!ok) {
-        free(buf);
-        return false;
-    }
-    buf[n] = 0;
-    *bytes = buf;
-    *size = (size_t)n;
-    return true;
-}

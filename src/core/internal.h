@@ -136,6 +136,11 @@ uint32_t sinew_crc32c_scalar(uint32_t crc, const void *bytes, size_t size);
 /* The checksum a blob of `size` >= sizeof(blob_file_header) bytes should carry. */
 uint32_t sinew_blob_checksum(const void *bytes, size_t size);
 
+/* Index k of the key segment [times[k], times[k+1]) holding t, 0 <= k < count - 1, found
+ * from *cursor: stepping ahead in forward play, a binary search after a jump back (sample.c).
+ * Requires times[0] <= t < times[count - 1]. */
+uint32_t sinew_find_segment(const float *times, uint32_t count, float t, uint32_t *cursor);
+
 /* Shortest-path slerp of unit quaternions a -> b at s in [0, 1], normalised (sample.c). */
 void sinew_slerp_shortest(const float *a, const float *b, float s, float *out);
 

@@ -338,22 +338,7 @@ static segment find(group *g, float t)
         return (segment){0, true, 0, 0};
     if (t >= times[n - 1])
         return (segment){n - 1, true, 0, 0};
-    uint32_t k = g->cursor;
-    if (k >= n - 1 || times[k] > t) {
-        uint32_t lo = 0, hi = n - 1;
-        while (hi - lo > 1) {
-            uint32_t mid = lo + (hi - lo) / 2;
-            if (times[mid] <= t)
-                lo = mid;
-            else
-                hi = mid;
-        }
-        k = lo;
-    } else {
-        while (k + 1 < n - 1 && times[k + 1] <= t)
-            k++;
-    }
-    g->cursor = k;
+    uint32_t k = sinew_find_segment(times, n, t, &g->cursor);
     float dt = times[k + 1] - times[k];
     float s = dt > 0.0f ? (t - times[k]) / dt : 0.0f;
     return (segment){k, g->interp == SINEW_INTERP_STEP, s, dt};

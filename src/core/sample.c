@@ -58,9 +58,7 @@ float sinew_clip_time(const sinew_clip *clip, float time, sinew_wrap wrap)
     return time < 0.0f ? 0.0f : (time > duration ? duration : time);
 }
 
-/* Index k of the segment [times[k], times[k+1]) holding t, for 0 <= k < count - 1,
- * starting from *cursor. Requires times[0] <= t < times[count - 1]. */
-static uint32_t find_segment(const float *times, uint32_t count, float t, uint32_t *cursor)
+uint32_t sinew_find_segment(const float *times, uint32_t count, float t, uint32_t *cursor)
 {
     uint32_t k = *cursor;
     if (k >= count - 1 || times[k] > t) {
@@ -138,7 +136,7 @@ void sinew_channel_eval(const sinew_clip *clip, const sinew_channel *channel, in
         return;
     }
     uint32_t local_cursor = 0;
-    uint32_t k = find_segment(times, n, time, cursor ? cursor : &local_cursor);
+    uint32_t k = sinew_find_segment(times, n, time, cursor ? cursor : &local_cursor);
     const float *a = values + (size_t)k * stride;
     const float *b = a + stride;
     float dt = times[k + 1] - times[k];
