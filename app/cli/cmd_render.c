@@ -64,41 +64,20 @@ static bool parse_seconds(const char *option, const char *text, double *out)
     return true;
 }
 
-/* A display option: --NAME, --no-NAME, or --NAME VALUE. Returns the arguments used (0: not one). */
+/* A display option (sinew_render_option_parse); returns the arguments used (0: not one). */
 static int parse_display_option(int argc, char **argv, int i, render_args *a, bool *bad)
 {
-    const char *arg = argv[i] + 2;
+    const char *name = NULL;
     sinew_error error = {0};
-    if (strcmp(arg, "bones") == 0)
-        arg = "skeleton";
-    bool off = strncmp(arg, "no-", 3) == 0 && sinew_render_option_is_switch(arg + 3);
-    const char *name = off ? arg + 3 : arg;
-    if (sinew_render_option_is_switch(name)) {
-        /* An explicit value may follow: --grid off. */
-        int used = 1;
-        if (!off && i + 1 < argc && sinew_render_option_set(&a->options, name, argv[i + 1], NULL) == SINEW_OK)
-            used = 2;
-        else
-            sinew_render_option_set(&a->options, name, off ? "off" : "on", NULL);
-        if (strcmp(name, "skeleton") == 0)
-            a->skeleton_set = true;
-        return used;
+    int used = sinew_render_option_parse(&a->options, argc, argv, i, &name, &error);
+    if (used < 0) {
+        cli_error("render: %s", error.message);
+        *bad = true;
+        return 1;
     }
-    for (const char *const *n = sinew_render_option_names(); *n; n++) {
-        if (strcmp(*n, name) != 0)
-            continue;
-        if (i + 1 >= argc) {
-            cli_error("render: --%s needs a value", name);
-            *bad = true;
-            return 1;
-        }
-        if (sinew_render_option_set(&a->options, name, argv[i + 1], &error) != SINEW_OK) {
-            cli_error("render: %s", error.message);
-            *bad = true;
-        }
-        return 2;
-    }
-    return 0;
+    if (used > 0 && strcmp(name, "skeleton") == 0)
+        a->skeleton_set = true;
+    return used;
 }
 
 static int parse_value_option(int argc, char **argv, int i, render_args *a, bool *bad)

@@ -1,9 +1,16 @@
-/* sinew-view: the desktop viewer (GTK 4), first cut: a GtkGLArea running sinew's renderer on
- * a model (FILE, or the built-in demo humanoid), playing its clip on a clock independent of
- * the frame rate, a play button and a scrub bar with the time, orbit camera (drag to rotate,
- * shift-drag or middle-drag to pan, wheel to zoom, F to frame all), Space to play/pause,
- * and `--screenshot OUT.png --quit` for tests. Work in progress for the viewer issue: no
- * file dialog, hierarchy, display panel, log panel or settings yet. */
+/* sinew-view: the desktop viewer (GTK 4). Work in progress for the viewer issue.
+ *
+ * A GtkGLArea runs sinew's renderer on one model at a time: FILE, a file opened with the
+ * Open button or dropped on the window, or the built-in demo humanoid. A file that fails
+ * to open leaves the scene as it was and shows the error above it. The clip plays on a
+ * clock independent of the frame rate (speed 0.1x-4x, reverse, loop / once / ping-pong);
+ * a scrub bar with keyframe ticks, time and frame; Space, Left/Right (a frame), Home/End.
+ * Orbit camera: drag rotates, shift-drag or middle-drag pans, the wheel zooms, F frames all.
+ * The status bar gives fps, vertices and joints. `--screenshot OUT.png --quit` writes the
+ * first frame and leaves, with the display, camera and time options of `sinew render`.
+ *
+ * Not yet: hierarchy, display panel and keys, free-fly camera, log panel, settings file. */
+#include <errno.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -15,10 +22,15 @@
 
 #include "sinew/sinew.h"
 
+#define FRAME_RATE 30.0 /* frame numbers and Left/Right steps */
+#define MAX_TICKS 400
+
+typedef enum play_mode { PLAY_LOOP, PLAY_ONCE, PLAY_PING_PONG } play_mode;
+
 typedef struct viewer {
-    GtkWidget *window, *area, *scale, *time_label, *play_button;
-    const char *path, *clip_name, *screenshot;
-    bool quit_after_screenshot;
+    GtkWidget *window, *area, *scale, *time_label, *play_button, *clip_list, *status, *error_bar, *error_label;
+    const char *screenshot, *select, *heatmap;
+    bool quit_after_screenshot, camera_given;
     sinew_model *model;
     const sinew_clip *clip;
     sinew_player *player;
@@ -26,31 +38,279 @@ typedef struct viewer {
     sinew_mat4 *worlds;
     sinew_camera camera;
     sinew_render_options options;
-    double time;        /* clip time, seconds */
-    gint64 last_frame;  /* frame clock, microseconds; 0: not playing */
-    bool playing, framed, updating_scale;
-    double drag_yaw, drag_pitch, drag_x, drag_y;
-    char *error;        /* what went wrong, shown in the window */
+    double time, speed;
+    play_mode mode;
+    int direction; /* ping-pong: +1 or -1 */
+    gint64 last_frame;
+    bool playing, framed, updating;
+    double drag_x, drag_y;
+    gint64 fps_since;
+    int fps_frames;
+    double fps;
     int exit_code;
 } viewer;
 
-static void set_time_label(viewer *v)
+/* ---- model ------------------------------------------------------------------------------- */
+
+static uint32_t vertex_count(const sinew_model *m)
 {
-    char text[96];
-    float duration = v->clip ? v->clip->duration : 0.0f;
-    snprintf(text, sizeof text, "%.2f / %.2f s  frame %d", v->time, (double)duration, (int)floor(v->time * 30.0 + 1e-6));
-    gtk_label_set_text(GTK_LABEL(v->time_label), text);
-    v->updating_scale = true;
-    gtk_range_set_value(GTK_RANGE(v->scale), v->time);
-    v->updating_scale = false;
+    uint32_t n = 0;
+    for (uint32_t i = 0; i < m->instance_count; i++)
+        n += m->meshes[m->instances[i].mesh].vertex_count;
+    return n;
+}
+
+static uint32_t joint_count(const sinew_model *m)
+{
+    uint32_t n = 0;
+    for (uint32_t i = 0; i < m->node_count; i++)
+        n += sinew_model_node_is_joint(m, i);
+    return n;
+}
+
+static void show_error(viewer *v, const char *message)
+{
+    if (!v->error_label) {
+        fprintf(stderr, "sinew-view: %s\n", message);
+        return;
+    }
+    gtk_label_set_text(GTK_LABEL(v->error_label), message);
+    gtk_widget_set_visible(v->error_bar, message != NULL);
 }
 
 static bool pose(viewer *v)
 {
-    sinew_error error = {0};
-    return sinew_player_update(v->player, (float)v->time, SINEW_WRAP_LOOP, NULL, v->worlds, v->model->node_count,
-                               &error) == SINEW_OK;
+    return sinew_player_update(v->player, (float)v->time, SINEW_WRAP_CLAMP, NULL, v->worlds, v->model->node_count,
+                               NULL) == SINEW_OK;
 }
+
+static double duration(const viewer *v)
+{
+    return v->clip ? v->clip->duration : 0.0;
+}
+
+static void update_timeline(viewer *v);
+
+/* Plays clip `index` (-1: the rest pose) of the current model from its start. */
+static bool use_clip(viewer *v, int32_t index)
+{
+    sinew_player *player = NULL;
+    sinew_error error = {0};
+    const sinew_clip *clip = index >= 0 ? &v->model->clips[index] : NULL;
+    if (sinew_player_create(v->model, clip, &player, &error) != SINEW_OK) {
+        show_error(v, error.message);
+        return false;
+    }
+    sinew_player_free(v->player);
+    v->player = player;
+    v->clip = clip;
+    if (v->time > duration(v))
+        v->time = 0.0;
+    update_timeline(v);
+    return true;
+}
+
+/* Makes the renderer for the current model in the area's context. */
+static void make_renderer(viewer *v)
+{
+    if (!v->area || !gtk_widget_get_realized(v->area))
+        return;
+    gtk_gl_area_make_current(GTK_GL_AREA(v->area));
+    if (gtk_gl_area_get_error(GTK_GL_AREA(v->area)))
+        return;
+    sinew_renderer_destroy(v->renderer);
+    v->renderer = NULL;
+    sinew_error error = {0};
+    sinew_renderer_desc desc = {.model = v->model};
+    if (sinew_renderer_create(&desc, &v->renderer, &error) != SINEW_OK)
+        show_error(v, error.message);
+}
+
+static void resolve_joints(viewer *v)
+{
+    v->options.selected_joint = v->select ? sinew_model_find_joint(v->model, v->select) : -1;
+    v->options.heatmap_joint = v->heatmap ? sinew_model_find_joint(v->model, v->heatmap) : -1;
+}
+
+/* Takes `model` as the scene (the viewer owns it from here). */
+static bool set_model(viewer *v, sinew_model *model, const char *clip_name)
+{
+    sinew_mat4 *worlds = malloc((model->node_count + 1) * sizeof *worlds);
+    int32_t clip = clip_name ? sinew_model_find_clip(model, clip_name) : (model->clip_count ? 0 : -1);
+    if (!worlds || (clip_name && clip < 0)) {
+        char message[600];
+        snprintf(message, sizeof message, "%s: no clip \"%s\"", model->source, clip_name ? clip_name : "");
+        show_error(v, worlds ? message : "out of memory");
+        free(worlds);
+        sinew_model_free(model);
+        return false;
+    }
+    sinew_model *old = v->model;
+    sinew_mat4 *old_worlds = v->worlds;
+    v->model = model;
+    v->worlds = worlds;
+    if (!use_clip(v, clip)) {
+        v->model = old;
+        v->worlds = old_worlds;
+        free(worlds);
+        sinew_model_free(model);
+        return false;
+    }
+    make_renderer(v);
+    sinew_model_free(old);
+    free(old_worlds);
+    resolve_joints(v);
+    if (vertex_count(model) == 0)
+        v->options.skeleton = true;
+    v->framed = v->camera_given;
+    v->camera_given = false;
+    if (v->window) {
+        char title[600];
+        snprintf(title, sizeof title, "%s — sinew", model->source);
+        gtk_window_set_title(GTK_WINDOW(v->window), title);
+        GtkStringList *names = gtk_string_list_new(NULL);
+        for (uint32_t i = 0; i < model->clip_count; i++)
+            gtk_string_list_append(names, model->clips[i].name);
+        if (model->clip_count == 0)
+            gtk_string_list_append(names, "(no clips: rest pose)");
+        v->updating = true;
+        gtk_drop_down_set_model(GTK_DROP_DOWN(v->clip_list), G_LIST_MODEL(names));
+        gtk_drop_down_set_selected(GTK_DROP_DOWN(v->clip_list), clip >= 0 ? (guint)clip : 0);
+        v->updating = false;
+        g_object_unref(names);
+        update_timeline(v);
+        gtk_gl_area_queue_render(GTK_GL_AREA(v->area));
+    }
+    return true;
+}
+
+/* Opens a file; on failure the error is shown and the scene stays. */
+static bool open_file(viewer *v, const char *path, const char *clip_name)
+{
+    sinew_model *model = NULL;
+    sinew_error error = {0};
+    if (sinew_import(&(sinew_import_desc){.path = path}, &model, &error) != SINEW_OK) {
+        show_error(v, error.message);
+        return false;
+    }
+    if (!set_model(v, model, clip_name))
+        return false;
+    show_error(v, NULL);
+    char *uri = g_filename_to_uri(path, NULL, NULL);
+    if (!uri) {
+        char *absolute = g_canonicalize_filename(path, NULL);
+        uri = g_filename_to_uri(absolute, NULL, NULL);
+        g_free(absolute);
+    }
+    if (uri)
+        gtk_recent_manager_add_item(gtk_recent_manager_get_default(), uri);
+    g_free(uri);
+    return true;
+}
+
+/* ---- timeline ------------------------------------------------------------------------------ */
+
+static int compare_floats(const void *a, const void *b)
+{
+    float x = *(const float *)a, y = *(const float *)b;
+    return x < y ? -1 : x > y;
+}
+
+/* The scrub bar's range and keyframe ticks (the distinct key times of the clip). */
+static void update_timeline(viewer *v)
+{
+    if (!v->scale)
+        return;
+    v->updating = true;
+    double d = duration(v);
+    gtk_range_set_range(GTK_RANGE(v->scale), 0.0, d > 0.0 ? d : 1.0);
+    gtk_scale_clear_marks(GTK_SCALE(v->scale));
+    if (v->clip && v->clip->time_count) {
+        float *times = malloc(v->clip->time_count * sizeof *times);
+        if (times) {
+            memcpy(times, v->clip->times, v->clip->time_count * sizeof *times);
+            qsort(times, v->clip->time_count, sizeof *times, compare_floats);
+            uint32_t distinct = 0;
+            for (uint32_t i = 0; i < v->clip->time_count; i++)
+                if (i == 0 || times[i] != times[i - 1])
+                    times[distinct++] = times[i];
+            uint32_t step = distinct > MAX_TICKS ? (distinct + MAX_TICKS - 1) / MAX_TICKS : 1;
+            for (uint32_t i = 0; i < distinct; i += step)
+                gtk_scale_add_mark(GTK_SCALE(v->scale), times[i], GTK_POS_BOTTOM, NULL);
+            free(times);
+        }
+    }
+    v->updating = false;
+}
+
+static void show_time(viewer *v)
+{
+    char text[128];
+    snprintf(text, sizeof text, "%6.3f / %.3f s   frame %d / %d", v->time, duration(v),
+             (int)floor(v->time * FRAME_RATE + 1e-6), (int)floor(duration(v) * FRAME_RATE + 1e-6));
+    gtk_label_set_text(GTK_LABEL(v->time_label), text);
+    v->updating = true;
+    gtk_range_set_value(GTK_RANGE(v->scale), v->time);
+    v->updating = false;
+}
+
+static void set_time(viewer *v, double t)
+{
+    double d = duration(v);
+    v->time = t < 0.0 ? 0.0 : t > d ? d : t;
+    show_time(v);
+    gtk_gl_area_queue_render(GTK_GL_AREA(v->area));
+}
+
+static void set_playing(viewer *v, bool playing)
+{
+    v->playing = playing;
+    v->last_frame = 0;
+    gtk_button_set_icon_name(GTK_BUTTON(v->play_button),
+                             playing ? "media-playback-pause-symbolic" : "media-playback-start-symbolic");
+}
+
+/* Advances the clock by dt seconds of wall time. */
+static void advance(viewer *v, double dt)
+{
+    double d = duration(v);
+    if (d <= 0.0)
+        return;
+    double t = v->time + dt * v->speed * v->direction;
+    if (v->mode == PLAY_LOOP) {
+        t = fmod(t, d);
+        if (t < 0.0)
+            t += d;
+    } else if (v->mode == PLAY_ONCE) {
+        if (t >= d || t <= 0.0) {
+            t = t >= d ? d : 0.0;
+            set_playing(v, false);
+        }
+    } else {
+        while (t > d || t < 0.0) {
+            t = t > d ? 2.0 * d - t : -t;
+            v->direction = -v->direction;
+        }
+    }
+    v->time = t;
+}
+
+static gboolean on_tick(GtkWidget *widget, GdkFrameClock *clock, gpointer data)
+{
+    (void)widget;
+    viewer *v = data;
+    gint64 now = gdk_frame_clock_get_frame_time(clock);
+    if (v->playing) {
+        if (v->last_frame)
+            advance(v, (double)(now - v->last_frame) * 1e-6);
+        v->last_frame = now;
+        show_time(v);
+        gtk_gl_area_queue_render(GTK_GL_AREA(v->area));
+    }
+    return G_SOURCE_CONTINUE;
+}
+
+/* ---- drawing -------------------------------------------------------------------------------- */
 
 static void frame_all(viewer *v)
 {
@@ -69,7 +329,7 @@ static void save_screenshot(viewer *v, int width, int height)
     glReadPixels(0, 0, width, height, GL_RGB, GL_UNSIGNED_BYTE, rgb);
     stbi_flip_vertically_on_write(1);
     if (!stbi_write_png(v->screenshot, width, height, 3, rgb, width * 3)) {
-        fprintf(stderr, "sinew-view: %s: cannot write the screenshot\n", v->screenshot);
+        fprintf(stderr, "sinew-view: %s: cannot write the screenshot: %s\n", v->screenshot, strerror(errno));
         v->exit_code = 2;
     }
     free(rgb);
@@ -80,6 +340,14 @@ static gboolean close_window(gpointer data)
     viewer *v = data;
     gtk_window_destroy(GTK_WINDOW(v->window));
     return G_SOURCE_REMOVE;
+}
+
+static void show_status(viewer *v)
+{
+    char text[256];
+    snprintf(text, sizeof text, "%.0f fps   %u vertices   %u joints   %s", v->fps, vertex_count(v->model),
+             joint_count(v->model), v->renderer ? sinew_renderer_gl_name(v->renderer) : "no OpenGL 3.3");
+    gtk_label_set_text(GTK_LABEL(v->status), text);
 }
 
 static gboolean on_render(GtkGLArea *area, GdkGLContext *context, gpointer data)
@@ -105,7 +373,16 @@ static gboolean on_render(GtkGLArea *area, GdkGLContext *context, gpointer data)
                          .height = height,
                          .options = &v->options};
     if (!pose(v) || sinew_renderer_draw(v->renderer, &frame, &error) != SINEW_OK)
-        fprintf(stderr, "sinew-view: %s\n", error.message);
+        show_error(v, error.message);
+    gint64 now = g_get_monotonic_time();
+    if (v->fps_since == 0)
+        v->fps_since = now;
+    if (++v->fps_frames >= 10 || now - v->fps_since > 1000000) {
+        v->fps = v->fps_frames / fmax(1e-6, (double)(now - v->fps_since) * 1e-6);
+        v->fps_frames = 0;
+        v->fps_since = now;
+        show_status(v);
+    }
     if (v->screenshot) {
         save_screenshot(v, width, height);
         v->screenshot = NULL;
@@ -119,17 +396,16 @@ static void on_realize(GtkGLArea *area, gpointer data)
 {
     viewer *v = data;
     gtk_gl_area_make_current(area);
-    if (gtk_gl_area_get_error(area)) {
-        fprintf(stderr, "sinew-view: no OpenGL 3.3 context: %s\n", gtk_gl_area_get_error(area)->message);
+    GError *e = gtk_gl_area_get_error(area);
+    if (e) {
+        char message[600];
+        snprintf(message, sizeof message, "no OpenGL 3.3 context: %s", e->message);
+        show_error(v, message);
         v->exit_code = 3;
         return;
     }
-    sinew_error error = {0};
-    sinew_renderer_desc desc = {.model = v->model};
-    if (sinew_renderer_create(&desc, &v->renderer, &error) != SINEW_OK) {
-        fprintf(stderr, "sinew-view: %s\n", error.message);
-        v->exit_code = 3;
-    }
+    make_renderer(v);
+    show_status(v);
 }
 
 static void on_unrealize(GtkGLArea *area, gpointer data)
@@ -140,28 +416,7 @@ static void on_unrealize(GtkGLArea *area, gpointer data)
     v->renderer = NULL;
 }
 
-static gboolean on_tick(GtkWidget *widget, GdkFrameClock *clock, gpointer data)
-{
-    (void)widget;
-    viewer *v = data;
-    gint64 now = gdk_frame_clock_get_frame_time(clock);
-    if (v->playing && v->clip && v->clip->duration > 0.0f) {
-        if (v->last_frame)
-            v->time = fmod(v->time + (double)(now - v->last_frame) * 1e-6, v->clip->duration);
-        v->last_frame = now;
-        set_time_label(v);
-        gtk_gl_area_queue_render(GTK_GL_AREA(v->area));
-    }
-    return G_SOURCE_CONTINUE;
-}
-
-static void set_playing(viewer *v, bool playing)
-{
-    v->playing = playing;
-    v->last_frame = 0;
-    gtk_button_set_icon_name(GTK_BUTTON(v->play_button),
-                             playing ? "media-playback-pause-symbolic" : "media-playback-start-symbolic");
-}
+/* ---- input ---------------------------------------------------------------------------------- */
 
 static void on_play(GtkButton *button, gpointer data)
 {
@@ -173,27 +428,67 @@ static void on_play(GtkButton *button, gpointer data)
 static void on_scrub(GtkRange *range, gpointer data)
 {
     viewer *v = data;
-    if (v->updating_scale)
+    if (!v->updating)
+        set_time(v, gtk_range_get_value(range));
+}
+
+static void on_clip(GObject *dropdown, GParamSpec *pspec, gpointer data)
+{
+    (void)pspec;
+    viewer *v = data;
+    if (v->updating)
         return;
-    v->time = gtk_range_get_value(range);
-    set_time_label(v);
-    gtk_gl_area_queue_render(GTK_GL_AREA(v->area));
+    guint index = gtk_drop_down_get_selected(GTK_DROP_DOWN(dropdown));
+    if (index < v->model->clip_count && use_clip(v, (int32_t)index))
+        set_time(v, 0.0);
+}
+
+static void on_speed(GtkSpinButton *spin, gpointer data)
+{
+    viewer *v = data;
+    v->speed = gtk_spin_button_get_value(spin);
+}
+
+static void on_reverse(GtkToggleButton *toggle, gpointer data)
+{
+    viewer *v = data;
+    v->direction = gtk_toggle_button_get_active(toggle) ? -1 : 1;
+}
+
+static void on_mode(GObject *dropdown, GParamSpec *pspec, gpointer data)
+{
+    (void)pspec;
+    viewer *v = data;
+    v->mode = (play_mode)gtk_drop_down_get_selected(GTK_DROP_DOWN(dropdown));
 }
 
 static gboolean on_key(GtkEventControllerKey *controller, guint key, guint code, GdkModifierType state, gpointer data)
 {
     (void)controller, (void)code, (void)state;
     viewer *v = data;
-    if (key == GDK_KEY_space) {
+    switch (key) {
+    case GDK_KEY_space:
         set_playing(v, !v->playing);
         return TRUE;
-    }
-    if (key == GDK_KEY_f || key == GDK_KEY_F) {
+    case GDK_KEY_Left:
+    case GDK_KEY_Right:
+        set_playing(v, false);
+        set_time(v, (floor(v->time * FRAME_RATE + 0.5) + (key == GDK_KEY_Right ? 1 : -1)) / FRAME_RATE);
+        return TRUE;
+    case GDK_KEY_Home:
+        set_time(v, 0.0);
+        return TRUE;
+    case GDK_KEY_End:
+        set_time(v, duration(v));
+        return TRUE;
+    case GDK_KEY_f:
+    case GDK_KEY_F:
         frame_all(v);
         gtk_gl_area_queue_render(GTK_GL_AREA(v->area));
         return TRUE;
+    default:
+        return FALSE;
     }
-    return FALSE;
 }
 
 static void on_drag_begin(GtkGestureDrag *gesture, double x, double y, gpointer data)
@@ -201,6 +496,7 @@ static void on_drag_begin(GtkGestureDrag *gesture, double x, double y, gpointer 
     (void)gesture, (void)x, (void)y;
     viewer *v = data;
     v->drag_x = v->drag_y = 0.0;
+    gtk_widget_grab_focus(v->area);
 }
 
 static void on_drag_update(GtkGestureDrag *gesture, double dx, double dy, gpointer data)
@@ -212,7 +508,8 @@ static void on_drag_update(GtkGestureDrag *gesture, double dx, double dy, gpoint
     v->drag_x = dx, v->drag_y = dy;
     float h = (float)fmax(1, gtk_widget_get_height(v->area));
     if (button == GDK_BUTTON_MIDDLE || (mods & GDK_SHIFT_MASK)) {
-        float per_pixel = 2.0f * v->camera.distance * tanf(0.5f * (v->camera.fov_y > 0 ? v->camera.fov_y : 0.785f)) / h;
+        float fov = v->camera.fov_y > 0.0f ? v->camera.fov_y : 0.785398f;
+        float per_pixel = 2.0f * v->camera.distance * tanf(0.5f * fov) / h;
         sinew_camera_pan(&v->camera, -(float)ddx * per_pixel, (float)ddy * per_pixel);
     } else {
         sinew_camera_rotate(&v->camera, -(float)ddx * 0.01f, (float)ddy * 0.01f);
@@ -229,16 +526,96 @@ static gboolean on_scroll(GtkEventControllerScroll *controller, double dx, doubl
     return TRUE;
 }
 
-static void on_activate(GtkApplication *app, gpointer data)
+static gboolean on_drop(GtkDropTarget *target, const GValue *value, double x, double y, gpointer data)
+{
+    (void)target, (void)x, (void)y;
+    viewer *v = data;
+    if (!G_VALUE_HOLDS(value, G_TYPE_FILE))
+        return FALSE;
+    char *path = g_file_get_path(g_value_get_object(value));
+    bool ok = path && open_file(v, path, NULL);
+    g_free(path);
+    return ok;
+}
+
+static void on_open_response(GtkNativeDialog *dialog, int response, gpointer data)
 {
     viewer *v = data;
+    if (response == GTK_RESPONSE_ACCEPT) {
+        GFile *file = gtk_file_chooser_get_file(GTK_FILE_CHOOSER(dialog));
+        char *path = file ? g_file_get_path(file) : NULL;
+        if (path)
+            open_file(v, path, NULL);
+        g_free(path);
+        if (file)
+            g_object_unref(file);
+    }
+    g_object_unref(dialog);
+}
+
+static void on_open(GtkButton *button, gpointer data)
+{
+    (void)button;
+    viewer *v = data;
+    GtkFileChooserNative *dialog = gtk_file_chooser_native_new("Open a model", GTK_WINDOW(v->window),
+                                                               GTK_FILE_CHOOSER_ACTION_OPEN, "_Open", "_Cancel");
+    GtkFileFilter *models = gtk_file_filter_new();
+    gtk_file_filter_set_name(models, "Animated models");
+    static const char *const patterns[] = {"*.dae", "*.gltf", "*.glb", "*.fbx", "*.bvh", "*.x", "*.md5mesh",
+                                           "*.smd", "*.iqm", "*.sinew", "*.DAE", "*.FBX", "*.X"};
+    for (size_t i = 0; i < sizeof patterns / sizeof patterns[0]; i++)
+        gtk_file_filter_add_pattern(models, patterns[i]);
+    gtk_file_chooser_add_filter(GTK_FILE_CHOOSER(dialog), models);
+    GtkFileFilter *all = gtk_file_filter_new();
+    gtk_file_filter_set_name(all, "All files");
+    gtk_file_filter_add_pattern(all, "*");
+    gtk_file_chooser_add_filter(GTK_FILE_CHOOSER(dialog), all);
+    g_signal_connect(dialog, "response", G_CALLBACK(on_open_response), v);
+    gtk_native_dialog_show(GTK_NATIVE_DIALOG(dialog));
+}
+
+static void on_close_error(GtkButton *button, gpointer data)
+{
+    (void)button;
+    show_error(data, NULL);
+}
+
+/* ---- window --------------------------------------------------------------------------------- */
+
+typedef struct startup {
+    viewer *v;
+    const char *path, *clip;
+    int width, height;
+} startup;
+
+static void on_activate(GtkApplication *app, gpointer data)
+{
+    startup *s = data;
+    viewer *v = s->v;
     v->window = gtk_application_window_new(app);
-    char title[512];
-    snprintf(title, sizeof title, "%s — sinew", v->model->source);
-    gtk_window_set_title(GTK_WINDOW(v->window), title);
-    gtk_window_set_default_size(GTK_WINDOW(v->window), 960, 640);
+    gtk_window_set_default_size(GTK_WINDOW(v->window), s->width, s->height);
+    GtkWidget *header = gtk_header_bar_new();
+    GtkWidget *open = gtk_button_new_with_mnemonic("_Open…");
+    g_signal_connect(open, "clicked", G_CALLBACK(on_open), v);
+    gtk_header_bar_pack_start(GTK_HEADER_BAR(header), open);
+    gtk_window_set_titlebar(GTK_WINDOW(v->window), header);
 
     GtkWidget *box = gtk_box_new(GTK_ORIENTATION_VERTICAL, 0);
+    v->error_bar = gtk_box_new(GTK_ORIENTATION_HORIZONTAL, 6);
+    gtk_widget_add_css_class(v->error_bar, "error");
+    v->error_label = gtk_label_new("");
+    gtk_label_set_wrap(GTK_LABEL(v->error_label), TRUE);
+    gtk_label_set_selectable(GTK_LABEL(v->error_label), TRUE);
+    gtk_widget_set_hexpand(v->error_label, TRUE);
+    gtk_label_set_xalign(GTK_LABEL(v->error_label), 0.0f);
+    gtk_widget_set_margin_start(v->error_label, 8);
+    gtk_box_append(GTK_BOX(v->error_bar), v->error_label);
+    GtkWidget *dismiss = gtk_button_new_from_icon_name("window-close-symbolic");
+    g_signal_connect(dismiss, "clicked", G_CALLBACK(on_close_error), v);
+    gtk_box_append(GTK_BOX(v->error_bar), dismiss);
+    gtk_widget_set_visible(v->error_bar, FALSE);
+    gtk_box_append(GTK_BOX(box), v->error_bar);
+
     v->area = gtk_gl_area_new();
     gtk_gl_area_set_required_version(GTK_GL_AREA(v->area), 3, 3);
     gtk_gl_area_set_has_depth_buffer(GTK_GL_AREA(v->area), TRUE);
@@ -255,7 +632,11 @@ static void on_activate(GtkApplication *app, gpointer data)
     GtkEventController *scroll = gtk_event_controller_scroll_new(GTK_EVENT_CONTROLLER_SCROLL_VERTICAL);
     g_signal_connect(scroll, "scroll", G_CALLBACK(on_scroll), v);
     gtk_widget_add_controller(v->area, scroll);
+    GtkDropTarget *drop = gtk_drop_target_new(G_TYPE_FILE, GDK_ACTION_COPY);
+    g_signal_connect(drop, "drop", G_CALLBACK(on_drop), v);
+    gtk_widget_add_controller(v->window, GTK_EVENT_CONTROLLER(drop));
     GtkEventController *keys = gtk_event_controller_key_new();
+    gtk_event_controller_set_propagation_phase(keys, GTK_PHASE_CAPTURE);
     g_signal_connect(keys, "key-pressed", G_CALLBACK(on_key), v);
     gtk_widget_add_controller(v->window, keys);
     gtk_box_append(GTK_BOX(box), v->area);
@@ -263,11 +644,12 @@ static void on_activate(GtkApplication *app, gpointer data)
     GtkWidget *bar = gtk_box_new(GTK_ORIENTATION_HORIZONTAL, 6);
     gtk_widget_set_margin_start(bar, 6);
     gtk_widget_set_margin_end(bar, 6);
+    gtk_widget_set_margin_top(bar, 4);
     v->play_button = gtk_button_new_from_icon_name("media-playback-start-symbolic");
+    gtk_widget_set_tooltip_text(v->play_button, "Play / pause (Space)");
     g_signal_connect(v->play_button, "clicked", G_CALLBACK(on_play), v);
     gtk_box_append(GTK_BOX(bar), v->play_button);
-    double duration = v->clip ? v->clip->duration : 0.0;
-    v->scale = gtk_scale_new_with_range(GTK_ORIENTATION_HORIZONTAL, 0.0, duration > 0 ? duration : 1.0, 1.0 / 30.0);
+    v->scale = gtk_scale_new_with_range(GTK_ORIENTATION_HORIZONTAL, 0.0, 1.0, 1.0 / FRAME_RATE);
     gtk_scale_set_draw_value(GTK_SCALE(v->scale), FALSE);
     gtk_widget_set_hexpand(v->scale, TRUE);
     g_signal_connect(v->scale, "value-changed", G_CALLBACK(on_scrub), v);
@@ -275,64 +657,122 @@ static void on_activate(GtkApplication *app, gpointer data)
     v->time_label = gtk_label_new("");
     gtk_box_append(GTK_BOX(bar), v->time_label);
     gtk_box_append(GTK_BOX(box), bar);
+
+    GtkWidget *controls = gtk_box_new(GTK_ORIENTATION_HORIZONTAL, 6);
+    gtk_widget_set_margin_start(controls, 6);
+    gtk_widget_set_margin_end(controls, 6);
+    gtk_widget_set_margin_bottom(controls, 4);
+    gtk_box_append(GTK_BOX(controls), gtk_label_new("Clip"));
+    v->clip_list = gtk_drop_down_new(NULL, NULL);
+    g_signal_connect(v->clip_list, "notify::selected", G_CALLBACK(on_clip), v);
+    gtk_box_append(GTK_BOX(controls), v->clip_list);
+    gtk_box_append(GTK_BOX(controls), gtk_label_new("Speed"));
+    GtkWidget *speed = gtk_spin_button_new_with_range(0.1, 4.0, 0.1);
+    gtk_spin_button_set_value(GTK_SPIN_BUTTON(speed), v->speed);
+    g_signal_connect(speed, "value-changed", G_CALLBACK(on_speed), v);
+    gtk_box_append(GTK_BOX(controls), speed);
+    GtkWidget *reverse = gtk_toggle_button_new_with_label("Reverse");
+    g_signal_connect(reverse, "toggled", G_CALLBACK(on_reverse), v);
+    gtk_box_append(GTK_BOX(controls), reverse);
+    static const char *const modes[] = {"Loop", "Once", "Ping-pong", NULL};
+    GtkWidget *mode = gtk_drop_down_new_from_strings(modes);
+    g_signal_connect(mode, "notify::selected", G_CALLBACK(on_mode), v);
+    gtk_box_append(GTK_BOX(controls), mode);
+    v->status = gtk_label_new("");
+    gtk_widget_set_hexpand(v->status, TRUE);
+    gtk_label_set_xalign(GTK_LABEL(v->status), 1.0f);
+    gtk_label_set_ellipsize(GTK_LABEL(v->status), PANGO_ELLIPSIZE_END);
+    gtk_box_append(GTK_BOX(controls), v->status);
+    gtk_box_append(GTK_BOX(box), controls);
     gtk_window_set_child(GTK_WINDOW(v->window), box);
-    set_time_label(v);
+
+    /* The demo first; a file given replaces it, or its error shows above the demo. */
+    sinew_model *demo = NULL;
+    sinew_error error = {0};
+    if (sinew_demo_humanoid(&demo, &error) != SINEW_OK || !set_model(v, demo, s->path ? NULL : s->clip))
+        show_error(v, error.message);
+    if (s->path && !open_file(v, s->path, s->clip))
+        v->framed = false;
+    show_time(v);
     set_playing(v, v->screenshot == NULL);
     gtk_widget_add_tick_callback(v->area, on_tick, v, NULL);
     gtk_window_present(GTK_WINDOW(v->window));
 }
 
 static const char usage[] =
-    "usage: sinew-view [FILE] [--clip C] [--time T] [--screenshot OUT.png] [--quit]\n"
+    "usage: sinew-view [FILE] [--clip C] [--time T] [--camera SPEC] [display options] [--size WxH]\n"
+    "                  [--screenshot OUT.png] [--quit]\n"
     "\n"
-    "Opens FILE (any format sinew reads; the built-in demo humanoid without one) and plays its clip.\n"
-    "Space plays and pauses; drag rotates, shift-drag or middle-drag pans, the wheel zooms, F frames all.\n"
-    "  --screenshot OUT.png  writes the first frame drawn; --quit then closes the viewer\n";
+    "Opens FILE (any format sinew reads, or a .sinew; without one, the built-in demo humanoid) and plays its\n"
+    "clip. Open… or drop a file on the window to open another; a file that fails shows its error above the\n"
+    "scene, which stays. Space plays and pauses, Left/Right step a frame (1/30 s), Home/End go to the ends;\n"
+    "drag rotates, shift-drag or middle-drag pans, the wheel zooms, F frames all.\n"
+    "\n"
+    "  --clip C, --time T, --camera orbit:YAW,PITCH[,DIST] | fly:X,Y,Z,YAW,PITCH, --select JOINT,\n"
+    "  --heatmap JOINT and the display options (--skeleton, --no-grid, --wireframe, --shading flat, ...)\n"
+    "                        as `sinew render` takes them (see `sinew render --help`)\n"
+    "  --size WxH            the window's size (default 960x640)\n"
+    "  --screenshot OUT.png  writes the first frame drawn (the drawing area only)\n"
+    "  --quit                leaves after the screenshot (exit 0 even when FILE failed to open)\n";
 
 int main(int argc, char **argv)
 {
-    viewer v = {.options = sinew_render_options_default()};
+    viewer v = {.options = sinew_render_options_default(), .speed = 1.0, .direction = 1};
+    v.camera = sinew_camera_default();
+    v.camera.yaw = 30.0f * (float)G_PI / 180.0f; /* as `sinew render` frames a model */
+    v.camera.pitch = 15.0f * (float)G_PI / 180.0f;
+    startup s = {.v = &v, .width = 960, .height = 640};
     for (int i = 1; i < argc; i++) {
-        if (strcmp(argv[i], "--help") == 0 || strcmp(argv[i], "-h") == 0) {
+        sinew_error error = {0};
+        int used = sinew_render_option_parse(&v.options, argc, argv, i, NULL, &error);
+        if (used < 0) {
+            fprintf(stderr, "sinew-view: %s\n", error.message);
+            return 1;
+        }
+        if (used > 0) {
+            i += used - 1;
+        } else if (strcmp(argv[i], "--help") == 0 || strcmp(argv[i], "-h") == 0) {
             fputs(usage, stdout);
             return 0;
-        } else if (strcmp(argv[i], "--clip") == 0 && i + 1 < argc) {
-            v.clip_name = argv[++i];
-        } else if (strcmp(argv[i], "--time") == 0 && i + 1 < argc) {
-            v.time = atof(argv[++i]);
-        } else if (strcmp(argv[i], "--screenshot") == 0 && i + 1 < argc) {
-            v.screenshot = argv[++i];
         } else if (strcmp(argv[i], "--quit") == 0) {
             v.quit_after_screenshot = true;
+        } else if (argv[i][0] == '-' && i + 1 < argc) {
+            const char *o = argv[i], *value = argv[++i];
+            bool frame = true;
+            if (strcmp(o, "--clip") == 0) {
+                s.clip = value;
+            } else if (strcmp(o, "--time") == 0) {
+                v.time = atof(value);
+            } else if (strcmp(o, "--screenshot") == 0) {
+                v.screenshot = value;
+            } else if (strcmp(o, "--select") == 0) {
+                v.select = value;
+            } else if (strcmp(o, "--heatmap") == 0) {
+                v.heatmap = value;
+            } else if (strcmp(o, "--size") == 0) {
+                if (sscanf(value, "%dx%d", &s.width, &s.height) != 2 || s.width < 64 || s.height < 64) {
+                    fprintf(stderr, "sinew-view: bad --size \"%s\": expected WIDTHxHEIGHT\n", value);
+                    return 1;
+                }
+            } else if (strcmp(o, "--camera") == 0) {
+                if (sinew_camera_parse(value, &v.camera, &frame, &error) != SINEW_OK) {
+                    fprintf(stderr, "sinew-view: %s\n", error.message);
+                    return 1;
+                }
+                v.camera_given = !frame;
+            } else {
+                fprintf(stderr, "sinew-view: unknown option %s\n%s", o, usage);
+                return 1;
+            }
         } else if (argv[i][0] == '-') {
-            fprintf(stderr, "sinew-view: unknown option %s\n%s", argv[i], usage);
+            fprintf(stderr, "sinew-view: unknown option or missing value %s\n%s", argv[i], usage);
             return 1;
         } else {
-            v.path = argv[i];
+            s.path = argv[i];
         }
     }
-    sinew_error error = {0};
-    sinew_result result = v.path ? sinew_import(&(sinew_import_desc){.path = v.path}, &v.model, &error)
-                                 : sinew_demo_humanoid(&v.model, &error);
-    if (result != SINEW_OK) {
-        fprintf(stderr, "sinew-view: %s\n", error.message);
-        return 2;
-    }
-    int32_t clip = v.clip_name ? sinew_model_find_clip(v.model, v.clip_name) : (v.model->clip_count ? 0 : -1);
-    if (v.clip_name && clip < 0) {
-        fprintf(stderr, "sinew-view: %s: no clip \"%s\"\n", v.model->source, v.clip_name);
-        sinew_model_free(v.model);
-        return 2;
-    }
-    v.clip = clip >= 0 ? &v.model->clips[clip] : NULL;
-    v.worlds = malloc((v.model->node_count + 1) * sizeof *v.worlds);
-    v.camera = sinew_camera_default();
-    if (!v.worlds || sinew_player_create(v.model, v.clip, &v.player, &error) != SINEW_OK) {
-        fprintf(stderr, "sinew-view: %s\n", error.message);
-        return 2;
-    }
     GtkApplication *app = gtk_application_new("org.sinew.View", G_APPLICATION_NON_UNIQUE);
-    g_signal_connect(app, "activate", G_CALLBACK(on_activate), &v);
+    g_signal_connect(app, "activate", G_CALLBACK(on_activate), &s);
     int status = g_application_run(G_APPLICATION(app), 1, argv);
     g_object_unref(app);
     sinew_player_free(v.player);

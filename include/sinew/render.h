@@ -82,6 +82,14 @@ sinew_result sinew_render_option_get(const sinew_render_options *options, const 
                                      sinew_error *error);
 /* The names above, NULL-terminated; and whether one is a boolean switch. */
 const char *const *sinew_render_option_names(void);
+
+/* Reads one display option from a command line at argv[i] (what `sinew render` and
+ * `sinew-view` accept): --NAME, --no-NAME or --NAME on|off for a switch (--bones is
+ * --skeleton), --NAME VALUE for the others. Returns the arguments used: 0 when argv[i] is
+ * not a display option, -1 with the error filled for a missing or bad value. *name (may
+ * be NULL) gets the option's name. */
+int sinew_render_option_parse(sinew_render_options *options, int argc, char *const *argv, int i, const char **name,
+                              sinew_error *error);
 bool sinew_render_option_is_switch(const char *name);
 
 typedef struct sinew_renderer sinew_renderer;

@@ -218,3 +218,36 @@ sinew_result sinew_camera_parse(const char *text, sinew_camera *camera, bool *fr
     return sinew_fail(error, SINEW_ERROR_INVALID_ARGUMENT,
                       "camera \"%s\": expected orbit:YAW,PITCH[,DISTANCE] or fly:X,Y,Z,YAW,PITCH (degrees)", text);
 }
+
+int sinew_render_option_parse(sinew_render_options *options, int argc, char *const *argv, int i, const char **name_out,
+                              sinew_error *error)
+{
+    if (i >= argc || strncmp(argv[i], "--", 2) != 0)
+        return 0;
+    const char *arg = argv[i] + 2;
+    if (strcmp(arg, "bones") == 0)
+        arg = "skeleton";
+    bool off = strncmp(arg, "no-", 3) == 0 && sinew_render_option_is_switch(arg + 3);
+    const char *name = off ? arg + 3 : arg;
+    if (sinew_render_option_is_switch(name)) {
+        if (name_out)
+            *name_out = name;
+        /* An explicit value may follow: --grid off. */
+        if (!off && i + 1 < argc && sinew_render_option_set(options, name, argv[i + 1], NULL) == SINEW_OK)
+            return 2;
+        sinew_render_option_set(options, name, off ? "off" : "on", NULL);
+        return 1;
+    }
+    for (const char *const *n = sinew_render_option_names(); *n; n++) {
+        if (strcmp(*n, name) != 0)
+            continue;
+        if (name_out)
+            *name_out = *n;
+        if (i + 1 >= argc) {
+            sinew_fail(error, SINEW_ERROR_INVALID_ARGUMENT, "--%s needs a value", name);
+            return -1;
+        }
+        return sinew_render_option_set(options, name, argv[i + 1], error) == SINEW_OK ? 2 : -1;
+    }
+    return 0;
+}
