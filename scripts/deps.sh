@@ -1,5 +1,6 @@
 #!/usr/bin/env bash
-# Installs the Debian packages sinew needs to build and test, and nothing when they are all there.
+# Installs the Debian packages sinew needs to build and test, and nothing when they are all there
+# (GTK 4 for sinew-view, Xvfb to test it without a display).
 # Uses apt-get directly as root, through sudo otherwise. Safe to run again.
 set -euo pipefail
 
@@ -7,6 +8,7 @@ packages=(
   build-essential cmake pkg-config
   libassimp-dev libcglm-dev libcjson-dev libcmocka-dev libxml2-dev
   libepoxy-dev libegl-dev libegl-mesa0 libgl1-mesa-dri libstb-dev
+  libgtk-4-dev xvfb xauth
 )
 
 missing=()

@@ -18,7 +18,7 @@
 
 #include <epoxy/gl.h>
 #include <gtk/gtk.h>
-#include <stb/stb_image_write.h>
+#include <stb_image_write.h>
 
 #include "sinew/sinew.h"
 
@@ -68,12 +68,13 @@ static uint32_t joint_count(const sinew_model *m)
     return n;
 }
 
+/* Shows (and logs to stderr) an error above the scene; NULL hides it. */
 static void show_error(viewer *v, const char *message)
 {
-    if (!v->error_label) {
+    if (message)
         fprintf(stderr, "sinew-view: %s\n", message);
+    if (!v->error_label)
         return;
-    }
     gtk_label_set_text(GTK_LABEL(v->error_label), message);
     gtk_widget_set_visible(v->error_bar, message != NULL);
 }

@@ -1,0 +1,156 @@
+/* sinew-view under Xvfb: a screenshot equals `sinew render` of the same view, and a broken
+ * file shows its error while the demo stays and the viewer leaves normally on --quit.
+ * Skipped (exit 77) when Xvfb is not installed. */
+#include <signal.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <stb_image.h>
+
+#include "helpers.h"
+
+static pid_t xvfb;
+static char display[16];
+
+static int start_xvfb(void **state)
+{
+    (void)state;
+    if (system("command -v Xvfb >/dev/null 2>&1") != 0)
+        return 0; /* the tests skip */
+    for (int n = 90 + getpid() % 50; n < 200; n++) {
+        char lock[64];
+        snprintf(lock, sizeof lock, "/tmp/.X%d-lock", n);
+        if (access(lock, F_OK) == 0)
+            continue;
+        snprintf(display, sizeof display, ":%d", n);
+        xvfb = fork();
+        if (xvfb == 0) {
+            freopen("/dev/null", "w", stderr);
+            execlp("Xvfb", "Xvfb", display, "-screen", "0", "1280x800x24", "-nolisten", "tcp", (char *)NULL);
+            _exit(127);
+        }
+        char socket_path[64];
+        snprintf(socket_path, sizeof socket_path, "/tmp/.X11-unix/X%d", n);
+        for (int tries = 0; tries < 100 && access(socket_path, F_OK) != 0; tries++)
+            usleep(50000);
+        return 0;
+    }
+    return 0;
+}
+
+static int stop_xvfb(void **state)
+{
+    (void)state;
+    if (xvfb > 0) {
+        kill(xvfb, SIGTERM);
+        waitpid(xvfb, NULL, 0);
+    }
+    return 0;
+}
+
+/* Runs sinew-view with DISPLAY set; returns the exit code, stderr in *err (malloc'd). */
+static int run_view(const char *const *args, char **err)
+{
+    char errfile[4096];
+    tmp_path("view.err", errfile, sizeof errfile);
+    pid_t pid = fork();
+    if (pid == 0) {
+        setenv("DISPLAY", display, 1);
+        setenv("GSK_RENDERER", "cairo", 1); /* GTK's own drawing in software; the GL area is sinew's */
+        /* GTK and fontconfig keep allocations to the end of the process: not leaks of sinew's */
+        setenv("ASAN_OPTIONS", "detect_leaks=0:abort_on_error=1", 1);
+        freopen(errfile, "w", stderr);
+        const char *argv[32] = {getenv("SINEW_VIEW")};
+        for (int i = 0; args[i] && i < 30; i++)
+            argv[i + 1] = args[i];
+        execv(argv[0], (char *const *)argv);
+        _exit(127);
+    }
+    int status = 0;
+    waitpid(pid, &status, 0);
+    size_t size = 0;
+    *err = read_file(errfile, &size);
+    return WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
+}
+
+static void test_screenshot_equals_headless_render(void **state)
+{
+    (void)state;
+    if (!xvfb)
+        skip();
+    char dae[4096], shot[4096], rendered[4096], size[32], dir[2048];
+    tmp_path("view-demo", dir, sizeof dir);
+    run_result r = RUN("demo", dir);
+    assert_int_equal(r.code, 0);
+    run_free(&r);
+    snprintf(dae, sizeof dae, "%s/humanoid.dae", dir);
+    tmp_path("view-shot.png", shot, sizeof shot);
+    tmp_path("view-render.png", rendered, sizeof rendered);
+    char *err = NULL;
+    int code = run_view((const char *const[]){dae, "--clip", "wave", "--time", "0.6", "--skeleton", "--no-grid",
+                                              "--shading", "flat", "--camera", "orbit:40,20", "--screenshot", shot,
+                                              "--quit", NULL},
+                        &err);
+    if (code != 0)
+        fail_msg("sinew-view exited %d: %s", code, err ? err : "");
+    free(err);
+    int w, h, n;
+    unsigned char *a = stbi_load(shot, &w, &h, &n, 3);
+    assert_non_null(a);
+    snprintf(size, sizeof size, "%dx%d", w, h);
+    r = RUN("render", dae, "--clip", "wave", "--time", "0.6", "--skeleton", "--no-grid", "--shading", "flat",
+            "--camera", "orbit:40,20", "--samples", "1", "--size", size, "-o", rendered);
+    assert_int_equal(r.code, 0);
+    run_free(&r);
+    int w2, h2;
+    unsigned char *b = stbi_load(rendered, &w2, &h2, &n, 3);
+    assert_non_null(b);
+    assert_int_equal(w, w2);
+    assert_int_equal(h, h2);
+    size_t differ = 0, count = (size_t)w * h;
+    for (size_t i = 0; i < count; i++)
+        for (int c = 0; c < 3; c++)
+            if (abs(a[i * 3 + c] - b[i * 3 + c]) > 32) {
+                differ++;
+                break;
+            }
+    print_message("viewer %dx%d vs sinew render: %zu of %zu pixels differ by more than 32 levels\n", w, h, differ,
+                  count);
+    assert_true(differ <= count / 200);
+    stbi_image_free(a);
+    stbi_image_free(b);
+}
+
+static void test_broken_file_keeps_the_demo(void **state)
+{
+    (void)state;
+    if (!xvfb)
+        skip();
+    char broken[4096], shot[4096];
+    tmp_path("view-broken.dae", broken, sizeof broken);
+    write_file(broken, "<COLLADA><library_geometries>", 29);
+    tmp_path("view-broken.png", shot, sizeof shot);
+    unlink(shot);
+    char *err = NULL;
+    int code = run_view((const char *const[]){broken, "--screenshot", shot, "--quit", NULL}, &err);
+    assert_int_equal(code, 0);
+    assert_non_null(err);
+    assert_non_null(strstr(err, broken));
+    struct stat st;
+    assert_int_equal(stat(shot, &st), 0); /* the demo was drawn */
+    assert_true(st.st_size > 10000);
+    free(err);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_screenshot_equals_headless_render),
+        cmocka_unit_test(test_broken_file_keeps_the_demo),
+    };
+    return cmocka_run_group_tests(tests, start_xvfb, stop_xvfb);
+}
