@@ -22,33 +22,7 @@
 
 #include "sinew/sinew.h"
 
-#define FRAME_RATE 30.0 /* frame numbers and Left/Right steps */
-#define MAX_TICKS 400
-
-typedef enum play_mode { PLAY_LOOP, PLAY_ONCE, PLAY_PING_PONG } play_mode;
-
-typedef struct viewer {
-    GtkWidget *window, *area, *scale, *time_label, *play_button, *clip_list, *status, *error_bar, *error_label;
-    const char *screenshot, *select, *heatmap;
-    bool quit_after_screenshot, camera_given;
-    sinew_model *model;
-    const sinew_clip *clip;
-    sinew_player *player;
-    sinew_renderer *renderer;
-    sinew_mat4 *worlds;
-    sinew_camera camera;
-    sinew_render_options options;
-    double time, speed;
-    play_mode mode;
-    int direction; /* ping-pong: +1 or -1 */
-    gint64 last_frame;
-    bool playing, framed, updating;
-    double drag_x, drag_y;
-    gint64 fps_since;
-    int fps_frames;
-    double fps;
-    int exit_code;
-} viewer;
+#include "viewer.h"
 
 /* ---- model ------------------------------------------------------------------------------- */
 
@@ -68,15 +42,25 @@ static uint32_t joint_count(const sinew_model *m)
     return n;
 }
 
-/* Shows (and logs to stderr) an error above the scene; NULL hides it. */
-static void show_error(viewer *v, const char *message)
+/* Shows (and logs, and prints on stderr) an error above the scene; NULL hides it. */
+void view_show_error(viewer *v, const char *message)
 {
-    if (message)
+    if (message) {
         fprintf(stderr, "sinew-view: %s\n", message);
+        char line[1100];
+        snprintf(line, sizeof line, "error: %s", message);
+        panels_log(v, line);
+    }
     if (!v->error_label)
         return;
     gtk_label_set_text(GTK_LABEL(v->error_label), message);
     gtk_widget_set_visible(v->error_bar, message != NULL);
+}
+
+void view_redraw(viewer *v)
+{
+    if (v->area)
+        gtk_gl_area_queue_render(GTK_GL_AREA(v->area));
 }
 
 static bool pose(viewer *v)
@@ -99,7 +83,7 @@ static bool use_clip(viewer *v, int32_t index)
     sinew_error error = {0};
     const sinew_clip *clip = index >= 0 ? &v->model->clips[index] : NULL;
     if (sinew_player_create(v->model, clip, &player, &error) != SINEW_OK) {
-        show_error(v, error.message);
+        view_show_error(v, error.message);
         return false;
     }
     sinew_player_free(v->player);
@@ -124,13 +108,15 @@ static void make_renderer(viewer *v)
     sinew_error error = {0};
     sinew_renderer_desc desc = {.model = v->model};
     if (sinew_renderer_create(&desc, &v->renderer, &error) != SINEW_OK)
-        show_error(v, error.message);
+        view_show_error(v, error.message);
 }
 
 static void resolve_joints(viewer *v)
 {
-    v->options.selected_joint = v->select ? sinew_model_find_joint(v->model, v->select) : -1;
-    v->options.heatmap_joint = v->heatmap ? sinew_model_find_joint(v->model, v->heatmap) : -1;
+    if (v->select)
+        v->options.selected_joint = sinew_model_find_joint(v->model, v->select);
+    if (v->heatmap)
+        v->options.heatmap_joint = sinew_model_find_joint(v->model, v->heatmap);
 }
 
 /* Takes `model` as the scene (the viewer owns it from here). */
@@ -141,25 +127,38 @@ static bool set_model(viewer *v, sinew_model *model, const char *clip_name)
     if (!worlds || (clip_name && clip < 0)) {
         char message[600];
         snprintf(message, sizeof message, "%s: no clip \"%s\"", model->source, clip_name ? clip_name : "");
-        show_error(v, worlds ? message : "out of memory");
+        view_show_error(v, worlds ? message : "out of memory");
+        free(worlds);
+        sinew_model_free(model);
+        return false;
+    }
+    bool *hidden = calloc(model->instance_count + 1, sizeof *hidden);
+    if (!hidden) {
+        view_show_error(v, "out of memory");
         free(worlds);
         sinew_model_free(model);
         return false;
     }
     sinew_model *old = v->model;
     sinew_mat4 *old_worlds = v->worlds;
+    bool *old_hidden = v->hidden;
     v->model = model;
     v->worlds = worlds;
+    v->hidden = hidden;
     if (!use_clip(v, clip)) {
         v->model = old;
         v->worlds = old_worlds;
+        v->hidden = old_hidden;
         free(worlds);
+        free(hidden);
         sinew_model_free(model);
         return false;
     }
     make_renderer(v);
     sinew_model_free(old);
     free(old_worlds);
+    free(old_hidden);
+    v->options.hidden_instances = v->hidden;
     resolve_joints(v);
     if (vertex_count(model) == 0)
         v->options.skeleton = true;
@@ -180,23 +179,30 @@ static bool set_model(viewer *v, sinew_model *model, const char *clip_name)
         v->updating = false;
         g_object_unref(names);
         update_timeline(v);
+        panels_model_changed(v);
+        panels_options_changed(v);
+        /* --select / --heatmap name joints of every model opened */
+        int32_t select = v->select ? sinew_model_find_joint(model, v->select) : -1;
+        if (select >= 0)
+            panels_select(v, select);
+        resolve_joints(v);
         gtk_gl_area_queue_render(GTK_GL_AREA(v->area));
     }
     return true;
 }
 
 /* Opens a file; on failure the error is shown and the scene stays. */
-static bool open_file(viewer *v, const char *path, const char *clip_name)
+bool view_open_file(viewer *v, const char *path, const char *clip_name)
 {
     sinew_model *model = NULL;
     sinew_error error = {0};
     if (sinew_import(&(sinew_import_desc){.path = path}, &model, &error) != SINEW_OK) {
-        show_error(v, error.message);
+        view_show_error(v, error.message);
         return false;
     }
     if (!set_model(v, model, clip_name))
         return false;
-    show_error(v, NULL);
+    view_show_error(v, NULL);
     char *uri = g_filename_to_uri(path, NULL, NULL);
     if (!uri) {
         char *absolute = g_canonicalize_filename(path, NULL);
@@ -206,6 +212,10 @@ static bool open_file(viewer *v, const char *path, const char *clip_name)
     if (uri)
         gtk_recent_manager_add_item(gtk_recent_manager_get_default(), uri);
     g_free(uri);
+    char *absolute = g_canonicalize_filename(path, NULL);
+    g_free(v->last_folder);
+    v->last_folder = g_path_get_dirname(absolute);
+    g_free(absolute);
     return true;
 }
 
@@ -260,6 +270,8 @@ static void set_time(viewer *v, double t)
     double d = duration(v);
     v->time = t < 0.0 ? 0.0 : t > d ? d : t;
     show_time(v);
+    if (v->selected >= 0 && pose(v))
+        panels_frame_drawn(v);
     gtk_gl_area_queue_render(GTK_GL_AREA(v->area));
 }
 
@@ -301,11 +313,26 @@ static gboolean on_tick(GtkWidget *widget, GdkFrameClock *clock, gpointer data)
     (void)widget;
     viewer *v = data;
     gint64 now = gdk_frame_clock_get_frame_time(clock);
+    static gint64 last_tick;
+    double dt = last_tick ? (double)(now - last_tick) * 1e-6 : 0.0;
+    last_tick = now;
+    if (v->camera.mode == SINEW_CAMERA_FLY) { /* keys held: metres a second from the scene's size */
+        float speed = 0.8f * (v->camera.scene_radius > 0.0f ? v->camera.scene_radius : 1.0f) * (float)dt;
+        float f = (float)(v->held[ACTION_FORWARD] - v->held[ACTION_BACK]);
+        float r = (float)(v->held[ACTION_RIGHT] - v->held[ACTION_LEFT]);
+        float u = (float)(v->held[ACTION_UP] - v->held[ACTION_DOWN]);
+        if (f != 0.0f || r != 0.0f || u != 0.0f) {
+            sinew_camera_move(&v->camera, f * speed, r * speed, u * speed);
+            view_redraw(v);
+        }
+    }
     if (v->playing) {
         if (v->last_frame)
             advance(v, (double)(now - v->last_frame) * 1e-6);
         v->last_frame = now;
         show_time(v);
+        if (v->selected >= 0 && pose(v)) /* not from the draw: a label may resize the panel */
+            panels_frame_drawn(v);
         gtk_gl_area_queue_render(GTK_GL_AREA(v->area));
     }
     return G_SOURCE_CONTINUE;
@@ -339,7 +366,7 @@ static void save_screenshot(viewer *v, int width, int height)
 static gboolean close_window(gpointer data)
 {
     viewer *v = data;
-    gtk_window_destroy(GTK_WINDOW(v->window));
+    gtk_window_close(GTK_WINDOW(v->window)); /* through close-request, like the user's close */
     return G_SOURCE_REMOVE;
 }
 
@@ -374,7 +401,7 @@ static gboolean on_render(GtkGLArea *area, GdkGLContext *context, gpointer data)
                          .height = height,
                          .options = &v->options};
     if (!pose(v) || sinew_renderer_draw(v->renderer, &frame, &error) != SINEW_OK)
-        show_error(v, error.message);
+        view_show_error(v, error.message);
     gint64 now = g_get_monotonic_time();
     if (v->fps_since == 0)
         v->fps_since = now;
@@ -401,7 +428,7 @@ static void on_realize(GtkGLArea *area, gpointer data)
     if (e) {
         char message[600];
         snprintf(message, sizeof message, "no OpenGL 3.3 context: %s", e->message);
-        show_error(v, message);
+        view_show_error(v, message);
         v->exit_code = 3;
         return;
     }
@@ -463,33 +490,79 @@ static void on_mode(GObject *dropdown, GParamSpec *pspec, gpointer data)
     v->mode = (play_mode)gtk_drop_down_get_selected(GTK_DROP_DOWN(dropdown));
 }
 
+static void cycle_shading(viewer *v)
+{
+    v->options.shading = (sinew_shading)((v->options.shading + 1) % 3);
+}
+
 static gboolean on_key(GtkEventControllerKey *controller, guint key, guint code, GdkModifierType state, gpointer data)
+{
+    (void)controller, (void)code;
+    viewer *v = data;
+    if (state & (GDK_CONTROL_MASK | GDK_ALT_MASK))
+        return FALSE;
+    GtkWidget *focus = gtk_root_get_focus(GTK_ROOT(v->window));
+    if (focus && (GTK_IS_TEXT(focus) || GTK_IS_EDITABLE(focus))) /* typing in the search box */
+        return FALSE;
+    int action = settings_action_for_key(v, key);
+    if (action < 0)
+        return FALSE;
+    if (v->keys[action].option) {
+        char value[16];
+        settings_option_changed(v, v->keys[action].option);
+        sinew_render_option_get(&v->options, v->keys[action].option, value, sizeof value, NULL);
+        sinew_render_option_set(&v->options, v->keys[action].option, strcmp(value, "on") == 0 ? "off" : "on", NULL);
+        panels_options_changed(v);
+        view_redraw(v);
+        return TRUE;
+    }
+    switch ((view_action)action) {
+    case ACTION_PLAY:
+        set_playing(v, !v->playing);
+        return TRUE;
+    case ACTION_PREVIOUS_FRAME:
+    case ACTION_NEXT_FRAME:
+        set_playing(v, false);
+        set_time(v, (floor(v->time * FRAME_RATE + 0.5) + (action == ACTION_NEXT_FRAME ? 1 : -1)) / FRAME_RATE);
+        return TRUE;
+    case ACTION_FIRST:
+        set_time(v, 0.0);
+        return TRUE;
+    case ACTION_LAST:
+        set_time(v, duration(v));
+        return TRUE;
+    case ACTION_FRAME_ALL:
+        frame_all(v);
+        view_redraw(v);
+        return TRUE;
+    case ACTION_CAMERA_MODE:
+        sinew_camera_set_mode(&v->camera, v->camera.mode == SINEW_CAMERA_FLY ? SINEW_CAMERA_ORBIT : SINEW_CAMERA_FLY);
+        panels_options_changed(v);
+        view_redraw(v);
+        return TRUE;
+    case ACTION_SHADING:
+        settings_option_changed(v, "shading");
+        cycle_shading(v);
+        panels_options_changed(v);
+        view_redraw(v);
+        return TRUE;
+    default:
+        if (action >= ACTION_FORWARD && v->camera.mode == SINEW_CAMERA_FLY) {
+            v->held[action] = true;
+            return TRUE;
+        }
+        return FALSE;
+    }
+}
+
+static void on_key_released(GtkEventControllerKey *controller, guint key, guint code, GdkModifierType state,
+                            gpointer data)
 {
     (void)controller, (void)code, (void)state;
     viewer *v = data;
-    switch (key) {
-    case GDK_KEY_space:
-        set_playing(v, !v->playing);
-        return TRUE;
-    case GDK_KEY_Left:
-    case GDK_KEY_Right:
-        set_playing(v, false);
-        set_time(v, (floor(v->time * FRAME_RATE + 0.5) + (key == GDK_KEY_Right ? 1 : -1)) / FRAME_RATE);
-        return TRUE;
-    case GDK_KEY_Home:
-        set_time(v, 0.0);
-        return TRUE;
-    case GDK_KEY_End:
-        set_time(v, duration(v));
-        return TRUE;
-    case GDK_KEY_f:
-    case GDK_KEY_F:
-        frame_all(v);
-        gtk_gl_area_queue_render(GTK_GL_AREA(v->area));
-        return TRUE;
-    default:
-        return FALSE;
-    }
+    int action = settings_action_for_key(v, key);
+    if (action >= ACTION_FORWARD)
+        v->held[action] = false;
 }
 
 static void on_drag_begin(GtkGestureDrag *gesture, double x, double y, gpointer data)
@@ -508,7 +581,10 @@ static void on_drag_update(GtkGestureDrag *gesture, double dx, double dy, gpoint
     double ddx = dx - v->drag_x, ddy = dy - v->drag_y;
     v->drag_x = dx, v->drag_y = dy;
     float h = (float)fmax(1, gtk_widget_get_height(v->area));
-    if (button == GDK_BUTTON_MIDDLE || (mods & GDK_SHIFT_MASK)) {
+    if (v->camera.mode == SINEW_CAMERA_FLY) {
+        if (button == GDK_BUTTON_SECONDARY || button == GDK_BUTTON_PRIMARY)
+            sinew_camera_rotate(&v->camera, -(float)ddx * 0.005f, -(float)ddy * 0.005f);
+    } else if (button == GDK_BUTTON_MIDDLE || (mods & GDK_SHIFT_MASK)) {
         float fov = v->camera.fov_y > 0.0f ? v->camera.fov_y : 0.785398f;
         float per_pixel = 2.0f * v->camera.distance * tanf(0.5f * fov) / h;
         sinew_camera_pan(&v->camera, -(float)ddx * per_pixel, (float)ddy * per_pixel);
@@ -534,7 +610,7 @@ static gboolean on_drop(GtkDropTarget *target, const GValue *value, double x, do
     if (!G_VALUE_HOLDS(value, G_TYPE_FILE))
         return FALSE;
     char *path = g_file_get_path(g_value_get_object(value));
-    bool ok = path && open_file(v, path, NULL);
+    bool ok = path && view_open_file(v, path, NULL);
     g_free(path);
     return ok;
 }
@@ -546,7 +622,7 @@ static void on_open_response(GtkNativeDialog *dialog, int response, gpointer dat
         GFile *file = gtk_file_chooser_get_file(GTK_FILE_CHOOSER(dialog));
         char *path = file ? g_file_get_path(file) : NULL;
         if (path)
-            open_file(v, path, NULL);
+            view_open_file(v, path, NULL);
         g_free(path);
         if (file)
             g_object_unref(file);
@@ -571,6 +647,11 @@ static void on_open(GtkButton *button, gpointer data)
     gtk_file_filter_set_name(all, "All files");
     gtk_file_filter_add_pattern(all, "*");
     gtk_file_chooser_add_filter(GTK_FILE_CHOOSER(dialog), all);
+    if (v->last_folder) {
+        GFile *folder = g_file_new_for_path(v->last_folder);
+        gtk_file_chooser_set_current_folder(GTK_FILE_CHOOSER(dialog), folder, NULL);
+        g_object_unref(folder);
+    }
     g_signal_connect(dialog, "response", G_CALLBACK(on_open_response), v);
     gtk_native_dialog_show(GTK_NATIVE_DIALOG(dialog));
 }
@@ -578,15 +659,24 @@ static void on_open(GtkButton *button, gpointer data)
 static void on_close_error(GtkButton *button, gpointer data)
 {
     (void)button;
-    show_error(data, NULL);
+    view_show_error(data, NULL);
 }
 
 /* ---- window --------------------------------------------------------------------------------- */
+
+/* Remembers the window's size for the settings file. */
+static gboolean on_close_request(GtkWindow *window, gpointer data)
+{
+    viewer *v = data;
+    gtk_window_get_default_size(window, &v->width, &v->height);
+    return FALSE;
+}
 
 typedef struct startup {
     viewer *v;
     const char *path, *clip;
     int width, height;
+    int panel; /* page of the side panel shown first */
 } startup;
 
 static void on_activate(GtkApplication *app, gpointer data)
@@ -595,6 +685,7 @@ static void on_activate(GtkApplication *app, gpointer data)
     viewer *v = s->v;
     v->window = gtk_application_window_new(app);
     gtk_window_set_default_size(GTK_WINDOW(v->window), s->width, s->height);
+    g_signal_connect(v->window, "close-request", G_CALLBACK(on_close_request), v);
     GtkWidget *header = gtk_header_bar_new();
     GtkWidget *open = gtk_button_new_with_mnemonic("_Open…");
     g_signal_connect(open, "clicked", G_CALLBACK(on_open), v);
@@ -639,8 +730,17 @@ static void on_activate(GtkApplication *app, gpointer data)
     GtkEventController *keys = gtk_event_controller_key_new();
     gtk_event_controller_set_propagation_phase(keys, GTK_PHASE_CAPTURE);
     g_signal_connect(keys, "key-pressed", G_CALLBACK(on_key), v);
+    g_signal_connect(keys, "key-released", G_CALLBACK(on_key_released), v);
     gtk_widget_add_controller(v->window, keys);
-    gtk_box_append(GTK_BOX(box), v->area);
+    GtkWidget *paned = gtk_paned_new(GTK_ORIENTATION_HORIZONTAL);
+    gtk_paned_set_start_child(GTK_PANED(paned), v->area);
+    GtkWidget *panels = panels_create(v);
+    gtk_notebook_set_current_page(GTK_NOTEBOOK(panels), s->panel);
+    gtk_paned_set_end_child(GTK_PANED(paned), panels);
+    gtk_paned_set_resize_end_child(GTK_PANED(paned), FALSE);
+    gtk_paned_set_shrink_end_child(GTK_PANED(paned), FALSE);
+    gtk_widget_set_vexpand(paned, TRUE);
+    gtk_box_append(GTK_BOX(box), paned);
 
     GtkWidget *bar = gtk_box_new(GTK_ORIENTATION_HORIZONTAL, 6);
     gtk_widget_set_margin_start(bar, 6);
@@ -691,8 +791,8 @@ static void on_activate(GtkApplication *app, gpointer data)
     sinew_model *demo = NULL;
     sinew_error error = {0};
     if (sinew_demo_humanoid(&demo, &error) != SINEW_OK || !set_model(v, demo, s->path ? NULL : s->clip))
-        show_error(v, error.message);
-    if (s->path && !open_file(v, s->path, s->clip))
+        view_show_error(v, error.message);
+    if (s->path && !view_open_file(v, s->path, s->clip))
         v->framed = false;
     show_time(v);
     set_playing(v, v->screenshot == NULL);
@@ -707,30 +807,40 @@ static const char usage[] =
     "Opens FILE (any format sinew reads, or a .sinew; without one, the built-in demo humanoid) and plays its\n"
     "clip. Open… or drop a file on the window to open another; a file that fails shows its error above the\n"
     "scene, which stays. Space plays and pauses, Left/Right step a frame (1/30 s), Home/End go to the ends;\n"
-    "drag rotates, shift-drag or middle-drag pans, the wheel zooms, F frames all.\n"
+    "drag rotates, shift-drag or middle-drag pans, the wheel zooms, F frames all; Tab switches to the fly\n"
+    "camera (W/A/S/D, Q/E, drag to look) and back. Keys 1-9, 0 and M toggle the display switches (see the\n"
+    "Display panel). Settings: ~/.config/sinew/settings.ini ([display], [window], [files], [keys]); the\n"
+    "options below override them for the run.\n"
     "\n"
     "  --clip C, --time T, --camera orbit:YAW,PITCH[,DIST] | fly:X,Y,Z,YAW,PITCH, --select JOINT,\n"
     "  --heatmap JOINT and the display options (--skeleton, --no-grid, --wireframe, --shading flat, ...)\n"
     "                        as `sinew render` takes them (see `sinew render --help`)\n"
-    "  --size WxH            the window's size (default 960x640)\n"
+    "  --size WxH            the window's size (default: as last closed, else 1200x760)\n"
+    "  --panel NAME          the side panel's page shown first: hierarchy, display or log\n"
     "  --screenshot OUT.png  writes the first frame drawn (the drawing area only)\n"
     "  --quit                leaves after the screenshot (exit 0 even when FILE failed to open)\n";
 
 int main(int argc, char **argv)
 {
-    viewer v = {.options = sinew_render_options_default(), .speed = 1.0, .direction = 1};
+    viewer v = {.options = sinew_render_options_default(), .speed = 1.0, .direction = 1, .selected = -1};
+    settings_defaults(&v);
+    settings_load(&v);
     v.camera = sinew_camera_default();
     v.camera.yaw = 30.0f * (float)G_PI / 180.0f; /* as `sinew render` frames a model */
     v.camera.pitch = 15.0f * (float)G_PI / 180.0f;
-    startup s = {.v = &v, .width = 960, .height = 640};
+    startup s = {.v = &v, .width = v.width, .height = v.height};
     for (int i = 1; i < argc; i++) {
         sinew_error error = {0};
-        int used = sinew_render_option_parse(&v.options, argc, argv, i, NULL, &error);
+        const char *option = NULL;
+        int used = sinew_render_option_parse(&v.options, argc, argv, i, &option, &error);
         if (used < 0) {
             fprintf(stderr, "sinew-view: %s\n", error.message);
             return 1;
         }
         if (used > 0) {
+            int index = settings_option_index(option);
+            if (index >= 0)
+                v.overridden[index] = true;
             i += used - 1;
         } else if (strcmp(argv[i], "--help") == 0 || strcmp(argv[i], "-h") == 0) {
             fputs(usage, stdout);
@@ -746,6 +856,16 @@ int main(int argc, char **argv)
                 v.time = atof(value);
             } else if (strcmp(o, "--screenshot") == 0) {
                 v.screenshot = value;
+            } else if (strcmp(o, "--panel") == 0) {
+                static const char *const pages[] = {"hierarchy", "display", "log"};
+                s.panel = -1;
+                for (int p = 0; p < 3; p++)
+                    if (strcmp(value, pages[p]) == 0)
+                        s.panel = p;
+                if (s.panel < 0) {
+                    fprintf(stderr, "sinew-view: bad --panel \"%s\": hierarchy, display or log\n", value);
+                    return 1;
+                }
             } else if (strcmp(o, "--select") == 0) {
                 v.select = value;
             } else if (strcmp(o, "--heatmap") == 0) {
@@ -776,6 +896,10 @@ int main(int argc, char **argv)
     g_signal_connect(app, "activate", G_CALLBACK(on_activate), &s);
     int status = g_application_run(G_APPLICATION(app), 1, argv);
     g_object_unref(app);
+    settings_save(&v);
+    g_free(v.settings_path);
+    g_free(v.last_folder);
+    free(v.hidden);
     sinew_player_free(v.player);
     free(v.worlds);
     sinew_model_free(v.model);

@@ -1,0 +1,338 @@
+/* sinew-view's side panel: the hierarchy (nodes and joints with a search box; selecting a
+ * joint highlights its bone, shows its weight heat map and its local and world transform;
+ * each mesh can be hidden), the display switches (each also on a key), the camera mode,
+ * and the log of the current file's import warnings and of errors. */
+#include <math.h>
+#include <stdio.h>
+#include <string.h>
+
+#include <cglm/cglm.h>
+
+#include "viewer.h"
+
+/* ---- hierarchy ---------------------------------------------------------------------------- */
+
+static int depth_of(const sinew_model *m, uint32_t node)
+{
+    int depth = 0;
+    for (int32_t p = m->node_parents[node]; p >= 0; p = m->node_parents[p])
+        depth++;
+    return depth;
+}
+
+static gboolean filter_row(GtkListBoxRow *row, gpointer data)
+{
+    viewer *v = data;
+    const char *text = gtk_editable_get_text(GTK_EDITABLE(v->node_search));
+    if (!text[0])
+        return TRUE;
+    int node = GPOINTER_TO_INT(g_object_get_data(G_OBJECT(row), "node"));
+    if (!v->model || node < 0 || (uint32_t)node >= v->model->node_count)
+        return FALSE;
+    char *name = g_utf8_casefold(v->model->node_names[node], -1), *want = g_utf8_casefold(text, -1);
+    gboolean match = strstr(name, want) != NULL;
+    g_free(name);
+    g_free(want);
+    return match;
+}
+
+static void on_search(GtkSearchEntry *entry, gpointer data)
+{
+    (void)entry;
+    viewer *v = data;
+    gtk_list_box_invalidate_filter(GTK_LIST_BOX(v->node_list));
+}
+
+static void on_hide_mesh(GtkCheckButton *check, gpointer data)
+{
+    viewer *v = data;
+    int instance = GPOINTER_TO_INT(g_object_get_data(G_OBJECT(check), "instance"));
+    if (v->hidden && instance >= 0 && (uint32_t)instance < v->model->instance_count) {
+        v->hidden[instance] = !gtk_check_button_get_active(check);
+        view_redraw(v);
+    }
+}
+
+void panels_select(viewer *v, int32_t node)
+{
+    v->selected = node;
+    if (v->node_list && node >= 0) { /* the row too, when chosen elsewhere (--select) */
+        GtkListBoxRow *row = gtk_list_box_get_row_at_index(GTK_LIST_BOX(v->node_list), node);
+        bool was = v->updating;
+        v->updating = true;
+        if (row && gtk_list_box_get_selected_row(GTK_LIST_BOX(v->node_list)) != row)
+            gtk_list_box_select_row(GTK_LIST_BOX(v->node_list), row);
+        v->updating = was;
+    }
+    bool joint = node >= 0 && sinew_model_node_is_joint(v->model, (uint32_t)node);
+    v->options.selected_joint = joint ? node : -1;
+    v->options.heatmap_joint = joint && gtk_check_button_get_active(GTK_CHECK_BUTTON(v->heatmap_check)) ? node : -1;
+    if (v->player && node >= 0)
+        sinew_player_update(v->player, (float)v->time, SINEW_WRAP_CLAMP, NULL, v->worlds, v->model->node_count, NULL);
+    panels_frame_drawn(v);
+    view_redraw(v);
+}
+
+static void on_row_selected(GtkListBox *box, GtkListBoxRow *row, gpointer data)
+{
+    (void)box;
+    viewer *v = data;
+    if (v->updating)
+        return;
+    panels_select(v, row ? GPOINTER_TO_INT(g_object_get_data(G_OBJECT(row), "node")) : -1);
+}
+
+static void on_heatmap(GtkCheckButton *check, gpointer data)
+{
+    (void)check;
+    viewer *v = data;
+    panels_select(v, v->selected);
+}
+
+static void add_node_row(viewer *v, uint32_t node)
+{
+    const sinew_model *m = v->model;
+    GtkWidget *box = gtk_box_new(GTK_ORIENTATION_HORIZONTAL, 4);
+    gtk_widget_set_margin_start(box, 4 + 12 * depth_of(m, node));
+    bool joint = sinew_model_node_is_joint(m, node);
+    GtkWidget *icon = gtk_label_new(joint ? "◆" : "○");
+    gtk_widget_set_tooltip_text(icon, joint ? "joint" : "node");
+    gtk_box_append(GTK_BOX(box), icon);
+    GtkWidget *name = gtk_label_new(m->node_names[node]);
+    gtk_label_set_xalign(GTK_LABEL(name), 0.0f);
+    gtk_label_set_ellipsize(GTK_LABEL(name), PANGO_ELLIPSIZE_END);
+    gtk_widget_set_hexpand(name, TRUE);
+    gtk_box_append(GTK_BOX(box), name);
+    for (uint32_t i = 0; i < m->instance_count; i++) {
+        if (m->instances[i].node != node)
+            continue;
+        char label[300];
+        snprintf(label, sizeof label, "%s", m->meshes[m->instances[i].mesh].name);
+        GtkWidget *check = gtk_check_button_new_with_label(label);
+        gtk_check_button_set_active(GTK_CHECK_BUTTON(check), !v->hidden[i]);
+        gtk_widget_set_tooltip_text(check, "show this mesh");
+        g_object_set_data(G_OBJECT(check), "instance", GINT_TO_POINTER((int)i));
+        g_signal_connect(check, "toggled", G_CALLBACK(on_hide_mesh), v);
+        gtk_box_append(GTK_BOX(box), check);
+    }
+    gtk_list_box_append(GTK_LIST_BOX(v->node_list), box);
+    GtkListBoxRow *row = gtk_list_box_get_row_at_index(GTK_LIST_BOX(v->node_list), (int)node);
+    g_object_set_data(G_OBJECT(row), "node", GINT_TO_POINTER((int)node));
+}
+
+static void format_transform(const char *title, const sinew_mat4 *m, char *out, size_t size)
+{
+    sinew_transform t;
+    sinew_mat4_decompose(m, &t);
+    /* Euler angles (degrees, X then Y then Z) of the rotation, for reading */
+    float x = t.rotation[0], y = t.rotation[1], z = t.rotation[2], w = t.rotation[3];
+    double ex = atan2(2.0 * (w * x + y * z), 1.0 - 2.0 * (x * x + y * y));
+    double sy = 2.0 * (w * y - z * x);
+    double ey = fabs(sy) >= 1.0 ? copysign(M_PI / 2, sy) : asin(sy);
+    double ez = atan2(2.0 * (w * z + x * y), 1.0 - 2.0 * (y * y + z * z));
+    snprintf(out, size,
+             "<b>%s</b>\ntranslation  %.4f  %.4f  %.4f\nrotation  %.4f  %.4f  %.4f  %.4f\n"
+             "  (XYZ %.1f°  %.1f°  %.1f°)\nscale  %.4f  %.4f  %.4f\n",
+             title, t.translation[0], t.translation[1], t.translation[2], x, y, z, w, ex * 180.0 / M_PI,
+             ey * 180.0 / M_PI, ez * 180.0 / M_PI, t.scale[0], t.scale[1], t.scale[2]);
+}
+
+void panels_frame_drawn(viewer *v)
+{
+    if (!v->transform_label)
+        return;
+    if (v->selected < 0 || !v->model || (uint32_t)v->selected >= v->model->node_count) {
+        gtk_label_set_markup(GTK_LABEL(v->transform_label), "<i>Select a node to see its transforms.</i>");
+        return;
+    }
+    const sinew_mat4 *world = &v->worlds[v->selected];
+    sinew_mat4 local = *world;
+    int32_t parent = v->model->node_parents[v->selected];
+    if (parent >= 0) { /* local = inverse(parent world) * world */
+        mat4 inverse;
+        glm_mat4_inv((vec4 *)v->worlds[parent].m, inverse);
+        glm_mat4_mul(inverse, (vec4 *)world->m, (vec4 *)local.m);
+    }
+    char a[512], b[512], text[1200];
+    format_transform("local", &local, a, sizeof a);
+    format_transform("world", world, b, sizeof b);
+    char *name = g_markup_escape_text(v->model->node_names[v->selected], -1);
+    snprintf(text, sizeof text, "<b><big>%s</big></b>%s\n%s\n%s", name,
+             sinew_model_node_is_joint(v->model, (uint32_t)v->selected) ? "  (joint)" : "", a, b);
+    g_free(name);
+    gtk_label_set_markup(GTK_LABEL(v->transform_label), text);
+}
+
+/* ---- display --------------------------------------------------------------------------------- */
+
+static void on_option(GtkCheckButton *check, gpointer data)
+{
+    viewer *v = data;
+    if (v->updating)
+        return;
+    const char *name = g_object_get_data(G_OBJECT(check), "option");
+    settings_option_changed(v, name);
+    sinew_render_option_set(&v->options, name, gtk_check_button_get_active(check) ? "on" : "off", NULL);
+    view_redraw(v);
+}
+
+static void on_shading(GObject *dropdown, GParamSpec *pspec, gpointer data)
+{
+    (void)pspec;
+    viewer *v = data;
+    if (v->updating)
+        return;
+    static const char *const names[] = {"phong", "gouraud", "flat"};
+    guint i = gtk_drop_down_get_selected(GTK_DROP_DOWN(dropdown));
+    settings_option_changed(v, "shading");
+    if (i < 3)
+        sinew_render_option_set(&v->options, "shading", names[i], NULL);
+    view_redraw(v);
+}
+
+static void on_camera_mode(GObject *dropdown, GParamSpec *pspec, gpointer data)
+{
+    (void)pspec;
+    viewer *v = data;
+    if (v->updating)
+        return;
+    sinew_camera_set_mode(&v->camera, gtk_drop_down_get_selected(GTK_DROP_DOWN(dropdown)) ? SINEW_CAMERA_FLY
+                                                                                           : SINEW_CAMERA_ORBIT);
+    view_redraw(v);
+}
+
+static const char *key_for_option(const viewer *v, const char *option)
+{
+    for (int a = 0; a < ACTION_COUNT; a++)
+        if (v->keys[a].option && strcmp(v->keys[a].option, option) == 0)
+            return gdk_keyval_name(v->keys[a].key);
+    return NULL;
+}
+
+void panels_options_changed(viewer *v)
+{
+    v->updating = true;
+    int i = 0;
+    for (const char *const *n = sinew_render_option_names(); *n && i < 32; n++, i++) {
+        char value[64];
+        if (v->option_checks[i] && sinew_render_option_get(&v->options, *n, value, sizeof value, NULL) == SINEW_OK)
+            gtk_check_button_set_active(GTK_CHECK_BUTTON(v->option_checks[i]), strcmp(value, "on") == 0);
+    }
+    if (v->shading_list)
+        gtk_drop_down_set_selected(GTK_DROP_DOWN(v->shading_list), (guint)v->options.shading);
+    if (v->camera_list)
+        gtk_drop_down_set_selected(GTK_DROP_DOWN(v->camera_list), v->camera.mode == SINEW_CAMERA_FLY);
+    v->updating = false;
+}
+
+static GtkWidget *display_page(viewer *v)
+{
+    GtkWidget *box = gtk_box_new(GTK_ORIENTATION_VERTICAL, 4);
+    gtk_widget_set_margin_start(box, 8);
+    gtk_widget_set_margin_top(box, 8);
+    int i = 0;
+    for (const char *const *n = sinew_render_option_names(); *n && i < 32; n++, i++) {
+        if (!sinew_render_option_is_switch(*n))
+            continue;
+        const char *key = key_for_option(v, *n);
+        char label[96];
+        snprintf(label, sizeof label, key ? "%s   (%s)" : "%s", *n, key);
+        GtkWidget *check = gtk_check_button_new_with_label(label);
+        g_object_set_data(G_OBJECT(check), "option", (gpointer)*n);
+        g_signal_connect(check, "toggled", G_CALLBACK(on_option), v);
+        gtk_box_append(GTK_BOX(box), check);
+        v->option_checks[i] = check;
+    }
+    char label[64];
+    snprintf(label, sizeof label, "Shading   (%s cycles)", gdk_keyval_name(v->keys[ACTION_SHADING].key));
+    gtk_box_append(GTK_BOX(box), gtk_label_new(label));
+    static const char *const shadings[] = {"Phong", "Gouraud", "Flat", NULL};
+    v->shading_list = gtk_drop_down_new_from_strings(shadings);
+    g_signal_connect(v->shading_list, "notify::selected", G_CALLBACK(on_shading), v);
+    gtk_box_append(GTK_BOX(box), v->shading_list);
+    snprintf(label, sizeof label, "Camera   (%s switches)", gdk_keyval_name(v->keys[ACTION_CAMERA_MODE].key));
+    gtk_box_append(GTK_BOX(box), gtk_label_new(label));
+    static const char *const cameras[] = {"Orbit: drag, shift-drag, wheel", "Fly: WASD, Q/E, right-drag", NULL};
+    v->camera_list = gtk_drop_down_new_from_strings(cameras);
+    g_signal_connect(v->camera_list, "notify::selected", G_CALLBACK(on_camera_mode), v);
+    gtk_box_append(GTK_BOX(box), v->camera_list);
+    panels_options_changed(v);
+    return box;
+}
+
+/* ---- log ------------------------------------------------------------------------------------- */
+
+void panels_log(viewer *v, const char *line)
+{
+    if (!v->log_view)
+        return;
+    GtkTextBuffer *buffer = gtk_text_view_get_buffer(GTK_TEXT_VIEW(v->log_view));
+    GtkTextIter end;
+    gtk_text_buffer_get_end_iter(buffer, &end);
+    gtk_text_buffer_insert(buffer, &end, line, -1);
+    gtk_text_buffer_insert(buffer, &end, "\n", -1);
+}
+
+/* ---- the panel -------------------------------------------------------------------------------- */
+
+void panels_model_changed(viewer *v)
+{
+    if (!v->node_list)
+        return;
+    v->updating = true;
+    GtkWidget *child;
+    while ((child = gtk_widget_get_first_child(v->node_list)) != NULL)
+        gtk_list_box_remove(GTK_LIST_BOX(v->node_list), child);
+    for (uint32_t n = 0; n < v->model->node_count; n++)
+        add_node_row(v, n);
+    v->updating = false;
+    v->selected = -1;
+    panels_select(v, -1);
+    char line[1024];
+    snprintf(line, sizeof line, "%s: %u nodes, %u meshes, %u clips, %u warnings", v->model->source,
+             v->model->node_count, v->model->mesh_count, v->model->clip_count, v->model->warning_count);
+    panels_log(v, line);
+    for (uint32_t i = 0; i < v->model->warning_count; i++) {
+        snprintf(line, sizeof line, "%s: warning: %s", v->model->source, v->model->warnings[i]);
+        panels_log(v, line);
+    }
+}
+
+GtkWidget *panels_create(viewer *v)
+{
+    GtkWidget *notebook = gtk_notebook_new();
+    gtk_widget_set_size_request(notebook, 300, -1);
+
+    GtkWidget *tree = gtk_box_new(GTK_ORIENTATION_VERTICAL, 4);
+    v->node_search = gtk_search_entry_new();
+    g_signal_connect(v->node_search, "search-changed", G_CALLBACK(on_search), v);
+    gtk_box_append(GTK_BOX(tree), v->node_search);
+    v->node_list = gtk_list_box_new();
+    gtk_list_box_set_filter_func(GTK_LIST_BOX(v->node_list), filter_row, v, NULL);
+    g_signal_connect(v->node_list, "row-selected", G_CALLBACK(on_row_selected), v);
+    GtkWidget *scroll = gtk_scrolled_window_new();
+    gtk_scrolled_window_set_child(GTK_SCROLLED_WINDOW(scroll), v->node_list);
+    gtk_widget_set_vexpand(scroll, TRUE);
+    gtk_box_append(GTK_BOX(tree), scroll);
+    v->heatmap_check = gtk_check_button_new_with_label("Weight heat map of the selected joint");
+    gtk_check_button_set_active(GTK_CHECK_BUTTON(v->heatmap_check), TRUE);
+    g_signal_connect(v->heatmap_check, "toggled", G_CALLBACK(on_heatmap), v);
+    gtk_box_append(GTK_BOX(tree), v->heatmap_check);
+    v->transform_label = gtk_label_new("");
+    gtk_label_set_xalign(GTK_LABEL(v->transform_label), 0.0f);
+    gtk_label_set_selectable(GTK_LABEL(v->transform_label), TRUE);
+    gtk_widget_set_margin_start(v->transform_label, 6);
+    gtk_box_append(GTK_BOX(tree), v->transform_label);
+    gtk_notebook_append_page(GTK_NOTEBOOK(notebook), tree, gtk_label_new("Hierarchy"));
+
+    gtk_notebook_append_page(GTK_NOTEBOOK(notebook), display_page(v), gtk_label_new("Display"));
+
+    v->log_view = gtk_text_view_new();
+    gtk_text_view_set_editable(GTK_TEXT_VIEW(v->log_view), FALSE);
+    gtk_text_view_set_wrap_mode(GTK_TEXT_VIEW(v->log_view), GTK_WRAP_WORD_CHAR);
+    gtk_text_view_set_monospace(GTK_TEXT_VIEW(v->log_view), TRUE);
+    GtkWidget *log_scroll = gtk_scrolled_window_new();
+    gtk_scrolled_window_set_child(GTK_SCROLLED_WINDOW(log_scroll), v->log_view);
+    gtk_notebook_append_page(GTK_NOTEBOOK(notebook), log_scroll, gtk_label_new("Log"));
+    return notebook;
+}

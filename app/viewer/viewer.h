@@ -1,0 +1,89 @@
+/* sinew-view's shared state and the functions its files share (main.c: scene, timeline,
+ * drawing, input, window; panels.c: hierarchy, display, log; settings.c: the settings file). */
+#ifndef SINEW_VIEW_H
+#define SINEW_VIEW_H
+
+#include <gtk/gtk.h>
+
+#include "sinew/sinew.h"
+
+#define FRAME_RATE 30.0 /* frame numbers and Left/Right steps */
+#define MAX_TICKS 400
+
+typedef enum play_mode { PLAY_LOOP, PLAY_ONCE, PLAY_PING_PONG } play_mode;
+
+/* Actions that have a key (settings file [keys]: action = key name as GDK names it). */
+typedef enum view_action {
+    ACTION_PLAY, ACTION_PREVIOUS_FRAME, ACTION_NEXT_FRAME, ACTION_FIRST, ACTION_LAST, ACTION_FRAME_ALL,
+    ACTION_CAMERA_MODE, ACTION_MATERIALS, ACTION_LIGHTING, ACTION_SHADING, ACTION_WIREFRAME, ACTION_SKELETON,
+    ACTION_NORMALS, ACTION_GRID, ACTION_AXES, ACTION_JOINT_NAMES, ACTION_JOINT_AXES, ACTION_MUSCLES,
+    ACTION_FORWARD, ACTION_BACK, ACTION_LEFT, ACTION_RIGHT, ACTION_DOWN, ACTION_UP, ACTION_COUNT
+} view_action;
+
+typedef struct view_key {
+    const char *action;  /* name in the settings file */
+    const char *option;  /* render option it toggles, or NULL */
+    const char *default_key;
+    guint key;           /* GDK key value in use */
+} view_key;
+
+typedef struct viewer {
+    GtkWidget *window, *area, *scale, *time_label, *play_button, *clip_list, *status, *error_bar, *error_label;
+    GtkWidget *node_list, *node_search, *transform_label, *heatmap_check, *log_view, *camera_list;
+    GtkWidget *option_checks[32]; /* by index into sinew_render_option_names() */
+    bool overridden[32];          /* set on the command line and not changed since: not saved */
+    GtkWidget *shading_list;
+    const char *screenshot, *select, *heatmap;
+    bool quit_after_screenshot, camera_given;
+    sinew_model *model;
+    const sinew_clip *clip;
+    sinew_player *player;
+    sinew_renderer *renderer;
+    sinew_mat4 *worlds;
+    bool *hidden; /* instance_count flags */
+    int32_t selected; /* node, -1 for none */
+    sinew_camera camera;
+    sinew_render_options options;
+    double time, speed;
+    play_mode mode;
+    int direction; /* ping-pong: +1 or -1 */
+    gint64 last_frame;
+    bool playing, framed, updating;
+    bool held[ACTION_COUNT]; /* fly keys held down */
+    double drag_x, drag_y;
+    gint64 fps_since;
+    int fps_frames;
+    double fps;
+    int width, height;
+    char *last_folder;
+    char *settings_path;
+    view_key keys[ACTION_COUNT];
+    int exit_code;
+} viewer;
+
+/* main.c */
+void view_show_error(viewer *v, const char *message);
+void view_redraw(viewer *v);
+bool view_open_file(viewer *v, const char *path, const char *clip_name);
+
+/* panels.c */
+GtkWidget *panels_create(viewer *v);
+void panels_model_changed(viewer *v); /* rebuilds the hierarchy and the log */
+void panels_options_changed(viewer *v); /* the display checks follow the options */
+void panels_frame_drawn(viewer *v);    /* the selected node's transforms */
+void panels_log(viewer *v, const char *line);
+void panels_select(viewer *v, int32_t node);
+
+/* settings.c */
+/* Index of a display option in sinew_render_option_names(), or -1. */
+int settings_option_index(const char *name);
+/* The user changed option `name` in the window: it is saved at exit again. */
+void settings_option_changed(viewer *v, const char *name);
+void settings_defaults(viewer *v);
+/* Reads the settings file (missing: defaults); a bad line goes to the log on stderr. */
+void settings_load(viewer *v);
+bool settings_save(viewer *v);
+/* The action a key press means, or -1. */
+int settings_action_for_key(const viewer *v, guint key);
+
+#endif
