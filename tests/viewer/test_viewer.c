@@ -1,6 +1,7 @@
-/* sinew-view under Xvfb: a screenshot equals `sinew render` of the same view, and a broken
- * file shows its error while the demo stays and the viewer leaves normally on --quit.
- * Skipped (exit 77) when Xvfb is not installed. */
+/* sinew-view under Xvfb: a screenshot equals `sinew render` of the same view; a broken file
+ * shows its error while the demo stays and the viewer leaves normally on --quit; the settings
+ * file is read, overridden by the command line for one run, and written back. Skipped when
+ * Xvfb is not installed. Every run has its own $XDG_CONFIG_HOME under the build's scratch. */
 #include <signal.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -60,6 +61,8 @@ static int run_view(const char *const *args, char **err)
     pid_t pid = fork();
     if (pid == 0) {
         setenv("DISPLAY", display, 1);
+        char config[4096];
+        setenv("XDG_CONFIG_HOME", tmp_path("view-config", config, sizeof config), 1);
         setenv("GSK_RENDERER", "cairo", 1); /* GTK's own drawing in software; the GL area is sinew's */
         /* GTK and fontconfig keep allocations to the end of the process: not leaks of sinew's */
         setenv("ASAN_OPTIONS", "detect_leaks=0:abort_on_error=1", 1);
@@ -77,24 +80,33 @@ static int run_view(const char *const *args, char **err)
     return WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
 }
 
-static void test_screenshot_equals_headless_render(void **state)
+static const char *demo_file(char *dae, size_t size)
 {
-    (void)state;
-    if (!xvfb)
-        skip();
-    char dae[4096], shot[4096], rendered[4096], size[32], dir[2048];
+    char dir[2048];
     tmp_path("view-demo", dir, sizeof dir);
-    run_result r = RUN("demo", dir);
-    assert_int_equal(r.code, 0);
-    run_free(&r);
-    snprintf(dae, sizeof dae, "%s/humanoid.dae", dir);
+    snprintf(dae, size, "%s/humanoid.dae", dir);
+    if (access(dae, F_OK) != 0) {
+        run_result r = RUN("demo", dir);
+        assert_int_equal(r.code, 0);
+        run_free(&r);
+    }
+    return dae;
+}
+
+/* The viewer's screenshot with `view_args` against `sinew render` with `render_args` (the
+ * same view; the viewer draws without multisampling). */
+static void compare_with_render(const char *const *view_args, const char *const *render_args)
+{
+    char shot[4096], rendered[4096], size[32];
     tmp_path("view-shot.png", shot, sizeof shot);
     tmp_path("view-render.png", rendered, sizeof rendered);
+    const char *args[40];
+    int k = 0;
+    for (int i = 0; view_args[i]; i++)
+        args[k++] = view_args[i];
+    args[k++] = "--screenshot", args[k++] = shot, args[k++] = "--quit", args[k] = NULL;
     char *err = NULL;
-    int code = run_view((const char *const[]){dae, "--clip", "wave", "--time", "0.6", "--skeleton", "--no-grid",
-                                              "--shading", "flat", "--camera", "orbit:40,20", "--screenshot", shot,
-                                              "--quit", NULL},
-                        &err);
+    int code = run_view(args, &err);
     if (code != 0)
         fail_msg("sinew-view exited %d: %s", code, err ? err : "");
     free(err);
@@ -102,8 +114,13 @@ static void test_screenshot_equals_headless_render(void **state)
     unsigned char *a = stbi_load(shot, &w, &h, &n, 3);
     assert_non_null(a);
     snprintf(size, sizeof size, "%dx%d", w, h);
-    r = RUN("render", dae, "--clip", "wave", "--time", "0.6", "--skeleton", "--no-grid", "--shading", "flat",
-            "--camera", "orbit:40,20", "--samples", "1", "--size", size, "-o", rendered);
+    const char *rargs[40] = {"render"};
+    k = 1;
+    for (int i = 0; render_args[i]; i++)
+        rargs[k++] = render_args[i];
+    rargs[k++] = "--samples", rargs[k++] = "1", rargs[k++] = "--size", rargs[k++] = size;
+    rargs[k++] = "-o", rargs[k++] = rendered, rargs[k] = NULL;
+    run_result r = run_sinew(NULL, rargs);
     assert_int_equal(r.code, 0);
     run_free(&r);
     int w2, h2;
@@ -123,6 +140,76 @@ static void test_screenshot_equals_headless_render(void **state)
     assert_true(differ <= count / 200);
     stbi_image_free(a);
     stbi_image_free(b);
+}
+
+static void test_screenshot_equals_headless_render(void **state)
+{
+    (void)state;
+    if (!xvfb)
+        skip();
+    char dae[4096];
+    demo_file(dae, sizeof dae);
+    compare_with_render((const char *const[]){dae, "--clip", "wave", "--time", "0.6", "--skeleton", "--no-grid",
+                                              "--shading", "flat", "--camera", "orbit:40,20", NULL},
+                        (const char *const[]){dae, "--clip", "wave", "--time", "0.6", "--skeleton", "--no-grid",
+                                              "--shading", "flat", "--camera", "orbit:40,20", NULL});
+    /* a selected joint with its heat map */
+    compare_with_render((const char *const[]){dae, "--clip", "wave", "--time", "0.3", "--select", "RightLowerArm",
+                                              "--heatmap", "RightLowerArm", NULL},
+                        (const char *const[]){dae, "--clip", "wave", "--time", "0.3", "--select", "RightLowerArm",
+                                              "--heatmap", "RightLowerArm", NULL});
+}
+
+static char *settings_file(char *path, size_t size)
+{
+    char dir[2048];
+    tmp_path("view-config/sinew", dir, sizeof dir);
+    mkdir(tmp_path("view-config", path, size), 0700);
+    mkdir(dir, 0700);
+    snprintf(path, size, "%s/settings.ini", dir);
+    return path;
+}
+
+static void test_settings_round_trip(void **state)
+{
+    (void)state;
+    if (!xvfb)
+        skip();
+    char dae[4096], ini[4096];
+    demo_file(dae, sizeof dae);
+    settings_file(ini, sizeof ini);
+    const char *text = "[display]\ngrid=off\nshading=flat\n\n[window]\nwidth=900\nheight=620\n\n[keys]\nplay=p\n";
+    write_file(ini, text, strlen(text));
+    /* the file's settings are used */
+    compare_with_render((const char *const[]){dae, "--clip", "walk", "--time", "0.5", NULL},
+                        (const char *const[]){dae, "--clip", "walk", "--time", "0.5", "--no-grid", "--shading",
+                                              "flat", NULL});
+    size_t size = 0;
+    char *saved = read_file(ini, &size);
+    assert_non_null(saved);
+    assert_non_null(strstr(saved, "grid=off"));
+    assert_non_null(strstr(saved, "shading=flat"));
+    assert_non_null(strstr(saved, "play=p"));
+    assert_non_null(strstr(saved, "width=900"));
+    assert_non_null(strstr(saved, "next-frame=Right")); /* every binding written out */
+    free(saved);
+    /* the command line overrides them for its run only */
+    compare_with_render((const char *const[]){dae, "--clip", "walk", "--time", "0.5", "--grid", NULL},
+                        (const char *const[]){dae, "--clip", "walk", "--time", "0.5", "--shading", "flat", NULL});
+    saved = read_file(ini, &size);
+    assert_non_null(strstr(saved, "grid=off"));
+    free(saved);
+    /* a bad value is reported and the rest still used */
+    text = "[display]\ngrid=sideways\nshading=flat\n";
+    write_file(ini, text, strlen(text));
+    char *err = NULL, shot[4096];
+    tmp_path("view-bad-settings.png", shot, sizeof shot);
+    assert_int_equal(run_view((const char *const[]){dae, "--screenshot", shot, "--quit", NULL}, &err), 0);
+    assert_non_null(err);
+    assert_non_null(strstr(err, "settings.ini"));
+    assert_non_null(strstr(err, "grid"));
+    free(err);
+    unlink(ini);
 }
 
 static void test_broken_file_keeps_the_demo(void **state)
@@ -151,6 +238,7 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_screenshot_equals_headless_render),
         cmocka_unit_test(test_broken_file_keeps_the_demo),
+        cmocka_unit_test(test_settings_round_trip),
     };
     return cmocka_run_group_tests(tests, start_xvfb, stop_xvfb);
 }
