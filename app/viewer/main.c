@@ -106,9 +106,53 @@ static void make_renderer(viewer *v)
     sinew_renderer_destroy(v->renderer);
     v->renderer = NULL;
     sinew_error error = {0};
-    sinew_renderer_desc desc = {.model = v->model};
+    sinew_renderer_desc desc = {.model = v->model, .muscles = v->muscles};
     if (sinew_renderer_create(&desc, &v->renderer, &error) != SINEW_OK)
         view_show_error(v, error.message);
+}
+
+static void free_muscles(viewer *v)
+{
+    sinew_muscle_rig_free(v->muscle_rig);
+    sinew_muscle_set_free(v->muscle_set);
+    free(v->muscle_poses);
+    v->muscle_rig = NULL;
+    v->muscle_set = NULL;
+    v->muscles = NULL;
+    v->muscle_poses = NULL;
+    v->muscle_count = 0;
+}
+
+/* The model's muscles: a .sinew's own, `text` (the demo's), or MODEL.muscles.json beside the
+ * file when there is one. A muscle file that does not fit the model goes to the log. */
+static void load_muscles(viewer *v, const char *text)
+{
+    free_muscles(v);
+    sinew_error error = {0};
+    char beside[4096];
+    sinew_muscle_path_for(v->model->source, beside, sizeof beside);
+    if (v->model->muscles)
+        v->muscles = v->model->muscles;
+    else if (text && sinew_muscle_set_parse(text, strlen(text), "demo muscles", &v->muscle_set, &error) == SINEW_OK)
+        v->muscles = v->muscle_set;
+    else if (!text && g_file_test(beside, G_FILE_TEST_EXISTS) &&
+             sinew_muscle_set_read(beside, &v->muscle_set, &error) == SINEW_OK)
+        v->muscles = v->muscle_set;
+    if (!v->muscles) {
+        if (error.message[0])
+            panels_log(v, error.message);
+        return;
+    }
+    if (sinew_muscle_rig_create(v->model, v->muscles, &v->muscle_rig, &error) != SINEW_OK) {
+        panels_log(v, error.message);
+        free_muscles(v);
+        return;
+    }
+    v->muscle_count = sinew_muscle_rig_count(v->muscle_rig);
+    v->muscle_poses = calloc(v->muscle_count + 1, sizeof *v->muscle_poses);
+    char line[600];
+    snprintf(line, sizeof line, "%s: %u muscles attached", v->model->source, v->muscle_count);
+    panels_log(v, line);
 }
 
 static void resolve_joints(viewer *v)
@@ -120,7 +164,7 @@ static void resolve_joints(viewer *v)
 }
 
 /* Takes `model` as the scene (the viewer owns it from here). */
-static bool set_model(viewer *v, sinew_model *model, const char *clip_name)
+static bool set_model(viewer *v, sinew_model *model, const char *clip_name, const char *muscle_text)
 {
     sinew_mat4 *worlds = malloc((model->node_count + 1) * sizeof *worlds);
     int32_t clip = clip_name ? sinew_model_find_clip(model, clip_name) : (model->clip_count ? 0 : -1);
@@ -154,6 +198,7 @@ static bool set_model(viewer *v, sinew_model *model, const char *clip_name)
         sinew_model_free(model);
         return false;
     }
+    load_muscles(v, muscle_text);
     make_renderer(v);
     sinew_model_free(old);
     free(old_worlds);
@@ -200,7 +245,7 @@ bool view_open_file(viewer *v, const char *path, const char *clip_name)
         view_show_error(v, error.message);
         return false;
     }
-    if (!set_model(v, model, clip_name))
+    if (!set_model(v, model, clip_name, NULL))
         return false;
     view_show_error(v, NULL);
     char *uri = g_filename_to_uri(path, NULL, NULL);
@@ -215,8 +260,35 @@ bool view_open_file(viewer *v, const char *path, const char *clip_name)
     char *absolute = g_canonicalize_filename(path, NULL);
     g_free(v->last_folder);
     v->last_folder = g_path_get_dirname(absolute);
-    g_free(absolute);
+    int at = 0; /* to the front of the recent list, once */
+    while (at < 9 && v->recent[at] && strcmp(v->recent[at], absolute) != 0)
+        at++;
+    g_free(v->recent[at]);
+    memmove(&v->recent[1], &v->recent[0], (size_t)at * sizeof v->recent[0]);
+    v->recent[0] = absolute;
+    view_recent_changed(v);
     return true;
+}
+
+void view_recent_changed(viewer *v)
+{
+    if (!v->recent_menu)
+        return;
+    g_menu_remove_all(v->recent_menu);
+    for (int i = 0; i < 10 && v->recent[i]; i++) {
+        char *base = g_path_get_basename(v->recent[i]);
+        GMenuItem *item = g_menu_item_new(base, NULL);
+        g_menu_item_set_action_and_target_value(item, "win.open-recent", g_variant_new_string(v->recent[i]));
+        g_menu_append_item(v->recent_menu, item);
+        g_object_unref(item);
+        g_free(base);
+    }
+}
+
+static void on_open_recent(GSimpleAction *action, GVariant *parameter, gpointer data)
+{
+    (void)action;
+    view_open_file(data, g_variant_get_string(parameter, NULL), NULL);
 }
 
 /* ---- timeline ------------------------------------------------------------------------------ */
@@ -400,7 +472,14 @@ static gboolean on_render(GtkGLArea *area, GdkGLContext *context, gpointer data)
                          .width = width,
                          .height = height,
                          .options = &v->options};
-    if (!pose(v) || sinew_renderer_draw(v->renderer, &frame, &error) != SINEW_OK)
+    bool posed = pose(v);
+    if (posed && v->muscle_rig &&
+        sinew_muscle_rig_update(v->muscle_rig, v->worlds, v->model->node_count, v->muscle_poses, v->muscle_count,
+                                &error) == SINEW_OK) {
+        frame.muscles = v->muscle_poses;
+        frame.muscle_count = v->muscle_count;
+    }
+    if (!posed || sinew_renderer_draw(v->renderer, &frame, &error) != SINEW_OK)
         view_show_error(v, error.message);
     gint64 now = g_get_monotonic_time();
     if (v->fps_since == 0)
@@ -490,6 +569,8 @@ static void on_mode(GObject *dropdown, GParamSpec *pspec, gpointer data)
     v->mode = (play_mode)gtk_drop_down_get_selected(GTK_DROP_DOWN(dropdown));
 }
 
+static void on_open(GtkButton *button, gpointer data);
+
 static void cycle_shading(viewer *v)
 {
     v->options.shading = (sinew_shading)((v->options.shading + 1) % 3);
@@ -499,6 +580,10 @@ static gboolean on_key(GtkEventControllerKey *controller, guint key, guint code,
 {
     (void)controller, (void)code;
     viewer *v = data;
+    if ((state & GDK_CONTROL_MASK) && (key == GDK_KEY_o || key == GDK_KEY_O)) {
+        on_open(NULL, v);
+        return TRUE;
+    }
     if (state & (GDK_CONTROL_MASK | GDK_ALT_MASK))
         return FALSE;
     GtkWidget *focus = gtk_root_get_focus(GTK_ROOT(v->window));
@@ -690,6 +775,14 @@ static void on_activate(GtkApplication *app, gpointer data)
     GtkWidget *open = gtk_button_new_with_mnemonic("_Open…");
     g_signal_connect(open, "clicked", G_CALLBACK(on_open), v);
     gtk_header_bar_pack_start(GTK_HEADER_BAR(header), open);
+    v->recent_menu = g_menu_new();
+    view_recent_changed(v);
+    GtkWidget *recent = gtk_menu_button_new();
+    gtk_menu_button_set_label(GTK_MENU_BUTTON(recent), "Recent");
+    gtk_menu_button_set_menu_model(GTK_MENU_BUTTON(recent), G_MENU_MODEL(v->recent_menu));
+    gtk_header_bar_pack_start(GTK_HEADER_BAR(header), recent);
+    static const GActionEntry actions[] = {{.name = "open-recent", .activate = on_open_recent, .parameter_type = "s"}};
+    g_action_map_add_action_entries(G_ACTION_MAP(v->window), actions, 1, v);
     gtk_window_set_titlebar(GTK_WINDOW(v->window), header);
 
     GtkWidget *box = gtk_box_new(GTK_ORIENTATION_VERTICAL, 0);
@@ -790,7 +883,8 @@ static void on_activate(GtkApplication *app, gpointer data)
     /* The demo first; a file given replaces it, or its error shows above the demo. */
     sinew_model *demo = NULL;
     sinew_error error = {0};
-    if (sinew_demo_humanoid(&demo, &error) != SINEW_OK || !set_model(v, demo, s->path ? NULL : s->clip))
+    if (sinew_demo_humanoid(&demo, &error) != SINEW_OK ||
+        !set_model(v, demo, s->path ? NULL : s->clip, sinew_demo_humanoid_muscles()))
         view_show_error(v, error.message);
     if (s->path && !view_open_file(v, s->path, s->clip))
         v->framed = false;
@@ -897,6 +991,9 @@ int main(int argc, char **argv)
     int status = g_application_run(G_APPLICATION(app), 1, argv);
     g_object_unref(app);
     settings_save(&v);
+    for (int i = 0; i < 10; i++)
+        g_free(v.recent[i]);
+    free_muscles(&v);
     g_free(v.settings_path);
     g_free(v.last_folder);
     free(v.hidden);

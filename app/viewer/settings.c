@@ -4,7 +4,7 @@
  *
  *   [display]  every display option by its `sinew render` name: grid=on, shading=flat, ...
  *   [window]   width, height
- *   [files]    last-folder (where Open… starts)
+ *   [files]    last-folder (where Open… starts), recent (the last 10 files opened)
  *   [keys]     action=key, keys as GDK names them (space, Left, F1, a, ...)
  */
 #include <stdio.h>
@@ -32,6 +32,7 @@ static const view_key default_keys[ACTION_COUNT] = {
     [ACTION_JOINT_NAMES] = {"joint-names", "joint-names", "9", 0},
     [ACTION_JOINT_AXES] = {"joint-axes", "joint-axes", "0", 0},
     [ACTION_MUSCLES] = {"muscles", "muscles", "m", 0},
+    [ACTION_MESHES] = {"meshes", "meshes", "h", 0},
     [ACTION_FORWARD] = {"fly-forward", NULL, "w", 0},
     [ACTION_BACK] = {"fly-back", NULL, "s", 0},
     [ACTION_LEFT] = {"fly-left", NULL, "a", 0},
@@ -89,6 +90,10 @@ void settings_load(viewer *v)
     int w = g_key_file_get_integer(file, "window", "width", NULL), h = g_key_file_get_integer(file, "window", "height", NULL);
     if (w >= 200 && h >= 150 && w <= 16384 && h <= 16384)
         v->width = w, v->height = h;
+    char **recent = g_key_file_get_string_list(file, "files", "recent", NULL, NULL);
+    for (int i = 0; recent && recent[i] && i < 10; i++)
+        v->recent[i] = g_strdup(recent[i]);
+    g_strfreev(recent);
     char *folder = g_key_file_get_string(file, "files", "last-folder", NULL);
     if (folder) {
         g_free(v->last_folder);
@@ -125,6 +130,11 @@ bool settings_save(viewer *v)
     g_key_file_set_integer(file, "window", "height", v->height);
     if (v->last_folder)
         g_key_file_set_string(file, "files", "last-folder", v->last_folder);
+    int recent = 0;
+    while (recent < 10 && v->recent[recent])
+        recent++;
+    if (recent)
+        g_key_file_set_string_list(file, "files", "recent", (const char *const *)v->recent, (gsize)recent);
     for (int a = 0; a < ACTION_COUNT; a++)
         g_key_file_set_string(file, "keys", v->keys[a].action, gdk_keyval_name(v->keys[a].key));
     char *dir = g_path_get_dirname(v->settings_path);

@@ -16,7 +16,7 @@ typedef enum play_mode { PLAY_LOOP, PLAY_ONCE, PLAY_PING_PONG } play_mode;
 typedef enum view_action {
     ACTION_PLAY, ACTION_PREVIOUS_FRAME, ACTION_NEXT_FRAME, ACTION_FIRST, ACTION_LAST, ACTION_FRAME_ALL,
     ACTION_CAMERA_MODE, ACTION_MATERIALS, ACTION_LIGHTING, ACTION_SHADING, ACTION_WIREFRAME, ACTION_SKELETON,
-    ACTION_NORMALS, ACTION_GRID, ACTION_AXES, ACTION_JOINT_NAMES, ACTION_JOINT_AXES, ACTION_MUSCLES,
+    ACTION_NORMALS, ACTION_GRID, ACTION_AXES, ACTION_JOINT_NAMES, ACTION_JOINT_AXES, ACTION_MUSCLES, ACTION_MESHES,
     ACTION_FORWARD, ACTION_BACK, ACTION_LEFT, ACTION_RIGHT, ACTION_DOWN, ACTION_UP, ACTION_COUNT
 } view_action;
 
@@ -56,6 +56,13 @@ typedef struct viewer {
     double fps;
     int width, height;
     char *last_folder;
+    char *recent[10]; /* files opened, newest first (settings [files] recent) */
+    GMenu *recent_menu;
+    sinew_muscle_set *muscle_set; /* read from a file; a .sinew's own are the model's */
+    const sinew_muscle_set *muscles;
+    sinew_muscle_rig *muscle_rig;
+    sinew_muscle_pose *muscle_poses;
+    uint32_t muscle_count;
     char *settings_path;
     view_key keys[ACTION_COUNT];
     int exit_code;
@@ -65,6 +72,7 @@ typedef struct viewer {
 void view_show_error(viewer *v, const char *message);
 void view_redraw(viewer *v);
 bool view_open_file(viewer *v, const char *path, const char *clip_name);
+void view_recent_changed(viewer *v); /* rebuilds the Recent menu */
 
 /* panels.c */
 GtkWidget *panels_create(viewer *v);

@@ -172,6 +172,9 @@ static bool make_body(raw_mesh *mesh)
                 /* the shoulders and hips follow the chest and pelvis a little */
                 if ((pa->from == 7 || pa->from == 12 || pa->from == 16 || pa->from == 20) && u < 0.05f)
                     add_weight(js, ws, pa->from >= 16 ? 0u : 3u, 0.1f);
+                float sum = ws[0] + ws[1] + ws[2] + ws[3];
+                for (int i = 0; i < 4; i++)
+                    ws[i] /= sum;
             }
         }
         for (uint32_t r = 0; r < RINGS; r++)

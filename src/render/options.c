@@ -31,7 +31,7 @@ static const switch_entry SWITCHES[] = {
 
 static const char *const NAMES[] = {"materials",  "lighting",    "wireframe",  "meshes",        "skeleton",
                                     "joint-axes", "joint-names", "normals",    "grid",          "axes",
-                                    "shading",    "skinning",    "background", "normal-length", NULL};
+                                    "muscles",    "shading",     "skinning",   "background", "normal-length", NULL};
 
 static const char *const SHADINGS[] = {"phong", "gouraud", "flat"};
 
