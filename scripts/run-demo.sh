@@ -1,12 +1,17 @@
 #!/usr/bin/env bash
-# `make run`: until the viewer (sinew-view) exists, show sinew on its built-in demo content headless:
-# `sinew demo` writes the humanoid and the arm as COLLADA, then `sinew info` and headless renders of
-# the humanoid walking and waving (with its biceps) to PNG, and to MP4 when ffmpeg is installed.
+# `make run`: opens sinew-view on the built-in demo when there is a display (and GTK 4, which
+# scripts/deps.sh installs); without a display, writes the demo content with `sinew demo`, prints
+# `sinew info` of the humanoid and renders it headless: waving (with its biceps and skeleton) to PNG,
+# walking to MP4 when ffmpeg is installed.
 set -euo pipefail
 build=${1:-build}
+if [ -n "${DISPLAY:-}${WAYLAND_DISPLAY:-}" ] && [ -x "$build/sinew-view" ]; then
+  echo "\$ sinew-view    (the built-in demo humanoid; Open… or drop a file for another)"
+  exec "$build/sinew-view"
+fi
 out="$build/demo"
 humanoid="$out/humanoid.dae"
-echo "make run: the viewer is not built yet; showing the built-in demo headless instead"
+echo "make run: no display; showing the built-in demo headless instead (sinew-view needs a display)"
 echo
 echo "\$ sinew demo $out"
 "$build/sinew" demo "$out"

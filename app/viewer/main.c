@@ -9,7 +9,7 @@
  * The status bar gives fps, vertices and joints. `--screenshot OUT.png --quit` writes the
  * first frame and leaves, with the display, camera and time options of `sinew render`.
  *
- * Not yet: hierarchy, display panel and keys, free-fly camera, log panel, settings file. */
+ * panels.c has the side panel (hierarchy, display, log), settings.c the settings file. */
 #include <errno.h>
 #include <math.h>
 #include <stdio.h>
@@ -787,7 +787,12 @@ static void on_activate(GtkApplication *app, gpointer data)
 
     GtkWidget *box = gtk_box_new(GTK_ORIENTATION_VERTICAL, 0);
     v->error_bar = gtk_box_new(GTK_ORIENTATION_HORIZONTAL, 6);
-    gtk_widget_add_css_class(v->error_bar, "error");
+    gtk_widget_add_css_class(v->error_bar, "sinew-error");
+    GtkCssProvider *css = gtk_css_provider_new();
+    gtk_css_provider_load_from_data(css, ".sinew-error { background: #c01c28; color: white; }", -1);
+    gtk_style_context_add_provider_for_display(gdk_display_get_default(), GTK_STYLE_PROVIDER(css),
+                                               GTK_STYLE_PROVIDER_PRIORITY_APPLICATION);
+    g_object_unref(css);
     v->error_label = gtk_label_new("");
     gtk_label_set_wrap(GTK_LABEL(v->error_label), TRUE);
     gtk_label_set_selectable(GTK_LABEL(v->error_label), TRUE);
