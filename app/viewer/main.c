@@ -1,12 +1,13 @@
-/* sinew-view: the desktop viewer (GTK 4). Work in progress for the viewer issue.
+/* sinew-view: the desktop viewer (GTK 4).
  *
  * A GtkGLArea runs sinew's renderer on one model at a time: FILE, a file opened with the
  * Open button or dropped on the window, or the built-in demo humanoid. A file that fails
  * to open leaves the scene as it was and shows the error above it. The clip plays on a
  * clock independent of the frame rate (speed 0.1x-4x, reverse, loop / once / ping-pong);
  * a scrub bar with keyframe ticks, time and frame; Space, Left/Right (a frame), Home/End.
- * Orbit camera: drag rotates, shift-drag or middle-drag pans, the wheel zooms, F frames all.
- * The status bar gives fps, vertices and joints. `--screenshot OUT.png --quit` writes the
+ * Orbit camera: drag rotates, shift-drag or middle-drag pans, the wheel zooms, F frames all;
+ * Tab switches to the free-fly camera (W/A/S/D, Q/E, drag to look). Keys are the settings
+ * file's [keys]. The status bar gives fps, vertices and joints. `--screenshot OUT.png --quit` writes the
  * first frame and leaves, with the display, camera and time options of `sinew render`.
  *
  * panels.c has the side panel (hierarchy, display, log), settings.c the settings file. */

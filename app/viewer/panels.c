@@ -43,6 +43,8 @@ static void on_search(GtkSearchEntry *entry, gpointer data)
     gtk_list_box_invalidate_filter(GTK_LIST_BOX(v->node_list));
 }
 
+static GtkListBoxRow *row_of_node(viewer *v, int32_t node);
+
 static void on_hide_mesh(GtkCheckButton *check, gpointer data)
 {
     viewer *v = data;
@@ -57,7 +59,7 @@ void panels_select(viewer *v, int32_t node)
 {
     v->selected = node;
     if (v->node_list && node >= 0) { /* the row too, when chosen elsewhere (--select) */
-        GtkListBoxRow *row = gtk_list_box_get_row_at_index(GTK_LIST_BOX(v->node_list), node);
+        GtkListBoxRow *row = row_of_node(v, node);
         bool was = v->updating;
         v->updating = true;
         if (row && gtk_list_box_get_selected_row(GTK_LIST_BOX(v->node_list)) != row)
@@ -103,21 +105,35 @@ static void add_node_row(viewer *v, uint32_t node)
     gtk_label_set_ellipsize(GTK_LABEL(name), PANGO_ELLIPSIZE_END);
     gtk_widget_set_hexpand(name, TRUE);
     gtk_box_append(GTK_BOX(box), name);
+    gtk_list_box_append(GTK_LIST_BOX(v->node_list), box);
+    GtkListBoxRow *row = GTK_LIST_BOX_ROW(gtk_widget_get_parent(box));
+    g_object_set_data(G_OBJECT(row), "node", GINT_TO_POINTER((int)node));
+    /* its meshes below it, each with a check that shows or hides it */
     for (uint32_t i = 0; i < m->instance_count; i++) {
         if (m->instances[i].node != node)
             continue;
-        char label[300];
-        snprintf(label, sizeof label, "%s", m->meshes[m->instances[i].mesh].name);
-        GtkWidget *check = gtk_check_button_new_with_label(label);
+        GtkWidget *check = gtk_check_button_new_with_label(m->meshes[m->instances[i].mesh].name);
         gtk_check_button_set_active(GTK_CHECK_BUTTON(check), !v->hidden[i]);
         gtk_widget_set_tooltip_text(check, "show this mesh");
+        gtk_widget_set_margin_start(check, 16 + 12 * depth_of(m, node));
         g_object_set_data(G_OBJECT(check), "instance", GINT_TO_POINTER((int)i));
         g_signal_connect(check, "toggled", G_CALLBACK(on_hide_mesh), v);
-        gtk_box_append(GTK_BOX(box), check);
+        gtk_list_box_append(GTK_LIST_BOX(v->node_list), check);
+        GtkWidget *mesh_row = gtk_widget_get_parent(check);
+        gtk_list_box_row_set_selectable(GTK_LIST_BOX_ROW(mesh_row), FALSE);
+        g_object_set_data(G_OBJECT(mesh_row), "node", GINT_TO_POINTER((int)node));
+        g_object_set_data(G_OBJECT(mesh_row), "mesh-row", GINT_TO_POINTER(1));
     }
-    gtk_list_box_append(GTK_LIST_BOX(v->node_list), box);
-    GtkListBoxRow *row = gtk_list_box_get_row_at_index(GTK_LIST_BOX(v->node_list), (int)node);
-    g_object_set_data(G_OBJECT(row), "node", GINT_TO_POINTER((int)node));
+}
+
+/* The hierarchy row of a node (rows of meshes sit between node rows). */
+static GtkListBoxRow *row_of_node(viewer *v, int32_t node)
+{
+    for (GtkWidget *row = gtk_widget_get_first_child(v->node_list); row; row = gtk_widget_get_next_sibling(row))
+        if (GTK_IS_LIST_BOX_ROW(row) && !g_object_get_data(G_OBJECT(row), "mesh-row") &&
+            GPOINTER_TO_INT(g_object_get_data(G_OBJECT(row), "node")) == node)
+            return GTK_LIST_BOX_ROW(row);
+    return NULL;
 }
 
 static void format_transform(const char *title, const sinew_mat4 *m, char *out, size_t size)
