@@ -20,8 +20,10 @@ static char display[16];
 static int start_xvfb(void **state)
 {
     (void)state;
-    if (system("command -v Xvfb >/dev/null 2>&1") != 0)
-        return 0; /* the tests skip */
+    if (system("command -v Xvfb >/dev/null 2>&1") != 0) {
+        print_message("Xvfb is not installed (scripts/deps.sh installs it): the sinew-view tests are skipped\n");
+        return 0;
+    }
     for (int n = 90 + getpid() % 50; n < 200; n++) {
         char lock[64];
         snprintf(lock, sizeof lock, "/tmp/.X%d-lock", n);
