@@ -451,13 +451,11 @@ __attribute__((target("avx2,fma"))) static void blend_avx2(float *pose, const gr
 {
     const float *a = g->rows + (size_t)seg->k * g->row_floats;
     const float *b = a + g->row_floats;
-    const uint32_t L = g->lane_count;
     if (seg->copy || g->interp == SINEW_INTERP_CUBIC) {
         blend_scalar(pose, g, seg);
         return;
     }
     const __m256 s8 = _mm256_set1_ps(seg->s);
-    (void)L;
     for (uint32_t r = 0; r < g->run_count; r++) {
         const run *ru = &g->runs[r];
         float *dst = pose + ru->dst;

@@ -40,18 +40,24 @@ raw_clip *raw_model_add_rotation_clip(raw_model *m, const char *name, float dura
     if (!clip->name || !clip->tracks)
         return NULL;
     clip->track_count = track_count;
-    for (uint32_t t = 0; t < track_count; t++) {
-        raw_channel *c = &clip->tracks[t].channels[SINEW_CHANNEL_ROTATION];
-        c->interp = SINEW_INTERP_LINEAR;
-        c->times = malloc(keys * sizeof(float));
-        c->values = malloc(keys * 4 * sizeof(float));
-        if (!c->times || !c->values)
+    for (uint32_t t = 0; t < track_count; t++)
+        if (!raw_channel_even(&clip->tracks[t].channels[SINEW_CHANNEL_ROTATION], SINEW_CHANNEL_ROTATION, duration,
+                              keys))
             return NULL;
-        c->count = keys;
-        for (uint32_t k = 0; k < keys; k++)
-            c->times[k] = duration * (float)k / (float)(keys - 1);
-    }
     return clip;
+}
+
+bool raw_channel_even(raw_channel *c, int kind, float duration, uint32_t keys)
+{
+    c->interp = SINEW_INTERP_LINEAR;
+    c->times = malloc(keys * sizeof(float));
+    c->values = malloc((size_t)keys * sinew_channel_width(kind) * sizeof(float));
+    if (!c->times || !c->values)
+        return false;
+    c->count = keys;
+    for (uint32_t k = 0; k < keys; k++)
+        c->times[k] = duration * (float)k / (float)(keys - 1);
+    return true;
 }
 
 bool raw_model_warn(raw_model *model, const char *format, ...)

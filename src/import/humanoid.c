@@ -300,15 +300,10 @@ static bool make_clip(raw_clip *clip, const char *name, float duration, pose_fn 
         raw_track *t = &clip->tracks[j];
         t->node = j + 1; /* node 0 is the scene root */
         raw_channel *r = &t->channels[SINEW_CHANNEL_ROTATION];
-        r->interp = SINEW_INTERP_LINEAR;
-        r->count = keys;
-        r->times = malloc(keys * sizeof(float));
-        r->values = malloc(keys * 4 * sizeof(float));
-        if (!r->times || !r->values)
+        if (!raw_channel_even(r, SINEW_CHANNEL_ROTATION, duration, keys))
             return false;
         for (uint32_t k = 0; k < keys; k++) {
             float ph = (float)k / (float)(keys - 1), ax, az, qx[4], qz[4];
-            r->times[k] = duration * ph;
             pose(j, ph, &ax, &az);
             quat_axis(1, 0, 0, ax, qx);
             quat_axis(0, 0, 1, az, qz);
@@ -316,15 +311,10 @@ static bool make_clip(raw_clip *clip, const char *name, float duration, pose_fn 
         }
         if (j == 0 && bob) { /* the hips rise and fall twice a step cycle */
             raw_channel *tr = &t->channels[SINEW_CHANNEL_TRANSLATION];
-            tr->interp = SINEW_INTERP_LINEAR;
-            tr->count = keys;
-            tr->times = malloc(keys * sizeof(float));
-            tr->values = malloc(keys * 3 * sizeof(float));
-            if (!tr->times || !tr->values)
+            if (!raw_channel_even(tr, SINEW_CHANNEL_TRANSLATION, duration, keys))
                 return false;
             for (uint32_t k = 0; k < keys; k++) {
                 float ph = (float)k / (float)(keys - 1);
-                tr->times[k] = duration * ph;
                 tr->values[k * 3] = 0.0f;
                 tr->values[k * 3 + 1] = joints[0].offset[1] + 0.025f * cosf(4.0f * PI * ph);
                 tr->values[k * 3 + 2] = 0.0f;

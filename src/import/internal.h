@@ -99,6 +99,10 @@ char *raw_strdup(const char *text);
 /* Makes `model`'s clips one clip of `track_count` tracks, each with a linear rotation channel
  * of `keys` (>= 2) keys at evenly spaced times over `duration`; the caller sets each track's
  * node and the quaternions. NULL when out of memory (the model stays freeable). */
+/* Makes `c` a linear channel of `keys` (>= 2) keys evenly spaced over [0, duration], values
+ * allocated for the caller to fill; false when out of memory (the channel stays freeable). */
+bool raw_channel_even(raw_channel *c, int kind, float duration, uint32_t keys);
+
 raw_clip *raw_model_add_rotation_clip(raw_model *model, const char *name, float duration, uint32_t track_count,
                                       uint32_t keys);
 

@@ -125,17 +125,12 @@ static sinew_result make_mesh(raw_model *m, uint32_t joints, uint32_t vertices, 
 }
 
 /* A linear channel with the rotation channel's times, for translation or scale. */
-static bool key_vectors(raw_track *track, int kind, const float *rest, float amount)
+static bool key_vectors(raw_track *track, int kind, const float *rest, float amount, float duration)
 {
     const raw_channel *r = &track->channels[SINEW_CHANNEL_ROTATION];
     raw_channel *c = &track->channels[kind];
-    c->interp = SINEW_INTERP_LINEAR;
-    c->times = malloc(r->count * sizeof(float));
-    c->values = malloc(r->count * 3 * sizeof(float));
-    if (!c->times || !c->values)
+    if (!raw_channel_even(c, kind, duration, r->count))
         return false;
-    c->count = r->count;
-    memcpy(c->times, r->times, r->count * sizeof(float));
     for (uint32_t k = 0; k < r->count; k++) {
         float wave = amount * sinf(6.28318531f * (float)k / (float)(r->count - 1) + (float)track->node);
         for (int i = 0; i < 3; i++)
@@ -164,8 +159,9 @@ static sinew_result make_clip(raw_model *m, uint32_t joints, float duration, flo
             q[0] = ax * s, q[1] = ay * s, q[2] = az * s, q[3] = cosf(angle * 0.5f);
         }
         static const float unit[3] = {1.0f, 1.0f, 1.0f};
-        if (trs && (!key_vectors(&clip->tracks[j], SINEW_CHANNEL_TRANSLATION, m->node_rest[j].translation, 0.002f) ||
-                    !key_vectors(&clip->tracks[j], SINEW_CHANNEL_SCALE, unit, 0.01f)))
+        if (trs && (!key_vectors(&clip->tracks[j], SINEW_CHANNEL_TRANSLATION, m->node_rest[j].translation, 0.002f,
+                                 duration) ||
+                    !key_vectors(&clip->tracks[j], SINEW_CHANNEL_SCALE, unit, 0.01f, duration)))
             return SINEW_ERROR_OUT_OF_MEMORY;
     }
     return SINEW_OK;
