@@ -64,10 +64,16 @@ void view_redraw(viewer *v)
         gtk_gl_area_queue_render(GTK_GL_AREA(v->area));
 }
 
-static bool pose(viewer *v)
+/* The worlds at the current time; once a time (the tick, the panel and the draw all ask). */
+bool view_pose(viewer *v)
 {
-    return sinew_player_update(v->player, (float)v->time, SINEW_WRAP_CLAMP, NULL, v->worlds, v->model->node_count,
-                               NULL) == SINEW_OK;
+    if (v->time == v->posed_at)
+        return true;
+    if (sinew_player_update(v->player, (float)v->time, SINEW_WRAP_CLAMP, NULL, v->worlds, v->model->node_count,
+                            NULL) != SINEW_OK)
+        return false;
+    v->posed_at = v->time;
+    return true;
 }
 
 static double duration(const viewer *v)
@@ -90,6 +96,7 @@ static bool use_clip(viewer *v, int32_t index)
     sinew_player_free(v->player);
     v->player = player;
     v->clip = clip;
+    v->posed_at = NAN; /* a new player (or model): pose again */
     if (v->time > duration(v))
         v->time = 0.0;
     update_timeline(v);
@@ -343,7 +350,7 @@ static void set_time(viewer *v, double t)
     double d = duration(v);
     v->time = t < 0.0 ? 0.0 : t > d ? d : t;
     show_time(v);
-    if (v->selected >= 0 && pose(v))
+    if (v->selected >= 0 && view_pose(v))
         panels_frame_drawn(v);
     gtk_gl_area_queue_render(GTK_GL_AREA(v->area));
 }
@@ -404,7 +411,7 @@ static gboolean on_tick(GtkWidget *widget, GdkFrameClock *clock, gpointer data)
             advance(v, (double)(now - v->last_frame) * 1e-6);
         v->last_frame = now;
         show_time(v);
-        if (v->selected >= 0 && pose(v)) /* not from the draw: a label may resize the panel */
+        if (v->selected >= 0 && view_pose(v)) /* not from the draw: a label may resize the panel */
             panels_frame_drawn(v);
         gtk_gl_area_queue_render(GTK_GL_AREA(v->area));
     }
@@ -417,7 +424,7 @@ static void frame_all(viewer *v)
 {
     float lo[3], hi[3];
     int w = gtk_widget_get_width(v->area), h = gtk_widget_get_height(v->area);
-    if (v->renderer && pose(v) && sinew_renderer_bounds(v->renderer, v->worlds, v->model->node_count, lo, hi))
+    if (v->renderer && view_pose(v) && sinew_renderer_bounds(v->renderer, v->worlds, v->model->node_count, lo, hi))
         sinew_camera_frame(&v->camera, lo, hi, h > 0 ? (float)w / (float)h : 1.0f);
 }
 
@@ -473,7 +480,7 @@ static gboolean on_render(GtkGLArea *area, GdkGLContext *context, gpointer data)
                          .width = width,
                          .height = height,
                          .options = &v->options};
-    bool posed = pose(v);
+    bool posed = view_pose(v);
     if (posed && v->muscle_rig &&
         sinew_muscle_rig_update(v->muscle_rig, v->worlds, v->model->node_count, v->muscle_poses, v->muscle_count,
                                 &error) == SINEW_OK) {
@@ -922,7 +929,8 @@ static const char usage[] =
 
 int main(int argc, char **argv)
 {
-    viewer v = {.options = sinew_render_options_default(), .speed = 1.0, .direction = 1, .selected = -1};
+    viewer v = {
+        .options = sinew_render_options_default(), .speed = 1.0, .direction = 1, .selected = -1, .posed_at = NAN};
     settings_defaults(&v);
     settings_load(&v);
     v.camera = sinew_camera_default();

@@ -70,7 +70,7 @@ void panels_select(viewer *v, int32_t node)
     v->options.selected_joint = joint ? node : -1;
     v->options.heatmap_joint = joint && gtk_check_button_get_active(GTK_CHECK_BUTTON(v->heatmap_check)) ? node : -1;
     if (v->player && node >= 0)
-        sinew_player_update(v->player, (float)v->time, SINEW_WRAP_CLAMP, NULL, v->worlds, v->model->node_count, NULL);
+        view_pose(v);
     panels_frame_drawn(v);
     view_redraw(v);
 }

@@ -45,6 +45,7 @@ typedef struct viewer {
     sinew_camera camera;
     sinew_render_options options;
     double time, speed;
+    double posed_at; /* the time `worlds` hold; NAN when they must be computed again */
     play_mode mode;
     int direction; /* ping-pong: +1 or -1 */
     gint64 last_frame;
@@ -71,6 +72,7 @@ typedef struct viewer {
 /* main.c */
 void view_show_error(viewer *v, const char *message);
 void view_redraw(viewer *v);
+bool view_pose(viewer *v);
 bool view_open_file(viewer *v, const char *path, const char *clip_name);
 void view_recent_changed(viewer *v); /* rebuilds the Recent menu */
 
