@@ -174,3 +174,21 @@ void run_free(run_result *r)
     free(r->out);
     free(r->err);
 }
+
+long differing_pixels(const unsigned char *a, const unsigned char *b, long pixels, unsigned char *diff)
+{
+    long count = 0;
+    for (long i = 0; i < pixels; i++) {
+        int worst = 0;
+        for (int c = 0; c < 3; c++) {
+            int d = abs(a[i * 3 + c] - b[i * 3 + c]);
+            worst = d > worst ? d : worst;
+        }
+        bool differs = worst > PIXEL_TOLERANCE;
+        count += differs;
+        if (diff)
+            for (int c = 0; c < 3; c++)
+                diff[i * 3 + c] = differs ? (c == 0 ? 255 : 0) : (unsigned char)(a[i * 3 + c] / 3);
+    }
+    return count;
+}

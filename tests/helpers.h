@@ -35,6 +35,15 @@ sinew_mat4 *pose_worlds(const sinew_model *model, const sinew_clip *clip, float 
 /* All mesh instances skinned/placed at the pose, as one malloc'd xyz array. */
 float *posed_vertices(const sinew_model *model, const sinew_mat4 *worlds, uint32_t *count);
 
+/* Comparing pictures: a pixel differs when one channel differs by more than PIXEL_TOLERANCE
+ * levels; pictures match when at most IMAGE_TOLERANCE of their pixels differ. */
+#define PIXEL_TOLERANCE 32
+#define IMAGE_TOLERANCE 0.005
+
+/* Differing pixels of two RGB images of `pixels` pixels; fills `diff` (RGB, may be NULL) with
+ * `a` dimmed and the differing pixels red. */
+long differing_pixels(const unsigned char *a, const unsigned char *b, long pixels, unsigned char *diff);
+
 /* What a run of the sinew command gave: exit code (128 + signal when killed) and both
  * streams, NUL-terminated (malloc'd). */
 typedef struct run_result {

@@ -130,16 +130,10 @@ static void compare_with_render(const char *const *view_args, const char *const 
     assert_non_null(b);
     assert_int_equal(w, w2);
     assert_int_equal(h, h2);
-    size_t differ = 0, count = (size_t)w * h;
-    for (size_t i = 0; i < count; i++)
-        for (int c = 0; c < 3; c++)
-            if (abs(a[i * 3 + c] - b[i * 3 + c]) > 32) {
-                differ++;
-                break;
-            }
-    print_message("viewer %dx%d vs sinew render: %zu of %zu pixels differ by more than 32 levels\n", w, h, differ,
-                  count);
-    assert_true(differ <= count / 200);
+    long count = (long)w * h, differ = differing_pixels(a, b, count, NULL);
+    print_message("viewer %dx%d vs sinew render: %ld of %ld pixels differ by more than %d levels\n", w, h, differ,
+                  count, PIXEL_TOLERANCE);
+    assert_true(differ <= (long)(IMAGE_TOLERANCE * count));
     stbi_image_free(a);
     stbi_image_free(b);
 }
