@@ -48,6 +48,22 @@ typedef enum sinew_interp {
 
 enum { SINEW_CHANNEL_TRANSLATION = 0, SINEW_CHANNEL_ROTATION = 1, SINEW_CHANNEL_SCALE = 2, SINEW_CHANNEL_COUNT = 3 };
 
+/* How a node combines with its parent (FBX's inherit types; ufbx's names). With s the node's
+ * local scale and P its parent's world matrix:
+ *  - NORMAL: world = P * T * R * S (matrix composition; FBX RSrs, glTF, COLLADA).
+ *  - IGNORE_PARENT_SCALE: the parent's own scale is taken off P before the child is
+ *    applied, the child's translation keeps it (FBX Rrs; Maya's segment scale compensate).
+ *  - COMPONENTWISE_SCALE: the parent's scale multiplies the child's scale axis by axis
+ *    instead of being applied before the child's rotation (FBX RrSs; MotionBuilder).
+ * Roots (and a parent's scale of zero) behave as NORMAL. sinew_local_to_world() and the
+ * player evaluate all three; "inherited scale" of a node is its local scale times, while it
+ * is COMPONENTWISE_SCALE, its parent's inherited scale. */
+typedef enum sinew_inherit {
+    SINEW_INHERIT_NORMAL = 0,
+    SINEW_INHERIT_IGNORE_PARENT_SCALE = 1,
+    SINEW_INHERIT_COMPONENTWISE_SCALE = 2
+} sinew_inherit;
+
 /* One channel of one node: key_count keys at times[first_key ...]; values at
  * values[first_value ...], 3 floats a key for translation/scale and 4 for rotation,
  * three times that for SINEW_INTERP_CUBIC (in-tangent, value, out-tangent).
@@ -120,6 +136,7 @@ typedef struct sinew_model {
     const char *const *node_names;
     const int32_t *node_parents;      /* -1 for roots; parent index < node index */
     const sinew_transform *node_rest; /* rest local transforms */
+    const uint8_t *node_inherit;      /* sinew_inherit a node, or NULL when every node is NORMAL */
 
     uint32_t skin_count;
     const sinew_skin *skins;

@@ -70,6 +70,7 @@ typedef struct blob_header {
     blob_span clips;        /* CLIP blob_clip */
     blob_span warnings;     /* WARN uint32_t strings */
     blob_span muscles;      /* MUSC blob_muscle */
+    blob_span node_inherit; /* NINH uint8_t sinew_inherit, absent when every node is NORMAL */
 } blob_header;
 
 /* One known section: its tag, where its span lives in blob_header, its element size. */
@@ -165,5 +166,19 @@ static inline uint32_t sinew_channel_stride(int kind, uint32_t interp)
 {
     return sinew_channel_width(kind) * (interp == SINEW_INTERP_CUBIC ? 3u : 1u);
 }
+
+/* Scales of a pose, wherever they are kept: node j's component c at
+ * base[j * node_stride + c * comp_stride] (an array of sinew_transform, or the player's
+ * structure of arrays). */
+typedef struct pose_scales {
+    const float *base;
+    size_t node_stride, comp_stride;
+} pose_scales;
+
+/* The world matrix of `node` (a child whose inherit type is not SINEW_INHERIT_NORMAL, see
+ * sinew_inherit) from its parent's world matrix in `worlds` and its local translation,
+ * rotation and scale; the scales of the pose give the parent's own and inherited scale. */
+void pose_world_inherit(const sinew_model *model, uint32_t node, const float translation[3], const float rotation[4],
+                        const float scale[3], pose_scales scales, const sinew_mat4 *worlds, sinew_mat4 *out);
 
 #endif

@@ -23,7 +23,7 @@ const blob_section_kind blob_section_kinds[] = {
     SECTION("SKIN", skins, blob_skin),        SECTION("MESH", meshes, blob_mesh),
     SECTION("INST", instances, sinew_instance), SECTION("MATL", materials, blob_material),
     SECTION("CLIP", clips, blob_clip),        SECTION("WARN", warnings, uint32_t),
-    SECTION("MUSC", muscles, blob_muscle),
+    SECTION("MUSC", muscles, blob_muscle),    SECTION("NINH", node_inherit, uint8_t),
 };
 #undef SECTION
 const uint32_t blob_section_kind_count = sizeof blob_section_kinds / sizeof blob_section_kinds[0];
@@ -171,7 +171,7 @@ static sinew_result check_header(reader *r, blob_header *h)
     if (!string_ok(r, h->source, false) || !string_ok(r, h->format, false))
         return corrupt(r, "source name");
     uint32_t n = h->node_names.count;
-    if (h->node_parents.count != n || h->node_rest.count != n)
+    if (h->node_parents.count != n || h->node_rest.count != n || (h->node_inherit.count && h->node_inherit.count != n))
         return corrupt(r, "node table sizes differ");
     return SINEW_OK;
 }
@@ -191,6 +191,10 @@ static sinew_result check_nodes(reader *r)
     }
     if (n && !floats_finite((const float *)rest, (uint64_t)n * 10))
         return corrupt(r, "node rest transform is not finite");
+    const uint8_t *inherit = h->node_inherit.count ? array_at(r, h->node_inherit.offset, n) : NULL;
+    for (uint32_t i = 0; inherit && i < n; i++)
+        if (inherit[i] > SINEW_INHERIT_COMPONENTWISE_SCALE)
+            return corrupt(r, "node inherit type");
     return SINEW_OK;
 }
 
@@ -393,6 +397,7 @@ static void fill_model(model_block *b, const reader *r, unsigned char *tables)
     m->node_names = names;
     m->node_parents = array_at(r, h->node_parents.offset, m->node_count);
     m->node_rest = array_at(r, h->node_rest.offset, m->node_count);
+    m->node_inherit = h->node_inherit.count ? array_at(r, h->node_inherit.offset, m->node_count) : NULL;
 
     m->warning_count = h->warnings.count;
     const char **warnings = take(&cursor, m->warning_count * sizeof(char *));

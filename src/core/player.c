@@ -424,11 +424,28 @@ static void locals_scalar(sinew_player *p)
     }
 }
 
+/* A node whose inherit type is not NORMAL (sinew_inherit): its world from the pose's TRS. */
+static bool world_inherit(const sinew_player *p, uint32_t i, sinew_mat4 *worlds)
+{
+    const sinew_model *m = p->model;
+    if (!m->node_inherit || m->node_inherit[i] == SINEW_INHERIT_NORMAL || m->node_parents[i] < 0)
+        return false;
+    const uint32_t S = p->stride;
+    const float *P = p->pose;
+    float t[3] = {P[C_TX * S + i], P[C_TY * S + i], P[C_TZ * S + i]};
+    float q[4] = {P[C_QX * S + i], P[C_QY * S + i], P[C_QZ * S + i], P[C_QW * S + i]};
+    float s[3] = {P[C_SX * S + i], P[C_SY * S + i], P[C_SZ * S + i]};
+    pose_world_inherit(m, i, t, q, s, (pose_scales){P + C_SX * S, 1, S}, worlds, &worlds[i]);
+    return true;
+}
+
 static void world_scalar(const sinew_player *p, const sinew_mat4 *root, sinew_mat4 *worlds)
 {
     const uint32_t S = p->stride;
     const float *M = p->locals, *P = p->pose;
     for (uint32_t i = 0; i < p->node_count; i++) {
+        if (world_inherit(p, i, worlds))
+            continue;
         float l[16] = {M[M_00 * S + i], M[M_01 * S + i], M[M_02 * S + i], 0.0f,
                        M[M_10 * S + i], M[M_11 * S + i], M[M_12 * S + i], 0.0f,
                        M[M_20 * S + i], M[M_21 * S + i], M[M_22 * S + i], 0.0f,
@@ -506,6 +523,8 @@ __attribute__((target("avx2,fma"))) static void world_avx2(const sinew_player *p
     const float *M = p->locals, *P = p->pose;
     const int32_t *parents = p->model->node_parents;
     for (uint32_t i = 0; i < p->node_count; i++) {
+        if (world_inherit(p, i, worlds))
+            continue;
         int32_t parent = parents[i];
         const float *b = parent >= 0 ? worlds[parent].m : root ? root->m : NULL;
         float *o = worlds[i].m;

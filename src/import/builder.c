@@ -97,6 +97,7 @@ void raw_model_free(raw_model *m)
     free(m->node_names);
     free(m->node_parents);
     free(m->node_rest);
+    free(m->node_inherit);
     for (uint32_t i = 0; i < m->skin_count; i++) {
         free(m->skins[i].joints);
         free(m->skins[i].inverse_bind);
@@ -773,6 +774,11 @@ sinew_result raw_model_write(const raw_model *m, void **bytes, size_t *size, sin
     h.node_names = writer_strings(&w, m->node_names, m->node_count);
     h.node_parents = (blob_span){writer_put(&w, m->node_parents, m->node_count * 4u), m->node_count};
     h.node_rest = (blob_span){writer_put(&w, m->node_rest, m->node_count * sizeof(sinew_transform)), m->node_count};
+    bool inherits = false;
+    for (uint32_t i = 0; m->node_inherit && i < m->node_count; i++)
+        inherits |= m->node_inherit[i] != SINEW_INHERIT_NORMAL;
+    if (inherits)
+        h.node_inherit = (blob_span){writer_put(&w, m->node_inherit, m->node_count), m->node_count};
     h.skins = write_skins(&w, m);
     h.meshes = write_meshes(&w, m);
     h.instances =

@@ -13,11 +13,13 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <strings.h>
 #include <sys/stat.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
 #include "../core/internal.h"
+#include "fbx_internal.h"
 #include "internal.h"
 #include "sinew/import.h"
 
@@ -80,6 +82,38 @@ bool import_read_file(const char *path, unsigned char **bytes, size_t *size)
     return true;
 }
 
+static bool has_extension(const char *path, const char *ext)
+{
+    size_t n = strlen(path), e = strlen(ext);
+    return n > e && strcasecmp(path + n - e, ext) == 0;
+}
+
+/* sinew's own readers for the formats it reads itself (FBX), Assimp for the rest. A file
+ * that looks like FBX, or is named .fbx, is never handed to Assimp. */
+static sinew_result raw_model_read(const char *path, raw_model *raw, sinew_error *error)
+{
+    unsigned char head[64] = {0};
+    size_t got = 0;
+    FILE *f = fopen(path, "rb");
+    if (f) {
+        got = fread(head, 1, sizeof head, f);
+        fclose(f);
+    }
+    bool fbx = fbx_sniff(head, got);
+    if (!fbx && has_extension(path, ".fbx"))
+        return sinew_fail(error, SINEW_ERROR_FORMAT,
+                          "%s: not an FBX file (no binary FBX header and no ASCII FBX header)", path);
+    if (!fbx)
+        return raw_model_from_assimp(path, raw, error);
+    unsigned char *bytes = NULL;
+    size_t size = 0;
+    if (!import_read_file(path, &bytes, &size))
+        return sinew_fail(error, SINEW_ERROR_IO, "%s: cannot read: %s", path, strerror(errno));
+    sinew_result result = raw_model_from_fbx(path, bytes, size, raw, error);
+    free(bytes);
+    return result;
+}
+
 sinew_result sinew_import_blob(const char *path, void **bytes, size_t *size, sinew_error *error)
 {
     if (!path || !bytes || !size)
@@ -88,7 +122,7 @@ sinew_result sinew_import_blob(const char *path, void **bytes, size_t *size, sin
     if (result)
         return result;
     raw_model raw;
-    if ((result = raw_model_from_assimp(path, &raw, error)))
+    if ((result = raw_model_read(path, &raw, error)))
         return result;
     result = raw_model_build(&raw, bytes, size, error);
     raw_model_free(&raw);

@@ -66,6 +66,7 @@ typedef struct raw_model {
     char **node_names;
     int32_t *node_parents; /* parents before children */
     sinew_transform *node_rest;
+    uint8_t *node_inherit; /* sinew_inherit a node, or NULL: all SINEW_INHERIT_NORMAL */
     uint32_t skin_count;
     raw_skin *skins;
     uint32_t mesh_count;
@@ -121,6 +122,12 @@ sinew_result raw_model_write(const raw_model *model, void **bytes, size_t *size,
 
 /* Reads a file through Assimp into a raw model, in this process. */
 sinew_result raw_model_from_assimp(const char *path, raw_model *model, sinew_error *error);
+
+/* Reads an FBX 7.x file (binary or ASCII, its bytes already in memory) with sinew's own
+ * reader (fbx.c): transforms, skins and curves evaluated as the authoring tools do, clips
+ * baked to keys within a stated tolerance. */
+sinew_result raw_model_from_fbx(const char *path, const unsigned char *bytes, size_t size, raw_model *model,
+                                sinew_error *error);
 
 /* glTF files: puts back the STEP and CUBICSPLINE samplers Assimp flattened to linear keys
  * (gltf_keys.c). Leaves the model as it is when the file cannot be read again. */

@@ -105,6 +105,7 @@ static bool raw_model_from_model(const sinew_model *m, raw_model *raw)
     raw->node_names = copy_strings(m->node_names, m->node_count, &ok);
     raw->node_parents = copy_array(m->node_parents, m->node_count, sizeof(int32_t), &ok);
     raw->node_rest = copy_array(m->node_rest, m->node_count, sizeof(sinew_transform), &ok);
+    raw->node_inherit = copy_array(m->node_inherit, m->node_count, sizeof(uint8_t), &ok);
     raw->skins = m->skin_count ? calloc(m->skin_count, sizeof *raw->skins) : NULL;
     raw->skin_count = raw->skins ? m->skin_count : 0;
     for (uint32_t i = 0; i < raw->skin_count; i++) {

@@ -1,0 +1,1988 @@
+/* sinew's FBX reader: an FBX 7.x document (fbx_parse.c) evaluated as Maya, 3ds Max and
+ * MotionBuilder evaluate it, into a raw model (internal.h).
+ *
+ *   objects ........... Objects, Connections and Definitions' property templates, indexed
+ *   properties ........ Properties70 lookups with the templates' defaults
+ *   transforms ........ a node's local transform (offsets, pivots, pre/post rotation, rotation
+ *                       order), its inherit type, its geometric transform
+ *   curves ............ AnimationCurve keys: constant, linear, cubic Bezier with weights
+ *   animation ......... properties over time: layers (additive, override, weights) per stack
+ *   nodes ............. the hierarchy under a root that converts axes and unit to Y-up metres
+ *   meshes ............ polygons triangulated per material, attributes split where they differ
+ *   skins ............. clusters with every influence, inverse binds with geometric transforms
+ *   materials ......... diffuse colour and texture
+ *   clips ............. each animation stack baked to keys (below), with its time span
+ *
+ * Baking. sinew's runtime plays translation/rotation/scale keys; FBX animates Euler angles
+ * per axis in the node's rotation order, through pivots, pre- and post-rotations, with Bezier
+ * tangents. Each animated node's local transform is evaluated exactly (doubles) at every key
+ * time of its curves, the stack's start and end, and just before every step of a constant
+ * key; each interval is then halved until linear (translation, scale) and spherical (rotation)
+ * interpolation of the neighbouring samples is within FBX_BAKE_TOLERANCE of the exact
+ * transform at a quarter, half and three quarters of the way (rotations in radians,
+ * translations relative to the scene's size). So the baked clip equals the file's curves at
+ * every key and within the tolerance in between.
+ */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <unistd.h>
+
+#include "../core/internal.h"
+#include "fbx_internal.h"
+#include "internal.h"
+
+#define FBX_TICKS_PER_SECOND 46186158000.0
+#define FBX_BAKE_TOLERANCE 2e-7
+#define FBX_BAKE_MAX_DEPTH 10
+#define FBX_MAX_NODES (1u << 20)
+
+enum {
+    K_OTHER,
+    K_MODEL,
+    K_GEOMETRY,
+    K_SKIN,
+    K_CLUSTER,
+    K_BLEND_SHAPE,
+    K_STACK,
+    K_LAYER,
+    K_CURVE_NODE,
+    K_CURVE,
+    K_MATERIAL,
+    K_TEXTURE,
+    K_VIDEO
+};
+
+typedef struct fbx_object {
+    int64_t id;
+    const fbx_node *node;
+    const char *name;
+    size_t name_len;
+    int kind;
+    const fbx_node *props;    /* Properties70, or NULL */
+    const fbx_node *defaults; /* the template's Properties70, or NULL */
+    uint32_t first_parent, parent_count; /* in scene.up */
+    uint32_t first_child, child_count;   /* in scene.down */
+    int32_t raw_node;                    /* models: raw node index */
+    int32_t raw_material;
+} fbx_object;
+
+typedef struct fbx_link {
+    uint32_t child, parent; /* object indices */
+    uint32_t order;         /* in the file */
+    const fbx_value *prop;  /* "OP" connections: the property, else NULL */
+} fbx_link;
+
+typedef struct fbx_curve {
+    uint32_t count;
+    const double *times, *values;
+    const double *flags, *data, *refs; /* KeyAttr arrays */
+    uint32_t attr_count, data_count;
+    uint32_t *attr; /* attribute index of each key */
+} fbx_curve;
+
+/* One animated property of one model in one layer. */
+typedef struct fbx_binding {
+    uint32_t model, curve_node, layer;
+    const fbx_value *prop;
+} fbx_binding;
+
+typedef struct fbx_layer_info {
+    int32_t stack;
+    uint32_t order;
+    double weight; /* 0..1 */
+    int mode;      /* 0 additive, 1 override, 2 override passthrough */
+} fbx_layer_info;
+
+typedef struct scene {
+    const char *path;
+    sinew_error *error;
+    raw_model *model;
+    fbx_doc doc;
+    fbx_object *objects;
+    uint32_t object_count;
+    fbx_link *up, *down; /* links sorted by child / by parent */
+    uint32_t link_count;
+    fbx_curve *curves; /* one an object (used for K_CURVE) */
+    fbx_binding *bindings;
+    uint32_t binding_count;
+    fbx_layer_info *layers; /* one an object (used for K_LAYER) */
+    uint32_t *models;       /* model object of each raw node (root: UINT32_MAX) */
+    double convert[16];     /* file axes and unit -> Y-up metres */
+    double diagonal;        /* of the rest pose's node positions, file units */
+    uint32_t model_count;
+} scene;
+
+typedef struct dmat {
+    double m[16]; /* column-major */
+} dmat;
+
+/* ---- small double-precision math ------------------------------------------------------- */
+
+static dmat dmat_identity(void)
+{
+    dmat r = {{0}};
+    r.m[0] = r.m[5] = r.m[10] = r.m[15] = 1.0;
+    return r;
+}
+
+static dmat dmat_mul(const dmat *a, const dmat *b)
+{
+    dmat r;
+    for (int c = 0; c < 4; c++)
+        for (int row = 0; row < 4; row++) {
+            double s = 0;
+            for (int k = 0; k < 4; k++)
+                s += a->m[k * 4 + row] * b->m[c * 4 + k];
+            r.m[c * 4 + row] = s;
+        }
+    return r;
+}
+
+/* Inverse of an affine matrix (last row 0 0 0 1); identity when singular. */
+static dmat dmat_inverse_affine(const dmat *a)
+{
+    const double *m = a->m;
+    double c00 = m[5] * m[10] - m[9] * m[6], c01 = m[9] * m[2] - m[1] * m[10], c02 = m[1] * m[6] - m[5] * m[2];
+    double det = m[0] * c00 + m[4] * c01 + m[8] * c02;
+    if (det == 0.0 || !isfinite(det))
+        return dmat_identity();
+    double inv = 1.0 / det;
+    dmat r = dmat_identity();
+    r.m[0] = c00 * inv;
+    r.m[1] = c01 * inv;
+    r.m[2] = c02 * inv;
+    r.m[4] = (m[8] * m[6] - m[4] * m[10]) * inv;
+    r.m[5] = (m[0] * m[10] - m[8] * m[2]) * inv;
+    r.m[6] = (m[4] * m[2] - m[0] * m[6]) * inv;
+    r.m[8] = (m[4] * m[9] - m[8] * m[5]) * inv;
+    r.m[9] = (m[8] * m[1] - m[0] * m[9]) * inv;
+    r.m[10] = (m[0] * m[5] - m[4] * m[1]) * inv;
+    for (int row = 0; row < 3; row++)
+        r.m[12 + row] = -(r.m[row] * m[12] + r.m[4 + row] * m[13] + r.m[8 + row] * m[14]);
+    return r;
+}
+
+static void dmat_point(const dmat *a, const double p[3], double out[3])
+{
+    for (int r = 0; r < 3; r++)
+        out[r] = a->m[r] * p[0] + a->m[4 + r] * p[1] + a->m[8 + r] * p[2] + a->m[12 + r];
+}
+
+static void dmat_to_float(const dmat *a, sinew_mat4 *out)
+{
+    for (int i = 0; i < 16; i++)
+        out->m[i] = (float)a->m[i];
+}
+
+/* Rotation matrix of Euler angles in degrees applied in `order` (FBX: 0 XYZ = X first,
+ * then Y, then Z; 1 XZY, 2 YZX, 3 YXZ, 4 ZXY, 5 ZYX; 6 spheric XYZ is taken as XYZ). */
+static dmat euler_matrix(const double degrees[3], int order)
+{
+    static const int axes[6][3] = {{0, 1, 2}, {0, 2, 1}, {1, 2, 0}, {1, 0, 2}, {2, 0, 1}, {2, 1, 0}};
+    if (order < 0 || order > 5)
+        order = 0;
+    dmat r = dmat_identity();
+    for (int k = 0; k < 3; k++) {
+        int axis = axes[order][k];
+        double a = degrees[axis] * (M_PI / 180.0), c = cos(a), s = sin(a);
+        dmat e = dmat_identity();
+        int i = (axis + 1) % 3, j = (axis + 2) % 3;
+        e.m[i * 4 + i] = c;
+        e.m[j * 4 + i] = -s;
+        e.m[i * 4 + j] = s;
+        e.m[j * 4 + j] = c;
+        r = dmat_mul(&e, &r); /* later axes apply after earlier ones */
+    }
+    return r;
+}
+
+static void matrix_quat(const dmat *a, double q[4])
+{
+    const double *m = a->m;
+    double m00 = m[0], m11 = m[5], m22 = m[10], trace = m00 + m11 + m22;
+    if (trace > 0) {
+        double s = sqrt(trace + 1.0) * 2;
+        q[3] = 0.25 * s;
+        q[0] = (m[6] - m[9]) / s;
+        q[1] = (m[8] - m[2]) / s;
+        q[2] = (m[1] - m[4]) / s;
+    } else if (m00 > m11 && m00 > m22) {
+        double s = sqrt(1.0 + m00 - m11 - m22) * 2;
+        q[3] = (m[6] - m[9]) / s;
+        q[0] = 0.25 * s;
+        q[1] = (m[4] + m[1]) / s;
+        q[2] = (m[8] + m[2]) / s;
+    } else if (m11 > m22) {
+        double s = sqrt(1.0 + m11 - m00 - m22) * 2;
+        q[3] = (m[8] - m[2]) / s;
+        q[0] = (m[4] + m[1]) / s;
+        q[1] = 0.25 * s;
+        q[2] = (m[9] + m[6]) / s;
+    } else {
+        double s = sqrt(1.0 + m22 - m00 - m11) * 2;
+        q[3] = (m[1] - m[4]) / s;
+        q[0] = (m[8] + m[2]) / s;
+        q[1] = (m[9] + m[6]) / s;
+        q[2] = 0.25 * s;
+    }
+    double n = sqrt(q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3]);
+    for (int i = 0; i < 4; i++)
+        q[i] /= n;
+}
+
+/* ---- objects ------------------------------------------------------------------------- */
+
+static sinew_result fail_data(scene *s, const char *what, const fbx_object *o)
+{
+    if (o)
+        return sinew_fail(s->error, SINEW_ERROR_FORMAT, "%s: %.*s \"%.*s\" (id %lld): %s", s->path,
+                          (int)o->node->name_len, o->node->name, (int)o->name_len, o->name, (long long)o->id, what);
+    return sinew_fail(s->error, SINEW_ERROR_FORMAT, "%s: %s", s->path, what);
+}
+
+static sinew_result oom(scene *s)
+{
+    return sinew_fail(s->error, SINEW_ERROR_OUT_OF_MEMORY, "%s: out of memory reading the FBX scene", s->path);
+}
+
+/* "Name\0\1Class" (binary) or "Class::Name" (ASCII): the name part. */
+static void object_name(const fbx_value *v, const char **name, size_t *len)
+{
+    *name = "";
+    *len = 0;
+    if (!v || v->type != FBX_STRING)
+        return;
+    const char *s = v->s;
+    size_t n = v->count;
+    for (size_t i = 0; i + 1 < n; i++)
+        if (s[i] == '\0' && s[i + 1] == '\x01') {
+            *name = s;
+            *len = i;
+            return;
+        }
+    for (size_t i = 0; i + 1 < n; i++)
+        if (s[i] == ':' && s[i + 1] == ':') {
+            *name = s + i + 2;
+            *len = n - i - 2;
+            return;
+        }
+    *name = s;
+    *len = n;
+}
+
+static bool value_is(const fbx_value *v, const char *text)
+{
+    size_t n = strlen(text);
+    return v && v->type == FBX_STRING && v->count == n && memcmp(v->s, text, n) == 0;
+}
+
+static int object_kind(const fbx_node *n)
+{
+    const fbx_value *sub = n->value_count > 2 ? &n->values[2] : NULL;
+    if (fbx_named(n, "Model"))
+        return K_MODEL;
+    if (fbx_named(n, "Geometry"))
+        return value_is(sub, "Mesh") ? K_GEOMETRY : K_OTHER;
+    if (fbx_named(n, "Deformer"))
+        return value_is(sub, "Skin")         ? K_SKIN
+               : value_is(sub, "Cluster")    ? K_CLUSTER
+               : value_is(sub, "BlendShape") ? K_BLEND_SHAPE
+                                             : K_OTHER;
+    static const struct {
+        const char *name;
+        int kind;
+    } kinds[] = {{"AnimationStack", K_STACK}, {"AnimationLayer", K_LAYER}, {"AnimationCurveNode", K_CURVE_NODE},
+                 {"AnimationCurve", K_CURVE}, {"Material", K_MATERIAL},    {"Texture", K_TEXTURE},
+                 {"Video", K_VIDEO}};
+    for (size_t i = 0; i < sizeof kinds / sizeof kinds[0]; i++)
+        if (fbx_named(n, kinds[i].name))
+            return kinds[i].kind;
+    return K_OTHER;
+}
+
+static int compare_objects(const void *a, const void *b)
+{
+    const fbx_object *x = a, *y = b;
+    return x->id < y->id ? -1 : x->id > y->id;
+}
+
+static int32_t find_object(const scene *s, int64_t id)
+{
+    uint32_t lo = 0, hi = s->object_count;
+    while (lo < hi) {
+        uint32_t mid = lo + (hi - lo) / 2;
+        if (s->objects[mid].id < id)
+            lo = mid + 1;
+        else
+            hi = mid;
+    }
+    return lo < s->object_count && s->objects[lo].id == id ? (int32_t)lo : -1;
+}
+
+static int compare_up(const void *a, const void *b)
+{
+    const fbx_link *x = a, *y = b;
+    if (x->child != y->child)
+        return x->child < y->child ? -1 : 1;
+    return x->order < y->order ? -1 : x->order > y->order;
+}
+
+static int compare_down(const void *a, const void *b)
+{
+    const fbx_link *x = a, *y = b;
+    if (x->parent != y->parent)
+        return x->parent < y->parent ? -1 : 1;
+    return x->order < y->order ? -1 : x->order > y->order;
+}
+
+/* The property template of an object type (Definitions/ObjectType/PropertyTemplate). */
+static const fbx_node *template_for(const scene *s, const fbx_node *object)
+{
+    const fbx_node *defs = fbx_child(&s->doc.root, "Definitions");
+    for (uint32_t i = 0; defs && i < defs->child_count; i++) {
+        const fbx_node *t = &defs->children[i];
+        if (!fbx_named(t, "ObjectType") || t->value_count < 1 || t->values[0].type != FBX_STRING ||
+            t->values[0].count != object->name_len || memcmp(t->values[0].s, object->name, object->name_len) != 0)
+            continue;
+        const fbx_node *pt = fbx_child(t, "PropertyTemplate");
+        return pt ? fbx_child(pt, "Properties70") : NULL;
+    }
+    return NULL;
+}
+
+static sinew_result index_objects(scene *s)
+{
+    const fbx_node *objects = fbx_child(&s->doc.root, "Objects");
+    uint32_t n = objects ? objects->child_count : 0;
+    s->objects = calloc(n ? n : 1, sizeof *s->objects);
+    if (!s->objects)
+        return oom(s);
+    for (uint32_t i = 0; i < n; i++) {
+        const fbx_node *node = &objects->children[i];
+        if (node->value_count < 1 || node->values[0].type != FBX_INT)
+            continue; /* not an object with an id */
+        fbx_object *o = &s->objects[s->object_count++];
+        o->id = node->values[0].i;
+        o->node = node;
+        object_name(node->value_count > 1 ? &node->values[1] : NULL, &o->name, &o->name_len);
+        o->kind = object_kind(node);
+        o->props = fbx_child(node, "Properties70");
+        o->defaults = template_for(s, node);
+        o->raw_node = -1;
+        o->raw_material = -1;
+    }
+    qsort(s->objects, s->object_count, sizeof *s->objects, compare_objects);
+    for (uint32_t i = 1; i < s->object_count; i++)
+        if (s->objects[i].id == s->objects[i - 1].id)
+            return fail_data(s, "two objects have this id", &s->objects[i]);
+
+    const fbx_node *conns = fbx_child(&s->doc.root, "Connections");
+    uint32_t m = conns ? conns->child_count : 0;
+    s->up = calloc(m ? m : 1, sizeof *s->up);
+    s->down = calloc(m ? m : 1, sizeof *s->down);
+    if (!s->up || !s->down)
+        return oom(s);
+    for (uint32_t i = 0; i < m; i++) {
+        const fbx_node *c = &conns->children[i];
+        if (!fbx_named(c, "C") || c->value_count < 3)
+            continue;
+        int32_t child = find_object(s, fbx_int(c, 1)), parent = find_object(s, fbx_int(c, 2));
+        if (child < 0 || parent < 0)
+            continue; /* to the scene root (id 0) or to an object the file does not have */
+        if (child == parent)
+            return fail_data(s, "is connected to itself", &s->objects[child]);
+        fbx_link *l = &s->up[s->link_count++];
+        *l = (fbx_link){(uint32_t)child, (uint32_t)parent, i, NULL};
+        if (fbx_str_is(c, 0, "OP") && c->value_count > 3 && c->values[3].type == FBX_STRING)
+            l->prop = &c->values[3];
+    }
+    memcpy(s->down, s->up, s->link_count * sizeof *s->up);
+    qsort(s->up, s->link_count, sizeof *s->up, compare_up);
+    qsort(s->down, s->link_count, sizeof *s->down, compare_down);
+    for (uint32_t i = s->link_count; i-- > 0;) {
+        fbx_object *c = &s->objects[s->up[i].child], *p = &s->objects[s->down[i].parent];
+        c->first_parent = i;
+        c->parent_count++;
+        p->first_child = i;
+        p->child_count++;
+    }
+    return SINEW_OK;
+}
+
+/* The k-th parent / child link of an object. */
+static const fbx_link *parent_link(const scene *s, const fbx_object *o, uint32_t k)
+{
+    return &s->up[o->first_parent + k];
+}
+
+static const fbx_link *child_link(const scene *s, const fbx_object *o, uint32_t k)
+{
+    return &s->down[o->first_child + k];
+}
+
+/* The first object of `kind` connected to `o` either way (child first), or NULL. */
+static fbx_object *linked(const scene *s, const fbx_object *o, int kind, bool children, bool parents)
+{
+    for (uint32_t k = 0; children && k < o->child_count; k++) {
+        fbx_object *c = &s->objects[child_link(s, o, k)->child];
+        if (c->kind == kind)
+            return c;
+    }
+    for (uint32_t k = 0; parents && k < o->parent_count; k++) {
+        fbx_object *p = &s->objects[parent_link(s, o, k)->parent];
+        if (p->kind == kind)
+            return p;
+    }
+    return NULL;
+}
+
+/* ---- properties ---------------------------------------------------------------------- */
+
+static const fbx_node *find_p(const fbx_node *props, const char *name)
+{
+    for (uint32_t i = 0; props && i < props->child_count; i++) {
+        const fbx_node *p = &props->children[i];
+        if ((fbx_named(p, "P") || fbx_named(p, "Property")) && fbx_str_is(p, 0, name))
+            return p;
+    }
+    return NULL;
+}
+
+static const fbx_node *prop(const fbx_object *o, const char *name)
+{
+    const fbx_node *p = find_p(o->props, name);
+    return p ? p : find_p(o->defaults, name);
+}
+
+static double prop_num(const fbx_object *o, const char *name, double fallback)
+{
+    const fbx_node *p = prop(o, name);
+    return p && p->value_count > 4 ? fbx_num(p, 4) : fallback;
+}
+
+static void prop_vec3(const fbx_object *o, const char *name, double fallback, double out[3])
+{
+    const fbx_node *p = prop(o, name);
+    for (int c = 0; c < 3; c++)
+        out[c] = p && p->value_count > 4u + c ? fbx_num(p, 4u + c) : fallback;
+}
+
+static double global_num(const scene *s, const char *name, double fallback)
+{
+    const fbx_node *g = fbx_child(&s->doc.root, "GlobalSettings");
+    const fbx_node *p = find_p(fbx_child(g, "Properties70"), name);
+    return p && p->value_count > 4 ? fbx_num(p, 4) : fallback;
+}
+
+/* ---- curves -------------------------------------------------------------------------- */
+
+static sinew_result load_curve(scene *s, fbx_object *o, fbx_curve *c)
+{
+    uint32_t n_values = 0;
+    c->times = fbx_array(o->node, "KeyTime", &c->count);
+    c->values = fbx_array(o->node, "KeyValueFloat", &n_values);
+    if (n_values != c->count)
+        return fail_data(s, "curve has another number of values than of key times", o);
+    for (uint32_t k = 1; k < c->count; k++)
+        if (!(c->times[k] >= c->times[k - 1]))
+            return fail_data(s, "curve's key times go backwards", o);
+    for (uint32_t k = 0; k < c->count; k++)
+        if (!isfinite(c->values[k]) || !isfinite(c->times[k]))
+            return fail_data(s, "curve has a value that is not finite", o);
+    uint32_t n_refs = 0;
+    c->flags = fbx_array(o->node, "KeyAttrFlags", &c->attr_count);
+    c->data = fbx_array(o->node, "KeyAttrDataFloat", &c->data_count);
+    c->refs = fbx_array(o->node, "KeyAttrRefCount", &n_refs);
+    if (c->attr_count == 0 || c->count == 0)
+        return SINEW_OK;
+    if (c->data_count < 4u * c->attr_count || n_refs < c->attr_count)
+        return fail_data(s, "curve's key attributes are incomplete", o);
+    c->attr = malloc(c->count * sizeof *c->attr);
+    if (!c->attr)
+        return oom(s);
+    uint32_t key = 0;
+    for (uint32_t a = 0; a < c->attr_count && key < c->count; a++) {
+        double r = c->refs[a];
+        for (uint32_t k = 0; k < r && key < c->count; k++)
+            c->attr[key++] = a;
+    }
+    while (key < c->count) /* a file that under-counts: the last attribute goes on */
+        c->attr[key++] = c->attr_count - 1;
+    return SINEW_OK;
+}
+
+/* x(s) = t of a cubic Bezier on [0,1] with handles at wr and 1 - wl: s by Newton's method
+ * kept inside a shrinking bracket. */
+static double bezier_parameter(double x, double wr, double wl)
+{
+    double lo = 0, hi = 1, u = x;
+    for (int i = 0; i < 40; i++) {
+        double v = 1 - u;
+        double f = 3 * v * v * u * wr + 3 * v * u * u * (1 - wl) + u * u * u - x;
+        if (fabs(f) < 1e-15)
+            break;
+        if (f > 0)
+            hi = u;
+        else
+            lo = u;
+        double d = 3 * v * v * wr + 6 * v * u * (1 - wl - wr) + 3 * u * u * wl;
+        double next = d > 1e-12 ? u - f / d : (lo + hi) / 2;
+        u = next > lo && next < hi ? next : (lo + hi) / 2;
+    }
+    return u;
+}
+
+static uint32_t attribute_bits(const scene *s, double v)
+{
+    if (s->doc.binary) {
+        float f = (float)v;
+        uint32_t bits;
+        memcpy(&bits, &f, 4);
+        return bits;
+    }
+    return (uint32_t)(int64_t)v; /* ASCII writes the packed bits as a whole number */
+}
+
+/* A slope of KeyAttrDataFloat: binary files store floats; ASCII files write each float's
+ * bits as a whole number (-0 is -2147483648), so a whole number is taken as bits. */
+static double attribute_float(const scene *s, double v)
+{
+    if (s->doc.binary || v != floor(v) || fabs(v) > 4294967295.0)
+        return v;
+    uint32_t bits = (uint32_t)(int64_t)v;
+    float f;
+    memcpy(&f, &bits, 4);
+    return isfinite(f) ? f : 0.0;
+}
+
+static uint32_t key_flags(const fbx_curve *c, uint32_t k)
+{
+    return c->attr ? (uint32_t)(int64_t)c->flags[c->attr[k]] : 0x4u;
+}
+
+/* The slope of an auto-tangent key, which files do not store (keys share one attribute with
+ * a zero slope): the secant through its neighbours, zero at the curve's ends; with "clamp
+ * progressive" (0x4000) no steeper than keeps the handles between the neighbours' values. */
+static double auto_slope(const fbx_curve *c, uint32_t k, double weight_left, double weight_right)
+{
+    if (k == 0 || k + 1 >= c->count)
+        return 0.0;
+    double tp = c->times[k - 1], t = c->times[k], tn = c->times[k + 1];
+    double vp = c->values[k - 1], v = c->values[k], vn = c->values[k + 1];
+    if (!(tn > tp))
+        return 0.0;
+    double slope = (vn - vp) / (tn - tp);
+    if (key_flags(c, k) & 0x4000u) {
+        double sign = slope < 0 ? -1.0 : 1.0, limit = fabs(slope);
+        if (t > tp && weight_left > 0)
+            limit = fmin(limit, fmax((v - vp) * sign / (weight_left * (t - tp)), 0.0));
+        if (tn > t && weight_right > 0)
+            limit = fmin(limit, fmax((vn - v) * sign / (weight_right * (tn - t)), 0.0));
+        slope = sign * limit;
+    }
+    return slope;
+}
+
+static double curve_eval(const scene *s, const fbx_curve *c, double t)
+{
+    if (c->count == 0)
+        return 0.0;
+    if (t <= c->times[0])
+        return c->values[0];
+    if (t >= c->times[c->count - 1])
+        return c->values[c->count - 1];
+    uint32_t lo = 0, hi = c->count - 1; /* times[lo] <= t < times[hi] */
+    while (hi - lo > 1) {
+        uint32_t mid = lo + (hi - lo) / 2;
+        if (c->times[mid] <= t)
+            lo = mid;
+        else
+            hi = mid;
+    }
+    double t0 = c->times[lo], t1 = c->times[hi], v0 = c->values[lo], v1 = c->values[hi];
+    double dx = t1 - t0, x = (t - t0) / dx;
+    if (!c->attr)
+        return v0 + (v1 - v0) * x;
+    uint32_t a = c->attr[lo];
+    uint32_t flags = (uint32_t)(int64_t)c->flags[a];
+    const double *d = &c->data[4 * a];
+    if (flags & 0x2u) /* constant; 0x100: "next" (the next key's value) */
+        return flags & 0x100u ? v1 : v0;
+    if (!(flags & 0x8u)) /* linear */
+        return v0 + (v1 - v0) * x;
+    uint32_t bits = attribute_bits(s, d[2]);
+    double wr = flags & 0x1000000u ? (bits & 0xffffu) / 9999.0 : 1.0 / 3.0;
+    double wl = flags & 0x2000000u ? ((bits >> 16) & 0xffffu) / 9999.0 : 1.0 / 3.0;
+    wr = fmin(fmax(wr, 0.0), 1.0);
+    wl = fmin(fmax(wl, 0.0), 1.0);
+    double right = attribute_float(s, d[0]), left = attribute_float(s, d[1]);
+    if (flags & 0x100u)
+        right = auto_slope(c, lo, 1.0 / 3.0, wr);
+    if (key_flags(c, hi) & 0x100u)
+        left = auto_slope(c, hi, wl, 1.0 / 3.0);
+    double p1 = v0 + right * wr * dx, p2 = v1 - left * wl * dx;
+    double u = (wr == 1.0 / 3.0 && wl == 1.0 / 3.0) ? x : bezier_parameter(x, wr, wl), v = 1 - u;
+    return v * v * v * v0 + 3 * v * v * u * p1 + 3 * v * u * u * p2 + u * u * u * v1;
+}
+
+/* True when the segment of curve `c` that ends at key k is a constant step. */
+static bool steps_into(const fbx_curve *c, uint32_t k)
+{
+    if (k == 0 || !c->attr)
+        return false;
+    uint32_t flags = (uint32_t)(int64_t)c->flags[c->attr[k - 1]];
+    return (flags & 0x2u) && !(flags & 0x100u);
+}
+
+/* ---- animation ------------------------------------------------------------------------ */
+
+static sinew_result index_animation(scene *s)
+{
+    s->curves = calloc(s->object_count ? s->object_count : 1, sizeof *s->curves);
+    s->layers = calloc(s->object_count ? s->object_count : 1, sizeof *s->layers);
+    s->bindings = calloc(s->link_count ? s->link_count : 1, sizeof *s->bindings);
+    if (!s->curves || !s->layers || !s->bindings)
+        return oom(s);
+    sinew_result result;
+    for (uint32_t i = 0; i < s->object_count; i++) {
+        fbx_object *o = &s->objects[i];
+        if (o->kind == K_CURVE && (result = load_curve(s, o, &s->curves[i])))
+            return result;
+        if (o->kind == K_LAYER) {
+            fbx_layer_info *l = &s->layers[i];
+            l->stack = -1;
+            l->weight = prop_num(o, "Weight", 100.0) / 100.0;
+            l->mode = (int)prop_num(o, "BlendMode", 0.0);
+            for (uint32_t k = 0; k < o->parent_count; k++) {
+                const fbx_link *up = parent_link(s, o, k);
+                if (s->objects[up->parent].kind == K_STACK) {
+                    l->stack = (int32_t)up->parent;
+                    const fbx_object *stack = &s->objects[up->parent];
+                    for (uint32_t j = 0; j < stack->child_count; j++)
+                        if (child_link(s, stack, j)->child == i)
+                            l->order = j;
+                    break;
+                }
+            }
+        }
+    }
+    /* Curve node -> model property, in a layer. */
+    for (uint32_t i = 0; i < s->link_count; i++) {
+        const fbx_link *l = &s->up[i];
+        if (!l->prop || s->objects[l->child].kind != K_CURVE_NODE || s->objects[l->parent].kind != K_MODEL)
+            continue;
+        const fbx_object *layer = linked(s, &s->objects[l->child], K_LAYER, false, true);
+        if (!layer)
+            continue;
+        s->bindings[s->binding_count++] =
+            (fbx_binding){l->parent, l->child, (uint32_t)(layer - s->objects), l->prop};
+    }
+    return SINEW_OK;
+}
+
+/* The value of a model's vector property at `ticks` in `stack` (or its static value when
+ * stack < 0): each layer's curves in order, added or blended by the layer's weight. */
+static void anim_vec3(const scene *s, uint32_t model, const char *name, double fallback, int32_t stack, double ticks,
+                      double out[3])
+{
+    const fbx_object *o = &s->objects[model];
+    prop_vec3(o, name, fallback, out);
+    if (stack < 0)
+        return;
+    /* Layers in the stack's order: few of them, so pass over the bindings once a layer. */
+    for (uint32_t order = 0;; order++) {
+        bool more = false;
+        for (uint32_t b = 0; b < s->binding_count; b++) {
+            const fbx_binding *bind = &s->bindings[b];
+            const fbx_layer_info *li = &s->layers[bind->layer];
+            if (li->stack != stack)
+                continue;
+            if (li->order > order)
+                more = true;
+            if (bind->model != model || li->order != order || !value_is(bind->prop, name))
+                continue;
+            const fbx_object *cn = &s->objects[bind->curve_node];
+            double v[3];
+            static const char *const comps[3] = {"d|X", "d|Y", "d|Z"};
+            for (int c = 0; c < 3; c++) {
+                v[c] = prop_num(cn, comps[c], out[c]);
+                for (uint32_t k = 0; k < cn->child_count; k++) {
+                    const fbx_link *dl = child_link(s, cn, k);
+                    if (dl->prop && value_is(dl->prop, comps[c]) && s->objects[dl->child].kind == K_CURVE &&
+                        s->curves[dl->child].count)
+                        v[c] = curve_eval(s, &s->curves[dl->child], ticks);
+                }
+            }
+            for (int c = 0; c < 3; c++)
+                out[c] = li->mode == 0 && order > 0 ? out[c] + v[c] * li->weight : out[c] + (v[c] - out[c]) * li->weight;
+        }
+        if (!more)
+            break;
+    }
+}
+
+/* ---- transforms ----------------------------------------------------------------------- */
+
+typedef struct local_trs {
+    double t[3], q[4], s[3];
+} local_trs;
+
+/* A node's local transform at `ticks` of `stack` (-1: the rest pose):
+ * T * Roff * Rp * Rpre * R * Rpost^-1 * Rp^-1 * Soff * Sp * S * Sp^-1, which is exactly a
+ * translation, the rotation Rpre * R * Rpost^-1 and the scale S. */
+static void node_local(const scene *s, uint32_t model, int32_t stack, double ticks, local_trs *out)
+{
+    const fbx_object *o = &s->objects[model];
+    double t[3], r[3], sc[3], roff[3], rp[3], soff[3], sp[3], pre[3], post[3];
+    anim_vec3(s, model, "Lcl Translation", 0, stack, ticks, t);
+    anim_vec3(s, model, "Lcl Rotation", 0, stack, ticks, r);
+    anim_vec3(s, model, "Lcl Scaling", 1, stack, ticks, sc);
+    anim_vec3(s, model, "RotationOffset", 0, stack, ticks, roff);
+    anim_vec3(s, model, "RotationPivot", 0, stack, ticks, rp);
+    anim_vec3(s, model, "ScalingOffset", 0, stack, ticks, soff);
+    anim_vec3(s, model, "ScalingPivot", 0, stack, ticks, sp);
+    anim_vec3(s, model, "PreRotation", 0, stack, ticks, pre);
+    anim_vec3(s, model, "PostRotation", 0, stack, ticks, post);
+    int order = (int)prop_num(o, "RotationOrder", 0);
+    dmat rpre = euler_matrix(pre, 0), rl = euler_matrix(r, order), rpost = euler_matrix(post, 0);
+    dmat rpost_inv = dmat_identity();
+    for (int i = 0; i < 3; i++)
+        for (int j = 0; j < 3; j++)
+            rpost_inv.m[i * 4 + j] = rpost.m[j * 4 + i];
+    dmat rot = dmat_mul(&rpre, &rl);
+    rot = dmat_mul(&rot, &rpost_inv);
+    double inner[3], a[3], b[3];
+    for (int c = 0; c < 3; c++)
+        inner[c] = soff[c] + sp[c] - sc[c] * sp[c];
+    for (int row = 0; row < 3; row++) {
+        a[row] = rot.m[row] * rp[0] + rot.m[4 + row] * rp[1] + rot.m[8 + row] * rp[2];
+        b[row] = rot.m[row] * inner[0] + rot.m[4 + row] * inner[1] + rot.m[8 + row] * inner[2];
+        out->t[row] = t[row] + roff[row] + rp[row] - a[row] + b[row];
+        out->s[row] = sc[row];
+    }
+    matrix_quat(&rot, out->q);
+}
+
+static dmat trs_matrix(const local_trs *l)
+{
+    double x = l->q[0], y = l->q[1], z = l->q[2], w = l->q[3];
+    dmat m = dmat_identity();
+    m.m[0] = (1 - 2 * (y * y + z * z)) * l->s[0];
+    m.m[1] = 2 * (x * y + z * w) * l->s[0];
+    m.m[2] = 2 * (x * z - y * w) * l->s[0];
+    m.m[4] = 2 * (x * y - z * w) * l->s[1];
+    m.m[5] = (1 - 2 * (x * x + z * z)) * l->s[1];
+    m.m[6] = 2 * (y * z + x * w) * l->s[1];
+    m.m[8] = 2 * (x * z + y * w) * l->s[2];
+    m.m[9] = 2 * (y * z - x * w) * l->s[2];
+    m.m[10] = (1 - 2 * (x * x + y * y)) * l->s[2];
+    m.m[12] = l->t[0];
+    m.m[13] = l->t[1];
+    m.m[14] = l->t[2];
+    return m;
+}
+
+/* The geometric transform: applied to what a node carries, not to its children. */
+static dmat geometric_matrix(const fbx_object *o)
+{
+    double t[3], r[3], sc[3];
+    prop_vec3(o, "GeometricTranslation", 0, t);
+    prop_vec3(o, "GeometricRotation", 0, r);
+    prop_vec3(o, "GeometricScaling", 1, sc);
+    dmat g = euler_matrix(r, 0);
+    for (int c = 0; c < 3; c++)
+        for (int row = 0; row < 3; row++)
+            g.m[c * 4 + row] *= sc[c];
+    for (int row = 0; row < 3; row++)
+        g.m[12 + row] = t[row];
+    return g;
+}
+
+static uint8_t inherit_type(const fbx_object *o)
+{
+    switch ((int)prop_num(o, "InheritType", 1)) {
+    case 0:
+        return SINEW_INHERIT_COMPONENTWISE_SCALE; /* RrSs */
+    case 2:
+        return SINEW_INHERIT_IGNORE_PARENT_SCALE; /* Rrs */
+    default:
+        return SINEW_INHERIT_NORMAL; /* RSrs */
+    }
+}
+
+/* ---- nodes ---------------------------------------------------------------------------- */
+
+/* The model a model hangs under, or -1 for the scene root. */
+static int32_t model_parent(const scene *s, const fbx_object *o)
+{
+    for (uint32_t k = 0; k < o->parent_count; k++) {
+        const fbx_link *l = parent_link(s, o, k);
+        if (!l->prop && s->objects[l->parent].kind == K_MODEL)
+            return (int32_t)l->parent;
+    }
+    return -1;
+}
+
+static sinew_result add_node(scene *s, uint32_t object, int32_t parent)
+{
+    raw_model *m = s->model;
+    fbx_object *o = &s->objects[object];
+    uint32_t i = m->node_count++;
+    o->raw_node = (int32_t)i;
+    s->models[i] = object;
+    m->node_names[i] = malloc(o->name_len + 1);
+    if (!m->node_names[i])
+        return oom(s);
+    memcpy(m->node_names[i], o->name, o->name_len);
+    m->node_names[i][o->name_len] = 0;
+    m->node_parents[i] = parent;
+    m->node_inherit[i] = parent > 0 ? inherit_type(o) : SINEW_INHERIT_NORMAL;
+    local_trs l;
+    node_local(s, object, -1, 0, &l);
+    sinew_transform *r = &m->node_rest[i];
+    for (int c = 0; c < 3; c++) {
+        r->translation[c] = (float)l.t[c];
+        r->scale[c] = (float)l.s[c];
+    }
+    for (int c = 0; c < 4; c++)
+        r->rotation[c] = (float)l.q[c];
+    return SINEW_OK;
+}
+
+/* The file's axes (UpAxis, FrontAxis, CoordAxis with signs) and unit (UnitScaleFactor,
+ * centimetres a unit) as one matrix to right-handed Y-up metres. */
+static void conversion(scene *s)
+{
+    int up = (int)global_num(s, "UpAxis", 1), front = (int)global_num(s, "FrontAxis", 2);
+    int coord = (int)global_num(s, "CoordAxis", 0);
+    double up_sign = global_num(s, "UpAxisSign", 1) < 0 ? -1 : 1;
+    double front_sign = global_num(s, "FrontAxisSign", 1) < 0 ? -1 : 1;
+    double coord_sign = global_num(s, "CoordAxisSign", 1) < 0 ? -1 : 1;
+    double unit = global_num(s, "UnitScaleFactor", 1.0) / 100.0;
+    if (!(unit > 0) || !isfinite(unit))
+        unit = 0.01;
+    bool valid = up >= 0 && up < 3 && front >= 0 && front < 3 && coord >= 0 && coord < 3 && up != front &&
+                 up != coord && front != coord;
+    if (!valid) {
+        raw_model_warn(s->model, "%s: the file's axes (up %d, front %d, coord %d) are not three different axes; "
+                                 "taken as Y up",
+                       s->path, up, front, coord);
+        up = 1, front = 2, coord = 0, up_sign = front_sign = coord_sign = 1;
+    }
+    memset(s->convert, 0, sizeof s->convert);
+    /* Row r of the rotation is the file's axis that becomes X, Y, Z. */
+    s->convert[coord * 4 + 0] = coord_sign * unit;
+    s->convert[up * 4 + 1] = up_sign * unit;
+    s->convert[front * 4 + 2] = front_sign * unit;
+    s->convert[15] = 1;
+}
+
+static sinew_result build_nodes(scene *s)
+{
+    raw_model *m = s->model;
+    for (uint32_t i = 0; i < s->object_count; i++)
+        s->model_count += s->objects[i].kind == K_MODEL;
+    if (s->model_count + 1 > FBX_MAX_NODES)
+        return fail_data(s, "more than a million nodes", NULL);
+    uint32_t n = s->model_count + 1;
+    m->node_names = calloc(n, sizeof *m->node_names);
+    m->node_parents = calloc(n, sizeof *m->node_parents);
+    m->node_rest = calloc(n, sizeof *m->node_rest);
+    m->node_inherit = calloc(n, 1);
+    s->models = malloc(n * sizeof *s->models);
+    uint32_t *stack = malloc(n * sizeof *stack);
+    if (!m->node_names || !m->node_parents || !m->node_rest || !m->node_inherit || !s->models || !stack) {
+        free(stack);
+        return oom(s);
+    }
+    /* Root: the conversion to Y-up metres. */
+    m->node_count = 1;
+    s->models[0] = UINT32_MAX;
+    m->node_names[0] = raw_strdup("RootNode");
+    m->node_parents[0] = -1;
+    if (!m->node_names[0]) {
+        free(stack);
+        return oom(s);
+    }
+    sinew_mat4 c;
+    dmat cm;
+    memcpy(cm.m, s->convert, sizeof cm.m);
+    dmat_to_float(&cm, &c);
+    sinew_mat4_decompose(&c, &m->node_rest[0]);
+    /* Depth first from the top-level models, children in the file's connection order. */
+    sinew_result result = SINEW_OK;
+    for (uint32_t i = 0; i < s->object_count && !result; i++) {
+        fbx_object *o = &s->objects[i];
+        if (o->kind != K_MODEL || model_parent(s, o) >= 0)
+            continue;
+        uint32_t top = 0;
+        stack[top++] = i;
+        while (top && !result) {
+            uint32_t cur = stack[--top];
+            int32_t parent_model = model_parent(s, &s->objects[cur]);
+            int32_t parent = parent_model >= 0 ? s->objects[parent_model].raw_node : 0;
+            if ((result = add_node(s, cur, parent)))
+                break;
+            const fbx_object *co = &s->objects[cur];
+            for (uint32_t k = co->child_count; k-- > 0;) {
+                const fbx_link *l = child_link(s, co, k);
+                fbx_object *child = &s->objects[l->child];
+                if (!l->prop && child->kind == K_MODEL && child->raw_node < 0 &&
+                    model_parent(s, child) == (int32_t)cur && top < n)
+                    stack[top++] = l->child;
+            }
+        }
+    }
+    free(stack);
+    if (result)
+        return result;
+    if (m->node_count != n) {
+        for (uint32_t i = 0; i < s->object_count; i++)
+            if (s->objects[i].kind == K_MODEL && s->objects[i].raw_node < 0)
+                return fail_data(s, "is its own ancestor (the connections between models form a cycle)",
+                                 &s->objects[i]);
+    }
+    return SINEW_OK;
+}
+
+/* World matrices (file units, no conversion) of every node at `ticks` of `stack`, in FBX's
+ * inherit semantics (the runtime's, sinew_inherit). */
+static void node_worlds(const scene *s, int32_t stack, double ticks, dmat *worlds, local_trs *locals)
+{
+    const raw_model *m = s->model;
+    worlds[0] = dmat_identity();
+    locals[0] = (local_trs){{0, 0, 0}, {0, 0, 0, 1}, {1, 1, 1}};
+    for (uint32_t i = 1; i < m->node_count; i++) {
+        node_local(s, s->models[i], stack, ticks, &locals[i]);
+        uint32_t p = (uint32_t)m->node_parents[i];
+        if (m->node_inherit[i] == SINEW_INHERIT_NORMAL) {
+            dmat l = trs_matrix(&locals[i]);
+            worlds[i] = dmat_mul(&worlds[p], &l);
+            continue;
+        }
+        double inherit[3] = {locals[p].s[0], locals[p].s[1], locals[p].s[2]};
+        for (uint32_t a = p; m->node_inherit[a] == SINEW_INHERIT_COMPONENTWISE_SCALE && m->node_parents[a] > 0;) {
+            a = (uint32_t)m->node_parents[a];
+            for (int c = 0; c < 3; c++)
+                inherit[c] *= locals[a].s[c];
+        }
+        dmat unscaled = worlds[p];
+        for (int c = 0; c < 3; c++) {
+            double applied = m->node_inherit[p] == SINEW_INHERIT_COMPONENTWISE_SCALE ? inherit[c] : locals[p].s[c];
+            for (int r = 0; r < 4; r++)
+                unscaled.m[c * 4 + r] = applied != 0 ? unscaled.m[c * 4 + r] / applied : 0;
+        }
+        local_trs l = locals[i];
+        for (int c = 0; c < 3; c++) {
+            l.t[c] *= inherit[c];
+            if (m->node_inherit[i] == SINEW_INHERIT_COMPONENTWISE_SCALE)
+                l.s[c] *= inherit[c];
+        }
+        dmat lm = trs_matrix(&l);
+        worlds[i] = dmat_mul(&unscaled, &lm);
+    }
+}
+
+/* The size of the rest pose: the diagonal of its node positions (file units), for the
+ * bake's tolerance. */
+static sinew_result measure(scene *s)
+{
+    uint32_t n = s->model->node_count;
+    dmat *w = malloc(n * sizeof *w);
+    local_trs *l = malloc(n * sizeof *l);
+    if (!w || !l) {
+        free(w);
+        free(l);
+        return oom(s);
+    }
+    node_worlds(s, -1, 0, w, l);
+    double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
+    for (uint32_t i = 0; i < n; i++)
+        for (int c = 0; c < 3; c++) {
+            lo[c] = fmin(lo[c], w[i].m[12 + c]);
+            hi[c] = fmax(hi[c], w[i].m[12 + c]);
+        }
+    double d = sqrt((hi[0] - lo[0]) * (hi[0] - lo[0]) + (hi[1] - lo[1]) * (hi[1] - lo[1]) +
+                    (hi[2] - lo[2]) * (hi[2] - lo[2]));
+    s->diagonal = isfinite(d) && d > 0 ? d : 1.0;
+    free(w);
+    free(l);
+    return SINEW_OK;
+}
+
+/* ---- meshes -------------------------------------------------------------------------- */
+
+enum { MAP_NONE, MAP_CORNER, MAP_POINT, MAP_POLYGON, MAP_ALL };
+
+typedef struct layer_map {
+    int mapping;
+    const double *data, *index;
+    uint32_t data_count, index_count, width;
+} layer_map;
+
+static sinew_result layer_element(scene *s, const fbx_object *g, const char *element, const char *data_name,
+                                  const char *index_name, uint32_t width, layer_map *out)
+{
+    memset(out, 0, sizeof *out);
+    const fbx_node *e = fbx_child(g->node, element);
+    if (!e)
+        return SINEW_OK;
+    const fbx_node *mapping = fbx_child(e, "MappingInformationType");
+    const fbx_node *reference = fbx_child(e, "ReferenceInformationType");
+    static const struct {
+        const char *name;
+        int mapping;
+    } maps[] = {{"ByPolygonVertex", MAP_CORNER}, {"ByVertice", MAP_POINT}, {"ByVertex", MAP_POINT},
+                {"ByControlPoint", MAP_POINT},   {"ByPolygon", MAP_POLYGON}, {"AllSame", MAP_ALL}};
+    for (size_t i = 0; i < sizeof maps / sizeof maps[0]; i++)
+        if (fbx_str_is(mapping, 0, maps[i].name))
+            out->mapping = maps[i].mapping;
+    if (out->mapping == MAP_NONE) {
+        raw_model_warn(s->model, "%s: mesh \"%.*s\": %s has a mapping sinew does not read; ignored", s->path,
+                       (int)g->name_len, g->name, element);
+        return SINEW_OK;
+    }
+    out->data = fbx_array(e, data_name, &out->data_count);
+    out->width = width;
+    if (!fbx_str_is(reference, 0, "Direct") && index_name) {
+        out->index = fbx_array(e, index_name, &out->index_count);
+        if (!out->index && fbx_child(e, index_name) == NULL && strcmp(index_name, "NormalsIndex") == 0)
+            out->index = fbx_array(e, "NormalIndex", &out->index_count);
+    }
+    if (!out->data && out->mapping != MAP_NONE)
+        return fail_data(s, "has a layer element without its data", g);
+    return SINEW_OK;
+}
+
+/* The element of a layer at one polygon corner, or -1 when the layer gives none. */
+static int64_t layer_at(const layer_map *l, uint32_t corner, uint32_t point, uint32_t polygon, bool *bad)
+{
+    if (l->mapping == MAP_NONE)
+        return -1;
+    uint32_t i = l->mapping == MAP_CORNER ? corner : l->mapping == MAP_POINT ? point : l->mapping == MAP_POLYGON ? polygon : 0;
+    int64_t e = i;
+    if (l->index) {
+        if (i >= l->index_count) {
+            *bad = true;
+            return -1;
+        }
+        double v = l->index[i];
+        if (v < 0)
+            return -1;
+        e = (int64_t)v;
+    }
+    if (l->width && ((uint64_t)e + 1) * l->width > l->data_count) {
+        *bad = true;
+        return -1;
+    }
+    return e;
+}
+
+typedef struct corner {
+    uint32_t point;
+    uint32_t polygon;
+    int32_t material;
+    float normal[3], uv[2];
+} corner;
+
+typedef struct vertex_table {
+    uint32_t *slots; /* vertex index + 1, 0 empty */
+    uint32_t capacity;
+} vertex_table;
+
+static uint32_t corner_hash(const corner *c)
+{
+    uint32_t h = 2166136261u;
+    const unsigned char *b = (const unsigned char *)c->normal;
+    for (size_t i = 0; i < sizeof c->normal + sizeof c->uv; i++)
+        h = (h ^ b[i]) * 16777619u;
+    return (h ^ c->point) * 16777619u;
+}
+
+static bool corner_same(const corner *a, const corner *b)
+{
+    return a->point == b->point && memcmp(a->normal, b->normal, sizeof a->normal) == 0 &&
+           memcmp(a->uv, b->uv, sizeof a->uv) == 0;
+}
+
+/* The polygon corners of a mesh with their attributes (triangle fans come later). */
+typedef struct mesh_source {
+    const fbx_object *geometry;
+    const double *points;
+    uint32_t point_count;
+    uint32_t corner_count, polygon_count;
+    corner *corners;
+    uint32_t *polygon_start; /* polygon_count + 1 */
+    bool normals, uvs;
+} mesh_source;
+
+static sinew_result read_polygons(scene *s, const fbx_object *g, mesh_source *src)
+{
+    memset(src, 0, sizeof *src);
+    src->geometry = g;
+    uint32_t n = 0, idx_count = 0;
+    src->points = fbx_array(g->node, "Vertices", &n);
+    if (n % 3)
+        return fail_data(s, "mesh's vertex array is not a whole number of points", g);
+    src->point_count = n / 3;
+    for (uint32_t i = 0; i < n; i++)
+        if (!isfinite(src->points[i]))
+            return fail_data(s, "mesh has a vertex that is not finite", g);
+    const double *idx = fbx_array(g->node, "PolygonVertexIndex", &idx_count);
+    layer_map normals, uvs, materials;
+    sinew_result result;
+    if ((result = layer_element(s, g, "LayerElementNormal", "Normals", "NormalsIndex", 3, &normals)) ||
+        (result = layer_element(s, g, "LayerElementUV", "UV", "UVIndex", 2, &uvs)) ||
+        (result = layer_element(s, g, "LayerElementMaterial", "Materials", NULL, 1, &materials)))
+        return result;
+    src->normals = normals.mapping != MAP_NONE;
+    src->uvs = uvs.mapping != MAP_NONE;
+    src->corners = malloc((idx_count ? idx_count : 1) * sizeof *src->corners);
+    src->polygon_start = malloc((idx_count + 1) * sizeof *src->polygon_start);
+    if (!src->corners || !src->polygon_start)
+        return oom(s);
+    uint32_t polygon = 0, start = 0;
+    bool bad = false;
+    for (uint32_t i = 0; i < idx_count; i++) {
+        double v = idx[i];
+        bool last = v < 0;
+        int64_t point = last ? -(int64_t)v - 1 : (int64_t)v;
+        if (point < 0 || point >= src->point_count)
+            return fail_data(s, "mesh has a polygon corner outside its vertex array", g);
+        corner *c = &src->corners[i];
+        memset(c, 0, sizeof *c);
+        c->point = (uint32_t)point;
+        c->polygon = polygon;
+        int64_t e = layer_at(&normals, i, c->point, polygon, &bad);
+        for (int k = 0; e >= 0 && k < 3; k++)
+            c->normal[k] = (float)normals.data[e * 3 + k];
+        e = layer_at(&uvs, i, c->point, polygon, &bad);
+        for (int k = 0; e >= 0 && k < 2; k++)
+            c->uv[k] = (float)uvs.data[e * 2 + k];
+        e = materials.mapping == MAP_NONE ? -1 : layer_at(&materials, i, c->point, polygon, &bad);
+        c->material = e >= 0 ? (int32_t)materials.data[e] : 0;
+        if (bad)
+            return fail_data(s, "mesh has a normal, UV or material index outside its array", g);
+        if (last) {
+            src->polygon_start[polygon++] = start;
+            start = i + 1;
+        }
+    }
+    if (start != idx_count)
+        return fail_data(s, "mesh's last polygon is not closed (its last index is not negative)", g);
+    src->polygon_start[polygon] = start;
+    src->polygon_count = polygon;
+    src->corner_count = idx_count;
+    return SINEW_OK;
+}
+
+static void mesh_source_free(mesh_source *src)
+{
+    free(src->corners);
+    free(src->polygon_start);
+}
+
+/* The vertex of a corner in a growing mesh (appended when new). */
+static int64_t vertex_of(vertex_table *t, const corner *c, corner *verts, uint32_t *count)
+{
+    uint32_t h = corner_hash(c) & (t->capacity - 1);
+    for (;;) {
+        uint32_t v = t->slots[h];
+        if (v == 0) {
+            verts[*count] = *c;
+            t->slots[h] = ++*count;
+            return *count - 1;
+        }
+        if (corner_same(&verts[v - 1], c))
+            return v - 1;
+        h = (h + 1) & (t->capacity - 1);
+    }
+}
+
+typedef struct skin_source {
+    uint32_t joint_count;
+    uint32_t *joints;      /* raw nodes */
+    dmat *geometry_to_bone; /* the cluster's Transform, per joint */
+    uint32_t *first;       /* per point: first influence, point_count + 1 */
+    uint32_t *slot;        /* influence -> joint slot */
+    float *weight;
+    uint32_t max_influences;
+} skin_source;
+
+static void skin_source_free(skin_source *k)
+{
+    free(k->joints);
+    free(k->geometry_to_bone);
+    free(k->first);
+    free(k->slot);
+    free(k->weight);
+    memset(k, 0, sizeof *k);
+}
+
+static bool read_matrix(const fbx_object *o, const char *name, dmat *out)
+{
+    uint32_t n = 0;
+    const double *a = fbx_array(o->node, name, &n);
+    if (!a || n != 16)
+        return false;
+    for (int i = 0; i < 16; i++)
+        if (!isfinite(a[i]))
+            return false;
+    memcpy(out->m, a, sizeof out->m);
+    return true;
+}
+
+/* Influences of a skin deformer on a geometry: every cluster's bone and weights. */
+static sinew_result read_skin(scene *s, const fbx_object *skin, uint32_t point_count, skin_source *k)
+{
+    memset(k, 0, sizeof *k);
+    uint32_t clusters = 0;
+    for (uint32_t c = 0; c < skin->child_count; c++)
+        clusters += s->objects[child_link(s, skin, c)->child].kind == K_CLUSTER;
+    k->joints = calloc(clusters ? clusters : 1, sizeof *k->joints);
+    k->geometry_to_bone = calloc(clusters ? clusters : 1, sizeof *k->geometry_to_bone);
+    k->first = calloc(point_count + 1u, sizeof *k->first);
+    if (!k->joints || !k->geometry_to_bone || !k->first)
+        return oom(s);
+    uint64_t total = 0;
+    /* Two passes over the clusters: count a point's influences, then place them. */
+    for (int pass = 0; pass < 2; pass++) {
+        uint32_t slot = 0;
+        for (uint32_t c = 0; c < skin->child_count; c++) {
+            const fbx_object *cl = &s->objects[child_link(s, skin, c)->child];
+            if (cl->kind != K_CLUSTER)
+                continue;
+            const fbx_object *bone = linked(s, cl, K_MODEL, true, true);
+            uint32_t ni = 0, nw = 0;
+            const double *idx = fbx_array(cl->node, "Indexes", &ni);
+            const double *w = fbx_array(cl->node, "Weights", &nw);
+            if (!bone || bone->raw_node < 0)
+                continue;
+            if (ni != nw)
+                return fail_data(s, "cluster has another number of weights than of indices", cl);
+            if (pass == 0) {
+                /* Transform is the geometry's bind matrix in the bone's space (exporters
+                 * write inv(TransformLink) * mesh bind, the bone and mesh world matrices at
+                 * bind time); TransformLink alone is not needed. */
+                if (!read_matrix(cl, "Transform", &k->geometry_to_bone[slot]))
+                    return fail_data(s, "cluster has no valid Transform matrix", cl);
+                k->joints[slot] = (uint32_t)bone->raw_node;
+            }
+            for (uint32_t i = 0; i < ni; i++) {
+                double p = idx[i];
+                if (!(p >= 0 && p < point_count) || !isfinite(w[i]))
+                    return fail_data(s, "cluster has a vertex index outside its mesh or a weight that is not finite",
+                                     cl);
+                uint32_t pt = (uint32_t)p;
+                if (pass == 0) {
+                    k->first[pt + 1]++;
+                    total++;
+                } else {
+                    uint32_t at = k->first[pt]++;
+                    k->slot[at] = slot;
+                    k->weight[at] = (float)w[i];
+                }
+            }
+            slot++;
+        }
+        k->joint_count = slot;
+        if (pass == 0) {
+            if (total > UINT32_MAX / 2)
+                return fail_data(s, "skin has too many influences", skin);
+            for (uint32_t p = 0; p < point_count; p++) {
+                if (k->first[p + 1] > k->max_influences)
+                    k->max_influences = k->first[p + 1];
+                k->first[p + 1] += k->first[p];
+            }
+            k->slot = malloc((total ? total : 1) * sizeof *k->slot);
+            k->weight = malloc((total ? total : 1) * sizeof *k->weight);
+            if (!k->slot || !k->weight)
+                return oom(s);
+        }
+    }
+    /* The second pass moved each start to the next point's start: shift back. */
+    for (uint32_t p = point_count; p > 0; p--)
+        k->first[p] = k->first[p - 1];
+    k->first[0] = 0;
+    return SINEW_OK;
+}
+
+/* Material of a model's material slot as a raw material index (made on first use). */
+static int32_t material_of(scene *s, const fbx_object *model, int32_t slot)
+{
+    int32_t seen = 0;
+    for (uint32_t k = 0; k < model->child_count; k++) {
+        fbx_object *mat = &s->objects[child_link(s, model, k)->child];
+        if (mat->kind != K_MATERIAL)
+            continue;
+        if (seen++ != slot)
+            continue;
+        return mat->raw_material;
+    }
+    return -1;
+}
+
+static char *resolve_texture(scene *s, const fbx_object *tex)
+{
+    const char *names[] = {"RelativeFilename", "FileName", "Filename"};
+    char dir[4096];
+    snprintf(dir, sizeof dir, "%s", s->path);
+    char *slash = strrchr(dir, '/');
+    if (slash)
+        slash[1] = 0;
+    else
+        dir[0] = 0;
+    char tried[4096] = "";
+    for (int pass = 0; pass < 2; pass++)
+        for (size_t i = 0; i < sizeof names / sizeof names[0]; i++) {
+            const fbx_node *n = fbx_child(tex->node, names[i]);
+            if (!n || n->value_count < 1 || n->values[0].type != FBX_STRING || n->values[0].count == 0)
+                continue;
+            char name[2048];
+            snprintf(name, sizeof name, "%.*s", (int)n->values[0].count, n->values[0].s);
+            for (char *c = name; *c; c++)
+                if (*c == '\\')
+                    *c = '/';
+            const char *base = strrchr(name, '/') ? strrchr(name, '/') + 1 : name;
+            char path[6200];
+            if (pass == 0)
+                snprintf(path, sizeof path, "%s%s", name[0] == '/' ? "" : dir, name);
+            else
+                snprintf(path, sizeof path, "%s%s", dir, base);
+            if (!tried[0])
+                snprintf(tried, sizeof tried, "%s", name);
+            if (access(path, R_OK) == 0)
+                return raw_strdup(path);
+        }
+    if (tried[0])
+        raw_model_warn(s->model, "%s: texture \"%s\" not found (looked beside the file too)", s->path, tried);
+    return NULL;
+}
+
+static sinew_result build_materials(scene *s)
+{
+    raw_model *m = s->model;
+    uint32_t count = 0;
+    for (uint32_t i = 0; i < s->object_count; i++)
+        count += s->objects[i].kind == K_MATERIAL;
+    m->materials = calloc(count ? count : 1, sizeof *m->materials);
+    if (!m->materials)
+        return oom(s);
+    for (uint32_t i = 0; i < s->object_count; i++) {
+        fbx_object *o = &s->objects[i];
+        if (o->kind != K_MATERIAL)
+            continue;
+        raw_material *r = &m->materials[m->material_count];
+        o->raw_material = (int32_t)m->material_count++;
+        r->name = malloc(o->name_len + 1);
+        if (!r->name)
+            return oom(s);
+        memcpy(r->name, o->name, o->name_len);
+        r->name[o->name_len] = 0;
+        double color[3];
+        prop_vec3(o, prop(o, "DiffuseColor") ? "DiffuseColor" : "Diffuse", 0.8, color);
+        double factor = prop_num(o, "DiffuseFactor", 1.0), opacity = prop_num(o, "Opacity", 1.0);
+        for (int c = 0; c < 3; c++)
+            r->base_color[c] = (float)fmin(fmax(color[c] * factor, 0.0), 1.0);
+        r->base_color[3] = (float)fmin(fmax(opacity, 0.0), 1.0);
+        for (uint32_t k = 0; k < o->child_count && !r->diffuse_texture; k++) {
+            const fbx_link *l = child_link(s, o, k);
+            const fbx_object *tex = &s->objects[l->child];
+            if (tex->kind != K_TEXTURE || !value_is(l->prop, "DiffuseColor"))
+                continue;
+            const fbx_object *video = linked(s, tex, K_VIDEO, true, true);
+            uint32_t content = 0;
+            const fbx_node *c = video ? fbx_child(video->node, "Content") : NULL;
+            for (uint32_t v = 0; c && v < c->value_count; v++)
+                content += c->values[v].type == FBX_STRING ? c->values[v].count : 0;
+            r->diffuse_texture = resolve_texture(s, tex);
+            if (!r->diffuse_texture && content)
+                raw_model_warn(m, "%s: material \"%s\": its texture is embedded in the file, which sinew does not "
+                                  "carry yet",
+                               s->path, r->name);
+        }
+    }
+    return SINEW_OK;
+}
+
+static sinew_result grow(scene *s, void **array, uint32_t count, size_t elem)
+{
+    if ((count & (count - 1)) == 0) { /* powers of two: double */
+        void *p = realloc(*array, (count ? count * 2 : 1) * elem);
+        if (!p)
+            return oom(s);
+        *array = p;
+    }
+    return SINEW_OK;
+}
+
+/* One raw mesh of the polygons of `src` that use material slot `slot`. */
+static sinew_result emit_mesh(scene *s, const mesh_source *src, const fbx_object *model, int32_t slot,
+                              const dmat *geometry, const skin_source *skin, int32_t skin_index)
+{
+    raw_model *m = s->model;
+    sinew_result result;
+    if ((result = grow(s, (void **)&m->meshes, m->mesh_count, sizeof *m->meshes)))
+        return result;
+    raw_mesh *mesh = &m->meshes[m->mesh_count++];
+    memset(mesh, 0, sizeof *mesh);
+    mesh->skin = skin_index;
+    mesh->material = material_of(s, model, slot);
+    mesh->name = malloc(src->geometry->name_len + model->name_len + 24);
+    if (!mesh->name)
+        return oom(s);
+    const fbx_object *g = src->geometry;
+    if (g->name_len)
+        sprintf(mesh->name, "%.*s", (int)g->name_len, g->name);
+    else
+        sprintf(mesh->name, "%.*s", (int)model->name_len, model->name);
+    if (slot > 0)
+        sprintf(mesh->name + strlen(mesh->name), " (material %d)", slot);
+    uint32_t triangles = 0;
+    for (uint32_t p = 0; p < src->polygon_count; p++) {
+        uint32_t n = src->polygon_start[p + 1] - src->polygon_start[p];
+        if (n >= 3 && src->corners[src->polygon_start[p]].material == slot)
+            triangles += n - 2;
+    }
+    if ((uint64_t)triangles * 3 > UINT32_MAX / 2)
+        return fail_data(s, "mesh has too many triangles", g);
+    corner *verts = malloc((triangles ? triangles * 3 : 1) * sizeof *verts);
+    vertex_table table = {0};
+    table.capacity = 16;
+    while (table.capacity < triangles * 6)
+        table.capacity *= 2;
+    table.slots = calloc(table.capacity, sizeof *table.slots);
+    mesh->indices = malloc((triangles ? triangles * 3 : 1) * sizeof *mesh->indices);
+    if (!verts || !table.slots || !mesh->indices) {
+        free(verts);
+        free(table.slots);
+        return oom(s);
+    }
+    uint32_t vcount = 0;
+    for (uint32_t p = 0; p < src->polygon_count; p++) {
+        uint32_t a = src->polygon_start[p], n = src->polygon_start[p + 1] - a;
+        if (n < 3 || src->corners[a].material != slot)
+            continue;
+        for (uint32_t k = 1; k + 1 < n; k++) {
+            uint32_t tri[3] = {a, a + k, a + k + 1};
+            for (int c = 0; c < 3; c++)
+                mesh->indices[mesh->index_count++] = (uint32_t)vertex_of(&table, &src->corners[tri[c]], verts, &vcount);
+        }
+    }
+    free(table.slots);
+    mesh->vertex_count = vcount;
+    mesh->positions = malloc((vcount ? vcount : 1) * 3 * sizeof(float));
+    mesh->normals = src->normals ? malloc((vcount ? vcount : 1) * 3 * sizeof(float)) : NULL;
+    mesh->uvs = src->uvs ? malloc((vcount ? vcount : 1) * 2 * sizeof(float)) : NULL;
+    if (!mesh->positions || (src->normals && !mesh->normals) || (src->uvs && !mesh->uvs)) {
+        free(verts);
+        return oom(s);
+    }
+    /* Rigid meshes carry the geometric transform in their vertices; skinned ones in their
+     * inverse binds. Normals go through the cofactor matrix (non-uniform scale). */
+    dmat place = skin ? dmat_identity() : *geometry;
+    dmat cof = dmat_inverse_affine(&place);
+    for (uint32_t v = 0; v < vcount; v++) {
+        const corner *c = &verts[v];
+        double p[3], q[3];
+        memcpy(p, &src->points[c->point * 3], sizeof p);
+        dmat_point(&place, p, q);
+        for (int k = 0; k < 3; k++)
+            mesh->positions[v * 3 + k] = (float)q[k];
+        if (mesh->normals) {
+            double n[3], len = 0;
+            for (int r = 0; r < 3; r++) {
+                n[r] = cof.m[r * 4] * c->normal[0] + cof.m[r * 4 + 1] * c->normal[1] + cof.m[r * 4 + 2] * c->normal[2];
+                len += n[r] * n[r];
+            }
+            len = len > 0 ? sqrt(len) : 1;
+            for (int r = 0; r < 3; r++)
+                mesh->normals[v * 3 + r] = (float)(n[r] / len);
+        }
+        if (mesh->uvs) {
+            mesh->uvs[v * 2] = c->uv[0];
+            mesh->uvs[v * 2 + 1] = c->uv[1];
+        }
+    }
+    if (skin) {
+        uint32_t k = skin->max_influences ? skin->max_influences : 1;
+        mesh->influence_count = k;
+        mesh->joints = calloc((size_t)vcount * k + 1, sizeof *mesh->joints);
+        mesh->weights = calloc((size_t)vcount * k + 1, sizeof *mesh->weights);
+        if (!mesh->joints || !mesh->weights) {
+            free(verts);
+            return oom(s);
+        }
+        for (uint32_t v = 0; v < vcount; v++) {
+            uint32_t pt = verts[v].point, at = skin->first[pt], n = skin->first[pt + 1] - at;
+            for (uint32_t i = 0; i < n; i++) {
+                mesh->joints[v * k + i] = skin->slot[at + i];
+                mesh->weights[v * k + i] = skin->weight[at + i];
+            }
+        }
+    }
+    free(verts);
+    if ((result = grow(s, (void **)&m->instances, m->instance_count, sizeof *m->instances)))
+        return result;
+    m->instances[m->instance_count++] = (sinew_instance){m->mesh_count - 1, (uint32_t)model->raw_node};
+    return SINEW_OK;
+}
+
+static sinew_result add_skin(scene *s, const skin_source *k, const dmat *geometry, int32_t *out)
+{
+    raw_model *m = s->model;
+    sinew_result result;
+    if ((result = grow(s, (void **)&m->skins, m->skin_count, sizeof *m->skins)))
+        return result;
+    raw_skin *rs = &m->skins[m->skin_count++];
+    memset(rs, 0, sizeof *rs);
+    rs->joint_count = k->joint_count;
+    rs->joints = malloc((k->joint_count ? k->joint_count : 1) * sizeof *rs->joints);
+    rs->inverse_bind = malloc((k->joint_count ? k->joint_count : 1) * sizeof *rs->inverse_bind);
+    if (!rs->joints || !rs->inverse_bind)
+        return oom(s);
+    for (uint32_t j = 0; j < k->joint_count; j++) {
+        rs->joints[j] = k->joints[j];
+        dmat ib = dmat_mul(&k->geometry_to_bone[j], geometry);
+        dmat_to_float(&ib, &rs->inverse_bind[j]);
+    }
+    *out = (int32_t)m->skin_count - 1;
+    return SINEW_OK;
+}
+
+/* Every geometry a model carries: one mesh a material, skinned when a skin deforms it. */
+static sinew_result build_model_meshes(scene *s, const fbx_object *model)
+{
+    dmat geometry = geometric_matrix(model);
+    for (uint32_t k = 0; k < model->child_count; k++) {
+        const fbx_object *g = &s->objects[child_link(s, model, k)->child];
+        if (g->kind != K_GEOMETRY)
+            continue;
+        mesh_source src;
+        skin_source skin = {0};
+        sinew_result result = read_polygons(s, g, &src);
+        const fbx_object *deformer = result ? NULL : linked(s, g, K_SKIN, true, false);
+        if (!result && linked(s, g, K_BLEND_SHAPE, true, false))
+            raw_model_warn(s->model, "%s: mesh \"%.*s\" has blend shapes, which sinew does not play yet", s->path,
+                           (int)g->name_len, g->name);
+        if (!result && deformer)
+            result = read_skin(s, deformer, src.point_count, &skin);
+        int32_t skin_index = -1;
+        if (!result && deformer && skin.joint_count)
+            result = add_skin(s, &skin, &geometry, &skin_index);
+        /* Material slots in use, in order. */
+        int32_t max_slot = 0;
+        for (uint32_t c = 0; !result && c < src.corner_count; c++)
+            if (src.corners[c].material > max_slot)
+                max_slot = src.corners[c].material;
+        for (int32_t slot = 0; !result && slot <= max_slot; slot++) {
+            bool used = false;
+            for (uint32_t p = 0; p < src.polygon_count && !used; p++)
+                used = src.corners[src.polygon_start[p]].material == slot &&
+                       src.polygon_start[p + 1] - src.polygon_start[p] >= 3;
+            if (used)
+                result = emit_mesh(s, &src, model, slot, &geometry, skin_index >= 0 ? &skin : NULL, skin_index);
+        }
+        mesh_source_free(&src);
+        skin_source_free(&skin);
+        if (result)
+            return result;
+    }
+    return SINEW_OK;
+}
+
+static sinew_result build_meshes(scene *s)
+{
+    for (uint32_t i = 1; i < s->model->node_count; i++) {
+        sinew_result result = build_model_meshes(s, &s->objects[s->models[i]]);
+        if (result)
+            return result;
+    }
+    return SINEW_OK;
+}
+
+/* ---- clips ---------------------------------------------------------------------------- */
+
+static double ticks_at(double start, float seconds)
+{
+    return start + (double)seconds * FBX_TICKS_PER_SECOND;
+}
+
+typedef struct bake {
+    const scene *s;
+    uint32_t model;
+    int32_t stack;
+    double start;
+    double tol_t, tol_r, tol_s;
+    uint32_t count, capacity;
+    float *times;
+    local_trs *keys;
+    uint64_t *budget; /* keys the whole clip may still add by halving */
+    bool failed;
+} bake;
+
+static void bake_push(bake *b, float t, const local_trs *l)
+{
+    if (b->failed)
+        return;
+    if (b->count == b->capacity) {
+        uint32_t cap = b->capacity ? b->capacity * 2 : 16;
+        float *times = realloc(b->times, cap * sizeof *times);
+        if (times)
+            b->times = times;
+        local_trs *keys = realloc(b->keys, cap * sizeof *keys);
+        if (keys)
+            b->keys = keys;
+        if (!times || !keys) {
+            b->failed = true;
+            return;
+        }
+        b->capacity = cap;
+    }
+    b->times[b->count] = t;
+    b->keys[b->count++] = *l;
+}
+
+static void slerp(const double a[4], const double b[4], double u, double out[4])
+{
+    double d = a[0] * b[0] + a[1] * b[1] + a[2] * b[2] + a[3] * b[3], sign = d < 0 ? -1 : 1;
+    d = fabs(d);
+    double wa = 1 - u, wb = u;
+    if (d < 0.9999999) {
+        double th = acos(d), st = sin(th);
+        wa = sin((1 - u) * th) / st;
+        wb = sin(u * th) / st;
+    }
+    double n = 0;
+    for (int i = 0; i < 4; i++) {
+        out[i] = wa * a[i] + sign * wb * b[i];
+        n += out[i] * out[i];
+    }
+    n = sqrt(n);
+    for (int i = 0; i < 4; i++)
+        out[i] /= n;
+}
+
+/* How far interpolating a..b misses the exact transform at u. */
+static bool within(const bake *b, const local_trs *a, const local_trs *c, const local_trs *exact, double u)
+{
+    double q[4];
+    slerp(a->q, c->q, u, q);
+    double d = fabs(q[0] * exact->q[0] + q[1] * exact->q[1] + q[2] * exact->q[2] + q[3] * exact->q[3]);
+    if (2 * acos(fmin(d, 1.0)) > b->tol_r)
+        return false;
+    for (int k = 0; k < 3; k++) {
+        double t = a->t[k] + (c->t[k] - a->t[k]) * u, sc = a->s[k] + (c->s[k] - a->s[k]) * u;
+        if (fabs(t - exact->t[k]) > b->tol_t || fabs(sc - exact->s[k]) > b->tol_s * fmax(1.0, fabs(exact->s[k])))
+            return false;
+    }
+    return true;
+}
+
+/* Adds keys after ta up to and including tc (ta's key is already there). */
+static void bake_interval(bake *b, float ta, const local_trs *a, float tc, const local_trs *c, int depth)
+{
+    bool fine = true;
+    local_trs exact[3];
+    float tm[3];
+    for (int k = 0; k < 3; k++) {
+        tm[k] = ta + (tc - ta) * (float)(k + 1) / 4.0f;
+        node_local(b->s, b->model, b->stack, ticks_at(b->start, tm[k]), &exact[k]);
+    }
+    if (depth < FBX_BAKE_MAX_DEPTH && *b->budget > 0 && tm[1] > ta && tm[1] < tc) {
+        double u[3];
+        for (int k = 0; k < 3; k++)
+            u[k] = ((double)tm[k] - ta) / ((double)tc - ta);
+        for (int k = 0; k < 3 && fine; k++)
+            fine = within(b, a, c, &exact[k], u[k]);
+    }
+    if (fine || depth >= FBX_BAKE_MAX_DEPTH || *b->budget == 0 || !(tm[1] > ta && tm[1] < tc)) {
+        bake_push(b, tc, c);
+        return;
+    }
+    (*b->budget)--;
+    bake_interval(b, ta, a, tm[1], &exact[1], depth + 1);
+    bake_interval(b, tm[1], &exact[1], tc, c, depth + 1);
+}
+
+static int compare_float(const void *a, const void *b)
+{
+    float x = *(const float *)a, y = *(const float *)b;
+    return x < y ? -1 : x > y;
+}
+
+/* Key times (seconds in the clip) of every curve that animates a model in a stack, with
+ * the instant before each constant step. */
+static sinew_result sample_times(const scene *s, uint32_t model, int32_t stack, double start, float duration,
+                                 float **out, uint32_t *count)
+{
+    uint32_t cap = 16, n = 0;
+    float *t = malloc(cap * sizeof *t);
+    if (!t)
+        return SINEW_ERROR_OUT_OF_MEMORY;
+    t[n++] = 0.0f;
+    t[n++] = duration;
+    for (uint32_t b = 0; b < s->binding_count; b++) {
+        const fbx_binding *bind = &s->bindings[b];
+        if (bind->model != model || s->layers[bind->layer].stack != stack)
+            continue;
+        const fbx_object *cn = &s->objects[bind->curve_node];
+        for (uint32_t k = 0; k < cn->child_count; k++) {
+            const fbx_link *l = child_link(s, cn, k);
+            if (s->objects[l->child].kind != K_CURVE)
+                continue;
+            const fbx_curve *c = &s->curves[l->child];
+            for (uint32_t i = 0; i < c->count; i++) {
+                float sec = (float)((c->times[i] - start) / FBX_TICKS_PER_SECOND);
+                if (!(sec > 0.0f && sec < duration))
+                    continue;
+                if (n + 2 > cap) {
+                    float *grown = realloc(t, cap * 2 * sizeof *t);
+                    if (!grown) {
+                        free(t);
+                        return SINEW_ERROR_OUT_OF_MEMORY;
+                    }
+                    t = grown;
+                    cap *= 2;
+                }
+                t[n++] = sec;
+                if (steps_into(c, i))
+                    t[n++] = nextafterf(sec, 0.0f);
+            }
+        }
+    }
+    qsort(t, n, sizeof *t, compare_float);
+    uint32_t u = 0;
+    for (uint32_t i = 0; i < n; i++)
+        if (u == 0 || t[i] != t[u - 1])
+            t[u++] = t[i];
+    *out = t;
+    *count = u;
+    return SINEW_OK;
+}
+
+static bool model_animated(const scene *s, uint32_t model, int32_t stack)
+{
+    for (uint32_t b = 0; b < s->binding_count; b++)
+        if (s->bindings[b].model == model && s->layers[s->bindings[b].layer].stack == stack)
+            return true;
+    return false;
+}
+
+static bool same_as_rest(const float *values, uint32_t count, uint32_t width, const float *rest)
+{
+    for (uint32_t k = 0; k < count; k++)
+        for (uint32_t c = 0; c < width; c++)
+            if (fabsf(values[k * width + c] - rest[c]) > 1e-7f * fmaxf(1.0f, fabsf(rest[c])))
+                return false;
+    return true;
+}
+
+/* A baked node's keys as the three channels of a raw track (a channel equal to the rest
+ * value throughout is left out). */
+static bool fill_track(raw_track *track, const bake *b, const sinew_transform *rest)
+{
+    for (int kind = 0; kind < SINEW_CHANNEL_COUNT; kind++) {
+        uint32_t width = kind == SINEW_CHANNEL_ROTATION ? 4 : 3;
+        float *values = malloc((size_t)b->count * width * sizeof *values);
+        if (!values)
+            return false;
+        for (uint32_t k = 0; k < b->count; k++) {
+            const local_trs *l = &b->keys[k];
+            for (uint32_t c = 0; c < width; c++)
+                values[k * width + c] = (float)(kind == SINEW_CHANNEL_TRANSLATION ? l->t[c]
+                                                : kind == SINEW_CHANNEL_ROTATION  ? l->q[c]
+                                                                                  : l->s[c]);
+        }
+        const float *rv = kind == SINEW_CHANNEL_TRANSLATION ? rest->translation
+                          : kind == SINEW_CHANNEL_ROTATION  ? rest->rotation
+                                                            : rest->scale;
+        bool flat = kind != SINEW_CHANNEL_ROTATION && same_as_rest(values, b->count, width, rv);
+        if (kind == SINEW_CHANNEL_ROTATION) {
+            float neg[4] = {-rv[0], -rv[1], -rv[2], -rv[3]};
+            flat = same_as_rest(values, b->count, width, rv) || same_as_rest(values, b->count, width, neg);
+        }
+        if (flat) {
+            free(values);
+            continue;
+        }
+        float *times = malloc(b->count * sizeof *times);
+        if (!times) {
+            free(values);
+            return false;
+        }
+        memcpy(times, b->times, b->count * sizeof *times);
+        track->channels[kind] = (raw_channel){SINEW_INTERP_LINEAR, b->count, times, values};
+    }
+    return true;
+}
+
+/* The stack's time span: LocalStart..LocalStop, else the span of its keys. */
+static void stack_span(const scene *s, uint32_t stack, double *start, double *stop)
+{
+    const fbx_object *o = &s->objects[stack];
+    *start = prop_num(o, "LocalStart", 0);
+    *stop = prop_num(o, "LocalStop", 0);
+    if (*stop > *start)
+        return;
+    double lo = INFINITY, hi = -INFINITY;
+    for (uint32_t b = 0; b < s->binding_count; b++) {
+        if (s->layers[s->bindings[b].layer].stack != (int32_t)stack)
+            continue;
+        const fbx_object *cn = &s->objects[s->bindings[b].curve_node];
+        for (uint32_t k = 0; k < cn->child_count; k++) {
+            const fbx_curve *c = &s->curves[child_link(s, cn, k)->child];
+            if (c->count) {
+                lo = fmin(lo, c->times[0]);
+                hi = fmax(hi, c->times[c->count - 1]);
+            }
+        }
+    }
+    *start = isfinite(lo) ? lo : 0;
+    *stop = isfinite(hi) ? hi : 0;
+}
+
+static sinew_result build_clip(scene *s, uint32_t stack)
+{
+    raw_model *m = s->model;
+    const fbx_object *so = &s->objects[stack];
+    double start, stop;
+    stack_span(s, stack, &start, &stop);
+    float duration = (float)((stop - start) / FBX_TICKS_PER_SECOND);
+    if (!isfinite(duration) || duration < 0)
+        duration = 0;
+    sinew_result result;
+    if ((result = grow(s, (void **)&m->clips, m->clip_count, sizeof *m->clips)))
+        return result;
+    raw_clip *clip = &m->clips[m->clip_count++];
+    memset(clip, 0, sizeof *clip);
+    clip->duration = duration;
+    clip->name = malloc(so->name_len + 1);
+    clip->tracks = calloc(m->node_count, sizeof *clip->tracks);
+    if (!clip->name || !clip->tracks)
+        return oom(s);
+    memcpy(clip->name, so->name, so->name_len);
+    clip->name[so->name_len] = 0;
+    /* Halving may add at most this many keys to the whole clip (beyond the curves' own). */
+    uint64_t budget = 1u << 20;
+    for (uint32_t i = 1; i < m->node_count; i++) {
+        uint32_t model = s->models[i];
+        if (!model_animated(s, model, (int32_t)stack))
+            continue;
+        float *times = NULL;
+        uint32_t n = 0;
+        if (sample_times(s, model, (int32_t)stack, start, duration, &times, &n))
+            return oom(s);
+        /* World-space tolerance over the parent's scale (a joint under a scaled root). */
+        double parent_scale = 1.0;
+        bake b = {.s = s,
+                  .model = model,
+                  .stack = (int32_t)stack,
+                  .start = start,
+                  .tol_t = FBX_BAKE_TOLERANCE * s->diagonal / parent_scale,
+                  .tol_r = FBX_BAKE_TOLERANCE,
+                  .tol_s = FBX_BAKE_TOLERANCE,
+                  .budget = &budget};
+        local_trs prev;
+        node_local(s, model, (int32_t)stack, ticks_at(start, times[0]), &prev);
+        bake_push(&b, times[0], &prev);
+        for (uint32_t k = 1; k < n && !b.failed; k++) {
+            local_trs next;
+            node_local(s, model, (int32_t)stack, ticks_at(start, times[k]), &next);
+            bake_interval(&b, times[k - 1], &prev, times[k], &next, 0);
+            prev = next;
+        }
+        free(times);
+        raw_track *track = &clip->tracks[clip->track_count++];
+        track->node = i;
+        bool ok = !b.failed && fill_track(track, &b, &m->node_rest[i]);
+        free(b.times);
+        free(b.keys);
+        if (!ok)
+            return oom(s);
+    }
+    if (budget == 0)
+        raw_model_warn(m, "%s: clip \"%s\" has more curve detail than sinew bakes (a million extra keys); parts "
+                          "of it are interpolated more coarsely",
+                       s->path, clip->name);
+    return SINEW_OK;
+}
+
+static sinew_result build_clips(scene *s)
+{
+    for (uint32_t i = 0; i < s->object_count; i++) {
+        if (s->objects[i].kind != K_STACK)
+            continue;
+        sinew_result result = build_clip(s, i);
+        if (result)
+            return result;
+    }
+    return SINEW_OK;
+}
+
+/* ---- entry ---------------------------------------------------------------------------- */
+
+static void scene_free(scene *s)
+{
+    for (uint32_t i = 0; s->curves && i < s->object_count; i++)
+        free(s->curves[i].attr);
+    free(s->curves);
+    free(s->layers);
+    free(s->bindings);
+    free(s->objects);
+    free(s->up);
+    free(s->down);
+    free(s->models);
+    fbx_doc_free(&s->doc);
+}
+
+static sinew_result check_version(scene *s)
+{
+    uint32_t v = s->doc.version;
+    if (v == 0 && !s->doc.binary && fbx_child(&s->doc.root, "Objects") && fbx_child(&s->doc.root, "Connections"))
+        v = 7000; /* ASCII without a header version, in 7.x layout */
+    if (v < 7000 || v >= 8000)
+        return sinew_fail(s->error, SINEW_ERROR_FORMAT,
+                          "%s: FBX version %u.%u is not supported: sinew reads FBX 7.x (FBX 2011 and later); "
+                          "export the file again as FBX 7.x",
+                          s->path, v / 1000, v % 1000 / 100);
+    return SINEW_OK;
+}
+
+sinew_result raw_model_from_fbx(const char *path, const unsigned char *bytes, size_t size, raw_model *model,
+                                sinew_error *error)
+{
+    memset(model, 0, sizeof *model);
+    scene s = {.path = path, .error = error, .model = model};
+    sinew_result result = fbx_parse(bytes, size, path, &s.doc, error);
+    if (result)
+        return result;
+    model->source = raw_strdup(path);
+    model->format = raw_strdup("fbx");
+    if (!model->source || !model->format)
+        result = oom(&s);
+    if (!result)
+        result = check_version(&s);
+    if (!result)
+        result = index_objects(&s);
+    if (!result)
+        result = index_animation(&s);
+    if (!result) {
+        conversion(&s);
+        result = build_nodes(&s);
+    }
+    if (!result)
+        result = measure(&s);
+    if (!result)
+        result = build_materials(&s);
+    if (!result)
+        result = build_meshes(&s);
+    if (!result)
+        result = build_clips(&s);
+    scene_free(&s);
+    if (result)
+        raw_model_free(model);
+    return result;
+}

@@ -1,0 +1,65 @@
+/* Cross-file internals of sinew's FBX reader (fbx_parse.c reads the document, fbx.c turns
+ * it into a raw model). No promise to library users.
+ *
+ * The document is FBX's own tree: nodes with a name, a list of values and child nodes,
+ * the same for binary FBX 7.x and ASCII FBX 7.x. Integers (bool, int16/32/64) keep their
+ * exact value in `i` and an approximate one in `d`; every array is decoded to doubles
+ * (int64 key times up to 2^53 ticks, 54 hours, stay exact). Strings point into the file's
+ * bytes, which must outlive the document.
+ */
+#ifndef SINEW_IMPORT_FBX_INTERNAL_H
+#define SINEW_IMPORT_FBX_INTERNAL_H
+
+#include <stdbool.h>
+#include <stddef.h>
+#include <stdint.h>
+
+#include "sinew/result.h"
+
+typedef enum fbx_type { FBX_INT = 'I', FBX_REAL = 'D', FBX_STRING = 'S', FBX_ARRAY = 'A' } fbx_type;
+
+typedef struct fbx_value {
+    char type;      /* fbx_type */
+    uint32_t count; /* array elements or string bytes */
+    int64_t i;      /* FBX_INT (FBX_REAL: truncated) */
+    double d;       /* FBX_INT and FBX_REAL */
+    const char *s;  /* FBX_STRING: not NUL-terminated */
+    double *a;      /* FBX_ARRAY */
+} fbx_value;
+
+typedef struct fbx_node {
+    const char *name; /* not NUL-terminated */
+    uint32_t name_len;
+    uint32_t value_count;
+    uint32_t child_count;
+    fbx_value *values;
+    struct fbx_node *children;
+} fbx_node;
+
+typedef struct fbx_doc {
+    fbx_node root;    /* its children are the top-level nodes */
+    uint32_t version; /* 7400 for FBX 7.4 */
+    bool binary;
+} fbx_doc;
+
+/* True when the bytes start like an FBX file (binary magic, or ASCII FBX's comment header
+ * or top-level node names). */
+bool fbx_sniff(const unsigned char *bytes, size_t size);
+
+/* Parses a whole FBX file. Every record, array and string is checked against the bytes;
+ * decoded arrays and the tree together may not exceed a budget proportional to the file
+ * size. Errors name `path` and the place (byte offset or line). */
+sinew_result fbx_parse(const unsigned char *bytes, size_t size, const char *path, fbx_doc *doc, sinew_error *error);
+void fbx_doc_free(fbx_doc *doc);
+
+/* First child named `name`, or NULL. */
+const fbx_node *fbx_child(const fbx_node *node, const char *name);
+bool fbx_named(const fbx_node *node, const char *name);
+/* Value `k` as a number / integer / string (0 / 0 / "" when absent or of another type). */
+double fbx_num(const fbx_node *node, uint32_t k);
+int64_t fbx_int(const fbx_node *node, uint32_t k);
+bool fbx_str_is(const fbx_node *node, uint32_t k, const char *text);
+/* The array of the first child named `name` (its first value), with its length. */
+const double *fbx_array(const fbx_node *node, const char *name, uint32_t *count);
+
+#endif

@@ -1,0 +1,687 @@
+/* FBX documents, binary and ASCII 7.x, as a tree of nodes (fbx_internal.h).
+ *
+ *   budget ............ every allocation counted against a limit set by the file size
+ *   binary ............ records (32-bit offsets before 7.5, 64-bit from 7.5), typed values,
+ *                       arrays raw or zlib-compressed
+ *   ascii ............. a tokenizer and a recursive reader of `Name: values { children }`
+ *   lookups ........... fbx_child, fbx_num, fbx_array, ...
+ *
+ * Binary records give their end offset: each must lie after its own header and inside its
+ * parent, so a record can never point back into itself and nesting always ends. Nesting is
+ * also limited to FBX_MAX_DEPTH levels in both forms.
+ */
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include <zlib.h>
+
+#include "../core/internal.h"
+#include "fbx_internal.h"
+
+#define FBX_MAX_DEPTH 64
+#define FBX_BINARY_MAGIC "Kaydara FBX Binary  \0\x1a"
+#define FBX_BINARY_MAGIC_SIZE 23u
+#define FBX_BINARY_HEADER_SIZE 27u
+
+typedef struct parser {
+    const unsigned char *bytes;
+    size_t size, pos;
+    const char *path;
+    sinew_error *error;
+    bool wide; /* 64-bit record offsets (FBX 7.5 and later) */
+    size_t budget;
+    int depth;
+    /* ASCII: one token of lookahead */
+    int tok;
+    const char *tok_text;
+    size_t tok_len;
+    size_t line;
+} parser;
+
+/* ---- budget ------------------------------------------------------------------------ */
+
+/* A file may decode to at most this many bytes: zlib's largest ratio (about 1032:1) over the
+ * whole file, plus room for the tree of a small file. */
+static size_t budget_for(size_t size)
+{
+    return size > (SIZE_MAX - (64u << 20)) / 1100u ? SIZE_MAX : size * 1100u + (64u << 20);
+}
+
+static sinew_result fail_limit(parser *ps)
+{
+    return sinew_fail(ps->error, SINEW_ERROR_LIMIT,
+                      "%s: the FBX document decodes to more than %zu bytes (the limit for a file of %zu bytes)",
+                      ps->path, budget_for(ps->size), ps->size);
+}
+
+static void *take(parser *ps, size_t count, size_t elem, sinew_result *result)
+{
+    if (count == 0)
+        return NULL;
+    if (count > ps->budget / elem) {
+        *result = fail_limit(ps);
+        return NULL;
+    }
+    void *p = calloc(count, elem);
+    if (!p) {
+        *result = sinew_fail(ps->error, SINEW_ERROR_OUT_OF_MEMORY, "%s: out of memory reading the FBX document",
+                             ps->path);
+        return NULL;
+    }
+    ps->budget -= count * elem;
+    return p;
+}
+
+static void node_free(fbx_node *n)
+{
+    for (uint32_t i = 0; i < n->value_count; i++)
+        free(n->values[i].a);
+    free(n->values);
+    for (uint32_t i = 0; i < n->child_count; i++)
+        node_free(&n->children[i]);
+    free(n->children);
+}
+
+void fbx_doc_free(fbx_doc *doc)
+{
+    if (doc)
+        node_free(&doc->root);
+}
+
+/* Appends a node to a growing child list (capacity doubles; counted in the budget). */
+static fbx_node *push_child(parser *ps, fbx_node *parent, uint32_t *capacity, sinew_result *result)
+{
+    if (parent->child_count == *capacity) {
+        uint32_t grown = *capacity ? *capacity * 2 : 4;
+        if (grown < *capacity || (size_t)(grown - *capacity) > ps->budget / sizeof(fbx_node)) {
+            *result = fail_limit(ps);
+            return NULL;
+        }
+        fbx_node *n = realloc(parent->children, grown * sizeof(fbx_node));
+        if (!n) {
+            *result = sinew_fail(ps->error, SINEW_ERROR_OUT_OF_MEMORY, "%s: out of memory reading the FBX document",
+                                 ps->path);
+            return NULL;
+        }
+        ps->budget -= (grown - *capacity) * sizeof(fbx_node);
+        parent->children = n;
+        *capacity = grown;
+    }
+    fbx_node *c = &parent->children[parent->child_count++];
+    memset(c, 0, sizeof *c);
+    return c;
+}
+
+/* ---- binary ------------------------------------------------------------------------ */
+
+static sinew_result bad(parser *ps, size_t at, const char *what)
+{
+    return sinew_fail(ps->error, SINEW_ERROR_FORMAT, "%s: byte %zu: %s", ps->path, at, what);
+}
+
+static uint64_t read_le(const unsigned char *p, int bytes)
+{
+    uint64_t v = 0;
+    for (int i = bytes - 1; i >= 0; i--)
+        v = (v << 8) | p[i];
+    return v;
+}
+
+static double array_element(const unsigned char *p, char type)
+{
+    switch (type) {
+    case 'f': {
+        float f;
+        memcpy(&f, p, 4);
+        return f;
+    }
+    case 'd': {
+        double d;
+        memcpy(&d, p, 8);
+        return d;
+    }
+    case 'l':
+        return (double)(int64_t)read_le(p, 8);
+    case 'i':
+        return (double)(int32_t)read_le(p, 4);
+    default: /* 'b' */
+        return p[0] ? 1.0 : 0.0;
+    }
+}
+
+static sinew_result read_array(parser *ps, char type, size_t end, fbx_value *v)
+{
+    size_t at = ps->pos;
+    if (end - ps->pos < 12)
+        return bad(ps, at, "array header runs past its record");
+    uint32_t count = (uint32_t)read_le(ps->bytes + ps->pos, 4);
+    uint32_t encoding = (uint32_t)read_le(ps->bytes + ps->pos + 4, 4);
+    uint32_t stored = (uint32_t)read_le(ps->bytes + ps->pos + 8, 4);
+    ps->pos += 12;
+    size_t elem = type == 'd' || type == 'l' ? 8 : type == 'b' ? 1 : 4;
+    if (stored > end - ps->pos)
+        return bad(ps, at, "array data runs past its record");
+    if ((uint64_t)count * elem > UINT32_MAX)
+        return bad(ps, at, "array is larger than 4 GiB");
+    size_t raw_size = (size_t)count * elem;
+    const unsigned char *src = ps->bytes + ps->pos;
+    unsigned char *inflated = NULL;
+    sinew_result result = SINEW_OK;
+    if (encoding == 1) {
+        if (raw_size > ps->budget)
+            return fail_limit(ps);
+        inflated = malloc(raw_size ? raw_size : 1);
+        if (!inflated)
+            return sinew_fail(ps->error, SINEW_ERROR_OUT_OF_MEMORY, "%s: out of memory reading the FBX document",
+                              ps->path);
+        uLongf got = (uLongf)raw_size;
+        int z = uncompress(inflated, &got, src, stored);
+        if (z != Z_OK || got != raw_size) {
+            free(inflated);
+            return bad(ps, at, z == Z_OK ? "compressed array has the wrong length" : "compressed array is corrupt");
+        }
+        src = inflated;
+    } else if (encoding != 0) {
+        return bad(ps, at, "array has an unknown encoding");
+    } else if (stored != raw_size) {
+        return bad(ps, at, "array size does not match its count");
+    }
+    ps->pos += stored;
+    v->type = FBX_ARRAY;
+    v->count = count;
+    v->a = take(ps, count, sizeof(double), &result);
+    if (count && !v->a) {
+        free(inflated);
+        return result;
+    }
+    for (uint32_t i = 0; i < count; i++)
+        v->a[i] = array_element(src + i * elem, type);
+    free(inflated);
+    return SINEW_OK;
+}
+
+static sinew_result read_value(parser *ps, size_t end, fbx_value *v)
+{
+    size_t at = ps->pos;
+    char type = (char)ps->bytes[ps->pos++];
+    static const struct {
+        char type;
+        int bytes;
+    } scalars[] = {{'Y', 2}, {'C', 1}, {'I', 4}, {'L', 8}, {'F', 4}, {'D', 8}};
+    for (size_t k = 0; k < sizeof scalars / sizeof scalars[0]; k++) {
+        if (scalars[k].type != type)
+            continue;
+        int n = scalars[k].bytes;
+        if (end - ps->pos < (size_t)n)
+            return bad(ps, at, "value runs past its record");
+        const unsigned char *p = ps->bytes + ps->pos;
+        ps->pos += (size_t)n;
+        if (type == 'F' || type == 'D') {
+            v->type = FBX_REAL;
+            v->d = type == 'F' ? array_element(p, 'f') : array_element(p, 'd');
+            v->i = v->d > -9.2e18 && v->d < 9.2e18 ? (int64_t)v->d : 0;
+        } else {
+            uint64_t u = read_le(p, n);
+            v->type = FBX_INT;
+            v->i = n == 8 ? (int64_t)u : n == 4 ? (int32_t)u : n == 2 ? (int16_t)u : (int64_t)(u != 0);
+            v->d = (double)v->i;
+        }
+        return SINEW_OK;
+    }
+    if (type == 'S' || type == 'R') {
+        if (end - ps->pos < 4)
+            return bad(ps, at, "string length runs past its record");
+        uint32_t len = (uint32_t)read_le(ps->bytes + ps->pos, 4);
+        ps->pos += 4;
+        if (len > end - ps->pos)
+            return bad(ps, at, "string runs past its record");
+        v->type = FBX_STRING;
+        v->s = (const char *)ps->bytes + ps->pos;
+        v->count = len;
+        ps->pos += len;
+        return SINEW_OK;
+    }
+    if (strchr("fdlib", type) && type)
+        return read_array(ps, type, end, v);
+    return bad(ps, at, "value of an unknown type");
+}
+
+static sinew_result read_record(parser *ps, size_t limit, fbx_node *out, bool *null_record);
+
+/* Children of a record: records until a null record or the record's end. */
+static sinew_result read_children(parser *ps, size_t end, fbx_node *parent)
+{
+    uint32_t capacity = 0;
+    sinew_result result = SINEW_OK;
+    const size_t header = ps->wide ? 25 : 13;
+    while (ps->pos < end) {
+        if (end - ps->pos < header)
+            return bad(ps, ps->pos, "record header runs past its parent");
+        fbx_node child = {0};
+        bool null_record = false;
+        if ((result = read_record(ps, end, &child, &null_record))) {
+            node_free(&child);
+            return result;
+        }
+        if (null_record)
+            break;
+        fbx_node *slot = push_child(ps, parent, &capacity, &result);
+        if (!slot) {
+            node_free(&child);
+            return result;
+        }
+        *slot = child;
+    }
+    return SINEW_OK;
+}
+
+static sinew_result read_record(parser *ps, size_t limit, fbx_node *out, bool *null_record)
+{
+    const size_t at = ps->pos, header = ps->wide ? 25 : 13;
+    const int w = ps->wide ? 8 : 4;
+    const unsigned char *p = ps->bytes + at;
+    uint64_t end = read_le(p, w), value_count = read_le(p + w, w), value_bytes = read_le(p + 2 * w, w);
+    uint8_t name_len = p[3 * w];
+    if (end == 0 && value_count == 0 && value_bytes == 0 && name_len == 0) {
+        ps->pos += header;
+        *null_record = true;
+        return SINEW_OK;
+    }
+    if (end > limit || end < at + header + name_len || value_bytes > end - (at + header + name_len))
+        return bad(ps, at, "record's end lies outside its parent");
+    if (value_count > value_bytes)
+        return bad(ps, at, "record claims more values than it has bytes");
+    if (ps->depth >= FBX_MAX_DEPTH)
+        return bad(ps, at, "records nested deeper than 64 levels");
+    out->name = (const char *)p + header;
+    out->name_len = name_len;
+    ps->pos = at + header + name_len;
+    size_t values_end = ps->pos + value_bytes;
+    sinew_result result = SINEW_OK;
+    out->values = take(ps, value_count, sizeof(fbx_value), &result);
+    if (value_count && !out->values)
+        return result;
+    for (uint64_t k = 0; k < value_count; k++) {
+        if (ps->pos >= values_end)
+            return bad(ps, ps->pos, "record's values run past their length");
+        out->value_count++;
+        if ((result = read_value(ps, values_end, &out->values[k])))
+            return result;
+    }
+    if (ps->pos != values_end)
+        return bad(ps, ps->pos, "record's values do not fill their length");
+    ps->depth++;
+    result = read_children(ps, (size_t)end, out);
+    ps->depth--;
+    ps->pos = (size_t)end;
+    return result;
+}
+
+static sinew_result parse_binary(parser *ps, fbx_doc *doc)
+{
+    doc->binary = true;
+    doc->version = (uint32_t)read_le(ps->bytes + FBX_BINARY_MAGIC_SIZE, 4);
+    ps->wide = doc->version >= 7500;
+    ps->pos = FBX_BINARY_HEADER_SIZE;
+    /* The top level ends with a null record, then a footer. */
+    uint32_t capacity = 0;
+    sinew_result result = SINEW_OK;
+    const size_t header = ps->wide ? 25 : 13;
+    while (ps->size - ps->pos >= header) {
+        fbx_node child = {0};
+        bool null_record = false;
+        if ((result = read_record(ps, ps->size, &child, &null_record))) {
+            node_free(&child);
+            return result;
+        }
+        if (null_record)
+            return SINEW_OK;
+        fbx_node *slot = push_child(ps, &doc->root, &capacity, &result);
+        if (!slot) {
+            node_free(&child);
+            return result;
+        }
+        *slot = child;
+    }
+    if (doc->root.child_count == 0)
+        return bad(ps, ps->pos, "the file ends before its first record");
+    return SINEW_OK;
+}
+
+/* ---- ASCII ------------------------------------------------------------------------- */
+
+enum { T_END, T_KEY, T_STRING, T_NUMBER, T_WORD, T_OPEN, T_CLOSE, T_COMMA, T_STAR, T_BAD };
+
+static sinew_result bad_line(parser *ps, const char *what)
+{
+    return sinew_fail(ps->error, SINEW_ERROR_FORMAT, "%s: line %zu: %s", ps->path, ps->line, what);
+}
+
+static bool word_char(unsigned char c)
+{
+    return (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') || c == '_' || c == '|' ||
+           c == '-' || c == '.' || c == '+';
+}
+
+static void next_token(parser *ps)
+{
+    const unsigned char *b = ps->bytes;
+    for (;;) {
+        while (ps->pos < ps->size && (b[ps->pos] == ' ' || b[ps->pos] == '\t' || b[ps->pos] == '\r' ||
+                                      b[ps->pos] == '\n')) {
+            if (b[ps->pos] == '\n')
+                ps->line++;
+            ps->pos++;
+        }
+        if (ps->pos < ps->size && b[ps->pos] == ';') {
+            while (ps->pos < ps->size && b[ps->pos] != '\n')
+                ps->pos++;
+            continue;
+        }
+        break;
+    }
+    ps->tok_text = (const char *)b + ps->pos;
+    ps->tok_len = 1;
+    if (ps->pos >= ps->size) {
+        ps->tok = T_END;
+        return;
+    }
+    unsigned char c = b[ps->pos];
+    static const char singles[] = "{},*";
+    static const int single_kinds[] = {T_OPEN, T_CLOSE, T_COMMA, T_STAR};
+    const char *s = c ? strchr(singles, c) : NULL;
+    if (s) {
+        ps->tok = single_kinds[s - singles];
+        ps->pos++;
+        return;
+    }
+    if (c == '"') {
+        size_t start = ++ps->pos;
+        while (ps->pos < ps->size && b[ps->pos] != '"') {
+            if (b[ps->pos] == '\n')
+                ps->line++;
+            ps->pos++;
+        }
+        if (ps->pos >= ps->size) {
+            ps->tok = T_BAD;
+            return;
+        }
+        ps->tok = T_STRING;
+        ps->tok_text = (const char *)b + start;
+        ps->tok_len = ps->pos - start;
+        ps->pos++;
+        return;
+    }
+    if (!word_char(c)) {
+        ps->tok = T_BAD;
+        return;
+    }
+    size_t start = ps->pos;
+    while (ps->pos < ps->size && word_char(b[ps->pos]))
+        ps->pos++;
+    ps->tok_len = ps->pos - start;
+    if (ps->pos < ps->size && b[ps->pos] == ':') {
+        ps->pos++;
+        ps->tok = T_KEY;
+        return;
+    }
+    ps->tok = (c >= '0' && c <= '9') || c == '-' || c == '+' || c == '.' ? T_NUMBER : T_WORD;
+}
+
+static bool number_value(const char *text, size_t len, fbx_value *v)
+{
+    char buf[64];
+    if (len >= sizeof buf)
+        return false;
+    memcpy(buf, text, len);
+    buf[len] = 0;
+    char *end = NULL;
+    if (!strpbrk(buf, ".eE")) {
+        v->type = FBX_INT;
+        v->i = strtoll(buf, &end, 10);
+        v->d = (double)v->i;
+    } else {
+        v->type = FBX_REAL;
+        v->d = strtod(buf, &end);
+        v->i = v->d > -9.2e18 && v->d < 9.2e18 ? (int64_t)v->d : 0;
+    }
+    return end && *end == 0;
+}
+
+/* `*N { a: x, y, ... }`: the star is already read. */
+static sinew_result ascii_array(parser *ps, fbx_value *v)
+{
+    next_token(ps);
+    fbx_value count = {0};
+    if (ps->tok != T_NUMBER || !number_value(ps->tok_text, ps->tok_len, &count) || count.type != FBX_INT ||
+        count.i < 0 || count.i > UINT32_MAX)
+        return bad_line(ps, "array count after '*' is not a whole number");
+    next_token(ps);
+    if (ps->tok != T_OPEN)
+        return bad_line(ps, "array has no '{'");
+    next_token(ps);
+    if (ps->tok != T_KEY || ps->tok_len != 1 || ps->tok_text[0] != 'a')
+        return bad_line(ps, "array has no 'a:'");
+    /* Each number takes at least two bytes of the file; the count only sizes the first guess. */
+    size_t remaining = (ps->size - ps->pos) / 2 + 1;
+    size_t capacity = (size_t)count.i < remaining ? (size_t)count.i : remaining;
+    sinew_result result = SINEW_OK;
+    v->type = FBX_ARRAY;
+    v->a = take(ps, capacity ? capacity : 1, sizeof(double), &result);
+    if (!v->a)
+        return result;
+    if (!capacity)
+        capacity = 1;
+    next_token(ps);
+    while (ps->tok == T_NUMBER) {
+        fbx_value n = {0};
+        if (!number_value(ps->tok_text, ps->tok_len, &n))
+            return bad_line(ps, "array element is not a number");
+        if (v->count == capacity) {
+            if (capacity > ps->budget / sizeof(double))
+                return fail_limit(ps);
+            double *grown = realloc(v->a, capacity * 2 * sizeof(double));
+            if (!grown)
+                return sinew_fail(ps->error, SINEW_ERROR_OUT_OF_MEMORY, "%s: out of memory reading the FBX document",
+                                  ps->path);
+            ps->budget -= capacity * sizeof(double);
+            v->a = grown;
+            capacity *= 2;
+        }
+        v->a[v->count++] = n.d;
+        next_token(ps);
+        if (ps->tok == T_COMMA)
+            next_token(ps);
+    }
+    if (ps->tok != T_CLOSE)
+        return bad_line(ps, "array has something other than numbers");
+    if ((uint64_t)v->count != (uint64_t)count.i)
+        return bad_line(ps, "array has another number of elements than its count says");
+    next_token(ps);
+    return SINEW_OK;
+}
+
+static sinew_result ascii_nodes(parser *ps, fbx_node *parent, bool top);
+
+/* One `Key: values [{ children }]`; the key is the current token. */
+static sinew_result ascii_node(parser *ps, fbx_node *node)
+{
+    node->name = ps->tok_text;
+    node->name_len = ps->tok_len > 255 ? 255 : (uint32_t)ps->tok_len;
+    next_token(ps);
+    if (ps->tok == T_COMMA) /* `Content: , "..."` */
+        next_token(ps);
+    uint32_t capacity = 0;
+    sinew_result result = SINEW_OK;
+    while (ps->tok == T_STRING || ps->tok == T_NUMBER || ps->tok == T_WORD || ps->tok == T_STAR) {
+        if (node->value_count == capacity) {
+            uint32_t grown = capacity ? capacity * 2 : 4;
+            if (grown - capacity > ps->budget / sizeof(fbx_value))
+                return fail_limit(ps);
+            fbx_value *values = realloc(node->values, grown * sizeof(fbx_value));
+            if (!values)
+                return sinew_fail(ps->error, SINEW_ERROR_OUT_OF_MEMORY, "%s: out of memory reading the FBX document",
+                                  ps->path);
+            ps->budget -= (grown - capacity) * sizeof(fbx_value);
+            node->values = values;
+            capacity = grown;
+        }
+        fbx_value *v = &node->values[node->value_count++];
+        memset(v, 0, sizeof *v);
+        if (ps->tok == T_STAR) {
+            if ((result = ascii_array(ps, v)))
+                return result;
+        } else {
+            if (ps->tok == T_NUMBER) {
+                if (!number_value(ps->tok_text, ps->tok_len, v))
+                    return bad_line(ps, "value is not a number");
+            } else {
+                v->type = FBX_STRING;
+                v->s = ps->tok_text;
+                v->count = (uint32_t)ps->tok_len;
+            }
+            next_token(ps);
+        }
+        if (ps->tok != T_COMMA)
+            break;
+        next_token(ps);
+    }
+    if (ps->tok != T_OPEN)
+        return SINEW_OK;
+    if (ps->depth >= FBX_MAX_DEPTH)
+        return bad_line(ps, "nodes nested deeper than 64 levels");
+    next_token(ps);
+    ps->depth++;
+    result = ascii_nodes(ps, node, false);
+    ps->depth--;
+    if (result)
+        return result;
+    next_token(ps); /* the '}' */
+    return SINEW_OK;
+}
+
+static sinew_result ascii_nodes(parser *ps, fbx_node *parent, bool top)
+{
+    uint32_t capacity = 0;
+    sinew_result result = SINEW_OK;
+    for (;;) {
+        if (ps->tok == T_END) {
+            if (!top)
+                return bad_line(ps, "the file ends inside a '{' block");
+            return SINEW_OK;
+        }
+        if (ps->tok == T_CLOSE) {
+            if (top)
+                return bad_line(ps, "'}' without a '{'");
+            return SINEW_OK;
+        }
+        if (ps->tok != T_KEY)
+            return bad_line(ps, ps->tok == T_BAD ? "unexpected character (or a string without its closing quote)"
+                                                 : "expected a node name followed by ':'");
+        fbx_node *child = push_child(ps, parent, &capacity, &result);
+        if (!child)
+            return result;
+        if ((result = ascii_node(ps, child)))
+            return result;
+    }
+}
+
+static uint32_t ascii_version(const fbx_doc *doc)
+{
+    const fbx_node *h = fbx_child(&doc->root, "FBXHeaderExtension");
+    const fbx_node *v = h ? fbx_child(h, "FBXVersion") : NULL;
+    return v ? (uint32_t)fbx_int(v, 0) : 0;
+}
+
+static sinew_result parse_ascii(parser *ps, fbx_doc *doc)
+{
+    ps->line = 1;
+    next_token(ps);
+    sinew_result result = ascii_nodes(ps, &doc->root, true);
+    if (result)
+        return result;
+    if (doc->root.child_count == 0)
+        return sinew_fail(ps->error, SINEW_ERROR_FORMAT, "%s: no FBX nodes in the file", ps->path);
+    doc->version = ascii_version(doc);
+    return SINEW_OK;
+}
+
+/* ---- entry points and lookups -------------------------------------------------------- */
+
+bool fbx_sniff(const unsigned char *bytes, size_t size)
+{
+    if (size >= FBX_BINARY_MAGIC_SIZE && memcmp(bytes, FBX_BINARY_MAGIC, FBX_BINARY_MAGIC_SIZE) == 0)
+        return true;
+    static const char *const starts[] = {"; FBX", "FBXHeaderExtension:"};
+    size_t i = 0;
+    while (i < size && (bytes[i] == ' ' || bytes[i] == '\t' || bytes[i] == '\r' || bytes[i] == '\n'))
+        i++;
+    if (size - i >= 3 && memcmp(bytes + i, "\xef\xbb\xbf", 3) == 0)
+        i += 3;
+    for (size_t k = 0; k < sizeof starts / sizeof starts[0]; k++)
+        if (size - i >= strlen(starts[k]) && memcmp(bytes + i, starts[k], strlen(starts[k])) == 0)
+            return true;
+    return false;
+}
+
+sinew_result fbx_parse(const unsigned char *bytes, size_t size, const char *path, fbx_doc *doc, sinew_error *error)
+{
+    memset(doc, 0, sizeof *doc);
+    parser ps = {.bytes = bytes, .size = size, .path = path, .error = error, .budget = budget_for(size)};
+    bool binary = size >= FBX_BINARY_MAGIC_SIZE && memcmp(bytes, FBX_BINARY_MAGIC, FBX_BINARY_MAGIC_SIZE) == 0;
+    if (binary && size < FBX_BINARY_HEADER_SIZE)
+        return bad(&ps, size, "the file ends inside the binary FBX header");
+    sinew_result result = binary ? parse_binary(&ps, doc) : parse_ascii(&ps, doc);
+    if (result)
+        fbx_doc_free(doc);
+    return result;
+}
+
+bool fbx_named(const fbx_node *node, const char *name)
+{
+    size_t n = strlen(name);
+    return node->name_len == n && memcmp(node->name, name, n) == 0;
+}
+
+const fbx_node *fbx_child(const fbx_node *node, const char *name)
+{
+    for (uint32_t i = 0; node && i < node->child_count; i++)
+        if (fbx_named(&node->children[i], name))
+            return &node->children[i];
+    return NULL;
+}
+
+double fbx_num(const fbx_node *node, uint32_t k)
+{
+    if (!node || k >= node->value_count)
+        return 0.0;
+    const fbx_value *v = &node->values[k];
+    return v->type == FBX_INT || v->type == FBX_REAL ? v->d : 0.0;
+}
+
+int64_t fbx_int(const fbx_node *node, uint32_t k)
+{
+    if (!node || k >= node->value_count)
+        return 0;
+    const fbx_value *v = &node->values[k];
+    return v->type == FBX_INT || v->type == FBX_REAL ? v->i : 0;
+}
+
+bool fbx_str_is(const fbx_node *node, uint32_t k, const char *text)
+{
+    if (!node || k >= node->value_count || node->values[k].type != FBX_STRING)
+        return false;
+    size_t n = strlen(text);
+    return node->values[k].count == n && memcmp(node->values[k].s, text, n) == 0;
+}
+
+const double *fbx_array(const fbx_node *node, const char *name, uint32_t *count)
+{
+    const fbx_node *c = fbx_child(node, name);
+    *count = 0;
+    if (!c || c->value_count == 0 || c->values[0].type != FBX_ARRAY)
+        return NULL;
+    *count = c->values[0].count;
+    return c->values[0].a;
+}
