@@ -23,6 +23,7 @@
  * translations relative to the scene's size). So the baked clip equals the file's curves at
  * every key and within the tolerance in between.
  */
+#define _GNU_SOURCE /* qsort_r */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -64,6 +65,7 @@ typedef struct fbx_object {
     const fbx_node *defaults; /* the template's Properties70, or NULL */
     uint32_t first_parent, parent_count; /* in scene.up */
     uint32_t first_child, child_count;   /* in scene.down */
+    uint32_t order;                      /* place in the file's Objects */
     int32_t raw_node;                    /* models: raw node index */
     int32_t raw_material;
 } fbx_object;
@@ -370,6 +372,7 @@ static sinew_result index_objects(scene *s)
         o->kind = object_kind(node);
         o->props = fbx_child(node, "Properties70");
         o->defaults = template_for(s, node);
+        o->order = i;
         o->raw_node = -1;
         o->raw_material = -1;
     }
@@ -879,6 +882,13 @@ static void conversion(scene *s)
     s->convert[15] = 1;
 }
 
+static int compare_order(const void *a, const void *b, void *context)
+{
+    const scene *s = context;
+    uint32_t x = s->objects[*(const uint32_t *)a].order, y = s->objects[*(const uint32_t *)b].order;
+    return x < y ? -1 : x > y;
+}
+
 static sinew_result build_nodes(scene *s)
 {
     raw_model *m = s->model;
@@ -911,9 +921,20 @@ static sinew_result build_nodes(scene *s)
     memcpy(cm.m, s->convert, sizeof cm.m);
     dmat_to_float(&cm, &c);
     sinew_mat4_decompose(&c, &m->node_rest[0]);
-    /* Depth first from the top-level models, children in the file's connection order. */
+    /* Depth first from the top-level models in the file's order, children in the order of
+     * their connections (objects are sorted by id, which differs between a scene's ASCII and
+     * binary files). */
+    uint32_t *by_order = malloc((s->object_count ? s->object_count : 1) * sizeof *by_order);
+    if (!by_order) {
+        free(stack);
+        return oom(s);
+    }
+    for (uint32_t i = 0; i < s->object_count; i++)
+        by_order[i] = i;
+    qsort_r(by_order, s->object_count, sizeof *by_order, compare_order, s);
     sinew_result result = SINEW_OK;
-    for (uint32_t i = 0; i < s->object_count && !result; i++) {
+    for (uint32_t r = 0; r < s->object_count && !result; r++) {
+        uint32_t i = by_order[r];
         fbx_object *o = &s->objects[i];
         if (o->kind != K_MODEL || model_parent(s, o) >= 0)
             continue;
@@ -936,6 +957,7 @@ static sinew_result build_nodes(scene *s)
         }
     }
     free(stack);
+    free(by_order);
     if (result)
         return result;
     if (m->node_count != n) {
@@ -1605,10 +1627,12 @@ static sinew_result build_meshes(scene *s)
 
 /* ---- clips ---------------------------------------------------------------------------- */
 
-static double ticks_at(double start, float seconds)
-{
-    return start + (double)seconds * FBX_TICKS_PER_SECOND;
-}
+/* A baked key: time, value and one-sided derivatives (per second) of the ten numbers of a
+ * local transform: translation 0..2, rotation 3..6 (x, y, z, w), scale 7..9. */
+typedef struct bake_key {
+    float time;
+    double value[10], in[10], out[10];
+} bake_key;
 
 typedef struct bake {
     const scene *s;
@@ -1617,94 +1641,107 @@ typedef struct bake {
     double start;
     double tol_t, tol_r, tol_s;
     uint32_t count, capacity;
-    float *times;
-    local_trs *keys;
+    bake_key *keys;
     uint64_t *budget; /* keys the whole clip may still add by halving */
     bool failed;
 } bake;
 
-static void bake_push(bake *b, float t, const local_trs *l)
+/* The local transform at clip time `t` as ten numbers, its rotation on the side of `near`'s. */
+static void bake_eval(const bake *b, double t, const double *near, double out[10])
+{
+    local_trs l;
+    node_local(b->s, b->model, b->stack, b->start + t * FBX_TICKS_PER_SECOND, &l);
+    double d = near ? l.q[0] * near[3] + l.q[1] * near[4] + l.q[2] * near[5] + l.q[3] * near[6] : 1.0;
+    for (int c = 0; c < 3; c++) {
+        out[c] = l.t[c];
+        out[7 + c] = l.s[c];
+    }
+    for (int c = 0; c < 4; c++)
+        out[3 + c] = d < 0 ? -l.q[c] : l.q[c];
+}
+
+/* A key at `t`: its value (rotation on the side of `near`) and its derivatives from each side
+ * (second-order one-sided differences over `h` seconds, inside the neighbouring intervals). */
+static void bake_key_at(const bake *b, double t, double h, const double *near, bake_key *k)
+{
+    double f1[10], f2[10], g1[10], g2[10];
+    k->time = (float)t;
+    bake_eval(b, t, near, k->value);
+    bake_eval(b, t - h, k->value, f1);
+    bake_eval(b, t - 2 * h, k->value, f2);
+    bake_eval(b, t + h, k->value, g1);
+    bake_eval(b, t + 2 * h, k->value, g2);
+    for (int c = 0; c < 10; c++) {
+        k->in[c] = (3 * k->value[c] - 4 * f1[c] + f2[c]) / (2 * h);
+        k->out[c] = (-3 * k->value[c] + 4 * g1[c] - g2[c]) / (2 * h);
+    }
+}
+
+static void bake_push(bake *b, const bake_key *k)
 {
     if (b->failed)
         return;
     if (b->count == b->capacity) {
         uint32_t cap = b->capacity ? b->capacity * 2 : 16;
-        float *times = realloc(b->times, cap * sizeof *times);
-        if (times)
-            b->times = times;
-        local_trs *keys = realloc(b->keys, cap * sizeof *keys);
-        if (keys)
-            b->keys = keys;
-        if (!times || !keys) {
+        bake_key *keys = realloc(b->keys, cap * sizeof *keys);
+        if (!keys) {
             b->failed = true;
             return;
         }
+        b->keys = keys;
         b->capacity = cap;
     }
-    b->times[b->count] = t;
-    b->keys[b->count++] = *l;
+    b->keys[b->count++] = *k;
 }
 
-static void slerp(const double a[4], const double b[4], double u, double out[4])
+/* The runtime's cubic Hermite between two keys at u (rotation normalised, as sinew_sample). */
+static void hermite10(const bake_key *a, const bake_key *c, double u, double out[10])
 {
-    double d = a[0] * b[0] + a[1] * b[1] + a[2] * b[2] + a[3] * b[3], sign = d < 0 ? -1 : 1;
-    d = fabs(d);
-    double wa = 1 - u, wb = u;
-    if (d < 0.9999999) {
-        double th = acos(d), st = sin(th);
-        wa = sin((1 - u) * th) / st;
-        wb = sin(u * th) / st;
-    }
-    double n = 0;
-    for (int i = 0; i < 4; i++) {
-        out[i] = wa * a[i] + sign * wb * b[i];
-        n += out[i] * out[i];
-    }
-    n = sqrt(n);
-    for (int i = 0; i < 4; i++)
+    double dt = (double)c->time - a->time, u2 = u * u, u3 = u2 * u;
+    double h00 = 2 * u3 - 3 * u2 + 1, h10 = u3 - 2 * u2 + u, h01 = -2 * u3 + 3 * u2, h11 = u3 - u2;
+    for (int i = 0; i < 10; i++)
+        out[i] = h00 * a->value[i] + h10 * dt * a->out[i] + h01 * c->value[i] + h11 * dt * c->in[i];
+    double n = sqrt(out[3] * out[3] + out[4] * out[4] + out[5] * out[5] + out[6] * out[6]);
+    for (int i = 3; i < 7 && n > 0; i++)
         out[i] /= n;
 }
 
-/* How far interpolating a..b misses the exact transform at u. */
-static bool within(const bake *b, const local_trs *a, const local_trs *c, const local_trs *exact, double u)
+/* Whether the interpolation of a..c is within the tolerances of the exact transform. */
+static bool within(const bake *b, const double got[10], const double exact[10])
 {
-    double q[4];
-    slerp(a->q, c->q, u, q);
-    double d = fabs(q[0] * exact->q[0] + q[1] * exact->q[1] + q[2] * exact->q[2] + q[3] * exact->q[3]);
+    double d = fabs(got[3] * exact[3] + got[4] * exact[4] + got[5] * exact[5] + got[6] * exact[6]);
     if (2 * acos(fmin(d, 1.0)) > b->tol_r)
         return false;
-    for (int k = 0; k < 3; k++) {
-        double t = a->t[k] + (c->t[k] - a->t[k]) * u, sc = a->s[k] + (c->s[k] - a->s[k]) * u;
-        if (fabs(t - exact->t[k]) > b->tol_t || fabs(sc - exact->s[k]) > b->tol_s * fmax(1.0, fabs(exact->s[k])))
+    for (int k = 0; k < 3; k++)
+        if (fabs(got[k] - exact[k]) > b->tol_t ||
+            fabs(got[7 + k] - exact[7 + k]) > b->tol_s * fmax(1.0, fabs(exact[7 + k])))
             return false;
-    }
     return true;
 }
 
-/* Adds keys after ta up to and including tc (ta's key is already there). */
-static void bake_interval(bake *b, float ta, const local_trs *a, float tc, const local_trs *c, int depth)
+/* Adds keys after a up to and including c (a is already there): halves the interval where
+ * the Hermite curve of the two keys strays from the exact transform. */
+static void bake_interval(bake *b, const bake_key *a, const bake_key *c, int depth)
 {
+    double ta = a->time, tc = c->time;
+    float mid = (float)(ta + (tc - ta) / 2);
+    bool splittable = depth < FBX_BAKE_MAX_DEPTH && *b->budget > 0 && mid > ta && mid < tc;
     bool fine = true;
-    local_trs exact[3];
-    float tm[3];
-    for (int k = 0; k < 3; k++) {
-        tm[k] = ta + (tc - ta) * (float)(k + 1) / 4.0f;
-        node_local(b->s, b->model, b->stack, ticks_at(b->start, tm[k]), &exact[k]);
+    for (int k = 1; k <= 3 && fine && splittable; k++) {
+        double u = k / 4.0, exact[10], got[10];
+        bake_eval(b, ta + (tc - ta) * u, a->value, exact);
+        hermite10(a, c, u, got);
+        fine = within(b, got, exact);
     }
-    if (depth < FBX_BAKE_MAX_DEPTH && *b->budget > 0 && tm[1] > ta && tm[1] < tc) {
-        double u[3];
-        for (int k = 0; k < 3; k++)
-            u[k] = ((double)tm[k] - ta) / ((double)tc - ta);
-        for (int k = 0; k < 3 && fine; k++)
-            fine = within(b, a, c, &exact[k], u[k]);
-    }
-    if (fine || depth >= FBX_BAKE_MAX_DEPTH || *b->budget == 0 || !(tm[1] > ta && tm[1] < tc)) {
-        bake_push(b, tc, c);
+    if (fine || !splittable) {
+        bake_push(b, c);
         return;
     }
     (*b->budget)--;
-    bake_interval(b, ta, a, tm[1], &exact[1], depth + 1);
-    bake_interval(b, tm[1], &exact[1], tc, c, depth + 1);
+    bake_key m;
+    bake_key_at(b, mid, fmin(1e-4, (tc - ta) / 8), a->value, &m);
+    bake_interval(b, a, &m, depth + 1);
+    bake_interval(b, &m, c, depth + 1);
 }
 
 static int compare_float(const void *a, const void *b)
@@ -1771,50 +1808,51 @@ static bool model_animated(const scene *s, uint32_t model, int32_t stack)
     return false;
 }
 
-static bool same_as_rest(const float *values, uint32_t count, uint32_t width, const float *rest)
+/* True when a channel's keys all hold the rest value and do not move. */
+static bool channel_at_rest(const bake *b, int first, int width, const float *rest)
 {
-    for (uint32_t k = 0; k < count; k++)
-        for (uint32_t c = 0; c < width; c++)
-            if (fabsf(values[k * width + c] - rest[c]) > 1e-7f * fmaxf(1.0f, fabsf(rest[c])))
-                return false;
-    return true;
+    bool negated = true, same = true;
+    for (uint32_t k = 0; k < b->count; k++)
+        for (int c = 0; c < width; c++) {
+            double v = b->keys[k].value[first + c], tol = 1e-7 * fmax(1.0, fabs(rest[c]));
+            same &= fabs(v - rest[c]) <= tol;
+            negated &= width == 4 && fabs(v + rest[c]) <= tol;
+            same &= fabs(b->keys[k].in[first + c]) <= 1e-6 && fabs(b->keys[k].out[first + c]) <= 1e-6;
+            negated &= fabs(b->keys[k].in[first + c]) <= 1e-6 && fabs(b->keys[k].out[first + c]) <= 1e-6;
+        }
+    return same || negated;
 }
 
-/* A baked node's keys as the three channels of a raw track (a channel equal to the rest
- * value throughout is left out). */
+/* A baked node's keys as the three cubic channels of a raw track (a channel that holds the
+ * rest value throughout is left out). */
 static bool fill_track(raw_track *track, const bake *b, const sinew_transform *rest)
 {
+    static const int first[SINEW_CHANNEL_COUNT] = {0, 3, 7};
     for (int kind = 0; kind < SINEW_CHANNEL_COUNT; kind++) {
-        uint32_t width = kind == SINEW_CHANNEL_ROTATION ? 4 : 3;
-        float *values = malloc((size_t)b->count * width * sizeof *values);
-        if (!values)
-            return false;
-        for (uint32_t k = 0; k < b->count; k++) {
-            const local_trs *l = &b->keys[k];
-            for (uint32_t c = 0; c < width; c++)
-                values[k * width + c] = (float)(kind == SINEW_CHANNEL_TRANSLATION ? l->t[c]
-                                                : kind == SINEW_CHANNEL_ROTATION  ? l->q[c]
-                                                                                  : l->s[c]);
-        }
+        int width = kind == SINEW_CHANNEL_ROTATION ? 4 : 3;
         const float *rv = kind == SINEW_CHANNEL_TRANSLATION ? rest->translation
                           : kind == SINEW_CHANNEL_ROTATION  ? rest->rotation
                                                             : rest->scale;
-        bool flat = kind != SINEW_CHANNEL_ROTATION && same_as_rest(values, b->count, width, rv);
-        if (kind == SINEW_CHANNEL_ROTATION) {
-            float neg[4] = {-rv[0], -rv[1], -rv[2], -rv[3]};
-            flat = same_as_rest(values, b->count, width, rv) || same_as_rest(values, b->count, width, neg);
-        }
-        if (flat) {
-            free(values);
+        if (channel_at_rest(b, first[kind], width, rv))
             continue;
-        }
+        float *values = malloc((size_t)b->count * 3 * width * sizeof *values);
         float *times = malloc(b->count * sizeof *times);
-        if (!times) {
+        if (!values || !times) {
             free(values);
+            free(times);
             return false;
         }
-        memcpy(times, b->times, b->count * sizeof *times);
-        track->channels[kind] = (raw_channel){SINEW_INTERP_LINEAR, b->count, times, values};
+        for (uint32_t k = 0; k < b->count; k++) {
+            const bake_key *key = &b->keys[k];
+            times[k] = key->time;
+            float *v = values + (size_t)k * 3 * width;
+            for (int c = 0; c < width; c++) {
+                v[c] = (float)key->in[first[kind] + c];
+                v[width + c] = (float)key->value[first[kind] + c];
+                v[2 * width + c] = (float)key->out[first[kind] + c];
+            }
+        }
+        track->channels[kind] = (raw_channel){SINEW_INTERP_CUBIC, b->count, times, values};
     }
     return true;
 }
@@ -1885,20 +1923,23 @@ static sinew_result build_clip(scene *s, uint32_t stack)
                   .tol_r = FBX_BAKE_TOLERANCE,
                   .tol_s = FBX_BAKE_TOLERANCE,
                   .budget = &budget};
-        local_trs prev;
-        node_local(s, model, (int32_t)stack, ticks_at(start, times[0]), &prev);
-        bake_push(&b, times[0], &prev);
-        for (uint32_t k = 1; k < n && !b.failed; k++) {
-            local_trs next;
-            node_local(s, model, (int32_t)stack, ticks_at(start, times[k]), &next);
-            bake_interval(&b, times[k - 1], &prev, times[k], &next, 0);
+        bake_key prev, next;
+        for (uint32_t k = 0; k < n && !b.failed; k++) {
+            /* Derivatives from inside the neighbouring intervals: a step between two keys a
+             * float apart has none to speak of, and a key's own step is kept out of them. */
+            double gap = fmin(k > 0 ? times[k] - times[k - 1] : INFINITY, k + 1 < n ? times[k + 1] - times[k] : INFINITY);
+            double h = fmin(1e-4, (isfinite(gap) ? gap : 1.0) / 8);
+            bake_key_at(&b, times[k], h > 0 ? h : 1e-7, k ? prev.value : NULL, &next);
+            if (k == 0)
+                bake_push(&b, &next);
+            else
+                bake_interval(&b, &prev, &next, 0);
             prev = next;
         }
         free(times);
         raw_track *track = &clip->tracks[clip->track_count++];
         track->node = i;
         bool ok = !b.failed && fill_track(track, &b, &m->node_rest[i]);
-        free(b.times);
         free(b.keys);
         if (!ok)
             return oom(s);

@@ -38,13 +38,13 @@ static const expected models[] = {
     {"assimp/SMD/holy_grailref.smd", 2, 1, 1, 1, 0.0f, NULL},
     {"assimp/MD5/SimpleCube.md5mesh", 6, 2, 1, 0, -1, NULL},
     {"assimp/MD5/invalid/InvalidBoneIndex.md5mesh", 4, 0, 1, 0, -1, NULL},
-    {"ufbx/max_transformed_skin_7500_ascii.fbx", 11, 5, 1, 1, -1, NULL},
-    {"ufbx/max_transformed_skin_7500_binary.fbx", 11, 5, 1, 1, -1, NULL},
-    {"ufbx/maya_transformed_skin_7700_ascii.fbx", 9, 3, 1, 1, -1, NULL},
-    {"ufbx/maya_transformed_skin_7700_binary.fbx", 9, 3, 1, 1, -1, NULL},
-    {"ufbx/maya_instanced_skin_7700_ascii.fbx", 10, 3, 1, 1, -1, NULL},
-    {"ufbx/maya_instanced_skin_7700_binary.fbx", 10, 3, 1, 1, -1, NULL},
-    {"ufbx/motionbuilder_sausage_rrss_7700_binary.fbx", 6, 3, 1, 1, -1, NULL},
+    {"ufbx/max_transformed_skin_7500_ascii.fbx", 7, 5, 1, 1, -1, "sinew's reader: no helper nodes"},
+    {"ufbx/max_transformed_skin_7500_binary.fbx", 7, 5, 1, 1, -1, NULL},
+    {"ufbx/maya_transformed_skin_7700_ascii.fbx", 5, 3, 1, 1, -1, NULL},
+    {"ufbx/maya_transformed_skin_7700_binary.fbx", 5, 3, 1, 1, -1, NULL},
+    {"ufbx/maya_instanced_skin_7700_ascii.fbx", 6, 3, 2, 1, -1, "the skinned mesh at each of its two nodes"},
+    {"ufbx/maya_instanced_skin_7700_binary.fbx", 6, 3, 2, 1, -1, NULL},
+    {"ufbx/motionbuilder_sausage_rrss_7700_binary.fbx", 14, 3, 1, 1, 5.0f, "cameras and lights are nodes too"},
     {"raylib/robot.glb", 58, 43, 19, 14, -1, "the manifest's 21 include 2 line meshes from FindDegenerates"},
     {"raylib/guy.iqm", 1, 0, 1, 0, -1, NULL},
     {"collada-cts/SkinController.dae", 13, 6, 1, 0, -1, NULL},
@@ -55,8 +55,8 @@ static const expected models[] = {
      "two clips: Assimp merges them into one 5 s clip, sinew cuts it again"},
     {"collada-dae-parser/leg-with-control-bones.dae", 12, 4, 1, 1, 3.3333f, NULL},
     {"ozz/pab/walk.dae", 78, 73, 0, 1, 1.9f, "skeleton only; cameras and their targets are not joints"},
-    {"ozz/pab/arnaud.fbx", 59, 53, 1, 0, -1, NULL},
-    {"ozz/pab/walk.fbx", 103, 0, 0, 1, -1, "animation only"},
+    {"ozz/pab/arnaud.fbx", 56, 53, 1, 1, -1, "its stack \"Take 001\" is a clip (of the bind pose)"},
+    {"ozz/pab/walk.fbx", 85, 0, 0, 1, 1.3333f, "animation only"},
     {"blender/robot_walk.dae", 59, 36, 19, 1, 0.9583f, NULL},
 };
 
@@ -343,16 +343,14 @@ static double one_way_distance(const float *a, uint32_t na, const float *b, uint
     return worst;
 }
 
-/* ufbx's reference OBJs, written by 3ds Max and Maya from the deformed meshes. What Assimp
- * 5.2.5 hands sinew cannot reproduce all of them, and the test says which and by how much:
- *  - Assimp samples FBX curves at their keys and drops the Bezier tangents, so in-between
- *    frames are interpolated linearly (frames 4, 8, 5, 15 here fall between keys);
- *  - Maya moves a skinned mesh by its node's transform made after binding (and places each
- *    instance of an instanced skin at its node); Assimp gives no bind pose to undo that, so
- *    sinew places skinned meshes where they were bound.
- * Where neither applies (maya_transformed_skin at frame 0, a key), the deformed shape must
- * match the authoring tool's to 1e-6 of its size once the mesh node's post-bind move is
- * taken off; the others are measured and printed. */
+/* ufbx's reference OBJs, written by 3ds Max and Maya from the deformed meshes, in the file's
+ * axes and units (sinew's root node carries the conversion to Y-up metres: it is applied to
+ * them). The 3ds Max frames (between keys, with weighted Bezier tangents and a geometric
+ * transform on the skinned mesh) must match to 1e-3 of the mesh's size: the OBJs keep about
+ * four digits. Maya's frames are measured, not checked: Maya carries a skinned mesh along
+ * with its node's transform made after binding (these files move and turn the mesh node),
+ * while sinew, like ufbx's reference poses and glTF, places skinned vertices by the bones
+ * alone; test_import_reference checks those poses against ufbx to 1e-5. */
 static void test_ufbx_reference_meshes(void **state)
 {
     (void)state;
@@ -361,14 +359,15 @@ static void test_ufbx_reference_meshes(void **state)
         float time;
         bool exact;
     } refs[] = {
-        {"maya_transformed_skin_7700_binary.fbx", "maya_transformed_skin_0.obj", 0, true},
-        {"maya_transformed_skin_7700_ascii.fbx", "maya_transformed_skin_0.obj", 0, true},
+        {"maya_transformed_skin_7700_binary.fbx", "maya_transformed_skin_0.obj", 0, false},
+        {"maya_transformed_skin_7700_ascii.fbx", "maya_transformed_skin_0.obj", 0, false},
         {"maya_transformed_skin_7700_ascii.fbx", "maya_transformed_skin_4.obj", 4.0f / 24, false},
         {"maya_transformed_skin_7700_binary.fbx", "maya_transformed_skin_8.obj", 8.0f / 24, false},
         {"maya_instanced_skin_7700_binary.fbx", "maya_instanced_skin_0.obj", 0, false},
         {"maya_instanced_skin_7700_ascii.fbx", "maya_instanced_skin_8.obj", 8.0f / 24, false},
-        {"max_transformed_skin_7500_binary.fbx", "max_transformed_skin_5.obj", 5.0f / 30, false},
-        {"max_transformed_skin_7500_ascii.fbx", "max_transformed_skin_15.obj", 15.0f / 30, false},
+        {"max_transformed_skin_7500_binary.fbx", "max_transformed_skin_5.obj", 5.0f / 30, true},
+        {"max_transformed_skin_7500_ascii.fbx", "max_transformed_skin_15.obj", 15.0f / 30, true},
+        {"max_transformed_skin_7500_binary.fbx", "max_transformed_skin_15.obj", 15.0f / 30, true},
     };
     char pf[1024], po[1024], rel[256];
     for (size_t i = 0; i < sizeof refs / sizeof refs[0]; i++) {
@@ -404,15 +403,12 @@ static void test_ufbx_reference_meshes(void **state)
         float shift[3];
         for (int r = 0; r < 3; r++)
             shift[r] = (lo[r] + hi[r]) / 2 - (olo[r] + ohi[r]) / 2;
-        for (uint32_t v = 0; v < n_ours; v++)
-            for (int r = 0; r < 3; r++)
-                ours[v * 3 + r] += shift[r];
         double d = fmax(one_way_distance(ref, n_ref, ours, n_ours), one_way_distance(ours, n_ours, ref, n_ref));
-        print_message("%s %-38s t=%.4f: %u reference points, %u ours, size %.3g m, offset (%.3g %.3g %.3g), largest "
-                      "gap %.3g (%.2g of the size)\n",
-                      refs[i].exact ? "checked " : "measured", refs[i].fbx, (double)refs[i].time, n_ref, n_ours, size,
-                      (double)shift[0], (double)shift[1], (double)shift[2], d, d / size);
-        if (refs[i].exact && !(d <= 1e-6 * size))
+        print_message("%s %-38s t=%.4f: %u reference points, %u ours, size %.3g m, largest gap %.3g (%.2g of the "
+                      "size); centres apart by (%.3g %.3g %.3g)\n",
+                      refs[i].exact ? "checked " : "measured", refs[i].fbx, (double)refs[i].time, n_ref, n_ours, size, d,
+                      d / size, (double)shift[0], (double)shift[1], (double)shift[2]);
+        if (refs[i].exact && !(d <= 1e-3 * size))
             fail_msg("%s at t=%g differs from %s by %g (size %g)", refs[i].fbx, (double)refs[i].time, refs[i].obj, d,
                      size);
         free(ours);
