@@ -620,7 +620,8 @@ static double curve_eval(const scene *s, const fbx_curve *c, double t)
     double wl = flags & 0x2000000u ? ((bits >> 16) & 0xffffu) / 9999.0 : 1.0 / 3.0;
     wr = fmin(fmax(wr, 0.0), 1.0);
     wl = fmin(fmax(wl, 0.0), 1.0);
-    double right = attribute_float(s, d[0]), left = attribute_float(s, d[1]);
+    /* Stored slopes are per second; times here are ticks. */
+    double right = attribute_float(s, d[0]) / FBX_TICKS_PER_SECOND, left = attribute_float(s, d[1]) / FBX_TICKS_PER_SECOND;
     if (flags & 0x100u)
         right = auto_slope(c, lo, 1.0 / 3.0, wr);
     if (key_flags(c, hi) & 0x100u)
@@ -1981,6 +1982,10 @@ static void scene_free(scene *s)
 
 static sinew_result check_version(scene *s)
 {
+    if (!fbx_child(&s->doc.root, "Objects") || !fbx_child(&s->doc.root, "Connections"))
+        return sinew_fail(s->error, SINEW_ERROR_FORMAT,
+                          "%s: the FBX document has no %s section (the file may be cut short)", s->path,
+                          fbx_child(&s->doc.root, "Objects") ? "Connections" : "Objects");
     uint32_t v = s->doc.version;
     if (v == 0 && !s->doc.binary && fbx_child(&s->doc.root, "Objects") && fbx_child(&s->doc.root, "Connections"))
         v = 7000; /* ASCII without a header version, in 7.x layout */

@@ -168,9 +168,11 @@ static sinew_result read_array(parser *ps, char type, size_t end, fbx_value *v)
     const unsigned char *src = ps->bytes + ps->pos;
     unsigned char *inflated = NULL;
     sinew_result result = SINEW_OK;
+    if (raw_size > ps->budget)
+        return sinew_fail(ps->error, SINEW_ERROR_LIMIT,
+                          "%s: byte %zu: an array of %u elements is larger than a file of %zu bytes may decode to",
+                          ps->path, at, count, ps->size);
     if (encoding == 1) {
-        if (raw_size > ps->budget)
-            return fail_limit(ps);
         inflated = malloc(raw_size ? raw_size : 1);
         if (!inflated)
             return sinew_fail(ps->error, SINEW_ERROR_OUT_OF_MEMORY, "%s: out of memory reading the FBX document",
@@ -548,7 +550,7 @@ static sinew_result ascii_node(parser *ps, fbx_node *node)
         next_token(ps);
     }
     if (ps->tok != T_OPEN)
-        return SINEW_OK;
+        return node->value_count ? SINEW_OK : bad_line(ps, "a node has neither values nor a '{' block");
     if (ps->depth >= FBX_MAX_DEPTH)
         return bad_line(ps, "nodes nested deeper than 64 levels");
     next_token(ps);

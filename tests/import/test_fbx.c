@@ -1,0 +1,270 @@
+/* sinew's FBX reader on its own fixtures (tests/fixtures/make_fbx.py writes them): the three
+ * encodings of one scene agree, curves evaluate as FBX defines them, inherit types reach the
+ * runtime, and bad files (every prefix, changed bytes, cycles, huge counts, other versions)
+ * are refused with a message naming the file, in this process so that the sanitizers see the
+ * reader itself. */
+#define _GNU_SOURCE /* memmem */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "helpers.h"
+#include "import/internal.h"
+
+static const char *const encodings[] = {"two_bone_ascii.fbx", "two_bone_7400.fbx", "two_bone_7500.fbx"};
+
+static void test_encodings_agree(void **state)
+{
+    (void)state;
+    char path[1024];
+    sinew_model *m[3];
+    for (int i = 0; i < 3; i++)
+        m[i] = load_or_fail(fixture_path(encodings[i], path, sizeof path));
+    for (int i = 1; i < 3; i++) {
+        assert_int_equal(m[i]->node_count, m[0]->node_count);
+        assert_int_equal(m[i]->clip_count, 1);
+        for (int k = 0; k <= 9; k++) {
+            float t = k / 9.0f;
+            sinew_mat4 *a = pose_worlds(m[0], &m[0]->clips[0], t), *b = pose_worlds(m[i], &m[i]->clips[0], t);
+            for (uint32_t n = 0; n < m[0]->node_count; n++)
+                for (int e = 0; e < 16; e++)
+                    assert_near(a[n].m[e], b[n].m[e], 1e-6, encodings[i]);
+            free(a);
+            free(b);
+        }
+    }
+    for (int i = 0; i < 3; i++)
+        sinew_model_free(m[i]);
+}
+
+static void quat_zx(double z_degrees, double x_degrees, double q[4])
+{
+    double z = z_degrees * M_PI / 360, x = x_degrees * M_PI / 360;
+    q[0] = cos(z) * sin(x);
+    q[1] = sin(z) * sin(x);
+    q[2] = sin(z) * cos(x);
+    q[3] = cos(z) * cos(x);
+}
+
+static void expect_rotation(const sinew_model *m, int32_t node, float t, double z, double x)
+{
+    sinew_transform *locals = calloc(m->node_count, sizeof *locals);
+    sinew_sample_desc desc = {.model = m, .clip = &m->clips[0], .time = t, .locals = locals, .local_count = m->node_count};
+    assert_int_equal(sinew_sample(&desc, NULL), SINEW_OK);
+    double q[4];
+    quat_zx(z, x, q);
+    const float *r = locals[node].rotation;
+    double d = fabs(q[0] * r[0] + q[1] * r[1] + q[2] * r[2] + q[3] * r[3]);
+    if (!(d > 1 - 1e-10 || 2 * acos(fmin(d, 1.0)) < 2e-6))
+        fail_msg("bone2 at t=%g: rotation (%g %g %g %g), expected Z %g X %g degrees", (double)t, (double)r[0],
+                 (double)r[1], (double)r[2], (double)r[3], z, x);
+    free(locals);
+}
+
+/* bone2's rotation: X steps from 0 to 30 degrees at 0.5 s (a constant key); Z is cubic with
+ * automatic tangents through 20, 50, 10, 40 at 0, 0.25, 0.75, 1 s. */
+static void test_curves(void **state)
+{
+    (void)state;
+    char path[1024];
+    sinew_model *m = load_or_fail(fixture_path("two_bone_7400.fbx", path, sizeof path));
+    int32_t bone2 = sinew_model_find_node(m, "bone2");
+    assert_true(bone2 > 0);
+    expect_rotation(m, bone2, 0.0f, 20, 0);
+    expect_rotation(m, bone2, 0.25f, 50, 0);
+    expect_rotation(m, bone2, 0.75f, 10, 30);
+    expect_rotation(m, bone2, 1.0f, 40, 30);
+    /* Between keys: the Bezier of the keys with slopes (10 - 20) / 0.75 at both inner keys,
+     * 0 at the ends, handles a third of the way. */
+    double t = 0.5, t0 = 0.25, t1 = 0.75, v0 = 50, v1 = 10, s0 = (10.0 - 20) / 0.75, s1 = (40.0 - 50) / 0.75;
+    double u = (t - t0) / (t1 - t0), dt = t1 - t0, w = 1 - u;
+    double z = w * w * w * v0 + 3 * w * w * u * (v0 + s0 * dt / 3) + 3 * w * u * u * (v1 - s1 * dt / 3) + u * u * u * v1;
+    expect_rotation(m, bone2, 0.5f, z, 30);
+    sinew_model_free(m);
+}
+
+static void test_inherit_types_reach_the_runtime(void **state)
+{
+    (void)state;
+    char path[1024];
+    for (int i = 0; i < 3; i++) {
+        sinew_model *m = load_or_fail(fixture_path(encodings[i], path, sizeof path));
+        assert_non_null(m->node_inherit);
+        assert_int_equal(m->node_inherit[sinew_model_find_node(m, "bone1")], SINEW_INHERIT_NORMAL);
+        assert_int_equal(m->node_inherit[sinew_model_find_node(m, "bone2")], SINEW_INHERIT_COMPONENTWISE_SCALE);
+        assert_int_equal(m->node_inherit[sinew_model_find_node(m, "bone3")], SINEW_INHERIT_IGNORE_PARENT_SCALE);
+        /* The player (SIMD and scalar) and sample + sinew_local_to_world agree. */
+        sinew_player *p;
+        assert_int_equal(sinew_player_create(m, &m->clips[0], &p, NULL), SINEW_OK);
+        sinew_mat4 *w = calloc(m->node_count, sizeof *w);
+        for (int k = 0; k <= 9; k++) {
+            sinew_mat4 *ref = pose_worlds(m, &m->clips[0], k / 9.0f);
+            assert_int_equal(sinew_player_update(p, k / 9.0f, SINEW_WRAP_CLAMP, NULL, w, m->node_count, NULL), SINEW_OK);
+            for (uint32_t n = 0; n < m->node_count; n++)
+                for (int e = 0; e < 16; e++)
+                    assert_near(w[n].m[e], ref[n].m[e], 1e-5, "player vs sample + world");
+            free(ref);
+        }
+        free(w);
+        sinew_player_free(p);
+        sinew_model_free(m);
+    }
+}
+
+/* ---- bad files ---------------------------------------------------------------------------- */
+
+static sinew_result read_bytes(const char *name, const unsigned char *bytes, size_t size, char *message)
+{
+    raw_model raw;
+    sinew_error error = {0};
+    sinew_result r = raw_model_from_fbx(name, bytes, size, &raw, &error);
+    if (r == SINEW_OK) {
+        void *blob = NULL;
+        size_t blob_size = 0;
+        r = raw_model_build(&raw, &blob, &blob_size, &error);
+        free(blob);
+        raw_model_free(&raw);
+    }
+    if (message)
+        strcpy(message, error.message);
+    return r;
+}
+
+static void test_every_prefix_refused(void **state)
+{
+    (void)state;
+    char path[1024], message[SINEW_ERROR_MESSAGE_SIZE];
+    for (int i = 0; i < 3; i++) {
+        size_t size;
+        unsigned char *bytes = read_file(fixture_path(encodings[i], path, sizeof path), &size);
+        assert_int_equal(read_bytes("whole.fbx", bytes, size, NULL), SINEW_OK);
+        /* What may go without loss: a binary file's null record and 140-byte footer (both
+         * after the last record), ASCII's closing brace's newline. */
+        size_t complete = i == 0 ? size - 3 : size - 140 - (i == 2 ? 25 : 13);
+        for (size_t n = 0; n < complete; n++) {
+            unsigned char *copy = malloc(n + 1);
+            memcpy(copy, bytes, n);
+            copy[n] = 0;
+            sinew_result r = read_bytes("cut.fbx", copy, n, message);
+            if (r == SINEW_OK || !strstr(message, "cut.fbx"))
+                fail_msg("%s cut to %zu of %zu bytes: %s (%s)", encodings[i], n, size, sinew_result_string(r),
+                         message);
+            free(copy);
+        }
+        free(bytes);
+    }
+}
+
+/* Every byte of the binary files changed (a different bit each time): refused or read,
+ * never a crash, a hang or a sanitizer report. */
+static void test_changed_bytes(void **state)
+{
+    (void)state;
+    char path[1024];
+    for (int i = 1; i < 3; i++) {
+        size_t size;
+        unsigned char *bytes = read_file(fixture_path(encodings[i], path, sizeof path), &size);
+        uint32_t refused = 0;
+        for (size_t k = 0; k < size; k++) {
+            unsigned char *copy = malloc(size);
+            memcpy(copy, bytes, size);
+            copy[k] ^= (unsigned char)(1u << (k % 8));
+            refused += read_bytes("changed.fbx", copy, size, NULL) != SINEW_OK;
+            free(copy);
+        }
+        print_message("%s: %zu bytes changed one at a time, %u refused\n", encodings[i], size, refused);
+        free(bytes);
+    }
+}
+
+static char *replaced(const char *fixture, const char *from, const char *to, size_t *size)
+{
+    char path[1024];
+    size_t n;
+    char *text = read_file(fixture_path(fixture, path, sizeof path), &n);
+    char *at = strstr(text, from);
+    assert_non_null(at);
+    char *out = malloc(n + strlen(to) + 1);
+    size_t head = (size_t)(at - text);
+    memcpy(out, text, head);
+    strcpy(out + head, to);
+    strcat(out, at + strlen(from));
+    *size = strlen(out);
+    free(text);
+    return out;
+}
+
+static void expect_refused(const char *what, const void *bytes, size_t size, const char *needle)
+{
+    char message[SINEW_ERROR_MESSAGE_SIZE];
+    sinew_result r = read_bytes("bad.fbx", bytes, size, message);
+    if (r == SINEW_OK || !strstr(message, "bad.fbx") || !strstr(message, needle))
+        fail_msg("%s: %s, \"%s\" (expected a refusal saying \"%s\")", what, sinew_result_string(r), message, needle);
+}
+
+static void test_refusals(void **state)
+{
+    (void)state;
+    size_t n;
+    /* bone1 under bone3, which is under bone1. */
+    char *text = replaced("two_bone_ascii.fbx", "C: \"OO\", 101, 100", "C: \"OO\", 101, 103", &n);
+    expect_refused("a cycle of models", text, n, "cycle");
+    free(text);
+    text = replaced("two_bone_ascii.fbx", "FBXVersion: 7400", "FBXVersion: 6100", &n);
+    expect_refused("FBX 6.1", text, n, "version 6.1 is not supported");
+    free(text);
+    text = replaced("two_bone_ascii.fbx", "a: 0,1,4,-4,1,2,5,-5", "a: 0,1,4,-4,1,2,5,-9", &n);
+    expect_refused("a corner outside the vertices", text, n, "outside its vertex array");
+    free(text);
+    text = replaced("two_bone_ascii.fbx", "Indexes: *4 {\n\t\t\ta: 0,1,3,4", "Indexes: *4 {\n\t\t\ta: 0,1,3,400", &n);
+    expect_refused("a cluster index outside the mesh", text, n, "outside its mesh");
+    free(text);
+    text = replaced("two_bone_ascii.fbx", "KeyTime: *3 {\n\t\t\ta: 0,23093079000,", "KeyTime: *3 {\n\t\t\ta: 0,-5,", &n);
+    expect_refused("key times going back", text, n, "backwards");
+    free(text);
+    /* A binary array claiming 2^31 - 1 elements: refused from its sizes, nothing allocated. */
+    char path[1024];
+    size_t size;
+    unsigned char *bytes = read_file(fixture_path("two_bone_7400.fbx", path, sizeof path), &size);
+    unsigned char *at = memmem(bytes, size, "Vertices", 8);
+    assert_non_null(at);
+    at += 8 + 1; /* the name, then the array's type byte */
+    memcpy(at, "\xff\xff\xff\x7f", 4);
+    expect_refused("a huge array count", bytes, size, "array");
+    free(bytes);
+    bytes = read_file(fixture_path("two_bone_7500.fbx", path, sizeof path), &size);
+    at = memmem(bytes, size, "Vertices", 8);
+    at += 8 + 1;
+    memcpy(at, "\xff\xff\xff\x0f", 4); /* zlib data that inflates to far less than claimed */
+    expect_refused("a compressed array shorter than its count", bytes, size, "array");
+    free(bytes);
+}
+
+/* Through sinew_import: a file named .fbx that is not FBX is not handed to Assimp. */
+static void test_not_fbx(void **state)
+{
+    (void)state;
+    char path[1024];
+    tmp_path("not-really.fbx", path, sizeof path);
+    write_file(path, "solid cube\nendsolid cube\n", 25);
+    sinew_model *m = NULL;
+    sinew_error error = {0};
+    assert_int_equal(sinew_import(&(sinew_import_desc){.path = path}, &m, &error), SINEW_ERROR_FORMAT);
+    assert_non_null(strstr(error.message, "not an FBX file"));
+    assert_non_null(strstr(error.message, path));
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_encodings_agree),
+        cmocka_unit_test(test_curves),
+        cmocka_unit_test(test_inherit_types_reach_the_runtime),
+        cmocka_unit_test(test_every_prefix_refused),
+        cmocka_unit_test(test_changed_bytes),
+        cmocka_unit_test(test_refusals),
+        cmocka_unit_test(test_not_fbx),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}
