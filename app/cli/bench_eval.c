@@ -398,6 +398,38 @@ static bool bench_load(const char *collada, const char *converted, load_result *
     return true;
 }
 
+/* Import time of an FBX file (through the import's parse, evaluation and build, in this
+ * process) by sinew's reader and by Assimp: best of three each. */
+typedef struct fbx_result {
+    double sinew_ms, assimp_ms;
+    long bytes;
+} fbx_result;
+
+static bool time_import(const char *path, bool assimp, double *best_ms)
+{
+    sinew_error error = {0};
+    *best_ms = 1e30;
+    for (int i = 0; i < (batches > 1 ? 3 : 1); i++) {
+        sinew_model *m = NULL;
+        sinew_import_desc d = {.path = path, .in_process = true, .assimp = assimp};
+        double start = now_seconds();
+        if (sinew_import(&d, &m, &error) != SINEW_OK) {
+            cli_error("%s%s", assimp ? "(through Assimp) " : "", error.message);
+            return false;
+        }
+        double t = (now_seconds() - start) * 1e3;
+        *best_ms = t < *best_ms ? t : *best_ms;
+        sinew_model_free(m);
+    }
+    return true;
+}
+
+static bool bench_fbx(const char *path, fbx_result *out)
+{
+    out->bytes = file_size(path);
+    return time_import(path, false, &out->sinew_ms) && time_import(path, true, &out->assimp_ms);
+}
+
 /* ---- the command ---------------------------------------------------------------------------- */
 
 static void machine_name(char *out, size_t size)
@@ -425,7 +457,7 @@ static void machine_name(char *out, size_t size)
 }
 
 static const char eval_usage[] =
-    "usage: sinew bench eval [--json] [--collada FILE.dae] [--quick]\n"
+    "usage: sinew bench eval [--json] [--collada FILE.dae] [--fbx FILE.fbx] [--quick]\n"
     "\n"
     "The runtime's speed per unit (best of 5 batches), against the goals of the evaluation:\n"
     "  sampling + world matrices of one character, 64 and 128 joints, a 2 s clip keyed 30 times a second\n"
@@ -436,15 +468,17 @@ static const char eval_usage[] =
     "  1000 characters of 64 joints updated a frame (sampling, world matrices, skinning palettes) on 1\n"
     "    and 2 threads;\n"
     "  loading a .sinew file against Assimp importing the COLLADA file it came from (in this process):\n"
-    "    FILE.dae, or the demo humanoid that `sinew demo` writes (made in a temporary folder).\n"
+    "    FILE.dae, or the demo humanoid that `sinew demo` writes (made in a temporary folder);\n"
+    "  with --fbx, importing FILE.fbx by sinew's FBX reader against Assimp's (in this process).\n"
     "--quick runs one short batch of each (a smoke test; the figures mean little).\n"
     "--json prints one object with sample_world_us_64, sample_world_us_128, seek_us_64, skin_mverts_1t,\n"
-    "skin_mverts_2t, crowd1000_speedup_2t, load_speedup_vs_assimp, machine and the other figures.\n";
+    "skin_mverts_2t, crowd1000_speedup_2t, load_speedup_vs_assimp, machine and the other figures\n"
+    "(with --fbx also fbx_import_ms_sinew, fbx_import_ms_assimp and fbx_file).\n";
 
 int bench_eval(int argc, char **argv)
 {
     bool json = false;
-    const char *collada = NULL;
+    const char *collada = NULL, *fbx = NULL;
     for (int i = 1; i < argc; i++) {
         if (cli_is_help(argv[i])) {
             fputs(eval_usage, stdout);
@@ -456,6 +490,8 @@ int bench_eval(int argc, char **argv)
             unit_scale = 0.02;
         } else if (strcmp(argv[i], "--collada") == 0 && i + 1 < argc) {
             collada = argv[++i];
+        } else if (strcmp(argv[i], "--fbx") == 0 && i + 1 < argc) {
+            fbx = argv[++i];
         } else {
             cli_error("bench eval: unknown option %s\n%s", argv[i], eval_usage);
             return EXIT_USAGE;
@@ -483,8 +519,10 @@ int bench_eval(int argc, char **argv)
     skin_result skin = {0};
     crowd_result crowd = {0};
     load_result load = {0};
+    fbx_result fbx_times = {0};
     bool ok = bench_sampling(64, &s64) && bench_sampling(128, &s128) && bench_skinning(&threads, &skin) &&
-              bench_crowd(&threads, &crowd) && bench_load(collada, converted, &load);
+              bench_crowd(&threads, &crowd) && bench_load(collada, converted, &load) &&
+              (!fbx || bench_fbx(fbx, &fbx_times));
     pool_close(&threads);
     cli_remove_tree(dir);
     if (!ok)
@@ -512,6 +550,11 @@ int bench_eval(int argc, char **argv)
         cJSON_AddNumberToObject(o, "load_ms_assimp", load.assimp_ms);
         cJSON_AddNumberToObject(o, "load_speedup_vs_assimp", load_speedup);
         cJSON_AddStringToObject(o, "load_collada", collada == demo_dae ? "sinew demo humanoid" : collada);
+        if (fbx) {
+            cJSON_AddNumberToObject(o, "fbx_import_ms_sinew", fbx_times.sinew_ms);
+            cJSON_AddNumberToObject(o, "fbx_import_ms_assimp", fbx_times.assimp_ms);
+            cJSON_AddStringToObject(o, "fbx_file", fbx);
+        }
         cJSON_AddStringToObject(o, "machine", machine);
         char *text = cJSON_Print(o);
         puts(text);
@@ -535,7 +578,12 @@ int bench_eval(int argc, char **argv)
     printf("%-44s %11.2fx %12s %10s\n", "  speed-up from 2 threads", crowd_speedup, "", ">= 1.8x");
     printf("%-44s %9.3f ms %9.3f ms %10s\n", "load .sinew | Assimp COLLADA", load.sinew_ms, load.assimp_ms, "");
     printf("%-44s %11.0fx %12s %10s\n", "  .sinew load speed-up", load_speedup, "", ">= 100x");
+    if (fbx)
+        printf("%-44s %9.3f ms %9.3f ms %10s\n", "import FBX: sinew's reader | Assimp", fbx_times.sinew_ms,
+               fbx_times.assimp_ms, "");
     printf("\n(%ld-byte COLLADA file, %ld-byte .sinew; skinning over %u vertices)\n", load.source_bytes,
            load.sinew_bytes, skin.vertices);
+    if (fbx)
+        printf("(FBX: %s, %ld bytes)\n", fbx, fbx_times.bytes);
     return EXIT_OK;
 }

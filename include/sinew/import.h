@@ -1,9 +1,17 @@
 /* sinew/import.h — reading animated characters from files.
  *
- * What: sinew_import() reads any format Assimp reads (COLLADA, glTF/GLB, FBX, BVH, .x,
- * MD5, SMD, IQM, ...) and builds a runtime sinew_model: the skeleton from the node
- * hierarchy, every mesh and skin, materials, every clip in seconds, Y up.
- * By default Assimp runs in a child process and hands the model back through a pipe as
+ * What: sinew_import() reads FBX 7.x (binary and ASCII) with sinew's own reader and any
+ * other format Assimp reads (COLLADA, glTF/GLB, BVH, .x, MD5, SMD, IQM, ...), and builds a
+ * runtime sinew_model: the skeleton from the node hierarchy, every mesh and skin, materials,
+ * every clip in seconds, Y up, metres.
+ * FBX is evaluated as Maya, 3ds Max and MotionBuilder evaluate it: pivots, offsets, pre- and
+ * post-rotation, rotation order, geometric transforms, each node's inherit type (kept in
+ * model->node_inherit), Bezier curves with weights and automatic tangents. Its clips are
+ * baked to cubic keys that equal the curves at every key and stay within 2e-7 (radians,
+ * relative scale, and of the scene's size for translation) in between. A file that looks
+ * like FBX, or is named .fbx, is never handed to Assimp unless desc->assimp asks for it;
+ * FBX 6 and older is refused (re-export as FBX 2011 or later).
+ * By default the import runs in a child process and hands the model back through a pipe as
  * one flat blob, so that a crash inside Assimp becomes an error naming the file, never a
  * dead caller.
  * What not: no rendering, no sampling; the model is immutable once built.
@@ -27,6 +35,7 @@ extern "C" {
 typedef struct sinew_import_desc {
     const char *path;
     bool in_process;                  /* run Assimp in this process (faster, not crash-safe) */
+    bool assimp;                      /* read with Assimp even a format sinew reads itself (FBX): to compare */
     const sinew_allocator *allocator; /* NULL: malloc/free */
 } sinew_import_desc;
 
@@ -35,6 +44,8 @@ sinew_result sinew_import(const sinew_import_desc *desc, sinew_model **out, sine
 /* Imports the file into the flat blob that sinew_model_from_blob() reads; *bytes is
  * malloc'd, the caller frees it. This is what the import child does. */
 sinew_result sinew_import_blob(const char *path, void **bytes, size_t *size, sinew_error *error);
+/* The same with the import desc's choice of reader (desc->assimp). */
+sinew_result sinew_import_blob_desc(const sinew_import_desc *desc, void **bytes, size_t *size, sinew_error *error);
 
 /* Serialises a model as the bytes of a .sinew file (tagged, versioned, checksummed; see
  * sinew_model_load()). `muscles`, when not NULL, are stored with it in place of the

@@ -65,6 +65,7 @@ typedef struct fbx_object {
     const fbx_node *defaults; /* the template's Properties70, or NULL */
     uint32_t first_parent, parent_count; /* in scene.up */
     uint32_t first_child, child_count;   /* in scene.down */
+    uint32_t first_binding, binding_count; /* models: in scene.bindings */
     uint32_t order;                      /* place in the file's Objects */
     int32_t raw_node;                    /* models: raw node index */
     int32_t raw_material;
@@ -84,11 +85,39 @@ typedef struct fbx_curve {
     uint32_t *attr; /* attribute index of each key */
 } fbx_curve;
 
-/* One animated property of one model in one layer. */
+/* The properties of a node's transform, in the order node_local() takes them. */
+enum {
+    P_TRANSLATION,
+    P_ROTATION,
+    P_SCALING,
+    P_ROTATION_OFFSET,
+    P_ROTATION_PIVOT,
+    P_SCALING_OFFSET,
+    P_SCALING_PIVOT,
+    P_PRE_ROTATION,
+    P_POST_ROTATION,
+    P_COUNT
+};
+static const char *const transform_props[P_COUNT] = {
+    "Lcl Translation", "Lcl Rotation",  "Lcl Scaling",  "RotationOffset", "RotationPivot",
+    "ScalingOffset",   "ScalingPivot", "PreRotation", "PostRotation"};
+
+/* One animated transform property of one model in one layer: the curve of each component
+ * (an object index, or UINT32_MAX) and the curve node's values for components without one
+ * (NaN: the property's own value). */
 typedef struct fbx_binding {
-    uint32_t model, curve_node, layer;
-    const fbx_value *prop;
+    uint32_t model, curve_node, layer, order;
+    int32_t stack;
+    int prop; /* P_* */
+    uint32_t curves[3];
+    double defaults[3];
 } fbx_binding;
+
+/* A node's transform properties without animation, read once. */
+typedef struct fbx_static {
+    double value[P_COUNT][3];
+    int order; /* rotation order */
+} fbx_static;
 
 typedef struct fbx_layer_info {
     int32_t stack;
@@ -111,6 +140,7 @@ typedef struct scene {
     uint32_t binding_count;
     fbx_layer_info *layers; /* one an object (used for K_LAYER) */
     uint32_t *models;       /* model object of each raw node (root: UINT32_MAX) */
+    fbx_static *statics;    /* one an object (used for K_MODEL) */
     double convert[16];     /* file axes and unit -> Y-up metres */
     double diagonal;        /* of the rest pose's node positions, file units */
     uint32_t model_count;
@@ -185,19 +215,25 @@ static dmat euler_matrix(const double degrees[3], int order)
     static const int axes[6][3] = {{0, 1, 2}, {0, 2, 1}, {1, 2, 0}, {1, 0, 2}, {2, 0, 1}, {2, 1, 0}};
     if (order < 0 || order > 5)
         order = 0;
-    dmat r = dmat_identity();
+    double r[9] = {1, 0, 0, 0, 1, 0, 0, 0, 1}; /* 3x3, column-major */
     for (int k = 0; k < 3; k++) {
         int axis = axes[order][k];
-        double a = degrees[axis] * (M_PI / 180.0), c = cos(a), s = sin(a);
-        dmat e = dmat_identity();
+        if (degrees[axis] == 0.0)
+            continue;
+        double a = degrees[axis] * (M_PI / 180.0), c = cos(a), sn = sin(a);
         int i = (axis + 1) % 3, j = (axis + 2) % 3;
-        e.m[i * 4 + i] = c;
-        e.m[j * 4 + i] = -s;
-        e.m[i * 4 + j] = s;
-        e.m[j * 4 + j] = c;
-        r = dmat_mul(&e, &r); /* later axes apply after earlier ones */
+        /* r = E * r, where E rotates about `axis`: only rows i and j change. */
+        for (int col = 0; col < 3; col++) {
+            double ri = r[col * 3 + i], rj = r[col * 3 + j];
+            r[col * 3 + i] = c * ri - sn * rj;
+            r[col * 3 + j] = sn * ri + c * rj;
+        }
     }
-    return r;
+    dmat m = dmat_identity();
+    for (int col = 0; col < 3; col++)
+        for (int row = 0; row < 3; row++)
+            m.m[col * 4 + row] = r[col * 3 + row];
+    return m;
 }
 
 static void matrix_quat(const dmat *a, double q[4])
@@ -479,6 +515,16 @@ static double global_num(const scene *s, const char *name, double fallback)
     return p && p->value_count > 4 ? fbx_num(p, 4) : fallback;
 }
 
+/* A model's transform properties without animation, and its rotation order. */
+static void read_statics(scene *s, uint32_t model)
+{
+    const fbx_object *o = &s->objects[model];
+    fbx_static *st = &s->statics[model];
+    for (int p = 0; p < P_COUNT; p++)
+        prop_vec3(o, transform_props[p], p == P_SCALING ? 1.0 : 0.0, st->value[p]);
+    st->order = (int)prop_num(o, "RotationOrder", 0);
+}
+
 /* ---- curves -------------------------------------------------------------------------- */
 
 static sinew_result load_curve(scene *s, fbx_object *o, fbx_curve *c)
@@ -642,13 +688,27 @@ static bool steps_into(const fbx_curve *c, uint32_t k)
 
 /* ---- animation ------------------------------------------------------------------------ */
 
+static int compare_bindings(const void *a, const void *b)
+{
+    const fbx_binding *x = a, *y = b;
+    if (x->model != y->model)
+        return x->model < y->model ? -1 : 1;
+    if (x->stack != y->stack)
+        return x->stack < y->stack ? -1 : 1;
+    return x->order < y->order ? -1 : x->order > y->order;
+}
+
 static sinew_result index_animation(scene *s)
 {
     s->curves = calloc(s->object_count ? s->object_count : 1, sizeof *s->curves);
     s->layers = calloc(s->object_count ? s->object_count : 1, sizeof *s->layers);
     s->bindings = calloc(s->link_count ? s->link_count : 1, sizeof *s->bindings);
-    if (!s->curves || !s->layers || !s->bindings)
+    s->statics = calloc(s->object_count ? s->object_count : 1, sizeof *s->statics);
+    if (!s->curves || !s->layers || !s->bindings || !s->statics)
         return oom(s);
+    for (uint32_t i = 0; i < s->object_count; i++)
+        if (s->objects[i].kind == K_MODEL)
+            read_statics(s, i);
     sinew_result result;
     for (uint32_t i = 0; i < s->object_count; i++) {
         fbx_object *o = &s->objects[i];
@@ -672,58 +732,70 @@ static sinew_result index_animation(scene *s)
             }
         }
     }
-    /* Curve node -> model property, in a layer. */
+    /* Curve node -> transform property of a model, in a layer of a stack. */
     for (uint32_t i = 0; i < s->link_count; i++) {
         const fbx_link *l = &s->up[i];
         if (!l->prop || s->objects[l->child].kind != K_CURVE_NODE || s->objects[l->parent].kind != K_MODEL)
             continue;
-        const fbx_object *layer = linked(s, &s->objects[l->child], K_LAYER, false, true);
-        if (!layer)
+        int prop = -1;
+        for (int p = 0; p < P_COUNT; p++)
+            if (value_is(l->prop, transform_props[p]))
+                prop = p;
+        const fbx_object *cn = &s->objects[l->child];
+        const fbx_object *layer = linked(s, cn, K_LAYER, false, true);
+        if (prop < 0 || !layer || s->layers[layer - s->objects].stack < 0)
             continue;
-        s->bindings[s->binding_count++] =
-            (fbx_binding){l->parent, l->child, (uint32_t)(layer - s->objects), l->prop};
+        fbx_binding *b = &s->bindings[s->binding_count++];
+        const fbx_layer_info *li = &s->layers[layer - s->objects];
+        *b = (fbx_binding){.model = l->parent,
+                           .curve_node = l->child,
+                           .layer = (uint32_t)(layer - s->objects),
+                           .order = li->order,
+                           .stack = li->stack,
+                           .prop = prop};
+        static const char *const comps[3] = {"d|X", "d|Y", "d|Z"};
+        for (int c = 0; c < 3; c++) {
+            b->curves[c] = UINT32_MAX;
+            b->defaults[c] = prop_num(cn, comps[c], NAN);
+            for (uint32_t k = 0; k < cn->child_count; k++) {
+                const fbx_link *dl = child_link(s, cn, k);
+                if (dl->prop && value_is(dl->prop, comps[c]) && s->objects[dl->child].kind == K_CURVE &&
+                    s->curves[dl->child].count)
+                    b->curves[c] = dl->child;
+            }
+        }
+    }
+    /* A model's bindings together, its layers in their stack's order. */
+    qsort(s->bindings, s->binding_count, sizeof *s->bindings, compare_bindings);
+    for (uint32_t i = s->binding_count; i-- > 0;) {
+        fbx_object *m = &s->objects[s->bindings[i].model];
+        m->first_binding = i;
+        m->binding_count++;
     }
     return SINEW_OK;
 }
 
-/* The value of a model's vector property at `ticks` in `stack` (or its static value when
- * stack < 0): each layer's curves in order, added or blended by the layer's weight. */
-static void anim_vec3(const scene *s, uint32_t model, const char *name, double fallback, int32_t stack, double ticks,
-                      double out[3])
+/* A model's transform properties at `ticks` in `stack` (or without animation when
+ * stack < 0): each layer's curves in the stack's order, added (additive layers after the
+ * first) or blended by the layer's weight. */
+static void anim_values(const scene *s, uint32_t model, int32_t stack, double ticks, double v[P_COUNT][3])
 {
     const fbx_object *o = &s->objects[model];
-    prop_vec3(o, name, fallback, out);
+    memcpy(v, s->statics[model].value, sizeof s->statics[model].value);
     if (stack < 0)
         return;
-    /* Layers in the stack's order: few of them, so pass over the bindings once a layer. */
-    for (uint32_t order = 0;; order++) {
-        bool more = false;
-        for (uint32_t b = 0; b < s->binding_count; b++) {
-            const fbx_binding *bind = &s->bindings[b];
-            const fbx_layer_info *li = &s->layers[bind->layer];
-            if (li->stack != stack)
-                continue;
-            if (li->order > order)
-                more = true;
-            if (bind->model != model || li->order != order || !value_is(bind->prop, name))
-                continue;
-            const fbx_object *cn = &s->objects[bind->curve_node];
-            double v[3];
-            static const char *const comps[3] = {"d|X", "d|Y", "d|Z"};
-            for (int c = 0; c < 3; c++) {
-                v[c] = prop_num(cn, comps[c], out[c]);
-                for (uint32_t k = 0; k < cn->child_count; k++) {
-                    const fbx_link *dl = child_link(s, cn, k);
-                    if (dl->prop && value_is(dl->prop, comps[c]) && s->objects[dl->child].kind == K_CURVE &&
-                        s->curves[dl->child].count)
-                        v[c] = curve_eval(s, &s->curves[dl->child], ticks);
-                }
-            }
-            for (int c = 0; c < 3; c++)
-                out[c] = li->mode == 0 && order > 0 ? out[c] + v[c] * li->weight : out[c] + (v[c] - out[c]) * li->weight;
+    for (uint32_t b = o->first_binding; b < o->first_binding + o->binding_count; b++) {
+        const fbx_binding *bind = &s->bindings[b];
+        if (bind->stack != stack)
+            continue;
+        const fbx_layer_info *li = &s->layers[bind->layer];
+        double *out = v[bind->prop];
+        for (int c = 0; c < 3; c++) {
+            double x = bind->curves[c] != UINT32_MAX ? curve_eval(s, &s->curves[bind->curves[c]], ticks)
+                       : isnan(bind->defaults[c]) ? out[c]
+                                                  : bind->defaults[c];
+            out[c] = li->mode == 0 && bind->order > 0 ? out[c] + x * li->weight : out[c] + (x - out[c]) * li->weight;
         }
-        if (!more)
-            break;
     }
 }
 
@@ -738,25 +810,24 @@ typedef struct local_trs {
  * translation, the rotation Rpre * R * Rpost^-1 and the scale S. */
 static void node_local(const scene *s, uint32_t model, int32_t stack, double ticks, local_trs *out)
 {
-    const fbx_object *o = &s->objects[model];
-    double t[3], r[3], sc[3], roff[3], rp[3], soff[3], sp[3], pre[3], post[3];
-    anim_vec3(s, model, "Lcl Translation", 0, stack, ticks, t);
-    anim_vec3(s, model, "Lcl Rotation", 0, stack, ticks, r);
-    anim_vec3(s, model, "Lcl Scaling", 1, stack, ticks, sc);
-    anim_vec3(s, model, "RotationOffset", 0, stack, ticks, roff);
-    anim_vec3(s, model, "RotationPivot", 0, stack, ticks, rp);
-    anim_vec3(s, model, "ScalingOffset", 0, stack, ticks, soff);
-    anim_vec3(s, model, "ScalingPivot", 0, stack, ticks, sp);
-    anim_vec3(s, model, "PreRotation", 0, stack, ticks, pre);
-    anim_vec3(s, model, "PostRotation", 0, stack, ticks, post);
-    int order = (int)prop_num(o, "RotationOrder", 0);
-    dmat rpre = euler_matrix(pre, 0), rl = euler_matrix(r, order), rpost = euler_matrix(post, 0);
-    dmat rpost_inv = dmat_identity();
-    for (int i = 0; i < 3; i++)
-        for (int j = 0; j < 3; j++)
-            rpost_inv.m[i * 4 + j] = rpost.m[j * 4 + i];
-    dmat rot = dmat_mul(&rpre, &rl);
-    rot = dmat_mul(&rot, &rpost_inv);
+    double v[P_COUNT][3];
+    anim_values(s, model, stack, ticks, v);
+    const double *t = v[P_TRANSLATION], *r = v[P_ROTATION], *sc = v[P_SCALING], *roff = v[P_ROTATION_OFFSET];
+    const double *rp = v[P_ROTATION_PIVOT], *soff = v[P_SCALING_OFFSET], *sp = v[P_SCALING_PIVOT];
+    const double *pre = v[P_PRE_ROTATION], *post = v[P_POST_ROTATION];
+    int order = s->statics[model].order;
+    dmat rot = euler_matrix(r, order);
+    if (pre[0] != 0 || pre[1] != 0 || pre[2] != 0) {
+        dmat rpre = euler_matrix(pre, 0);
+        rot = dmat_mul(&rpre, &rot);
+    }
+    if (post[0] != 0 || post[1] != 0 || post[2] != 0) {
+        dmat rpost = euler_matrix(post, 0), rpost_inv = dmat_identity();
+        for (int i = 0; i < 3; i++)
+            for (int j = 0; j < 3; j++)
+                rpost_inv.m[i * 4 + j] = rpost.m[j * 4 + i];
+        rot = dmat_mul(&rot, &rpost_inv);
+    }
     double inner[3], a[3], b[3];
     for (int c = 0; c < 3; c++)
         inner[c] = soff[c] + sp[c] - sc[c] * sp[c];
@@ -1762,16 +1833,15 @@ static sinew_result sample_times(const scene *s, uint32_t model, int32_t stack, 
         return SINEW_ERROR_OUT_OF_MEMORY;
     t[n++] = 0.0f;
     t[n++] = duration;
-    for (uint32_t b = 0; b < s->binding_count; b++) {
+    const fbx_object *mo = &s->objects[model];
+    for (uint32_t b = mo->first_binding; b < mo->first_binding + mo->binding_count; b++) {
         const fbx_binding *bind = &s->bindings[b];
-        if (bind->model != model || s->layers[bind->layer].stack != stack)
+        if (bind->stack != stack)
             continue;
-        const fbx_object *cn = &s->objects[bind->curve_node];
-        for (uint32_t k = 0; k < cn->child_count; k++) {
-            const fbx_link *l = child_link(s, cn, k);
-            if (s->objects[l->child].kind != K_CURVE)
+        for (int k = 0; k < 3; k++) {
+            if (bind->curves[k] == UINT32_MAX)
                 continue;
-            const fbx_curve *c = &s->curves[l->child];
+            const fbx_curve *c = &s->curves[bind->curves[k]];
             for (uint32_t i = 0; i < c->count; i++) {
                 float sec = (float)((c->times[i] - start) / FBX_TICKS_PER_SECOND);
                 if (!(sec > 0.0f && sec < duration))
@@ -1803,8 +1873,9 @@ static sinew_result sample_times(const scene *s, uint32_t model, int32_t stack, 
 
 static bool model_animated(const scene *s, uint32_t model, int32_t stack)
 {
-    for (uint32_t b = 0; b < s->binding_count; b++)
-        if (s->bindings[b].model == model && s->layers[s->bindings[b].layer].stack == stack)
+    const fbx_object *o = &s->objects[model];
+    for (uint32_t b = o->first_binding; b < o->first_binding + o->binding_count; b++)
+        if (s->bindings[b].stack == stack)
             return true;
     return false;
 }
@@ -1868,11 +1939,12 @@ static void stack_span(const scene *s, uint32_t stack, double *start, double *st
         return;
     double lo = INFINITY, hi = -INFINITY;
     for (uint32_t b = 0; b < s->binding_count; b++) {
-        if (s->layers[s->bindings[b].layer].stack != (int32_t)stack)
+        if (s->bindings[b].stack != (int32_t)stack)
             continue;
-        const fbx_object *cn = &s->objects[s->bindings[b].curve_node];
-        for (uint32_t k = 0; k < cn->child_count; k++) {
-            const fbx_curve *c = &s->curves[child_link(s, cn, k)->child];
+        for (int k = 0; k < 3; k++) {
+            if (s->bindings[b].curves[k] == UINT32_MAX)
+                continue;
+            const fbx_curve *c = &s->curves[s->bindings[b].curves[k]];
             if (c->count) {
                 lo = fmin(lo, c->times[0]);
                 hi = fmax(hi, c->times[c->count - 1]);
@@ -1973,6 +2045,7 @@ static void scene_free(scene *s)
     free(s->curves);
     free(s->layers);
     free(s->bindings);
+    free(s->statics);
     free(s->objects);
     free(s->up);
     free(s->down);

@@ -90,8 +90,10 @@ static bool has_extension(const char *path, const char *ext)
 
 /* sinew's own readers for the formats it reads itself (FBX), Assimp for the rest. A file
  * that looks like FBX, or is named .fbx, is never handed to Assimp. */
-static sinew_result raw_model_read(const char *path, raw_model *raw, sinew_error *error)
+static sinew_result raw_model_read(const char *path, bool assimp, raw_model *raw, sinew_error *error)
 {
+    if (assimp)
+        return raw_model_from_assimp(path, raw, error);
     unsigned char head[64] = {0};
     size_t got = 0;
     FILE *f = fopen(path, "rb");
@@ -114,19 +116,24 @@ static sinew_result raw_model_read(const char *path, raw_model *raw, sinew_error
     return result;
 }
 
-sinew_result sinew_import_blob(const char *path, void **bytes, size_t *size, sinew_error *error)
+sinew_result sinew_import_blob_desc(const sinew_import_desc *desc, void **bytes, size_t *size, sinew_error *error)
 {
-    if (!path || !bytes || !size)
+    if (!desc || !desc->path || !bytes || !size)
         return sinew_fail(error, SINEW_ERROR_INVALID_ARGUMENT, "sinew_import_blob: NULL argument");
-    sinew_result result = check_path(path, error);
+    sinew_result result = check_path(desc->path, error);
     if (result)
         return result;
     raw_model raw;
-    if ((result = raw_model_read(path, &raw, error)))
+    if ((result = raw_model_read(desc->path, desc->assimp, &raw, error)))
         return result;
     result = raw_model_build(&raw, bytes, size, error);
     raw_model_free(&raw);
     return result;
+}
+
+sinew_result sinew_import_blob(const char *path, void **bytes, size_t *size, sinew_error *error)
+{
+    return sinew_import_blob_desc(&(sinew_import_desc){.path = path}, bytes, size, error);
 }
 
 static bool write_all(int fd, const void *data, size_t size)
@@ -147,7 +154,7 @@ static bool write_all(int fd, const void *data, size_t size)
 /* In the child: import, reply, and leave without running atexit handlers. The caller's
  * signal handlers (a test runner's, a GUI's) are reset so that a crash in Assimp ends
  * the child with its signal, which the parent reports; its output goes to /dev/null. */
-static void child_main(int fd, const char *path)
+static void child_main(int fd, const sinew_import_desc *desc)
 {
     static const int fatal[] = {SIGSEGV, SIGBUS, SIGFPE, SIGILL, SIGABRT, SIGTRAP, SIGSYS};
     for (size_t i = 0; i < sizeof fatal / sizeof fatal[0]; i++)
@@ -162,7 +169,7 @@ static void child_main(int fd, const char *path)
     sinew_error error = {0};
     void *bytes = NULL;
     size_t size = 0;
-    sinew_result result = sinew_import_blob(path, &bytes, &size, &error);
+    sinew_result result = sinew_import_blob_desc(desc, &bytes, &size, &error);
     reply_header reply = {.magic = REPLY_MAGIC, .kind = result};
     const void *payload = bytes;
     if (result) {
@@ -235,7 +242,7 @@ static sinew_result import_in_child(const sinew_import_desc *desc, sinew_model *
     }
     if (pid == 0) {
         close(fds[0]);
-        child_main(fds[1], path);
+        child_main(fds[1], desc);
     }
     close(fds[1]);
     unsigned char *buf = NULL;
@@ -279,7 +286,7 @@ sinew_result sinew_import(const sinew_import_desc *desc, sinew_model **out, sine
         return import_in_child(desc, out, error);
     void *bytes = NULL;
     size_t size = 0;
-    if ((result = sinew_import_blob(desc->path, &bytes, &size, error)))
+    if ((result = sinew_import_blob_desc(desc, &bytes, &size, error)))
         return result;
     result = sinew_model_from_blob(bytes, size, desc->path, desc->allocator, out, error);
     free(bytes);
