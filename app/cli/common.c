@@ -86,7 +86,11 @@ sinew_model *cli_load_model(const char *path)
                             .place = {.translation = {0.0f, 0.15f, 0.0f}}};
         return cli_arm_model(&arm);
     }
-    sinew_import_desc desc = {.path = path, .in_process = getenv("SINEW_IMPORT_IN_PROCESS") != NULL};
+    /* SINEW_IMPORTER=assimp: read even FBX through Assimp, to compare (README). */
+    const char *importer = getenv("SINEW_IMPORTER");
+    sinew_import_desc desc = {.path = path,
+                              .in_process = getenv("SINEW_IMPORT_IN_PROCESS") != NULL,
+                              .assimp = importer && strcmp(importer, "assimp") == 0};
     if (sinew_import(&desc, &model, &error) != SINEW_OK) {
         cli_error("%s", error.message);
         return NULL;

@@ -61,13 +61,13 @@ typedef struct fbx_object {
     const char *name;
     size_t name_len;
     int kind;
-    const fbx_node *props;    /* Properties70, or NULL */
-    const fbx_node *defaults; /* the template's Properties70, or NULL */
-    uint32_t first_parent, parent_count; /* in scene.up */
-    uint32_t first_child, child_count;   /* in scene.down */
+    const fbx_node *props;                 /* Properties70, or NULL */
+    const fbx_node *defaults;              /* the template's Properties70, or NULL */
+    uint32_t first_parent, parent_count;   /* in scene.up */
+    uint32_t first_child, child_count;     /* in scene.down */
     uint32_t first_binding, binding_count; /* models: in scene.bindings */
-    uint32_t order;                      /* place in the file's Objects */
-    int32_t raw_node;                    /* models: raw node index */
+    uint32_t order;                        /* place in the file's Objects */
+    int32_t raw_node;                      /* models: raw node index */
     int32_t raw_material;
 } fbx_object;
 
@@ -98,9 +98,9 @@ enum {
     P_POST_ROTATION,
     P_COUNT
 };
-static const char *const transform_props[P_COUNT] = {
-    "Lcl Translation", "Lcl Rotation",  "Lcl Scaling",  "RotationOffset", "RotationPivot",
-    "ScalingOffset",   "ScalingPivot", "PreRotation", "PostRotation"};
+static const char *const transform_props[P_COUNT] = {"Lcl Translation", "Lcl Rotation",  "Lcl Scaling",
+                                                     "RotationOffset",  "RotationPivot", "ScalingOffset",
+                                                     "ScalingPivot",    "PreRotation",   "PostRotation"};
 
 /* One animated transform property of one model in one layer: the curve of each component
  * (an object index, or UINT32_MAX) and the curve node's values for components without one
@@ -667,7 +667,8 @@ static double curve_eval(const scene *s, const fbx_curve *c, double t)
     wr = fmin(fmax(wr, 0.0), 1.0);
     wl = fmin(fmax(wl, 0.0), 1.0);
     /* Stored slopes are per second; times here are ticks. */
-    double right = attribute_float(s, d[0]) / FBX_TICKS_PER_SECOND, left = attribute_float(s, d[1]) / FBX_TICKS_PER_SECOND;
+    double right = attribute_float(s, d[0]) / FBX_TICKS_PER_SECOND,
+           left = attribute_float(s, d[1]) / FBX_TICKS_PER_SECOND;
     if (flags & 0x100u)
         right = auto_slope(c, lo, 1.0 / 3.0, wr);
     if (key_flags(c, hi) & 0x100u)
@@ -792,8 +793,8 @@ static void anim_values(const scene *s, uint32_t model, int32_t stack, double ti
         double *out = v[bind->prop];
         for (int c = 0; c < 3; c++) {
             double x = bind->curves[c] != UINT32_MAX ? curve_eval(s, &s->curves[bind->curves[c]], ticks)
-                       : isnan(bind->defaults[c]) ? out[c]
-                                                  : bind->defaults[c];
+                       : isnan(bind->defaults[c])    ? out[c]
+                                                     : bind->defaults[c];
             out[c] = li->mode == 0 && bind->order > 0 ? out[c] + x * li->weight : out[c] + (x - out[c]) * li->weight;
         }
     }
@@ -941,8 +942,9 @@ static void conversion(scene *s)
     bool valid = up >= 0 && up < 3 && front >= 0 && front < 3 && coord >= 0 && coord < 3 && up != front &&
                  up != coord && front != coord;
     if (!valid) {
-        raw_model_warn(s->model, "%s: the file's axes (up %d, front %d, coord %d) are not three different axes; "
-                                 "taken as Y up",
+        raw_model_warn(s->model,
+                       "%s: the file's axes (up %d, front %d, coord %d) are not three different axes; "
+                       "taken as Y up",
                        s->path, up, front, coord);
         up = 1, front = 2, coord = 0, up_sign = front_sign = coord_sign = 1;
     }
@@ -1098,8 +1100,8 @@ static sinew_result measure(scene *s)
             lo[c] = fmin(lo[c], w[i].m[12 + c]);
             hi[c] = fmax(hi[c], w[i].m[12 + c]);
         }
-    double d = sqrt((hi[0] - lo[0]) * (hi[0] - lo[0]) + (hi[1] - lo[1]) * (hi[1] - lo[1]) +
-                    (hi[2] - lo[2]) * (hi[2] - lo[2]));
+    double d =
+        sqrt((hi[0] - lo[0]) * (hi[0] - lo[0]) + (hi[1] - lo[1]) * (hi[1] - lo[1]) + (hi[2] - lo[2]) * (hi[2] - lo[2]));
     s->diagonal = isfinite(d) && d > 0 ? d : 1.0;
     free(w);
     free(l);
@@ -1128,7 +1130,7 @@ static sinew_result layer_element(scene *s, const fbx_object *g, const char *ele
     static const struct {
         const char *name;
         int mapping;
-    } maps[] = {{"ByPolygonVertex", MAP_CORNER}, {"ByVertice", MAP_POINT}, {"ByVertex", MAP_POINT},
+    } maps[] = {{"ByPolygonVertex", MAP_CORNER}, {"ByVertice", MAP_POINT},   {"ByVertex", MAP_POINT},
                 {"ByControlPoint", MAP_POINT},   {"ByPolygon", MAP_POLYGON}, {"AllSame", MAP_ALL}};
     for (size_t i = 0; i < sizeof maps / sizeof maps[0]; i++)
         if (fbx_str_is(mapping, 0, maps[i].name))
@@ -1155,7 +1157,10 @@ static int64_t layer_at(const layer_map *l, uint32_t corner, uint32_t point, uin
 {
     if (l->mapping == MAP_NONE)
         return -1;
-    uint32_t i = l->mapping == MAP_CORNER ? corner : l->mapping == MAP_POINT ? point : l->mapping == MAP_POLYGON ? polygon : 0;
+    uint32_t i = l->mapping == MAP_CORNER    ? corner
+                 : l->mapping == MAP_POINT   ? point
+                 : l->mapping == MAP_POLYGON ? polygon
+                                             : 0;
     int64_t e = i;
     if (l->index) {
         if (i >= l->index_count) {
@@ -1297,10 +1302,10 @@ static int64_t vertex_of(vertex_table *t, const corner *c, corner *verts, uint32
 
 typedef struct skin_source {
     uint32_t joint_count;
-    uint32_t *joints;      /* raw nodes */
+    uint32_t *joints;       /* raw nodes */
     dmat *geometry_to_bone; /* the cluster's Transform, per joint */
-    uint32_t *first;       /* per point: first influence, point_count + 1 */
-    uint32_t *slot;        /* influence -> joint slot */
+    uint32_t *first;        /* per point: first influence, point_count + 1 */
+    uint32_t *slot;         /* influence -> joint slot */
     float *weight;
     uint32_t max_influences;
 } skin_source;
@@ -1493,8 +1498,9 @@ static sinew_result build_materials(scene *s)
                 content += c->values[v].type == FBX_STRING ? c->values[v].count : 0;
             r->diffuse_texture = resolve_texture(s, tex);
             if (!r->diffuse_texture && content)
-                raw_model_warn(m, "%s: material \"%s\": its texture is embedded in the file, which sinew does not "
-                                  "carry yet",
+                raw_model_warn(m,
+                               "%s: material \"%s\": its texture is embedded in the file, which sinew does not "
+                               "carry yet",
                                s->path, r->name);
         }
     }
@@ -1797,7 +1803,7 @@ static void bake_interval(bake *b, const bake_key *a, const bake_key *c, int dep
 {
     double ta = a->time, tc = c->time;
     float mid = (float)(ta + (tc - ta) / 2);
-    bool splittable = depth < FBX_BAKE_MAX_DEPTH && *b->budget > 0 && mid > ta && mid < tc;
+    bool splittable = depth<FBX_BAKE_MAX_DEPTH && * b->budget> 0 && mid > ta && mid < tc;
     bool fine = true;
     for (int k = 1; k <= 3 && fine && splittable; k++) {
         double u = k / 4.0, exact[10], got[10];
@@ -2000,7 +2006,8 @@ static sinew_result build_clip(scene *s, uint32_t stack)
         for (uint32_t k = 0; k < n && !b.failed; k++) {
             /* Derivatives from inside the neighbouring intervals: a step between two keys a
              * float apart has none to speak of, and a key's own step is kept out of them. */
-            double gap = fmin(k > 0 ? times[k] - times[k - 1] : INFINITY, k + 1 < n ? times[k + 1] - times[k] : INFINITY);
+            double gap =
+                fmin(k > 0 ? times[k] - times[k - 1] : INFINITY, k + 1 < n ? times[k + 1] - times[k] : INFINITY);
             double h = fmin(1e-4, (isfinite(gap) ? gap : 1.0) / 8);
             bake_key_at(&b, times[k], h > 0 ? h : 1e-7, k ? prev.value : NULL, &next);
             if (k == 0)
@@ -2018,8 +2025,9 @@ static sinew_result build_clip(scene *s, uint32_t stack)
             return oom(s);
     }
     if (budget == 0)
-        raw_model_warn(m, "%s: clip \"%s\" has more curve detail than sinew bakes (a million extra keys); parts "
-                          "of it are interpolated more coarsely",
+        raw_model_warn(m,
+                       "%s: clip \"%s\" has more curve detail than sinew bakes (a million extra keys); parts "
+                       "of it are interpolated more coarsely",
                        s->path, clip->name);
     return SINEW_OK;
 }

@@ -65,8 +65,8 @@ static void *take(parser *ps, size_t count, size_t elem, sinew_result *result)
     }
     void *p = calloc(count, elem);
     if (!p) {
-        *result = sinew_fail(ps->error, SINEW_ERROR_OUT_OF_MEMORY, "%s: out of memory reading the FBX document",
-                             ps->path);
+        *result =
+            sinew_fail(ps->error, SINEW_ERROR_OUT_OF_MEMORY, "%s: out of memory reading the FBX document", ps->path);
         return NULL;
     }
     ps->budget -= count * elem;
@@ -370,8 +370,8 @@ static void next_token(parser *ps)
 {
     const unsigned char *b = ps->bytes;
     for (;;) {
-        while (ps->pos < ps->size && (b[ps->pos] == ' ' || b[ps->pos] == '\t' || b[ps->pos] == '\r' ||
-                                      b[ps->pos] == '\n')) {
+        while (ps->pos < ps->size &&
+               (b[ps->pos] == ' ' || b[ps->pos] == '\t' || b[ps->pos] == '\r' || b[ps->pos] == '\n')) {
             if (b[ps->pos] == '\n')
                 ps->line++;
             ps->pos++;

@@ -50,7 +50,8 @@ static void quat_zx(double z_degrees, double x_degrees, double q[4])
 static void expect_rotation(const sinew_model *m, int32_t node, float t, double z, double x)
 {
     sinew_transform *locals = calloc(m->node_count, sizeof *locals);
-    sinew_sample_desc desc = {.model = m, .clip = &m->clips[0], .time = t, .locals = locals, .local_count = m->node_count};
+    sinew_sample_desc desc = {
+        .model = m, .clip = &m->clips[0], .time = t, .locals = locals, .local_count = m->node_count};
     assert_int_equal(sinew_sample(&desc, NULL), SINEW_OK);
     double q[4];
     quat_zx(z, x, q);
@@ -79,7 +80,8 @@ static void test_curves(void **state)
      * 0 at the ends, handles a third of the way. */
     double t = 0.5, t0 = 0.25, t1 = 0.75, v0 = 50, v1 = 10, s0 = (10.0 - 20) / 0.75, s1 = (40.0 - 50) / 0.75;
     double u = (t - t0) / (t1 - t0), dt = t1 - t0, w = 1 - u;
-    double z = w * w * w * v0 + 3 * w * w * u * (v0 + s0 * dt / 3) + 3 * w * u * u * (v1 - s1 * dt / 3) + u * u * u * v1;
+    double z =
+        w * w * w * v0 + 3 * w * w * u * (v0 + s0 * dt / 3) + 3 * w * u * u * (v1 - s1 * dt / 3) + u * u * u * v1;
     expect_rotation(m, bone2, 0.5f, z, 30);
     sinew_model_free(m);
 }
@@ -100,7 +102,8 @@ static void test_inherit_types_reach_the_runtime(void **state)
         sinew_mat4 *w = calloc(m->node_count, sizeof *w);
         for (int k = 0; k <= 9; k++) {
             sinew_mat4 *ref = pose_worlds(m, &m->clips[0], k / 9.0f);
-            assert_int_equal(sinew_player_update(p, k / 9.0f, SINEW_WRAP_CLAMP, NULL, w, m->node_count, NULL), SINEW_OK);
+            assert_int_equal(sinew_player_update(p, k / 9.0f, SINEW_WRAP_CLAMP, NULL, w, m->node_count, NULL),
+                             SINEW_OK);
             for (uint32_t n = 0; n < m->node_count; n++)
                 for (int e = 0; e < 16; e++)
                     assert_near(w[n].m[e], ref[n].m[e], 1e-5, "player vs sample + world");
@@ -148,8 +151,7 @@ static void test_every_prefix_refused(void **state)
             copy[n] = 0;
             sinew_result r = read_bytes("cut.fbx", copy, n, message);
             if (r == SINEW_OK || !strstr(message, "cut.fbx"))
-                fail_msg("%s cut to %zu of %zu bytes: %s (%s)", encodings[i], n, size, sinew_result_string(r),
-                         message);
+                fail_msg("%s cut to %zu of %zu bytes: %s (%s)", encodings[i], n, size, sinew_result_string(r), message);
             free(copy);
         }
         free(bytes);
@@ -220,7 +222,8 @@ static void test_refusals(void **state)
     text = replaced("two_bone_ascii.fbx", "Indexes: *4 {\n\t\t\ta: 0,1,3,4", "Indexes: *4 {\n\t\t\ta: 0,1,3,400", &n);
     expect_refused("a cluster index outside the mesh", text, n, "outside its mesh");
     free(text);
-    text = replaced("two_bone_ascii.fbx", "KeyTime: *3 {\n\t\t\ta: 0,23093079000,", "KeyTime: *3 {\n\t\t\ta: 0,-5,", &n);
+    text =
+        replaced("two_bone_ascii.fbx", "KeyTime: *3 {\n\t\t\ta: 0,23093079000,", "KeyTime: *3 {\n\t\t\ta: 0,-5,", &n);
     expect_refused("key times going back", text, n, "backwards");
     free(text);
     /* A binary array claiming 2^31 - 1 elements: refused from its sizes, nothing allocated. */

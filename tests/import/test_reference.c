@@ -68,14 +68,14 @@ static double reference_diagonal(const cJSON *frames)
 {
     double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
     const cJSON *frame, *node;
-    cJSON_ArrayForEach(frame, frames) cJSON_ArrayForEach(node, cJSON_GetObjectItem(frame, "nodes")) for (int c = 0;
-                                                                                                        c < 3; c++)
+    cJSON_ArrayForEach(frame, frames)
+        cJSON_ArrayForEach(node, cJSON_GetObjectItem(frame, "nodes")) for (int c = 0; c < 3; c++)
     {
         lo[c] = fmin(lo[c], vec_at(node, c));
         hi[c] = fmax(hi[c], vec_at(node, c));
     }
-    double d = sqrt((hi[0] - lo[0]) * (hi[0] - lo[0]) + (hi[1] - lo[1]) * (hi[1] - lo[1]) +
-                    (hi[2] - lo[2]) * (hi[2] - lo[2]));
+    double d =
+        sqrt((hi[0] - lo[0]) * (hi[0] - lo[0]) + (hi[1] - lo[1]) * (hi[1] - lo[1]) + (hi[2] - lo[2]) * (hi[2] - lo[2]));
     return d > 0 ? d : 1.0;
 }
 
@@ -130,11 +130,16 @@ static void test_fbx_against_ufbx(void **state)
 {
     (void)state;
     static const char *const files[] = {
-        "assimp/FBX/animation_with_skeleton.fbx",          "assimp/FBX/huesitos.fbx",
-        "ozz/pab/arnaud.fbx",                              "ozz/pab/walk.fbx",
-        "ufbx/max_transformed_skin_7500_ascii.fbx",        "ufbx/max_transformed_skin_7500_binary.fbx",
-        "ufbx/maya_transformed_skin_7700_ascii.fbx",       "ufbx/maya_transformed_skin_7700_binary.fbx",
-        "ufbx/maya_instanced_skin_7700_ascii.fbx",         "ufbx/maya_instanced_skin_7700_binary.fbx",
+        "assimp/FBX/animation_with_skeleton.fbx",
+        "assimp/FBX/huesitos.fbx",
+        "ozz/pab/arnaud.fbx",
+        "ozz/pab/walk.fbx",
+        "ufbx/max_transformed_skin_7500_ascii.fbx",
+        "ufbx/max_transformed_skin_7500_binary.fbx",
+        "ufbx/maya_transformed_skin_7700_ascii.fbx",
+        "ufbx/maya_transformed_skin_7700_binary.fbx",
+        "ufbx/maya_instanced_skin_7700_ascii.fbx",
+        "ufbx/maya_instanced_skin_7700_binary.fbx",
         "ufbx/motionbuilder_sausage_rrss_7700_binary.fbx",
     };
     char path[1024], rel[512];
