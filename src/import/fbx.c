@@ -1016,6 +1016,8 @@ static sinew_result build_nodes(scene *s)
         stack[top++] = i;
         while (top && !result) {
             uint32_t cur = stack[--top];
+            if (s->objects[cur].raw_node >= 0 || m->node_count >= n)
+                continue; /* connected to its parent twice */
             int32_t parent_model = model_parent(s, &s->objects[cur]);
             int32_t parent = parent_model >= 0 ? s->objects[parent_model].raw_node : 0;
             if ((result = add_node(s, cur, parent)))
