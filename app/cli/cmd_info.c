@@ -18,7 +18,8 @@ static const char info_usage[] =
     "           \"counts\": {...}, \"meshes\": [...],\n"
     "           \"materials\": [{\"name\", \"base_color\", \"diffuse_texture\"}],\n"
     "           \"clips\": [{\"index\", \"name\", \"duration\", \"tracks\", \"keys\": {...}}], \"nodes\":\n"
-    "           [{\"name\", \"parent\", \"joint\"}], \"warnings\": [...]}\n";
+    "           [{\"name\", \"parent\", \"joint\", \"inherit\"}], \"warnings\": [...]}\n"
+    "           (inherit: normal, ignore_parent_scale or componentwise_scale, FBX's inherit types)\n";
 
 typedef struct counts {
     uint32_t joints, vertices, triangles, bones, skinned;
@@ -56,8 +57,10 @@ static void print_tree(const sinew_model *m, int32_t parent, int depth)
         bool has_mesh = false;
         for (uint32_t i = 0; i < m->instance_count; i++)
             has_mesh |= m->instances[i].node == n;
-        printf("  %*s%s%s%s\n", depth * 2, "", m->node_names[n], sinew_model_node_is_joint(m, n) ? "  [joint]" : "",
-               has_mesh ? "  [mesh]" : "");
+        static const char *const inherits[] = {"", "  [ignores parent scale: Rrs]", "  [componentwise scale: RrSs]"};
+        uint8_t inherit = m->node_inherit ? m->node_inherit[n] : SINEW_INHERIT_NORMAL;
+        printf("  %*s%s%s%s%s\n", depth * 2, "", m->node_names[n], sinew_model_node_is_joint(m, n) ? "  [joint]" : "",
+               has_mesh ? "  [mesh]" : "", inherits[inherit <= 2 ? inherit : 0]);
         print_tree(m, (int32_t)n, depth + 1);
     }
 }
@@ -186,6 +189,9 @@ static cJSON *info_json(const sinew_model *m)
         else
             cJSON_AddNullToObject(o, "parent");
         cJSON_AddBoolToObject(o, "joint", sinew_model_node_is_joint(m, n));
+        static const char *const inherit_names[] = {"normal", "ignore_parent_scale", "componentwise_scale"};
+        uint8_t inherit = m->node_inherit ? m->node_inherit[n] : SINEW_INHERIT_NORMAL;
+        cJSON_AddStringToObject(o, "inherit", inherit_names[inherit <= 2 ? inherit : 0]);
         cJSON_AddItemToArray(nodes, o);
     }
     cJSON *warnings = cJSON_AddArrayToObject(root, "warnings");

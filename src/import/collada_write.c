@@ -616,6 +616,12 @@ sinew_result sinew_model_write_collada(const sinew_model *model, const char *pat
 {
     if (!model || !path)
         return sinew_fail(error, SINEW_ERROR_INVALID_ARGUMENT, "sinew_model_write_collada: NULL argument");
+    for (uint32_t i = 0; model->node_inherit && i < model->node_count; i++)
+        if (model->node_inherit[i] != SINEW_INHERIT_NORMAL)
+            return sinew_fail(error, SINEW_ERROR_LIMIT,
+                              "%s: node \"%s\" does not inherit its parent's scale as COLLADA does (an FBX inherit "
+                              "type); write a .sinew file instead",
+                              path, model->node_names[i]);
     writer wr = {.model = model, .ids = make_ids(model)};
     const uint32_t id_count = model->node_count + model->mesh_count;
     for (uint32_t i = 0; wr.ids && i < id_count; i++)

@@ -1994,13 +1994,14 @@ static sinew_result build_clip(scene *s, uint32_t stack)
         uint32_t n = 0;
         if (sample_times(s, model, (int32_t)stack, start, duration, &times, &n))
             return oom(s);
-        /* World-space tolerance over the parent's scale (a joint under a scaled root). */
-        double parent_scale = 1.0;
+        /* Translation tolerance relative to the rest pose's size in the file's units: the
+         * local translation is in the parent's space, which under a scaled parent is not the
+         * world's (the check against ufbx bounds the result in world space). */
         bake b = {.s = s,
                   .model = model,
                   .stack = (int32_t)stack,
                   .start = start,
-                  .tol_t = FBX_BAKE_TOLERANCE * s->diagonal / parent_scale,
+                  .tol_t = FBX_BAKE_TOLERANCE * s->diagonal,
                   .tol_r = FBX_BAKE_TOLERANCE,
                   .tol_s = FBX_BAKE_TOLERANCE,
                   .budget = &budget};

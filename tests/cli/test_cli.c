@@ -210,6 +210,35 @@ static void test_info_json_and_text(void **state)
     run_free(&r);
 }
 
+/* An FBX file's inherit types, in JSON and in the tree; SINEW_IMPORTER=assimp reads it
+ * through Assimp instead (which has no inherit types). */
+static void test_info_fbx_inherit(void **state)
+{
+    (void)state;
+    char path[1024];
+    fixture_path("two_bone_7400.fbx", path, sizeof path);
+    cJSON *root = RUN_JSON("info", path, "--json");
+    assert_string_equal(cJSON_GetObjectItem(root, "format")->valuestring, "fbx");
+    const cJSON *node;
+    int componentwise = 0, ignoring = 0;
+    cJSON_ArrayForEach(node, cJSON_GetObjectItem(root, "nodes"))
+    {
+        const char *inherit = cJSON_GetObjectItem(node, "inherit")->valuestring;
+        componentwise += strcmp(inherit, "componentwise_scale") == 0;
+        ignoring += strcmp(inherit, "ignore_parent_scale") == 0;
+    }
+    assert_int_equal(componentwise, 1);
+    assert_int_equal(ignoring, 1);
+    cJSON_Delete(root);
+    run_result r = RUN("info", path);
+    assert_non_null(strstr(r.out, "bone2  [joint]  [componentwise scale: RrSs]"));
+    run_free(&r);
+    r = run_sinew((const char *const[]){"SINEW_IMPORTER=assimp", NULL}, (const char *const[]){"info", path, NULL});
+    assert_int_equal(r.code, 0);
+    assert_null(strstr(r.out, "RrSs"));
+    run_free(&r);
+}
+
 /* A model without clips poses at rest: clip null, one frame. */
 static void test_pose_without_animation(void **state)
 {
@@ -467,7 +496,8 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_usage_and_help),     cmocka_unit_test(test_bad_input_exits_2),
         cmocka_unit_test(test_pose_json),          cmocka_unit_test(test_pose_mesh_obj),
-        cmocka_unit_test(test_info_json_and_text), cmocka_unit_test(test_pose_without_animation),
+        cmocka_unit_test(test_info_json_and_text),
+        cmocka_unit_test(test_info_fbx_inherit), cmocka_unit_test(test_pose_without_animation),
         cmocka_unit_test(test_pose_pairs_agree),   cmocka_unit_test(test_muscle_command),
         cmocka_unit_test(test_pose_with_muscles),  cmocka_unit_test(test_arm_command),
         cmocka_unit_test(test_demo_convert_and_sinew_files), cmocka_unit_test(test_bench_eval_json),

@@ -152,6 +152,11 @@ static void test_sinew_round_trip(void **state)
     assert_non_null(strstr(error.message, "inherit"));
     free(edited);
     free(bytes);
+    /* COLLADA cannot say that a node ignores its parent's scale: refused, not written wrong. */
+    char dae[1024];
+    tmp_path("inherit.dae", dae, sizeof dae);
+    assert_int_equal(sinew_model_write_collada(m, dae, &error), SINEW_ERROR_LIMIT);
+    assert_non_null(strstr(error.message, "bone2"));
     sinew_model_free(back);
     sinew_model_free(m);
 }
