@@ -85,6 +85,16 @@ static void test_curves(void **state)
     double z =
         w * w * w * v0 + 3 * w * w * u * (v0 + s0 * dt / 3) + 3 * w * u * u * (v1 - s1 * dt / 3) + u * u * u * v1;
     expect_rotation(m, bone2, 0.5f, z, 30);
+    /* The additive layer at 50 %: bone3's translation Y, 1 at rest, plays 1 + 0.5 * 2. */
+    int32_t bone3 = sinew_model_find_node(m, "bone3");
+    assert_near(m->node_rest[bone3].translation[1], 1.0, 1e-6, "bone3 at rest");
+    sinew_transform *locals = calloc(m->node_count, sizeof *locals);
+    sinew_sample_desc desc = {
+        .model = m, .clip = &m->clips[0], .time = 0.3f, .locals = locals, .local_count = m->node_count};
+    assert_int_equal(sinew_sample(&desc, NULL), SINEW_OK);
+    assert_near(locals[bone3].translation[0], 5.0, 1e-5, "bone3 x");
+    assert_near(locals[bone3].translation[1], 2.0, 1e-5, "bone3 y, base plus half the additive layer");
+    free(locals);
     sinew_model_free(m);
 }
 
