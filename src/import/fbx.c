@@ -515,6 +515,24 @@ static double global_num(const scene *s, const char *name, double fallback)
     return p && p->value_count > 4 ? fbx_num(p, 4) : fallback;
 }
 
+/* Whole numbers read from a file's doubles. A cast of a double out of the target's range is
+ * undefined, so these check first: an int32 (`fallback` when out of range or NaN), and the
+ * bits of a 32-bit field written signed or unsigned (flags, packed weights; 0 when out). */
+static int32_t file_int(double v, int32_t fallback)
+{
+    return v >= -2147483648.0 && v <= 2147483647.0 ? (int32_t)v : fallback;
+}
+
+static uint32_t file_bits(double v)
+{
+    return fabs(v) <= 4294967295.0 ? (uint32_t)(int64_t)v : 0u;
+}
+
+static int32_t prop_int(const fbx_object *o, const char *name, int32_t fallback)
+{
+    return file_int(prop_num(o, name, fallback), fallback);
+}
+
 /* A model's transform properties without animation, and its rotation order. */
 static void read_statics(scene *s, uint32_t model)
 {
@@ -522,7 +540,7 @@ static void read_statics(scene *s, uint32_t model)
     fbx_static *st = &s->statics[model];
     for (int p = 0; p < P_COUNT; p++)
         prop_vec3(o, transform_props[p], p == P_SCALING ? 1.0 : 0.0, st->value[p]);
-    st->order = (int)prop_num(o, "RotationOrder", 0);
+    st->order = prop_int(o, "RotationOrder", 0);
 }
 
 /* ---- curves -------------------------------------------------------------------------- */
@@ -583,6 +601,19 @@ static double bezier_parameter(double x, double wr, double wl)
     return u;
 }
 
+/* KeyAttrFlags bits (FbxAnimCurveDef). */
+enum {
+    KEY_CONSTANT = 0x2u,
+    KEY_LINEAR = 0x4u,
+    KEY_CUBIC = 0x8u,
+    KEY_AUTO_OR_NEXT = 0x100u, /* cubic: automatic tangent; constant: hold the next key's value */
+    KEY_CLAMP_PROGRESSIVE = 0x4000u,
+    KEY_WEIGHTED_RIGHT = 0x1000000u,
+    KEY_WEIGHTED_NEXT_LEFT = 0x2000000u
+};
+
+/* The bits of a KeyAttrDataFloat element: binary files store floats; ASCII files write each
+ * float's bits as a whole number (-0 is -2147483648). */
 static uint32_t attribute_bits(const scene *s, double v)
 {
     if (s->doc.binary) {
@@ -591,24 +622,24 @@ static uint32_t attribute_bits(const scene *s, double v)
         memcpy(&bits, &f, 4);
         return bits;
     }
-    return (uint32_t)(int64_t)v; /* ASCII writes the packed bits as a whole number */
+    return file_bits(v);
 }
 
-/* A slope of KeyAttrDataFloat: binary files store floats; ASCII files write each float's
- * bits as a whole number (-0 is -2147483648), so a whole number is taken as bits. */
+/* A slope of KeyAttrDataFloat (in an ASCII file a whole number is taken as bits). */
 static double attribute_float(const scene *s, double v)
 {
     if (s->doc.binary || v != floor(v) || fabs(v) > 4294967295.0)
         return v;
-    uint32_t bits = (uint32_t)(int64_t)v;
+    uint32_t bits = attribute_bits(s, v);
     float f;
     memcpy(&f, &bits, 4);
     return isfinite(f) ? f : 0.0;
 }
 
+/* The flags of key k (a curve without attributes is linear). */
 static uint32_t key_flags(const fbx_curve *c, uint32_t k)
 {
-    return c->attr ? (uint32_t)(int64_t)c->flags[c->attr[k]] : 0x4u;
+    return c->attr ? file_bits(c->flags[c->attr[k]]) : KEY_LINEAR;
 }
 
 /* The slope of an auto-tangent key, which files do not store (keys share one attribute with
@@ -623,7 +654,7 @@ static double auto_slope(const fbx_curve *c, uint32_t k, double weight_left, dou
     if (!(tn > tp))
         return 0.0;
     double slope = (vn - vp) / (tn - tp);
-    if (key_flags(c, k) & 0x4000u) {
+    if (key_flags(c, k) & KEY_CLAMP_PROGRESSIVE) {
         double sign = slope < 0 ? -1.0 : 1.0, limit = fabs(slope);
         if (t > tp && weight_left > 0)
             limit = fmin(limit, fmax((v - vp) * sign / (weight_left * (t - tp)), 0.0));
@@ -654,24 +685,23 @@ static double curve_eval(const scene *s, const fbx_curve *c, double t)
     double dx = t1 - t0, x = (t - t0) / dx;
     if (!c->attr)
         return v0 + (v1 - v0) * x;
-    uint32_t a = c->attr[lo];
-    uint32_t flags = (uint32_t)(int64_t)c->flags[a];
-    const double *d = &c->data[4 * a];
-    if (flags & 0x2u) /* constant; 0x100: "next" (the next key's value) */
-        return flags & 0x100u ? v1 : v0;
-    if (!(flags & 0x8u)) /* linear */
+    uint32_t flags = key_flags(c, lo);
+    const double *d = &c->data[4 * c->attr[lo]];
+    if (flags & KEY_CONSTANT)
+        return flags & KEY_AUTO_OR_NEXT ? v1 : v0;
+    if (!(flags & KEY_CUBIC))
         return v0 + (v1 - v0) * x;
     uint32_t bits = attribute_bits(s, d[2]);
-    double wr = flags & 0x1000000u ? (bits & 0xffffu) / 9999.0 : 1.0 / 3.0;
-    double wl = flags & 0x2000000u ? ((bits >> 16) & 0xffffu) / 9999.0 : 1.0 / 3.0;
+    double wr = flags & KEY_WEIGHTED_RIGHT ? (bits & 0xffffu) / 9999.0 : 1.0 / 3.0;
+    double wl = flags & KEY_WEIGHTED_NEXT_LEFT ? ((bits >> 16) & 0xffffu) / 9999.0 : 1.0 / 3.0;
     wr = fmin(fmax(wr, 0.0), 1.0);
     wl = fmin(fmax(wl, 0.0), 1.0);
     /* Stored slopes are per second; times here are ticks. */
     double right = attribute_float(s, d[0]) / FBX_TICKS_PER_SECOND,
            left = attribute_float(s, d[1]) / FBX_TICKS_PER_SECOND;
-    if (flags & 0x100u)
+    if (flags & KEY_AUTO_OR_NEXT)
         right = auto_slope(c, lo, 1.0 / 3.0, wr);
-    if (key_flags(c, hi) & 0x100u)
+    if ((key_flags(c, hi) & (KEY_CUBIC | KEY_AUTO_OR_NEXT)) == (KEY_CUBIC | KEY_AUTO_OR_NEXT))
         left = auto_slope(c, hi, wl, 1.0 / 3.0);
     double p1 = v0 + right * wr * dx, p2 = v1 - left * wl * dx;
     double u = (wr == 1.0 / 3.0 && wl == 1.0 / 3.0) ? x : bezier_parameter(x, wr, wl), v = 1 - u;
@@ -681,10 +711,7 @@ static double curve_eval(const scene *s, const fbx_curve *c, double t)
 /* True when the segment of curve `c` that ends at key k is a constant step. */
 static bool steps_into(const fbx_curve *c, uint32_t k)
 {
-    if (k == 0 || !c->attr)
-        return false;
-    uint32_t flags = (uint32_t)(int64_t)c->flags[c->attr[k - 1]];
-    return (flags & 0x2u) && !(flags & 0x100u);
+    return k > 0 && (key_flags(c, k - 1) & (KEY_CONSTANT | KEY_AUTO_OR_NEXT)) == KEY_CONSTANT;
 }
 
 /* ---- animation ------------------------------------------------------------------------ */
@@ -719,7 +746,7 @@ static sinew_result index_animation(scene *s)
             fbx_layer_info *l = &s->layers[i];
             l->stack = -1;
             l->weight = prop_num(o, "Weight", 100.0) / 100.0;
-            l->mode = (int)prop_num(o, "BlendMode", 0.0);
+            l->mode = prop_int(o, "BlendMode", 0);
             for (uint32_t k = 0; k < o->parent_count; k++) {
                 const fbx_link *up = parent_link(s, o, k);
                 if (s->objects[up->parent].kind == K_STACK) {
@@ -878,7 +905,7 @@ static dmat geometric_matrix(const fbx_object *o)
 
 static uint8_t inherit_type(const fbx_object *o)
 {
-    switch ((int)prop_num(o, "InheritType", 1)) {
+    switch (prop_int(o, "InheritType", 1)) {
     case 0:
         return SINEW_INHERIT_COMPONENTWISE_SCALE; /* RrSs */
     case 2:
@@ -931,8 +958,8 @@ static sinew_result add_node(scene *s, uint32_t object, int32_t parent)
  * centimetres a unit) as one matrix to right-handed Y-up metres. */
 static void conversion(scene *s)
 {
-    int up = (int)global_num(s, "UpAxis", 1), front = (int)global_num(s, "FrontAxis", 2);
-    int coord = (int)global_num(s, "CoordAxis", 0);
+    int up = file_int(global_num(s, "UpAxis", 1), -1), front = file_int(global_num(s, "FrontAxis", 2), -1);
+    int coord = file_int(global_num(s, "CoordAxis", 0), -1);
     double up_sign = global_num(s, "UpAxisSign", 1) < 0 ? -1 : 1;
     double front_sign = global_num(s, "FrontAxisSign", 1) < 0 ? -1 : 1;
     double coord_sign = global_num(s, "CoordAxisSign", 1) < 0 ? -1 : 1;
@@ -1172,6 +1199,10 @@ static int64_t layer_at(const layer_map *l, uint32_t corner, uint32_t point, uin
         double v = l->index[i];
         if (v < 0)
             return -1;
+        if (!(v <= UINT32_MAX)) {
+            *bad = true;
+            return -1;
+        }
         e = (int64_t)v;
     }
     if (l->width && ((uint64_t)e + 1) * l->width > l->data_count) {
@@ -1249,7 +1280,7 @@ static sinew_result read_polygons(scene *s, const fbx_object *g, mesh_source *sr
     for (uint32_t i = 0; i < idx_count; i++) {
         double v = idx[i];
         bool last = v < 0;
-        int64_t point = last ? -(int64_t)v - 1 : (int64_t)v;
+        int64_t point = !(fabs(v) <= UINT32_MAX) ? -1 : last ? -(int64_t)v - 1 : (int64_t)v;
         if (point < 0 || point >= src->point_count)
             return fail_data(s, "mesh has a polygon corner outside its vertex array", g);
         corner *c = &src->corners[i];
@@ -1263,7 +1294,7 @@ static sinew_result read_polygons(scene *s, const fbx_object *g, mesh_source *sr
         for (int k = 0; e >= 0 && k < 2; k++)
             c->uv[k] = (float)uvs.data[e * 2 + k];
         e = materials.mapping == MAP_NONE ? -1 : layer_at(&materials, i, c->point, polygon, &bad);
-        c->material = e >= 0 ? (int32_t)materials.data[e] : 0;
+        c->material = e >= 0 ? file_int(materials.data[e], -1) : 0;
         if (bad)
             return fail_data(s, "mesh has a normal, UV or material index outside its array", g);
         if (last) {
@@ -1654,6 +1685,33 @@ static sinew_result add_skin(scene *s, const skin_source *k, const dmat *geometr
     return SINEW_OK;
 }
 
+static int compare_int32(const void *a, const void *b)
+{
+    int32_t x = *(const int32_t *)a, y = *(const int32_t *)b;
+    return x < y ? -1 : x > y;
+}
+
+/* The distinct material slots (>= 0) of the polygons of three corners or more, ascending;
+ * NULL when out of memory. */
+static int32_t *used_slots(const mesh_source *src, uint32_t *count)
+{
+    int32_t *slots = malloc((src->polygon_count ? src->polygon_count : 1) * sizeof *slots);
+    uint32_t n = 0;
+    for (uint32_t p = 0; slots && p < src->polygon_count; p++) {
+        int32_t slot = src->corners[src->polygon_start[p]].material;
+        if (slot >= 0 && src->polygon_start[p + 1] - src->polygon_start[p] >= 3)
+            slots[n++] = slot;
+    }
+    if (slots)
+        qsort(slots, n, sizeof *slots, compare_int32);
+    uint32_t unique = 0;
+    for (uint32_t i = 0; i < n; i++)
+        if (unique == 0 || slots[i] != slots[unique - 1])
+            slots[unique++] = slots[i];
+    *count = unique;
+    return slots;
+}
+
 /* Every geometry a model carries: one mesh a material, skinned when a skin deforms it. */
 static sinew_result build_model_meshes(scene *s, const fbx_object *model)
 {
@@ -1674,19 +1732,15 @@ static sinew_result build_model_meshes(scene *s, const fbx_object *model)
         int32_t skin_index = -1;
         if (!result && deformer && skin.joint_count)
             result = add_skin(s, &skin, &geometry, &skin_index);
-        /* Material slots in use, in order. */
-        int32_t max_slot = 0;
-        for (uint32_t c = 0; !result && c < src.corner_count; c++)
-            if (src.corners[c].material > max_slot)
-                max_slot = src.corners[c].material;
-        for (int32_t slot = 0; !result && slot <= max_slot; slot++) {
-            bool used = false;
-            for (uint32_t p = 0; p < src.polygon_count && !used; p++)
-                used = src.corners[src.polygon_start[p]].material == slot &&
-                       src.polygon_start[p + 1] - src.polygon_start[p] >= 3;
-            if (used)
-                result = emit_mesh(s, &src, model, slot, &geometry, skin_index >= 0 ? &skin : NULL, skin_index);
-        }
+        /* The material slots that polygons use, ascending (not 0 to the largest, which a file
+         * may give as two billion). */
+        uint32_t slot_count = 0;
+        int32_t *slots = result ? NULL : used_slots(&src, &slot_count);
+        if (!result && !slots)
+            result = oom(s);
+        for (uint32_t i = 0; !result && i < slot_count; i++)
+            result = emit_mesh(s, &src, model, slots[i], &geometry, skin_index >= 0 ? &skin : NULL, skin_index);
+        free(slots);
         mesh_source_free(&src);
         skin_source_free(&skin);
         if (result)

@@ -274,6 +274,21 @@ static void test_refusals(void **state)
     text = replaced("two_bone_ascii.fbx", "C: \"OO\", 103, 102", "C: \"OO\", 103, 102\n\tC: \"OO\", 103, 102", &n);
     assert_int_equal(read_bytes("twice.fbx", (const unsigned char *)text, n, NULL), SINEW_OK);
     free(text);
+    /* Found by fuzz_fbx: numbers out of an int's range where the reader wants one (a cast
+     * would be undefined) are read as absent; a material index of two billion is one mesh,
+     * read at once (the slots were walked from 0 to the largest). */
+    text = replaced("two_bone_ascii.fbx", "P: \"RotationOrder\", \"enum\", \"\", \"\", 4",
+                    "P: \"RotationOrder\", \"enum\", \"\", \"\", 7.8e15", &n);
+    assert_int_equal(read_bytes("huge-order.fbx", (const unsigned char *)text, n, NULL), SINEW_OK);
+    free(text);
+    text =
+        replaced("two_bone_ascii.fbx", "Materials: *1 {\n\t\t\t\ta: 0", "Materials: *1 {\n\t\t\t\ta: 2000000000", &n);
+    raw_model raw;
+    assert_int_equal(raw_model_from_fbx("huge-slot.fbx", (const unsigned char *)text, n, &raw, NULL), SINEW_OK);
+    assert_int_equal(raw.mesh_count, 1);
+    assert_int_equal(raw.meshes[0].material, -1); /* the model has one material, slot 0 */
+    raw_model_free(&raw);
+    free(text);
     text = replaced("two_bone_ascii.fbx", "FBXVersion: 7400", "FBXVersion: 6100", &n);
     expect_refused("FBX 6.1", text, n, "version 6.1 is not supported");
     free(text);
