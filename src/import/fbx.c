@@ -141,7 +141,7 @@ typedef struct scene {
     fbx_layer_info *layers; /* one an object (used for K_LAYER) */
     uint32_t *models;       /* model object of each raw node (root: UINT32_MAX) */
     fbx_static *statics;    /* one an object (used for K_MODEL) */
-    double convert[16];     /* file axes and unit -> Y-up metres */
+    sinew_mat4 convert;     /* file axes and unit -> Y-up metres: the root node */
     double diagonal;        /* of the rest pose's node positions, file units */
     uint32_t model_count;
 } scene;
@@ -868,25 +868,6 @@ static void node_local(const scene *s, uint32_t model, int32_t stack, double tic
     matrix_quat(&rot, out->q);
 }
 
-static dmat trs_matrix(const local_trs *l)
-{
-    double x = l->q[0], y = l->q[1], z = l->q[2], w = l->q[3];
-    dmat m = dmat_identity();
-    m.m[0] = (1 - 2 * (y * y + z * z)) * l->s[0];
-    m.m[1] = 2 * (x * y + z * w) * l->s[0];
-    m.m[2] = 2 * (x * z - y * w) * l->s[0];
-    m.m[4] = 2 * (x * y - z * w) * l->s[1];
-    m.m[5] = (1 - 2 * (x * x + z * z)) * l->s[1];
-    m.m[6] = 2 * (y * z + x * w) * l->s[1];
-    m.m[8] = 2 * (x * z + y * w) * l->s[2];
-    m.m[9] = 2 * (y * z - x * w) * l->s[2];
-    m.m[10] = (1 - 2 * (x * x + y * y)) * l->s[2];
-    m.m[12] = l->t[0];
-    m.m[13] = l->t[1];
-    m.m[14] = l->t[2];
-    return m;
-}
-
 /* The geometric transform: applied to what a node carries, not to its children. */
 static dmat geometric_matrix(const fbx_object *o)
 {
@@ -975,12 +956,12 @@ static void conversion(scene *s)
                        s->path, up, front, coord);
         up = 1, front = 2, coord = 0, up_sign = front_sign = coord_sign = 1;
     }
-    memset(s->convert, 0, sizeof s->convert);
+    memset(&s->convert, 0, sizeof s->convert);
     /* Row r of the rotation is the file's axis that becomes X, Y, Z. */
-    s->convert[coord * 4 + 0] = coord_sign * unit;
-    s->convert[up * 4 + 1] = up_sign * unit;
-    s->convert[front * 4 + 2] = front_sign * unit;
-    s->convert[15] = 1;
+    s->convert.m[coord * 4 + 0] = (float)(coord_sign * unit);
+    s->convert.m[up * 4 + 1] = (float)(up_sign * unit);
+    s->convert.m[front * 4 + 2] = (float)(front_sign * unit);
+    s->convert.m[15] = 1;
 }
 
 static int compare_order(const void *a, const void *b, void *context)
@@ -1017,11 +998,7 @@ static sinew_result build_nodes(scene *s)
         free(stack);
         return oom(s);
     }
-    sinew_mat4 c;
-    dmat cm;
-    memcpy(cm.m, s->convert, sizeof cm.m);
-    dmat_to_float(&cm, &c);
-    sinew_mat4_decompose(&c, &m->node_rest[0]);
+    sinew_mat4_decompose(&s->convert, &m->node_rest[0]);
     /* Depth first from the top-level models in the file's order, children in the order of
      * their connections (objects are sorted by id, which differs between a scene's ASCII and
      * binary files). */
@@ -1072,57 +1049,25 @@ static sinew_result build_nodes(scene *s)
     return SINEW_OK;
 }
 
-/* World matrices (file units, no conversion) of every node at `ticks` of `stack`, in FBX's
- * inherit semantics (the runtime's, sinew_inherit). */
-static void node_worlds(const scene *s, int32_t stack, double ticks, dmat *worlds, local_trs *locals)
-{
-    const raw_model *m = s->model;
-    worlds[0] = dmat_identity();
-    locals[0] = (local_trs){{0, 0, 0}, {0, 0, 0, 1}, {1, 1, 1}};
-    for (uint32_t i = 1; i < m->node_count; i++) {
-        node_local(s, s->models[i], stack, ticks, &locals[i]);
-        uint32_t p = (uint32_t)m->node_parents[i];
-        if (m->node_inherit[i] == SINEW_INHERIT_NORMAL) {
-            dmat l = trs_matrix(&locals[i]);
-            worlds[i] = dmat_mul(&worlds[p], &l);
-            continue;
-        }
-        double inherit[3] = {locals[p].s[0], locals[p].s[1], locals[p].s[2]};
-        for (uint32_t a = p; m->node_inherit[a] == SINEW_INHERIT_COMPONENTWISE_SCALE && m->node_parents[a] > 0;) {
-            a = (uint32_t)m->node_parents[a];
-            for (int c = 0; c < 3; c++)
-                inherit[c] *= locals[a].s[c];
-        }
-        dmat unscaled = worlds[p];
-        for (int c = 0; c < 3; c++) {
-            double applied = m->node_inherit[p] == SINEW_INHERIT_COMPONENTWISE_SCALE ? inherit[c] : locals[p].s[c];
-            for (int r = 0; r < 4; r++)
-                unscaled.m[c * 4 + r] = applied != 0 ? unscaled.m[c * 4 + r] / applied : 0;
-        }
-        local_trs l = locals[i];
-        for (int c = 0; c < 3; c++) {
-            l.t[c] *= inherit[c];
-            if (m->node_inherit[i] == SINEW_INHERIT_COMPONENTWISE_SCALE)
-                l.s[c] *= inherit[c];
-        }
-        dmat lm = trs_matrix(&l);
-        worlds[i] = dmat_mul(&unscaled, &lm);
-    }
-}
-
-/* The size of the rest pose: the diagonal of its node positions (file units), for the
- * bake's tolerance. */
+/* The size of the rest pose: the diagonal of its node positions in the file's units (the
+ * root's conversion left out), for the bake's tolerance; posed by the runtime itself, inherit
+ * types and all. */
 static sinew_result measure(scene *s)
 {
-    uint32_t n = s->model->node_count;
-    dmat *w = malloc(n * sizeof *w);
-    local_trs *l = malloc(n * sizeof *l);
-    if (!w || !l) {
+    const raw_model *m = s->model;
+    uint32_t n = m->node_count;
+    sinew_transform *locals = malloc(n * sizeof *locals);
+    sinew_mat4 *w = malloc(n * sizeof *w);
+    if (!locals || !w) {
+        free(locals);
         free(w);
-        free(l);
         return oom(s);
     }
-    node_worlds(s, -1, 0, w, l);
+    memcpy(locals, m->node_rest, n * sizeof *locals);
+    locals[0] = (sinew_transform){{0, 0, 0}, {0, 0, 0, 1}, {1, 1, 1}};
+    const sinew_model view = {
+        .node_count = n, .node_parents = m->node_parents, .node_rest = m->node_rest, .node_inherit = m->node_inherit};
+    sinew_local_to_world(&view, locals, n, NULL, w, n, NULL);
     double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
     for (uint32_t i = 0; i < n; i++)
         for (int c = 0; c < 3; c++) {
@@ -1132,8 +1077,8 @@ static sinew_result measure(scene *s)
     double d =
         sqrt((hi[0] - lo[0]) * (hi[0] - lo[0]) + (hi[1] - lo[1]) * (hi[1] - lo[1]) + (hi[2] - lo[2]) * (hi[2] - lo[2]));
     s->diagonal = isfinite(d) && d > 0 ? d : 1.0;
+    free(locals);
     free(w);
-    free(l);
     return SINEW_OK;
 }
 
