@@ -14,12 +14,10 @@
 #include <ctype.h>
 #include <iconv.h>
 #include <limits.h>
-#include <libgen.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <sys/stat.h>
 
 #include <assimp/cimport.h>
 #include <assimp/material.h>
@@ -221,24 +219,11 @@ static char *resolve_texture(context *c, const char *texture)
                        texture);
         return NULL;
     }
-    char folder[4096];
-    snprintf(folder, sizeof folder, "%s", c->path);
-    char *dir = dirname(folder);
-    char path[8192];
-    if (texture[0] == '/')
-        snprintf(path, sizeof path, "%s", texture);
-    else
-        snprintf(path, sizeof path, "%s/%s", dir, texture);
-    for (char *p = path; *p; p++)
-        if (*p == '\\')
-            *p = '/';
-    struct stat st;
-    if (stat(path, &st) != 0 || !S_ISREG(st.st_mode)) {
-        raw_model_warn(c->model, "texture \"%s\" not found (looked for %s)", texture, path);
-        return NULL;
-    }
-    char resolved[PATH_MAX];
-    return raw_strdup(realpath(path, resolved) ? resolved : path);
+    char looked[8192];
+    char *path = import_find_texture(c->path, texture, false, looked, sizeof looked);
+    if (!path)
+        raw_model_warn(c->model, "texture \"%s\" not found (looked for %s)", texture, looked);
+    return path;
 }
 
 static sinew_result read_materials(context *c)

@@ -28,7 +28,6 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <unistd.h>
 
 #include "../core/internal.h"
 #include "fbx_internal.h"
@@ -1401,40 +1400,27 @@ static int32_t material_of(scene *s, const fbx_object *model, int32_t slot)
     return -1;
 }
 
+/* A texture's file: each of its file names as written, then each by its name beside the model
+ * (FBX files often keep the path of the machine that wrote them). */
 static char *resolve_texture(scene *s, const fbx_object *tex)
 {
-    const char *names[] = {"RelativeFilename", "FileName", "Filename"};
-    char dir[4096];
-    snprintf(dir, sizeof dir, "%s", s->path);
-    char *slash = strrchr(dir, '/');
-    if (slash)
-        slash[1] = 0;
-    else
-        dir[0] = 0;
-    char tried[4096] = "";
-    for (int pass = 0; pass < 2; pass++)
+    static const char *const names[] = {"RelativeFilename", "FileName", "Filename"};
+    char first[8192] = "", looked[8192];
+    for (int by_name = 0; by_name < 2; by_name++)
         for (size_t i = 0; i < sizeof names / sizeof names[0]; i++) {
             const fbx_node *n = fbx_child(tex->node, names[i]);
             if (!n || n->value_count < 1 || n->values[0].type != FBX_STRING || n->values[0].count == 0)
                 continue;
             char name[2048];
             snprintf(name, sizeof name, "%.*s", (int)n->values[0].count, n->values[0].s);
-            for (char *c = name; *c; c++)
-                if (*c == '\\')
-                    *c = '/';
-            const char *base = strrchr(name, '/') ? strrchr(name, '/') + 1 : name;
-            char path[6200];
-            if (pass == 0)
-                snprintf(path, sizeof path, "%s%s", name[0] == '/' ? "" : dir, name);
-            else
-                snprintf(path, sizeof path, "%s%s", dir, base);
-            if (!tried[0])
-                snprintf(tried, sizeof tried, "%s", name);
-            if (access(path, R_OK) == 0)
-                return raw_strdup(path);
+            char *path = import_find_texture(s->path, name, by_name, looked, sizeof looked);
+            if (path)
+                return path;
+            if (!first[0])
+                snprintf(first, sizeof first, "%s", name);
         }
-    if (tried[0])
-        raw_model_warn(s->model, "%s: texture \"%s\" not found (looked beside the file too)", s->path, tried);
+    if (first[0])
+        raw_model_warn(s->model, "%s: texture \"%s\" not found (looked beside the file too)", s->path, first);
     return NULL;
 }
 

@@ -9,6 +9,8 @@
 #define _GNU_SOURCE /* pipe2 */
 #include <errno.h>
 #include <fcntl.h>
+#include <libgen.h>
+#include <limits.h>
 #include <signal.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -80,6 +82,30 @@ bool import_read_file(const char *path, unsigned char **bytes, size_t *size)
     *bytes = buf;
     *size = (size_t)n;
     return true;
+}
+
+char *import_find_texture(const char *model_path, const char *reference, bool by_name, char *looked,
+                          size_t looked_size)
+{
+    char name[4096], folder[4096], path[8192];
+    snprintf(name, sizeof name, "%s", reference);
+    for (char *c = name; *c; c++)
+        if (*c == '\\')
+            *c = '/';
+    snprintf(folder, sizeof folder, "%s", model_path);
+    const char *dir = dirname(folder);
+    if (by_name)
+        snprintf(path, sizeof path, "%s/%s", dir, strrchr(name, '/') ? strrchr(name, '/') + 1 : name);
+    else if (name[0] == '/')
+        snprintf(path, sizeof path, "%s", name);
+    else
+        snprintf(path, sizeof path, "%s/%s", dir, name);
+    snprintf(looked, looked_size, "%s", path);
+    struct stat st;
+    if (stat(path, &st) != 0 || !S_ISREG(st.st_mode))
+        return NULL;
+    char resolved[PATH_MAX];
+    return raw_strdup(realpath(path, resolved) ? resolved : path);
 }
 
 static bool has_extension(const char *path, const char *ext)

@@ -111,6 +111,13 @@ raw_clip *raw_model_add_rotation_clip(raw_model *model, const char *name, float 
  * cannot be read. */
 bool import_read_file(const char *path, unsigned char **bytes, size_t *size);
 
+/* A texture that a model file refers to, as the path of a regular file that exists (resolved),
+ * or NULL: `reference` as written (absolute, or relative to the folder of `model_path`;
+ * backslashes read as slashes), or with `by_name` only its file name, beside the model (for
+ * paths written on another machine). `looked` gets the path tried. */
+char *import_find_texture(const char *model_path, const char *reference, bool by_name, char *looked,
+                          size_t looked_size);
+
 /* Validates and repairs the raw model (sorting and limiting influences, sorting keys,
  * making consecutive rotation keys take the short way, computing missing normals) and
  * writes the runtime blob into *bytes (malloc'd). */

@@ -320,6 +320,37 @@ static void test_refusals(void **state)
     free(bytes);
 }
 
+/* A texture stored with the path of the machine that wrote the file is found by its name
+ * beside the model. */
+static void test_texture_by_name(void **state)
+{
+    (void)state;
+    size_t n;
+    char *text = replaced("two_bone_ascii.fbx", "\tDeformer: 400,",
+                          "\tTexture: 600, \"Texture::skin\", \"\" {\n"
+                          "\t\tRelativeFilename: \"..\\..\\art\\skin_diffuse.png\"\n"
+                          "\t\tFileName: \"C:\\art\\skin_diffuse.png\"\n\t}\n\tDeformer: 400,",
+                          &n);
+    char *linked = malloc(n + 64);
+    char *at = strstr(text, "\tC: \"OO\", 100, 0");
+    assert_non_null(at);
+    size_t head = (size_t)(at - text);
+    memcpy(linked, text, head);
+    strcpy(linked + head, "\tC: \"OP\", 600, 300, \"DiffuseColor\"\n");
+    strcat(linked, at);
+    char path[1024], image[1024];
+    write_file(tmp_path("textured.fbx", path, sizeof path), linked, strlen(linked));
+    write_file(tmp_path("skin_diffuse.png", image, sizeof image), "png", 3);
+    sinew_model *m = load_or_fail(path);
+    assert_int_equal(m->material_count, 1);
+    assert_non_null(m->materials[0].diffuse_texture);
+    const char *found = strrchr(m->materials[0].diffuse_texture, '/');
+    assert_string_equal(found, "/skin_diffuse.png");
+    sinew_model_free(m);
+    free(linked);
+    free(text);
+}
+
 /* Through sinew_import: a file named .fbx that is not FBX is not handed to Assimp. */
 static void test_not_fbx(void **state)
 {
@@ -341,6 +372,7 @@ int main(void)
         cmocka_unit_test(test_curves),
         cmocka_unit_test(test_inherit_types_reach_the_runtime),
         cmocka_unit_test(test_sinew_round_trip),
+        cmocka_unit_test(test_texture_by_name),
         cmocka_unit_test(test_every_prefix_refused),
         cmocka_unit_test(test_changed_bytes),
         cmocka_unit_test(test_refusals),
