@@ -51,16 +51,22 @@ static sinew_result check_path(const char *path, sinew_error *error)
     return SINEW_OK;
 }
 
+/* The first bytes of a file (fewer when it is shorter; 0 when it cannot be read). */
+static size_t read_head(const char *path, unsigned char *head, size_t size)
+{
+    FILE *f = fopen(path, "rb");
+    if (!f)
+        return 0;
+    size_t n = fread(head, 1, size, f);
+    fclose(f);
+    return n;
+}
+
 /* A .sinew file, by its magic (whatever its name): read by sinew_model_load(), not Assimp. */
 static bool is_sinew_file(const char *path)
 {
-    char magic[8] = {0};
-    FILE *f = fopen(path, "rb");
-    if (!f)
-        return false;
-    size_t n = fread(magic, 1, sizeof magic, f);
-    fclose(f);
-    return n == sizeof magic && memcmp(magic, BLOB_MAGIC, sizeof magic) == 0;
+    unsigned char magic[8];
+    return read_head(path, magic, sizeof magic) == sizeof magic && memcmp(magic, BLOB_MAGIC, sizeof magic) == 0;
 }
 
 bool import_read_file(const char *path, unsigned char **bytes, size_t *size)
@@ -120,14 +126,8 @@ static sinew_result raw_model_read(const char *path, bool assimp, raw_model *raw
 {
     if (assimp)
         return raw_model_from_assimp(path, raw, error);
-    unsigned char head[64] = {0};
-    size_t got = 0;
-    FILE *f = fopen(path, "rb");
-    if (f) {
-        got = fread(head, 1, sizeof head, f);
-        fclose(f);
-    }
-    bool fbx = fbx_sniff(head, got);
+    unsigned char head[64];
+    bool fbx = fbx_sniff(head, read_head(path, head, sizeof head));
     if (!fbx && has_extension(path, ".fbx"))
         return sinew_fail(error, SINEW_ERROR_FORMAT,
                           "%s: not an FBX file (no binary FBX header and no ASCII FBX header)", path);
