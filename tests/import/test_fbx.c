@@ -16,6 +16,24 @@
 
 static const char *const encodings[] = {"two_bone_ascii.fbx", "two_bone_7400.fbx", "two_bone_7500.fbx"};
 
+/* World matrices of `count` nodes agree element by element within `tol`. */
+static void assert_worlds_near(const sinew_mat4 *a, const sinew_mat4 *b, uint32_t count, double tol, const char *what)
+{
+    for (uint32_t n = 0; n < count; n++)
+        for (int e = 0; e < 16; e++)
+            assert_near(a[n].m[e], b[n].m[e], tol, what);
+}
+
+/* The local transforms of a model's first clip at time t (malloc'd). */
+static sinew_transform *sample_locals(const sinew_model *m, float t)
+{
+    sinew_transform *locals = calloc(m->node_count, sizeof *locals);
+    sinew_sample_desc desc = {
+        .model = m, .clip = &m->clips[0], .time = t, .locals = locals, .local_count = m->node_count};
+    assert_int_equal(sinew_sample(&desc, NULL), SINEW_OK);
+    return locals;
+}
+
 static void test_encodings_agree(void **state)
 {
     (void)state;
@@ -29,9 +47,7 @@ static void test_encodings_agree(void **state)
         for (int k = 0; k <= 9; k++) {
             float t = k / 9.0f;
             sinew_mat4 *a = pose_worlds(m[0], &m[0]->clips[0], t), *b = pose_worlds(m[i], &m[i]->clips[0], t);
-            for (uint32_t n = 0; n < m[0]->node_count; n++)
-                for (int e = 0; e < 16; e++)
-                    assert_near(a[n].m[e], b[n].m[e], 1e-6, encodings[i]);
+            assert_worlds_near(a, b, m[0]->node_count, 1e-6, encodings[i]);
             free(a);
             free(b);
         }
@@ -51,10 +67,7 @@ static void quat_zx(double z_degrees, double x_degrees, double q[4])
 
 static void expect_rotation(const sinew_model *m, int32_t node, float t, double z, double x)
 {
-    sinew_transform *locals = calloc(m->node_count, sizeof *locals);
-    sinew_sample_desc desc = {
-        .model = m, .clip = &m->clips[0], .time = t, .locals = locals, .local_count = m->node_count};
-    assert_int_equal(sinew_sample(&desc, NULL), SINEW_OK);
+    sinew_transform *locals = sample_locals(m, t);
     double q[4];
     quat_zx(z, x, q);
     const float *r = locals[node].rotation;
@@ -88,10 +101,7 @@ static void test_curves(void **state)
     /* The additive layer at 50 %: bone3's translation Y, 1 at rest, plays 1 + 0.5 * 2. */
     int32_t bone3 = sinew_model_find_node(m, "bone3");
     assert_near(m->node_rest[bone3].translation[1], 1.0, 1e-6, "bone3 at rest");
-    sinew_transform *locals = calloc(m->node_count, sizeof *locals);
-    sinew_sample_desc desc = {
-        .model = m, .clip = &m->clips[0], .time = 0.3f, .locals = locals, .local_count = m->node_count};
-    assert_int_equal(sinew_sample(&desc, NULL), SINEW_OK);
+    sinew_transform *locals = sample_locals(m, 0.3f);
     assert_near(locals[bone3].translation[0], 5.0, 1e-5, "bone3 x");
     assert_near(locals[bone3].translation[1], 2.0, 1e-5, "bone3 y, base plus half the additive layer");
     free(locals);
@@ -116,9 +126,7 @@ static void test_inherit_types_reach_the_runtime(void **state)
             sinew_mat4 *ref = pose_worlds(m, &m->clips[0], k / 9.0f);
             assert_int_equal(sinew_player_update(p, k / 9.0f, SINEW_WRAP_CLAMP, NULL, w, m->node_count, NULL),
                              SINEW_OK);
-            for (uint32_t n = 0; n < m->node_count; n++)
-                for (int e = 0; e < 16; e++)
-                    assert_near(w[n].m[e], ref[n].m[e], 1e-5, "player vs sample + world");
+            assert_worlds_near(w, ref, m->node_count, 1e-5, "player vs sample + world");
             free(ref);
         }
         free(w);
