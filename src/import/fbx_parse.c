@@ -55,6 +55,11 @@ static sinew_result fail_limit(parser *ps)
                       ps->path, budget_for(ps->size), ps->size);
 }
 
+static sinew_result out_of_memory(parser *ps)
+{
+    return sinew_fail(ps->error, SINEW_ERROR_OUT_OF_MEMORY, "%s: out of memory reading the FBX document", ps->path);
+}
+
 static void *take(parser *ps, size_t count, size_t elem, sinew_result *result)
 {
     if (count == 0)
@@ -65,8 +70,7 @@ static void *take(parser *ps, size_t count, size_t elem, sinew_result *result)
     }
     void *p = calloc(count, elem);
     if (!p) {
-        *result =
-            sinew_fail(ps->error, SINEW_ERROR_OUT_OF_MEMORY, "%s: out of memory reading the FBX document", ps->path);
+        *result = out_of_memory(ps);
         return NULL;
     }
     ps->budget -= count * elem;
@@ -89,25 +93,30 @@ void fbx_doc_free(fbx_doc *doc)
         node_free(&doc->root);
 }
 
-/* Appends a node to a growing child list (capacity doubles; counted in the budget). */
+/* Room for one more element after `count` in a growing array charged to the budget: the
+ * capacity doubles (from `first` when empty). */
+static sinew_result grow_array(parser *ps, void **array, uint32_t count, uint32_t *capacity, uint32_t first,
+                               size_t elem)
+{
+    if (count < *capacity)
+        return SINEW_OK;
+    uint32_t grown = *capacity ? *capacity * 2 : first;
+    if (grown <= *capacity || (size_t)(grown - *capacity) > ps->budget / elem)
+        return fail_limit(ps);
+    void *p = realloc(*array, (size_t)grown * elem);
+    if (!p)
+        return out_of_memory(ps);
+    ps->budget -= (size_t)(grown - *capacity) * elem;
+    *array = p;
+    *capacity = grown;
+    return SINEW_OK;
+}
+
+/* Appends a node to a growing child list. */
 static fbx_node *push_child(parser *ps, fbx_node *parent, uint32_t *capacity, sinew_result *result)
 {
-    if (parent->child_count == *capacity) {
-        uint32_t grown = *capacity ? *capacity * 2 : 4;
-        if (grown < *capacity || (size_t)(grown - *capacity) > ps->budget / sizeof(fbx_node)) {
-            *result = fail_limit(ps);
-            return NULL;
-        }
-        fbx_node *n = realloc(parent->children, grown * sizeof(fbx_node));
-        if (!n) {
-            *result = sinew_fail(ps->error, SINEW_ERROR_OUT_OF_MEMORY, "%s: out of memory reading the FBX document",
-                                 ps->path);
-            return NULL;
-        }
-        ps->budget -= (grown - *capacity) * sizeof(fbx_node);
-        parent->children = n;
-        *capacity = grown;
-    }
+    if ((*result = grow_array(ps, (void **)&parent->children, parent->child_count, capacity, 4, sizeof(fbx_node))))
+        return NULL;
     fbx_node *c = &parent->children[parent->child_count++];
     memset(c, 0, sizeof *c);
     return c;
@@ -175,8 +184,7 @@ static sinew_result read_array(parser *ps, char type, size_t end, fbx_value *v)
     if (encoding == 1) {
         inflated = malloc(raw_size ? raw_size : 1);
         if (!inflated)
-            return sinew_fail(ps->error, SINEW_ERROR_OUT_OF_MEMORY, "%s: out of memory reading the FBX document",
-                              ps->path);
+            return out_of_memory(ps);
         uLongf got = (uLongf)raw_size;
         int z = uncompress(inflated, &got, src, stored);
         if (z != Z_OK || got != raw_size) {
@@ -467,7 +475,7 @@ static sinew_result ascii_array(parser *ps, fbx_value *v)
         return bad_line(ps, "array has no 'a:'");
     /* Each number takes at least two bytes of the file; the count only sizes the first guess. */
     size_t remaining = (ps->size - ps->pos) / 2 + 1;
-    size_t capacity = (size_t)count.i < remaining ? (size_t)count.i : remaining;
+    uint32_t capacity = (size_t)count.i < remaining ? (uint32_t)count.i : (uint32_t)remaining;
     sinew_result result = SINEW_OK;
     v->type = FBX_ARRAY;
     v->a = take(ps, capacity ? capacity : 1, sizeof(double), &result);
@@ -480,17 +488,8 @@ static sinew_result ascii_array(parser *ps, fbx_value *v)
         fbx_value n = {0};
         if (!number_value(ps->tok_text, ps->tok_len, &n))
             return bad_line(ps, "array element is not a number");
-        if (v->count == capacity) {
-            if (capacity > ps->budget / sizeof(double))
-                return fail_limit(ps);
-            double *grown = realloc(v->a, capacity * 2 * sizeof(double));
-            if (!grown)
-                return sinew_fail(ps->error, SINEW_ERROR_OUT_OF_MEMORY, "%s: out of memory reading the FBX document",
-                                  ps->path);
-            ps->budget -= capacity * sizeof(double);
-            v->a = grown;
-            capacity *= 2;
-        }
+        if ((result = grow_array(ps, (void **)&v->a, v->count, &capacity, 1, sizeof(double))))
+            return result;
         v->a[v->count++] = n.d;
         next_token(ps);
         if (ps->tok == T_COMMA)
@@ -517,18 +516,8 @@ static sinew_result ascii_node(parser *ps, fbx_node *node)
     uint32_t capacity = 0;
     sinew_result result = SINEW_OK;
     while (ps->tok == T_STRING || ps->tok == T_NUMBER || ps->tok == T_WORD || ps->tok == T_STAR) {
-        if (node->value_count == capacity) {
-            uint32_t grown = capacity ? capacity * 2 : 4;
-            if (grown - capacity > ps->budget / sizeof(fbx_value))
-                return fail_limit(ps);
-            fbx_value *values = realloc(node->values, grown * sizeof(fbx_value));
-            if (!values)
-                return sinew_fail(ps->error, SINEW_ERROR_OUT_OF_MEMORY, "%s: out of memory reading the FBX document",
-                                  ps->path);
-            ps->budget -= (grown - capacity) * sizeof(fbx_value);
-            node->values = values;
-            capacity = grown;
-        }
+        if ((result = grow_array(ps, (void **)&node->values, node->value_count, &capacity, 4, sizeof(fbx_value))))
+            return result;
         fbx_value *v = &node->values[node->value_count++];
         memset(v, 0, sizeof *v);
         if (ps->tok == T_STAR) {
