@@ -1545,9 +1545,10 @@ static sinew_result emit_mesh(scene *s, const mesh_source *src, const fbx_object
         return oom(s);
     }
     /* Rigid meshes carry the geometric transform in their vertices; skinned ones in their
-     * inverse binds. Normals go through the cofactor matrix (non-uniform scale). */
+     * inverse binds. Normals go through the inverse transpose (the direction of the runtime's
+     * sign(det) * cofactor: right under non-uniform scale and mirrors). */
     dmat place = skin ? dmat_identity() : *geometry;
-    dmat cof = dmat_inverse_affine(&place);
+    dmat inverse = dmat_inverse_affine(&place);
     for (uint32_t v = 0; v < vcount; v++) {
         const corner *c = &verts[v];
         double p[3], q[3];
@@ -1558,7 +1559,8 @@ static sinew_result emit_mesh(scene *s, const mesh_source *src, const fbx_object
         if (mesh->normals) {
             double n[3], len = 0;
             for (int r = 0; r < 3; r++) {
-                n[r] = cof.m[r * 4] * c->normal[0] + cof.m[r * 4 + 1] * c->normal[1] + cof.m[r * 4 + 2] * c->normal[2];
+                n[r] = inverse.m[r * 4] * c->normal[0] + inverse.m[r * 4 + 1] * c->normal[1] +
+                       inverse.m[r * 4 + 2] * c->normal[2];
                 len += n[r] * n[r];
             }
             len = len > 0 ? sqrt(len) : 1;
