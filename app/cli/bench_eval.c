@@ -362,50 +362,9 @@ static long file_size(const char *path)
     return n;
 }
 
-static bool bench_load(const char *collada, const char *converted, load_result *out)
-{
-    sinew_error error = {0};
-    double best_assimp = 1e30, best_sinew = 1e30;
-    for (int i = 0; i < (batches > 1 ? 3 : 1); i++) {
-        sinew_model *m = NULL;
-        sinew_import_desc d = {.path = collada, .in_process = true};
-        double start = now_seconds();
-        if (sinew_import(&d, &m, &error) != SINEW_OK) {
-            cli_error("%s", error.message);
-            return false;
-        }
-        double t = now_seconds() - start;
-        best_assimp = t < best_assimp ? t : best_assimp;
-        if (i == 0 && sinew_model_save(m, NULL, converted, &error) != SINEW_OK) {
-            cli_error("%s", error.message);
-            sinew_model_free(m);
-            return false;
-        }
-        sinew_model_free(m);
-    }
-    for (int i = 0; i < (batches > 1 ? 50 : 2); i++) {
-        sinew_model *m = NULL;
-        double start = now_seconds();
-        if (sinew_model_load(converted, NULL, &m, &error) != SINEW_OK) {
-            cli_error("%s", error.message);
-            return false;
-        }
-        double t = now_seconds() - start;
-        best_sinew = t < best_sinew ? t : best_sinew;
-        sinew_model_free(m);
-    }
-    *out = (load_result){best_sinew * 1e3, best_assimp * 1e3, file_size(converted), file_size(collada)};
-    return true;
-}
-
-/* Import time of an FBX file (through the import's parse, evaluation and build, in this
- * process) by sinew's reader and by Assimp: best of three each. */
-typedef struct fbx_result {
-    double sinew_ms, assimp_ms;
-    long bytes;
-} fbx_result;
-
-static bool time_import(const char *path, bool assimp, double *best_ms)
+/* The best of three imports of `path` in this process (one for --quick), by sinew's own reader
+ * for the formats it has one for or by Assimp; `keep` (when not NULL) gets the first model. */
+static bool time_import(const char *path, bool assimp, double *best_ms, sinew_model **keep)
 {
     sinew_error error = {0};
     *best_ms = 1e30;
@@ -419,15 +378,52 @@ static bool time_import(const char *path, bool assimp, double *best_ms)
         }
         double t = (now_seconds() - start) * 1e3;
         *best_ms = t < *best_ms ? t : *best_ms;
-        sinew_model_free(m);
+        if (keep && i == 0)
+            *keep = m;
+        else
+            sinew_model_free(m);
     }
     return true;
 }
 
+static bool bench_load(const char *collada, const char *converted, load_result *out)
+{
+    sinew_error error = {0};
+    double best_assimp, best_sinew = 1e30;
+    sinew_model *first = NULL;
+    if (!time_import(collada, false, &best_assimp, &first))
+        return false;
+    sinew_result saved = sinew_model_save(first, NULL, converted, &error);
+    sinew_model_free(first);
+    if (saved != SINEW_OK) {
+        cli_error("%s", error.message);
+        return false;
+    }
+    for (int i = 0; i < (batches > 1 ? 50 : 2); i++) {
+        sinew_model *m = NULL;
+        double start = now_seconds();
+        if (sinew_model_load(converted, NULL, &m, &error) != SINEW_OK) {
+            cli_error("%s", error.message);
+            return false;
+        }
+        double t = now_seconds() - start;
+        best_sinew = t < best_sinew ? t : best_sinew;
+        sinew_model_free(m);
+    }
+    *out = (load_result){best_sinew * 1e3, best_assimp, file_size(converted), file_size(collada)};
+    return true;
+}
+
+/* Import time of an FBX file by sinew's reader and by Assimp (parse, evaluation, build). */
+typedef struct fbx_result {
+    double sinew_ms, assimp_ms;
+    long bytes;
+} fbx_result;
+
 static bool bench_fbx(const char *path, fbx_result *out)
 {
     out->bytes = file_size(path);
-    return time_import(path, false, &out->sinew_ms) && time_import(path, true, &out->assimp_ms);
+    return time_import(path, false, &out->sinew_ms, NULL) && time_import(path, true, &out->assimp_ms, NULL);
 }
 
 /* ---- the command ---------------------------------------------------------------------------- */

@@ -34,7 +34,7 @@ extern "C" {
 
 typedef struct sinew_import_desc {
     const char *path;
-    bool in_process;                  /* run Assimp in this process (faster, not crash-safe) */
+    bool in_process;                  /* import in this process (faster; a crash in Assimp is the caller's) */
     bool assimp;                      /* read with Assimp even a format sinew reads itself (FBX): to compare */
     const sinew_allocator *allocator; /* NULL: malloc/free */
 } sinew_import_desc;
