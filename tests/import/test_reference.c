@@ -124,6 +124,21 @@ static outcome compare_with_reference(const sinew_model *m, const cJSON *ref)
     return o;
 }
 
+/* reference/ufbx/NAME.json.gz of a model of the test data: its path with '/' as "__" and
+ * without its extension (reference/README.md). */
+static void reference_name(const char *model, char *out, size_t size)
+{
+    size_t n = (size_t)snprintf(out, size, "reference/ufbx/");
+    const char *dot = strrchr(model, '.');
+    for (const char *c = model; c < dot && n + 2 < size; c++) {
+        if (*c == '/')
+            out[n++] = '_', out[n++] = '_';
+        else
+            out[n++] = *c;
+    }
+    snprintf(out + n, size - n, ".json.gz");
+}
+
 /* Every FBX file of the test data, against ufbx: nodes and vertices within 1e-5 of the
  * diagonal at every reference time. */
 static void test_fbx_against_ufbx(void **state)
@@ -147,11 +162,7 @@ static void test_fbx_against_ufbx(void **state)
     for (size_t i = 0; i < sizeof files / sizeof files[0]; i++) {
         if (!testdata_path(files[i], path, sizeof path))
             skip();
-        snprintf(rel, sizeof rel, "reference/ufbx/%s", files[i]);
-        for (char *c = rel + strlen("reference/ufbx/"); *c; c++)
-            if (*c == '/')
-                *c = '\0', memmove(c + 2, c + 1, strlen(c + 1) + 1), c[0] = '_', c[1] = '_';
-        strcpy(strrchr(rel, '.'), ".json.gz");
+        reference_name(files[i], rel, sizeof rel);
         char ref_path[1024];
         testdata_path(rel, ref_path, sizeof ref_path);
         cJSON *ref = read_gzip_json(ref_path);
