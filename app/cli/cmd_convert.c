@@ -1,4 +1,4 @@
-/* `sinew convert IN OUT.sinew`: a model file (any format Assimp reads, or a .sinew) written
+/* `sinew convert IN OUT.sinew`: a model file (FBX, any format Assimp reads, or a .sinew) written
  * as the .sinew runtime format, with its muscles. */
 #include <stdlib.h>
 #include <string.h>
