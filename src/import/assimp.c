@@ -755,8 +755,6 @@ sinew_result raw_model_from_assimp(const char *path, raw_model *model, sinew_err
         result = read_meshes(&c);
     if (!result)
         result = read_clips(&c);
-    if (!result && (strcmp(model->format, "gltf") == 0 || strcmp(model->format, "glb") == 0))
-        gltf_restore_interpolation(path, model);
     if (!result && strcmp(model->format, "dae") == 0)
         collada_split_clips(path, model);
     free(c.nodes);

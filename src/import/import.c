@@ -120,24 +120,34 @@ static bool has_extension(const char *path, const char *ext)
     return n > e && strcasecmp(path + n - e, ext) == 0;
 }
 
-/* sinew's own readers for the formats it reads itself (FBX), Assimp for the rest. A file
- * that looks like FBX, or is named .fbx, is never handed to Assimp. */
+typedef sinew_result (*native_reader)(const char *path, const unsigned char *bytes, size_t size, raw_model *model,
+                                      sinew_error *error);
+
+/* sinew's own readers for the formats it reads itself (FBX, glTF), Assimp for the rest. A
+ * file that looks like one of them, or is named so, is never handed to Assimp. */
 static sinew_result raw_model_read(const char *path, bool assimp, raw_model *raw, sinew_error *error)
 {
     if (assimp)
         return raw_model_from_assimp(path, raw, error);
     unsigned char head[64];
-    bool fbx = fbx_sniff(head, read_head(path, head, sizeof head));
+    size_t head_size = read_head(path, head, sizeof head);
+    bool fbx = fbx_sniff(head, head_size);
     if (!fbx && has_extension(path, ".fbx"))
         return sinew_fail(error, SINEW_ERROR_FORMAT,
                           "%s: not an FBX file (no binary FBX header and no ASCII FBX header)", path);
-    if (!fbx)
+    if (!gltf_sniff(head, head_size) && has_extension(path, ".glb"))
+        return sinew_fail(error, SINEW_ERROR_FORMAT, "%s: not a binary glTF file (it does not start with \"glTF\")",
+                          path);
+    native_reader reader = fbx                                                                    ? raw_model_from_fbx
+                           : gltf_sniff(head, head_size) || has_extension(path, ".gltf") ? raw_model_from_gltf
+                                                                                                  : NULL;
+    if (!reader)
         return raw_model_from_assimp(path, raw, error);
     unsigned char *bytes = NULL;
     size_t size = 0;
     if (!import_read_file(path, &bytes, &size))
         return sinew_fail(error, SINEW_ERROR_IO, "%s: cannot read: %s", path, strerror(errno));
-    sinew_result result = raw_model_from_fbx(path, bytes, size, raw, error);
+    sinew_result result = reader(path, bytes, size, raw, error);
     free(bytes);
     return result;
 }

@@ -136,9 +136,13 @@ sinew_result raw_model_from_assimp(const char *path, raw_model *model, sinew_err
 sinew_result raw_model_from_fbx(const char *path, const unsigned char *bytes, size_t size, raw_model *model,
                                 sinew_error *error);
 
-/* glTF files: puts back the STEP and CUBICSPLINE samplers Assimp flattened to linear keys
- * (gltf_keys.c). Leaves the model as it is when the file cannot be read again. */
-void gltf_restore_interpolation(const char *path, raw_model *model);
+/* Reads a glTF 2.0 file (.gltf JSON or .glb, its bytes already in memory) with sinew's own
+ * reader (gltf.c): nodes by index, every primitive, skins, samplers as the file says. */
+sinew_result raw_model_from_gltf(const char *path, const unsigned char *bytes, size_t size, raw_model *model,
+                                 sinew_error *error);
+
+/* True when the bytes start a binary glTF (.glb). */
+bool gltf_sniff(const unsigned char *head, size_t size);
 
 /* COLLADA files: cuts the one clip Assimp makes of a file's <animation_clip>s into those
  * clips (collada_clips.c). Leaves the model as it is when there are none. */

@@ -39,22 +39,51 @@ static double dist3(const float *a, const double *b)
     return sqrt(dx * dx + dy * dy + dz * dz);
 }
 
+static int compare_x(const void *a, const void *b)
+{
+    double x = *(const double *)a, y = *(const double *)b;
+    return x < y ? -1 : x > y;
+}
+
+/* Distance from p to the nearest of n points sorted by x (3 doubles each). */
+static double nearest(const double *sorted, uint32_t n, const double p[3])
+{
+    uint32_t lo = 0, hi = n;
+    while (lo < hi) {
+        uint32_t mid = (lo + hi) / 2;
+        if (sorted[mid * 3] < p[0])
+            lo = mid + 1;
+        else
+            hi = mid;
+    }
+    double best = INFINITY;
+    for (uint32_t i = lo; i < n && sorted[i * 3] - p[0] < best; i++) {
+        double dx = sorted[i * 3] - p[0], dy = sorted[i * 3 + 1] - p[1], dz = sorted[i * 3 + 2] - p[2];
+        best = fmin(best, sqrt(dx * dx + dy * dy + dz * dz));
+    }
+    for (uint32_t i = lo; i-- > 0 && p[0] - sorted[i * 3] < best;) {
+        double dx = sorted[i * 3] - p[0], dy = sorted[i * 3 + 1] - p[1], dz = sorted[i * 3 + 2] - p[2];
+        best = fmin(best, sqrt(dx * dx + dy * dy + dz * dz));
+    }
+    return best;
+}
+
 /* Largest distance from a point of one set to the nearest of the other, both ways. */
 static double point_set_distance(const float *ours, uint32_t n_ours, const double *ref, uint32_t n_ref)
 {
+    double *a = malloc(((size_t)n_ours + 1) * 3 * sizeof *a), *b = malloc(((size_t)n_ref + 1) * 3 * sizeof *b);
+    for (size_t i = 0; i < (size_t)n_ours * 3; i++)
+        a[i] = ours[i];
+    memcpy(b, ref, (size_t)n_ref * 3 * sizeof *b);
+    qsort(a, n_ours, 3 * sizeof *a, compare_x);
+    qsort(b, n_ref, 3 * sizeof *b, compare_x);
     double worst = 0;
-    for (uint32_t i = 0; i < n_ref; i++) {
-        double best = INFINITY;
-        for (uint32_t j = 0; j < n_ours; j++)
-            best = fmin(best, dist3(&ours[j * 3], &ref[i * 3]));
-        worst = fmax(worst, best);
-    }
-    for (uint32_t j = 0; j < n_ours; j++) {
-        double best = INFINITY;
-        for (uint32_t i = 0; i < n_ref; i++)
-            best = fmin(best, dist3(&ours[j * 3], &ref[i * 3]));
-        worst = fmax(worst, best);
-    }
+    for (uint32_t i = 0; i < n_ref; i++)
+        worst = fmax(worst, nearest(a, n_ours, &b[i * 3]));
+    for (uint32_t j = 0; j < n_ours; j++)
+        worst = fmax(worst, nearest(b, n_ref, &a[j * 3]));
+    free(a);
+    free(b);
     return worst;
 }
 
@@ -79,6 +108,48 @@ static double reference_diagonal(const cJSON *frames)
     return d > 0 ? d : 1.0;
 }
 
+/* three.js's node name for a name (PropertyBinding.sanitizeNodeName): white space as '_',
+ * and without '[', ']', '.', ':' and '/'. */
+static void threejs_name(const char *name, char *out, size_t size)
+{
+    size_t n = 0;
+    for (const char *c = name; *c && n + 1 < size; c++) {
+        if (strchr("[].:/", *c))
+            continue;
+        out[n++] = (*c == ' ' || *c == '\t' || *c == '\n') ? '_' : *c;
+    }
+    out[n] = 0;
+}
+
+/* The distance from a reference node position to the node it names: its own name, else
+ * three.js's sanitised form of a name. When names repeat, three.js tells them apart by a
+ * suffix ("Head#2" in the COLLADA references, "FootL_1" for glTF's second "Foot.L") counted
+ * in its own loading order, which is not the file's: the nearest of the nodes with that
+ * name stands for it. INFINITY: no node of that name. */
+static double reference_distance(const sinew_model *m, const sinew_mat4 *w, const char *ref_name, const double p[3])
+{
+    int32_t exact = sinew_model_find_node(m, ref_name);
+    char base[256], san[256];
+    snprintf(base, sizeof base, "%s", ref_name);
+    char *mark = strrchr(base, '#');
+    if (!mark)
+        mark = strrchr(base, '_');
+    if (mark && mark[1] && strspn(mark + 1, "0123456789") == strlen(mark + 1))
+        *mark = 0;
+    double best = INFINITY;
+    uint32_t same_name = 0;
+    for (uint32_t i = 0; i < m->node_count; i++)
+        same_name += strcmp(m->node_names[i], ref_name) == 0;
+    if (exact >= 0 && same_name == 1)
+        return dist3(&w[exact].m[12], p);
+    for (uint32_t i = 0; i < m->node_count; i++) {
+        threejs_name(m->node_names[i], san, sizeof san);
+        if (strcmp(san, base) == 0 || strcmp(san, ref_name) == 0)
+            best = fmin(best, dist3(&w[i].m[12], p));
+    }
+    return best;
+}
+
 typedef struct outcome {
     double nodes, verts; /* largest, relative to the diagonal */
     uint32_t compared, missing;
@@ -97,22 +168,27 @@ static outcome compare_with_reference(const sinew_model *m, const cJSON *ref)
         const cJSON *node;
         cJSON_ArrayForEach(node, cJSON_GetObjectItem(frame, "nodes"))
         {
-            int32_t n = sinew_model_find_node(m, node->string);
-            if (n < 0) {
+            double p[3] = {vec_at(node, 0), vec_at(node, 1), vec_at(node, 2)};
+            double d = reference_distance(m, w, node->string, p);
+            if (!isfinite(d)) {
                 o.missing++;
                 continue;
             }
-            double p[3] = {vec_at(node, 0), vec_at(node, 1), vec_at(node, 2)};
-            o.nodes = fmax(o.nodes, dist3(&w[n].m[12], p) / diag);
+            o.nodes = fmax(o.nodes, d / diag);
             o.compared++;
         }
         const cJSON *verts = cJSON_GetObjectItem(frame, "verts");
         int nv = cJSON_GetArraySize(verts);
         if (nv > 0) {
             double *rv = malloc((size_t)nv * 3 * sizeof *rv);
-            for (int i = 0; i < nv; i++)
+            const cJSON *v;
+            int i = 0;
+            cJSON_ArrayForEach(v, verts)
+            {
                 for (int c = 0; c < 3; c++)
-                    rv[i * 3 + c] = vec_at(cJSON_GetArrayItem(verts, i), c);
+                    rv[i * 3 + c] = vec_at(v, c);
+                i++;
+            }
             uint32_t count;
             float *ours = posed_vertices(m, w, &count);
             o.verts = fmax(o.verts, point_set_distance(ours, count, rv, (uint32_t)nv) / diag);
@@ -126,9 +202,9 @@ static outcome compare_with_reference(const sinew_model *m, const cJSON *ref)
 
 /* reference/ufbx/NAME.json.gz of a model of the test data: its path with '/' as "__" and
  * without its extension (reference/README.md). */
-static void reference_name(const char *model, char *out, size_t size)
+static void reference_name(const char *source, const char *model, char *out, size_t size)
 {
-    size_t n = (size_t)snprintf(out, size, "reference/ufbx/");
+    size_t n = (size_t)snprintf(out, size, "reference/%s/", source);
     const char *dot = strrchr(model, '.');
     for (const char *c = model; c < dot && n + 2 < size; c++) {
         if (*c == '/')
@@ -162,7 +238,7 @@ static void test_fbx_against_ufbx(void **state)
     for (size_t i = 0; i < sizeof files / sizeof files[0]; i++) {
         if (!testdata_path(files[i], path, sizeof path))
             skip();
-        reference_name(files[i], rel, sizeof rel);
+        reference_name("ufbx", files[i], rel, sizeof rel);
         char ref_path[1024];
         testdata_path(rel, ref_path, sizeof ref_path);
         cJSON *ref = read_gzip_json(ref_path);
@@ -179,10 +255,59 @@ static void test_fbx_against_ufbx(void **state)
         fail_msg("some FBX files do not pose as ufbx does (see above)");
 }
 
+/* Every COLLADA and glTF file with a three.js reference: nodes and vertices within each
+ * file's limit of the diagonal (1e-5, "the same pose", unless the file says otherwise). */
+static void test_collada_gltf_against_threejs(void **state)
+{
+    (void)state;
+    static const struct {
+        const char *file;
+        double limit;
+        uint32_t made_up; /* node positions three.js has and the file has not */
+    } files[] = {
+        {"assimp/Collada/box_nested_animation.dae", SAME_POSE, 0},
+        {"assimp/Collada/duck.dae", SAME_POSE, 0},
+        {"assimp/Collada/regr01.dae", SAME_POSE, 0},
+        {"assimp/glTF2/simple_skin/quad_skin.glb", SAME_POSE, 0},
+        /* three.js skins with the file's unnormalised key quaternions (0.707, 0.707: |q|^2 =
+         * 0.9997) as they are; sinew normalises them. Its node is "mesh_0" to three.js. */
+        {"assimp/glTF2/simple_skin/simple_skin.gltf", 5e-4, 10},
+        {"blender/robot_walk.dae", SAME_POSE, 0},
+        {"collada-cts/non_identity.dae", SAME_POSE, 0},
+        {"collada-cts/skin_long_tube.dae", SAME_POSE, 0},
+        {"collada-dae-parser/leg-with-control-bones.dae", SAME_POSE, 0},
+        {"ozz/pab/walk.dae", SAME_POSE, 0},
+        /* three.js's "Scene" and a node for each primitive of the 4 multi-primitive meshes. */
+        {"raylib/robot.glb", SAME_POSE, 100},
+    };
+    char path[1024], rel[512];
+    bool failed = false;
+    for (size_t i = 0; i < sizeof files / sizeof files[0]; i++) {
+        if (!testdata_path(files[i].file, path, sizeof path))
+            skip();
+        reference_name("threejs", files[i].file, rel, sizeof rel);
+        char ref_path[1024];
+        testdata_path(rel, ref_path, sizeof ref_path);
+        cJSON *ref = read_gzip_json(ref_path);
+        sinew_model *m = load_or_fail(path);
+        outcome o = compare_with_reference(m, ref);
+        /* Nodes three.js makes up ("Scene", a mesh per glTF primitive) are not in the file. */
+        bool ok = o.nodes <= files[i].limit && o.verts <= files[i].limit && o.missing <= files[i].made_up;
+        print_message("%-50s nodes %.2e verts %.2e of the diagonal (%u node positions, %u missing)%s\n",
+                      files[i].file, o.nodes, o.verts, o.compared, o.missing, ok ? "" : "  <-- over the limit");
+        failed |= !ok;
+        sinew_model_free(m);
+        cJSON_Delete(ref);
+    }
+    if (failed)
+        fail_msg("some COLLADA/glTF files do not pose as three.js does (see above)");
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_fbx_against_ufbx),
+        cmocka_unit_test(test_collada_gltf_against_threejs),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -1,0 +1,1404 @@
+/* glTF 2.0 read by sinew (cJSON): .gltf with external or data: URI buffers, and .glb.
+ *
+ * What the file says, checked against the file: nodes by index (names are for display;
+ * unnamed nodes are "nodes[i]"), every primitive of every mesh, skins with every JOINTS_n /
+ * WEIGHTS_n set, materials (base colour factor and texture, KHR_texture_transform applied
+ * to the UVs), animations with each sampler's own interpolation (STEP, LINEAR and
+ * CUBICSPLINE are the runtime's), KHR_mesh_quantization's integer attributes. Morph targets
+ * are read and reported, not played. Every index, count, offset and stride is checked; a
+ * bad file is refused with "FILE: where in the document: what is wrong".
+ *
+ * Index:
+ *   errors and JSON ......... fail_at, member, int_at, number_at, numbers_at
+ *   file and buffers ........ load_document (JSON, GLB chunks), buffer_bytes (BIN, data:, file)
+ *   accessors ............... read_accessor (types, normalisation, strides, sparse)
+ *   nodes ................... build_nodes (scene roots first, parents before children)
+ *   materials ............... build_materials, texture_path
+ *   meshes .................. read_primitive, build_meshes (a mesh per primitive and skin)
+ *   clips ................... read_channel, build_clips
+ *   raw_model_from_gltf
+ */
+#include <errno.h>
+#include <math.h>
+#include <stdarg.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include <cjson/cJSON.h>
+
+#include "../core/internal.h"
+#include "internal.h"
+#include "sinew/anim.h"
+
+#define GLTF_MAX_COUNT (1u << 28) /* elements in one accessor, nodes, ... */
+
+typedef struct blob {
+    unsigned char *bytes;
+    size_t size;
+    bool owned;
+    bool loaded;
+} blob;
+
+typedef struct mesh_key {
+    int mesh, skin;     /* glTF mesh, glTF skin (-1: rigid) */
+    uint32_t first;     /* its raw meshes */
+    uint32_t count;
+} mesh_key;
+
+typedef struct gltf {
+    const char *path;
+    raw_model *m;
+    sinew_error *error;
+    cJSON *json;
+    const unsigned char *file;
+    size_t file_size;
+    blob bin; /* the GLB BIN chunk (not owned) */
+    bool has_bin;
+    blob *buffers;
+    int buffer_count;
+    const cJSON *accessors, *views, *nodes, *meshes, *skins, *materials, *textures, *images;
+    int node_count;
+    uint32_t *node_of; /* glTF node -> sinew node */
+    bool *in_scene;    /* by glTF node */
+    mesh_key *keys;
+    uint32_t key_count;
+    float (*uv_transform)[6]; /* by material: u' = a u + b v + c, v' = d u + e v + f */
+    bool *has_uv_transform;
+} gltf;
+
+/* ---- errors and JSON ------------------------------------------------------------------ */
+
+static sinew_result fail_at(gltf *g, const char *format, ...) __attribute__((format(printf, 2, 3)));
+static sinew_result fail_at(gltf *g, const char *format, ...)
+{
+    char what[512];
+    va_list ap;
+    va_start(ap, format);
+    vsnprintf(what, sizeof what, format, ap);
+    va_end(ap);
+    return sinew_fail(g->error, SINEW_ERROR_FORMAT, "%s: %s", g->path, what);
+}
+
+static sinew_result oom(gltf *g)
+{
+    return sinew_fail(g->error, SINEW_ERROR_OUT_OF_MEMORY, "%s: out of memory while reading glTF", g->path);
+}
+
+/* A member that must have one type when present; NULL when absent (or of another type,
+ * which *bad reports). */
+static const cJSON *member(const cJSON *object, const char *key, int type, bool *bad)
+{
+    const cJSON *item = cJSON_GetObjectItemCaseSensitive(object, key);
+    if (!item)
+        return NULL;
+    if ((item->type & 0xff) != type) {
+        *bad = true;
+        return NULL;
+    }
+    return item;
+}
+
+/* An integer member in [lo, hi]; `fallback` when absent. */
+static sinew_result int_at(gltf *g, const cJSON *object, const char *key, const char *where, long long lo,
+                           long long hi, long long fallback, long long *out)
+{
+    const cJSON *item = cJSON_GetObjectItemCaseSensitive(object, key);
+    if (!item) {
+        *out = fallback;
+        return SINEW_OK;
+    }
+    double v = cJSON_IsNumber(item) ? item->valuedouble : NAN;
+    if (!(v >= (double)lo && v <= (double)hi) || v != floor(v))
+        return fail_at(g, "%s.%s: not an integer from %lld to %lld", where, key, lo, hi);
+    *out = (long long)v;
+    return SINEW_OK;
+}
+
+/* An index member into an array of `count`; -1 when absent and not required. */
+static sinew_result index_at(gltf *g, const cJSON *object, const char *key, const char *where, int count,
+                             bool required, int *out)
+{
+    if (required && !cJSON_GetObjectItemCaseSensitive(object, key))
+        return fail_at(g, "%s: no \"%s\"", where, key);
+    long long v;
+    sinew_result r = int_at(g, object, key, where, 0, count > 0 ? count - 1 : -1, -1, &v);
+    if (r && count == 0)
+        return fail_at(g, "%s.%s: refers to an element of an array the file does not have", where, key);
+    *out = (int)v;
+    return r;
+}
+
+/* `n` finite numbers of an array member (exactly n); `fallback` when absent. */
+static sinew_result numbers_at(gltf *g, const cJSON *object, const char *key, const char *where, int n,
+                               const double *fallback, double *out)
+{
+    const cJSON *item = cJSON_GetObjectItemCaseSensitive(object, key);
+    if (!item) {
+        memcpy(out, fallback, (size_t)n * sizeof *out);
+        return SINEW_OK;
+    }
+    if (!cJSON_IsArray(item) || cJSON_GetArraySize(item) != n)
+        return fail_at(g, "%s.%s: not an array of %d numbers", where, key, n);
+    int i = 0;
+    const cJSON *v;
+    cJSON_ArrayForEach(v, item)
+    {
+        if (!cJSON_IsNumber(v) || !isfinite(v->valuedouble))
+            return fail_at(g, "%s.%s[%d]: not a finite number", where, key, i);
+        out[i++] = v->valuedouble;
+    }
+    return SINEW_OK;
+}
+
+/* A top-level array (or none); an object of another type is refused. */
+static sinew_result top_array(gltf *g, const char *key, const cJSON **out)
+{
+    bool bad = false;
+    *out = member(g->json, key, cJSON_Array, &bad);
+    if (bad)
+        return fail_at(g, "\"%s\" is not an array", key);
+    if (*out && cJSON_GetArraySize(*out) > (int)GLTF_MAX_COUNT)
+        return fail_at(g, "\"%s\" has more elements than sinew reads", key);
+    return SINEW_OK;
+}
+
+static const char *string_at(const cJSON *object, const char *key)
+{
+    const cJSON *item = cJSON_GetObjectItemCaseSensitive(object, key);
+    return cJSON_IsString(item) ? item->valuestring : NULL;
+}
+
+/* ---- file and buffers ----------------------------------------------------------------- */
+
+static uint32_t le32(const unsigned char *p)
+{
+    return p[0] | p[1] << 8 | p[2] << 16 | (uint32_t)p[3] << 24;
+}
+
+bool gltf_sniff(const unsigned char *head, size_t size)
+{
+    return size >= 4 && memcmp(head, "glTF", 4) == 0;
+}
+
+static sinew_result load_document(gltf *g)
+{
+    const unsigned char *b = g->file;
+    size_t n = g->file_size;
+    const char *text = (const char *)b;
+    size_t text_size = n;
+    if (gltf_sniff(b, n)) {
+        if (n < 20)
+            return fail_at(g, "GLB header: the file ends inside the 12-byte header and first chunk header");
+        if (le32(b + 4) != 2)
+            return fail_at(g, "GLB header: version %u (sinew reads glTF 2.0)", le32(b + 4));
+        if (le32(b + 8) != n)
+            return fail_at(g, "GLB header: length %u, but the file has %zu bytes", le32(b + 8), n);
+        uint32_t json_len = le32(b + 12);
+        if (le32(b + 16) != 0x4E4F534Au)
+            return fail_at(g, "GLB: the first chunk is not JSON");
+        if (json_len > n - 20)
+            return fail_at(g, "GLB: the JSON chunk (%u bytes) runs past the end of the file", json_len);
+        text = (const char *)b + 20;
+        text_size = json_len;
+        size_t at = 20 + (size_t)json_len;
+        at = (at + 3) & ~(size_t)3;
+        if (at + 8 <= n && le32(b + at + 4) == 0x004E4942u) {
+            uint32_t bin_len = le32(b + at);
+            if (bin_len > n - at - 8)
+                return fail_at(g, "GLB: the BIN chunk (%u bytes) runs past the end of the file", bin_len);
+            g->bin = (blob){(unsigned char *)b + at + 8, bin_len, false, true};
+            g->has_bin = true;
+        }
+    }
+    if (text_size >= 3 && memcmp(text, "\xEF\xBB\xBF", 3) == 0) {
+        text += 3;
+        text_size -= 3;
+    }
+    const char *end = NULL;
+    g->json = cJSON_ParseWithLengthOpts(text, text_size, &end, false);
+    if (!g->json) {
+        const char *at = cJSON_GetErrorPtr();
+        size_t offset = at && at >= text && at <= text + text_size ? (size_t)(at - text) : 0;
+        return fail_at(g, "not valid JSON (at byte %zu of the JSON text)", offset);
+    }
+    if (!cJSON_IsObject(g->json))
+        return fail_at(g, "the JSON document is not an object");
+    const char *version = string_at(cJSON_GetObjectItemCaseSensitive(g->json, "asset"), "version");
+    if (!version)
+        return fail_at(g, "asset.version: missing (not a glTF 2.0 file)");
+    if (strncmp(version, "2.", 2) != 0)
+        return fail_at(g, "asset.version is \"%s\" (sinew reads glTF 2.0; glTF 1.0 goes through Assimp with "
+                          "SINEW_IMPORTER=assimp)",
+                       version);
+    const cJSON *required = cJSON_GetObjectItemCaseSensitive(g->json, "extensionsRequired"), *e;
+    cJSON_ArrayForEach(e, required)
+    {
+        if (!cJSON_IsString(e))
+            continue;
+        if (strcmp(e->valuestring, "KHR_mesh_quantization") == 0 || strcmp(e->valuestring, "KHR_texture_transform") == 0)
+            continue;
+        if (strcmp(e->valuestring, "KHR_draco_mesh_compression") == 0 ||
+            strcmp(e->valuestring, "EXT_meshopt_compression") == 0)
+            return fail_at(g, "requires %s (compressed geometry), which sinew does not decode; export it again "
+                              "without compression",
+                           e->valuestring);
+        if (!raw_model_warn(g->m, "%s: requires the extension %s, which sinew does not know; it is ignored",
+                            g->path, e->valuestring))
+            return oom(g);
+    }
+    return SINEW_OK;
+}
+
+static int base64_value(int c)
+{
+    if (c >= 'A' && c <= 'Z')
+        return c - 'A';
+    if (c >= 'a' && c <= 'z')
+        return c - 'a' + 26;
+    if (c >= '0' && c <= '9')
+        return c - '0' + 52;
+    return c == '+' ? 62 : c == '/' ? 63 : -1;
+}
+
+/* Decodes base64 (padding optional); false for any other character. */
+static bool base64_decode(const char *text, blob *out)
+{
+    size_t len = strlen(text);
+    out->bytes = malloc(len / 4 * 3 + 3);
+    if (!out->bytes)
+        return false;
+    out->owned = true;
+    uint32_t acc = 0;
+    int bits = 0;
+    size_t n = 0;
+    const char *p = text;
+    for (; *p && *p != '='; p++) {
+        int v = base64_value((unsigned char)*p);
+        if (v < 0)
+            return false;
+        acc = acc << 6 | (uint32_t)v;
+        bits += 6;
+        if (bits >= 8) {
+            bits -= 8;
+            out->bytes[n++] = (unsigned char)(acc >> bits);
+        }
+    }
+    while (*p == '=')
+        p++;
+    out->size = n;
+    return *p == 0;
+}
+
+/* Percent-decodes a relative URI into `out`. */
+static void uri_decode(const char *uri, char *out, size_t size)
+{
+    size_t n = 0;
+    for (const char *p = uri; *p && n + 1 < size; p++) {
+        int hi, lo;
+        if (p[0] == '%' && p[1] && p[2] && sscanf(p + 1, "%1x%1x", (unsigned *)&hi, (unsigned *)&lo) == 2) {
+            out[n++] = (char)(hi * 16 + lo);
+            p += 2;
+        } else {
+            out[n++] = *p;
+        }
+    }
+    out[n] = 0;
+}
+
+/* The bytes of buffer `index`: the GLB BIN chunk, a base64 data: URI, or a file beside the
+ * document, at least as long as the buffer's byteLength. */
+static sinew_result buffer_bytes(gltf *g, int index, const blob **out)
+{
+    blob *b = &g->buffers[index];
+    *out = b;
+    if (b->loaded)
+        return SINEW_OK;
+    const cJSON *buffer = cJSON_GetArrayItem(cJSON_GetObjectItemCaseSensitive(g->json, "buffers"), index);
+    char where[64];
+    snprintf(where, sizeof where, "buffers[%d]", index);
+    long long length;
+    sinew_result r = int_at(g, buffer, "byteLength", where, 1, (long long)1 << 40, -1, &length);
+    if (r)
+        return r;
+    if (length < 0)
+        return fail_at(g, "%s: no byteLength", where);
+    const char *uri = string_at(buffer, "uri");
+    if (!uri) {
+        if (index != 0 || !g->has_bin)
+            return fail_at(g, "%s: no uri, and it is not the GLB's BIN chunk", where);
+        *b = g->bin;
+    } else if (strncmp(uri, "data:", 5) == 0) {
+        const char *comma = strstr(uri, ";base64,");
+        if (!comma)
+            return fail_at(g, "%s.uri: a data: URI that is not base64", where);
+        if (!base64_decode(comma + 8, b)) {
+            if (!b->bytes)
+                return oom(g);
+            return fail_at(g, "%s.uri: not valid base64", where);
+        }
+    } else {
+        if (strstr(uri, "://"))
+            return fail_at(g, "%s.uri: \"%.200s\" is not a file beside the model (sinew reads no URLs)", where, uri);
+        char name[4096], file[8192];
+        uri_decode(uri, name, sizeof name);
+        const char *slash = strrchr(g->path, '/');
+        int dir = slash ? (int)(slash - g->path + 1) : 0;
+        snprintf(file, sizeof file, "%.*s%s", dir, g->path, name);
+        if (!import_read_file(file, &b->bytes, &b->size))
+            return sinew_fail(g->error, SINEW_ERROR_IO, "%s: %s: cannot read the buffer file %s: %s", g->path, where,
+                              file, strerror(errno));
+        b->owned = true;
+    }
+    b->loaded = true;
+    if ((long long)b->size < length)
+        return fail_at(g, "%s: byteLength is %lld, but the buffer has %zu bytes", where, length, b->size);
+    b->size = (size_t)length;
+    return SINEW_OK;
+}
+
+/* ---- accessors ------------------------------------------------------------------------ */
+
+static int type_components(const char *type)
+{
+    static const struct {
+        const char *name;
+        int count;
+    } types[] = {{"SCALAR", 1}, {"VEC2", 2}, {"VEC3", 3}, {"VEC4", 4}, {"MAT2", 4}, {"MAT3", 9}, {"MAT4", 16}};
+    for (size_t i = 0; type && i < sizeof types / sizeof types[0]; i++)
+        if (strcmp(type, types[i].name) == 0)
+            return types[i].count;
+    return 0;
+}
+
+static int component_size(long long type)
+{
+    switch (type) {
+    case 5120:
+    case 5121:
+        return 1;
+    case 5122:
+    case 5123:
+        return 2;
+    case 5125:
+    case 5126:
+        return 4;
+    default:
+        return 0;
+    }
+}
+
+/* One component: the stored number, or a normalised integer as glTF defines it. */
+static double component(const unsigned char *p, long long type, bool normalized)
+{
+    switch (type) {
+    case 5120:
+        return normalized ? fmax((int8_t)p[0] / 127.0, -1.0) : (int8_t)p[0];
+    case 5121:
+        return normalized ? p[0] / 255.0 : p[0];
+    case 5122: {
+        int16_t v = (int16_t)(uint16_t)(p[0] | p[1] << 8);
+        return normalized ? fmax(v / 32767.0, -1.0) : v;
+    }
+    case 5123: {
+        uint16_t v = (uint16_t)(p[0] | p[1] << 8);
+        return normalized ? v / 65535.0 : v;
+    }
+    case 5125:
+        return (double)le32(p);
+    default: {
+        float f;
+        memcpy(&f, p, 4);
+        return f;
+    }
+    }
+}
+
+/* Where `count` elements of `elem` bytes (every `stride`) live: view `view` of the file
+ * at `offset`; checked against the view and the buffer. */
+static sinew_result view_span(gltf *g, int view, long long offset, long long count, long long elem, bool strided,
+                              const char *where, const unsigned char **base, long long *stride)
+{
+    char vw[64];
+    snprintf(vw, sizeof vw, "bufferViews[%d]", view);
+    const cJSON *v = cJSON_GetArrayItem(g->views, view);
+    int buffer;
+    long long voff, vlen, vstride;
+    sinew_result r;
+    if ((r = index_at(g, v, "buffer", vw, g->buffer_count, true, &buffer)) ||
+        (r = int_at(g, v, "byteOffset", vw, 0, (long long)1 << 40, 0, &voff)) ||
+        (r = int_at(g, v, "byteLength", vw, 1, (long long)1 << 40, -1, &vlen)) ||
+        (r = int_at(g, v, "byteStride", vw, 4, 252, 0, &vstride)))
+        return r;
+    if (vlen < 0)
+        return fail_at(g, "%s: no byteLength", vw);
+    const blob *b;
+    if ((r = buffer_bytes(g, buffer, &b)))
+        return r;
+    if (voff + vlen > (long long)b->size)
+        return fail_at(g, "%s: bytes %lld..%lld lie outside buffers[%d] (%zu bytes)", vw, voff, voff + vlen, buffer,
+                       b->size);
+    *stride = strided && vstride ? vstride : elem;
+    if (*stride < elem)
+        return fail_at(g, "%s: byteStride %lld is smaller than %s's element (%lld bytes)", vw, *stride, where, elem);
+    if (offset + *stride * (count - 1) + elem > vlen)
+        return fail_at(g, "%s: %lld elements from byte %lld do not fit in %s (%lld bytes)", where, count, offset, vw,
+                       vlen);
+    *base = b->bytes + voff + offset;
+    return SINEW_OK;
+}
+
+/* Accessor `index` as doubles (count * components, malloc'd), with `want` components
+ * (SCALAR 1, VECn n, MAT4 16) and a component type among `types` (a 0-terminated list). */
+static sinew_result read_accessor(gltf *g, int index, const char *use, int want, const long long *types,
+                                  double **out, uint32_t *out_count)
+{
+    *out = NULL;
+    char where[96];
+    snprintf(where, sizeof where, "accessors[%d] (%s)", index, use);
+    const cJSON *a = cJSON_GetArrayItem(g->accessors, index);
+    if (!cJSON_IsObject(a))
+        return fail_at(g, "%s: not an object", where);
+    int comps = type_components(string_at(a, "type"));
+    long long ctype, count, offset;
+    sinew_result r;
+    if ((r = int_at(g, a, "componentType", where, 5120, 5126, -1, &ctype)) ||
+        (r = int_at(g, a, "count", where, 1, GLTF_MAX_COUNT, -1, &count)) ||
+        (r = int_at(g, a, "byteOffset", where, 0, (long long)1 << 40, 0, &offset)))
+        return r;
+    if (count < 0)
+        return fail_at(g, "%s: no count", where);
+    if (comps != want)
+        return fail_at(g, "%s: type \"%s\" where %d components a element are needed", where,
+                       string_at(a, "type") ? string_at(a, "type") : "(none)", want);
+    bool allowed = false;
+    for (const long long *t = types; *t; t++)
+        allowed |= *t == ctype;
+    if (!allowed || !component_size(ctype))
+        return fail_at(g, "%s: componentType %lld is not allowed here", where, ctype);
+    const cJSON *norm = cJSON_GetObjectItemCaseSensitive(a, "normalized");
+    bool normalized = cJSON_IsTrue(norm);
+    if (normalized && (ctype == 5126 || ctype == 5125))
+        return fail_at(g, "%s: normalized with componentType %lld", where, ctype);
+    int csize = component_size(ctype);
+    long long elem = (long long)csize * comps;
+    /* Matrices of 1- and 2-byte components pad each column to 4 bytes. */
+    int column = want == 16 ? 4 : want == 9 ? 3 : want;
+    long long column_bytes = (want >= 9 && csize < 4) ? (((long long)csize * column + 3) & ~3LL) : csize * column;
+    if (want >= 9)
+        elem = column_bytes * (want / column);
+    double *v = malloc((size_t)count * (size_t)comps * sizeof *v);
+    if (!v)
+        return oom(g);
+    int view;
+    if ((r = index_at(g, a, "bufferView", where, cJSON_GetArraySize(g->views), false, &view))) {
+        free(v);
+        return r;
+    }
+    if (view < 0) {
+        for (long long i = 0; i < count * comps; i++)
+            v[i] = 0;
+    } else {
+        const unsigned char *base;
+        long long stride;
+        if ((r = view_span(g, view, offset, count, elem, true, where, &base, &stride))) {
+            free(v);
+            return r;
+        }
+        for (long long i = 0; i < count; i++)
+            for (int c = 0; c < comps; c++)
+                v[i * comps + c] =
+                    component(base + stride * i + column_bytes * (c / column) + (long long)csize * (c % column), ctype,
+                              normalized);
+    }
+    const cJSON *sparse = cJSON_GetObjectItemCaseSensitive(a, "sparse");
+    if (sparse) {
+        char sw[128];
+        snprintf(sw, sizeof sw, "%s.sparse", where);
+        long long n, itype, ioff, voff;
+        int iview, vview;
+        const cJSON *ind = cJSON_GetObjectItemCaseSensitive(sparse, "indices");
+        const cJSON *val = cJSON_GetObjectItemCaseSensitive(sparse, "values");
+        const unsigned char *ib, *vb;
+        long long is, vs;
+        int nviews = cJSON_GetArraySize(g->views);
+        if ((r = int_at(g, sparse, "count", sw, 1, count, -1, &n)) ||
+            (r = index_at(g, ind, "bufferView", sw, nviews, true, &iview)) ||
+            (r = int_at(g, ind, "componentType", sw, 5121, 5125, -1, &itype)) ||
+            (r = int_at(g, ind, "byteOffset", sw, 0, (long long)1 << 40, 0, &ioff)) ||
+            (r = index_at(g, val, "bufferView", sw, nviews, true, &vview)) ||
+            (r = int_at(g, val, "byteOffset", sw, 0, (long long)1 << 40, 0, &voff))) {
+            free(v);
+            return r;
+        }
+        if (n < 0 || (itype != 5121 && itype != 5123 && itype != 5125)) {
+            free(v);
+            return fail_at(g, "%s: no count, or indices of componentType %lld", sw, itype);
+        }
+        if ((r = view_span(g, iview, ioff, n, component_size(itype), false, sw, &ib, &is)) ||
+            (r = view_span(g, vview, voff, n, elem, false, sw, &vb, &vs))) {
+            free(v);
+            return r;
+        }
+        for (long long k = 0; k < n; k++) {
+            double at = component(ib + is * k, itype, false);
+            if (at >= (double)count) {
+                free(v);
+                return fail_at(g, "%s: index %.0f is not below the accessor's count %lld", sw, at, count);
+            }
+            for (int c = 0; c < comps; c++)
+                v[(long long)at * comps + c] = component(vb + vs * k + (long long)csize * c, ctype, normalized);
+        }
+    }
+    for (long long i = 0; i < count * comps; i++)
+        if (!isfinite(v[i])) {
+            free(v);
+            return fail_at(g, "%s: element %lld is not a finite number", where, i / comps);
+        }
+    *out = v;
+    *out_count = (uint32_t)count;
+    return SINEW_OK;
+}
+
+static const long long FLOAT_ONLY[] = {5126, 0};
+
+/* ---- nodes ---------------------------------------------------------------------------- */
+
+typedef struct walk {
+    int *stack;
+    int *parent; /* by glTF node: its parent, -1, or -2 not seen yet */
+} walk;
+
+static sinew_result node_rest(gltf *g, const cJSON *n, const char *where, sinew_transform *out)
+{
+    static const double zero[3] = {0, 0, 0}, one[3] = {1, 1, 1}, unit_q[4] = {0, 0, 0, 1};
+    static const double identity[16] = {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1};
+    sinew_result r;
+    if (cJSON_GetObjectItemCaseSensitive(n, "matrix")) {
+        double mat[16];
+        if ((r = numbers_at(g, n, "matrix", where, 16, identity, mat)))
+            return r;
+        sinew_mat4 m4;
+        for (int i = 0; i < 16; i++)
+            m4.m[i] = (float)mat[i];
+        sinew_mat4_decompose(&m4, out);
+        return SINEW_OK;
+    }
+    double t[3], q[4], s[3];
+    if ((r = numbers_at(g, n, "translation", where, 3, zero, t)) ||
+        (r = numbers_at(g, n, "rotation", where, 4, unit_q, q)) || (r = numbers_at(g, n, "scale", where, 3, one, s)))
+        return r;
+    double len = sqrt(q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3]);
+    if (!(len > 0))
+        return fail_at(g, "%s.rotation: a zero quaternion", where);
+    for (int c = 0; c < 3; c++) {
+        out->translation[c] = (float)t[c];
+        out->scale[c] = (float)s[c];
+    }
+    for (int c = 0; c < 4; c++)
+        out->rotation[c] = (float)(q[c] / len);
+    return SINEW_OK;
+}
+
+/* Appends glTF node `root` and its subtree, depth first, parents before children (a
+ * pending node's sinew parent waits in node_of until it is placed). */
+static sinew_result add_subtree(gltf *g, walk *w, int root)
+{
+    raw_model *m = g->m;
+    int top = 0;
+    w->stack[top++] = root;
+    w->parent[root] = -1;
+    g->node_of[root] = UINT32_MAX;
+    while (top > 0) {
+        int i = w->stack[--top];
+        uint32_t at = m->node_count++;
+        int32_t p = g->node_of[i] == UINT32_MAX ? -1 : (int32_t)g->node_of[i];
+        g->node_of[i] = at;
+        char where[48];
+        snprintf(where, sizeof where, "nodes[%d]", i);
+        const cJSON *n = cJSON_GetArrayItem(g->nodes, i);
+        const char *name = string_at(n, "name");
+        m->node_names[at] = raw_strdup(name && *name ? name : where);
+        if (!m->node_names[at])
+            return oom(g);
+        m->node_parents[at] = p;
+        sinew_result r = node_rest(g, n, where, &m->node_rest[at]);
+        if (r)
+            return r;
+        const cJSON *children = cJSON_GetObjectItemCaseSensitive(n, "children");
+        int count = cJSON_GetArraySize(children);
+        /* Pushed in reverse so that children come out in the file's order. */
+        for (int k = count - 1; k >= 0; k--) {
+            const cJSON *c = cJSON_GetArrayItem(children, k);
+            double v = cJSON_IsNumber(c) ? c->valuedouble : -1;
+            if (!(v >= 0 && v < g->node_count) || v != floor(v))
+                return fail_at(g, "%s.children[%d]: not a node index", where, k);
+            int child = (int)v;
+            if (w->parent[child] != -2)
+                return fail_at(g, "%s.children[%d]: node %d has more than one parent, or is its own ancestor",
+                               where, k, child);
+            w->parent[child] = i;
+            g->node_of[child] = at;
+            w->stack[top++] = child;
+        }
+    }
+    return SINEW_OK;
+}
+
+/* The nodes: the scene's roots first (the default scene, else the first), then every other
+ * parentless node (joints may live outside the scene); meshes are drawn only under the
+ * scene's roots. */
+static sinew_result build_nodes(gltf *g)
+{
+    raw_model *m = g->m;
+    int n = g->node_count;
+    if (n == 0)
+        return SINEW_OK;
+    m->node_names = calloc((size_t)n, sizeof *m->node_names);
+    m->node_parents = calloc((size_t)n, sizeof *m->node_parents);
+    m->node_rest = calloc((size_t)n, sizeof *m->node_rest);
+    g->node_of = calloc((size_t)n, sizeof *g->node_of);
+    g->in_scene = calloc((size_t)n, sizeof *g->in_scene);
+    bool *has_parent = calloc((size_t)n, sizeof *has_parent), *is_root = calloc((size_t)n, sizeof *is_root);
+    int *order = malloc((size_t)n * sizeof *order);
+    walk w = {malloc((size_t)n * sizeof(int)), malloc((size_t)n * sizeof(int))};
+    sinew_result r = SINEW_OK;
+    if (!m->node_names || !m->node_parents || !m->node_rest || !g->node_of || !g->in_scene || !has_parent ||
+        !is_root || !order || !w.stack || !w.parent)
+        r = oom(g);
+    for (int i = 0; i < n && !r; i++) {
+        w.parent[i] = -2;
+        const cJSON *node = cJSON_GetArrayItem(g->nodes, i), *c;
+        if (!cJSON_IsObject(node))
+            r = fail_at(g, "nodes[%d]: not an object", i);
+        cJSON_ArrayForEach(c, cJSON_GetObjectItemCaseSensitive(node, "children"))
+        {
+            double v = cJSON_IsNumber(c) ? c->valuedouble : -1;
+            if (v >= 0 && v < n && v == floor(v))
+                has_parent[(int)v] = true;
+        }
+    }
+    const cJSON *scenes = cJSON_GetObjectItemCaseSensitive(g->json, "scenes");
+    int scene = -1;
+    if (!r && cJSON_GetArraySize(scenes) > 0 &&
+        !(r = index_at(g, g->json, "scene", "the document", cJSON_GetArraySize(scenes), false, &scene)) && scene < 0)
+        scene = 0;
+    const cJSON *scene_nodes =
+        scene >= 0 ? cJSON_GetObjectItemCaseSensitive(cJSON_GetArrayItem(scenes, scene), "nodes") : NULL;
+    int order_count = 0, k = 0;
+    const cJSON *s;
+    cJSON_ArrayForEach(s, scene_nodes)
+    {
+        if (r)
+            break;
+        double v = cJSON_IsNumber(s) ? s->valuedouble : -1;
+        if (!(v >= 0 && v < n) || v != floor(v))
+            r = fail_at(g, "scenes[%d].nodes[%d]: not a node index", scene, k);
+        else if (has_parent[(int)v])
+            r = fail_at(g, "scenes[%d].nodes[%d]: node %d is a root of the scene and also a child", scene, k, (int)v);
+        else if (!is_root[(int)v]) {
+            is_root[(int)v] = true;
+            order[order_count++] = (int)v;
+        }
+        k++;
+    }
+    int scene_roots = scene_nodes ? order_count : n;
+    for (int i = 0; i < n && !r; i++)
+        if (!has_parent[i] && !is_root[i])
+            order[order_count++] = i;
+    uint32_t scene_end = 0;
+    for (int i = 0; i < order_count && !r; i++) {
+        r = add_subtree(g, &w, order[i]);
+        if (i < scene_roots)
+            scene_end = m->node_count;
+    }
+    if (!r && m->node_count != (uint32_t)n)
+        r = fail_at(g, "nodes: %u of %d nodes are in a cycle of children", n - m->node_count, n);
+    for (int i = 0; i < n && !r; i++)
+        g->in_scene[i] = g->node_of[i] < scene_end;
+    free(has_parent);
+    free(is_root);
+    free(order);
+    free(w.stack);
+    free(w.parent);
+    return r;
+}
+
+/* ---- materials ------------------------------------------------------------------------ */
+
+/* The file an image names, resolved; NULL (with a warning) when it is embedded or missing. */
+static sinew_result texture_path(gltf *g, int texture, const char *material, char **out)
+{
+    *out = NULL;
+    char where[64];
+    snprintf(where, sizeof where, "textures[%d]", texture);
+    const cJSON *t = cJSON_GetArrayItem(g->textures, texture);
+    int image;
+    sinew_result r = index_at(g, t, "source", where, cJSON_GetArraySize(g->images), false, &image);
+    if (r)
+        return r;
+    /* Images in other formats (KHR_texture_basisu, EXT_texture_webp) keep "source" as a fallback. */
+    if (image < 0) {
+        return raw_model_warn(g->m, "%s: material \"%s\": %s has no image sinew can read", g->path, material, where)
+                   ? SINEW_OK
+                   : oom(g);
+    }
+    const cJSON *img = cJSON_GetArrayItem(g->images, image);
+    const char *uri = string_at(img, "uri");
+    if (!uri || strncmp(uri, "data:", 5) == 0)
+        return raw_model_warn(g->m,
+                              "%s: material \"%s\": images[%d] is embedded in the file; sinew does not carry "
+                              "embedded images yet, the material keeps its colour",
+                              g->path, material, image)
+                   ? SINEW_OK
+                   : oom(g);
+    char name[4096], looked[8192];
+    uri_decode(uri, name, sizeof name);
+    *out = import_find_texture(g->path, name, false, looked, sizeof looked);
+    if (!*out)
+        *out = import_find_texture(g->path, name, true, looked, sizeof looked);
+    if (!*out && !raw_model_warn(g->m, "%s: material \"%s\": texture \"%s\" not found (looked for %s)", g->path,
+                                 material, name, looked))
+        return oom(g);
+    return SINEW_OK;
+}
+
+static sinew_result build_materials(gltf *g)
+{
+    raw_model *m = g->m;
+    int n = cJSON_GetArraySize(g->materials);
+    if (n == 0)
+        return SINEW_OK;
+    m->materials = calloc((size_t)n, sizeof *m->materials);
+    g->uv_transform = calloc((size_t)n, sizeof *g->uv_transform);
+    g->has_uv_transform = calloc((size_t)n, sizeof *g->has_uv_transform);
+    if (!m->materials || !g->uv_transform || !g->has_uv_transform)
+        return oom(g);
+    m->material_count = (uint32_t)n;
+    for (int i = 0; i < n; i++) {
+        const cJSON *mat = cJSON_GetArrayItem(g->materials, i);
+        char where[48];
+        snprintf(where, sizeof where, "materials[%d]", i);
+        const char *name = string_at(mat, "name");
+        raw_material *out = &m->materials[i];
+        if (!(out->name = raw_strdup(name && *name ? name : where)))
+            return oom(g);
+        const cJSON *pbr = cJSON_GetObjectItemCaseSensitive(mat, "pbrMetallicRoughness");
+        static const double white[4] = {1, 1, 1, 1};
+        double color[4];
+        sinew_result r = numbers_at(g, pbr, "baseColorFactor", where, 4, white, color);
+        if (r)
+            return r;
+        for (int c = 0; c < 4; c++)
+            out->base_color[c] = (float)fmin(fmax(color[c], 0.0), 1.0);
+        const cJSON *info = cJSON_GetObjectItemCaseSensitive(pbr, "baseColorTexture");
+        if (!info)
+            continue;
+        int texture;
+        long long set;
+        if ((r = index_at(g, info, "index", where, cJSON_GetArraySize(g->textures), true, &texture)) ||
+            (r = int_at(g, info, "texCoord", where, 0, 255, 0, &set)))
+            return r;
+        const cJSON *tt =
+            cJSON_GetObjectItemCaseSensitive(cJSON_GetObjectItemCaseSensitive(info, "extensions"), "KHR_texture_transform");
+        if (tt) {
+            static const double zero2[2] = {0, 0}, one2[2] = {1, 1}, zero1[1] = {0};
+            double offset[2], scale[2], rotation = 0;
+            if ((r = numbers_at(g, tt, "offset", where, 2, zero2, offset)) ||
+                (r = numbers_at(g, tt, "scale", where, 2, one2, scale)) ||
+                (r = int_at(g, tt, "texCoord", where, 0, 255, set, &set)))
+                return r;
+            const cJSON *rot = cJSON_GetObjectItemCaseSensitive(tt, "rotation");
+            (void)zero1;
+            if (rot && !(cJSON_IsNumber(rot) && isfinite(rot->valuedouble)))
+                return fail_at(g, "%s: KHR_texture_transform.rotation is not a number", where);
+            rotation = rot ? rot->valuedouble : 0;
+            /* translation * rotation * scale (the extension's definition). */
+            double c = cos(rotation), s = sin(rotation);
+            float *t = g->uv_transform[i];
+            t[0] = (float)(c * scale[0]);
+            t[1] = (float)(s * scale[1]);
+            t[2] = (float)offset[0];
+            t[3] = (float)(-s * scale[0]);
+            t[4] = (float)(c * scale[1]);
+            t[5] = (float)offset[1];
+            g->has_uv_transform[i] = true;
+        }
+        if (set != 0 && !raw_model_warn(m, "%s: material \"%s\" maps its texture with TEXCOORD_%lld; sinew uses "
+                                           "TEXCOORD_0",
+                                        g->path, out->name, set))
+            return oom(g);
+        if ((r = texture_path(g, texture, out->name, &out->diffuse_texture)))
+            return r;
+    }
+    return SINEW_OK;
+}
+
+/* ---- meshes --------------------------------------------------------------------------- */
+
+static const long long POSITION_TYPES[] = {5126, 5120, 5121, 5122, 5123, 0};
+static const long long NORMAL_TYPES[] = {5126, 5120, 5122, 0};
+static const long long UV_TYPES[] = {5126, 5120, 5121, 5122, 5123, 0};
+static const long long JOINT_TYPES[] = {5121, 5123, 0};
+static const long long WEIGHT_TYPES[] = {5126, 5121, 5123, 0};
+static const long long INDEX_TYPES[] = {5121, 5123, 5125, 0};
+
+/* An attribute of a primitive as floats (malloc'd), or NULL when the primitive has none. */
+static sinew_result attribute(gltf *g, const cJSON *attrs, const char *name, const char *where, int want,
+                              const long long *types, uint32_t vertex_count, float **out)
+{
+    *out = NULL;
+    if (!cJSON_GetObjectItemCaseSensitive(attrs, name))
+        return SINEW_OK;
+    char use[160];
+    snprintf(use, sizeof use, "%s %s", where, name);
+    int index;
+    sinew_result r = index_at(g, attrs, name, where, cJSON_GetArraySize(g->accessors), true, &index);
+    double *v = NULL;
+    uint32_t count = 0;
+    if (r || (r = read_accessor(g, index, use, want, types, &v, &count)))
+        return r;
+    if (vertex_count != UINT32_MAX && count != vertex_count) {
+        free(v);
+        return fail_at(g, "%s: %s has %u elements, POSITION has %u", where, name, count, vertex_count);
+    }
+    float *f = malloc((size_t)count * (size_t)want * sizeof *f);
+    if (!f) {
+        free(v);
+        return oom(g);
+    }
+    for (size_t i = 0; i < (size_t)count * (size_t)want; i++)
+        f[i] = (float)v[i];
+    free(v);
+    *out = f;
+    return SINEW_OK;
+}
+
+/* Triangle corners of a primitive (mode 4, 5 or 6), from its indices or 0..n-1. */
+static sinew_result primitive_indices(gltf *g, const cJSON *prim, const char *where, long long mode,
+                                      uint32_t vertex_count, raw_mesh *out)
+{
+    int index;
+    sinew_result r = index_at(g, prim, "indices", where, cJSON_GetArraySize(g->accessors), false, &index);
+    if (r)
+        return r;
+    double *v = NULL;
+    uint32_t n = vertex_count;
+    if (index >= 0) {
+        char use[160];
+        snprintf(use, sizeof use, "%s indices", where);
+        if ((r = read_accessor(g, index, use, 1, INDEX_TYPES, &v, &n)))
+            return r;
+    }
+    uint32_t tris = mode == 4 ? n / 3 : n >= 3 ? n - 2 : 0;
+    if (mode == 4 && n % 3) {
+        free(v);
+        return fail_at(g, "%s: %u indices is not a whole number of triangles", where, n);
+    }
+    out->indices = malloc(((size_t)tris * 3 + 1) * sizeof *out->indices);
+    if (!out->indices) {
+        free(v);
+        return oom(g);
+    }
+    uint32_t k = 0;
+    for (uint32_t t = 0; t < tris; t++) {
+        uint32_t c[3];
+        if (mode == 4)
+            c[0] = t * 3, c[1] = t * 3 + 1, c[2] = t * 3 + 2;
+        else if (mode == 5) /* strips alternate their winding */
+            c[0] = t, c[1] = t % 2 ? t + 2 : t + 1, c[2] = t % 2 ? t + 1 : t + 2;
+        else
+            c[0] = t + 1, c[1] = t + 2, c[2] = 0;
+        for (int j = 0; j < 3; j++) {
+            double idx = v ? v[c[j]] : c[j];
+            if (idx >= vertex_count) {
+                free(v);
+                return fail_at(g, "%s: index %.0f is not below the vertex count %u", where, idx, vertex_count);
+            }
+            out->indices[k++] = (uint32_t)idx;
+        }
+    }
+    free(v);
+    out->index_count = k;
+    return SINEW_OK;
+}
+
+/* Joints and weights of every JOINTS_n / WEIGHTS_n set (any number of sets). */
+static sinew_result primitive_influences(gltf *g, const cJSON *attrs, const char *where, uint32_t joint_count,
+                                         raw_mesh *out)
+{
+    int sets = 0;
+    char name[32];
+    for (;; sets++) {
+        snprintf(name, sizeof name, "JOINTS_%d", sets);
+        if (!cJSON_GetObjectItemCaseSensitive(attrs, name))
+            break;
+    }
+    if (sets == 0)
+        return SINEW_OK;
+    uint32_t n = out->vertex_count, slots = (uint32_t)sets * 4;
+    out->joints = calloc((size_t)n * slots, sizeof *out->joints);
+    out->weights = calloc((size_t)n * slots, sizeof *out->weights);
+    if (!out->joints || !out->weights)
+        return oom(g);
+    out->influence_count = slots;
+    for (int s = 0; s < sets; s++) {
+        float *joints = NULL, *weights = NULL;
+        sinew_result r;
+        snprintf(name, sizeof name, "JOINTS_%d", s);
+        if ((r = attribute(g, attrs, name, where, 4, JOINT_TYPES, n, &joints)))
+            return r;
+        snprintf(name, sizeof name, "WEIGHTS_%d", s);
+        if ((r = attribute(g, attrs, name, where, 4, WEIGHT_TYPES, n, &weights))) {
+            free(joints);
+            return r;
+        }
+        if (!weights) {
+            free(joints);
+            return fail_at(g, "%s: JOINTS_%d without WEIGHTS_%d", where, s, s);
+        }
+        for (uint32_t v = 0; v < n; v++)
+            for (int c = 0; c < 4; c++) {
+                float j = joints[v * 4 + c], w = weights[v * 4 + c];
+                size_t at = (size_t)v * slots + (size_t)s * 4 + (size_t)c;
+                if (w < 0) {
+                    free(joints);
+                    free(weights);
+                    return fail_at(g, "%s: WEIGHTS_%d of vertex %u is negative", where, s, v);
+                }
+                if (w > 0 && j >= (float)joint_count) {
+                    free(joints);
+                    free(weights);
+                    return fail_at(g, "%s: JOINTS_%d of vertex %u names joint %.0f of a skin with %u joints", where,
+                                   s, v, j, joint_count);
+                }
+                out->joints[at] = w > 0 ? (uint32_t)j : 0;
+                out->weights[at] = w;
+            }
+        free(joints);
+        free(weights);
+    }
+    return SINEW_OK;
+}
+
+/* One primitive as a raw mesh. Points and lines are left out (*out->vertex_count == 0). */
+static sinew_result read_primitive(gltf *g, int mesh, int k, int skin, raw_mesh *out)
+{
+    const cJSON *gm = cJSON_GetArrayItem(g->meshes, mesh);
+    const cJSON *prims = cJSON_GetObjectItemCaseSensitive(gm, "primitives");
+    const cJSON *prim = cJSON_GetArrayItem(prims, k);
+    char where[64];
+    snprintf(where, sizeof where, "meshes[%d].primitives[%d]", mesh, k);
+    const char *name = string_at(gm, "name");
+    char base[256], label[300];
+    if (name && *name)
+        snprintf(base, sizeof base, "%s", name);
+    else
+        snprintf(base, sizeof base, "meshes[%d]", mesh);
+    if (cJSON_GetArraySize(prims) > 1)
+        snprintf(label, sizeof label, "%s-%d", base, k);
+    else
+        snprintf(label, sizeof label, "%s", base);
+    memset(out, 0, sizeof *out);
+    out->skin = -1;
+    out->material = -1;
+    if (!(out->name = raw_strdup(label)))
+        return oom(g);
+    long long mode;
+    sinew_result r = int_at(g, prim, "mode", where, 0, 6, 4, &mode);
+    if (r)
+        return r;
+    if (mode < 4)
+        return raw_model_warn(g->m, "%s: mesh \"%s\" draws %s; sinew draws triangles only", g->path, label,
+                              mode == 0 ? "points" : "lines")
+                   ? SINEW_OK
+                   : oom(g);
+    const cJSON *attrs = cJSON_GetObjectItemCaseSensitive(prim, "attributes");
+    if (!cJSON_IsObject(attrs) || !cJSON_GetObjectItemCaseSensitive(attrs, "POSITION"))
+        return fail_at(g, "%s: no POSITION attribute", where);
+    int material;
+    if ((r = index_at(g, prim, "material", where, (int)g->m->material_count, false, &material)))
+        return r;
+    out->material = material;
+    uint32_t n = 0;
+    {
+        int index;
+        double *v;
+        char use[160];
+        snprintf(use, sizeof use, "%s POSITION", where);
+        if ((r = index_at(g, attrs, "POSITION", where, cJSON_GetArraySize(g->accessors), true, &index)) ||
+            (r = read_accessor(g, index, use, 3, POSITION_TYPES, &v, &n)))
+            return r;
+        out->positions = malloc((size_t)n * 3 * sizeof *out->positions);
+        if (!out->positions) {
+            free(v);
+            return oom(g);
+        }
+        for (size_t i = 0; i < (size_t)n * 3; i++)
+            out->positions[i] = (float)v[i];
+        free(v);
+    }
+    out->vertex_count = n;
+    if ((r = attribute(g, attrs, "NORMAL", where, 3, NORMAL_TYPES, n, &out->normals)) ||
+        (r = attribute(g, attrs, "TEXCOORD_0", where, 2, UV_TYPES, n, &out->uvs)) ||
+        (r = primitive_indices(g, prim, where, mode, n, out)))
+        return r;
+    if (out->uvs && material >= 0 && g->has_uv_transform[material]) {
+        const float *t = g->uv_transform[material];
+        for (uint32_t i = 0; i < n; i++) {
+            float u = out->uvs[i * 2], v = out->uvs[i * 2 + 1];
+            out->uvs[i * 2] = t[0] * u + t[1] * v + t[2];
+            out->uvs[i * 2 + 1] = t[3] * u + t[4] * v + t[5];
+        }
+    }
+    if (skin >= 0) {
+        uint32_t joints = g->m->skins[skin].joint_count;
+        if ((r = primitive_influences(g, attrs, where, joints, out)))
+            return r;
+        if (out->influence_count)
+            out->skin = skin;
+        else if (!raw_model_warn(g->m, "%s: mesh \"%s\" is placed with a skin but has no JOINTS_0; it is drawn rigid",
+                                 g->path, label))
+            return oom(g);
+    }
+    return SINEW_OK;
+}
+
+static sinew_result build_skins(gltf *g)
+{
+    raw_model *m = g->m;
+    int n = cJSON_GetArraySize(g->skins);
+    if (n == 0)
+        return SINEW_OK;
+    if (!(m->skins = calloc((size_t)n, sizeof *m->skins)))
+        return oom(g);
+    m->skin_count = (uint32_t)n;
+    for (int i = 0; i < n; i++) {
+        const cJSON *skin = cJSON_GetArrayItem(g->skins, i);
+        char where[48];
+        snprintf(where, sizeof where, "skins[%d]", i);
+        const cJSON *joints = cJSON_GetObjectItemCaseSensitive(skin, "joints");
+        int count = cJSON_GetArraySize(joints);
+        if (!cJSON_IsArray(joints) || count == 0)
+            return fail_at(g, "%s.joints: not a non-empty array", where);
+        raw_skin *out = &m->skins[i];
+        out->joints = calloc((size_t)count, sizeof *out->joints);
+        out->inverse_bind = calloc((size_t)count, sizeof *out->inverse_bind);
+        if (!out->joints || !out->inverse_bind)
+            return oom(g);
+        out->joint_count = (uint32_t)count;
+        int k = 0;
+        const cJSON *j;
+        cJSON_ArrayForEach(j, joints)
+        {
+            double v = cJSON_IsNumber(j) ? j->valuedouble : -1;
+            if (!(v >= 0 && v < g->node_count) || v != floor(v))
+                return fail_at(g, "%s.joints[%d]: not a node index", where, k);
+            out->joints[k++] = g->node_of[(int)v];
+        }
+        int ibm;
+        sinew_result r = index_at(g, skin, "inverseBindMatrices", where, cJSON_GetArraySize(g->accessors), false, &ibm);
+        if (r)
+            return r;
+        if (ibm < 0) {
+            for (int a = 0; a < count; a++)
+                for (int c = 0; c < 16; c++)
+                    out->inverse_bind[a].m[c] = c % 5 == 0 ? 1.0f : 0.0f;
+            continue;
+        }
+        double *v;
+        uint32_t got;
+        char use[96];
+        snprintf(use, sizeof use, "%s inverseBindMatrices", where);
+        if ((r = read_accessor(g, ibm, use, 16, FLOAT_ONLY, &v, &got)))
+            return r;
+        if (got < (uint32_t)count) {
+            free(v);
+            return fail_at(g, "%s: %u inverse bind matrices for %d joints", where, got, count);
+        }
+        for (int a = 0; a < count; a++)
+            for (int c = 0; c < 16; c++)
+                out->inverse_bind[a].m[c] = (float)v[a * 16 + c];
+        free(v);
+    }
+    return SINEW_OK;
+}
+
+/* The raw meshes of glTF mesh `mesh` drawn with `skin` (made on first use). */
+static sinew_result meshes_for(gltf *g, int mesh, int skin, const mesh_key **out)
+{
+    for (uint32_t i = 0; i < g->key_count; i++)
+        if (g->keys[i].mesh == mesh && g->keys[i].skin == skin) {
+            *out = &g->keys[i];
+            return SINEW_OK;
+        }
+    raw_model *m = g->m;
+    const cJSON *gm = cJSON_GetArrayItem(g->meshes, mesh);
+    const cJSON *prims = cJSON_GetObjectItemCaseSensitive(gm, "primitives");
+    int count = cJSON_GetArraySize(prims);
+    if (!cJSON_IsArray(prims) || count == 0)
+        return fail_at(g, "meshes[%d].primitives: not a non-empty array", mesh);
+    mesh_key *keys = realloc(g->keys, (g->key_count + 1) * sizeof *keys);
+    raw_mesh *meshes = realloc(m->meshes, (m->mesh_count + (size_t)count) * sizeof *meshes);
+    if (keys)
+        g->keys = keys;
+    if (meshes)
+        m->meshes = meshes;
+    if (!keys || !meshes)
+        return oom(g);
+    mesh_key *key = &g->keys[g->key_count++];
+    *key = (mesh_key){mesh, skin, m->mesh_count, 0};
+    for (int k = 0; k < count; k++) {
+        raw_mesh *rm = &m->meshes[m->mesh_count];
+        sinew_result r = read_primitive(g, mesh, k, skin, rm);
+        m->mesh_count++; /* counted even when it fails: raw_model_free frees what it holds */
+        if (r)
+            return r;
+        if (rm->vertex_count == 0 || rm->index_count == 0) {
+            free(rm->name);
+            free(rm->positions);
+            free(rm->normals);
+            free(rm->uvs);
+            free(rm->indices);
+            free(rm->joints);
+            free(rm->weights);
+            m->mesh_count--;
+        }
+    }
+    key->count = m->mesh_count - key->first;
+    const cJSON *targets = cJSON_GetObjectItemCaseSensitive(cJSON_GetArrayItem(prims, 0), "targets");
+    bool first_use = true;
+    for (uint32_t i = 0; i + 1 < g->key_count; i++)
+        first_use &= g->keys[i].mesh != mesh;
+    *out = key;
+    if (first_use && cJSON_GetArraySize(targets) > 0 &&
+        !raw_model_warn(m, "%s: meshes[%d] \"%s\" has %d morph targets; sinew shows its base shape", g->path, mesh,
+                        string_at(gm, "name") ? string_at(gm, "name") : "", cJSON_GetArraySize(targets)))
+        return oom(g);
+    return SINEW_OK;
+}
+
+static sinew_result build_meshes(gltf *g)
+{
+    raw_model *m = g->m;
+    uint32_t cap = 0;
+    for (int i = 0; i < g->node_count; i++) {
+        const cJSON *node = cJSON_GetArrayItem(g->nodes, i);
+        char where[48];
+        snprintf(where, sizeof where, "nodes[%d]", i);
+        int mesh, skin;
+        sinew_result r;
+        if ((r = index_at(g, node, "mesh", where, cJSON_GetArraySize(g->meshes), false, &mesh)) ||
+            (r = index_at(g, node, "skin", where, (int)m->skin_count, false, &skin)))
+            return r;
+        if (mesh < 0 || !g->in_scene[i])
+            continue;
+        const mesh_key *key = NULL;
+        if ((r = meshes_for(g, mesh, skin, &key)))
+            return r;
+        if (m->instance_count + key->count > cap) {
+            cap = (m->instance_count + key->count) * 2;
+            sinew_instance *grown = realloc(m->instances, cap * sizeof *grown);
+            if (!grown)
+                return oom(g);
+            m->instances = grown;
+        }
+        for (uint32_t k = 0; k < key->count; k++)
+            m->instances[m->instance_count++] = (sinew_instance){key->first + k, g->node_of[i]};
+    }
+    return SINEW_OK;
+}
+
+/* ---- clips ---------------------------------------------------------------------------- */
+
+static const long long ROTATION_TYPES[] = {5126, 5120, 5121, 5122, 5123, 0};
+
+/* One channel: its sampler's keys as a raw channel of the node's track. */
+static sinew_result read_channel(gltf *g, int a, int c, raw_clip *clip, uint32_t *weights)
+{
+    const cJSON *anim = cJSON_GetArrayItem(cJSON_GetObjectItemCaseSensitive(g->json, "animations"), a);
+    const cJSON *channel = cJSON_GetArrayItem(cJSON_GetObjectItemCaseSensitive(anim, "channels"), c);
+    const cJSON *samplers = cJSON_GetObjectItemCaseSensitive(anim, "samplers");
+    char where[80];
+    snprintf(where, sizeof where, "animations[%d].channels[%d]", a, c);
+    const cJSON *target = cJSON_GetObjectItemCaseSensitive(channel, "target");
+    int node, sampler;
+    sinew_result r;
+    if (!cJSON_IsObject(target))
+        return fail_at(g, "%s: no target", where);
+    if ((r = index_at(g, channel, "sampler", where, cJSON_GetArraySize(samplers), true, &sampler)) ||
+        (r = index_at(g, target, "node", where, g->node_count, false, &node)))
+        return r;
+    if (node < 0)
+        return SINEW_OK; /* targets something an extension defines */
+    const char *path = string_at(target, "path");
+    int kind = !path                               ? -2
+               : strcmp(path, "translation") == 0 ? SINEW_CHANNEL_TRANSLATION
+               : strcmp(path, "rotation") == 0    ? SINEW_CHANNEL_ROTATION
+               : strcmp(path, "scale") == 0       ? SINEW_CHANNEL_SCALE
+               : strcmp(path, "weights") == 0     ? -1
+                                                  : -2;
+    if (kind == -2)
+        return fail_at(g, "%s.target.path: \"%s\" is not translation, rotation, scale or weights", where,
+                       path ? path : "(none)");
+    if (kind == -1) {
+        (*weights)++;
+        return SINEW_OK;
+    }
+    const cJSON *s = cJSON_GetArrayItem(samplers, sampler);
+    char sw[64];
+    snprintf(sw, sizeof sw, "animations[%d].samplers[%d]", a, sampler);
+    const char *how = string_at(s, "interpolation");
+    uint32_t interp = !how || strcmp(how, "LINEAR") == 0 ? SINEW_INTERP_LINEAR
+                      : strcmp(how, "STEP") == 0          ? SINEW_INTERP_STEP
+                      : strcmp(how, "CUBICSPLINE") == 0   ? SINEW_INTERP_CUBIC
+                                                          : UINT32_MAX;
+    if (interp == UINT32_MAX)
+        return fail_at(g, "%s.interpolation: \"%s\" is not LINEAR, STEP or CUBICSPLINE", sw, how);
+    int input, output;
+    if ((r = index_at(g, s, "input", sw, cJSON_GetArraySize(g->accessors), true, &input)) ||
+        (r = index_at(g, s, "output", sw, cJSON_GetArraySize(g->accessors), true, &output)))
+        return r;
+    int width = kind == SINEW_CHANNEL_ROTATION ? 4 : 3;
+    double *times = NULL, *values = NULL;
+    uint32_t nt = 0, nv = 0;
+    char use[96];
+    snprintf(use, sizeof use, "%s input", sw);
+    if ((r = read_accessor(g, input, use, 1, FLOAT_ONLY, &times, &nt)))
+        return r;
+    snprintf(use, sizeof use, "%s output", sw);
+    if ((r = read_accessor(g, output, use, width, kind == SINEW_CHANNEL_ROTATION ? ROTATION_TYPES : FLOAT_ONLY,
+                           &values, &nv))) {
+        free(times);
+        return r;
+    }
+    uint32_t per_key = interp == SINEW_INTERP_CUBIC ? 3 : 1;
+    for (uint32_t k = 0; k < nt && !r; k++)
+        if (times[k] < 0 || (k > 0 && times[k] <= times[k - 1]))
+            r = fail_at(g, "%s input: key %u at %g s is negative or not after the key before it", sw, k, times[k]);
+    if (!r && nv != nt * per_key)
+        r = fail_at(g, "%s: %u output values for %u keys (%s needs %u a key)", sw, nv, nt, how ? how : "LINEAR",
+                    per_key);
+    raw_track *track = NULL;
+    uint32_t at = g->node_of[node];
+    for (uint32_t t = 0; t < clip->track_count && !r; t++)
+        if (clip->tracks[t].node == at)
+            track = &clip->tracks[t];
+    if (!r && !track) {
+        track = &clip->tracks[clip->track_count++];
+        track->node = at;
+    }
+    raw_channel *ch = r ? NULL : &track->channels[kind];
+    if (ch && ch->count)
+        r = fail_at(g, "%s: a second channel for the %s of node %d", where, path, node);
+    if (!r) {
+        ch->times = malloc((size_t)nt * sizeof *ch->times);
+        ch->values = malloc((size_t)nv * (size_t)width * sizeof *ch->values);
+        if (!ch->times || !ch->values)
+            r = oom(g);
+    }
+    if (!r) {
+        ch->interp = interp;
+        ch->count = nt;
+        for (uint32_t k = 0; k < nt; k++) {
+            ch->times[k] = (float)times[k];
+            clip->duration = fmaxf(clip->duration, (float)times[k]);
+        }
+        for (size_t k = 0; k < (size_t)nv * (size_t)width; k++)
+            ch->values[k] = (float)values[k];
+    }
+    free(times);
+    free(values);
+    return r;
+}
+
+static sinew_result build_clips(gltf *g)
+{
+    raw_model *m = g->m;
+    const cJSON *animations;
+    sinew_result r = top_array(g, "animations", &animations);
+    int n = cJSON_GetArraySize(animations);
+    if (r || n == 0)
+        return r;
+    if (!(m->clips = calloc((size_t)n, sizeof *m->clips)))
+        return oom(g);
+    for (int a = 0; a < n; a++) {
+        const cJSON *anim = cJSON_GetArrayItem(animations, a);
+        raw_clip *clip = &m->clips[m->clip_count++];
+        const char *name = string_at(anim, "name");
+        char fallback[32];
+        snprintf(fallback, sizeof fallback, "clip %d", a);
+        const cJSON *channels = cJSON_GetObjectItemCaseSensitive(anim, "channels");
+        int count = cJSON_GetArraySize(channels);
+        if (!(clip->name = raw_strdup(name && *name ? name : fallback)) ||
+            !(clip->tracks = calloc(count ? (size_t)count : 1, sizeof *clip->tracks)))
+            return oom(g);
+        uint32_t weights = 0;
+        for (int c = 0; c < count; c++)
+            if ((r = read_channel(g, a, c, clip, &weights)))
+                return r;
+        if (weights && !raw_model_warn(m, "%s: clip \"%s\" animates morph target weights (%u channels); sinew plays "
+                                          "the skeleton only",
+                                       g->path, clip->name, weights))
+            return oom(g);
+    }
+    return SINEW_OK;
+}
+
+/* ---- entry ---------------------------------------------------------------------------- */
+
+sinew_result raw_model_from_gltf(const char *path, const unsigned char *bytes, size_t size, raw_model *model,
+                                 sinew_error *error)
+{
+    memset(model, 0, sizeof *model);
+    gltf g = {.path = path, .m = model, .error = error, .file = bytes, .file_size = size};
+    model->source = raw_strdup(path);
+    model->format = raw_strdup(gltf_sniff(bytes, size) ? "glb" : "gltf");
+    sinew_result r = !model->source || !model->format ? oom(&g) : load_document(&g);
+    const cJSON *buffers = NULL;
+    if (!r)
+        r = top_array(&g, "buffers", &buffers);
+    if (!r && (g.buffer_count = cJSON_GetArraySize(buffers)) > 0 &&
+        !(g.buffers = calloc((size_t)g.buffer_count, sizeof *g.buffers)))
+        r = oom(&g);
+    if (!r)
+        r = top_array(&g, "accessors", &g.accessors);
+    if (!r)
+        r = top_array(&g, "bufferViews", &g.views);
+    if (!r)
+        r = top_array(&g, "nodes", &g.nodes);
+    if (!r)
+        r = top_array(&g, "meshes", &g.meshes);
+    if (!r)
+        r = top_array(&g, "skins", &g.skins);
+    if (!r)
+        r = top_array(&g, "materials", &g.materials);
+    if (!r)
+        r = top_array(&g, "textures", &g.textures);
+    if (!r)
+        r = top_array(&g, "images", &g.images);
+    g.node_count = cJSON_GetArraySize(g.nodes);
+    if (!r)
+        r = build_nodes(&g);
+    if (!r)
+        r = build_materials(&g);
+    if (!r)
+        r = build_skins(&g);
+    if (!r)
+        r = build_meshes(&g);
+    if (!r)
+        r = build_clips(&g);
+    for (int i = 0; i < g.buffer_count; i++)
+        if (g.buffers[i].owned)
+            free(g.buffers[i].bytes);
+    free(g.buffers);
+    free(g.node_of);
+    free(g.in_scene);
+    free(g.keys);
+    free(g.uv_transform);
+    free(g.has_uv_transform);
+    cJSON_Delete(g.json);
+    if (r)
+        raw_model_free(model);
+    return r;
+}
