@@ -41,8 +41,8 @@ typedef struct blob {
 } blob;
 
 typedef struct mesh_key {
-    int mesh, skin;     /* glTF mesh, glTF skin (-1: rigid) */
-    uint32_t first;     /* its raw meshes */
+    int mesh, skin; /* glTF mesh, glTF skin (-1: rigid) */
+    uint32_t first; /* its raw meshes */
     uint32_t count;
 } mesh_key;
 
@@ -100,8 +100,8 @@ static const cJSON *member(const cJSON *object, const char *key, int type, bool 
 }
 
 /* An integer member in [lo, hi]; `fallback` when absent. */
-static sinew_result int_at(gltf *g, const cJSON *object, const char *key, const char *where, long long lo,
-                           long long hi, long long fallback, long long *out)
+static sinew_result int_at(gltf *g, const cJSON *object, const char *key, const char *where, long long lo, long long hi,
+                           long long fallback, long long *out)
 {
     const cJSON *item = cJSON_GetObjectItemCaseSensitive(object, key);
     if (!item) {
@@ -116,8 +116,8 @@ static sinew_result int_at(gltf *g, const cJSON *object, const char *key, const 
 }
 
 /* An index member into an array of `count`; -1 when absent and not required. */
-static sinew_result index_at(gltf *g, const cJSON *object, const char *key, const char *where, int count,
-                             bool required, int *out)
+static sinew_result index_at(gltf *g, const cJSON *object, const char *key, const char *where, int count, bool required,
+                             int *out)
 {
     if (required && !cJSON_GetObjectItemCaseSensitive(object, key))
         return fail_at(g, "%s: no \"%s\"", where, key);
@@ -228,23 +228,26 @@ static sinew_result load_document(gltf *g)
     if (!version)
         return fail_at(g, "asset.version: missing (not a glTF 2.0 file)");
     if (strncmp(version, "2.", 2) != 0)
-        return fail_at(g, "asset.version is \"%s\" (sinew reads glTF 2.0; glTF 1.0 goes through Assimp with "
-                          "SINEW_IMPORTER=assimp)",
+        return fail_at(g,
+                       "asset.version is \"%s\" (sinew reads glTF 2.0; glTF 1.0 goes through Assimp with "
+                       "SINEW_IMPORTER=assimp)",
                        version);
     const cJSON *required = cJSON_GetObjectItemCaseSensitive(g->json, "extensionsRequired"), *e;
     cJSON_ArrayForEach(e, required)
     {
         if (!cJSON_IsString(e))
             continue;
-        if (strcmp(e->valuestring, "KHR_mesh_quantization") == 0 || strcmp(e->valuestring, "KHR_texture_transform") == 0)
+        if (strcmp(e->valuestring, "KHR_mesh_quantization") == 0 ||
+            strcmp(e->valuestring, "KHR_texture_transform") == 0)
             continue;
         if (strcmp(e->valuestring, "KHR_draco_mesh_compression") == 0 ||
             strcmp(e->valuestring, "EXT_meshopt_compression") == 0)
-            return fail_at(g, "requires %s (compressed geometry), which sinew does not decode; export it again "
-                              "without compression",
+            return fail_at(g,
+                           "requires %s (compressed geometry), which sinew does not decode; export it again "
+                           "without compression",
                            e->valuestring);
-        if (!raw_model_warn(g->m, "%s: requires the extension %s, which sinew does not know; it is ignored",
-                            g->path, e->valuestring))
+        if (!raw_model_warn(g->m, "%s: requires the extension %s, which sinew does not know; it is ignored", g->path,
+                            e->valuestring))
             return oom(g);
     }
     return SINEW_OK;
@@ -450,8 +453,8 @@ static sinew_result view_span(gltf *g, int view, long long offset, long long cou
 
 /* Accessor `index` as doubles (count * components, malloc'd), with `want` components
  * (SCALAR 1, VECn n, MAT4 16) and a component type among `types` (a 0-terminated list). */
-static sinew_result read_accessor(gltf *g, int index, const char *use, int want, const long long *types,
-                                  double **out, uint32_t *out_count)
+static sinew_result read_accessor(gltf *g, int index, const char *use, int want, const long long *types, double **out,
+                                  uint32_t *out_count)
 {
     *out = NULL;
     char where[96];
@@ -635,8 +638,8 @@ static sinew_result add_subtree(gltf *g, walk *w, int root)
                 return fail_at(g, "%s.children[%d]: not a node index", where, k);
             int child = (int)v;
             if (w->parent[child] != -2)
-                return fail_at(g, "%s.children[%d]: node %d has more than one parent, or is its own ancestor",
-                               where, k, child);
+                return fail_at(g, "%s.children[%d]: node %d has more than one parent, or is its own ancestor", where, k,
+                               child);
             w->parent[child] = i;
             g->node_of[child] = at;
             w->stack[top++] = child;
@@ -663,8 +666,8 @@ static sinew_result build_nodes(gltf *g)
     int *order = malloc((size_t)n * sizeof *order);
     walk w = {malloc((size_t)n * sizeof(int)), malloc((size_t)n * sizeof(int))};
     sinew_result r = SINEW_OK;
-    if (!m->node_names || !m->node_parents || !m->node_rest || !g->node_of || !g->in_scene || !has_parent ||
-        !is_root || !order || !w.stack || !w.parent)
+    if (!m->node_names || !m->node_parents || !m->node_rest || !g->node_of || !g->in_scene || !has_parent || !is_root ||
+        !order || !w.stack || !w.parent)
         r = oom(g);
     for (int i = 0; i < n && !r; i++) {
         w.parent[i] = -2;
@@ -799,8 +802,8 @@ static sinew_result build_materials(gltf *g)
         if ((r = index_at(g, info, "index", where, cJSON_GetArraySize(g->textures), true, &texture)) ||
             (r = int_at(g, info, "texCoord", where, 0, 255, 0, &set)))
             return r;
-        const cJSON *tt =
-            cJSON_GetObjectItemCaseSensitive(cJSON_GetObjectItemCaseSensitive(info, "extensions"), "KHR_texture_transform");
+        const cJSON *tt = cJSON_GetObjectItemCaseSensitive(cJSON_GetObjectItemCaseSensitive(info, "extensions"),
+                                                           "KHR_texture_transform");
         if (tt) {
             static const double zero2[2] = {0, 0}, one2[2] = {1, 1}, zero1[1] = {0};
             double offset[2], scale[2], rotation = 0;
@@ -824,8 +827,9 @@ static sinew_result build_materials(gltf *g)
             t[5] = (float)offset[1];
             g->has_uv_transform[i] = true;
         }
-        if (set != 0 && !raw_model_warn(m, "%s: material \"%s\" maps its texture with TEXCOORD_%lld; sinew uses "
-                                           "TEXCOORD_0",
+        if (set != 0 && !raw_model_warn(m,
+                                        "%s: material \"%s\" maps its texture with TEXCOORD_%lld; sinew uses "
+                                        "TEXCOORD_0",
                                         g->path, out->name, set))
             return oom(g);
         if ((r = texture_path(g, texture, out->name, &out->diffuse_texture)))
@@ -969,8 +973,8 @@ static sinew_result primitive_influences(gltf *g, const cJSON *attrs, const char
                 if (w > 0 && j >= (float)joint_count) {
                     free(joints);
                     free(weights);
-                    return fail_at(g, "%s: JOINTS_%d of vertex %u names joint %.0f of a skin with %u joints", where,
-                                   s, v, j, joint_count);
+                    return fail_at(g, "%s: JOINTS_%d of vertex %u names joint %.0f of a skin with %u joints", where, s,
+                                   v, j, joint_count);
                 }
                 out->joints[at] = w > 0 ? (uint32_t)j : 0;
                 out->weights[at] = w;
@@ -1232,7 +1236,7 @@ static sinew_result read_channel(gltf *g, int a, int c, raw_clip *clip, uint32_t
     if (node < 0)
         return SINEW_OK; /* targets something an extension defines */
     const char *path = string_at(target, "path");
-    int kind = !path                               ? -2
+    int kind = !path                              ? -2
                : strcmp(path, "translation") == 0 ? SINEW_CHANNEL_TRANSLATION
                : strcmp(path, "rotation") == 0    ? SINEW_CHANNEL_ROTATION
                : strcmp(path, "scale") == 0       ? SINEW_CHANNEL_SCALE
@@ -1250,9 +1254,9 @@ static sinew_result read_channel(gltf *g, int a, int c, raw_clip *clip, uint32_t
     snprintf(sw, sizeof sw, "animations[%d].samplers[%d]", a, sampler);
     const char *how = string_at(s, "interpolation");
     uint32_t interp = !how || strcmp(how, "LINEAR") == 0 ? SINEW_INTERP_LINEAR
-                      : strcmp(how, "STEP") == 0          ? SINEW_INTERP_STEP
-                      : strcmp(how, "CUBICSPLINE") == 0   ? SINEW_INTERP_CUBIC
-                                                          : UINT32_MAX;
+                      : strcmp(how, "STEP") == 0         ? SINEW_INTERP_STEP
+                      : strcmp(how, "CUBICSPLINE") == 0  ? SINEW_INTERP_CUBIC
+                                                         : UINT32_MAX;
     if (interp == UINT32_MAX)
         return fail_at(g, "%s.interpolation: \"%s\" is not LINEAR, STEP or CUBICSPLINE", sw, how);
     int input, output;
@@ -1267,8 +1271,8 @@ static sinew_result read_channel(gltf *g, int a, int c, raw_clip *clip, uint32_t
     if ((r = read_accessor(g, input, use, 1, FLOAT_ONLY, &times, &nt)))
         return r;
     snprintf(use, sizeof use, "%s output", sw);
-    if ((r = read_accessor(g, output, use, width, kind == SINEW_CHANNEL_ROTATION ? ROTATION_TYPES : FLOAT_ONLY,
-                           &values, &nv))) {
+    if ((r = read_accessor(g, output, use, width, kind == SINEW_CHANNEL_ROTATION ? ROTATION_TYPES : FLOAT_ONLY, &values,
+                           &nv))) {
         free(times);
         return r;
     }
@@ -1337,8 +1341,9 @@ static sinew_result build_clips(gltf *g)
         for (int c = 0; c < count; c++)
             if ((r = read_channel(g, a, c, clip, &weights)))
                 return r;
-        if (weights && !raw_model_warn(m, "%s: clip \"%s\" animates morph target weights (%u channels); sinew plays "
-                                          "the skeleton only",
+        if (weights && !raw_model_warn(m,
+                                       "%s: clip \"%s\" animates morph target weights (%u channels); sinew plays "
+                                       "the skeleton only",
                                        g->path, clip->name, weights))
             return oom(g);
     }

@@ -1,0 +1,232 @@
+/* sinew's own glTF reader (src/import/gltf.c) on sinew's fixtures (tests/fixtures/make_gltf.py):
+ * nodes by index whatever their names, each sampler's interpolation, KHR_mesh_quantization
+ * and sparse accessors, KHR_texture_transform, and refusals that say where the file is wrong. */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include <cjson/cJSON.h>
+
+#include "helpers.h"
+
+static const sinew_track *track_of(const sinew_clip *clip, uint32_t node)
+{
+    for (uint32_t t = 0; t < clip->track_count; t++)
+        if (clip->tracks[t].node == node)
+            return &clip->tracks[t];
+    return NULL;
+}
+
+static void sample(const sinew_model *m, float t, sinew_transform *locals)
+{
+    sinew_sample_desc desc = {
+        .model = m, .clip = &m->clips[0], .time = t, .locals = locals, .local_count = m->node_count};
+    assert_int_equal(sinew_sample(&desc, NULL), SINEW_OK);
+}
+
+/* No names at all: the tip joint is node 2 (the file's node 2), its rotation CUBICSPLINE,
+ * translation LINEAR, scale STEP, exactly as in the named fixture. */
+static void test_unnamed_nodes(void **state)
+{
+    (void)state;
+    char path[1024];
+    sinew_model *m = load_or_fail(fixture_path("two_bone_unnamed.gltf", path, sizeof path));
+    assert_int_equal(m->node_count, 3);
+    assert_string_equal(m->node_names[2], "nodes[2]");
+    assert_int_equal(m->node_parents[2], 1);
+    const sinew_track *track = track_of(&m->clips[0], 2);
+    assert_non_null(track);
+    assert_int_equal(track->channels[SINEW_CHANNEL_ROTATION].interp, SINEW_INTERP_CUBIC);
+    assert_int_equal(track->channels[SINEW_CHANNEL_TRANSLATION].interp, SINEW_INTERP_LINEAR);
+    assert_int_equal(track->channels[SINEW_CHANNEL_SCALE].interp, SINEW_INTERP_STEP);
+    sinew_transform locals[3];
+    sample(m, 0.25f, locals);
+    double h = 0.15625, z = h * sqrt(0.5), w = (1 - h) + h * sqrt(0.5), len = sqrt(z * z + w * w);
+    assert_near(locals[2].rotation[2], z / len, 1e-6, "cubic rotation z at 1/4");
+    assert_near(locals[2].translation[1], 1.25, 1e-6, "linear translation at 1/4");
+    assert_near(locals[2].scale[0], 1, 0, "step scale holds");
+    sinew_model_free(m);
+}
+
+/* Every node named "bone": the channels still land on node 2; rotation STEP, translation
+ * CUBICSPLINE from 1 to 2 with slope 3 at both keys. */
+static void test_repeated_names(void **state)
+{
+    (void)state;
+    char path[1024];
+    sinew_model *m = load_or_fail(fixture_path("two_bone_repeated.gltf", path, sizeof path));
+    for (uint32_t i = 0; i < m->node_count; i++)
+        assert_string_equal(m->node_names[i], "bone");
+    assert_int_equal(m->clips[0].track_count, 1);
+    assert_int_equal(m->clips[0].tracks[0].node, 2);
+    sinew_transform locals[3];
+    sample(m, 0.5f, locals);
+    assert_near(locals[2].rotation[3], 1, 1e-7, "step rotation holds until the next key");
+    /* Hermite at u = 1/4: h00 1 + h10 3 + h01 2 + h11 3 = 0.84375 + 0.421875 + 0.3125 - 0.140625 */
+    sample(m, 0.25f, locals);
+    assert_near(locals[2].translation[1], 1.4375, 1e-6, "cubic translation at 1/4");
+    sample(m, 1.0f, locals);
+    assert_near(locals[2].rotation[2], sqrt(0.5), 1e-6, "step rotation at the key");
+    assert_near(locals[1].rotation[3], 1, 0, "the untracked node keeps its rest");
+    sinew_model_free(m);
+}
+
+/* KHR_mesh_quantization (unsigned-short positions, normalised-byte normals, UVs and weights,
+ * byte joints), the top positions from a sparse accessor, and the texture transform
+ * (u' = 0.5 u + 0.5) applied to the UVs; the missing image is a warning. */
+static void test_quantized_sparse_texture_transform(void **state)
+{
+    (void)state;
+    char path[1024];
+    sinew_model *m = load_or_fail(fixture_path("two_bone_quantized.gltf", path, sizeof path));
+    assert_int_equal(m->mesh_count, 1);
+    const sinew_mesh *mesh = &m->meshes[0];
+    static const float positions[12] = {0, 0, 0, 1, 0, 0, 0, 2, 0, 1, 2, 0};
+    static const float uvs[8] = {0.5f, 0, 1, 0, 0.5f, 1, 1, 1};
+    for (int i = 0; i < 12; i++)
+        assert_near(mesh->positions[i], positions[i], 0, "quantized + sparse position");
+    for (int i = 0; i < 8; i++)
+        assert_near(mesh->uvs[i], uvs[i], 1e-7, "transformed UV");
+    for (uint32_t v = 0; v < 4; v++) {
+        assert_near(mesh->normals[v * 3 + 2], 1, 1e-6, "normalised-byte normal");
+        assert_near(mesh->weights[v * mesh->influence_count], 1, 1e-6, "normalised-byte weight");
+        assert_int_equal(mesh->joints[v * mesh->influence_count], v < 2 ? 0 : 1);
+    }
+    assert_int_equal(m->material_count, 1);
+    assert_near(m->materials[0].base_color[1], 0.5, 0, "base colour factor");
+    assert_null(m->materials[0].diffuse_texture);
+    bool warned = false;
+    for (uint32_t i = 0; i < m->warning_count; i++)
+        warned |= strstr(m->warnings[i], "missing_atlas.png") != NULL;
+    assert_true(warned);
+    sinew_model_free(m);
+}
+
+/* The cubic fixture with one edit (a JSON path and a new value) must be refused with a
+ * message that names the file and says `needle`. */
+typedef struct edit {
+    const char *what;
+    const char *path[8]; /* object keys and array indices ("#2") */
+    const char *json;    /* the new value; NULL removes it */
+    const char *needle;
+} edit;
+
+static cJSON *walk(cJSON *at, const char *key)
+{
+    return key[0] == '#' ? cJSON_GetArrayItem(at, atoi(key + 1)) : cJSON_GetObjectItemCaseSensitive(at, key);
+}
+
+static void check_edit(const edit *e, const char *text)
+{
+    cJSON *doc = cJSON_Parse(text);
+    cJSON *parent = doc;
+    int depth = 0;
+    while (e->path[depth + 1])
+        parent = walk(parent, e->path[depth++]);
+    assert_non_null(parent);
+    const char *last = e->path[depth];
+    cJSON *value = e->json ? cJSON_Parse(e->json) : NULL;
+    if (last[0] == '#') {
+        if (value)
+            cJSON_ReplaceItemInArray(parent, atoi(last + 1), value);
+        else
+            cJSON_DeleteItemFromArray(parent, atoi(last + 1));
+    } else if (value) {
+        if (cJSON_GetObjectItemCaseSensitive(parent, last))
+            cJSON_ReplaceItemInObjectCaseSensitive(parent, last, value);
+        else
+            cJSON_AddItemToObject(parent, last, value);
+    } else {
+        cJSON_DeleteItemFromObjectCaseSensitive(parent, last);
+    }
+    char *out = cJSON_Print(doc);
+    char file[1024];
+    tmp_path("edited.gltf", file, sizeof file);
+    write_file(file, out, strlen(out));
+    sinew_model *m = NULL;
+    sinew_error error = {0};
+    sinew_import_desc desc = {.path = file, .in_process = true};
+    sinew_result r = sinew_import(&desc, &m, &error);
+    if (r == SINEW_OK)
+        fail_msg("%s: accepted", e->what);
+    if (!strstr(error.message, file) || !strstr(error.message, e->needle))
+        fail_msg("%s: message \"%s\" should name the file and say \"%s\"", e->what, error.message, e->needle);
+    print_message("%-40s %s\n", e->what, error.message + strlen(file) + 2);
+    free(out);
+    cJSON_Delete(doc);
+}
+
+static void test_refusals_say_where(void **state)
+{
+    (void)state;
+    static const edit edits[] = {
+        {"accessor count past its view",
+         {"accessors", "#0", "count", NULL},
+         "5",
+         "accessors[0] (meshes[0].primitives[0] POSITION)"},
+        {"indices not in threes", {"accessors", "#4", "count", NULL}, "4", "not a whole number of triangles"},
+        {"attribute counts differ", {"accessors", "#0", "count", NULL}, "3", "NORMAL has 4 elements, POSITION has 3"},
+        {"indices of float", {"meshes", "#0", "primitives", "#0", "indices", NULL}, "6", "componentType 5126"},
+        {"view past its buffer", {"bufferViews", "#0", "byteLength", NULL}, "100000", "bufferViews[0]"},
+        {"stride smaller than an element", {"bufferViews", "#0", "byteStride", NULL}, "8", "byteStride 8"},
+        {"child that is no node", {"nodes", "#1", "children", NULL}, "[7]", "nodes[1].children[0]"},
+        {"a cycle of children", {"nodes", "#2", "children", NULL}, "[1]", "also a child"},
+        {"a node that is its own child", {"nodes", "#2", "children", NULL}, "[2]", "more than one parent"},
+        {"skin joint that is no node", {"skins", "#0", "joints", NULL}, "[1, 9]", "skins[0].joints[1]"},
+        {"unknown interpolation",
+         {"animations", "#0", "samplers", "#0", "interpolation", NULL},
+         "\"SMOOTH\"",
+         "SMOOTH"},
+        {"cubic output of the wrong length",
+         {"animations", "#0", "samplers", "#0", "interpolation", NULL},
+         "\"LINEAR\"",
+         "6 output values for 2 keys"},
+        {"not glTF 2", {"asset", "version", NULL}, "\"1.0\"", "glTF 2.0"},
+        {"compressed geometry", {"extensionsRequired", NULL}, "[\"KHR_draco_mesh_compression\"]", "draco"},
+        {"mesh index out of range", {"nodes", "#0", "mesh", NULL}, "3", "nodes[0].mesh"},
+        {"no POSITION", {"meshes", "#0", "primitives", "#0", "attributes", "POSITION", NULL}, NULL, "no POSITION"},
+        {"matrix of 15 numbers", {"nodes", "#1", "matrix", NULL}, "[1,0,0,0,0,1,0,0,0,0,1,0,0,0,0]", "nodes[1].matrix"},
+        {"bad base64", {"buffers", "#0", "uri", NULL}, "\"data:application/octet-stream;base64,@@@@\"", "base64"},
+    };
+    char src[1024];
+    size_t size;
+    char *text = read_file(fixture_path("two_bone_cubic.gltf", src, sizeof src), &size);
+    assert_non_null(text);
+    char *z = realloc(text, size + 1);
+    z[size] = 0;
+    for (size_t i = 0; i < sizeof edits / sizeof edits[0]; i++)
+        check_edit(&edits[i], z);
+    free(z);
+}
+
+/* A .glb whose header lies about its length, and a .glb that is not binary glTF. */
+static void test_glb_header(void **state)
+{
+    (void)state;
+    char src[1024], file[1024];
+    size_t size;
+    unsigned char *bytes = read_file(fixture_path("two_bone_cubic.glb", src, sizeof src), &size);
+    bytes[8] ^= 1;
+    write_file(tmp_path("length.glb", file, sizeof file), bytes, size);
+    sinew_model *m = NULL;
+    sinew_error error = {0};
+    assert_int_equal(sinew_import(&(sinew_import_desc){.path = file}, &m, &error), SINEW_ERROR_FORMAT);
+    assert_non_null(strstr(error.message, "GLB header: length"));
+    write_file(tmp_path("text.glb", file, sizeof file), "{\"asset\":{}}", 12);
+    assert_int_equal(sinew_import(&(sinew_import_desc){.path = file}, &m, &error), SINEW_ERROR_FORMAT);
+    assert_non_null(strstr(error.message, "not a binary glTF"));
+    free(bytes);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_unnamed_nodes),
+        cmocka_unit_test(test_repeated_names),
+        cmocka_unit_test(test_quantized_sparse_texture_transform),
+        cmocka_unit_test(test_refusals_say_where),
+        cmocka_unit_test(test_glb_header),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}
