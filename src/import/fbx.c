@@ -35,7 +35,6 @@
 
 #define FBX_TICKS_PER_SECOND 46186158000.0
 #define FBX_BAKE_TOLERANCE 2e-7
-#define FBX_BAKE_MAX_DEPTH 10
 #define FBX_MAX_NODES (1u << 20)
 
 enum {
@@ -1694,121 +1693,22 @@ static sinew_result build_meshes(scene *s)
 
 /* ---- clips ---------------------------------------------------------------------------- */
 
-/* A baked key: time, value and one-sided derivatives (per second) of the ten numbers of a
- * local transform: translation 0..2, rotation 3..6 (x, y, z, w), scale 7..9. */
-typedef struct bake_key {
-    float time;
-    double value[10], in[10], out[10];
-} bake_key;
-
-typedef struct bake {
+/* The baker's view of a node: its exact local transform at clip time t (seconds). */
+typedef struct bake_node {
     const scene *s;
     uint32_t model;
     int32_t stack;
     double start;
-    double tol_t, tol_r, tol_s;
-    uint32_t count, capacity;
-    bake_key *keys;
-    uint64_t *budget; /* keys the whole clip may still add by halving */
-    bool failed;
-} bake;
+} bake_node;
 
-/* The local transform at clip time `t` as ten numbers, its rotation on the side of `near`'s. */
-static void bake_eval(const bake *b, double t, const double *near, double out[10])
+static void bake_node_eval(const void *context, double t, bake_trs *out)
 {
+    const bake_node *n = context;
     local_trs l;
-    node_local(b->s, b->model, b->stack, b->start + t * FBX_TICKS_PER_SECOND, &l);
-    double d = near ? l.q[0] * near[3] + l.q[1] * near[4] + l.q[2] * near[5] + l.q[3] * near[6] : 1.0;
-    for (int c = 0; c < 3; c++) {
-        out[c] = l.t[c];
-        out[7 + c] = l.s[c];
-    }
-    for (int c = 0; c < 4; c++)
-        out[3 + c] = d < 0 ? -l.q[c] : l.q[c];
-}
-
-/* A key at `t`: its value (rotation on the side of `near`) and its derivatives from each side
- * (second-order one-sided differences over `h` seconds, inside the neighbouring intervals). */
-static void bake_key_at(const bake *b, double t, double h, const double *near, bake_key *k)
-{
-    double f1[10], f2[10], g1[10], g2[10];
-    k->time = (float)t;
-    bake_eval(b, t, near, k->value);
-    bake_eval(b, t - h, k->value, f1);
-    bake_eval(b, t - 2 * h, k->value, f2);
-    bake_eval(b, t + h, k->value, g1);
-    bake_eval(b, t + 2 * h, k->value, g2);
-    for (int c = 0; c < 10; c++) {
-        k->in[c] = (3 * k->value[c] - 4 * f1[c] + f2[c]) / (2 * h);
-        k->out[c] = (-3 * k->value[c] + 4 * g1[c] - g2[c]) / (2 * h);
-    }
-}
-
-static void bake_push(bake *b, const bake_key *k)
-{
-    if (b->failed)
-        return;
-    if (b->count == b->capacity) {
-        uint32_t cap = b->capacity ? b->capacity * 2 : 16;
-        bake_key *keys = realloc(b->keys, cap * sizeof *keys);
-        if (!keys) {
-            b->failed = true;
-            return;
-        }
-        b->keys = keys;
-        b->capacity = cap;
-    }
-    b->keys[b->count++] = *k;
-}
-
-/* The runtime's cubic Hermite between two keys at u (rotation normalised, as sinew_sample). */
-static void hermite10(const bake_key *a, const bake_key *c, double u, double out[10])
-{
-    double dt = (double)c->time - a->time, u2 = u * u, u3 = u2 * u;
-    double h00 = 2 * u3 - 3 * u2 + 1, h10 = u3 - 2 * u2 + u, h01 = -2 * u3 + 3 * u2, h11 = u3 - u2;
-    for (int i = 0; i < 10; i++)
-        out[i] = h00 * a->value[i] + h10 * dt * a->out[i] + h01 * c->value[i] + h11 * dt * c->in[i];
-    double n = sqrt(out[3] * out[3] + out[4] * out[4] + out[5] * out[5] + out[6] * out[6]);
-    for (int i = 3; i < 7 && n > 0; i++)
-        out[i] /= n;
-}
-
-/* Whether the interpolation of a..c is within the tolerances of the exact transform. */
-static bool within(const bake *b, const double got[10], const double exact[10])
-{
-    double d = fabs(got[3] * exact[3] + got[4] * exact[4] + got[5] * exact[5] + got[6] * exact[6]);
-    if (2 * acos(fmin(d, 1.0)) > b->tol_r)
-        return false;
-    for (int k = 0; k < 3; k++)
-        if (fabs(got[k] - exact[k]) > b->tol_t ||
-            fabs(got[7 + k] - exact[7 + k]) > b->tol_s * fmax(1.0, fabs(exact[7 + k])))
-            return false;
-    return true;
-}
-
-/* Adds keys after a up to and including c (a is already there): halves the interval where
- * the Hermite curve of the two keys strays from the exact transform. */
-static void bake_interval(bake *b, const bake_key *a, const bake_key *c, int depth)
-{
-    double ta = a->time, tc = c->time;
-    float mid = (float)(ta + (tc - ta) / 2);
-    bool splittable = depth<FBX_BAKE_MAX_DEPTH && * b->budget> 0 && mid > ta && mid < tc;
-    bool fine = true;
-    for (int k = 1; k <= 3 && fine && splittable; k++) {
-        double u = k / 4.0, exact[10], got[10];
-        bake_eval(b, ta + (tc - ta) * u, a->value, exact);
-        hermite10(a, c, u, got);
-        fine = within(b, got, exact);
-    }
-    if (fine || !splittable) {
-        bake_push(b, c);
-        return;
-    }
-    (*b->budget)--;
-    bake_key m;
-    bake_key_at(b, mid, fmin(1e-4, (tc - ta) / 8), a->value, &m);
-    bake_interval(b, a, &m, depth + 1);
-    bake_interval(b, &m, c, depth + 1);
+    node_local(n->s, n->model, n->stack, n->start + t * FBX_TICKS_PER_SECOND, &l);
+    memcpy(out->t, l.t, sizeof out->t);
+    memcpy(out->q, l.q, sizeof out->q);
+    memcpy(out->s, l.s, sizeof out->s);
 }
 
 static int compare_float(const void *a, const void *b)
@@ -1875,55 +1775,6 @@ static bool model_animated(const scene *s, uint32_t model, int32_t stack)
     return false;
 }
 
-/* True when a channel's keys all hold the rest value and do not move. */
-static bool channel_at_rest(const bake *b, int first, int width, const float *rest)
-{
-    bool negated = true, same = true;
-    for (uint32_t k = 0; k < b->count; k++)
-        for (int c = 0; c < width; c++) {
-            double v = b->keys[k].value[first + c], tol = 1e-7 * fmax(1.0, fabs(rest[c]));
-            same &= fabs(v - rest[c]) <= tol;
-            negated &= width == 4 && fabs(v + rest[c]) <= tol;
-            same &= fabs(b->keys[k].in[first + c]) <= 1e-6 && fabs(b->keys[k].out[first + c]) <= 1e-6;
-            negated &= fabs(b->keys[k].in[first + c]) <= 1e-6 && fabs(b->keys[k].out[first + c]) <= 1e-6;
-        }
-    return same || negated;
-}
-
-/* A baked node's keys as the three cubic channels of a raw track (a channel that holds the
- * rest value throughout is left out). */
-static bool fill_track(raw_track *track, const bake *b, const sinew_transform *rest)
-{
-    static const int first[SINEW_CHANNEL_COUNT] = {0, 3, 7};
-    for (int kind = 0; kind < SINEW_CHANNEL_COUNT; kind++) {
-        int width = kind == SINEW_CHANNEL_ROTATION ? 4 : 3;
-        const float *rv = kind == SINEW_CHANNEL_TRANSLATION ? rest->translation
-                          : kind == SINEW_CHANNEL_ROTATION  ? rest->rotation
-                                                            : rest->scale;
-        if (channel_at_rest(b, first[kind], width, rv))
-            continue;
-        float *values = malloc((size_t)b->count * 3 * width * sizeof *values);
-        float *times = malloc(b->count * sizeof *times);
-        if (!values || !times) {
-            free(values);
-            free(times);
-            return false;
-        }
-        for (uint32_t k = 0; k < b->count; k++) {
-            const bake_key *key = &b->keys[k];
-            times[k] = key->time;
-            float *v = values + (size_t)k * 3 * width;
-            for (int c = 0; c < width; c++) {
-                v[c] = (float)key->in[first[kind] + c];
-                v[width + c] = (float)key->value[first[kind] + c];
-                v[2 * width + c] = (float)key->out[first[kind] + c];
-            }
-        }
-        track->channels[kind] = (raw_channel){SINEW_INTERP_CUBIC, b->count, times, values};
-    }
-    return true;
-}
-
 /* The stack's time span: LocalStart..LocalStop, else the span of its keys. */
 static void stack_span(const scene *s, uint32_t stack, double *start, double *stop)
 {
@@ -1984,33 +1835,17 @@ static sinew_result build_clip(scene *s, uint32_t stack)
         /* Translation tolerance relative to the rest pose's size in the file's units: the
          * local translation is in the parent's space, which under a scaled parent is not the
          * world's (the check against ufbx bounds the result in world space). */
-        bake b = {.s = s,
-                  .model = model,
-                  .stack = (int32_t)stack,
-                  .start = start,
-                  .tol_t = FBX_BAKE_TOLERANCE * s->diagonal,
-                  .tol_r = FBX_BAKE_TOLERANCE,
-                  .tol_s = FBX_BAKE_TOLERANCE,
-                  .budget = &budget};
-        bake_key prev, next;
-        for (uint32_t k = 0; k < n && !b.failed; k++) {
-            /* Derivatives from inside the neighbouring intervals: a step between two keys a
-             * float apart has none to speak of, and a key's own step is kept out of them. */
-            double gap =
-                fmin(k > 0 ? times[k] - times[k - 1] : INFINITY, k + 1 < n ? times[k + 1] - times[k] : INFINITY);
-            double h = fmin(1e-4, (isfinite(gap) ? gap : 1.0) / 8);
-            bake_key_at(&b, times[k], h > 0 ? h : 1e-7, k ? prev.value : NULL, &next);
-            if (k == 0)
-                bake_push(&b, &next);
-            else
-                bake_interval(&b, &prev, &next, 0);
-            prev = next;
-        }
-        free(times);
+        bake_node node = {s, model, (int32_t)stack, start};
+        bake_desc desc = {.eval = bake_node_eval,
+                          .context = &node,
+                          .tol_t = FBX_BAKE_TOLERANCE * s->diagonal,
+                          .tol_r = FBX_BAKE_TOLERANCE,
+                          .tol_s = FBX_BAKE_TOLERANCE,
+                          .budget = &budget};
         raw_track *track = &clip->tracks[clip->track_count++];
         track->node = i;
-        bool ok = !b.failed && fill_track(track, &b, &m->node_rest[i]);
-        free(b.keys);
+        bool ok = bake_track(&desc, times, n, &m->node_rest[i], track);
+        free(times);
         if (!ok)
             return oom(s);
     }

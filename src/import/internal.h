@@ -107,6 +107,24 @@ bool raw_channel_even(raw_channel *c, int kind, float duration, uint32_t keys);
 raw_clip *raw_model_add_rotation_clip(raw_model *model, const char *name, float duration, uint32_t track_count,
                                       uint32_t keys);
 
+/* A local transform in doubles: translation, rotation (x, y, z, w), scale. */
+typedef struct bake_trs {
+    double t[3], q[4], s[3];
+} bake_trs;
+
+typedef struct bake_desc {
+    void (*eval)(const void *context, double time, bake_trs *out); /* exact, at clip time (s) */
+    const void *context;
+    double tol_t, tol_r, tol_s; /* translation (file units), rotation (rad), relative scale */
+    uint64_t *budget;           /* keys the whole clip may still add by halving */
+} bake_desc;
+
+/* Bakes one node's track (bake.c): keys at `times` (sorted, distinct; include the instant
+ * before each step), intervals halved until the runtime's cubic Hermite is within the
+ * tolerances; channels that hold the rest value throughout are left out. False when out
+ * of memory. */
+bool bake_track(const bake_desc *d, const float *times, uint32_t n, const sinew_transform *rest, raw_track *track);
+
 /* Reads a whole file into *bytes (malloc'd, with a NUL byte after the end); false when it
  * cannot be read. */
 bool import_read_file(const char *path, unsigned char **bytes, size_t *size);

@@ -1,0 +1,195 @@
+/* Clips baked from an exact evaluation: the keys of a node's track as cubic Hermite keys
+ * (value and one-sided derivatives at each key time), intervals halved where the runtime's
+ * Hermite curve misses the exact transform by more than the tolerances at 1/4, 1/2, 3/4.
+ * Used where a file's curves are not the runtime's (FBX Euler curves with Bezier weights,
+ * COLLADA transform stacks with Bezier or Hermite samplers).
+ */
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "internal.h"
+
+#define BAKE_MAX_DEPTH 10
+
+/* A baked key: time, value and one-sided derivatives (per second) of the ten numbers of a
+ * local transform: translation 0..2, rotation 3..6 (x, y, z, w), scale 7..9. */
+typedef struct bake_key {
+    float time;
+    double value[10], in[10], out[10];
+} bake_key;
+
+typedef struct bake {
+    const bake_desc *d;
+    uint32_t count, capacity;
+    bake_key *keys;
+    bool failed;
+} bake;
+
+/* The local transform at clip time `t` as ten numbers, its rotation on the side of `near`'s. */
+static void bake_eval(const bake *b, double t, const double *near, double out[10])
+{
+    bake_trs l;
+    b->d->eval(b->d->context, t, &l);
+    double d = near ? l.q[0] * near[3] + l.q[1] * near[4] + l.q[2] * near[5] + l.q[3] * near[6] : 1.0;
+    for (int c = 0; c < 3; c++) {
+        out[c] = l.t[c];
+        out[7 + c] = l.s[c];
+    }
+    for (int c = 0; c < 4; c++)
+        out[3 + c] = d < 0 ? -l.q[c] : l.q[c];
+}
+
+/* A key at `t`: its value (rotation on the side of `near`) and its derivatives from each side
+ * (second-order one-sided differences over `h` seconds, inside the neighbouring intervals). */
+static void bake_key_at(const bake *b, double t, double h, const double *near, bake_key *k)
+{
+    double f1[10], f2[10], g1[10], g2[10];
+    k->time = (float)t;
+    bake_eval(b, t, near, k->value);
+    bake_eval(b, t - h, k->value, f1);
+    bake_eval(b, t - 2 * h, k->value, f2);
+    bake_eval(b, t + h, k->value, g1);
+    bake_eval(b, t + 2 * h, k->value, g2);
+    for (int c = 0; c < 10; c++) {
+        k->in[c] = (3 * k->value[c] - 4 * f1[c] + f2[c]) / (2 * h);
+        k->out[c] = (-3 * k->value[c] + 4 * g1[c] - g2[c]) / (2 * h);
+    }
+}
+
+static void bake_push(bake *b, const bake_key *k)
+{
+    if (b->failed)
+        return;
+    if (b->count == b->capacity) {
+        uint32_t cap = b->capacity ? b->capacity * 2 : 16;
+        bake_key *keys = realloc(b->keys, cap * sizeof *keys);
+        if (!keys) {
+            b->failed = true;
+            return;
+        }
+        b->keys = keys;
+        b->capacity = cap;
+    }
+    b->keys[b->count++] = *k;
+}
+
+/* The runtime's cubic Hermite between two keys at u (rotation normalised, as sinew_sample). */
+static void hermite10(const bake_key *a, const bake_key *c, double u, double out[10])
+{
+    double dt = (double)c->time - a->time, u2 = u * u, u3 = u2 * u;
+    double h00 = 2 * u3 - 3 * u2 + 1, h10 = u3 - 2 * u2 + u, h01 = -2 * u3 + 3 * u2, h11 = u3 - u2;
+    for (int i = 0; i < 10; i++)
+        out[i] = h00 * a->value[i] + h10 * dt * a->out[i] + h01 * c->value[i] + h11 * dt * c->in[i];
+    double n = sqrt(out[3] * out[3] + out[4] * out[4] + out[5] * out[5] + out[6] * out[6]);
+    for (int i = 3; i < 7 && n > 0; i++)
+        out[i] /= n;
+}
+
+/* Whether the interpolation of a..c is within the tolerances of the exact transform. */
+static bool within(const bake *b, const double got[10], const double exact[10])
+{
+    double d = fabs(got[3] * exact[3] + got[4] * exact[4] + got[5] * exact[5] + got[6] * exact[6]);
+    if (2 * acos(fmin(d, 1.0)) > b->d->tol_r)
+        return false;
+    for (int k = 0; k < 3; k++)
+        if (fabs(got[k] - exact[k]) > b->d->tol_t ||
+            fabs(got[7 + k] - exact[7 + k]) > b->d->tol_s * fmax(1.0, fabs(exact[7 + k])))
+            return false;
+    return true;
+}
+
+/* Adds keys after a up to and including c (a is already there): halves the interval where
+ * the Hermite curve of the two keys strays from the exact transform. */
+static void bake_interval(bake *b, const bake_key *a, const bake_key *c, int depth)
+{
+    double ta = a->time, tc = c->time;
+    float mid = (float)(ta + (tc - ta) / 2);
+    bool splittable = depth<BAKE_MAX_DEPTH && * b->d->budget> 0 && mid > ta && mid < tc;
+    bool fine = true;
+    for (int k = 1; k <= 3 && fine && splittable; k++) {
+        double u = k / 4.0, exact[10], got[10];
+        bake_eval(b, ta + (tc - ta) * u, a->value, exact);
+        hermite10(a, c, u, got);
+        fine = within(b, got, exact);
+    }
+    if (fine || !splittable) {
+        bake_push(b, c);
+        return;
+    }
+    (*b->d->budget)--;
+    bake_key m;
+    bake_key_at(b, mid, fmin(1e-4, (tc - ta) / 8), a->value, &m);
+    bake_interval(b, a, &m, depth + 1);
+    bake_interval(b, &m, c, depth + 1);
+}
+
+/* True when a channel's keys all hold the rest value and do not move. */
+static bool channel_at_rest(const bake *b, int first, int width, const float *rest)
+{
+    bool negated = true, same = true;
+    for (uint32_t k = 0; k < b->count; k++)
+        for (int c = 0; c < width; c++) {
+            double v = b->keys[k].value[first + c], tol = 1e-7 * fmax(1.0, fabs(rest[c]));
+            same &= fabs(v - rest[c]) <= tol;
+            negated &= width == 4 && fabs(v + rest[c]) <= tol;
+            same &= fabs(b->keys[k].in[first + c]) <= 1e-6 && fabs(b->keys[k].out[first + c]) <= 1e-6;
+            negated &= fabs(b->keys[k].in[first + c]) <= 1e-6 && fabs(b->keys[k].out[first + c]) <= 1e-6;
+        }
+    return same || negated;
+}
+
+/* A baked node's keys as the three cubic channels of a raw track (a channel that holds the
+ * rest value throughout is left out). */
+static bool fill_track(raw_track *track, const bake *b, const sinew_transform *rest)
+{
+    static const int first[SINEW_CHANNEL_COUNT] = {0, 3, 7};
+    for (int kind = 0; kind < SINEW_CHANNEL_COUNT; kind++) {
+        int width = kind == SINEW_CHANNEL_ROTATION ? 4 : 3;
+        const float *rv = kind == SINEW_CHANNEL_TRANSLATION ? rest->translation
+                          : kind == SINEW_CHANNEL_ROTATION  ? rest->rotation
+                                                            : rest->scale;
+        if (channel_at_rest(b, first[kind], width, rv))
+            continue;
+        float *values = malloc((size_t)b->count * 3 * width * sizeof *values);
+        float *times = malloc(b->count * sizeof *times);
+        if (!values || !times) {
+            free(values);
+            free(times);
+            return false;
+        }
+        for (uint32_t k = 0; k < b->count; k++) {
+            const bake_key *key = &b->keys[k];
+            times[k] = key->time;
+            float *v = values + (size_t)k * 3 * width;
+            for (int c = 0; c < width; c++) {
+                v[c] = (float)key->in[first[kind] + c];
+                v[width + c] = (float)key->value[first[kind] + c];
+                v[2 * width + c] = (float)key->out[first[kind] + c];
+            }
+        }
+        track->channels[kind] = (raw_channel){SINEW_INTERP_CUBIC, b->count, times, values};
+    }
+    return true;
+}
+
+bool bake_track(const bake_desc *d, const float *times, uint32_t n, const sinew_transform *rest, raw_track *track)
+{
+    bake b = {.d = d};
+    bake_key prev, next;
+    for (uint32_t k = 0; k < n && !b.failed; k++) {
+        /* Derivatives from inside the neighbouring intervals: a step between two keys a
+         * float apart has none to speak of, and a key's own step is kept out of them. */
+        double gap = fmin(k > 0 ? times[k] - times[k - 1] : INFINITY, k + 1 < n ? times[k + 1] - times[k] : INFINITY);
+        double h = fmin(1e-4, (isfinite(gap) ? gap : 1.0) / 8);
+        bake_key_at(&b, times[k], h > 0 ? h : 1e-7, k ? prev.value : NULL, &next);
+        if (k == 0)
+            bake_push(&b, &next);
+        else
+            bake_interval(&b, &prev, &next, 0);
+        prev = next;
+    }
+    bool ok = !b.failed && fill_track(track, &b, rest);
+    free(b.keys);
+    return ok;
+}
