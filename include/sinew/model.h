@@ -104,7 +104,7 @@ typedef struct sinew_mesh {
     uint32_t index_count;   /* triangles * 3 */
     const float *positions; /* 3 floats a vertex, mesh space */
     const float *normals;   /* 3 floats a vertex */
-    const float *uvs;       /* 2 floats a vertex, or NULL */
+    const float *uvs;       /* 2 floats a vertex (v up: 0 is the image's bottom row), or NULL */
     const uint32_t *indices;
     uint32_t influence_count; /* per vertex, 0 for a rigid mesh, at most SINEW_MAX_INFLUENCES */
     const uint16_t *joints;   /* influence_count a vertex, indices into the skin's joints */

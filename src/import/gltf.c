@@ -1047,13 +1047,15 @@ static sinew_result read_primitive(gltf *g, int mesh, int k, int skin, raw_mesh 
         (r = attribute(g, attrs, "TEXCOORD_0", where, 2, UV_TYPES, n, &out->uvs)) ||
         (r = primitive_indices(g, prim, where, mode, n, out)))
         return r;
-    if (out->uvs && material >= 0 && g->has_uv_transform[material]) {
-        const float *t = g->uv_transform[material];
-        for (uint32_t i = 0; i < n; i++) {
-            float u = out->uvs[i * 2], v = out->uvs[i * 2 + 1];
+    /* The texture transform in glTF's UV space (v down), then v up as the runtime has it. */
+    for (uint32_t i = 0; out->uvs && i < n; i++) {
+        float u = out->uvs[i * 2], v = out->uvs[i * 2 + 1];
+        if (material >= 0 && g->has_uv_transform[material]) {
+            const float *t = g->uv_transform[material];
             out->uvs[i * 2] = t[0] * u + t[1] * v + t[2];
-            out->uvs[i * 2 + 1] = t[3] * u + t[4] * v + t[5];
+            v = t[3] * u + t[4] * v + t[5];
         }
+        out->uvs[i * 2 + 1] = 1.0f - v;
     }
     if (skin >= 0) {
         uint32_t joints = g->m->skins[skin].joint_count;
