@@ -44,13 +44,15 @@ golden: build
 FUZZ_SECONDS ?= 60
 fuzz: deps
 	@cmake -S . -B build-fuzz -DCMAKE_C_COMPILER=clang -DSINEW_FUZZ=ON -DSINEW_TESTS=OFF -DCMAKE_BUILD_TYPE=RelWithDebInfo >/dev/null
-	@cmake --build build-fuzz -j $(JOBS) --target fuzz_model fuzz_fbx fuzz_gltf
-	@mkdir -p build-fuzz/corpus-model build-fuzz/corpus-fbx build-fuzz/seeds-fbx build-fuzz/corpus-gltf build-fuzz/seeds-gltf
+	@cmake --build build-fuzz -j $(JOBS) --target fuzz_model fuzz_fbx fuzz_gltf fuzz_collada
+	@mkdir -p build-fuzz/corpus-model build-fuzz/corpus-fbx build-fuzz/seeds-fbx build-fuzz/corpus-gltf build-fuzz/seeds-gltf build-fuzz/corpus-collada build-fuzz/seeds-collada
 	@cp tests/fixtures/*.fbx build-fuzz/seeds-fbx/
 	@cp tests/fixtures/*.gltf tests/fixtures/*.glb build-fuzz/seeds-gltf/
+	@cp tests/fixtures/*.dae build-fuzz/seeds-collada/
 	@cd build-fuzz && ./fuzz_model -max_total_time=$(FUZZ_SECONDS) -max_len=65536 corpus-model ../fuzz/corpus
 	@cd build-fuzz && ./fuzz_fbx -max_total_time=$(FUZZ_SECONDS) -max_len=65536 -timeout=10 -rss_limit_mb=4096 corpus-fbx seeds-fbx
 	@cd build-fuzz && ./fuzz_gltf -max_total_time=$(FUZZ_SECONDS) -max_len=65536 -timeout=10 -rss_limit_mb=4096 corpus-gltf seeds-gltf
+	@cd build-fuzz && ./fuzz_collada -max_total_time=$(FUZZ_SECONDS) -max_len=65536 -timeout=10 -rss_limit_mb=4096 corpus-collada seeds-collada
 
 clean:
 	rm -rf $(BUILD) $(BUILD_SAN) build-fuzz

@@ -129,7 +129,7 @@ static sinew_result raw_model_read(const char *path, bool assimp, raw_model *raw
 {
     if (assimp)
         return raw_model_from_assimp(path, raw, error);
-    unsigned char head[64];
+    unsigned char head[1024];
     size_t head_size = read_head(path, head, sizeof head);
     bool fbx = fbx_sniff(head, head_size);
     if (!fbx && has_extension(path, ".fbx"))
@@ -138,9 +138,12 @@ static sinew_result raw_model_read(const char *path, bool assimp, raw_model *raw
     if (!gltf_sniff(head, head_size) && has_extension(path, ".glb"))
         return sinew_fail(error, SINEW_ERROR_FORMAT, "%s: not a binary glTF file (it does not start with \"glTF\")",
                           path);
-    native_reader reader = fbx                                                                    ? raw_model_from_fbx
+    /* COLLADA's own reader (collada.c) is not the default yet: it poses every testdata file
+     * as three.js does, but names, instancing and the demo round trip still differ from
+     * what the rest of sinew expects of .dae files (see the issue's notes). */
+    native_reader reader = fbx                                                           ? raw_model_from_fbx
                            : gltf_sniff(head, head_size) || has_extension(path, ".gltf") ? raw_model_from_gltf
-                                                                                                  : NULL;
+                                                                                          : NULL;
     if (!reader)
         return raw_model_from_assimp(path, raw, error);
     unsigned char *bytes = NULL;

@@ -159,6 +159,14 @@ sinew_result raw_model_from_fbx(const char *path, const unsigned char *bytes, si
 sinew_result raw_model_from_gltf(const char *path, const unsigned char *bytes, size_t size, raw_model *model,
                                  sinew_error *error);
 
+/* Reads a COLLADA 1.4/1.5 file (its bytes already in memory; UTF-8 or UTF-16) with sinew's
+ * own reader (collada.c): joints bound by SID, samplers kept or baked exactly, clip windows. */
+sinew_result raw_model_from_collada(const char *path, const unsigned char *bytes, size_t size, raw_model *model,
+                                    sinew_error *error);
+
+/* True when the first bytes hold a <COLLADA> root (UTF-8 or UTF-16). */
+bool collada_sniff(const unsigned char *head, size_t size);
+
 /* True when the bytes start a binary glTF (.glb). */
 bool gltf_sniff(const unsigned char *head, size_t size);
 
