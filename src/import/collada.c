@@ -1440,7 +1440,7 @@ static sinew_result read_channel(collada *c, xmlNode *channel, xmlNode *top)
     if (!r && (out.count != n || out.stride != (uint32_t)k.count))
         r = fail(c, sampler, "%u outputs of %u numbers for %u keys of a target of %d numbers", out.count, out.stride, n,
                  k.count);
-    if (!r && how.count && (how.count != n || !how.names))
+    if (!r && (how.count || how.names || how.v) && (how.count != n || !how.names))
         r = fail(c, sampler, "INTERPOLATION has %u names for %u keys", how.count, n);
     bool tangents = false;
     if (!r && n) {
