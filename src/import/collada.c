@@ -1188,7 +1188,7 @@ static sinew_result read_skin(collada *c, xmlNode *instance, xmlNode *skin, skin
     uint32_t bind_shape_weights = 0;
     for (long i = 0; i < count && !r; i++) {
         double n = vcount[i];
-        if (!(n >= 0 && n == floor(n)) || at + (size_t)n * (size_t)stride > nv) {
+        if (!(n >= 0 && n == floor(n) && n <= nv) || at + (size_t)n * (size_t)stride > nv) {
             r = fail(c, vw, "vertex %ld: %g influences, more than <v> holds", i, n);
             break;
         }
