@@ -9,6 +9,7 @@
 #include <string.h>
 
 #include "internal.h"
+#include "sinew/anim.h"
 
 #define BAKE_MAX_DEPTH 10
 
@@ -192,4 +193,36 @@ bool bake_track(const bake_desc *d, const float *times, uint32_t n, const sinew_
     bool ok = !b.failed && fill_track(track, &b, rest);
     free(b.keys);
     return ok;
+}
+
+bool raw_model_rest_diagonal(const raw_model *m, double *diagonal)
+{
+    uint32_t n = m->node_count;
+    *diagonal = 1.0;
+    if (n == 0)
+        return true;
+    sinew_transform *locals = malloc(n * sizeof *locals);
+    sinew_mat4 *w = malloc(n * sizeof *w);
+    if (!locals || !w) {
+        free(locals);
+        free(w);
+        return false;
+    }
+    memcpy(locals, m->node_rest, n * sizeof *locals);
+    locals[0] = (sinew_transform){{0, 0, 0}, {0, 0, 0, 1}, {1, 1, 1}};
+    const sinew_model view = {
+        .node_count = n, .node_parents = m->node_parents, .node_rest = m->node_rest, .node_inherit = m->node_inherit};
+    sinew_local_to_world(&view, locals, n, NULL, w, n, NULL);
+    double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
+    for (uint32_t i = 0; i < n; i++)
+        for (int c = 0; c < 3; c++) {
+            lo[c] = fmin(lo[c], w[i].m[12 + c]);
+            hi[c] = fmax(hi[c], w[i].m[12 + c]);
+        }
+    double d =
+        sqrt((hi[0] - lo[0]) * (hi[0] - lo[0]) + (hi[1] - lo[1]) * (hi[1] - lo[1]) + (hi[2] - lo[2]) * (hi[2] - lo[2]));
+    *diagonal = isfinite(d) && d > 0 ? d : 1.0;
+    free(locals);
+    free(w);
+    return true;
 }

@@ -52,10 +52,6 @@
 #define DAE_BAKE_TOLERANCE 2e-7  /* as the FBX reader's: rad, relative scale, of the scene's size */
 #define DAE_MAX_KEYS (1u << 24)  /* keys of one clip, after windows */
 
-typedef struct dmat {
-    double m[16]; /* column-major, as sinew_mat4 */
-} dmat;
-
 enum { KEY_STEP, KEY_LINEAR, KEY_BEZIER, KEY_HERMITE };
 
 typedef struct curve {
@@ -318,32 +314,6 @@ static sinew_result read_source(collada *c, xmlNode *src, source *out)
 
 /* ---- transforms ----------------------------------------------------------------------- */
 
-static dmat dmat_identity(void)
-{
-    dmat r = {{0}};
-    r.m[0] = r.m[5] = r.m[10] = r.m[15] = 1;
-    return r;
-}
-
-static dmat dmat_mul(const dmat *a, const dmat *b)
-{
-    dmat r;
-    for (int col = 0; col < 4; col++)
-        for (int row = 0; row < 4; row++) {
-            double s = 0;
-            for (int k = 0; k < 4; k++)
-                s += a->m[k * 4 + row] * b->m[col * 4 + k];
-            r.m[col * 4 + row] = s;
-        }
-    return r;
-}
-
-static void dmat_to_float(const dmat *a, sinew_mat4 *out)
-{
-    for (int i = 0; i < 16; i++)
-        out->m[i] = (float)a->m[i];
-}
-
 static void normalize3(double v[3])
 {
     double n = sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
@@ -387,9 +357,7 @@ static dmat element_matrix(const xmlNode *el, const double *v)
 {
     dmat m = dmat_identity();
     if (named(el, "matrix")) {
-        for (int row = 0; row < 4; row++)
-            for (int col = 0; col < 4; col++)
-                m.m[col * 4 + row] = v[row * 4 + col];
+        m = dmat_from_rows(v);
     } else if (named(el, "translate")) {
         m.m[12] = v[0], m.m[13] = v[1], m.m[14] = v[2];
     } else if (named(el, "rotate")) {
@@ -1051,9 +1019,7 @@ static sinew_result read_matrix16(collada *c, xmlNode *el, dmat *out)
         return r;
     if (n != 16)
         return fail(c, el, "%u numbers, not a 4x4 matrix", n);
-    for (int row = 0; row < 4; row++)
-        for (int col = 0; col < 4; col++)
-            out->m[col * 4 + row] = v[row * 4 + col];
+    *out = dmat_from_rows(v);
     return SINEW_OK;
 }
 
@@ -1129,11 +1095,7 @@ static sinew_result read_skin(collada *c, xmlNode *instance, xmlNode *skin, skin
                 break;
             }
             rs->joints[j] = (uint32_t)node;
-            dmat inv;
-            const double *v = &ibm.v[(size_t)j * ibm.stride];
-            for (int row = 0; row < 4; row++)
-                for (int col = 0; col < 4; col++)
-                    inv.m[col * 4 + row] = v[row * 4 + col];
+            dmat inv = dmat_from_rows(&ibm.v[(size_t)j * ibm.stride]);
             dmat both = dmat_mul(&inv, &bind_shape);
             dmat_to_float(&both, &rs->inverse_bind[j]);
         }
@@ -1632,24 +1594,7 @@ static void dmat_decompose(const dmat *m, bake_trs *out)
     for (int i = 0; i < 3; i++)
         for (int j = 0; j < 3; j++)
             r.m[i * 4 + j] = s[i] != 0 ? col[i][j] / s[i] : (i == j);
-    const double *a = r.m;
-    double trace = a[0] + a[5] + a[10], *q = out->q;
-    if (trace > 0) {
-        double w = sqrt(trace + 1.0) * 2;
-        q[3] = 0.25 * w, q[0] = (a[6] - a[9]) / w, q[1] = (a[8] - a[2]) / w, q[2] = (a[1] - a[4]) / w;
-    } else if (a[0] > a[5] && a[0] > a[10]) {
-        double w = sqrt(1.0 + a[0] - a[5] - a[10]) * 2;
-        q[3] = (a[6] - a[9]) / w, q[0] = 0.25 * w, q[1] = (a[4] + a[1]) / w, q[2] = (a[8] + a[2]) / w;
-    } else if (a[5] > a[10]) {
-        double w = sqrt(1.0 + a[5] - a[0] - a[10]) * 2;
-        q[3] = (a[8] - a[2]) / w, q[0] = (a[4] + a[1]) / w, q[1] = 0.25 * w, q[2] = (a[9] + a[6]) / w;
-    } else {
-        double w = sqrt(1.0 + a[10] - a[0] - a[5]) * 2;
-        q[3] = (a[1] - a[4]) / w, q[0] = (a[8] + a[2]) / w, q[1] = (a[9] + a[6]) / w, q[2] = 0.25 * w;
-    }
-    double n = sqrt(q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3]);
-    for (int i = 0; i < 4; i++)
-        q[i] = n > 0 ? q[i] / n : (i == 3);
+    dmat_quat(&r, out->q);
     for (int i = 0; i < 3; i++)
         out->s[i] = s[i];
 }
@@ -1865,31 +1810,6 @@ static sinew_result build_clips(collada *c)
 
 /* ---- entry ---------------------------------------------------------------------------- */
 
-/* The size of the scene at rest (file units), for the bake's translation tolerance. */
-static void measure(collada *c)
-{
-    raw_model *m = c->m;
-    dmat *w = malloc((m->node_count + 1) * sizeof *w);
-    double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
-    for (uint32_t i = 0; w && i < m->node_count; i++) {
-        sinew_mat4 f;
-        sinew_transform_to_mat4(&m->node_rest[i], &f);
-        dmat local;
-        for (int k = 0; k < 16; k++)
-            local.m[k] = f.m[k];
-        w[i] = m->node_parents[i] < 0 ? local : dmat_mul(&w[m->node_parents[i]], &local);
-        for (int k = 0; k < 3; k++) {
-            lo[k] = fmin(lo[k], w[i].m[12 + k]);
-            hi[k] = fmax(hi[k], w[i].m[12 + k]);
-        }
-    }
-    free(w);
-    double d = 0;
-    for (int k = 0; k < 3 && isfinite(lo[k]); k++)
-        d += (hi[k] - lo[k]) * (hi[k] - lo[k]);
-    c->diagonal = d > 0 ? sqrt(d) / c->scale : 1.0;
-}
-
 bool collada_sniff(const unsigned char *head, size_t size)
 {
     /* "<COLLADA" in the first bytes, in UTF-8 or (every other byte) UTF-16 */
@@ -1942,10 +1862,10 @@ sinew_result raw_model_from_collada(const char *path, const unsigned char *bytes
     }
     if (!r)
         r = build_meshes(&c);
-    if (!r) {
-        measure(&c);
+    if (!r && !raw_model_rest_diagonal(model, &c.diagonal))
+        r = oom(&c);
+    if (!r)
         r = build_clips(&c);
-    }
     for (uint32_t i = 0; i < c.curve_count; i++)
         curve_free(&c.curves[i]);
     free(c.curves);

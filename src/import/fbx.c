@@ -144,31 +144,8 @@ typedef struct scene {
     uint32_t model_count;
 } scene;
 
-typedef struct dmat {
-    double m[16]; /* column-major */
-} dmat;
 
 /* ---- small double-precision math ------------------------------------------------------- */
-
-static dmat dmat_identity(void)
-{
-    dmat r = {{0}};
-    r.m[0] = r.m[5] = r.m[10] = r.m[15] = 1.0;
-    return r;
-}
-
-static dmat dmat_mul(const dmat *a, const dmat *b)
-{
-    dmat r;
-    for (int c = 0; c < 4; c++)
-        for (int row = 0; row < 4; row++) {
-            double s = 0;
-            for (int k = 0; k < 4; k++)
-                s += a->m[k * 4 + row] * b->m[c * 4 + k];
-            r.m[c * 4 + row] = s;
-        }
-    return r;
-}
 
 /* Inverse of an affine matrix (last row 0 0 0 1); identity when singular. */
 static dmat dmat_inverse_affine(const dmat *a)
@@ -200,12 +177,6 @@ static void dmat_point(const dmat *a, const double p[3], double out[3])
         out[r] = a->m[r] * p[0] + a->m[4 + r] * p[1] + a->m[8 + r] * p[2] + a->m[12 + r];
 }
 
-static void dmat_to_float(const dmat *a, sinew_mat4 *out)
-{
-    for (int i = 0; i < 16; i++)
-        out->m[i] = (float)a->m[i];
-}
-
 /* Rotation matrix of Euler angles in degrees applied in `order` (FBX: 0 XYZ = X first,
  * then Y, then Z; 1 XZY, 2 YZX, 3 YXZ, 4 ZXY, 5 ZYX; 6 spheric XYZ is taken as XYZ). */
 static dmat euler_matrix(const double degrees[3], int order)
@@ -232,40 +203,6 @@ static dmat euler_matrix(const double degrees[3], int order)
         for (int row = 0; row < 3; row++)
             m.m[col * 4 + row] = r[col * 3 + row];
     return m;
-}
-
-static void matrix_quat(const dmat *a, double q[4])
-{
-    const double *m = a->m;
-    double m00 = m[0], m11 = m[5], m22 = m[10], trace = m00 + m11 + m22;
-    if (trace > 0) {
-        double s = sqrt(trace + 1.0) * 2;
-        q[3] = 0.25 * s;
-        q[0] = (m[6] - m[9]) / s;
-        q[1] = (m[8] - m[2]) / s;
-        q[2] = (m[1] - m[4]) / s;
-    } else if (m00 > m11 && m00 > m22) {
-        double s = sqrt(1.0 + m00 - m11 - m22) * 2;
-        q[3] = (m[6] - m[9]) / s;
-        q[0] = 0.25 * s;
-        q[1] = (m[4] + m[1]) / s;
-        q[2] = (m[8] + m[2]) / s;
-    } else if (m11 > m22) {
-        double s = sqrt(1.0 + m11 - m00 - m22) * 2;
-        q[3] = (m[8] - m[2]) / s;
-        q[0] = (m[4] + m[1]) / s;
-        q[1] = 0.25 * s;
-        q[2] = (m[9] + m[6]) / s;
-    } else {
-        double s = sqrt(1.0 + m22 - m00 - m11) * 2;
-        q[3] = (m[1] - m[4]) / s;
-        q[0] = (m[8] + m[2]) / s;
-        q[1] = (m[9] + m[6]) / s;
-        q[2] = 0.25 * s;
-    }
-    double n = sqrt(q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3]);
-    for (int i = 0; i < 4; i++)
-        q[i] /= n;
 }
 
 /* ---- objects ------------------------------------------------------------------------- */
@@ -863,7 +800,7 @@ static void node_local(const scene *s, uint32_t model, int32_t stack, double tic
         out->t[row] = t[row] + roff[row] + rp[row] - a[row] + b[row];
         out->s[row] = sc[row];
     }
-    matrix_quat(&rot, out->q);
+    dmat_quat(&rot, out->q);
 }
 
 /* The geometric transform: applied to what a node carries, not to its children. */
@@ -1052,32 +989,7 @@ static sinew_result build_nodes(scene *s)
  * types and all. */
 static sinew_result measure(scene *s)
 {
-    const raw_model *m = s->model;
-    uint32_t n = m->node_count;
-    sinew_transform *locals = malloc(n * sizeof *locals);
-    sinew_mat4 *w = malloc(n * sizeof *w);
-    if (!locals || !w) {
-        free(locals);
-        free(w);
-        return oom(s);
-    }
-    memcpy(locals, m->node_rest, n * sizeof *locals);
-    locals[0] = (sinew_transform){{0, 0, 0}, {0, 0, 0, 1}, {1, 1, 1}};
-    const sinew_model view = {
-        .node_count = n, .node_parents = m->node_parents, .node_rest = m->node_rest, .node_inherit = m->node_inherit};
-    sinew_local_to_world(&view, locals, n, NULL, w, n, NULL);
-    double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
-    for (uint32_t i = 0; i < n; i++)
-        for (int c = 0; c < 3; c++) {
-            lo[c] = fmin(lo[c], w[i].m[12 + c]);
-            hi[c] = fmax(hi[c], w[i].m[12 + c]);
-        }
-    double d =
-        sqrt((hi[0] - lo[0]) * (hi[0] - lo[0]) + (hi[1] - lo[1]) * (hi[1] - lo[1]) + (hi[2] - lo[2]) * (hi[2] - lo[2]));
-    s->diagonal = isfinite(d) && d > 0 ? d : 1.0;
-    free(locals);
-    free(w);
-    return SINEW_OK;
+    return raw_model_rest_diagonal(s->model, &s->diagonal) ? SINEW_OK : oom(s);
 }
 
 /* ---- meshes -------------------------------------------------------------------------- */

@@ -107,6 +107,21 @@ bool raw_channel_even(raw_channel *c, int kind, float duration, uint32_t keys);
 raw_clip *raw_model_add_rotation_clip(raw_model *model, const char *name, float duration, uint32_t track_count,
                                       uint32_t keys);
 
+/* Double-precision matrices (dmat.c), column-major as sinew_mat4, for readers that
+ * evaluate a file's transforms exactly. */
+typedef struct dmat {
+    double m[16];
+} dmat;
+
+dmat dmat_identity(void);
+dmat dmat_mul(const dmat *a, const dmat *b);
+/* A matrix written row by row (COLLADA's <matrix>, <bind_shape_matrix>, inverse binds). */
+dmat dmat_from_rows(const double v[16]);
+void dmat_to_float(const dmat *a, sinew_mat4 *out);
+/* The unit quaternion (x, y, z, w) of the rotation in a's upper 3x3 (orthonormal; the
+ * identity when it is degenerate). */
+void dmat_quat(const dmat *a, double q[4]);
+
 /* A local transform in doubles: translation, rotation (x, y, z, w), scale. */
 typedef struct bake_trs {
     double t[3], q[4], s[3];
@@ -124,6 +139,11 @@ typedef struct bake_desc {
  * tolerances; channels that hold the rest value throughout are left out. False when out
  * of memory. */
 bool bake_track(const bake_desc *d, const float *times, uint32_t n, const sinew_transform *rest, raw_track *track);
+
+/* The diagonal of the rest pose's node positions with the root (node 0, the file's axes and
+ * unit) left out: the scene's size in file units, for a bake's translation tolerance; 1
+ * when it has none. False when out of memory. */
+bool raw_model_rest_diagonal(const raw_model *model, double *diagonal);
 
 /* Reads a whole file into *bytes (malloc'd, with a NUL byte after the end); false when it
  * cannot be read. */
