@@ -88,6 +88,17 @@ void raw_clip_free(raw_clip *clip)
     free(clip->name);
 }
 
+void raw_mesh_free(raw_mesh *mesh)
+{
+    free(mesh->name);
+    free(mesh->positions);
+    free(mesh->normals);
+    free(mesh->uvs);
+    free(mesh->indices);
+    free(mesh->joints);
+    free(mesh->weights);
+}
+
 void raw_model_free(raw_model *m)
 {
     if (!m)
@@ -103,16 +114,8 @@ void raw_model_free(raw_model *m)
         free(m->skins[i].inverse_bind);
     }
     free(m->skins);
-    for (uint32_t i = 0; i < m->mesh_count; i++) {
-        raw_mesh *mesh = &m->meshes[i];
-        free(mesh->name);
-        free(mesh->positions);
-        free(mesh->normals);
-        free(mesh->uvs);
-        free(mesh->indices);
-        free(mesh->joints);
-        free(mesh->weights);
-    }
+    for (uint32_t i = 0; i < m->mesh_count; i++)
+        raw_mesh_free(&m->meshes[i]);
     free(m->meshes);
     free(m->instances);
     for (uint32_t i = 0; i < m->material_count; i++) {

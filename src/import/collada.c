@@ -387,8 +387,8 @@ static dmat element_matrix(const xmlNode *el, const double *v)
 }
 
 /* The node's local matrix: its transform elements in order, each with its numbers from
- * `values` (per element, in document order) or the file. */
-static dmat stack_matrix(collada *c, const xmlNode *node, const double *const *values)
+ * `values` (the first `value_count` elements, in document order) or the file. */
+static dmat stack_matrix(collada *c, const xmlNode *node, const double *const *values, int value_count)
 {
     dmat m = dmat_identity();
     int k = 0;
@@ -398,7 +398,7 @@ static dmat stack_matrix(collada *c, const xmlNode *node, const double *const *v
             continue;
         double v[16] = {0};
         uint32_t n = 0;
-        if (values && values[k])
+        if (k < value_count && values[k])
             memcpy(v, values[k], (size_t)size * sizeof *v);
         else
             parse_numbers(c, el, v, (uint32_t)size, &n);
@@ -491,7 +491,7 @@ static sinew_result add_node(collada *c, xmlNode *el, int32_t parent, int depth)
         if (!attr(el, "id", name, sizeof name) || !*name)
             if (!attr(el, "sid", name, sizeof name) || !*name)
                 snprintf(name, sizeof name, "node");
-    dmat local = stack_matrix(c, el, NULL);
+    dmat local = stack_matrix(c, el, NULL, 0);
     if ((r = push_node(c, name, parent, el, &local)))
         return r;
     int32_t self = (int32_t)c->m->node_count - 1;
@@ -601,24 +601,9 @@ static char *image_path(collada *c, xmlNode *image, const char *material)
     char name[4096], looked[8192];
     snprintf(name, sizeof name, "%s", text ? (const char *)text : "");
     xmlFree(text);
-    /* URIs: file:// prefixes and %20 escapes */
-    char *p = name;
-    if (strncmp(p, "file:///", 8) == 0)
-        p += 7;
-    else if (strncmp(p, "file://", 7) == 0)
-        p += 7;
+    /* URIs: a file:// prefix and %20 escapes */
     char decoded[4096];
-    size_t n = 0;
-    for (; *p && n + 1 < sizeof decoded; p++) {
-        unsigned hi, lo;
-        if (p[0] == '%' && p[1] && p[2] && sscanf(p + 1, "%1x%1x", &hi, &lo) == 2) {
-            decoded[n++] = (char)(hi * 16 + lo);
-            p += 2;
-        } else {
-            decoded[n++] = *p;
-        }
-    }
-    decoded[n] = 0;
+    import_uri_decode(strncmp(name, "file://", 7) == 0 ? name + 7 : name, decoded, sizeof decoded);
     /* Windows drive paths ("C:/...") are tried by name beside the model. */
     bool drive = decoded[0] && decoded[1] == ':';
     char *found = drive ? NULL : import_find_texture(c->path, decoded, false, looked, sizeof looked);
@@ -935,14 +920,7 @@ static sinew_result read_primitive(collada *c, xmlNode *el, const char *geometry
 
 static void prim_free(prim *p)
 {
-    raw_mesh *m = &p->mesh;
-    free(m->name);
-    free(m->positions);
-    free(m->normals);
-    free(m->uvs);
-    free(m->indices);
-    free(m->joints);
-    free(m->weights);
+    raw_mesh_free(&p->mesh);
     free(p->position_of);
     memset(p, 0, sizeof *p);
 }
@@ -1368,13 +1346,12 @@ static sinew_result parse_target(collada *c, xmlNode *channel, const char *targe
     return SINEW_OK;
 }
 
-static sinew_result read_channel(collada *c, xmlNode *channel, xmlNode *top)
+static sinew_result read_channel(collada *c, xmlNode *channel)
 {
     char target[1024];
     attr(channel, "target", target, sizeof target);
     curve k = {0};
     k.channel = channel;
-    (void)top;
     sinew_result r = parse_target(c, channel, target, &k);
     if (r || !k.xform)
         return r;
@@ -1467,16 +1444,18 @@ static sinew_result read_channel(collada *c, xmlNode *channel, xmlNode *top)
     return r;
 }
 
-static sinew_result read_animations(collada *c, xmlNode *parent, xmlNode *top, int depth)
+/* The channels of every <animation> under `parent` (depth 0: a <library_animations>), nested
+ * or not. */
+static sinew_result read_animations(collada *c, xmlNode *parent, int depth)
 {
     if (depth > DAE_MAX_DEPTH)
         return fail(c, parent, "animations nest deeper than %d", DAE_MAX_DEPTH);
     sinew_result r = SINEW_OK;
     for (xmlNode *a = parent ? parent->children : NULL; a && !r; a = a->next) {
         if (named(a, "animation"))
-            r = read_animations(c, a, top ? top : a, depth + 1);
-        else if (named(a, "channel") && top)
-            r = read_channel(c, a, top);
+            r = read_animations(c, a, depth + 1);
+        else if (named(a, "channel") && depth > 0)
+            r = read_channel(c, a);
     }
     return r;
 }
@@ -1547,33 +1526,43 @@ typedef struct node_anim {
     const uint32_t *curves;
     uint32_t count;
     double start; /* the clip's start on the file's timeline */
+    int elements; /* transform elements whose numbers are in `file` (at most DAE_MAX_ELEMENTS) */
+    double file[DAE_MAX_ELEMENTS][16];
 } node_anim;
+
+/* Reads the numbers of the node's transform elements once, before it is evaluated. */
+static void node_anim_init(node_anim *a)
+{
+    a->elements = 0;
+    for (xmlNode *el = a->el->children; el && a->elements < DAE_MAX_ELEMENTS; el = el->next) {
+        if (!element_size(el))
+            continue;
+        uint32_t n;
+        memset(a->file[a->elements], 0, sizeof a->file[0]);
+        parse_numbers(a->c, el, a->file[a->elements], 16, &n);
+        a->elements++;
+    }
+}
 
 static dmat animated_matrix(const node_anim *a, double t)
 {
     double values[DAE_MAX_ELEMENTS][16];
     const double *use[DAE_MAX_ELEMENTS] = {0};
     int k = 0;
-    for (xmlNode *el = a->el->children; el && k < DAE_MAX_ELEMENTS; el = el->next) {
+    for (xmlNode *el = a->el->children; el && k < a->elements; el = el->next) {
         if (!element_size(el))
             continue;
-        bool animated = false;
-        for (uint32_t i = 0; i < a->count && !animated; i++)
-            animated = a->c->curves[a->curves[i]].xform == el;
-        if (animated) {
-            uint32_t n;
-            parse_numbers(a->c, el, values[k], 16, &n);
-            for (uint32_t i = 0; i < a->count; i++) {
-                const curve *cv = &a->c->curves[a->curves[i]];
-                if (cv->xform == el)
-                    for (int j = 0; j < cv->count; j++)
-                        values[k][cv->first + j] = curve_at(cv, j, t);
-            }
-            use[k] = values[k];
+        memcpy(values[k], a->file[k], sizeof values[k]);
+        for (uint32_t i = 0; i < a->count; i++) {
+            const curve *cv = &a->c->curves[a->curves[i]];
+            if (cv->xform == el)
+                for (int j = 0; j < cv->count; j++)
+                    values[k][cv->first + j] = curve_at(cv, j, t);
         }
+        use[k] = values[k];
         k++;
     }
-    return stack_matrix(a->c, a->el, use);
+    return stack_matrix(a->c, a->el, use, k);
 }
 
 static void dmat_decompose(const dmat *m, bake_trs *out)
@@ -1660,7 +1649,8 @@ static sinew_result node_track(collada *c, raw_clip *clip, uint32_t node, const 
         if (u == 0 || times[i] != times[u - 1])
             times[u++] = times[i];
     n = u;
-    node_anim a = {c, c->node_el[node], curves, count, start};
+    node_anim a = {.c = c, .el = c->node_el[node], .curves = curves, .count = count, .start = start};
+    node_anim_init(&a);
     raw_track *track = &clip->tracks[clip->track_count++];
     track->node = node;
     sinew_result r = SINEW_OK;
@@ -1753,7 +1743,7 @@ static sinew_result build_clips(collada *c)
     xmlNode *lib = child(c->root, "library_animations");
     sinew_result r = SINEW_OK;
     for (; lib && !r; lib = next_named(lib, "library_animations"))
-        r = read_animations(c, lib, NULL, 0);
+        r = read_animations(c, lib, 0);
     if (r || c->curve_count == 0)
         return r;
     xmlNode *clips = child(c->root, "library_animation_clips");

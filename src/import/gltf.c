@@ -293,22 +293,6 @@ static bool base64_decode(const char *text, blob *out)
     return *p == 0;
 }
 
-/* Percent-decodes a relative URI into `out`. */
-static void uri_decode(const char *uri, char *out, size_t size)
-{
-    size_t n = 0;
-    for (const char *p = uri; *p && n + 1 < size; p++) {
-        int hi, lo;
-        if (p[0] == '%' && p[1] && p[2] && sscanf(p + 1, "%1x%1x", (unsigned *)&hi, (unsigned *)&lo) == 2) {
-            out[n++] = (char)(hi * 16 + lo);
-            p += 2;
-        } else {
-            out[n++] = *p;
-        }
-    }
-    out[n] = 0;
-}
-
 /* The bytes of buffer `index`: the GLB BIN chunk, a base64 data: URI, or a file beside the
  * document, at least as long as the buffer's byteLength. */
 static sinew_result buffer_bytes(gltf *g, int index, const blob **out)
@@ -344,7 +328,7 @@ static sinew_result buffer_bytes(gltf *g, int index, const blob **out)
         if (strstr(uri, "://"))
             return fail_at(g, "%s.uri: \"%.200s\" is not a file beside the model (sinew reads no URLs)", where, uri);
         char name[4096], file[8192];
-        uri_decode(uri, name, sizeof name);
+        import_uri_decode(uri, name, sizeof name);
         const char *slash = strrchr(g->path, '/');
         int dir = slash ? (int)(slash - g->path + 1) : 0;
         snprintf(file, sizeof file, "%.*s%s", dir, g->path, name);
@@ -756,7 +740,7 @@ static sinew_result texture_path(gltf *g, int texture, const char *material, cha
                    ? SINEW_OK
                    : oom(g);
     char name[4096], looked[8192];
-    uri_decode(uri, name, sizeof name);
+    import_uri_decode(uri, name, sizeof name);
     *out = import_find_texture(g->path, name, false, looked, sizeof looked);
     if (!*out)
         *out = import_find_texture(g->path, name, true, looked, sizeof looked);
@@ -805,14 +789,13 @@ static sinew_result build_materials(gltf *g)
         const cJSON *tt = cJSON_GetObjectItemCaseSensitive(cJSON_GetObjectItemCaseSensitive(info, "extensions"),
                                                            "KHR_texture_transform");
         if (tt) {
-            static const double zero2[2] = {0, 0}, one2[2] = {1, 1}, zero1[1] = {0};
+            static const double zero2[2] = {0, 0}, one2[2] = {1, 1};
             double offset[2], scale[2], rotation = 0;
             if ((r = numbers_at(g, tt, "offset", where, 2, zero2, offset)) ||
                 (r = numbers_at(g, tt, "scale", where, 2, one2, scale)) ||
                 (r = int_at(g, tt, "texCoord", where, 0, 255, set, &set)))
                 return r;
             const cJSON *rot = cJSON_GetObjectItemCaseSensitive(tt, "rotation");
-            (void)zero1;
             if (rot && !(cJSON_IsNumber(rot) && isfinite(rot->valuedouble)))
                 return fail_at(g, "%s: KHR_texture_transform.rotation is not a number", where);
             rotation = rot ? rot->valuedouble : 0;
@@ -1161,13 +1144,7 @@ static sinew_result meshes_for(gltf *g, int mesh, int skin, const mesh_key **out
         if (r)
             return r;
         if (rm->vertex_count == 0 || rm->index_count == 0) {
-            free(rm->name);
-            free(rm->positions);
-            free(rm->normals);
-            free(rm->uvs);
-            free(rm->indices);
-            free(rm->joints);
-            free(rm->weights);
+            raw_mesh_free(rm);
             m->mesh_count--;
         }
     }

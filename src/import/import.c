@@ -90,6 +90,21 @@ bool import_read_file(const char *path, unsigned char **bytes, size_t *size)
     return true;
 }
 
+void import_uri_decode(const char *uri, char *out, size_t size)
+{
+    size_t n = 0;
+    for (const char *p = uri; *p && n + 1 < size; p++) {
+        unsigned hi, lo;
+        if (p[0] == '%' && p[1] && p[2] && sscanf(p + 1, "%1x%1x", &hi, &lo) == 2) {
+            out[n++] = (char)(hi * 16 + lo);
+            p += 2;
+        } else {
+            out[n++] = *p;
+        }
+    }
+    out[n] = 0;
+}
+
 char *import_find_texture(const char *model_path, const char *reference, bool by_name, char *looked,
                           size_t looked_size)
 {

@@ -85,6 +85,9 @@ typedef struct raw_model {
 /* Frees what a raw clip points to (not the clip itself). */
 void raw_clip_free(raw_clip *clip);
 
+/* Frees what a raw mesh points to (not the mesh itself). */
+void raw_mesh_free(raw_mesh *mesh);
+
 /* Every pointer in a raw model is from malloc/calloc (or NULL); this frees them all. */
 void raw_model_free(raw_model *model);
 
@@ -148,6 +151,9 @@ bool raw_model_rest_diagonal(const raw_model *model, double *diagonal);
 /* Reads a whole file into *bytes (malloc'd, with a NUL byte after the end); false when it
  * cannot be read. */
 bool import_read_file(const char *path, unsigned char **bytes, size_t *size);
+
+/* A relative URI with its %XX escapes decoded, into `out` (cut to `size`). */
+void import_uri_decode(const char *uri, char *out, size_t size);
 
 /* A texture that a model file refers to, as the path of a regular file that exists (resolved),
  * or NULL: `reference` as written (absolute, or relative to the folder of `model_path`;
