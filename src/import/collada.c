@@ -598,20 +598,14 @@ static char *image_path(collada *c, xmlNode *image, const char *material)
     xmlNode *from = child(image, "init_from");
     xmlNode *ref = child(from, "ref"); /* 1.5 */
     xmlChar *text = xmlNodeGetContent(ref ? ref : from);
-    char name[4096], looked[8192];
+    char name[4096];
     snprintf(name, sizeof name, "%s", text ? (const char *)text : "");
     xmlFree(text);
     /* URIs: a file:// prefix and %20 escapes */
     char decoded[4096];
     import_uri_decode(strncmp(name, "file://", 7) == 0 ? name + 7 : name, decoded, sizeof decoded);
-    /* Windows drive paths ("C:/...") are tried by name beside the model. */
-    bool drive = decoded[0] && decoded[1] == ':';
-    char *found = drive ? NULL : import_find_texture(c->path, decoded, false, looked, sizeof looked);
-    if (!found)
-        found = import_find_texture(c->path, decoded, true, looked, sizeof looked);
-    if (!found)
-        raw_model_warn(c->m, "%s: material \"%s\": texture \"%s\" not found (looked for %s)", c->path, material,
-                       decoded, looked);
+    char *found = NULL;
+    import_material_texture(c->m, c->path, material, decoded, &found);
     return found;
 }
 

@@ -739,15 +739,9 @@ static sinew_result texture_path(gltf *g, int texture, const char *material, cha
                               g->path, material, image)
                    ? SINEW_OK
                    : oom(g);
-    char name[4096], looked[8192];
+    char name[4096];
     import_uri_decode(uri, name, sizeof name);
-    *out = import_find_texture(g->path, name, false, looked, sizeof looked);
-    if (!*out)
-        *out = import_find_texture(g->path, name, true, looked, sizeof looked);
-    if (!*out && !raw_model_warn(g->m, "%s: material \"%s\": texture \"%s\" not found (looked for %s)", g->path,
-                                 material, name, looked))
-        return oom(g);
-    return SINEW_OK;
+    return import_material_texture(g->m, g->path, material, name, out) ? SINEW_OK : oom(g);
 }
 
 static sinew_result build_materials(gltf *g)

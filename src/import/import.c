@@ -129,6 +129,18 @@ char *import_find_texture(const char *model_path, const char *reference, bool by
     return raw_strdup(realpath(path, resolved) ? resolved : path);
 }
 
+bool import_material_texture(raw_model *model, const char *model_path, const char *material, const char *reference,
+                             char **out)
+{
+    char looked[8192];
+    bool drive = reference[0] && reference[1] == ':';
+    *out = drive ? NULL : import_find_texture(model_path, reference, false, looked, sizeof looked);
+    if (!*out)
+        *out = import_find_texture(model_path, reference, true, looked, sizeof looked);
+    return *out || raw_model_warn(model, "%s: material \"%s\": texture \"%s\" not found (looked for %s)", model_path,
+                                  material, reference, looked);
+}
+
 static bool has_extension(const char *path, const char *ext)
 {
     size_t n = strlen(path), e = strlen(ext);

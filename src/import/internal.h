@@ -162,6 +162,12 @@ void import_uri_decode(const char *uri, char *out, size_t size);
 char *import_find_texture(const char *model_path, const char *reference, bool by_name, char *looked,
                           size_t looked_size);
 
+/* A material's texture: `reference` as written (unless it is a Windows drive path), then by
+ * its file name beside the model; *out NULL, with a warning naming `material`, when neither
+ * exists. False when out of memory. */
+bool import_material_texture(raw_model *model, const char *model_path, const char *material, const char *reference,
+                             char **out);
+
 /* Validates and repairs the raw model (sorting and limiting influences, sorting keys,
  * making consecutive rotation keys take the short way, computing missing normals) and
  * writes the runtime blob into *bytes (malloc'd). */
