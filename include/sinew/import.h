@@ -1,15 +1,20 @@
 /* sinew/import.h — reading animated characters from files.
  *
- * What: sinew_import() reads FBX 7.x (binary and ASCII) with sinew's own reader and any
- * other format Assimp reads (COLLADA, glTF/GLB, BVH, .x, MD5, SMD, IQM, ...), and builds a
- * runtime sinew_model: the skeleton from the node hierarchy, every mesh and skin, materials,
- * every clip in seconds, Y up, metres.
+ * What: sinew_import() reads FBX 7.x (binary and ASCII), glTF 2.0 (.gltf, .glb) and COLLADA
+ * 1.4/1.5 (.dae) with sinew's own readers and any other format Assimp reads (BVH, .x, MD5,
+ * SMD, IQM, 3DS, OBJ, ...), and builds a runtime sinew_model: the skeleton from the node
+ * hierarchy, every mesh and skin, materials, every clip in seconds, Y up, metres.
+ * COLLADA: joints bound by SID under the instance's <skeleton>, transform stacks evaluated in
+ * order, STEP/LINEAR keys kept, BEZIER/HERMITE curves and Euler-angle channels baked to cubic
+ * keys within the FBX tolerances below, <animation_clip>s as clips. glTF: nodes by index,
+ * samplers kept as written (STEP, LINEAR, CUBICSPLINE).
  * FBX is evaluated as Maya, 3ds Max and MotionBuilder evaluate it: pivots, offsets, pre- and
  * post-rotation, rotation order, geometric transforms, each node's inherit type (kept in
  * model->node_inherit), Bezier curves with weights and automatic tangents. Its clips are
  * baked to cubic keys that equal the curves at every key and stay within 2e-7 (radians,
  * relative scale, and of the scene's size for translation) in between. A file that looks
- * like FBX, or is named .fbx, is never handed to Assimp unless desc->assimp asks for it;
+ * like FBX, glTF or COLLADA, or is named so, is never handed to Assimp unless desc->assimp
+ * asks for it;
  * FBX 6 and older is refused (re-export as FBX 2011 or later).
  * By default the import runs in a child process and hands the model back through a pipe as
  * one flat blob, so that a crash inside Assimp becomes an error naming the file, never a
@@ -35,7 +40,7 @@ extern "C" {
 typedef struct sinew_import_desc {
     const char *path;
     bool in_process;                  /* import in this process (faster; a crash in Assimp is the caller's) */
-    bool assimp;                      /* read with Assimp even a format sinew reads itself (FBX): to compare */
+    bool assimp;                      /* read with Assimp even a format sinew reads itself: to compare */
     const sinew_allocator *allocator; /* NULL: malloc/free */
 } sinew_import_desc;
 

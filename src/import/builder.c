@@ -99,6 +99,69 @@ void raw_mesh_free(raw_mesh *mesh)
     free(mesh->weights);
 }
 
+void raw_model_moved_nodes(const raw_model *m, const bool *excluded, bool *out)
+{
+    bool *moved = out;
+    for (uint32_t n = 0; n < m->node_count; n++)
+        moved[n] = false;
+    for (uint32_t c = 0; c < m->clip_count; c++)
+        for (uint32_t t = 0; t < m->clips[c].track_count; t++) {
+            const raw_track *track = &m->clips[c].tracks[t];
+            for (int k = 0; k < SINEW_CHANNEL_COUNT && track->node < m->node_count; k++)
+                moved[track->node] |= track->channels[k].count > 0;
+        }
+    /* A node is kept when it or a node below it moves, or its parent moves (end sites);
+     * parents come before children, so one backward pass gathers the subtrees. */
+    bool *below = calloc(m->node_count ? m->node_count : 1, sizeof *below);
+    if (!below) {
+        for (uint32_t n = 0; n < m->node_count; n++)
+            out[n] = moved[n] && !excluded[n];
+        return;
+    }
+    for (uint32_t n = m->node_count; n-- > 0;) {
+        below[n] |= moved[n];
+        if (m->node_parents[n] >= 0)
+            below[m->node_parents[n]] |= below[n];
+    }
+    for (uint32_t n = 0; n < m->node_count; n++) {
+        int32_t parent = m->node_parents[n];
+        out[n] = !excluded[n] && (below[n] || (parent >= 0 && moved[parent]));
+    }
+    free(below);
+}
+
+bool raw_model_add_skeleton(raw_model *m, const bool *joint, uint32_t *added)
+{
+    *added = 0;
+    uint32_t count = 0;
+    for (uint32_t n = 0; n < m->node_count; n++)
+        count += joint[n];
+    if (count == 0)
+        return true;
+    raw_skin *skins = realloc(m->skins, (m->skin_count + 1) * sizeof *skins);
+    if (!skins)
+        return false;
+    m->skins = skins;
+    raw_skin *skin = &m->skins[m->skin_count];
+    skin->joints = malloc(count * sizeof *skin->joints);
+    skin->inverse_bind = malloc(count * sizeof *skin->inverse_bind);
+    if (!skin->joints || !skin->inverse_bind) {
+        free(skin->joints);
+        free(skin->inverse_bind);
+        return false;
+    }
+    skin->joint_count = 0;
+    for (uint32_t n = 0; n < m->node_count; n++) {
+        if (!joint[n])
+            continue;
+        skin->joints[skin->joint_count] = n;
+        skin->inverse_bind[skin->joint_count++] = (sinew_mat4){{1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1}};
+    }
+    m->skin_count++;
+    *added = count;
+    return true;
+}
+
 void raw_model_free(raw_model *m)
 {
     if (!m)

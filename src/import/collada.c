@@ -1,8 +1,13 @@
 /* COLLADA 1.4.1 and 1.5 read by sinew (libxml2): what the file says, not what Assimp made of it.
  *
- * - Scene: the instanced <visual_scene> under a root node that carries <asset>'s unit and up
- *   axis (to Y-up metres); <node>s with their transform stacks (matrix, translate, rotate,
- *   scale, lookat, skew, composed in order); <instance_node> copies a node's subtree.
+ * - Scene: the instanced <visual_scene> under a root node (named as the scene, else its id,
+ *   else "Scene") that carries <asset>'s unit and up axis (to Y-up metres); <node>s, named
+ *   by name, id or sid, with their transform stacks (matrix, translate, rotate, scale,
+ *   lookat, skew, composed in order); <instance_node> copies a node's subtree.
+ * - Instances: a geometry instanced again with the same materials draws the same raw meshes
+ *   at the new node; a controller instanced again on the same skeleton adds nothing.
+ * - A file with no skin (an exported skeleton animation) gets a skin with no mesh of the
+ *   nodes typed JOINT, else of the nodes its clips move, so that they are its joints.
  * - Skins: a controller's joints are named by SID, looked up under the instance's <skeleton>
  *   roots (then anywhere, then by id or name, as other readers fall back); the bind-shape
  *   matrix is folded into the inverse binds once; every influence is kept.
@@ -12,8 +17,8 @@
  * - Materials: <lambert>, <phong>, <blinn>, <constant>: diffuse (emission for constant)
  *   colour or image texture.
  * - Animations: every <channel> into a node's transform element (whole, ".X/.Y/.Z/.ANGLE",
- *   "(i)(j)", "(i)"), samplers with LINEAR, STEP, BEZIER (2-D tangents, or 1-D as some
- *   exporters write) and HERMITE keys. A node whose channels all drive whole matrices with
+ *   "(i)(j)", "(i)"), samplers with LINEAR, STEP, BEZIER (2-D tangents; 1-D ones, which
+ *   COLLADA 1.4.1 does not define, play linearly with a warning) and HERMITE keys. A node whose channels all drive whole matrices with
  *   LINEAR or STEP keys gets the decomposed key matrices with that interpolation (what the
  *   file means and what three.js plays); any other node is baked from the exact stack
  *   evaluation (bake.c). <animation_clip>s become clips over their windows; without them,
@@ -48,7 +53,7 @@
 #include "sinew/anim.h"
 
 #define DAE_MAX_NODES (1u << 20) /* nodes after <instance_node> copies */
-#define DAE_MAX_DEPTH 256        /* node nesting */
+#define DAE_MAX_DEPTH 2048       /* node nesting (libxml2 parses 2048 levels with XML_PARSE_HUGE) */
 #define DAE_BAKE_TOLERANCE 2e-7  /* as the FBX reader's: rad, relative scale, of the scene's size */
 #define DAE_MAX_KEYS (1u << 24)  /* keys of one clip, after windows */
 
@@ -95,25 +100,46 @@ typedef struct collada {
     curve *curves;
     uint32_t curve_count, curve_cap;
     double diagonal;
+    uint32_t bezier_1d; /* channels whose BEZIER keys give one number a tangent */
 } collada;
 
 /* ---- errors, numbers, ids ------------------------------------------------------------- */
 
-static sinew_result fail(collada *c, const xmlNode *at, const char *format, ...) __attribute__((format(printf, 3, 4)));
-static sinew_result fail(collada *c, const xmlNode *at, const char *format, ...)
+static sinew_result vfail(collada *c, const xmlNode *at, sinew_result kind, const char *format, va_list ap)
 {
     char what[512], where[256] = "";
-    va_list ap;
-    va_start(ap, format);
     vsnprintf(what, sizeof what, format, ap);
-    va_end(ap);
     if (at && at->type == XML_ELEMENT_NODE) {
         xmlChar *id = xmlGetProp(at, (const xmlChar *)"id");
         snprintf(where, sizeof where, "line %ld, <%s%s%s%s>: ", xmlGetLineNo(at), (const char *)at->name,
                  id ? " id=\"" : "", id ? (const char *)id : "", id ? "\"" : "");
         xmlFree(id);
     }
-    return sinew_fail(c->error, SINEW_ERROR_FORMAT, "%s: %s%s", c->path, where, what);
+    return sinew_fail(c->error, kind, "%s: %s%s", c->path, where, what);
+}
+
+/* A file that breaks COLLADA's rules: "FILE: line N, <element id>: what". */
+static sinew_result fail(collada *c, const xmlNode *at, const char *format, ...) __attribute__((format(printf, 3, 4)));
+static sinew_result fail(collada *c, const xmlNode *at, const char *format, ...)
+{
+    va_list ap;
+    va_start(ap, format);
+    sinew_result r = vfail(c, at, SINEW_ERROR_FORMAT, format, ap);
+    va_end(ap);
+    return r;
+}
+
+/* The same with another kind: SINEW_ERROR_DATA for well-formed numbers no model can hold
+ * (NaN, infinity), SINEW_ERROR_LIMIT for what is past sinew's limits. */
+static sinew_result fail_kind(collada *c, const xmlNode *at, sinew_result kind, const char *format, ...)
+    __attribute__((format(printf, 4, 5)));
+static sinew_result fail_kind(collada *c, const xmlNode *at, sinew_result kind, const char *format, ...)
+{
+    va_list ap;
+    va_start(ap, format);
+    sinew_result r = vfail(c, at, kind, format, ap);
+    va_end(ap);
+    return r;
 }
 
 static sinew_result oom(collada *c)
@@ -204,7 +230,9 @@ static sinew_result parse_numbers(collada *c, const xmlNode *el, double *out, ui
         char *end;
         double v = strtod_l(p, &end, c->c_locale);
         if (end == p || !isfinite(v)) {
-            r = fail(c, el, "\"%.20s\" is not a finite number", p);
+            int length = (int)strcspn(p, " \t\r\n");
+            r = end == p ? fail(c, el, "\"%.*s\" is not a number", length < 20 ? length : 20, p)
+                         : fail_kind(c, el, SINEW_ERROR_DATA, "%.*s is not finite", length < 20 ? length : 20, p);
             break;
         }
         if (n == max) {
@@ -433,7 +461,7 @@ static sinew_result push_node(collada *c, const char *name, int32_t parent, xmlN
 {
     raw_model *m = c->m;
     if (m->node_count == DAE_MAX_NODES)
-        return fail(c, el, "more than %u nodes (with <instance_node> copies)", DAE_MAX_NODES);
+        return fail_kind(c, el, SINEW_ERROR_LIMIT, "more than %u nodes (with <instance_node> copies)", DAE_MAX_NODES);
     if (m->node_count == c->node_cap) {
         uint32_t cap = c->node_cap ? c->node_cap * 2 : 64;
         char **names = realloc(m->node_names, cap * sizeof *names);
@@ -545,7 +573,7 @@ static sinew_result build_nodes(collada *c)
     if (!named(vs, "visual_scene"))
         return fail(c, scene, "no <visual_scene> (nothing to show)");
     char name[512];
-    if (!attr(vs, "name", name, sizeof name) || !*name)
+    if ((!attr(vs, "name", name, sizeof name) || !*name) && (!attr(vs, "id", name, sizeof name) || !*name))
         snprintf(name, sizeof name, "Scene");
     sinew_result r = push_node(c, name, -1, NULL, &c->convert);
     for (xmlNode *k = vs->children; k && !r; k = k->next)
@@ -995,7 +1023,26 @@ static sinew_result read_matrix16(collada *c, xmlNode *el, dmat *out)
     return SINEW_OK;
 }
 
-static sinew_result read_skin(collada *c, xmlNode *instance, xmlNode *skin, skin_data *out)
+#define DAE_MAX_SKELETONS 64
+
+/* The nodes an instance's <skeleton> elements name (those that name a node of the scene). */
+static uint32_t skeleton_roots(const collada *c, const xmlNode *instance, uint32_t roots[DAE_MAX_SKELETONS])
+{
+    uint32_t root_count = 0;
+    for (xmlNode *k = instance->children; k; k = k->next) {
+        if (!named(k, "skeleton") || root_count == DAE_MAX_SKELETONS)
+            continue;
+        xmlChar *url = xmlNodeGetContent(k);
+        xmlNode *el = by_url(c, url ? (const char *)url : "");
+        xmlFree(url);
+        uint32_t at = el ? first_node_of(c, el) : UINT32_MAX;
+        if (at != UINT32_MAX)
+            roots[root_count++] = at;
+    }
+    return root_count;
+}
+
+static sinew_result read_skin(collada *c, const uint32_t *roots, uint32_t root_count, xmlNode *skin, skin_data *out)
 {
     raw_model *m = c->m;
     memset(out, 0, sizeof *out);
@@ -1005,18 +1052,6 @@ static sinew_result read_skin(collada *c, xmlNode *instance, xmlNode *skin, skin
     sinew_result r;
     if (bsm && (r = read_matrix16(c, bsm, &bind_shape)))
         return r;
-    /* Skeleton roots */
-    uint32_t roots[64], root_count = 0;
-    for (xmlNode *k = instance->children; k; k = k->next) {
-        if (!named(k, "skeleton") || root_count == 64)
-            continue;
-        xmlChar *url = xmlNodeGetContent(k);
-        xmlNode *el = by_url(c, url ? (const char *)url : "");
-        xmlFree(url);
-        uint32_t at = el ? first_node_of(c, el) : UINT32_MAX;
-        if (at != UINT32_MAX)
-            roots[root_count++] = at;
-    }
     xmlNode *joints_el = child(skin, "joints");
     source names = {0}, ibm = {0};
     for (xmlNode *k = joints_el ? joints_el->children : NULL; k; k = k->next) {
@@ -1037,8 +1072,10 @@ static sinew_result read_skin(collada *c, xmlNode *instance, xmlNode *skin, skin
         r = fail(c, skin, "<joints> has no JOINT names");
     else if (!ibm.v || ibm.stride < 16 || ibm.count < names.count)
         r = fail(c, skin, "<joints> needs an INV_BIND_MATRIX for each of its %u joints", names.count);
-    else if (names.count == 0 || names.count > SINEW_MAX_JOINTS)
-        r = fail(c, skin, "%u joints (sinew takes 1 to %d)", names.count, SINEW_MAX_JOINTS);
+    else if (names.count == 0)
+        r = fail(c, skin, "<joints> names no joint");
+    else if (names.count > SINEW_MAX_JOINTS)
+        r = fail_kind(c, skin, SINEW_ERROR_LIMIT, "%u joints (sinew takes at most %d)", names.count, SINEW_MAX_JOINTS);
     raw_skin *skins = r ? NULL : realloc(m->skins, (m->skin_count + 1) * sizeof *skins);
     if (!r && !skins)
         r = oom(c);
@@ -1137,6 +1174,8 @@ static sinew_result read_skin(collada *c, xmlNode *instance, xmlNode *skin, skin
                 bind_shape_weights++;
                 continue;
             }
+            if (weights.v[(size_t)w * weights.stride] == 0) /* an influence that does not influence */
+                continue;
             if (!(j >= 0 && j < joint_count) || j != floor(j)) {
                 r = fail(c, vw, "vertex %ld: joint index %g is past the %u joints", i, j, joint_count);
                 break;
@@ -1170,6 +1209,8 @@ static sinew_result apply_skin(collada *c, const skin_data *s, prim *p, xmlNode 
         return oom(c);
     mm->influence_count = slots;
     mm->skin = s->skin;
+    for (size_t i = 0; i < (size_t)mm->vertex_count * slots; i++)
+        mm->joints[i] = UINT32_MAX; /* unused: a vertex with none follows the mesh's node */
     for (uint32_t v = 0; v < mm->vertex_count; v++) {
         uint32_t pos = p->position_of[v];
         if (pos >= s->position_count)
@@ -1202,7 +1243,75 @@ static sinew_result add_mesh(collada *c, prim *p, uint32_t node)
     return SINEW_OK;
 }
 
-static sinew_result read_instance(collada *c, material_map *map, const pending *pi)
+/* An <instance_geometry> or <instance_controller> already turned into meshes. Another
+ * instance of the same geometry with the same materials bound draws those meshes again at
+ * its own node; of the same controller bound to the same skeleton, it would draw the same
+ * skinned meshes in the same place (skinned meshes ignore their node), so it adds nothing. */
+typedef struct geometry_use {
+    xmlNode *geometry; /* <geometry> or <controller> */
+    int32_t *materials; /* a primitive element of the <mesh>: its bound material */
+    uint32_t prim_count, first_mesh, mesh_count;
+    uint32_t roots[DAE_MAX_SKELETONS], root_count; /* a controller's <skeleton> nodes */
+} geometry_use;
+
+typedef struct geometry_uses {
+    geometry_use *uses;
+    uint32_t count;
+} geometry_uses;
+
+static bool is_primitive(const xmlNode *k)
+{
+    return k->type == XML_ELEMENT_NODE && !named(k, "source") && !named(k, "vertices") && !named(k, "extra");
+}
+
+/* The materials `inst` binds to its mesh's primitives, in order. */
+static sinew_result bound_materials(collada *c, material_map *map, xmlNode *inst, xmlNode *mesh, geometry_use *use)
+{
+    for (xmlNode *k = mesh->children; k; k = k->next)
+        use->prim_count += is_primitive(k);
+    if (!(use->materials = malloc((use->prim_count ? use->prim_count : 1) * sizeof *use->materials)))
+        return oom(c);
+    uint32_t i = 0;
+    for (xmlNode *k = mesh->children; k; k = k->next) {
+        if (!is_primitive(k))
+            continue;
+        char symbol[256] = "";
+        sinew_result r = attr(k, "material", symbol, sizeof symbol) && *symbol
+                             ? bound_material(c, map, inst, symbol, &use->materials[i])
+                             : (use->materials[i] = -1, SINEW_OK);
+        if (r)
+            return r;
+        i++;
+    }
+    return SINEW_OK;
+}
+
+/* Draws an earlier use's meshes at `node` when `use` binds the same; true when it did. */
+static sinew_result reuse_geometry(collada *c, const geometry_uses *uses, const geometry_use *use, uint32_t node,
+                                   bool *reused)
+{
+    *reused = false;
+    for (uint32_t i = 0; i < uses->count && !*reused; i++) {
+        const geometry_use *u = &uses->uses[i];
+        if (u->geometry != use->geometry || u->prim_count != use->prim_count ||
+            memcmp(u->materials, use->materials, use->prim_count * sizeof *use->materials) != 0 ||
+            u->root_count != use->root_count || memcmp(u->roots, use->roots, use->root_count * sizeof *use->roots))
+            continue;
+        *reused = true;
+        if (named(use->geometry, "controller"))
+            break;
+        raw_model *m = c->m;
+        sinew_instance *inst = realloc(m->instances, (m->instance_count + u->mesh_count) * sizeof *inst);
+        if (!inst)
+            return oom(c);
+        m->instances = inst;
+        for (uint32_t k = 0; k < u->mesh_count; k++)
+            m->instances[m->instance_count++] = (sinew_instance){u->first_mesh + k, node};
+    }
+    return SINEW_OK;
+}
+
+static sinew_result read_instance(collada *c, material_map *map, geometry_uses *uses, const pending *pi)
 {
     xmlNode *inst = pi->instance, *target = by_url_attr(c, inst, "url");
     xmlNode *skin = NULL, *geometry = target;
@@ -1233,11 +1342,22 @@ static sinew_result read_instance(collada *c, material_map *map, const pending *
                               c->path, name)
                    ? SINEW_OK
                    : oom(c);
+    geometry_use use = {.geometry = skin ? target : geometry, .first_mesh = c->m->mesh_count};
+    if (skin)
+        use.root_count = skeleton_roots(c, inst, use.roots);
+    bool reused = false;
+    sinew_result r = bound_materials(c, map, inst, mesh, &use);
+    if (!r)
+        r = reuse_geometry(c, uses, &use, pi->node, &reused);
+    if (r || reused) {
+        free(use.materials);
+        return r;
+    }
     skin_data sd = {.skin = -1};
-    sinew_result r = skin ? read_skin(c, inst, skin, &sd) : SINEW_OK;
+    r = skin ? read_skin(c, use.roots, use.root_count, skin, &sd) : SINEW_OK;
     uint32_t lines = 0;
     for (xmlNode *k = mesh->children; k && !r; k = k->next) {
-        if (k->type != XML_ELEMENT_NODE || named(k, "source") || named(k, "vertices") || named(k, "extra"))
+        if (!is_primitive(k))
             continue;
         prim p;
         bool skip = false;
@@ -1256,6 +1376,18 @@ static sinew_result read_instance(collada *c, material_map *map, const pending *
         prim_free(&p);
     }
     skin_data_free(&sd);
+    use.mesh_count = c->m->mesh_count - use.first_mesh;
+    if (!r) {
+        geometry_use *grown = realloc(uses->uses, (uses->count + 1) * sizeof *grown);
+        if (grown) {
+            uses->uses = grown;
+            uses->uses[uses->count++] = use;
+            use.materials = NULL;
+        } else {
+            r = oom(c);
+        }
+    }
+    free(use.materials);
     if (!r && lines &&
         !raw_model_warn(c->m, "%s: geometry \"%s\" has %u line sets; sinew draws triangles only", c->path, name, lines))
         r = oom(c);
@@ -1265,9 +1397,13 @@ static sinew_result read_instance(collada *c, material_map *map, const pending *
 static sinew_result build_meshes(collada *c)
 {
     material_map map = {0};
+    geometry_uses uses = {0};
     sinew_result r = SINEW_OK;
     for (uint32_t i = 0; i < c->pending_count && !r; i++)
-        r = read_instance(c, &map, &c->pending[i]);
+        r = read_instance(c, &map, &uses, &c->pending[i]);
+    for (uint32_t i = 0; i < uses.count; i++)
+        free(uses.uses[i].materials);
+    free(uses.uses);
     free(map.elements);
     return r;
 }
@@ -1411,6 +1547,18 @@ static sinew_result read_channel(collada *c, xmlNode *channel)
         k.out_tan = r ? NULL : malloc(size * sizeof *k.out_tan);
         if (!r && (!k.in_tan || !k.out_tan))
             r = oom(c);
+        /* COLLADA 1.4.1 gives BEZIER control points as (time, value) pairs; one number a
+         * tangent is older exporters' habit with no agreed meaning (FCollada reads offsets,
+         * some exporters wrote slopes, ColladaMaya's clip test writes 6875.42 where a linear
+         * ramp needs 120, its offset converted to degrees twice). Those keys play linearly,
+         * as three.js and Assimp play them, with a warning. */
+        bool flattened = false;
+        for (uint32_t i = 0; i < n && !r && !two; i++)
+            if (k.interp[i] == KEY_BEZIER) {
+                k.interp[i] = KEY_LINEAR;
+                flattened = true;
+            }
+        c->bezier_1d += flattened;
         for (uint32_t i = 0; i < n && !r; i++) {
             memcpy(&k.in_tan[(size_t)i * (size_t)k.count * (size_t)k.tdim], &tin.v[(size_t)i * tin.stride],
                    (size_t)k.count * (size_t)k.tdim * sizeof(double));
@@ -1792,6 +1940,41 @@ static sinew_result build_clips(collada *c)
     return r;
 }
 
+/* ---- skeleton-only files ----------------------------------------------------------------- */
+
+/* A file with nodes and no skin (an animation exported without its mesh) still has a
+ * skeleton: the nodes it types JOINT, else the nodes its clips move (with their end
+ * sites), never a camera, light or geometry. They become a skin with no mesh, so they
+ * are drawn and listed as joints. */
+static sinew_result skeleton_only(collada *c)
+{
+    raw_model *m = c->m;
+    if (m->skin_count || m->mesh_count || !m->node_count)
+        return SINEW_OK;
+    bool *excluded = calloc(m->node_count, sizeof *excluded), *joint = calloc(m->node_count, sizeof *joint);
+    sinew_result r = excluded && joint ? SINEW_OK : oom(c);
+    bool typed = false;
+    for (uint32_t n = 0; n < m->node_count && !r; n++) {
+        xmlNode *el = c->node_el[n];
+        excluded[n] = !el || child(el, "instance_camera") || child(el, "instance_light") ||
+                      child(el, "instance_geometry") || child(el, "instance_controller");
+        joint[n] = el && node_attr_is(el, "type", "JOINT");
+        typed |= joint[n];
+    }
+    if (!r && !typed)
+        raw_model_moved_nodes(m, excluded, joint);
+    uint32_t added = 0;
+    if (!r && !raw_model_add_skeleton(m, joint, &added))
+        r = oom(c);
+    if (!r && added &&
+        !raw_model_warn(m, "%s: no skin: the %u nodes %s are its skeleton", c->path, added,
+                        typed ? "typed JOINT" : "its clips move"))
+        r = oom(c);
+    free(excluded);
+    free(joint);
+    return r;
+}
+
 /* ---- entry ---------------------------------------------------------------------------- */
 
 bool collada_sniff(const unsigned char *head, size_t size)
@@ -1823,7 +2006,7 @@ sinew_result raw_model_from_collada(const char *path, const unsigned char *bytes
         r = fail(&c, NULL, "larger than 2 GB");
     if (!r) {
         c.doc = xmlReadMemory((const char *)bytes, (int)size, path, NULL,
-                              XML_PARSE_NONET | XML_PARSE_NOWARNING | XML_PARSE_NOERROR);
+                              XML_PARSE_NONET | XML_PARSE_NOWARNING | XML_PARSE_NOERROR | XML_PARSE_HUGE);
         if (!c.doc) {
             const xmlError *e = xmlGetLastError();
             r = sinew_fail(error, SINEW_ERROR_FORMAT, "%s: not well-formed XML (line %d: %s)", path, e ? e->line : 0,
@@ -1850,6 +2033,14 @@ sinew_result raw_model_from_collada(const char *path, const unsigned char *bytes
         r = oom(&c);
     if (!r)
         r = build_clips(&c);
+    if (!r)
+        r = skeleton_only(&c);
+    if (!r && c.bezier_1d &&
+        !raw_model_warn(model,
+                        "%s: %u channels give BEZIER tangents as one number (COLLADA 1.4.1 wants (time, value) "
+                        "control points); they are played linearly",
+                        path, c.bezier_1d))
+        r = oom(&c);
     for (uint32_t i = 0; i < c.curve_count; i++)
         curve_free(&c.curves[i]);
     free(c.curves);

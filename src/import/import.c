@@ -150,7 +150,7 @@ static bool has_extension(const char *path, const char *ext)
 typedef sinew_result (*native_reader)(const char *path, const unsigned char *bytes, size_t size, raw_model *model,
                                       sinew_error *error);
 
-/* sinew's own readers for the formats it reads itself (FBX, glTF), Assimp for the rest. A
+/* sinew's own readers for the formats it reads itself (FBX, glTF, COLLADA), Assimp for the rest. A
  * file that looks like one of them, or is named so, is never handed to Assimp. */
 static sinew_result raw_model_read(const char *path, bool assimp, raw_model *raw, sinew_error *error)
 {
@@ -165,11 +165,9 @@ static sinew_result raw_model_read(const char *path, bool assimp, raw_model *raw
     if (!gltf_sniff(head, head_size) && has_extension(path, ".glb"))
         return sinew_fail(error, SINEW_ERROR_FORMAT, "%s: not a binary glTF file (it does not start with \"glTF\")",
                           path);
-    /* COLLADA's own reader (collada.c) is not the default yet: it poses every testdata file
-     * as three.js does, but names, instancing and the demo round trip still differ from
-     * what the rest of sinew expects of .dae files (see the issue's notes). */
     native_reader reader = fbx                                                           ? raw_model_from_fbx
                            : gltf_sniff(head, head_size) || has_extension(path, ".gltf") ? raw_model_from_gltf
+                           : collada_sniff(head, head_size) || has_extension(path, ".dae") ? raw_model_from_collada
                                                                                           : NULL;
     if (!reader)
         return raw_model_from_assimp(path, raw, error);

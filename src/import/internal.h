@@ -48,7 +48,7 @@ typedef struct raw_mesh {
     uint32_t *indices;
     int32_t skin; /* -1 rigid */
     int32_t material;
-    uint32_t influence_count; /* slots a vertex, any number; unused slots have weight 0 */
+    uint32_t influence_count; /* slots a vertex, any number; unused slots have joint UINT32_MAX or weight 0 */
     uint32_t *joints;         /* influence_count a vertex, indices into the skin's joints */
     float *weights;
 } raw_mesh;
@@ -100,13 +100,24 @@ bool raw_model_warn(raw_model *model, const char *format, ...)
 
 char *raw_strdup(const char *text);
 
-/* Makes `model`'s clips one clip of `track_count` tracks, each with a linear rotation channel
- * of `keys` (>= 2) keys at evenly spaced times over `duration`; the caller sets each track's
- * node and the quaternions. NULL when out of memory (the model stays freeable). */
+/* The skeleton of a file that has one but no skin to say so (a skeleton-only animation):
+ * out[n] is true for a node that is not excluded[n] (cameras, lights, meshes) and that a
+ * clip moves, or that has a moved node below it, or whose parent is moved (BVH-style end
+ * sites). `out` holds node_count entries. */
+void raw_model_moved_nodes(const raw_model *model, const bool *excluded, bool *out);
+
+/* Adds a skin with no mesh whose joints are the nodes with joint[n] set (identity inverse
+ * binds: nothing is bound to it), so that they count as joints; *added is how many (0: no
+ * skin added). False when out of memory (the model unchanged). */
+bool raw_model_add_skeleton(raw_model *model, const bool *joint, uint32_t *added);
+
 /* Makes `c` a linear channel of `keys` (>= 2) keys evenly spaced over [0, duration], values
  * allocated for the caller to fill; false when out of memory (the channel stays freeable). */
 bool raw_channel_even(raw_channel *c, int kind, float duration, uint32_t keys);
 
+/* Makes `model`'s clips one clip of `track_count` tracks, each with a linear rotation channel
+ * of `keys` (>= 2) keys at evenly spaced times over `duration`; the caller sets each track's
+ * node and the quaternions. NULL when out of memory (the model stays freeable). */
 raw_clip *raw_model_add_rotation_clip(raw_model *model, const char *name, float duration, uint32_t track_count,
                                       uint32_t keys);
 
