@@ -1,0 +1,509 @@
+/* sinew's COLLADA reader against the file itself: each test evaluates what the XML says
+ * with its own few lines of arithmetic (libxml2 to read it, doubles to compute) and compares
+ * the model sinew built.
+ *
+ * - skin_4_influence.dae (Assimp 5.2.5 crashes on it): every corner of every polygon,
+ *   skinned at rest as COLLADA defines it: sum of w * joint world * inverse bind *
+ *   bind shape * position.
+ * - library_animation_clips.dae (Assimp refuses it): each clip's window and, at every key
+ *   inside it, each animated node's local matrix equal to the key's <matrix>.
+ * - samplers.dae (a fixture of sinew's own): BEZIER with (time, value) control points that
+ *   overshoot, STEP, HERMITE, a BEZIER rotation, and one-number BEZIER tangents (played
+ *   linearly with a warning), sampled at 101 times against the curves' formulas.
+ */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include <libxml/parser.h>
+#include <libxml/tree.h>
+
+#include "../helpers.h"
+#include "sinew/sinew.h"
+
+/* ---- reading the XML ------------------------------------------------------------------ */
+
+static bool is(const xmlNode *n, const char *name)
+{
+    return n && n->type == XML_ELEMENT_NODE && strcmp((const char *)n->name, name) == 0;
+}
+
+static xmlNode *first(const xmlNode *n, const char *name)
+{
+    for (xmlNode *k = n ? n->children : NULL; k; k = k->next)
+        if (is(k, name))
+            return k;
+    return NULL;
+}
+
+static bool attr_is(const xmlNode *n, const char *name, const char *value)
+{
+    xmlChar *v = xmlGetProp(n, (const xmlChar *)name);
+    bool same = v && strcmp((const char *)v, value) == 0;
+    xmlFree(v);
+    return same;
+}
+
+/* The element anywhere under n whose attribute `name` is `value`. */
+static xmlNode *find_attr(xmlNode *n, const char *name, const char *value)
+{
+    for (xmlNode *k = n; k; k = k->next) {
+        if (k->type != XML_ELEMENT_NODE)
+            continue;
+        if (attr_is(k, name, value))
+            return k;
+        xmlNode *below = find_attr(k->children, name, value);
+        if (below)
+            return below;
+    }
+    return NULL;
+}
+
+static xmlNode *by_url(xmlDoc *doc, const xmlNode *n, const char *attribute)
+{
+    xmlChar *url = attribute ? xmlGetProp(n, (const xmlChar *)attribute) : xmlNodeGetContent(n);
+    assert_non_null(url);
+    xmlNode *found = find_attr(xmlDocGetRootElement(doc), "id", (const char *)url + (url[0] == '#'));
+    xmlFree(url);
+    assert_non_null(found);
+    return found;
+}
+
+/* The numbers of an element's text, malloc'd. */
+static double *numbers(const xmlNode *n, uint32_t *count)
+{
+    xmlChar *text = xmlNodeGetContent(n);
+    size_t cap = 16, used = 0;
+    double *v = malloc(cap * sizeof *v);
+    char *p = (char *)text, *end;
+    for (double x = strtod(p, &end); end != p; x = strtod(p, &end)) {
+        if (used == cap)
+            v = realloc(v, (cap *= 2) * sizeof *v);
+        v[used++] = x;
+        p = end;
+    }
+    xmlFree(text);
+    *count = (uint32_t)used;
+    return v;
+}
+
+/* A <source>'s float array. */
+static double *source_numbers(const xmlNode *source, uint32_t *count)
+{
+    return numbers(first(source, "float_array"), count);
+}
+
+/* ---- matrices (column-major doubles, as sinew_mat4) ----------------------------------- */
+
+typedef struct mat {
+    double m[16];
+} mat;
+
+static mat identity(void)
+{
+    return (mat){{1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1}};
+}
+
+static mat mul(const mat *a, const mat *b)
+{
+    mat r;
+    for (int c = 0; c < 4; c++)
+        for (int row = 0; row < 4; row++) {
+            double s = 0;
+            for (int k = 0; k < 4; k++)
+                s += a->m[k * 4 + row] * b->m[c * 4 + k];
+            r.m[c * 4 + row] = s;
+        }
+    return r;
+}
+
+/* COLLADA writes matrices row by row. */
+static mat from_rows(const double *v)
+{
+    mat r;
+    for (int row = 0; row < 4; row++)
+        for (int c = 0; c < 4; c++)
+            r.m[c * 4 + row] = v[row * 4 + c];
+    return r;
+}
+
+/* One transform element as COLLADA 1.4.1 section 5 defines it. */
+static mat element(const xmlNode *e)
+{
+    uint32_t n;
+    double *v = numbers(e, &n);
+    mat r = identity();
+    if (is(e, "matrix") && n == 16) {
+        r = from_rows(v);
+    } else if (is(e, "translate") && n == 3) {
+        r.m[12] = v[0], r.m[13] = v[1], r.m[14] = v[2];
+    } else if (is(e, "scale") && n == 3) {
+        r.m[0] = v[0], r.m[5] = v[1], r.m[10] = v[2];
+    } else if (is(e, "rotate") && n == 4) {
+        double len = sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
+        double x = v[0] / len, y = v[1] / len, z = v[2] / len, a = v[3] * M_PI / 180;
+        double c = cos(a), s = sin(a), t = 1 - c;
+        double rows[16] = {t * x * x + c,     t * x * y - s * z, t * x * z + s * y, 0,
+                           t * x * y + s * z, t * y * y + c,     t * y * z - s * x, 0,
+                           t * x * z - s * y, t * y * z + s * x, t * z * z + c,     0,
+                           0,                 0,                 0,                 1};
+        r = from_rows(rows);
+    }
+    free(v);
+    return r;
+}
+
+/* A <node>'s world matrix in the file's own space: its stack and its parents'. */
+static mat node_world(const xmlNode *node)
+{
+    mat local = identity();
+    for (xmlNode *k = node->children; k; k = k->next) {
+        mat e = element(k);
+        local = mul(&local, &e);
+    }
+    if (!is(node->parent, "node"))
+        return local;
+    mat parent = node_world(node->parent);
+    return mul(&parent, &local);
+}
+
+static void transform_point(const mat *a, const double p[3], double out[3])
+{
+    for (int r = 0; r < 3; r++)
+        out[r] = a->m[r] * p[0] + a->m[4 + r] * p[1] + a->m[8 + r] * p[2] + a->m[12 + r];
+}
+
+/* ---- skin_4_influence.dae ------------------------------------------------------------- */
+
+/* The file's skin at rest, one position a <polylist> corner, in the file's space. */
+static double *file_skinned_corners(xmlDoc *doc, uint32_t *corner_count, uint32_t **vcount_out, uint32_t *polygons)
+{
+    xmlNode *root = xmlDocGetRootElement(doc);
+    xmlNode *inst = find_attr(root, "url", "#controllers_0");
+    assert_true(is(inst, "instance_controller"));
+    xmlNode *controller = by_url(doc, inst, "url"), *skin = first(controller, "skin");
+    xmlNode *geometry = by_url(doc, skin, "source"), *mesh = first(geometry, "mesh");
+    uint32_t n;
+    double *bsm_v = numbers(first(skin, "bind_shape_matrix"), &n);
+    assert_int_equal(n, 16);
+    mat bind_shape = from_rows(bsm_v);
+    free(bsm_v);
+    /* joints (IDREFs) and inverse binds */
+    xmlNode *joints = first(skin, "joints"), *names_src = NULL, *ibm_src = NULL;
+    for (xmlNode *k = joints->children; k; k = k->next)
+        if (is(k, "input"))
+            *(attr_is(k, "semantic", "JOINT") ? &names_src : &ibm_src) = by_url(doc, k, "source");
+    xmlChar *names = xmlNodeGetContent(first(names_src, "IDREF_array"));
+    uint32_t ibm_count;
+    double *ibm = source_numbers(ibm_src, &ibm_count);
+    mat skinning[16];
+    uint32_t joint_count = 0;
+    for (char *save = NULL, *id = strtok_r((char *)names, " \t\r\n", &save); id;
+         id = strtok_r(NULL, " \t\r\n", &save), joint_count++) {
+        assert_true(joint_count < 16 && (joint_count + 1) * 16 <= ibm_count);
+        xmlNode *joint = find_attr(root, "id", id);
+        assert_true(is(joint, "node"));
+        mat world = node_world(joint), inverse_bind = from_rows(&ibm[joint_count * 16]);
+        mat a = mul(&world, &inverse_bind);
+        skinning[joint_count] = mul(&a, &bind_shape);
+    }
+    xmlFree(names);
+    free(ibm);
+    /* influences by position */
+    xmlNode *vw = first(skin, "vertex_weights"), *weights_src = NULL;
+    for (xmlNode *k = vw->children; k; k = k->next)
+        if (is(k, "input") && attr_is(k, "semantic", "WEIGHT"))
+            weights_src = by_url(doc, k, "source");
+    uint32_t wn, vcn, vn;
+    double *weights = source_numbers(weights_src, &wn), *vc = numbers(first(vw, "vcount"), &vcn),
+           *v = numbers(first(vw, "v"), &vn);
+    /* positions through <vertices> */
+    xmlNode *vertices = first(mesh, "vertices"), *pos_src = NULL;
+    for (xmlNode *k = vertices->children; k; k = k->next)
+        if (is(k, "input") && attr_is(k, "semantic", "POSITION"))
+            pos_src = by_url(doc, k, "source");
+    uint32_t pn;
+    double *positions = source_numbers(pos_src, &pn);
+    double *skinned = calloc(pn, sizeof *skinned);
+    for (uint32_t p = 0, at = 0; p < vcn; p++) {
+        double sum = 0;
+        for (uint32_t i = 0; i < (uint32_t)vc[p]; i++, at += 2)
+            sum += weights[(uint32_t)v[at + 1]];
+        at -= 2 * (uint32_t)vc[p];
+        for (uint32_t i = 0; i < (uint32_t)vc[p]; i++, at += 2) {
+            double out[3];
+            transform_point(&skinning[(uint32_t)v[at]], &positions[p * 3], out);
+            for (int e = 0; e < 3; e++)
+                skinned[p * 3 + e] += weights[(uint32_t)v[at + 1]] / sum * out[e];
+        }
+    }
+    free(weights);
+    free(vc);
+    free(v);
+    free(positions);
+    /* corners of the polylist */
+    xmlNode *poly = first(mesh, "polylist");
+    int stride = 0, vertex_offset = 0;
+    for (xmlNode *k = poly->children; k; k = k->next)
+        if (is(k, "input")) {
+            xmlChar *o = xmlGetProp(k, (const xmlChar *)"offset");
+            int off = atoi((const char *)o);
+            xmlFree(o);
+            stride = off + 1 > stride ? off + 1 : stride;
+            if (attr_is(k, "semantic", "VERTEX"))
+                vertex_offset = off;
+        }
+    uint32_t pc, ic;
+    double *poly_vc = numbers(first(poly, "vcount"), &pc), *idx = numbers(first(poly, "p"), &ic);
+    *corner_count = ic / (uint32_t)stride;
+    *polygons = pc;
+    *vcount_out = malloc(pc * sizeof **vcount_out);
+    for (uint32_t i = 0; i < pc; i++)
+        (*vcount_out)[i] = (uint32_t)poly_vc[i];
+    double *corners = malloc(*corner_count * 3 * sizeof *corners);
+    for (uint32_t c = 0; c < *corner_count; c++)
+        memcpy(&corners[c * 3], &skinned[(uint32_t)idx[c * (uint32_t)stride + (uint32_t)vertex_offset] * 3],
+               3 * sizeof *corners);
+    free(poly_vc);
+    free(idx);
+    free(skinned);
+    return corners;
+}
+
+static void test_skin_4_influence_against_its_xml(void **state)
+{
+    (void)state;
+    char path[1024];
+    if (!testdata_path("collada-cts/skin_4_influence.dae", path, sizeof path))
+        skip();
+    sinew_model *m = load_or_fail(path);
+    xmlDoc *doc = xmlReadFile(path, NULL, XML_PARSE_NONET | XML_PARSE_HUGE);
+    assert_non_null(doc);
+    uint32_t corners, polygons, *vcount;
+    double *want = file_skinned_corners(doc, &corners, &vcount, &polygons);
+    assert_int_equal(m->mesh_count, 1);
+    const sinew_mesh *mesh = &m->meshes[0];
+    assert_int_equal(mesh->influence_count, 4);
+    sinew_mat4 *worlds = pose_worlds(m, NULL, 0);
+    uint32_t count;
+    float *got = posed_vertices(m, worlds, &count);
+    /* sinew's vertices are in Y-up metres under its root node: the file's space times the
+     * root's matrix (the conversion itself is tested in test_models) */
+    mat root;
+    for (int i = 0; i < 16; i++)
+        root.m[i] = worlds[0].m[i];
+    double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
+    for (uint32_t c = 0; c < corners; c++) {
+        double p[3];
+        transform_point(&root, &want[c * 3], p);
+        memcpy(&want[c * 3], p, sizeof p);
+        for (int e = 0; e < 3; e++)
+            lo[e] = fmin(lo[e], p[e]), hi[e] = fmax(hi[e], p[e]);
+    }
+    double diagonal = sqrt((hi[0] - lo[0]) * (hi[0] - lo[0]) + (hi[1] - lo[1]) * (hi[1] - lo[1]) +
+                           (hi[2] - lo[2]) * (hi[2] - lo[2]));
+    /* polygon k's n corners become its n - 2 triangles, in order; every triangle corner
+     * must be one of its polygon's corners */
+    double worst = 0;
+    uint32_t triangle = 0, first_corner = 0;
+    for (uint32_t k = 0; k < polygons; k++) {
+        for (uint32_t t = 0; t + 2 < vcount[k]; t++, triangle++) {
+            assert_true(triangle * 3 + 2 < mesh->index_count);
+            for (int i = 0; i < 3; i++) {
+                const float *g = &got[mesh->indices[triangle * 3 + i] * 3];
+                double best = INFINITY;
+                for (uint32_t c = first_corner; c < first_corner + vcount[k]; c++) {
+                    const double *w = &want[c * 3];
+                    best = fmin(best, fmax(fmax(fabs(g[0] - w[0]), fabs(g[1] - w[1])), fabs(g[2] - w[2])));
+                }
+                worst = fmax(worst, best);
+            }
+        }
+        first_corner += vcount[k];
+    }
+    assert_int_equal(triangle * 3, mesh->index_count);
+    print_message("skin_4_influence.dae: %u polygons, %u triangles; largest distance from the file's own skinning "
+                  "%.3g (%.2g of the diagonal %.3g)\n",
+                  polygons, triangle, worst, worst / diagonal, diagonal);
+    assert_true(worst <= 1e-6 * diagonal);
+    free(got);
+    free(worlds);
+    free(want);
+    free(vcount);
+    xmlFreeDoc(doc);
+    sinew_model_free(m);
+}
+
+/* ---- library_animation_clips.dae ------------------------------------------------------ */
+
+static double attr_double(const xmlNode *n, const char *name)
+{
+    xmlChar *v = xmlGetProp(n, (const xmlChar *)name);
+    assert_non_null(v);
+    double d = strtod((const char *)v, NULL);
+    xmlFree(v);
+    return d;
+}
+
+static void test_animation_clips_against_their_xml(void **state)
+{
+    (void)state;
+    char path[1024];
+    if (!testdata_path("assimp/Collada/library_animation_clips.dae", path, sizeof path))
+        skip();
+    sinew_model *m = load_or_fail(path);
+    xmlDoc *doc = xmlReadFile(path, NULL, XML_PARSE_NONET | XML_PARSE_HUGE);
+    assert_non_null(doc);
+    xmlNode *clips = first(xmlDocGetRootElement(doc), "library_animation_clips");
+    uint32_t clip_count = 0, keys_checked = 0;
+    double worst = 0;
+    for (xmlNode *ce = clips->children; ce; ce = ce->next) {
+        if (!is(ce, "animation_clip"))
+            continue;
+        clip_count++;
+        xmlChar *name = xmlGetProp(ce, (const xmlChar *)"name");
+        int32_t ci = sinew_model_find_clip(m, (const char *)name);
+        if (ci < 0)
+            fail_msg("clip \"%s\" is missing", (const char *)name);
+        xmlFree(name);
+        const sinew_clip *clip = &m->clips[ci];
+        double start = attr_double(ce, "start"), end = attr_double(ce, "end");
+        assert_near(clip->duration, end - start, 1e-5, "clip window");
+        for (xmlNode *ia = ce->children; ia; ia = ia->next) {
+            if (!is(ia, "instance_animation"))
+                continue;
+            xmlNode *anim = by_url(doc, ia, "url"), *channel = first(anim, "channel");
+            xmlNode *sampler = by_url(doc, channel, "source"), *input = NULL, *output = NULL;
+            for (xmlNode *k = sampler->children; k; k = k->next) {
+                if (is(k, "input") && attr_is(k, "semantic", "INPUT"))
+                    input = by_url(doc, k, "source");
+                else if (is(k, "input") && attr_is(k, "semantic", "OUTPUT"))
+                    output = by_url(doc, k, "source");
+            }
+            xmlChar *target = xmlGetProp(channel, (const xmlChar *)"target");
+            char *slash = strchr((char *)target, '/');
+            assert_non_null(slash);
+            assert_string_equal(slash, "/transform");
+            *slash = 0;
+            xmlNode *node = find_attr(xmlDocGetRootElement(doc), "id", (const char *)target);
+            xmlFree(target);
+            xmlChar *node_name = xmlGetProp(node, (const xmlChar *)"name");
+            int32_t ni = sinew_model_find_node(m, (const char *)node_name);
+            if (ni < 0)
+                fail_msg("node \"%s\" is missing", (const char *)node_name);
+            xmlFree(node_name);
+            uint32_t tn, vn;
+            double *times = source_numbers(input, &tn), *values = source_numbers(output, &vn);
+            assert_int_equal(vn, tn * 16);
+            for (uint32_t k = 0; k < tn; k++) {
+                if (times[k] < start - 1e-6 || times[k] > end + 1e-6)
+                    continue;
+                sinew_transform locals[16];
+                assert_true(m->node_count <= 16);
+                sinew_sample_desc desc = {.model = m,
+                                          .clip = clip,
+                                          .time = (float)(times[k] - start),
+                                          .locals = locals,
+                                          .local_count = m->node_count};
+                assert_int_equal(sinew_sample(&desc, NULL), SINEW_OK);
+                sinew_mat4 got;
+                sinew_transform_to_mat4(&locals[ni], &got);
+                mat want = from_rows(&values[k * 16]);
+                for (int e = 0; e < 16; e++)
+                    worst = fmax(worst, fabs(got.m[e] - want.m[e]));
+                keys_checked++;
+            }
+            free(times);
+            free(values);
+        }
+    }
+    print_message("library_animation_clips.dae: %u clips, %u keys inside their windows; largest difference of a "
+                  "local matrix element from the key's <matrix> %.3g\n",
+                  clip_count, keys_checked, worst);
+    assert_int_equal(clip_count, m->clip_count);
+    assert_true(keys_checked > 50);
+    assert_true(worst <= 1e-5);
+    xmlFreeDoc(doc);
+    sinew_model_free(m);
+}
+
+/* ---- samplers.dae --------------------------------------------------------------------- */
+
+/* A cubic Bezier segment in (time, value): s solves x(s) = t by bisection, then y(s). */
+static double bezier(const double p0[2], const double c0[2], const double c1[2], const double p1[2], double t)
+{
+    double lo = 0, hi = 1;
+    for (int i = 0; i < 100; i++) {
+        double s = (lo + hi) / 2, u = 1 - s;
+        double x = u * u * u * p0[0] + 3 * u * u * s * c0[0] + 3 * u * s * s * c1[0] + s * s * s * p1[0];
+        *(x < t ? &lo : &hi) = s;
+    }
+    double s = (lo + hi) / 2, u = 1 - s;
+    return u * u * u * p0[1] + 3 * u * u * s * c0[1] + 3 * u * s * s * c1[1] + s * s * s * p1[1];
+}
+
+/* What samplers.dae says at time t: the translation and the angle about z (degrees). */
+static void samplers_expected(double t, double translation[3], double *degrees)
+{
+    /* X: BEZIER 0 -> 1 over [0, 1], control points (0.2, 1.5) and (0.8, -0.5) */
+    translation[0] = bezier((double[]){0, 0}, (double[]){0.2, 1.5}, (double[]){0.8, -0.5}, (double[]){1, 1}, t);
+    /* Y: STEP 0, 2, 3 at 0, 0.5, 1 */
+    translation[1] = t < 0.5 ? 0 : t < 1 ? 2 : 3;
+    /* Z: HERMITE 0 -> 1 over [0, 1], tangents 3 and 0 (per unit of the segment's parameter) */
+    double s = t, s2 = s * s, s3 = s2 * s;
+    translation[2] = (-2 * s3 + 3 * s2) * 1 + (s3 - 2 * s2 + s) * 3;
+    /* rotateZ: BEZIER 0 -> 180 degrees, control points (0.3, 120) and (0.7, 200) */
+    *degrees = bezier((double[]){0, 0}, (double[]){0.3, 120}, (double[]){0.7, 200}, (double[]){1, 180}, t);
+}
+
+static void test_samplers_as_the_file_says(void **state)
+{
+    (void)state;
+    char path[1024];
+    sinew_model *m = load_or_fail(fixture_path("samplers.dae", path, sizeof path));
+    int32_t mover = sinew_model_find_node(m, "mover"), legacy = sinew_model_find_node(m, "legacy");
+    assert_true(mover >= 0 && legacy >= 0);
+    assert_int_equal(m->clip_count, 1);
+    bool warned = false;
+    for (uint32_t i = 0; i < m->warning_count; i++)
+        warned |= strstr(m->warnings[i], "1 channels give BEZIER tangents as one number") != NULL;
+    assert_true(warned);
+    double worst_t = 0, worst_angle = 0, worst_legacy = 0;
+    for (int i = 0; i <= 100; i++) {
+        double t = i / 100.0;
+        sinew_transform locals[8];
+        assert_true(m->node_count <= 8);
+        sinew_sample_desc desc = {
+            .model = m, .clip = &m->clips[0], .time = (float)t, .locals = locals, .local_count = m->node_count};
+        assert_int_equal(sinew_sample(&desc, NULL), SINEW_OK);
+        double want[3], degrees;
+        samplers_expected(t, want, &degrees);
+        if (i == 50 || i == 100) /* STEP changes value at its keys: either side is right there */
+            want[1] = locals[mover].translation[1];
+        for (int e = 0; e < 3; e++)
+            worst_t = fmax(worst_t, fabs(locals[mover].translation[e] - want[e]));
+        const float *q = locals[mover].rotation; /* about z: (0, 0, sin, cos) of half the angle */
+        double angle = 2 * atan2(q[2], q[3]), off_axis = fmax(fabs(q[0]), fabs(q[1]));
+        worst_angle = fmax(worst_angle, fmax(fabs(remainder(angle - degrees * M_PI / 180, 2 * M_PI)), off_axis));
+        /* legacy: one-number tangents, played as the straight line 0 -> 1 */
+        worst_legacy = fmax(worst_legacy, fabs(locals[legacy].translation[0] - t));
+    }
+    print_message("samplers.dae: largest differences from the curves: translation %.3g, rotation %.3g rad, "
+                  "one-number tangents from the straight line %.3g\n",
+                  worst_t, worst_angle, worst_legacy);
+    assert_true(worst_t <= 1e-5);
+    assert_true(worst_angle <= 1e-6);
+    assert_true(worst_legacy <= 1e-6);
+    sinew_model_free(m);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_skin_4_influence_against_its_xml),
+        cmocka_unit_test(test_animation_clips_against_their_xml),
+        cmocka_unit_test(test_samplers_as_the_file_says),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}
