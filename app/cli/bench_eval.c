@@ -391,7 +391,7 @@ static bool bench_load(const char *collada, const char *converted, load_result *
     sinew_error error = {0};
     double best_assimp, best_sinew = 1e30;
     sinew_model *first = NULL;
-    if (!time_import(collada, false, &best_assimp, &first))
+    if (!time_import(collada, true, &best_assimp, &first))
         return false;
     sinew_result saved = sinew_model_save(first, NULL, converted, &error);
     sinew_model_free(first);
@@ -414,13 +414,14 @@ static bool bench_load(const char *collada, const char *converted, load_result *
     return true;
 }
 
-/* Import time of an FBX file by sinew's reader and by Assimp (parse, evaluation, build). */
-typedef struct fbx_result {
+/* Import time of a file sinew reads itself (FBX, glTF, COLLADA) by sinew's reader and by
+ * Assimp (parse, evaluation, build). */
+typedef struct import_result {
     double sinew_ms, assimp_ms;
     long bytes;
-} fbx_result;
+} import_result;
 
-static bool bench_fbx(const char *path, fbx_result *out)
+static bool bench_import(const char *path, import_result *out)
 {
     out->bytes = file_size(path);
     return time_import(path, false, &out->sinew_ms, NULL) && time_import(path, true, &out->assimp_ms, NULL);
@@ -453,7 +454,7 @@ static void machine_name(char *out, size_t size)
 }
 
 static const char eval_usage[] =
-    "usage: sinew bench eval [--json] [--collada FILE.dae] [--fbx FILE.fbx] [--quick]\n"
+    "usage: sinew bench eval [--json] [--collada FILE.dae] [--import FILE] [--quick]\n"
     "\n"
     "The runtime's speed per unit (best of 5 batches), against the goals of the evaluation:\n"
     "  sampling + world matrices of one character, 64 and 128 joints, a 2 s clip keyed 30 times a second\n"
@@ -465,16 +466,17 @@ static const char eval_usage[] =
     "    and 2 threads;\n"
     "  loading a .sinew file against Assimp importing the COLLADA file it came from (in this process):\n"
     "    FILE.dae, or the demo humanoid that `sinew demo` writes (made in a temporary folder);\n"
-    "  with --fbx, importing FILE.fbx by sinew's FBX reader against Assimp's (in this process).\n"
+    "  with --import, importing FILE (FBX, glTF or COLLADA) by sinew's own reader against Assimp's (in\n"
+    "    this process; --fbx FILE is the same).\n"
     "--quick runs one short batch of each (a smoke test; the figures mean little).\n"
     "--json prints one object with sample_world_us_64, sample_world_us_128, seek_us_64, skin_mverts_1t,\n"
     "skin_mverts_2t, crowd1000_speedup_2t, load_speedup_vs_assimp, machine and the other figures\n"
-    "(with --fbx also fbx_import_ms_sinew, fbx_import_ms_assimp and fbx_file).\n";
+    "(with --import also import_ms_sinew, import_ms_assimp and import_file).\n";
 
 int bench_eval(int argc, char **argv)
 {
     bool json = false;
-    const char *collada = NULL, *fbx = NULL;
+    const char *collada = NULL, *import = NULL;
     for (int i = 1; i < argc; i++) {
         if (cli_is_help(argv[i])) {
             fputs(eval_usage, stdout);
@@ -486,8 +488,8 @@ int bench_eval(int argc, char **argv)
             unit_scale = 0.02;
         } else if (strcmp(argv[i], "--collada") == 0 && i + 1 < argc) {
             collada = argv[++i];
-        } else if (strcmp(argv[i], "--fbx") == 0 && i + 1 < argc) {
-            fbx = argv[++i];
+        } else if ((strcmp(argv[i], "--import") == 0 || strcmp(argv[i], "--fbx") == 0) && i + 1 < argc) {
+            import = argv[++i];
         } else {
             cli_error("bench eval: unknown option %s\n%s", argv[i], eval_usage);
             return EXIT_USAGE;
@@ -515,10 +517,10 @@ int bench_eval(int argc, char **argv)
     skin_result skin = {0};
     crowd_result crowd = {0};
     load_result load = {0};
-    fbx_result fbx_times = {0};
+    import_result import_times = {0};
     bool ok = bench_sampling(64, &s64) && bench_sampling(128, &s128) && bench_skinning(&threads, &skin) &&
               bench_crowd(&threads, &crowd) && bench_load(collada, converted, &load) &&
-              (!fbx || bench_fbx(fbx, &fbx_times));
+              (!import || bench_import(import, &import_times));
     pool_close(&threads);
     cli_remove_tree(dir);
     if (!ok)
@@ -546,10 +548,10 @@ int bench_eval(int argc, char **argv)
         cJSON_AddNumberToObject(o, "load_ms_assimp", load.assimp_ms);
         cJSON_AddNumberToObject(o, "load_speedup_vs_assimp", load_speedup);
         cJSON_AddStringToObject(o, "load_collada", collada == demo_dae ? "sinew demo humanoid" : collada);
-        if (fbx) {
-            cJSON_AddNumberToObject(o, "fbx_import_ms_sinew", fbx_times.sinew_ms);
-            cJSON_AddNumberToObject(o, "fbx_import_ms_assimp", fbx_times.assimp_ms);
-            cJSON_AddStringToObject(o, "fbx_file", fbx);
+        if (import) {
+            cJSON_AddNumberToObject(o, "import_ms_sinew", import_times.sinew_ms);
+            cJSON_AddNumberToObject(o, "import_ms_assimp", import_times.assimp_ms);
+            cJSON_AddStringToObject(o, "import_file", import);
         }
         cJSON_AddStringToObject(o, "machine", machine);
         char *text = cJSON_Print(o);
@@ -574,12 +576,12 @@ int bench_eval(int argc, char **argv)
     printf("%-44s %11.2fx %12s %10s\n", "  speed-up from 2 threads", crowd_speedup, "", ">= 1.8x");
     printf("%-44s %9.3f ms %9.3f ms %10s\n", "load .sinew | Assimp COLLADA", load.sinew_ms, load.assimp_ms, "");
     printf("%-44s %11.0fx %12s %10s\n", "  .sinew load speed-up", load_speedup, "", ">= 100x");
-    if (fbx)
-        printf("%-44s %9.3f ms %9.3f ms %10s\n", "import FBX: sinew's reader | Assimp", fbx_times.sinew_ms,
-               fbx_times.assimp_ms, "");
+    if (import)
+        printf("%-44s %9.3f ms %9.3f ms %10s\n", "import: sinew's reader | Assimp", import_times.sinew_ms,
+               import_times.assimp_ms, "");
     printf("\n(%ld-byte COLLADA file, %ld-byte .sinew; skinning over %u vertices)\n", load.source_bytes,
            load.sinew_bytes, skin.vertices);
-    if (fbx)
-        printf("(FBX: %s, %ld bytes)\n", fbx, fbx_times.bytes);
+    if (import)
+        printf("(imported: %s, %ld bytes)\n", import, import_times.bytes);
     return EXIT_OK;
 }

@@ -46,6 +46,12 @@ typedef struct mesh_key {
     uint32_t count;
 } mesh_key;
 
+/* A JSON array's elements by index (cJSON's arrays are lists: cJSON_GetArrayItem walks). */
+typedef struct table {
+    const cJSON **at;
+    int count;
+} table;
+
 typedef struct gltf {
     const char *path;
     raw_model *m;
@@ -57,7 +63,7 @@ typedef struct gltf {
     bool has_bin;
     blob *buffers;
     int buffer_count;
-    const cJSON *accessors, *views, *nodes, *meshes, *skins, *materials, *textures, *images;
+    table accessors, views, nodes, meshes, skins, materials, textures, images, buffer_items, animations;
     int node_count;
     uint32_t *node_of; /* glTF node -> sinew node */
     bool *in_scene;    /* by glTF node */
@@ -151,16 +157,37 @@ static sinew_result numbers_at(gltf *g, const cJSON *object, const char *key, co
     return SINEW_OK;
 }
 
-/* A top-level array (or none); an object of another type is refused. */
-static sinew_result top_array(gltf *g, const char *key, const cJSON **out)
+/* An array's elements into a table (none: an empty table); false when out of memory. */
+static bool table_of(const cJSON *array, table *out)
+{
+    out->count = cJSON_GetArraySize(array);
+    out->at = malloc((out->count ? (size_t)out->count : 1) * sizeof *out->at);
+    int i = 0;
+    const cJSON *e;
+    cJSON_ArrayForEach(e, array)
+    {
+        if (out->at && i < out->count)
+            out->at[i++] = e;
+    }
+    return out->at != NULL;
+}
+
+/* Element i of a table, or NULL. */
+static const cJSON *item(const table *t, int i)
+{
+    return i >= 0 && i < t->count ? t->at[i] : NULL;
+}
+
+/* A top-level array (or none) as a table; an object of another type is refused. */
+static sinew_result top_array(gltf *g, const char *key, table *out)
 {
     bool bad = false;
-    *out = member(g->json, key, cJSON_Array, &bad);
+    const cJSON *array = member(g->json, key, cJSON_Array, &bad);
     if (bad)
         return fail_at(g, "\"%s\" is not an array", key);
-    if (*out && cJSON_GetArraySize(*out) > (int)GLTF_MAX_COUNT)
+    if (array && cJSON_GetArraySize(array) > (int)GLTF_MAX_COUNT)
         return fail_at(g, "\"%s\" has more elements than sinew reads", key);
-    return SINEW_OK;
+    return table_of(array, out) ? SINEW_OK : oom(g);
 }
 
 static const char *string_at(const cJSON *object, const char *key)
@@ -301,7 +328,7 @@ static sinew_result buffer_bytes(gltf *g, int index, const blob **out)
     *out = b;
     if (b->loaded)
         return SINEW_OK;
-    const cJSON *buffer = cJSON_GetArrayItem(cJSON_GetObjectItemCaseSensitive(g->json, "buffers"), index);
+    const cJSON *buffer = item(&g->buffer_items, index);
     char where[64];
     snprintf(where, sizeof where, "buffers[%d]", index);
     long long length;
@@ -408,7 +435,7 @@ static sinew_result view_span(gltf *g, int view, long long offset, long long cou
 {
     char vw[64];
     snprintf(vw, sizeof vw, "bufferViews[%d]", view);
-    const cJSON *v = cJSON_GetArrayItem(g->views, view);
+    const cJSON *v = item(&g->views, view);
     int buffer;
     long long voff, vlen, vstride;
     sinew_result r;
@@ -443,7 +470,7 @@ static sinew_result read_accessor(gltf *g, int index, const char *use, int want,
     *out = NULL;
     char where[96];
     snprintf(where, sizeof where, "accessors[%d] (%s)", index, use);
-    const cJSON *a = cJSON_GetArrayItem(g->accessors, index);
+    const cJSON *a = item(&g->accessors, index);
     if (!cJSON_IsObject(a))
         return fail_at(g, "%s: not an object", where);
     int comps = type_components(string_at(a, "type"));
@@ -478,7 +505,7 @@ static sinew_result read_accessor(gltf *g, int index, const char *use, int want,
     if (!v)
         return oom(g);
     int view;
-    if ((r = index_at(g, a, "bufferView", where, cJSON_GetArraySize(g->views), false, &view))) {
+    if ((r = index_at(g, a, "bufferView", where, g->views.count, false, &view))) {
         free(v);
         return r;
     }
@@ -508,7 +535,7 @@ static sinew_result read_accessor(gltf *g, int index, const char *use, int want,
         const cJSON *val = cJSON_GetObjectItemCaseSensitive(sparse, "values");
         const unsigned char *ib, *vb;
         long long is, vs;
-        int nviews = cJSON_GetArraySize(g->views);
+        int nviews = g->views.count;
         if ((r = int_at(g, sparse, "count", sw, 1, count, -1, &n)) ||
             (r = index_at(g, ind, "bufferView", sw, nviews, true, &iview)) ||
             (r = int_at(g, ind, "componentType", sw, 5121, 5125, -1, &itype)) ||
@@ -603,7 +630,7 @@ static sinew_result add_subtree(gltf *g, walk *w, int root)
         g->node_of[i] = at;
         char where[48];
         snprintf(where, sizeof where, "nodes[%d]", i);
-        const cJSON *n = cJSON_GetArrayItem(g->nodes, i);
+        const cJSON *n = item(&g->nodes, i);
         const char *name = string_at(n, "name");
         m->node_names[at] = raw_strdup(name && *name ? name : where);
         if (!m->node_names[at])
@@ -612,22 +639,26 @@ static sinew_result add_subtree(gltf *g, walk *w, int root)
         sinew_result r = node_rest(g, n, where, &m->node_rest[at]);
         if (r)
             return r;
-        const cJSON *children = cJSON_GetObjectItemCaseSensitive(n, "children");
-        int count = cJSON_GetArraySize(children);
+        table children;
+        if (!table_of(cJSON_GetObjectItemCaseSensitive(n, "children"), &children))
+            return oom(g);
         /* Pushed in reverse so that children come out in the file's order. */
-        for (int k = count - 1; k >= 0; k--) {
-            const cJSON *c = cJSON_GetArrayItem(children, k);
+        for (int k = children.count - 1; k >= 0; k--) {
+            const cJSON *c = children.at[k];
             double v = cJSON_IsNumber(c) ? c->valuedouble : -1;
-            if (!(v >= 0 && v < g->node_count) || v != floor(v))
-                return fail_at(g, "%s.children[%d]: not a node index", where, k);
-            int child = (int)v;
-            if (w->parent[child] != -2)
-                return fail_at(g, "%s.children[%d]: node %d has more than one parent, or is its own ancestor", where, k,
-                               child);
+            int child = v >= 0 && v < g->node_count && v == floor(v) ? (int)v : -1;
+            if (child < 0 || w->parent[child] != -2) {
+                free(children.at);
+                return child < 0 ? fail_at(g, "%s.children[%d]: not a node index", where, k)
+                                 : fail_at(g, "%s.children[%d]: node %d has more than one parent, or is its own "
+                                              "ancestor",
+                                           where, k, child);
+            }
             w->parent[child] = i;
             g->node_of[child] = at;
             w->stack[top++] = child;
         }
+        free(children.at);
     }
     return SINEW_OK;
 }
@@ -655,7 +686,7 @@ static sinew_result build_nodes(gltf *g)
         r = oom(g);
     for (int i = 0; i < n && !r; i++) {
         w.parent[i] = -2;
-        const cJSON *node = cJSON_GetArrayItem(g->nodes, i), *c;
+        const cJSON *node = item(&g->nodes, i), *c;
         if (!cJSON_IsObject(node))
             r = fail_at(g, "nodes[%d]: not an object", i);
         cJSON_ArrayForEach(c, cJSON_GetObjectItemCaseSensitive(node, "children"))
@@ -719,9 +750,9 @@ static sinew_result texture_path(gltf *g, int texture, const char *material, cha
     *out = NULL;
     char where[64];
     snprintf(where, sizeof where, "textures[%d]", texture);
-    const cJSON *t = cJSON_GetArrayItem(g->textures, texture);
+    const cJSON *t = item(&g->textures, texture);
     int image;
-    sinew_result r = index_at(g, t, "source", where, cJSON_GetArraySize(g->images), false, &image);
+    sinew_result r = index_at(g, t, "source", where, g->images.count, false, &image);
     if (r)
         return r;
     /* Images in other formats (KHR_texture_basisu, EXT_texture_webp) keep "source" as a fallback. */
@@ -730,7 +761,7 @@ static sinew_result texture_path(gltf *g, int texture, const char *material, cha
                    ? SINEW_OK
                    : oom(g);
     }
-    const cJSON *img = cJSON_GetArrayItem(g->images, image);
+    const cJSON *img = item(&g->images, image);
     const char *uri = string_at(img, "uri");
     if (!uri || strncmp(uri, "data:", 5) == 0)
         return raw_model_warn(g->m,
@@ -747,7 +778,7 @@ static sinew_result texture_path(gltf *g, int texture, const char *material, cha
 static sinew_result build_materials(gltf *g)
 {
     raw_model *m = g->m;
-    int n = cJSON_GetArraySize(g->materials);
+    int n = g->materials.count;
     if (n == 0)
         return SINEW_OK;
     m->materials = calloc((size_t)n, sizeof *m->materials);
@@ -757,7 +788,7 @@ static sinew_result build_materials(gltf *g)
         return oom(g);
     m->material_count = (uint32_t)n;
     for (int i = 0; i < n; i++) {
-        const cJSON *mat = cJSON_GetArrayItem(g->materials, i);
+        const cJSON *mat = item(&g->materials, i);
         char where[48];
         snprintf(where, sizeof where, "materials[%d]", i);
         const char *name = string_at(mat, "name");
@@ -777,7 +808,7 @@ static sinew_result build_materials(gltf *g)
             continue;
         int texture;
         long long set;
-        if ((r = index_at(g, info, "index", where, cJSON_GetArraySize(g->textures), true, &texture)) ||
+        if ((r = index_at(g, info, "index", where, g->textures.count, true, &texture)) ||
             (r = int_at(g, info, "texCoord", where, 0, 255, 0, &set)))
             return r;
         const cJSON *tt = cJSON_GetObjectItemCaseSensitive(cJSON_GetObjectItemCaseSensitive(info, "extensions"),
@@ -834,7 +865,7 @@ static sinew_result attribute(gltf *g, const cJSON *attrs, const char *name, con
     char use[160];
     snprintf(use, sizeof use, "%s %s", where, name);
     int index;
-    sinew_result r = index_at(g, attrs, name, where, cJSON_GetArraySize(g->accessors), true, &index);
+    sinew_result r = index_at(g, attrs, name, where, g->accessors.count, true, &index);
     double *v = NULL;
     uint32_t count = 0;
     if (r || (r = read_accessor(g, index, use, want, types, &v, &count)))
@@ -860,7 +891,7 @@ static sinew_result primitive_indices(gltf *g, const cJSON *prim, const char *wh
                                       uint32_t vertex_count, raw_mesh *out)
 {
     int index;
-    sinew_result r = index_at(g, prim, "indices", where, cJSON_GetArraySize(g->accessors), false, &index);
+    sinew_result r = index_at(g, prim, "indices", where, g->accessors.count, false, &index);
     if (r)
         return r;
     double *v = NULL;
@@ -965,7 +996,7 @@ static sinew_result primitive_influences(gltf *g, const cJSON *attrs, const char
 /* One primitive as a raw mesh. Points and lines are left out (*out->vertex_count == 0). */
 static sinew_result read_primitive(gltf *g, int mesh, int k, int skin, raw_mesh *out)
 {
-    const cJSON *gm = cJSON_GetArrayItem(g->meshes, mesh);
+    const cJSON *gm = item(&g->meshes, mesh);
     const cJSON *prims = cJSON_GetObjectItemCaseSensitive(gm, "primitives");
     const cJSON *prim = cJSON_GetArrayItem(prims, k);
     char where[64];
@@ -1007,7 +1038,7 @@ static sinew_result read_primitive(gltf *g, int mesh, int k, int skin, raw_mesh 
         double *v;
         char use[160];
         snprintf(use, sizeof use, "%s POSITION", where);
-        if ((r = index_at(g, attrs, "POSITION", where, cJSON_GetArraySize(g->accessors), true, &index)) ||
+        if ((r = index_at(g, attrs, "POSITION", where, g->accessors.count, true, &index)) ||
             (r = read_accessor(g, index, use, 3, POSITION_TYPES, &v, &n)))
             return r;
         out->positions = malloc((size_t)n * 3 * sizeof *out->positions);
@@ -1050,14 +1081,14 @@ static sinew_result read_primitive(gltf *g, int mesh, int k, int skin, raw_mesh 
 static sinew_result build_skins(gltf *g)
 {
     raw_model *m = g->m;
-    int n = cJSON_GetArraySize(g->skins);
+    int n = g->skins.count;
     if (n == 0)
         return SINEW_OK;
     if (!(m->skins = calloc((size_t)n, sizeof *m->skins)))
         return oom(g);
     m->skin_count = (uint32_t)n;
     for (int i = 0; i < n; i++) {
-        const cJSON *skin = cJSON_GetArrayItem(g->skins, i);
+        const cJSON *skin = item(&g->skins, i);
         char where[48];
         snprintf(where, sizeof where, "skins[%d]", i);
         const cJSON *joints = cJSON_GetObjectItemCaseSensitive(skin, "joints");
@@ -1080,7 +1111,7 @@ static sinew_result build_skins(gltf *g)
             out->joints[k++] = g->node_of[(int)v];
         }
         int ibm;
-        sinew_result r = index_at(g, skin, "inverseBindMatrices", where, cJSON_GetArraySize(g->accessors), false, &ibm);
+        sinew_result r = index_at(g, skin, "inverseBindMatrices", where, g->accessors.count, false, &ibm);
         if (r)
             return r;
         if (ibm < 0) {
@@ -1116,7 +1147,7 @@ static sinew_result meshes_for(gltf *g, int mesh, int skin, const mesh_key **out
             return SINEW_OK;
         }
     raw_model *m = g->m;
-    const cJSON *gm = cJSON_GetArrayItem(g->meshes, mesh);
+    const cJSON *gm = item(&g->meshes, mesh);
     const cJSON *prims = cJSON_GetObjectItemCaseSensitive(gm, "primitives");
     int count = cJSON_GetArraySize(prims);
     if (!cJSON_IsArray(prims) || count == 0)
@@ -1160,12 +1191,12 @@ static sinew_result build_meshes(gltf *g)
     raw_model *m = g->m;
     uint32_t cap = 0;
     for (int i = 0; i < g->node_count; i++) {
-        const cJSON *node = cJSON_GetArrayItem(g->nodes, i);
+        const cJSON *node = item(&g->nodes, i);
         char where[48];
         snprintf(where, sizeof where, "nodes[%d]", i);
         int mesh, skin;
         sinew_result r;
-        if ((r = index_at(g, node, "mesh", where, cJSON_GetArraySize(g->meshes), false, &mesh)) ||
+        if ((r = index_at(g, node, "mesh", where, g->meshes.count, false, &mesh)) ||
             (r = index_at(g, node, "skin", where, (int)m->skin_count, false, &skin)))
             return r;
         if (mesh < 0 || !g->in_scene[i])
@@ -1191,11 +1222,9 @@ static sinew_result build_meshes(gltf *g)
 static const long long ROTATION_TYPES[] = {5126, 5120, 5121, 5122, 5123, 0};
 
 /* One channel: its sampler's keys as a raw channel of the node's track. */
-static sinew_result read_channel(gltf *g, int a, int c, raw_clip *clip, uint32_t *weights)
+static sinew_result read_channel(gltf *g, int a, int c, const cJSON *channel, const table *samplers, raw_clip *clip,
+                                 uint32_t *weights)
 {
-    const cJSON *anim = cJSON_GetArrayItem(cJSON_GetObjectItemCaseSensitive(g->json, "animations"), a);
-    const cJSON *channel = cJSON_GetArrayItem(cJSON_GetObjectItemCaseSensitive(anim, "channels"), c);
-    const cJSON *samplers = cJSON_GetObjectItemCaseSensitive(anim, "samplers");
     char where[80];
     snprintf(where, sizeof where, "animations[%d].channels[%d]", a, c);
     const cJSON *target = cJSON_GetObjectItemCaseSensitive(channel, "target");
@@ -1203,7 +1232,7 @@ static sinew_result read_channel(gltf *g, int a, int c, raw_clip *clip, uint32_t
     sinew_result r;
     if (!cJSON_IsObject(target))
         return fail_at(g, "%s: no target", where);
-    if ((r = index_at(g, channel, "sampler", where, cJSON_GetArraySize(samplers), true, &sampler)) ||
+    if ((r = index_at(g, channel, "sampler", where, samplers->count, true, &sampler)) ||
         (r = index_at(g, target, "node", where, g->node_count, false, &node)))
         return r;
     if (node < 0)
@@ -1222,7 +1251,7 @@ static sinew_result read_channel(gltf *g, int a, int c, raw_clip *clip, uint32_t
         (*weights)++;
         return SINEW_OK;
     }
-    const cJSON *s = cJSON_GetArrayItem(samplers, sampler);
+    const cJSON *s = item(samplers, sampler);
     char sw[64];
     snprintf(sw, sizeof sw, "animations[%d].samplers[%d]", a, sampler);
     const char *how = string_at(s, "interpolation");
@@ -1233,8 +1262,8 @@ static sinew_result read_channel(gltf *g, int a, int c, raw_clip *clip, uint32_t
     if (interp == UINT32_MAX)
         return fail_at(g, "%s.interpolation: \"%s\" is not LINEAR, STEP or CUBICSPLINE", sw, how);
     int input, output;
-    if ((r = index_at(g, s, "input", sw, cJSON_GetArraySize(g->accessors), true, &input)) ||
-        (r = index_at(g, s, "output", sw, cJSON_GetArraySize(g->accessors), true, &output)))
+    if ((r = index_at(g, s, "input", sw, g->accessors.count, true, &input)) ||
+        (r = index_at(g, s, "output", sw, g->accessors.count, true, &output)))
         return r;
     int width = kind == SINEW_CHANNEL_ROTATION ? 4 : 3;
     double *times = NULL, *values = NULL;
@@ -1292,28 +1321,32 @@ static sinew_result read_channel(gltf *g, int a, int c, raw_clip *clip, uint32_t
 static sinew_result build_clips(gltf *g)
 {
     raw_model *m = g->m;
-    const cJSON *animations;
-    sinew_result r = top_array(g, "animations", &animations);
-    int n = cJSON_GetArraySize(animations);
+    sinew_result r = top_array(g, "animations", &g->animations);
+    int n = g->animations.count;
     if (r || n == 0)
         return r;
     if (!(m->clips = calloc((size_t)n, sizeof *m->clips)))
         return oom(g);
     for (int a = 0; a < n; a++) {
-        const cJSON *anim = cJSON_GetArrayItem(animations, a);
+        const cJSON *anim = item(&g->animations, a);
         raw_clip *clip = &m->clips[m->clip_count++];
         const char *name = string_at(anim, "name");
         char fallback[32];
         snprintf(fallback, sizeof fallback, "clip %d", a);
-        const cJSON *channels = cJSON_GetObjectItemCaseSensitive(anim, "channels");
-        int count = cJSON_GetArraySize(channels);
-        if (!(clip->name = raw_strdup(name && *name ? name : fallback)) ||
+        table channels, samplers;
+        bool listed = table_of(cJSON_GetObjectItemCaseSensitive(anim, "channels"), &channels);
+        listed &= table_of(cJSON_GetObjectItemCaseSensitive(anim, "samplers"), &samplers);
+        int count = channels.count;
+        if (!listed || !(clip->name = raw_strdup(name && *name ? name : fallback)) ||
             !(clip->tracks = calloc(count ? (size_t)count : 1, sizeof *clip->tracks)))
-            return oom(g);
+            r = oom(g);
         uint32_t weights = 0;
-        for (int c = 0; c < count; c++)
-            if ((r = read_channel(g, a, c, clip, &weights)))
-                return r;
+        for (int c = 0; c < count && !r; c++)
+            r = read_channel(g, a, c, channels.at[c], &samplers, clip, &weights);
+        free(channels.at);
+        free(samplers.at);
+        if (r)
+            return r;
         if (weights && !raw_model_warn(m,
                                        "%s: clip \"%s\" animates morph target weights (%u channels); sinew plays "
                                        "the skeleton only",
@@ -1333,10 +1366,9 @@ sinew_result raw_model_from_gltf(const char *path, const unsigned char *bytes, s
     model->source = raw_strdup(path);
     model->format = raw_strdup(gltf_sniff(bytes, size) ? "glb" : "gltf");
     sinew_result r = !model->source || !model->format ? oom(&g) : load_document(&g);
-    const cJSON *buffers = NULL;
     if (!r)
-        r = top_array(&g, "buffers", &buffers);
-    if (!r && (g.buffer_count = cJSON_GetArraySize(buffers)) > 0 &&
+        r = top_array(&g, "buffers", &g.buffer_items);
+    if (!r && (g.buffer_count = g.buffer_items.count) > 0 &&
         !(g.buffers = calloc((size_t)g.buffer_count, sizeof *g.buffers)))
         r = oom(&g);
     if (!r)
@@ -1355,7 +1387,7 @@ sinew_result raw_model_from_gltf(const char *path, const unsigned char *bytes, s
         r = top_array(&g, "textures", &g.textures);
     if (!r)
         r = top_array(&g, "images", &g.images);
-    g.node_count = cJSON_GetArraySize(g.nodes);
+    g.node_count = g.nodes.count;
     if (!r)
         r = build_nodes(&g);
     if (!r)
@@ -1375,6 +1407,10 @@ sinew_result raw_model_from_gltf(const char *path, const unsigned char *bytes, s
     free(g.keys);
     free(g.uv_transform);
     free(g.has_uv_transform);
+    const table *tables[] = {&g.accessors, &g.views,    &g.nodes,  &g.meshes,       &g.skins,
+                             &g.materials, &g.textures, &g.images, &g.buffer_items, &g.animations};
+    for (size_t i = 0; i < sizeof tables / sizeof tables[0]; i++)
+        free(tables[i]->at);
     cJSON_Delete(g.json);
     if (r)
         raw_model_free(model);
