@@ -1748,6 +1748,15 @@ static bool in_clip(const curve *k, xmlNode *const *anims, uint32_t anim_count)
     return false;
 }
 
+/* The keys a clip over [start, end] copies from a curve: those inside, and one at each end. */
+static uint64_t keys_in_window(const curve *k, double start, double end)
+{
+    uint64_t n = 2;
+    for (uint32_t i = 0; i < k->keys; i++)
+        n += k->times[i] > start && k->times[i] < end;
+    return n;
+}
+
 static int compare_float(const void *a, const void *b)
 {
     float x = *(const float *)a, y = *(const float *)b;
@@ -1880,6 +1889,45 @@ static double curves_end(const collada *c, xmlNode *const *anims, uint32_t anim_
     return end;
 }
 
+/* An <animation_clip>: its name, window and the <animation>s it instances. */
+typedef struct clip_window {
+    char name[512];
+    double start, end;
+    xmlNode *anims[256];
+    uint32_t anim_count;
+} clip_window;
+
+static sinew_result read_clip_window(collada *c, xmlNode *clip, uint32_t index, clip_window *w)
+{
+    w->anim_count = 0;
+    for (xmlNode *k = clip->children; k && w->anim_count < 256; k = k->next) {
+        xmlNode *a = named(k, "instance_animation") ? by_url_attr(c, k, "url") : NULL;
+        if (named(a, "animation"))
+            w->anims[w->anim_count++] = a;
+    }
+    if (w->anim_count == 0)
+        return SINEW_OK;
+    if (!attr(clip, "name", w->name, sizeof w->name) || !*w->name)
+        if (!attr(clip, "id", w->name, sizeof w->name) || !*w->name)
+            snprintf(w->name, sizeof w->name, "clip %u", index);
+    w->start = 0;
+    w->end = curves_end(c, w->anims, w->anim_count);
+    char buf[64], *e;
+    if (attr(clip, "start", buf, sizeof buf)) {
+        w->start = strtod_l(buf, &e, c->c_locale);
+        if (e == buf || !isfinite(w->start))
+            return fail(c, clip, "start \"%s\" is not a number", buf);
+    }
+    if (attr(clip, "end", buf, sizeof buf)) {
+        w->end = strtod_l(buf, &e, c->c_locale);
+        if (e == buf || !isfinite(w->end))
+            return fail(c, clip, "end \"%s\" is not a number", buf);
+    }
+    if (!(w->end >= w->start))
+        return fail(c, clip, "ends (%g s) before it starts (%g s)", w->end, w->start);
+    return SINEW_OK;
+}
+
 static sinew_result build_clips(collada *c)
 {
     xmlNode *lib = child(c->root, "library_animations");
@@ -1889,40 +1937,33 @@ static sinew_result build_clips(collada *c)
     if (r || c->curve_count == 0)
         return r;
     xmlNode *clips = child(c->root, "library_animation_clips");
+    /* Each clip copies the keys inside its window (the runtime's clips own their keys), so
+     * windows that overlap one long animation multiply it; past a bound proportional to the
+     * file's keys (and at least 4 M keys, some 100 MB) the file is refused before any copy. */
+    uint64_t file_keys = 0, copied = 0;
+    for (uint32_t i = 0; i < c->curve_count; i++)
+        file_keys += c->curves[i].keys;
+    uint64_t budget = file_keys * 16 > (1u << 22) ? file_keys * 16 : (1u << 22);
     uint32_t made = 0;
-    for (xmlNode *clip = clips ? clips->children : NULL; clip && !r; clip = clip->next) {
-        if (!named(clip, "animation_clip"))
-            continue;
-        xmlNode *anims[256];
-        uint32_t n = 0;
-        for (xmlNode *k = clip->children; k && n < 256; k = k->next) {
-            xmlNode *a = named(k, "instance_animation") ? by_url_attr(c, k, "url") : NULL;
-            if (named(a, "animation"))
-                anims[n++] = a;
+    for (int pass = 0; pass < 2 && !r; pass++)
+        for (xmlNode *clip = clips ? clips->children : NULL; clip && !r; clip = clip->next) {
+            clip_window w;
+            if (!named(clip, "animation_clip") || (r = read_clip_window(c, clip, made, &w)) || w.anim_count == 0)
+                continue;
+            if (pass == 1) {
+                r = build_clip(c, w.name, w.start, w.end, w.anims, w.anim_count);
+                made++;
+                continue;
+            }
+            for (uint32_t i = 0; i < c->curve_count && copied <= budget; i++)
+                if (in_clip(&c->curves[i], w.anims, w.anim_count))
+                    copied += keys_in_window(&c->curves[i], w.start, w.end);
+            if (copied > budget)
+                r = fail_kind(c, clip, SINEW_ERROR_LIMIT,
+                              "the <animation_clip>s' windows overlap so much that they would copy more than %llu "
+                              "keys of the file's %llu (sinew copies each clip's keys)",
+                              (unsigned long long)budget, (unsigned long long)file_keys);
         }
-        if (n == 0)
-            continue;
-        char name[512], buf[64];
-        if (!attr(clip, "name", name, sizeof name) || !*name)
-            if (!attr(clip, "id", name, sizeof name) || !*name)
-                snprintf(name, sizeof name, "clip %u", made);
-        double start = 0, end = curves_end(c, anims, n);
-        char *e;
-        if (attr(clip, "start", buf, sizeof buf)) {
-            start = strtod_l(buf, &e, c->c_locale);
-            if (e == buf || !isfinite(start))
-                return fail(c, clip, "start \"%s\" is not a number", buf);
-        }
-        if (attr(clip, "end", buf, sizeof buf)) {
-            end = strtod_l(buf, &e, c->c_locale);
-            if (e == buf || !isfinite(end))
-                return fail(c, clip, "end \"%s\" is not a number", buf);
-        }
-        if (!(end >= start))
-            return fail(c, clip, "ends (%g s) before it starts (%g s)", end, start);
-        r = build_clip(c, name, start, end, anims, n);
-        made++;
-    }
     if (!r && made == 0) {
         xmlNode *only = NULL;
         uint32_t tops = 0;

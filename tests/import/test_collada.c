@@ -10,6 +10,7 @@
  * - samplers.dae (a fixture of sinew's own): BEZIER with (time, value) control points that
  *   overshoot, STEP, HERMITE, a BEZIER rotation, and one-number BEZIER tangents (played
  *   linearly with a warning), sampled at 101 times against the curves' formulas.
+ * - 10,000 <animation_clip>s, generated: memory in proportion to the file.
  */
 #include <math.h>
 #include <stdio.h>
@@ -144,10 +145,22 @@ static mat element(const xmlNode *e)
         double len = sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
         double x = v[0] / len, y = v[1] / len, z = v[2] / len, a = v[3] * M_PI / 180;
         double c = cos(a), s = sin(a), t = 1 - c;
-        double rows[16] = {t * x * x + c,     t * x * y - s * z, t * x * z + s * y, 0,
-                           t * x * y + s * z, t * y * y + c,     t * y * z - s * x, 0,
-                           t * x * z - s * y, t * y * z + s * x, t * z * z + c,     0,
-                           0,                 0,                 0,                 1};
+        double rows[16] = {t * x * x + c,
+                           t * x * y - s * z,
+                           t * x * z + s * y,
+                           0,
+                           t * x * y + s * z,
+                           t * y * y + c,
+                           t * y * z - s * x,
+                           0,
+                           t * x * z - s * y,
+                           t * y * z + s * x,
+                           t * z * z + c,
+                           0,
+                           0,
+                           0,
+                           0,
+                           1};
         r = from_rows(rows);
     }
     free(v);
@@ -301,8 +314,8 @@ static void test_skin_4_influence_against_its_xml(void **state)
         for (int e = 0; e < 3; e++)
             lo[e] = fmin(lo[e], p[e]), hi[e] = fmax(hi[e], p[e]);
     }
-    double diagonal = sqrt((hi[0] - lo[0]) * (hi[0] - lo[0]) + (hi[1] - lo[1]) * (hi[1] - lo[1]) +
-                           (hi[2] - lo[2]) * (hi[2] - lo[2]));
+    double diagonal =
+        sqrt((hi[0] - lo[0]) * (hi[0] - lo[0]) + (hi[1] - lo[1]) * (hi[1] - lo[1]) + (hi[2] - lo[2]) * (hi[2] - lo[2]));
     /* polygon k's n corners become its n - 2 triangles, in order; every triangle corner
      * must be one of its polygon's corners */
     double worst = 0;
@@ -498,12 +511,83 @@ static void test_samplers_as_the_file_says(void **state)
     sinew_model_free(m);
 }
 
+/* ---- 10,000 clips --------------------------------------------------------------------- */
+
+/* A 2,000-key animation of one node and `clips` <animation_clip>s over it: side by side
+ * (`overlap` false) or each over the whole animation. */
+static void write_many_clips(const char *path, uint32_t clips, bool overlap)
+{
+    FILE *f = fopen(path, "w");
+    assert_non_null(f);
+    const uint32_t keys = 2000;
+    double duration = (keys - 1) / 30.0;
+    fprintf(f, "<?xml version=\"1.0\"?>\n<COLLADA xmlns=\"http://www.collada.org/2005/11/COLLADASchema\" "
+               "version=\"1.4.1\"><asset><up_axis>Y_UP</up_axis></asset>\n<library_animations><animation id=\"a\">"
+               "<source id=\"i\"><float_array id=\"ia\" count=\"2000\">");
+    for (uint32_t k = 0; k < keys; k++)
+        fprintf(f, "%.9g ", k / 30.0);
+    fprintf(f, "</float_array><technique_common><accessor source=\"#ia\" count=\"2000\"><param name=\"TIME\" "
+               "type=\"float\"/></accessor></technique_common></source><source id=\"o\"><float_array id=\"oa\" "
+               "count=\"2000\">");
+    for (uint32_t k = 0; k < keys; k++)
+        fprintf(f, "%g ", k * 0.01);
+    fprintf(f, "</float_array><technique_common><accessor source=\"#oa\" count=\"2000\"><param name=\"X\" "
+               "type=\"float\"/></accessor></technique_common></source><sampler id=\"s\"><input semantic=\"INPUT\" "
+               "source=\"#i\"/><input semantic=\"OUTPUT\" source=\"#o\"/></sampler><channel source=\"#s\" "
+               "target=\"n/t.X\"/></animation></library_animations>\n<library_animation_clips>\n");
+    for (uint32_t c = 0; c < clips; c++)
+        fprintf(f,
+                "<animation_clip id=\"c%u\" start=\"%.9g\" end=\"%.9g\"><instance_animation url=\"#a\"/>"
+                "</animation_clip>\n",
+                c, overlap ? 0 : duration * c / clips, overlap ? duration : duration * (c + 1) / clips);
+    fprintf(f, "</library_animation_clips><library_visual_scenes><visual_scene id=\"v\"><node id=\"n\" name=\"n\" "
+               "type=\"JOINT\"><translate sid=\"t\">0 0 0</translate></node></visual_scene>"
+               "</library_visual_scenes><scene><instance_visual_scene url=\"#v\"/></scene></COLLADA>\n");
+    fclose(f);
+}
+
+/* Memory follows the file: 10,000 clips side by side over one animation hold its keys
+ * once plus two a clip; 10,000 clips each over the whole of it would hold it 10,000 times
+ * (sinew copies a clip's keys) and are refused at once with the reason. */
+static void test_ten_thousand_clips(void **state)
+{
+    (void)state;
+    char path[1024];
+    write_many_clips(tmp_path("clips-side-by-side.dae", path, sizeof path), 10000, false);
+    sinew_model *m = load_or_fail(path);
+    assert_int_equal(m->clip_count, 10000);
+    uint64_t keys = 0;
+    for (uint32_t c = 0; c < m->clip_count; c++)
+        keys += m->clips[c].time_count;
+    print_message("10,000 clips side by side over a 2,000-key animation: %llu keys in all\n", (unsigned long long)keys);
+    assert_true(keys <= 2000 + 4 * 10000);
+    /* clip 5000 starts half-way through the animation, at 1999 / 60 s, where x = 0.3 a second */
+    sinew_transform locals[2];
+    assert_true(m->node_count <= 2);
+    int32_t n = sinew_model_find_node(m, "n");
+    sinew_sample_desc desc = {
+        .model = m, .clip = &m->clips[5000], .time = 0, .locals = locals, .local_count = m->node_count};
+    assert_int_equal(sinew_sample(&desc, NULL), SINEW_OK);
+    assert_near(locals[n].translation[0], 0.3 * 1999 / 60.0, 1e-4, "clip 5000 at its start");
+    sinew_model_free(m);
+
+    write_many_clips(tmp_path("clips-overlapping.dae", path, sizeof path), 10000, true);
+    sinew_model *refused = NULL;
+    sinew_error error = {0};
+    sinew_import_desc d = {.path = path};
+    assert_int_equal(sinew_import(&d, &refused, &error), SINEW_ERROR_LIMIT);
+    assert_null(refused);
+    assert_non_null(strstr(error.message, path));
+    assert_non_null(strstr(error.message, "windows overlap"));
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_skin_4_influence_against_its_xml),
         cmocka_unit_test(test_animation_clips_against_their_xml),
         cmocka_unit_test(test_samplers_as_the_file_says),
+        cmocka_unit_test(test_ten_thousand_clips),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
