@@ -2046,8 +2046,7 @@ sinew_result raw_model_from_collada(const char *path, const unsigned char *bytes
     if (!r && size > INT32_MAX)
         r = fail(&c, NULL, "larger than 2 GB");
     if (!r) {
-        c.doc = xmlReadMemory((const char *)bytes, (int)size, path, NULL,
-                              XML_PARSE_NONET | XML_PARSE_NOWARNING | XML_PARSE_NOERROR | XML_PARSE_HUGE);
+        c.doc = import_xml_parse(path, bytes, size);
         if (!c.doc) {
             const xmlError *e = xmlGetLastError();
             r = sinew_fail(error, SINEW_ERROR_FORMAT, "%s: not well-formed XML (line %d: %s)", path, e ? e->line : 0,

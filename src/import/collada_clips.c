@@ -225,7 +225,12 @@ void collada_split_clips(const char *path, raw_model *m)
 {
     if (m->clip_count != 1)
         return;
-    xmlDocPtr doc = xmlReadFile(path, NULL, XML_PARSE_NONET | XML_PARSE_NOERROR | XML_PARSE_NOWARNING);
+    unsigned char *bytes = NULL;
+    size_t size = 0;
+    if (!import_read_file(path, &bytes, &size))
+        return;
+    xmlDocPtr doc = size <= INT32_MAX ? import_xml_parse(path, bytes, size) : NULL;
+    free(bytes);
     if (!doc)
         return;
     collected c = {.root = xmlDocGetRootElement(doc)};

@@ -20,6 +20,8 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <libxml/parser.h>
+
 #include "../core/internal.h"
 #include "fbx_internal.h"
 #include "internal.h"
@@ -139,6 +141,26 @@ bool import_material_texture(raw_model *model, const char *model_path, const cha
         *out = import_find_texture(model_path, reference, true, looked, sizeof looked);
     return *out || raw_model_warn(model, "%s: material \"%s\": texture \"%s\" not found (looked for %s)", model_path,
                                   material, reference, looked);
+}
+
+static void quiet(void *context, const char *format, ...)
+{
+    (void)context;
+    (void)format;
+}
+
+struct _xmlDoc *import_xml_parse(const char *path, const unsigned char *bytes, size_t size)
+{
+    /* libxml2 reports encoding errors through its generic handler, which prints to stderr
+     * whatever the parse options say; the library never prints, so it is quieted for the
+     * parse (the error itself comes back from xmlGetLastError) */
+    xmlGenericErrorFunc printer = xmlGenericError;
+    void *printer_context = xmlGenericErrorContext;
+    xmlSetGenericErrorFunc(NULL, quiet);
+    xmlDoc *doc = xmlReadMemory((const char *)bytes, (int)size, path, NULL,
+                                XML_PARSE_NONET | XML_PARSE_NOWARNING | XML_PARSE_NOERROR | XML_PARSE_HUGE);
+    xmlSetGenericErrorFunc(printer_context, printer);
+    return doc;
 }
 
 static bool has_extension(const char *path, const char *ext)

@@ -163,6 +163,11 @@ bool raw_model_rest_diagonal(const raw_model *model, double *diagonal);
  * cannot be read. */
 bool import_read_file(const char *path, unsigned char **bytes, size_t *size);
 
+/* An XML document of `size` (<= INT32_MAX) bytes, parsed with no network, huge text nodes
+ * allowed and nothing printed (libxml2's own error handlers quieted for the parse); NULL
+ * when it is not well-formed (xmlGetLastError says why). Free with xmlFreeDoc. */
+struct _xmlDoc *import_xml_parse(const char *path, const unsigned char *bytes, size_t size);
+
 /* A relative URI with its %XX escapes decoded, into `out` (cut to `size`). */
 void import_uri_decode(const char *uri, char *out, size_t size);
 

@@ -12,10 +12,12 @@
  *   linearly with a warning), sampled at 101 times against the curves' formulas.
  * - 10,000 <animation_clip>s, generated: memory in proportion to the file.
  */
+#include <fcntl.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <unistd.h>
 
 #include <libxml/parser.h>
 #include <libxml/tree.h>
@@ -581,6 +583,34 @@ static void test_ten_thousand_clips(void **state)
     assert_non_null(strstr(error.message, "windows overlap"));
 }
 
+/* The library never prints: libxml2 reports encoding errors through its generic handler
+ * (to stderr, whatever the parse options say); sinew quiets it and returns the error. */
+static void test_encoding_errors_are_not_printed(void **state)
+{
+    (void)state;
+    char path[1024], err_path[1024];
+    static const char text[] = "<?xml version=\"1.0\" encoding=\"UTF-32\"?><COLLADA>\0\0\0\0</COLLADA>";
+    write_file(tmp_path("utf32-lie.dae", path, sizeof path), text, sizeof text - 1);
+    fflush(stderr);
+    int saved = dup(2),
+        to = open(tmp_path("stderr.txt", err_path, sizeof err_path), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+    assert_true(saved >= 0 && to >= 0);
+    dup2(to, 2);
+    close(to);
+    sinew_model *m = NULL;
+    sinew_error error = {0};
+    sinew_import_desc desc = {.path = path, .in_process = true};
+    sinew_result r = sinew_import(&desc, &m, &error);
+    fflush(stderr);
+    dup2(saved, 2);
+    close(saved);
+    assert_int_equal(r, SINEW_ERROR_FORMAT);
+    assert_non_null(strstr(error.message, "not well-formed XML"));
+    size_t printed;
+    free(read_file(err_path, &printed));
+    assert_int_equal(printed, 0);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -588,6 +618,7 @@ int main(void)
         cmocka_unit_test(test_animation_clips_against_their_xml),
         cmocka_unit_test(test_samplers_as_the_file_says),
         cmocka_unit_test(test_ten_thousand_clips),
+        cmocka_unit_test(test_encoding_errors_are_not_printed),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
