@@ -26,10 +26,10 @@ static const char usage[] =
     "  arm [--angle DEG | --length L | --contract F] [--rotate/--move/--scale] [--json] [-o OUT.png]\n"
     "                                the seed's two-rod arm and its biceps (law of cosines), numbers and picture\n"
     "\n"
-    "FILE is an FBX 7.x file (binary or ASCII) or a glTF 2.0 file (.gltf/.glb), both read by sinew's own readers,\n"
-    "any format Assimp reads: COLLADA (.dae), BVH, .x, MD5, SMD, IQM, ..., a .sinew file (`sinew convert`; its stored muscles are used), or builtin:arm (the seed's arm with a \"flex\" clip; --muscles finds its biceps).\n"
+    "FILE is an FBX 7.x file (binary or ASCII), a glTF 2.0 file (.gltf/.glb) or a COLLADA file (.dae), read by sinew's\n"
+    "own readers, any format Assimp reads: BVH, .x, MD5, SMD, IQM, 3DS, OBJ, ..., a .sinew file (`sinew convert`; its stored muscles are used), or builtin:arm (the seed's arm with a \"flex\" clip; --muscles finds its biceps).\n"
     "Output is in metres, Y up, seconds. `sinew COMMAND --help` describes one command.\n"
-    "SINEW_IMPORTER=assimp reads even FBX and glTF through Assimp (to compare); SINEW_IMPORT_IN_PROCESS=1 imports in\n"
+    "SINEW_IMPORTER=assimp reads even FBX, glTF and COLLADA through Assimp (to compare); SINEW_IMPORT_IN_PROCESS=1 imports in\n"
     "this process (for a debugger).\n"
     "Exit status: 0 ok, 1 usage error, 2 bad input (the message names the file and the problem),\n"
     "3 this machine lacks what the command needs (an OpenGL 3.3 context through EGL, ffmpeg).\n";
