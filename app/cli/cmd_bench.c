@@ -9,6 +9,10 @@
 
 #include "cli.h"
 
+#define MUSCLE_USAGE                                                                                           \
+    "usage: sinew bench muscle [--json]\n"                                                                      \
+    "  muscle   time to solve the shipped biceps (9 nodes) at a length, and to build its tube surface.\n"
+
 static const char bench_usage[] =
     "usage: sinew bench render [FILE] [--clip C] [--size WxH] [--samples N] [--frames N] [--png OUT] [--json]\n"
     "\n"
@@ -24,8 +28,7 @@ static const char bench_usage[] =
     "           and with --fbx importing an FBX file by sinew's reader against Assimp\n"
     "           (`sinew bench eval --help` says what each figure is)\n"
     "\n"
-    "usage: sinew bench muscle [--json]\n"
-    "  muscle   time to solve the shipped biceps (9 nodes) at a length, and to build its tube surface.\n";
+    MUSCLE_USAGE;
 
 static double now_seconds(void)
 {
@@ -176,9 +179,22 @@ static int bench_render(int argc, char **argv)
 }
 
 /* Solve and surface cost of one muscle (the shipped biceps: 9 nodes, 24 segments). */
+static const char muscle_usage[] = MUSCLE_USAGE;
+
 static int bench_muscle(int argc, char **argv)
 {
-    bool json = argc > 1 && strcmp(argv[1], "--json") == 0;
+    bool json = false;
+    for (int i = 1; i < argc; i++) {
+        if (cli_is_help(argv[i])) {
+            fputs(muscle_usage, stdout);
+            return EXIT_OK;
+        } else if (strcmp(argv[i], "--json") == 0) {
+            json = true;
+        } else {
+            cli_error("bench muscle: unknown option %s\n%s", argv[i], muscle_usage);
+            return EXIT_USAGE;
+        }
+    }
     char path[4096];
     sinew_muscle_set *set = NULL;
     sinew_error error = {0};

@@ -925,7 +925,8 @@ static const char usage[] =
     "  --size WxH            the window's size (default: as last closed, else 1200x760)\n"
     "  --panel NAME          the side panel's page shown first: hierarchy, display or log\n"
     "  --screenshot OUT.png  writes the first frame drawn (the drawing area only)\n"
-    "  --quit                leaves after the screenshot (exit 0 even when FILE failed to open)\n";
+    "  --quit                leaves after the screenshot (exit 0 even when FILE failed to open)\n"
+    "  --version             prints sinew-view's version\n";
 
 int main(int argc, char **argv)
 {
@@ -952,6 +953,9 @@ int main(int argc, char **argv)
             i += used - 1;
         } else if (strcmp(argv[i], "--help") == 0 || strcmp(argv[i], "-h") == 0) {
             fputs(usage, stdout);
+            return 0;
+        } else if (strcmp(argv[i], "--version") == 0) {
+            printf("sinew-view %s\n", SINEW_VERSION_STRING);
             return 0;
         } else if (strcmp(argv[i], "--quit") == 0) {
             v.quit_after_screenshot = true;

@@ -208,6 +208,15 @@ static void test_settings_round_trip(void **state)
     unlink(ini);
 }
 
+/* --version answers without opening a window. */
+static void test_version(void **state)
+{
+    (void)state;
+    char *err = NULL;
+    assert_int_equal(run_view((const char *const[]){"--version", NULL}, &err), 0);
+    free(err);
+}
+
 static void test_broken_file_keeps_the_demo(void **state)
 {
     (void)state;
@@ -233,6 +242,7 @@ int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_screenshot_equals_headless_render),
+        cmocka_unit_test(test_version),
         cmocka_unit_test(test_broken_file_keeps_the_demo),
         cmocka_unit_test(test_settings_round_trip),
     };
