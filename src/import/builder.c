@@ -99,11 +99,13 @@ void raw_mesh_free(raw_mesh *mesh)
     free(mesh->weights);
 }
 
-void raw_model_moved_nodes(const raw_model *m, const bool *excluded, bool *out)
+bool raw_model_moved_nodes(const raw_model *m, const bool *excluded, bool *out)
 {
-    bool *moved = out;
-    for (uint32_t n = 0; n < m->node_count; n++)
-        moved[n] = false;
+    /* moved[n]: a clip animates n; below[n]: n or a node below it is moved */
+    size_t n_nodes = m->node_count ? m->node_count : 1;
+    bool *moved = calloc(2 * n_nodes, sizeof *moved), *below = moved ? moved + n_nodes : NULL;
+    if (!moved)
+        return false;
     for (uint32_t c = 0; c < m->clip_count; c++)
         for (uint32_t t = 0; t < m->clips[c].track_count; t++) {
             const raw_track *track = &m->clips[c].tracks[t];
@@ -112,12 +114,6 @@ void raw_model_moved_nodes(const raw_model *m, const bool *excluded, bool *out)
         }
     /* A node is kept when it or a node below it moves, or its parent moves (end sites);
      * parents come before children, so one backward pass gathers the subtrees. */
-    bool *below = calloc(m->node_count ? m->node_count : 1, sizeof *below);
-    if (!below) {
-        for (uint32_t n = 0; n < m->node_count; n++)
-            out[n] = moved[n] && !excluded[n];
-        return;
-    }
     for (uint32_t n = m->node_count; n-- > 0;) {
         below[n] |= moved[n];
         if (m->node_parents[n] >= 0)
@@ -127,7 +123,8 @@ void raw_model_moved_nodes(const raw_model *m, const bool *excluded, bool *out)
         int32_t parent = m->node_parents[n];
         out[n] = !excluded[n] && (below[n] || (parent >= 0 && moved[parent]));
     }
-    free(below);
+    free(moved);
+    return true;
 }
 
 bool raw_model_add_skeleton(raw_model *m, const bool *joint, uint32_t *added)

@@ -720,7 +720,6 @@ static sinew_result bound_material(collada *c, material_map *map, xmlNode *insta
 typedef struct prim {
     raw_mesh mesh;
     uint32_t *position_of; /* a vertex: its index into the POSITION source (for skins) */
-    char symbol[256];
 } prim;
 
 typedef struct input {
@@ -791,7 +790,6 @@ static sinew_result read_primitive(collada *c, xmlNode *el, const char *geometry
               named(el, "tristrips"));
     if (*skip)
         return SINEW_OK;
-    attr(el, "material", out->symbol, sizeof out->symbol);
     input in[3];
     memset(in, 0, sizeof in);
     int stride = 0;
@@ -1355,10 +1353,11 @@ static sinew_result read_instance(collada *c, material_map *map, geometry_uses *
     }
     skin_data sd = {.skin = -1};
     r = skin ? read_skin(c, use.roots, use.root_count, skin, &sd) : SINEW_OK;
-    uint32_t lines = 0;
+    uint32_t lines = 0, index = 0;
     for (xmlNode *k = mesh->children; k && !r; k = k->next) {
         if (!is_primitive(k))
             continue;
+        int32_t material = use.materials[index++];
         prim p;
         bool skip = false;
         r = read_primitive(c, k, name, &p, &skip);
@@ -1367,8 +1366,7 @@ static sinew_result read_instance(collada *c, material_map *map, geometry_uses *
             prim_free(&p);
             continue;
         }
-        if (!r && p.symbol[0])
-            r = bound_material(c, map, inst, p.symbol, &p.mesh.material);
+        p.mesh.material = material;
         if (!r && skin)
             r = apply_skin(c, &sd, &p, k);
         if (!r)
@@ -2002,8 +2000,8 @@ static sinew_result skeleton_only(collada *c)
         joint[n] = el && node_attr_is(el, "type", "JOINT");
         typed |= joint[n];
     }
-    if (!r && !typed)
-        raw_model_moved_nodes(m, excluded, joint);
+    if (!r && !typed && !raw_model_moved_nodes(m, excluded, joint))
+        r = oom(c);
     uint32_t added = 0;
     if (!r && !raw_model_add_skeleton(m, joint, &added))
         r = oom(c);

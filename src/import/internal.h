@@ -103,8 +103,8 @@ char *raw_strdup(const char *text);
 /* The skeleton of a file that has one but no skin to say so (a skeleton-only animation):
  * out[n] is true for a node that is not excluded[n] (cameras, lights, meshes) and that a
  * clip moves, or that has a moved node below it, or whose parent is moved (BVH-style end
- * sites). `out` holds node_count entries. */
-void raw_model_moved_nodes(const raw_model *model, const bool *excluded, bool *out);
+ * sites). `out` holds node_count entries. False when out of memory. */
+bool raw_model_moved_nodes(const raw_model *model, const bool *excluded, bool *out);
 
 /* Adds a skin with no mesh whose joints are the nodes with joint[n] set (identity inverse
  * binds: nothing is bound to it), so that they count as joints; *added is how many (0: no

@@ -513,6 +513,50 @@ static void test_samplers_as_the_file_says(void **state)
     sinew_model_free(m);
 }
 
+/* A skeleton-only file that types no node JOINT: its joints are the nodes its clips move,
+ * their end sites below moved nodes, never a camera or a node that nothing moves. */
+static void test_skeleton_from_the_clips(void **state)
+{
+    (void)state;
+    char src[1024], path[1024];
+    size_t size;
+    char *text = read_file(fixture_path("samplers.dae", src, sizeof src), &size);
+    char *edited = malloc(size + 512);
+    char *tip = strstr(text, "<translate sid=\"t\">0 0 0</translate>\n        </node>");
+    assert_non_null(tip);
+    tip = strstr(tip, "</node>");
+    int head = (int)(tip - text);
+    int n = snprintf(edited, size + 512,
+                     "%.*s<node id=\"tip\" name=\"tip\"/></node><node id=\"cam\" name=\"cam\">"
+                     "<instance_camera url=\"#none\"/></node>%s",
+                     head, text, tip + strlen("</node>"));
+    char *still = strstr(edited, "</visual_scene>");
+    assert_non_null(still);
+    memmove(still + strlen("<node id=\"still\" name=\"still\"/>"), still, strlen(still) + 1);
+    memcpy(still, "<node id=\"still\" name=\"still\"/>", strlen("<node id=\"still\" name=\"still\"/>"));
+    n += (int)strlen("<node id=\"still\" name=\"still\"/>");
+    for (char *t; (t = strstr(edited, "type=\"JOINT\""));)
+        memcpy(t, "type=\"NODE\" ", strlen("type=\"JOINT\""));
+    write_file(tmp_path("untyped.dae", path, sizeof path), edited, (size_t)n);
+    sinew_model *m = load_or_fail(path);
+    static const struct {
+        const char *name;
+        bool joint;
+    } expect[] = {{"mover", true}, {"legacy", true}, {"tip", true}, {"cam", false}, {"still", false}, {"scene", false}};
+    for (size_t i = 0; i < sizeof expect / sizeof expect[0]; i++) {
+        int32_t node = sinew_model_find_node(m, expect[i].name);
+        if (node < 0 || sinew_model_node_is_joint(m, (uint32_t)node) != expect[i].joint)
+            fail_msg("node %s: %s, expected %s", expect[i].name,
+                     node < 0                                       ? "missing"
+                     : sinew_model_node_is_joint(m, (uint32_t)node) ? "a joint"
+                                                                    : "not a joint",
+                     expect[i].joint ? "a joint" : "not a joint");
+    }
+    sinew_model_free(m);
+    free(edited);
+    free(text);
+}
+
 /* ---- 10,000 clips --------------------------------------------------------------------- */
 
 /* A 2,000-key animation of one node and `clips` <animation_clip>s over it: side by side
@@ -617,6 +661,7 @@ int main(void)
         cmocka_unit_test(test_skin_4_influence_against_its_xml),
         cmocka_unit_test(test_animation_clips_against_their_xml),
         cmocka_unit_test(test_samplers_as_the_file_says),
+        cmocka_unit_test(test_skeleton_from_the_clips),
         cmocka_unit_test(test_ten_thousand_clips),
         cmocka_unit_test(test_encoding_errors_are_not_printed),
     };
