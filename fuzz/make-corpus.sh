@@ -8,3 +8,4 @@ mkdir -p fuzz/corpus
 "$sinew" convert tests/fixtures/two_bone.dae fuzz/corpus/two_bone.sinew --muscles tests/fixtures/two_bone.muscles.json
 "$sinew" convert tests/fixtures/two_bone_cubic.gltf fuzz/corpus/two_bone_cubic.sinew --no-muscles
 "$sinew" convert builtin:arm fuzz/corpus/arm.sinew
+"$sinew" convert tests/fixtures/clip_windows.dae fuzz/corpus/clip_windows.sinew --no-muscles

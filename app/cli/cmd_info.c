@@ -10,16 +10,28 @@ static const char info_usage[] =
     "usage: sinew info FILE [--json]\n"
     "\n"
     "Prints what FILE holds as sinew reads it: node, joint, mesh, vertex, triangle, skin, material and\n"
-    "clip counts; each clip with its duration in seconds and its key counts; each mesh; each material\n"
+    "clip counts; each clip with its duration in seconds and its key counts (and, for clips cut from one\n"
+    "animation that share its keys, where on its timeline the clip starts); each mesh; each material\n"
     "with its colour and texture; the node tree with joints and meshes marked; and the import warnings\n"
     "(dropped dummy meshes, missing textures, repaired weights, ...).\n"
     "\n"
     "  --json   the same as one JSON object: {\"file\", \"format\", [\"converted_from\", \"converted_from_format\",]\n"
     "           \"counts\": {...}, \"meshes\": [...],\n"
     "           \"materials\": [{\"name\", \"base_color\", \"diffuse_texture\"}],\n"
-    "           \"clips\": [{\"index\", \"name\", \"duration\", \"tracks\", \"keys\": {...}}], \"nodes\":\n"
+    "           \"clips\": [{\"index\", \"name\", \"duration\", \"start\", \"clips_sharing_keys\", \"tracks\",\n"
+    "           \"keys\": {...}}], \"nodes\":\n"
     "           [{\"name\", \"parent\", \"joint\", \"inherit\"}], \"warnings\": [...]}\n"
     "           (inherit: normal, ignore_parent_scale or componentwise_scale, FBX's inherit types)\n";
+
+/* How many clips play the same keys as clip i (itself included): windows cut from one
+ * animation share its times and values. */
+static uint32_t clips_sharing_keys(const sinew_model *m, uint32_t i)
+{
+    uint32_t n = 0;
+    for (uint32_t c = 0; c < m->clip_count; c++)
+        n += m->clips[c].time_count && m->clips[c].times == m->clips[i].times;
+    return n ? n : 1;
+}
 
 typedef struct counts {
     uint32_t joints, vertices, triangles, bones, skinned;
@@ -84,8 +96,12 @@ static void print_text(const sinew_model *m)
     for (uint32_t i = 0; i < m->clip_count; i++) {
         uint32_t keys[SINEW_CHANNEL_COUNT];
         clip_keys(&m->clips[i], keys);
-        printf("  %u  \"%s\"  %.4f s  %u tracks  keys: %u translation, %u rotation, %u scale\n", i, m->clips[i].name,
+        printf("  %u  \"%s\"  %.4f s  %u tracks  keys: %u translation, %u rotation, %u scale", i, m->clips[i].name,
                (double)m->clips[i].duration, m->clips[i].track_count, keys[0], keys[1], keys[2]);
+        uint32_t sharing = clips_sharing_keys(m, i);
+        if (sharing > 1)
+            printf("  (from %.4f s of keys %u clips share)", (double)m->clips[i].start, sharing);
+        printf("\n");
     }
     for (uint32_t i = 0; i < m->mesh_count; i++) {
         const sinew_mesh *mesh = &m->meshes[i];
@@ -173,6 +189,8 @@ static cJSON *info_json(const sinew_model *m)
         cJSON_AddNumberToObject(o, "index", i);
         cJSON_AddStringToObject(o, "name", m->clips[i].name);
         cJSON_AddNumberToObject(o, "duration", cli_json_float(m->clips[i].duration));
+        cJSON_AddNumberToObject(o, "start", cli_json_float(m->clips[i].start));
+        cJSON_AddNumberToObject(o, "clips_sharing_keys", clips_sharing_keys(m, i));
         cJSON_AddNumberToObject(o, "tracks", m->clips[i].track_count);
         cJSON *k = cJSON_AddObjectToObject(o, "keys");
         cJSON_AddNumberToObject(k, "translation", keys[0]);

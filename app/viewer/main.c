@@ -307,7 +307,8 @@ static int compare_floats(const void *a, const void *b)
     return x < y ? -1 : x > y;
 }
 
-/* The scrub bar's range and keyframe ticks (the distinct key times of the clip). */
+/* The scrub bar's range and keyframe ticks: the distinct key times of the clip's channels
+ * inside its window (a clip may be a window onto keys it shares with other clips). */
 static void update_timeline(viewer *v)
 {
     if (!v->scale)
@@ -316,20 +317,32 @@ static void update_timeline(viewer *v)
     double d = duration(v);
     gtk_range_set_range(GTK_RANGE(v->scale), 0.0, d > 0.0 ? d : 1.0);
     gtk_scale_clear_marks(GTK_SCALE(v->scale));
-    if (v->clip && v->clip->time_count) {
-        float *times = malloc(v->clip->time_count * sizeof *times);
-        if (times) {
-            memcpy(times, v->clip->times, v->clip->time_count * sizeof *times);
-            qsort(times, v->clip->time_count, sizeof *times, compare_floats);
-            uint32_t distinct = 0;
-            for (uint32_t i = 0; i < v->clip->time_count; i++)
-                if (i == 0 || times[i] != times[i - 1])
-                    times[distinct++] = times[i];
-            uint32_t step = distinct > MAX_TICKS ? (distinct + MAX_TICKS - 1) / MAX_TICKS : 1;
-            for (uint32_t i = 0; i < distinct; i += step)
-                gtk_scale_add_mark(GTK_SCALE(v->scale), times[i], GTK_POS_BOTTOM, NULL);
-            free(times);
-        }
+    const sinew_clip *clip = v->clip;
+    size_t count = 0;
+    for (uint32_t t = 0; clip && t < clip->track_count; t++)
+        for (int k = 0; k < SINEW_CHANNEL_COUNT; k++)
+            count += clip->tracks[t].channels[k].key_count;
+    float *times = count ? malloc(count * sizeof *times) : NULL;
+    if (times) {
+        size_t n = 0;
+        for (uint32_t t = 0; t < clip->track_count; t++)
+            for (int k = 0; k < SINEW_CHANNEL_COUNT; k++) {
+                const sinew_channel *ch = &clip->tracks[t].channels[k];
+                for (uint32_t i = 0; i < ch->key_count; i++) {
+                    float at = clip->times[ch->first_key + i] - clip->start;
+                    if (at >= 0.0f && at <= clip->duration)
+                        times[n++] = at;
+                }
+            }
+        qsort(times, n, sizeof *times, compare_floats);
+        size_t distinct = 0;
+        for (size_t i = 0; i < n; i++)
+            if (i == 0 || times[i] != times[distinct - 1])
+                times[distinct++] = times[i];
+        size_t step = distinct > MAX_TICKS ? (distinct + MAX_TICKS - 1) / MAX_TICKS : 1;
+        for (size_t i = 0; i < distinct; i += step)
+            gtk_scale_add_mark(GTK_SCALE(v->scale), times[i], GTK_POS_BOTTOM, NULL);
+        free(times);
     }
     v->updating = false;
 }

@@ -47,8 +47,8 @@ typedef struct sinew_sample_desc {
 
 sinew_result sinew_sample(const sinew_sample_desc *desc, sinew_error *error);
 
-/* Evaluates one channel at a clip-local time (already wrapped/clamped); out gets 3 or 4
- * floats. Exposed for tests and tools; sinew_sample() calls it for every channel. */
+/* Evaluates one channel at a clip-local time (already wrapped/clamped; the clip's start is
+ * added here); out gets 3 or 4 floats. Exposed for tests and tools; sinew_sample() calls it for every channel. */
 void sinew_channel_eval(const sinew_clip *clip, const sinew_channel *channel, int kind, float time, uint32_t *cursor,
                         float *out);
 

@@ -81,9 +81,14 @@ typedef struct sinew_track {
     sinew_channel channels[SINEW_CHANNEL_COUNT];
 } sinew_track;
 
+/* A clip plays [start, start + duration] of its keys' timeline as clip times [0, duration]:
+ * clips cut from one longer animation (COLLADA's <animation_clip>s) share its times and
+ * values and differ in start and in the keys their channels take. sinew_sample(),
+ * sinew_channel_eval() and the player add start; key times are on the keys' timeline. */
 typedef struct sinew_clip {
     const char *name;
     float duration; /* seconds */
+    float start;    /* seconds on the keys' timeline where clip time 0 is */
     uint32_t track_count;
     const sinew_track *tracks; /* sorted by node index, at most one per node */
     uint32_t time_count;

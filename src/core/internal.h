@@ -1,6 +1,6 @@
 /* Cross-file internals of src/core (no promise to library users).
  *
- * The model blob, version 2: the .sinew runtime file format, which sinew_model_from_blob()
+ * The model blob, version 3: the .sinew runtime file format, which sinew_model_from_blob()
  * and sinew_model_load() read and the import builder writes. Little-endian throughout.
  *
  *   blob_file_header                 at offset 0 (48 bytes)
@@ -12,7 +12,8 @@
  * addition) but still check that their bytes lie inside the file, and refuse a known tag
  * twice or with another element size. Every reference is a byte offset from the start of
  * the blob; strings are offsets into the pool (section STRS), which ends with a NUL;
- * BLOB_NONE marks an absent string or array. The checksum is CRC-32C (Castagnoli) of the
+ * BLOB_NONE marks an absent string or array; arrays may be shared (clips cut from one
+ * animation point at the same times and values). Version 3 added blob_clip.start. The checksum is CRC-32C (Castagnoli) of the
  * whole blob computed with the checksum field set to 0.
  */
 #ifndef SINEW_CORE_INTERNAL_H
@@ -26,7 +27,7 @@
 #include "sinew/model.h"
 
 #define BLOB_MAGIC "SINEW\r\n\x1a"
-#define BLOB_VERSION 2u
+#define BLOB_VERSION 3u
 #define BLOB_NONE 0xffffffffu
 #define BLOB_ALIGN 16u
 #define BLOB_MAX_SECTIONS 64u
@@ -124,6 +125,8 @@ typedef struct blob_muscle {
 typedef struct blob_clip {
     uint32_t name;
     float duration;
+    float start;      /* on the keys' timeline; clips may share times and values */
+    uint32_t reserved;
     blob_span tracks; /* sinew_track */
     blob_span times;  /* float */
     blob_span values; /* float */
@@ -136,6 +139,10 @@ uint32_t sinew_crc32c_scalar(uint32_t crc, const void *bytes, size_t size);
 
 /* The checksum a blob of `size` >= sizeof(blob_file_header) bytes should carry. */
 uint32_t sinew_blob_checksum(const void *bytes, size_t size);
+
+/* sinew_channel_eval() at a time on the keys' timeline (a clip time plus the clip's start). */
+void sinew_channel_eval_keys(const sinew_clip *clip, const sinew_channel *channel, int kind, float time,
+                             uint32_t *cursor, float *out);
 
 /* Index k of the key segment [times[k], times[k+1]) holding t, 0 <= k < count - 1, found
  * from *cursor: stepping ahead in forward play, a binary search after a jump back (sample.c).

@@ -302,7 +302,8 @@ static sinew_result check_clips(reader *r)
     const blob_clip *clips = array_at(r, h->clips.offset, h->clips.count);
     for (uint32_t i = 0; i < h->clips.count; i++) {
         const blob_clip *c = &clips[i];
-        if (!string_ok(r, c->name, false) || !isfinite(c->duration) || c->duration < 0.0f)
+        if (!string_ok(r, c->name, false) || !isfinite(c->duration) || c->duration < 0.0f || !isfinite(c->start) ||
+            c->reserved != 0)
             return corrupt(r, "clip header");
         if (!range_ok(r, c->tracks.offset, c->tracks.count, sizeof(sinew_track)) ||
             !range_ok(r, c->times.offset, c->times.count, 4) || !range_ok(r, c->values.offset, c->values.count, 4))
@@ -459,6 +460,7 @@ static void fill_model(model_block *b, const reader *r, unsigned char *tables)
         clips[i] = (sinew_clip){
             .name = string_at(r, bc->name),
             .duration = bc->duration,
+            .start = bc->start,
             .track_count = bc->tracks.count,
             .tracks = array_at(r, bc->tracks.offset, bc->tracks.count),
             .time_count = bc->times.count,

@@ -568,7 +568,7 @@ sinew_result sinew_player_update(sinew_player *p, float time, sinew_wrap wrap, c
                           p->node_count);
     if (!isfinite(time))
         return sinew_fail(error, SINEW_ERROR_INVALID_ARGUMENT, "sinew_player_update: time is not finite");
-    float t = sinew_clip_time(p->clip, time, wrap);
+    float t = sinew_clip_time(p->clip, time, wrap) + (p->clip ? p->clip->start : 0.0f);
 #ifdef PLAYER_X86
     if (p->simd) {
         for (uint32_t g = 0; g < p->group_count; g++) {

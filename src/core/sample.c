@@ -120,6 +120,12 @@ void sinew_slerp_shortest(const float *a, const float *b, float s, float *out)
 void sinew_channel_eval(const sinew_clip *clip, const sinew_channel *channel, int kind, float time, uint32_t *cursor,
                         float *out)
 {
+    sinew_channel_eval_keys(clip, channel, kind, clip->start + time, cursor, out);
+}
+
+void sinew_channel_eval_keys(const sinew_clip *clip, const sinew_channel *channel, int kind, float time,
+                             uint32_t *cursor, float *out)
+{
     const uint32_t width = sinew_channel_width(kind);
     const uint32_t stride = sinew_channel_stride(kind, channel->interp);
     const uint32_t value_at = channel->interp == SINEW_INTERP_CUBIC ? width : 0; /* skip the in-tangent */
@@ -182,7 +188,7 @@ sinew_result sinew_sample(const sinew_sample_desc *desc, sinew_error *error)
         memcpy(desc->locals, model->node_rest, (size_t)model->node_count * sizeof(sinew_transform));
     if (!clip)
         return SINEW_OK;
-    float t = sinew_clip_time(clip, desc->time, desc->wrap);
+    float t = clip->start + sinew_clip_time(clip, desc->time, desc->wrap);
     for (uint32_t i = 0; i < clip->track_count; i++) {
         const sinew_track *track = &clip->tracks[i];
         sinew_transform *local = &desc->locals[track->node];
@@ -191,7 +197,7 @@ sinew_result sinew_sample(const sinew_sample_desc *desc, sinew_error *error)
             if (track->channels[kind].key_count == 0)
                 continue;
             uint32_t *cursor = desc->context ? &desc->context->cursors[i * SINEW_CHANNEL_COUNT + kind] : NULL;
-            sinew_channel_eval(clip, &track->channels[kind], kind, t, cursor, targets[kind]);
+            sinew_channel_eval_keys(clip, &track->channels[kind], kind, t, cursor, targets[kind]);
         }
     }
     return SINEW_OK;

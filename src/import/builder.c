@@ -186,6 +186,11 @@ void raw_model_free(raw_model *m)
     for (uint32_t c = 0; c < m->clip_count; c++)
         raw_clip_free(&m->clips[c]);
     free(m->clips);
+    for (uint32_t i = 0; i < m->pool_count; i++) {
+        free(m->pools[i].times);
+        free(m->pools[i].values);
+    }
+    free(m->pools);
     for (uint32_t i = 0; i < m->warning_count; i++)
         free(m->warnings[i]);
     free(m->warnings);
@@ -497,12 +502,31 @@ static bool fix_rotations(raw_channel *ch)
 
 static const char *const channel_names[SINEW_CHANNEL_COUNT] = {"translation", "rotation", "scale"};
 
+/* A pooled channel: every key inside its pool, the clip's one pool, keys in time order. */
+static bool pooled_channel_ok(const raw_model *m, const raw_channel *ch, int kind, uint32_t *clip_pool)
+{
+    if (ch->pool == 0 || ch->pool > m->pool_count || (*clip_pool && ch->pool != *clip_pool) ||
+        ch->interp > SINEW_INTERP_CUBIC)
+        return false;
+    *clip_pool = ch->pool;
+    const raw_key_pool *pool = &m->pools[ch->pool - 1];
+    if ((uint64_t)ch->first_key + ch->count > pool->time_count ||
+        (uint64_t)ch->first_value + (uint64_t)ch->count * sinew_channel_stride(kind, ch->interp) > pool->value_count)
+        return false;
+    const float *times = pool->times + ch->first_key;
+    for (uint32_t k = 1; k < ch->count; k++)
+        if (!(times[k] >= times[k - 1]))
+            return false;
+    return true;
+}
+
 static sinew_result fix_clip(raw_model *m, raw_clip *clip, sinew_error *error)
 {
-    if (!isfinite(clip->duration) || clip->duration < 0.0f)
-        return sinew_fail(error, SINEW_ERROR_DATA, "%s: clip \"%s\" has an invalid duration (%g)", m->source,
-                          clip->name, (double)clip->duration);
-    uint32_t unsorted = 0;
+    if (!isfinite(clip->duration) || clip->duration < 0.0f || !isfinite(clip->start))
+        return sinew_fail(error, SINEW_ERROR_DATA, "%s: clip \"%s\" has an invalid duration (%g) or start (%g)",
+                          m->source, clip->name, (double)clip->duration, (double)clip->start);
+    uint32_t unsorted = 0, pool = 0;
+    bool owned = false;
     for (uint32_t t = 0; t < clip->track_count; t++) {
         raw_track *track = &clip->tracks[t];
         if (track->node >= m->node_count)
@@ -512,6 +536,15 @@ static sinew_result fix_clip(raw_model *m, raw_clip *clip, sinew_error *error)
             raw_channel *ch = &track->channels[kind];
             if (ch->count == 0)
                 continue;
+            if (ch->pool || pool) {
+                /* made by raw_model_pool_clip() (or a .sinew file's shared keys): repaired already */
+                if (owned || !pooled_channel_ok(m, ch, kind, &pool))
+                    return sinew_fail(error, SINEW_ERROR_DATA, "%s: clip \"%s\": the %s keys of node \"%s\" "
+                                      "are outside the keys the clip shares", m->source, clip->name,
+                                      channel_names[kind], m->node_names[track->node]);
+                continue;
+            }
+            owned = true;
             uint32_t stride = sinew_channel_stride(kind, ch->interp);
             if (ch->interp > SINEW_INTERP_CUBIC || !all_finite(ch->times, ch->count) ||
                 !all_finite(ch->values, (size_t)ch->count * stride))
@@ -571,6 +604,120 @@ static void merge_tracks(raw_model *m, raw_clip *clip)
         raw_model_warn(
             m, "clip \"%s\": %u channels animated a node that another channel already animates; the first was kept",
             clip->name, dropped);
+}
+
+/* ---- shared keys -------------------------------------------------------------------------- */
+
+sinew_result raw_model_pool_clip(raw_model *m, raw_clip *clip, sinew_error *error)
+{
+    merge_tracks(m, clip);
+    sinew_result result = fix_clip(m, clip, error);
+    if (result)
+        return result;
+    uint64_t time_count = 0, value_count = 0;
+    for (uint32_t t = 0; t < clip->track_count; t++)
+        for (int k = 0; k < SINEW_CHANNEL_COUNT; k++) {
+            const raw_channel *ch = &clip->tracks[t].channels[k];
+            if (ch->pool)
+                return sinew_fail(error, SINEW_ERROR_INVALID_ARGUMENT, "%s: clip \"%s\" shares its keys already",
+                                  m->source, clip->name);
+            time_count += ch->count;
+            value_count += (uint64_t)ch->count * sinew_channel_stride(k, ch->interp);
+        }
+    if (time_count > UINT32_MAX / 4 || value_count > UINT32_MAX / 4)
+        return sinew_fail(error, SINEW_ERROR_LIMIT, "%s: clip \"%s\" has more keys than a model holds", m->source,
+                          clip->name);
+    raw_key_pool *pools = realloc(m->pools, (m->pool_count + 1) * sizeof *pools);
+    if (!pools)
+        return oom(m, error);
+    m->pools = pools;
+    raw_key_pool pool = {(uint32_t)time_count, (uint32_t)value_count,
+                         malloc((time_count ? time_count : 1) * sizeof(float)),
+                         malloc((value_count ? value_count : 1) * sizeof(float))};
+    if (!pool.times || !pool.values) {
+        free(pool.times);
+        free(pool.values);
+        return oom(m, error);
+    }
+    uint32_t at_time = 0, at_value = 0;
+    for (uint32_t t = 0; t < clip->track_count; t++)
+        for (int k = 0; k < SINEW_CHANNEL_COUNT; k++) {
+            raw_channel *ch = &clip->tracks[t].channels[k];
+            uint32_t n_values = ch->count * sinew_channel_stride(k, ch->interp);
+            if (ch->count) {
+                memcpy(pool.times + at_time, ch->times, ch->count * sizeof(float));
+                memcpy(pool.values + at_value, ch->values, n_values * sizeof(float));
+            }
+            free(ch->times);
+            free(ch->values);
+            *ch = (raw_channel){.interp = ch->interp,
+                                .count = ch->count,
+                                .pool = ch->count ? m->pool_count + 1 : 0,
+                                .first_key = at_time,
+                                .first_value = at_value};
+            at_time += ch->count;
+            at_value += n_values;
+        }
+    m->pools[m->pool_count++] = pool;
+    return SINEW_OK;
+}
+
+/* How many of the sorted times are below t (or at it, with `at`). */
+static uint32_t count_below(const float *times, uint32_t n, float t, bool at)
+{
+    uint32_t lo = 0, hi = n;
+    while (lo < hi) {
+        uint32_t mid = lo + (hi - lo) / 2;
+        if (times[mid] < t || (at && times[mid] == t))
+            lo = mid + 1;
+        else
+            hi = mid;
+    }
+    return lo;
+}
+
+/* The keys of a pooled channel that a window [from, to] reaches: the last at or before
+ * `from` to the first at or after `to`, and one more each side where there is one (so that
+ * rounding in start + time never falls off an end). */
+static raw_channel window_channel(const raw_model *m, const raw_channel *ch, int kind, float from, float to)
+{
+    if (ch->count == 0)
+        return *ch;
+    const float *times = m->pools[ch->pool - 1].times + ch->first_key;
+    uint32_t n = ch->count;
+    uint32_t lo = count_below(times, n, from, true);  /* keys <= from */
+    uint32_t hi = count_below(times, n, to, false);   /* keys < to: the first >= to is next */
+    lo = lo > 1 ? lo - 2 : 0;
+    hi = hi + 1 < n ? hi + 1 : n - 1;
+    raw_channel out = *ch;
+    out.count = hi - lo + 1;
+    out.first_key += lo;
+    out.first_value += lo * sinew_channel_stride(kind, ch->interp);
+    return out;
+}
+
+bool raw_model_add_window(raw_model *m, const raw_clip *pooled, const char *name, float start, float duration,
+                          const bool *keep)
+{
+    raw_clip clip = {.name = raw_strdup(name), .duration = duration, .start = pooled->start + start};
+    clip.tracks = calloc(pooled->track_count ? pooled->track_count : 1, sizeof *clip.tracks);
+    raw_clip *clips = clip.name && clip.tracks ? realloc(m->clips, (m->clip_count + 1) * sizeof *clips) : NULL;
+    if (!clips) {
+        raw_clip_free(&clip);
+        return false;
+    }
+    m->clips = clips;
+    for (uint32_t t = 0; t < pooled->track_count; t++) {
+        const raw_track *track = &pooled->tracks[t];
+        if (keep && (track->node >= m->node_count || !keep[track->node]))
+            continue;
+        raw_track *out = &clip.tracks[clip.track_count++];
+        out->node = track->node;
+        for (int k = 0; k < SINEW_CHANNEL_COUNT; k++)
+            out->channels[k] = window_channel(m, &track->channels[k], k, clip.start, clip.start + duration);
+    }
+    m->clips[m->clip_count++] = clip;
+    return true;
 }
 
 /* ---- blob writer ------------------------------------------------------------------------ */
@@ -724,6 +871,44 @@ static blob_span write_materials(writer *w, const raw_model *m)
     return span;
 }
 
+/* A clip whose channels play a pool's keys: its tracks point into the pool's spans. */
+static bool write_pooled_clip(writer *w, const raw_clip *clip, const blob_span *pool_spans, blob_clip *out)
+{
+    sinew_track *tracks = calloc(clip->track_count ? clip->track_count : 1, sizeof *tracks);
+    if (!tracks)
+        return false;
+    uint32_t pool = 0;
+    for (uint32_t t = 0; t < clip->track_count; t++) {
+        tracks[t].node = clip->tracks[t].node;
+        for (int k = 0; k < SINEW_CHANNEL_COUNT; k++) {
+            const raw_channel *ch = &clip->tracks[t].channels[k];
+            tracks[t].channels[k] = (sinew_channel){ch->count, ch->count ? ch->interp : SINEW_INTERP_LINEAR,
+                                                    ch->count ? ch->first_key : 0, ch->count ? ch->first_value : 0};
+            if (ch->count)
+                pool = ch->pool;
+        }
+    }
+    *out = (blob_clip){
+        .name = writer_string(w, clip->name),
+        .duration = clip->duration,
+        .start = clip->start,
+        .tracks = {writer_put(w, tracks, clip->track_count * sizeof *tracks), clip->track_count},
+        .times = pool_spans[2 * (pool - 1)],
+        .values = pool_spans[2 * (pool - 1) + 1],
+    };
+    free(tracks);
+    return true;
+}
+
+static uint32_t clip_pool(const raw_clip *clip)
+{
+    for (uint32_t t = 0; t < clip->track_count; t++)
+        for (int k = 0; k < SINEW_CHANNEL_COUNT; k++)
+            if (clip->tracks[t].channels[k].count)
+                return clip->tracks[t].channels[k].pool;
+    return 0;
+}
+
 /* One clip: every channel's times and values concatenated, tracks pointing into them. */
 static bool write_clip(writer *w, const raw_clip *clip, blob_clip *out)
 {
@@ -760,6 +945,7 @@ static bool write_clip(writer *w, const raw_clip *clip, blob_clip *out)
         *out = (blob_clip){
             .name = writer_string(w, clip->name),
             .duration = clip->duration,
+            .start = clip->start,
             .tracks = {writer_put(w, tracks, clip->track_count * sizeof *tracks), clip->track_count},
             .times = {writer_put(w, times, time_count * sizeof(float)), (uint32_t)time_count},
             .values = {writer_put(w, values, value_count * sizeof(float)), (uint32_t)value_count},
@@ -778,10 +964,22 @@ static blob_span write_clips(writer *w, const raw_model *m)
         w->failed = true;
         return (blob_span){BLOB_NONE, 0};
     }
-    for (uint32_t i = 0; i < m->clip_count && !w->failed; i++)
-        if (!write_clip(w, &m->clips[i], &table[i]))
+    /* each pool once, whichever clips play it */
+    blob_span *pool_spans = calloc(m->pool_count ? 2 * m->pool_count : 1, sizeof *pool_spans);
+    if (!pool_spans)
+        w->failed = true;
+    for (uint32_t i = 0; i < m->pool_count && !w->failed; i++) {
+        const raw_key_pool *p = &m->pools[i];
+        pool_spans[2 * i] = (blob_span){writer_put(w, p->times, p->time_count * sizeof(float)), p->time_count};
+        pool_spans[2 * i + 1] = (blob_span){writer_put(w, p->values, p->value_count * sizeof(float)), p->value_count};
+    }
+    for (uint32_t i = 0; i < m->clip_count && !w->failed; i++) {
+        uint32_t pool = clip_pool(&m->clips[i]);
+        if (!(pool ? write_pooled_clip(w, &m->clips[i], pool_spans, &table[i]) : write_clip(w, &m->clips[i], &table[i])))
             w->failed = true;
+    }
     blob_span span = {writer_put(w, table, m->clip_count * sizeof *table), m->clip_count};
+    free(pool_spans);
     free(table);
     return span;
 }

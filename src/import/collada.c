@@ -36,7 +36,7 @@
  *   animations .............. read_channel, curve_eval, build_clips
  *   raw_model_from_collada
  */
-#define _GNU_SOURCE /* newlocale, strtod_l */
+#define _GNU_SOURCE /* newlocale, strtod_l, qsort_r */
 #include <locale.h>
 #include <math.h>
 #include <stdarg.h>
@@ -55,7 +55,6 @@
 #define DAE_MAX_NODES (1u << 20) /* nodes after <instance_node> copies */
 #define DAE_MAX_DEPTH 2048       /* node nesting (libxml2 parses 2048 levels with XML_PARSE_HUGE) */
 #define DAE_BAKE_TOLERANCE 2e-7  /* as the FBX reader's: rad, relative scale, of the scene's size */
-#define DAE_MAX_KEYS (1u << 24)  /* keys of one clip, after windows */
 
 enum { KEY_STEP, KEY_LINEAR, KEY_BEZIER, KEY_HERMITE };
 
@@ -1842,18 +1841,16 @@ static sinew_result node_track(collada *c, raw_clip *clip, uint32_t node, const 
     return r;
 }
 
-static sinew_result build_clip(collada *c, const char *name, double start, double end, xmlNode *const *anims,
-                               uint32_t anim_count)
+/* Bakes the nodes moved by `anims` (every animation when anim_count is 0) over [start, end]
+ * of the file's timeline into `pool` (a clip of its own, times from 0 = start), then moves
+ * its keys into one of the model's pools: the clips cut from it play windows of it. */
+static sinew_result bake_pool(collada *c, const char *name, double start, double end, xmlNode *const *anims,
+                              uint32_t anim_count, raw_clip *pool)
 {
     raw_model *m = c->m;
-    raw_clip *clips = realloc(m->clips, (m->clip_count + 1) * sizeof *clips);
-    if (!clips)
-        return oom(c);
-    m->clips = clips;
-    raw_clip *clip = &m->clips[m->clip_count++];
-    memset(clip, 0, sizeof *clip);
-    clip->duration = (float)(end - start);
-    if (!(clip->name = raw_strdup(name)) || !(clip->tracks = calloc(m->node_count, sizeof *clip->tracks)))
+    memset(pool, 0, sizeof *pool);
+    pool->duration = (float)(end - start);
+    if (!(pool->name = raw_strdup(name)) || !(pool->tracks = calloc(m->node_count, sizeof *pool->tracks)))
         return oom(c);
     uint32_t *mine = malloc((c->curve_count + 1) * sizeof *mine);
     if (!mine)
@@ -1866,7 +1863,7 @@ static sinew_result build_clip(collada *c, const char *name, double start, doubl
             if (c->curves[k].node == c->node_el[i] && in_clip(&c->curves[k], anims, anim_count))
                 mine[count++] = k;
         if (count)
-            r = node_track(c, clip, i, mine, count, start, end, &budget);
+            r = node_track(c, pool, i, mine, count, start, end, &budget);
     }
     free(mine);
     if (!r && budget == 0 &&
@@ -1875,6 +1872,8 @@ static sinew_result build_clip(collada *c, const char *name, double start, doubl
                         "it are interpolated more coarsely",
                         c->path, name))
         r = oom(c);
+    if (!r)
+        r = raw_model_pool_clip(m, pool, c->error);
     return r;
 }
 
@@ -1887,27 +1886,48 @@ static double curves_end(const collada *c, xmlNode *const *anims, uint32_t anim_
     return end;
 }
 
-/* An <animation_clip>: its name, window and the <animation>s it instances. */
+/* An <animation_clip>: its name, window and the <animation>s it instances (sorted, so that
+ * clips of the same animations compare equal and share one pool of keys). */
 typedef struct clip_window {
-    char name[512];
+    xmlNode *el;
+    char *name;
     double start, end;
-    xmlNode *anims[256];
+    xmlNode **anims;
     uint32_t anim_count;
+    uint32_t pool;
 } clip_window;
+
+static int by_pointer(const void *a, const void *b)
+{
+    uintptr_t x = (uintptr_t) * (xmlNode *const *)a, y = (uintptr_t) * (xmlNode *const *)b;
+    return x < y ? -1 : (x > y);
+}
 
 static sinew_result read_clip_window(collada *c, xmlNode *clip, uint32_t index, clip_window *w)
 {
-    w->anim_count = 0;
-    for (xmlNode *k = clip->children; k && w->anim_count < 256; k = k->next) {
+    memset(w, 0, sizeof *w);
+    w->el = clip;
+    uint32_t count = 0;
+    for (xmlNode *k = clip->children; k; k = k->next)
+        count += named(k, "instance_animation");
+    if (count == 0)
+        return SINEW_OK;
+    if (!(w->anims = malloc(count * sizeof *w->anims)))
+        return oom(c);
+    for (xmlNode *k = clip->children; k; k = k->next) {
         xmlNode *a = named(k, "instance_animation") ? by_url_attr(c, k, "url") : NULL;
         if (named(a, "animation"))
             w->anims[w->anim_count++] = a;
     }
     if (w->anim_count == 0)
         return SINEW_OK;
-    if (!attr(clip, "name", w->name, sizeof w->name) || !*w->name)
-        if (!attr(clip, "id", w->name, sizeof w->name) || !*w->name)
-            snprintf(w->name, sizeof w->name, "clip %u", index);
+    qsort(w->anims, w->anim_count, sizeof *w->anims, by_pointer);
+    char name[512];
+    if (!attr(clip, "name", name, sizeof name) || !*name)
+        if (!attr(clip, "id", name, sizeof name) || !*name)
+            snprintf(name, sizeof name, "clip %u", index);
+    if (!(w->name = raw_strdup(name)))
+        return oom(c);
     w->start = 0;
     w->end = curves_end(c, w->anims, w->anim_count);
     char buf[64], *e;
@@ -1926,6 +1946,44 @@ static sinew_result read_clip_window(collada *c, xmlNode *clip, uint32_t index, 
     return SINEW_OK;
 }
 
+static int by_animations_of(const clip_window *x, const clip_window *y)
+{
+    if (x->anim_count != y->anim_count)
+        return x->anim_count < y->anim_count ? -1 : 1;
+    for (uint32_t i = 0; i < x->anim_count; i++)
+        if (x->anims[i] != y->anims[i])
+            return by_pointer(&x->anims[i], &y->anims[i]);
+    return 0;
+}
+
+static int by_animations(const void *a, const void *b, void *windows)
+{
+    const clip_window *w = windows;
+    uint32_t i = *(const uint32_t *)a, j = *(const uint32_t *)b;
+    int by = by_animations_of(&w[i], &w[j]);
+    return by ? by : (i < j ? -1 : (i > j)); /* file order within a pool */
+}
+
+/* Windows of the same animations get the same pool number; returns how many pools. */
+static uint32_t group_windows(clip_window *w, uint32_t count, uint32_t *order)
+{
+    for (uint32_t i = 0; i < count; i++)
+        order[i] = i;
+    qsort_r(order, count, sizeof *order, by_animations, w);
+    uint32_t pools = 0;
+    for (uint32_t i = 0; i < count; i++) {
+        if (i == 0 || by_animations_of(&w[order[i - 1]], &w[order[i]]) != 0)
+            pools++;
+        w[order[i]].pool = pools - 1;
+    }
+    return pools;
+}
+
+/* The clips: one pool of keys for each set of <animation>s that <animation_clip>s instance
+ * (baked over the union of their windows), every clip a window onto its pool, so that clips
+ * cutting one long animation share its keys; a file without clips is one clip of every
+ * animation. Past a bound proportional to the file's keys (windows over many different sets
+ * of the same long animations) the file is refused before anything is baked. */
 static sinew_result build_clips(collada *c)
 {
     xmlNode *lib = child(c->root, "library_animations");
@@ -1934,34 +1992,26 @@ static sinew_result build_clips(collada *c)
         r = read_animations(c, lib, 0);
     if (r || c->curve_count == 0)
         return r;
-    xmlNode *clips = child(c->root, "library_animation_clips");
-    /* Each clip copies the keys inside its window (the runtime's clips own their keys), so
-     * windows that overlap one long animation multiply it; past a bound proportional to the
-     * file's keys (and at least 4 M keys, some 100 MB) the file is refused before any copy. */
-    uint64_t file_keys = 0, copied = 0;
-    for (uint32_t i = 0; i < c->curve_count; i++)
-        file_keys += c->curves[i].keys;
-    uint64_t budget = file_keys * 16 > (1u << 22) ? file_keys * 16 : (1u << 22);
-    uint32_t made = 0;
-    for (int pass = 0; pass < 2 && !r; pass++)
-        for (xmlNode *clip = clips ? clips->children : NULL; clip && !r; clip = clip->next) {
-            clip_window w;
-            if (!named(clip, "animation_clip") || (r = read_clip_window(c, clip, made, &w)) || w.anim_count == 0)
-                continue;
-            if (pass == 1) {
-                r = build_clip(c, w.name, w.start, w.end, w.anims, w.anim_count);
-                made++;
-                continue;
-            }
-            for (uint32_t i = 0; i < c->curve_count && copied <= budget; i++)
-                if (in_clip(&c->curves[i], w.anims, w.anim_count))
-                    copied += keys_in_window(&c->curves[i], w.start, w.end);
-            if (copied > budget)
-                r = fail_kind(c, clip, SINEW_ERROR_LIMIT,
-                              "the <animation_clip>s' windows overlap so much that they would copy more than %llu "
-                              "keys of the file's %llu (sinew copies each clip's keys)",
-                              (unsigned long long)budget, (unsigned long long)file_keys);
-        }
+    xmlNode *list = child(c->root, "library_animation_clips");
+    uint32_t count = 0;
+    for (xmlNode *clip = list ? list->children : NULL; clip; clip = clip->next)
+        count += named(clip, "animation_clip");
+    clip_window *w = calloc(count + 1, sizeof *w);
+    uint32_t *order = calloc(count + 1, sizeof *order);
+    double *pool_start = NULL, *pool_end = NULL;
+    raw_clip *pools = NULL;
+    uint32_t made = 0, pool_count = 0;
+    if (!w || !order)
+        r = oom(c);
+    for (xmlNode *clip = list ? list->children : NULL; clip && !r; clip = clip->next) {
+        if (!named(clip, "animation_clip"))
+            continue;
+        r = read_clip_window(c, clip, made, &w[made]);
+        if (!r && w[made].anim_count)
+            made++;
+        else if (!r)
+            free(w[made].anims);
+    }
     if (!r && made == 0) {
         xmlNode *only = NULL;
         uint32_t tops = 0;
@@ -1974,8 +2024,65 @@ static sinew_result build_clips(collada *c)
             attr(only, "id", name, sizeof name);
         if (!*name)
             snprintf(name, sizeof name, "clip 0");
-        r = build_clip(c, name, 0, curves_end(c, NULL, 0), NULL, 0);
+        w[0] = (clip_window){.el = c->root, .name = raw_strdup(name), .end = curves_end(c, NULL, 0)};
+        made = 1;
+        if (!w[0].name)
+            r = oom(c);
     }
+    if (!r) {
+        pool_count = group_windows(w, made, order);
+        pool_start = malloc(pool_count * sizeof *pool_start);
+        pool_end = malloc(pool_count * sizeof *pool_end);
+        pools = calloc(pool_count, sizeof *pools);
+        if (!pool_start || !pool_end || !pools)
+            r = oom(c);
+    }
+    for (uint32_t p = 0; p < pool_count && !r; p++)
+        pool_start[p] = INFINITY, pool_end[p] = -INFINITY;
+    for (uint32_t i = 0; i < made && !r; i++) {
+        pool_start[w[i].pool] = fmin(pool_start[w[i].pool], w[i].start);
+        pool_end[w[i].pool] = fmax(pool_end[w[i].pool], w[i].end);
+    }
+    if (!r) {
+        uint64_t file_keys = 0, pooled = 0;
+        for (uint32_t i = 0; i < c->curve_count; i++)
+            file_keys += c->curves[i].keys;
+        uint64_t budget = file_keys * 16 > (1u << 22) ? file_keys * 16 : (1u << 22);
+        for (uint32_t i = 0; i < made && pooled <= budget; i++) {
+            const clip_window *first = &w[order[i]];
+            if (i > 0 && w[order[i - 1]].pool == first->pool)
+                continue;
+            for (uint32_t k = 0; k < c->curve_count && pooled <= budget; k++)
+                if (in_clip(&c->curves[k], first->anims, first->anim_count))
+                    pooled += keys_in_window(&c->curves[k], pool_start[first->pool], pool_end[first->pool]);
+            if (pooled > budget)
+                r = fail_kind(c, first->el, SINEW_ERROR_LIMIT,
+                              "the <animation_clip>s instance so many different sets of the same <animation>s that "
+                              "their keys would come to more than %llu (the file has %llu)",
+                              (unsigned long long)budget, (unsigned long long)file_keys);
+        }
+    }
+    for (uint32_t i = 0; i < made && !r; i++) {
+        const clip_window *first = &w[order[i]];
+        if (i == 0 || w[order[i - 1]].pool != first->pool)
+            r = bake_pool(c, first->name, pool_start[first->pool], pool_end[first->pool], first->anims,
+                          first->anim_count, &pools[first->pool]);
+    }
+    for (uint32_t i = 0; i < made && !r; i++)
+        if (!raw_model_add_window(c->m, &pools[w[i].pool], w[i].name, (float)(w[i].start - pool_start[w[i].pool]),
+                                  (float)(w[i].end - w[i].start), NULL))
+            r = oom(c);
+    for (uint32_t p = 0; pools && p < pool_count; p++)
+        raw_clip_free(&pools[p]);
+    for (uint32_t i = 0; w && i <= made && i <= count; i++) {
+        free(w[i].name);
+        free(w[i].anims);
+    }
+    free(pools);
+    free(pool_start);
+    free(pool_end);
+    free(order);
+    free(w);
     return r;
 }
 

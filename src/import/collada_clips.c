@@ -9,7 +9,7 @@
  *
  * Index:
  *   reading the file ..... collect (clips, animations' target nodes, node ids -> names)
- *   cutting .............. slice_channel, cut_clip
+ *   cutting .............. raw_model_pool_clip + raw_model_add_window (builder.c)
  *   collada_split_clips
  */
 #include <math.h>
@@ -147,72 +147,6 @@ static int mark_targets(const collected *c, xmlNode *animation, const raw_model 
 
 /* ---- cutting ------------------------------------------------------------------------------ */
 
-/* Value of a raw channel at time t, through the runtime sampler. */
-static void eval_raw(const raw_channel *ch, int kind, float t, float *out)
-{
-    sinew_clip view = {.times = ch->times, .values = ch->values, .time_count = ch->count};
-    sinew_channel channel = {ch->count, ch->interp, 0, 0};
-    sinew_channel_eval(&view, &channel, kind, t, NULL, out);
-}
-
-/* The keys of `in` inside [start, end], with keys sampled at both ends, shifted by -start. */
-static bool slice_channel(const raw_channel *in, int kind, float start, float end, raw_channel *out)
-{
-    *out = (raw_channel){.interp = in->interp};
-    if (in->count == 0)
-        return true;
-    uint32_t width = sinew_channel_width(kind);
-    uint32_t stride = sinew_channel_stride(kind, in->interp);
-    out->times = malloc(((size_t)in->count + 2) * sizeof(float));
-    out->values = malloc(((size_t)in->count + 2) * stride * sizeof(float));
-    if (!out->times || !out->values)
-        return false;
-    /* cubic keys carry tangents: the end keys get zero ones */
-    uint32_t at = in->interp == SINEW_INTERP_CUBIC ? width : 0;
-    memset(out->values, 0, ((size_t)in->count + 2) * stride * sizeof(float));
-    out->times[0] = 0.0f;
-    eval_raw(in, kind, start, &out->values[at]);
-    uint32_t n = 1;
-    for (uint32_t k = 0; k < in->count; k++)
-        if (in->times[k] > start && in->times[k] < end) {
-            out->times[n] = in->times[k] - start;
-            memcpy(&out->values[(size_t)n * stride], &in->values[(size_t)k * stride], stride * sizeof(float));
-            n++;
-        }
-    if (end > start) {
-        out->times[n] = end - start;
-        eval_raw(in, kind, end, &out->values[(size_t)n * stride + at]);
-        n++;
-    }
-    out->count = n;
-    return true;
-}
-
-static bool cut_clip(const raw_clip *whole, const file_clip *fc, const bool *wanted, raw_clip *out)
-{
-    memset(out, 0, sizeof *out);
-    float start = (float)fmax(0.0, fc->start);
-    float end = fc->has_end ? (float)fc->end : whole->duration;
-    if (end < start)
-        end = start;
-    out->name = raw_strdup(fc->name);
-    out->duration = end - start;
-    out->tracks = calloc(whole->track_count ? whole->track_count : 1, sizeof *out->tracks);
-    if (!out->name || !out->tracks)
-        return false;
-    for (uint32_t t = 0; t < whole->track_count; t++) {
-        const raw_track *in = &whole->tracks[t];
-        if (wanted && !wanted[in->node])
-            continue;
-        raw_track *track = &out->tracks[out->track_count++];
-        track->node = in->node;
-        for (int k = 0; k < SINEW_CHANNEL_COUNT; k++)
-            if (!slice_channel(&in->channels[k], k, start, end, &track->channels[k]))
-                return false;
-    }
-    return true;
-}
-
 static void free_collected(collected *c)
 {
     for (int i = 0; i < c->clip_count; i++)
@@ -235,9 +169,13 @@ void collada_split_clips(const char *path, raw_model *m)
         return;
     collected c = {.root = xmlDocGetRootElement(doc)};
     collect_clips(c.root, &c);
-    raw_clip *clips = c.clip_count ? calloc((size_t)c.clip_count, sizeof *clips) : NULL;
     bool *wanted = calloc(m->node_count ? m->node_count : 1, sizeof *wanted);
-    bool ok = clips && wanted;
+    raw_clip whole = m->clips[0];
+    sinew_error ignored;
+    /* the whole clip's keys go to a pool once; each <animation_clip> is a window onto it */
+    bool ok = wanted && c.clip_count > 0 && raw_model_pool_clip(m, &whole, &ignored) == SINEW_OK;
+    if (ok)
+        m->clip_count = 0;
     for (int i = 0; ok && i < c.clip_count; i++) {
         memset(wanted, 0, (m->node_count ? m->node_count : 1) * sizeof *wanted);
         int resolved = 0;
@@ -246,19 +184,25 @@ void collada_split_clips(const char *path, raw_model *m)
             if (animation)
                 resolved += mark_targets(&c, animation, m, wanted);
         }
-        ok = cut_clip(&m->clips[0], &c.clips[i], resolved ? wanted : NULL, &clips[i]);
+        const file_clip *fc = &c.clips[i];
+        float start = (float)fmax(0.0, fc->start);
+        float end = fc->has_end ? (float)fc->end : whole.duration;
+        ok = raw_model_add_window(m, &whole, fc->name, start, end > start ? end - start : 0.0f,
+                                  resolved ? wanted : NULL);
     }
     if (ok) {
-        raw_clip_free(&m->clips[0]);
-        free(m->clips);
-        m->clips = clips;
-        m->clip_count = (uint32_t)c.clip_count;
+        raw_clip_free(&whole);
         raw_model_warn(m, "the file's %d <animation_clip>s were cut from the one clip Assimp makes of them",
                        c.clip_count);
-    } else if (clips) {
-        for (int i = 0; i < c.clip_count; i++)
-            raw_clip_free(&clips[i]);
-        free(clips);
+    } else {
+        /* no clips, bad keys or out of memory part way: back to the one clip (whose keys may
+         * be pooled by now: a clip of its own still) */
+        for (uint32_t i = 1; i < m->clip_count; i++)
+            raw_clip_free(&m->clips[i]);
+        if (m->clip_count != 1 || m->clips[0].tracks != whole.tracks)
+            raw_clip_free(&m->clips[0]);
+        m->clips[0] = whole;
+        m->clip_count = 1;
     }
     free(wanted);
     free_collected(&c);

@@ -384,7 +384,8 @@ static int compare_floats(const void *a, const void *b)
     return x < y ? -1 : x > y;
 }
 
-/* The node's local transform in a clip at a clip-local time (rest where it has no track). */
+/* The node's local transform in a clip at a time on its keys' timeline (rest where it has
+ * no track). */
 static void node_at(const sinew_model *m, const sinew_clip *clip, const sinew_track *track, uint32_t node, float t,
                     sinew_mat4 *out)
 {
@@ -392,7 +393,7 @@ static void node_at(const sinew_model *m, const sinew_clip *clip, const sinew_tr
     float *targets[SINEW_CHANNEL_COUNT] = {local.translation, local.rotation, local.scale};
     for (int k = 0; track && k < SINEW_CHANNEL_COUNT; k++)
         if (track->channels[k].key_count)
-            sinew_channel_eval(clip, &track->channels[k], k, t, NULL, targets[k]);
+            sinew_channel_eval_keys(clip, &track->channels[k], k, t, NULL, targets[k]);
     sinew_transform_to_mat4(&local, out);
 }
 
@@ -404,13 +405,15 @@ static const sinew_track *find_track(const sinew_clip *clip, uint32_t node)
     return NULL;
 }
 
-/* Key times of a node in one clip: its channels' keys, both ends, cubic spans sampled. */
+/* Key times of a node in one clip, on its keys' timeline (clip time + start): its
+ * channels' keys, both ends, cubic spans sampled. */
 static uint32_t clip_times(const sinew_clip *clip, const sinew_track *track, float *out, uint32_t capacity,
                            bool *step)
 {
     uint32_t n = 0;
-    out[n++] = 0.0f;
-    out[n++] = clip->duration;
+    const float from = clip->start, to = clip->start + clip->duration;
+    out[n++] = from;
+    out[n++] = to;
     *step = track != NULL;
     for (int k = 0; track && k < SINEW_CHANNEL_COUNT; k++) {
         const sinew_channel *ch = &track->channels[k];
@@ -419,12 +422,12 @@ static uint32_t clip_times(const sinew_clip *clip, const sinew_track *track, flo
         *step = *step && ch->interp == SINEW_INTERP_STEP;
         for (uint32_t i = 0; i < ch->key_count && n < capacity; i++) {
             float t = clip->times[ch->first_key + i];
-            if (t >= 0.0f && t <= clip->duration)
+            if (t >= from && t <= to)
                 out[n++] = t;
         }
         if (ch->interp == SINEW_INTERP_CUBIC)
-            for (float t = 0.0f; t < clip->duration && n < capacity; t += 1.0f / CUBIC_RATE)
-                out[n++] = t;
+            for (uint32_t i = 0; (float)i / CUBIC_RATE < clip->duration && n < capacity; i++)
+                out[n++] = from + (float)i / CUBIC_RATE;
     }
     qsort(out, n, sizeof *out, compare_floats);
     uint32_t unique = 0;
@@ -464,7 +467,7 @@ static void write_animation(writer *wr, uint32_t node, float *times, uint32_t ca
         for (uint32_t i = 0; i < n; i++) {
             sinew_mat4 matrix;
             node_at(m, clip, track, node, times[i], &matrix);
-            text_float(&in, start_at + times[i]);
+            text_float(&in, start_at + (times[i] - clip->start));
             text_matrix(&out, &matrix);
             if (interp.size)
                 text_put(&interp, " ");

@@ -13,11 +13,16 @@
 
 #include "sinew/model.h"
 
+/* A channel owns its keys (times, values), or plays keys in one of the model's key pools
+ * (pool > 0; times and values NULL): keys [first_key, first_key + count) of pool - 1, values
+ * from first_value. Pooled keys are the builder's already (sorted, unit rotations). */
 typedef struct raw_channel {
     uint32_t interp; /* sinew_interp */
     uint32_t count;  /* keys */
     float *times;    /* seconds */
     float *values;   /* sinew_channel_stride(kind, interp) floats a key */
+    uint32_t pool;   /* 0: the arrays above; else 1 + index into raw_model.pools */
+    uint32_t first_key, first_value;
 } raw_channel;
 
 typedef struct raw_track {
@@ -25,12 +30,23 @@ typedef struct raw_track {
     raw_channel channels[SINEW_CHANNEL_COUNT];
 } raw_track;
 
+/* A clip plays [start, start + duration] of its keys' timeline (start > 0 for a window cut
+ * from a longer animation whose keys it shares through a pool). Either every channel of a
+ * clip owns its keys or every one is in the same pool. */
 typedef struct raw_clip {
     char *name;
     float duration;
+    float start;
     uint32_t track_count;
     raw_track *tracks;
 } raw_clip;
+
+/* Keys that clips share: every channel's times, then its values, one after another. */
+typedef struct raw_key_pool {
+    uint32_t time_count, value_count;
+    float *times;
+    float *values;
+} raw_key_pool;
 
 typedef struct raw_skin {
     uint32_t joint_count;
@@ -77,6 +93,8 @@ typedef struct raw_model {
     raw_material *materials;
     uint32_t clip_count;
     raw_clip *clips;
+    uint32_t pool_count;
+    raw_key_pool *pools;
     uint32_t warning_count;
     char **warnings;
     const struct sinew_muscle_set *muscles; /* borrowed, not freed: stored with the model, or NULL */
@@ -110,6 +128,19 @@ bool raw_model_moved_nodes(const raw_model *model, const bool *excluded, bool *o
  * binds: nothing is bound to it), so that they count as joints; *added is how many (0: no
  * skin added). False when out of memory (the model unchanged). */
 bool raw_model_add_skeleton(raw_model *model, const bool *joint, uint32_t *added);
+
+/* Checks and repairs a clip that owns its keys as the builder does (keys sorted, one track
+ * a node, unit rotations), then moves every key into a new pool of the model: the clip's
+ * channels then refer to the pool, and the clip is a template for raw_model_add_window().
+ * On failure the clip is unchanged apart from the repairs and stays freeable. */
+sinew_result raw_model_pool_clip(raw_model *model, raw_clip *clip, sinew_error *error);
+
+/* Appends a clip named `name` that plays [start, start + duration] of `pooled`'s timeline
+ * (a clip made by raw_model_pool_clip(), not necessarily one of the model's): its tracks
+ * (those of nodes with keep[node], or all when keep is NULL) narrowed to the keys around
+ * the window, sharing the pool. False when out of memory (the model unchanged). */
+bool raw_model_add_window(raw_model *model, const raw_clip *pooled, const char *name, float start, float duration,
+                          const bool *keep);
 
 /* Makes `c` a linear channel of `keys` (>= 2) keys evenly spaced over [0, duration], values
  * allocated for the caller to fill; false when out of memory (the channel stays freeable). */

@@ -69,10 +69,33 @@ static void copy_mesh(const sinew_mesh *src, raw_mesh *dst, bool *ok)
     }
 }
 
-static void copy_clip(const sinew_clip *src, raw_clip *dst, bool *ok)
+/* A clip's keys become a pool of the raw model, one for every clip that shares them (the
+ * same times and values: windows cut from one animation), so they are written once again. */
+static void copy_clip(const sinew_model *m, uint32_t index, raw_model *raw, bool *ok)
 {
+    const sinew_clip *src = &m->clips[index];
+    raw_clip *dst = &raw->clips[index];
     dst->name = copy_string(src->name, ok);
     dst->duration = src->duration;
+    dst->start = src->start;
+    uint32_t pool = 0;
+    for (uint32_t c = 0; c < index && !pool; c++)
+        if (m->clips[c].times == src->times && m->clips[c].values == src->values &&
+            m->clips[c].time_count == src->time_count && m->clips[c].value_count == src->value_count)
+            pool = raw->clips[c].track_count ? raw->clips[c].tracks[0].channels[0].pool : 0;
+    if (!pool) {
+        raw_key_pool *pools = realloc(raw->pools, (raw->pool_count + 1) * sizeof *pools);
+        if (!pools) {
+            *ok = false;
+            return;
+        }
+        raw->pools = pools;
+        raw_key_pool *p = &raw->pools[raw->pool_count];
+        *p = (raw_key_pool){src->time_count, src->value_count,
+                            copy_array(src->times, src->time_count ? src->time_count : 1, sizeof(float), ok),
+                            copy_array(src->values, src->value_count ? src->value_count : 1, sizeof(float), ok)};
+        pool = ++raw->pool_count;
+    }
     dst->track_count = src->track_count;
     dst->tracks = src->track_count ? calloc(src->track_count, sizeof *dst->tracks) : NULL;
     if (src->track_count && !dst->tracks) {
@@ -84,12 +107,11 @@ static void copy_clip(const sinew_clip *src, raw_clip *dst, bool *ok)
         dst->tracks[t].node = track->node;
         for (int kind = 0; kind < SINEW_CHANNEL_COUNT; kind++) {
             const sinew_channel *ch = &track->channels[kind];
-            raw_channel *out = &dst->tracks[t].channels[kind];
-            out->interp = ch->interp;
-            out->count = ch->key_count;
-            out->times = copy_array(src->times + ch->first_key, ch->key_count, sizeof(float), ok);
-            out->values = copy_array(src->values + ch->first_value,
-                                     (size_t)ch->key_count * sinew_channel_stride(kind, ch->interp), sizeof(float), ok);
+            dst->tracks[t].channels[kind] = (raw_channel){.interp = ch->interp,
+                                                          .count = ch->key_count,
+                                                          .pool = pool,
+                                                          .first_key = ch->first_key,
+                                                          .first_value = ch->first_value};
         }
     }
 }
@@ -130,7 +152,7 @@ static bool raw_model_from_model(const sinew_model *m, raw_model *raw)
     raw->clips = m->clip_count ? calloc(m->clip_count, sizeof *raw->clips) : NULL;
     raw->clip_count = raw->clips ? m->clip_count : 0;
     for (uint32_t i = 0; i < raw->clip_count; i++)
-        copy_clip(&m->clips[i], &raw->clips[i], &ok);
+        copy_clip(m, i, raw, &ok);
     raw->warning_count = m->warning_count;
     raw->warnings = copy_strings(m->warnings, m->warning_count, &ok);
     if (!raw->warnings)
