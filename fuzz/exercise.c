@@ -1,5 +1,6 @@
 /* What the fuzz targets do with a model that loaded: use it the way a player does (sample
- * every clip, world matrices, palettes, skin every mesh), which must stay in bounds. */
+ * every clip, and play it with sinew_player, world matrices, palettes, skin every mesh, read
+ * embedded images), which must stay in bounds. */
 #include <stdlib.h>
 
 #include "exercise.h"
@@ -22,7 +23,20 @@ void fuzz_exercise(const sinew_model *m)
                 sinew_local_to_world(m, locals, m->node_count, NULL, worlds, m->node_count, NULL) != SINEW_OK)
                 abort(); /* a model that loaded must sample */
         }
+        sinew_player *player = NULL;
+        if (sinew_player_create(m, clip, &player, NULL) != SINEW_OK)
+            abort();
+        for (int step = 0; step < 3; step++)
+            if (sinew_player_update(player, duration * ((float)step * 0.5f), SINEW_WRAP_CLAMP, NULL, worlds,
+                                    m->node_count, NULL) != SINEW_OK)
+                abort();
+        sinew_player_free(player);
     }
+    /* embedded images: every byte readable */
+    volatile unsigned sum = 0;
+    for (uint32_t i = 0; i < m->material_count; i++)
+        for (uint32_t b = 0; b < m->materials[i].diffuse_image_size; b++)
+            sum += m->materials[i].diffuse_image[b];
     for (uint32_t i = 0; i < m->mesh_count; i++) {
         const sinew_mesh *mesh = &m->meshes[i];
         float *out = malloc(((size_t)mesh->vertex_count + 1) * 3 * sizeof(float));

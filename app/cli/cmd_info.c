@@ -12,12 +12,14 @@ static const char info_usage[] =
     "Prints what FILE holds as sinew reads it: node, joint, mesh, vertex, triangle, skin, material and\n"
     "clip counts; each clip with its duration in seconds and its key counts (and, for clips cut from one\n"
     "animation that share its keys, where on its timeline the clip starts); each mesh; each material\n"
-    "with its colour and texture; the node tree with joints and meshes marked; and the import warnings\n"
-    "(dropped dummy meshes, missing textures, repaired weights, ...).\n"
+    "with its colour and texture (a file's path, or an image embedded in the file); the node tree with\n"
+    "joints and meshes marked; and the import warnings (dropped dummy meshes, missing textures, repaired\n"
+    "weights, ...).\n"
     "\n"
     "  --json   the same as one JSON object: {\"file\", \"format\", [\"converted_from\", \"converted_from_format\",]\n"
     "           \"counts\": {...}, \"meshes\": [...],\n"
-    "           \"materials\": [{\"name\", \"base_color\", \"diffuse_texture\"}],\n"
+    "           \"materials\": [{\"name\", \"base_color\", \"diffuse_texture\", \"diffuse_image\": null or\n"
+    "           {\"type\": png/jpeg/other, \"bytes\"} (an image embedded in the file)}],\n"
     "           \"clips\": [{\"index\", \"name\", \"duration\", \"start\", \"clips_sharing_keys\", \"tracks\",\n"
     "           \"keys\": {...}}], \"nodes\":\n"
     "           [{\"name\", \"parent\", \"joint\", \"inherit\"}], \"warnings\": [...]}\n"
@@ -31,6 +33,18 @@ static uint32_t clips_sharing_keys(const sinew_model *m, uint32_t i)
     for (uint32_t c = 0; c < m->clip_count; c++)
         n += m->clips[c].time_count && m->clips[c].times == m->clips[i].times;
     return n ? n : 1;
+}
+
+/* What an embedded image is, by its first bytes. */
+static const char *image_kind(const sinew_material *mat)
+{
+    const unsigned char *b = mat->diffuse_image;
+    uint32_t n = mat->diffuse_image_size;
+    if (n >= 8 && memcmp(b, "\x89PNG\r\n\x1a\n", 8) == 0)
+        return "png";
+    if (n >= 3 && b[0] == 0xff && b[1] == 0xd8 && b[2] == 0xff)
+        return "jpeg";
+    return "other";
 }
 
 typedef struct counts {
@@ -117,9 +131,12 @@ static void print_text(const sinew_model *m)
     }
     for (uint32_t i = 0; i < m->material_count; i++) {
         const sinew_material *mat = &m->materials[i];
-        printf("material %u  \"%s\"  colour (%.3g %.3g %.3g %.3g)%s%s\n", i, mat->name, (double)mat->base_color[0],
+        printf("material %u  \"%s\"  colour (%.3g %.3g %.3g %.3g)%s%s", i, mat->name, (double)mat->base_color[0],
                (double)mat->base_color[1], (double)mat->base_color[2], (double)mat->base_color[3],
                mat->diffuse_texture ? "  texture " : "", mat->diffuse_texture ? mat->diffuse_texture : "");
+        if (mat->diffuse_image)
+            printf("  texture embedded (%s, %u bytes)", image_kind(mat), mat->diffuse_image_size);
+        printf("\n");
     }
     printf("node tree:\n");
     print_tree(m, -1, 0);
@@ -179,6 +196,13 @@ static cJSON *info_json(const sinew_model *m)
             cJSON_AddStringToObject(o, "diffuse_texture", mat->diffuse_texture);
         else
             cJSON_AddNullToObject(o, "diffuse_texture");
+        if (mat->diffuse_image) {
+            cJSON *image = cJSON_AddObjectToObject(o, "diffuse_image");
+            cJSON_AddStringToObject(image, "type", image_kind(mat));
+            cJSON_AddNumberToObject(image, "bytes", mat->diffuse_image_size);
+        } else {
+            cJSON_AddNullToObject(o, "diffuse_image");
+        }
         cJSON_AddItemToArray(materials, o);
     }
     cJSON *clips = cJSON_AddArrayToObject(root, "clips");

@@ -128,7 +128,10 @@ typedef struct sinew_instance {
 typedef struct sinew_material {
     const char *name;
     float base_color[4];
-    const char *diffuse_texture; /* path resolved against the model's folder, or NULL */
+    const char *diffuse_texture;        /* path resolved against the model's folder, or NULL */
+    const unsigned char *diffuse_image; /* the image itself when the file embeds it (a .glb's PNG or JPEG,
+                                         * as stored: encoded), else NULL */
+    uint32_t diffuse_image_size;        /* bytes */
 } sinew_material;
 
 typedef struct sinew_model {

@@ -13,7 +13,8 @@
  * twice or with another element size. Every reference is a byte offset from the start of
  * the blob; strings are offsets into the pool (section STRS), which ends with a NUL;
  * BLOB_NONE marks an absent string or array; arrays may be shared (clips cut from one
- * animation point at the same times and values). Version 3 added blob_clip.start. The checksum is CRC-32C (Castagnoli) of the
+ * animation point at the same times and values). Version 3 added blob_clip.start and
+ * blob_material.diffuse_image. The checksum is CRC-32C (Castagnoli) of the
  * whole blob computed with the checksum field set to 0.
  */
 #ifndef SINEW_CORE_INTERNAL_H
@@ -108,6 +109,7 @@ typedef struct blob_material {
     uint32_t name;
     float base_color[4];
     uint32_t diffuse_texture; /* BLOB_NONE when absent */
+    blob_span diffuse_image;  /* bytes of an embedded image (PNG, JPEG, ...), count 0 when none */
 } blob_material;
 
 typedef struct blob_muscle {

@@ -270,7 +270,8 @@ static sinew_result check_meshes(reader *r)
     const blob_material *materials = array_at(r, h->materials.offset, h->materials.count);
     for (uint32_t i = 0; i < h->materials.count; i++)
         if (!string_ok(r, materials[i].name, false) || !string_ok(r, materials[i].diffuse_texture, true) ||
-            !floats_finite(materials[i].base_color, 4))
+            !floats_finite(materials[i].base_color, 4) ||
+            !range_ok(r, materials[i].diffuse_image.offset, materials[i].diffuse_image.count, 1))
             return corrupt(r, "material");
     const sinew_instance *instances = array_at(r, h->instances.offset, h->instances.count);
     for (uint32_t i = 0; i < h->instances.count; i++)
@@ -449,6 +450,8 @@ static void fill_model(model_block *b, const reader *r, unsigned char *tables)
         materials[i].name = string_at(r, bmats[i].name);
         memcpy(materials[i].base_color, bmats[i].base_color, sizeof materials[i].base_color);
         materials[i].diffuse_texture = string_at(r, bmats[i].diffuse_texture);
+        materials[i].diffuse_image = array_at(r, bmats[i].diffuse_image.offset, bmats[i].diffuse_image.count);
+        materials[i].diffuse_image_size = bmats[i].diffuse_image.count;
     }
     m->materials = materials;
 

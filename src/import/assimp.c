@@ -212,13 +212,53 @@ static void axis_conversion(context *c)
 
 /* ---- materials ---------------------------------------------------------------------------- */
 
-static char *resolve_texture(context *c, const char *texture)
+static char *find_texture(context *c, const char *texture);
+
+/* The image Assimp holds for a texture reference: "*N" (glTF, FBX, 3MF, ...) or a name
+ * that one of the scene's embedded textures carries; NULL when the file does not embed it. */
+static const struct aiTexture *embedded_texture(const struct aiScene *s, const char *texture)
 {
     if (texture[0] == '*') {
-        raw_model_warn(c->model, "embedded texture \"%s\" is not carried by sinew yet; the material keeps its colour",
-                       texture);
-        return NULL;
+        char *end;
+        unsigned long i = strtoul(texture + 1, &end, 10);
+        return *end == 0 && i < s->mNumTextures ? s->mTextures[i] : NULL;
     }
+    for (unsigned i = 0; i < s->mNumTextures; i++)
+        if (s->mTextures[i] && s->mTextures[i]->mFilename.length && strcmp(s->mTextures[i]->mFilename.data, texture) == 0)
+            return s->mTextures[i];
+    return NULL;
+}
+
+/* The material's texture: an image the file embeds (its encoded bytes), else the file it
+ * names, found beside the model when the stored path fails. */
+static sinew_result resolve_texture(context *c, const char *texture, raw_material *out)
+{
+    const struct aiTexture *t = embedded_texture(c->scene, texture);
+    if (t) {
+        /* mHeight 0: mWidth bytes of a compressed image (PNG, JPEG, ...); else raw texels */
+        if (t->mHeight != 0 || !t->pcData || t->mWidth == 0 || t->mWidth > (1u << 28))
+            return raw_model_warn(c->model,
+                                  "embedded texture \"%s\" is stored as %ux%u raw texels, which sinew does not "
+                                  "carry; the material keeps its colour",
+                                  texture, t->mWidth, t->mHeight)
+                       ? SINEW_OK
+                       : oom(c);
+        if (!(out->diffuse_image = malloc(t->mWidth)))
+            return oom(c);
+        memcpy(out->diffuse_image, t->pcData, t->mWidth);
+        out->diffuse_image_size = t->mWidth;
+        return SINEW_OK;
+    }
+    if (texture[0] == '*')
+        return raw_model_warn(c->model, "texture \"%s\" names an embedded image the file does not have", texture)
+                   ? SINEW_OK
+                   : oom(c);
+    out->diffuse_texture = find_texture(c, texture);
+    return SINEW_OK;
+}
+
+static char *find_texture(context *c, const char *texture)
+{
     char looked[8192];
     char *path = import_find_texture(c->path, texture, false, looked, sizeof looked);
     if (!path)
@@ -260,7 +300,11 @@ static sinew_result read_materials(context *c)
                 AI_SUCCESS ||
             aiGetMaterialTexture(mat, aiTextureType_BASE_COLOR, 0, &texture, NULL, NULL, NULL, NULL, NULL, NULL) ==
                 AI_SUCCESS)
-            out->diffuse_texture = texture.length ? resolve_texture(c, texture.data) : NULL;
+            if (texture.length) {
+                sinew_result r = resolve_texture(c, texture.data, out);
+                if (r)
+                    return r;
+            }
     }
     return SINEW_OK;
 }

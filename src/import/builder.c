@@ -181,6 +181,7 @@ void raw_model_free(raw_model *m)
     for (uint32_t i = 0; i < m->material_count; i++) {
         free(m->materials[i].name);
         free(m->materials[i].diffuse_texture);
+        free(m->materials[i].diffuse_image);
     }
     free(m->materials);
     for (uint32_t c = 0; c < m->clip_count; c++)
@@ -865,6 +866,12 @@ static blob_span write_materials(writer *w, const raw_model *m)
         table[i].name = writer_string(w, m->materials[i].name);
         memcpy(table[i].base_color, m->materials[i].base_color, sizeof table[i].base_color);
         table[i].diffuse_texture = writer_string(w, m->materials[i].diffuse_texture);
+        if (m->materials[i].diffuse_image)
+            table[i].diffuse_image = (blob_span){
+                writer_put(w, m->materials[i].diffuse_image, m->materials[i].diffuse_image_size),
+                m->materials[i].diffuse_image_size};
+        else
+            table[i].diffuse_image = (blob_span){BLOB_NONE, 0};
     }
     blob_span span = {writer_put(w, table, m->material_count * sizeof *table), m->material_count};
     free(table);

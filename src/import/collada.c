@@ -2007,10 +2007,12 @@ static sinew_result build_clips(collada *c)
         if (!named(clip, "animation_clip"))
             continue;
         r = read_clip_window(c, clip, made, &w[made]);
-        if (!r && w[made].anim_count)
+        if (!r && w[made].anim_count) {
             made++;
-        else if (!r)
+        } else if (!r) { /* instances no <animation>: not a clip */
             free(w[made].anims);
+            w[made].anims = NULL;
+        }
     }
     if (!r && made == 0) {
         xmlNode *only = NULL;

@@ -744,10 +744,65 @@ static sinew_result build_nodes(gltf *g)
 
 /* ---- materials ------------------------------------------------------------------------ */
 
-/* The file an image names, resolved; NULL (with a warning) when it is embedded or missing. */
-static sinew_result texture_path(gltf *g, int texture, const char *material, char **out)
+#define GLTF_MAX_IMAGE (1u << 28) /* bytes of one embedded image */
+
+/* An image embedded in the file: a bufferView (GLB) or a base64 data: URI, copied into the
+ * material as the encoded bytes (PNG, JPEG, ... as stored) for the renderer to decode. */
+static sinew_result embedded_image(gltf *g, const cJSON *img, int image, const char *uri, const char *material,
+                                   raw_material *out)
 {
-    *out = NULL;
+    char where[64];
+    snprintf(where, sizeof where, "images[%d]", image);
+    const unsigned char *bytes = NULL;
+    size_t size = 0;
+    blob decoded = {0};
+    sinew_result r = SINEW_OK;
+    if (uri) {
+        const char *comma = strstr(uri, ";base64,");
+        if (!comma)
+            return fail_at(g, "%s.uri: a data: URI that is not base64", where);
+        if (!base64_decode(comma + 8, &decoded)) {
+            free(decoded.bytes);
+            return decoded.bytes ? fail_at(g, "%s.uri: not valid base64", where) : oom(g);
+        }
+        bytes = decoded.bytes, size = decoded.size;
+    } else {
+        int view;
+        long long length, stride;
+        if (!cJSON_GetObjectItemCaseSensitive(img, "bufferView"))
+            return fail_at(g, "%s: neither a uri nor a bufferView", where);
+        if ((r = index_at(g, img, "bufferView", where, g->views.count, true, &view)) ||
+            (r = int_at(g, item(&g->views, view), "byteLength", where, 1, (long long)1 << 40, -1, &length)))
+            return r;
+        if (length < 1)
+            return fail_at(g, "bufferViews[%d]: no byteLength", view);
+        if ((r = view_span(g, view, 0, 1, length, false, where, &bytes, &stride)))
+            return r;
+        size = (size_t)length;
+    }
+    if (size > GLTF_MAX_IMAGE) {
+        free(decoded.bytes);
+        return raw_model_warn(g->m, "%s: material \"%s\": %s is %zu bytes, more than sinew keeps (%u); the "
+                              "material keeps its colour", g->path, material, where, size, GLTF_MAX_IMAGE)
+                   ? SINEW_OK
+                   : oom(g);
+    }
+    out->diffuse_image = malloc(size ? size : 1);
+    if (!out->diffuse_image) {
+        free(decoded.bytes);
+        return oom(g);
+    }
+    memcpy(out->diffuse_image, bytes, size);
+    out->diffuse_image_size = (uint32_t)size;
+    free(decoded.bytes);
+    return SINEW_OK;
+}
+
+/* The material's base-colour image: the file an image names, resolved (tried beside the
+ * model by name when missing), or the embedded bytes; none (with a warning) when the image
+ * is in a format sinew does not read. */
+static sinew_result texture_of(gltf *g, int texture, const char *material, raw_material *out)
+{
     char where[64];
     snprintf(where, sizeof where, "textures[%d]", texture);
     const cJSON *t = item(&g->textures, texture);
@@ -764,15 +819,10 @@ static sinew_result texture_path(gltf *g, int texture, const char *material, cha
     const cJSON *img = item(&g->images, image);
     const char *uri = string_at(img, "uri");
     if (!uri || strncmp(uri, "data:", 5) == 0)
-        return raw_model_warn(g->m,
-                              "%s: material \"%s\": images[%d] is embedded in the file; sinew does not carry "
-                              "embedded images yet, the material keeps its colour",
-                              g->path, material, image)
-                   ? SINEW_OK
-                   : oom(g);
+        return embedded_image(g, img, image, uri, material, out);
     char name[4096];
     import_uri_decode(uri, name, sizeof name);
-    return import_material_texture(g->m, g->path, material, name, out) ? SINEW_OK : oom(g);
+    return import_material_texture(g->m, g->path, material, name, &out->diffuse_texture) ? SINEW_OK : oom(g);
 }
 
 static sinew_result build_materials(gltf *g)
@@ -840,7 +890,7 @@ static sinew_result build_materials(gltf *g)
                                         "TEXCOORD_0",
                                         g->path, out->name, set))
             return oom(g);
-        if ((r = texture_path(g, texture, out->name, &out->diffuse_texture)))
+        if ((r = texture_of(g, texture, out->name, out)))
             return r;
     }
     return SINEW_OK;

@@ -72,7 +72,9 @@ typedef struct raw_mesh {
 typedef struct raw_material {
     char *name;
     float base_color[4];
-    char *diffuse_texture; /* resolved path, or NULL */
+    char *diffuse_texture;        /* resolved path, or NULL */
+    unsigned char *diffuse_image; /* the encoded image when the file embeds it, or NULL */
+    uint32_t diffuse_image_size;
 } raw_material;
 
 typedef struct raw_model {

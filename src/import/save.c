@@ -148,6 +148,9 @@ static bool raw_model_from_model(const sinew_model *m, raw_model *raw)
         raw->materials[i].name = copy_string(m->materials[i].name, &ok);
         memcpy(raw->materials[i].base_color, m->materials[i].base_color, sizeof raw->materials[i].base_color);
         raw->materials[i].diffuse_texture = copy_string(m->materials[i].diffuse_texture, &ok);
+        raw->materials[i].diffuse_image =
+            copy_array(m->materials[i].diffuse_image, m->materials[i].diffuse_image_size, 1, &ok);
+        raw->materials[i].diffuse_image_size = raw->materials[i].diffuse_image ? m->materials[i].diffuse_image_size : 0;
     }
     raw->clips = m->clip_count ? calloc(m->clip_count, sizeof *raw->clips) : NULL;
     raw->clip_count = raw->clips ? m->clip_count : 0;

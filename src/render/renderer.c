@@ -210,15 +210,23 @@ static void upload_mesh(render_mesh *rm, const sinew_mesh *mesh, void *scratch)
     glBindVertexArray(0);
 }
 
-/* Decodes a material's diffuse texture (any stb_image format) into an sRGB texture with
- * mipmaps; rows are flipped because UVs have v up (OpenGL) and images store the top row first. */
+/* Decodes a material's diffuse texture (any stb_image format; the embedded image when the
+ * file carries one, else the file it names) into an sRGB texture with mipmaps; rows are
+ * flipped because UVs have v up (OpenGL) and images store the top row first. */
 static GLuint load_texture(sinew_renderer *r, const sinew_material *material)
 {
     int w = 0, h = 0, channels = 0;
-    unsigned char *pixels = stbi_load(material->diffuse_texture, &w, &h, &channels, 4);
+    unsigned char *pixels =
+        material->diffuse_image
+            ? stbi_load_from_memory(material->diffuse_image, (int)material->diffuse_image_size, &w, &h, &channels, 4)
+            : stbi_load(material->diffuse_texture, &w, &h, &channels, 4);
     if (!pixels) {
-        warn(r, "%s: material \"%s\": cannot read texture %s (%s); its base colour is shown", r->model->source,
-             material->name, material->diffuse_texture, stbi_failure_reason());
+        if (material->diffuse_image)
+            warn(r, "%s: material \"%s\": cannot decode its embedded image (%u bytes: %s); its base colour is shown",
+                 r->model->source, material->name, material->diffuse_image_size, stbi_failure_reason());
+        else
+            warn(r, "%s: material \"%s\": cannot read texture %s (%s); its base colour is shown", r->model->source,
+                 material->name, material->diffuse_texture, stbi_failure_reason());
         return 0;
     }
     render_flip_rows(pixels, (size_t)w * 4, h);
@@ -286,7 +294,8 @@ static sinew_result create_gl_objects(sinew_renderer *r, uint32_t max_vertices, 
         upload_mesh(&r->meshes[i], &m->meshes[i], scratch);
     free(scratch);
     for (uint32_t i = 0; i < m->material_count; i++)
-        r->textures[i] = m->materials[i].diffuse_texture ? load_texture(r, &m->materials[i]) : 0;
+        r->textures[i] =
+            m->materials[i].diffuse_texture || m->materials[i].diffuse_image ? load_texture(r, &m->materials[i]) : 0;
 
     r->palette_buffer =
         make_buffer(GL_TEXTURE_BUFFER, (size_t)(r->total_joints ? r->total_joints : 1) * 64, NULL, GL_STREAM_DRAW);

@@ -199,6 +199,45 @@ static void test_refusals_say_where(void **state)
 }
 
 /* A .glb whose header lies about its length, and a .glb that is not binary glTF. */
+/* Images embedded in the file reach the model as their encoded bytes (the renderer decodes
+ * them, tests/render/test_render.c); broken ones are refused, saying which image. */
+static void test_embedded_images(void **state)
+{
+    (void)state;
+    char path[1024];
+    const char *files[] = {"two_bone_textured.glb", "two_bone_textured.gltf"};
+    for (int f = 0; f < 2; f++) {
+        sinew_model *m = load_or_fail(fixture_path(files[f], path, sizeof path));
+        assert_int_equal(m->material_count, 1);
+        const sinew_material *mat = &m->materials[0];
+        assert_null(mat->diffuse_texture);
+        assert_non_null(mat->diffuse_image);
+        assert_int_equal(mat->diffuse_image_size, 141); /* the fixture's PNG */
+        assert_memory_equal(mat->diffuse_image, "\x89PNG\r\n\x1a\n", 8);
+        for (uint32_t w = 0; w < m->warning_count; w++)
+            assert_null(strstr(m->warnings[w], "embedded"));
+        sinew_model_free(m);
+        /* Assimp's embedded textures ("*0") reach the model too (its other formats rely on it) */
+        sinew_import_desc desc = {.path = path, .assimp = true};
+        sinew_error error = {0};
+        assert_int_equal(sinew_import(&desc, &m, &error), SINEW_OK);
+        assert_int_equal(m->materials[0].diffuse_image_size, 141);
+        sinew_model_free(m);
+    }
+    static const edit edits[] = {
+        {"image of bad base64", {"images", "#0", "uri", NULL}, "\"data:image/png;base64,@@\"", "images[0].uri"},
+        {"image data: URI not base64", {"images", "#0", "uri", NULL}, "\"data:image/png,abc\"", "not base64"},
+        {"image with no uri or bufferView", {"images", "#0", NULL}, "{\"name\": \"nothing\"}", "neither a uri"},
+        {"image bufferView out of range", {"images", "#0", NULL}, "{\"bufferView\": 99}", "images[0].bufferView"},
+    };
+    size_t size;
+    char *text = read_file(fixture_path("two_bone_textured.gltf", path, sizeof path), &size);
+    assert_non_null(text);
+    for (size_t i = 0; i < sizeof edits / sizeof edits[0]; i++)
+        check_edit(&edits[i], text);
+    free(text);
+}
+
 static void test_glb_header(void **state)
 {
     (void)state;
@@ -224,6 +263,7 @@ int main(void)
         cmocka_unit_test(test_repeated_names),
         cmocka_unit_test(test_quantized_sparse_texture_transform),
         cmocka_unit_test(test_refusals_say_where),
+        cmocka_unit_test(test_embedded_images),
         cmocka_unit_test(test_glb_header),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

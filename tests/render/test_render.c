@@ -292,6 +292,62 @@ static void test_bone_only_file_shows_bones(void **state)
     free_image(&off);
 }
 
+/* Pixels of one pure colour (each channel within 60 of it) and where they are on average. */
+typedef struct colour_patch {
+    long count;
+    double x, y;
+} colour_patch;
+
+static colour_patch find_colour(const image *im, int r, int g, int b)
+{
+    colour_patch p = {0};
+    for (int y = 0; y < im->height; y++)
+        for (int x = 0; x < im->width; x++) {
+            const unsigned char *c = &im->rgb[((size_t)y * im->width + x) * 3];
+            if (abs(c[0] - r) < 60 && abs(c[1] - g) < 60 && abs(c[2] - b) < 60)
+                p.count++, p.x += x, p.y += y;
+        }
+    if (p.count)
+        p.x /= p.count, p.y /= p.count;
+    return p;
+}
+
+/* A texture embedded in the file (a GLB's bufferView, a .gltf's data: URI, and a .sinew
+ * converted from the GLB) is drawn: the strip shows the image's four quadrants where glTF's
+ * UVs put them (uv (0, 0) is the image's top left, at the strip's bottom left). */
+static void test_embedded_texture(void **state)
+{
+    (void)state;
+    char glb[1024], gltf[1024], converted[1024];
+    fixture_path("two_bone_textured.glb", glb, sizeof glb);
+    fixture_path("two_bone_textured.gltf", gltf, sizeof gltf);
+    tmp_path("two_bone_textured.sinew", converted, sizeof converted);
+    run_result r = RUN("convert", glb, converted);
+    assert_int_equal(r.code, 0);
+    run_free(&r);
+    const char *files[] = {glb, gltf, converted};
+    image first = {0};
+    for (int f = 0; f < 3; f++) {
+        image im = RENDER("textured.png", files[f], "--size", SIZE, "--no-grid", "--no-skeleton", "--background",
+                          "000000");
+        colour_patch red = find_colour(&im, 255, 0, 0), green = find_colour(&im, 0, 255, 0),
+                     blue = find_colour(&im, 0, 0, 255), white = find_colour(&im, 235, 235, 235);
+        printf("embedded texture (%s): red %ld, green %ld, blue %ld, white %ld pixels\n", strrchr(files[f], '/') + 1,
+               red.count, green.count, blue.count, white.count);
+        assert_true(red.count > 500 && green.count > 500 && blue.count > 500 && white.count > 500);
+        assert_true(red.y > blue.y && green.y > white.y);  /* the image's top row at the strip's bottom */
+        assert_true(green.x > red.x && white.x > blue.x); /* u to the right */
+        if (f == 0) {
+            first = im;
+            continue;
+        }
+        long differing;
+        assert_true(same_picture(&first, &im, &differing));
+        free_image(&im);
+    }
+    free_image(&first);
+}
+
 static void test_frame_sequence_and_video(void **state)
 {
     (void)state;
@@ -410,6 +466,7 @@ int main(void)
         cmocka_unit_test(test_gpu_joint_limit_falls_back_to_cpu),
         cmocka_unit_test(test_animated_frames_differ_static_do_not),
         cmocka_unit_test(test_bone_only_file_shows_bones),
+        cmocka_unit_test(test_embedded_texture),
         cmocka_unit_test(test_frame_sequence_and_video),
         cmocka_unit_test(test_bad_input),
         cmocka_unit_test(test_bench_render_reports),
