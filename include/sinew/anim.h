@@ -96,8 +96,8 @@ sinew_result sinew_transform_vertices(const sinew_mesh *mesh, const sinew_mat4 *
  * world matrix, with no allocation and no search in forward play. Keys of channels that
  * share their times are stored together in time order; rotations blend component-wise and
  * are normalised (nlerp) where neighbouring keys are close (within 5e-7 rad of
- * sinew_sample()'s slerp) and are slerped where they are not; step and cubic keys as
- * sinew_sample() evaluates them. A player holds one character's pose, so use one
+ * sinew_sample()'s slerp) and are slerped where they are not; step, cubic and Bezier keys
+ * as sinew_sample() evaluates them. A player holds one character's pose, so use one
  * player per character (players of different characters may update on different threads).
  * AVX2+FMA where the processor has them, else scalar code that gives the same results. */
 typedef struct sinew_player sinew_player;

@@ -43,7 +43,16 @@ typedef struct sinew_transform {
 typedef enum sinew_interp {
     SINEW_INTERP_STEP = 0,
     SINEW_INTERP_LINEAR = 1, /* lerp for vectors, shortest-path slerp for rotations */
-    SINEW_INTERP_CUBIC = 2   /* cubic Hermite spline: each key stores in-tangent, value, out-tangent */
+    SINEW_INTERP_CUBIC = 2,  /* cubic Hermite spline: each key stores in-tangent, value, out-tangent */
+    /* Cubic Bezier with 2-D control points (COLLADA's BEZIER, the curves of animation tools),
+     * each component on its own: a key stores its value, the (time, value) of the control
+     * point before it and of the one after it, component by component: value[w], in_time[w],
+     * in_value[w], out_time[w], out_value[w]. A segment's component runs from (t0, v0) through
+     * (out_time, out_value) of the first key and (in_time, in_value) of the second to (t1, v1),
+     * the time polynomial solved for the curve's parameter; control times lie within the
+     * segment (checked when a model is built or loaded). Translation and scale only:
+     * rotations are quaternions, not curves of their own components. */
+    SINEW_INTERP_BEZIER = 3
 } sinew_interp;
 
 enum { SINEW_CHANNEL_TRANSLATION = 0, SINEW_CHANNEL_ROTATION = 1, SINEW_CHANNEL_SCALE = 2, SINEW_CHANNEL_COUNT = 3 };
@@ -66,7 +75,8 @@ typedef enum sinew_inherit {
 
 /* One channel of one node: key_count keys at times[first_key ...]; values at
  * values[first_value ...], 3 floats a key for translation/scale and 4 for rotation,
- * three times that for SINEW_INTERP_CUBIC (in-tangent, value, out-tangent).
+ * three times that for SINEW_INTERP_CUBIC (in-tangent, value, out-tangent), five times for
+ * SINEW_INTERP_BEZIER (value, in time, in value, out time, out value).
  * key_count 0 means "not animated": the node's rest value is used. */
 typedef struct sinew_channel {
     uint32_t key_count;

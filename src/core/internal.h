@@ -170,11 +170,27 @@ static inline uint32_t sinew_channel_width(int kind)
     return kind == SINEW_CHANNEL_ROTATION ? 4u : 3u;
 }
 
+/* Values a key stores per component: 1, 3 (cubic: in-tangent, value, out-tangent) or 5
+ * (Bezier: value, in time, in value, out time, out value). */
+static inline uint32_t sinew_interp_floats(uint32_t interp)
+{
+    return interp == SINEW_INTERP_CUBIC ? 3u : interp == SINEW_INTERP_BEZIER ? 5u : 1u;
+}
+
 /* Floats one key takes in the value array. */
 static inline uint32_t sinew_channel_stride(int kind, uint32_t interp)
 {
-    return sinew_channel_width(kind) * (interp == SINEW_INTERP_CUBIC ? 3u : 1u);
+    return sinew_channel_width(kind) * sinew_interp_floats(interp);
 }
+
+/* One component of a cubic Bezier segment from (t0, v0) through the control points (t1, v1)
+ * and (t2, v2) to (t3, v3), at time t in [t0, t3] (control times within it): the time
+ * polynomial solved for the parameter (Newton's steps kept inside a shrinking bracket),
+ * then the value polynomial. */
+float sinew_bezier(float t0, float v0, float t1, float v1, float t2, float v2, float t3, float v3, float t);
+
+/* True when the control times of a Bezier channel's keys lie within their segments. */
+bool sinew_bezier_times_ok(const float *times, const float *values, uint32_t count, uint32_t width);
 
 /* Scales of a pose, wherever they are kept: node j's component c at
  * base[j * node_stride + c * comp_stride] (an array of sinew_transform, or the player's

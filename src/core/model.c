@@ -284,16 +284,22 @@ static bool channel_ok(const reader *r, const blob_clip *c, const sinew_channel 
 {
     if (ch->key_count == 0)
         return true;
-    if (ch->interp > SINEW_INTERP_CUBIC)
+    if (ch->interp > SINEW_INTERP_BEZIER || (ch->interp == SINEW_INTERP_BEZIER && kind == SINEW_CHANNEL_ROTATION))
         return false;
     uint64_t stride = sinew_channel_stride(kind, ch->interp);
     if ((uint64_t)ch->first_key + ch->key_count > c->times.count ||
         (uint64_t)ch->first_value + ch->key_count * stride > c->values.count)
         return false;
+    /* The keys the channel takes (clips may share longer arrays: each checks its own). */
     const float *times = (const float *)array_at(r, c->times.offset, c->times.count) + ch->first_key;
+    const float *values = (const float *)array_at(r, c->values.offset, c->values.count) + ch->first_value;
+    if (!floats_finite(times, ch->key_count) || !floats_finite(values, ch->key_count * stride))
+        return false;
     for (uint32_t k = 1; k < ch->key_count; k++)
         if (!(times[k] >= times[k - 1]))
             return false;
+    if (ch->interp == SINEW_INTERP_BEZIER)
+        return sinew_bezier_times_ok(times, values, ch->key_count, sinew_channel_width(kind));
     return true;
 }
 
@@ -309,9 +315,6 @@ static sinew_result check_clips(reader *r)
         if (!range_ok(r, c->tracks.offset, c->tracks.count, sizeof(sinew_track)) ||
             !range_ok(r, c->times.offset, c->times.count, 4) || !range_ok(r, c->values.offset, c->values.count, 4))
             return corrupt(r, "clip arrays out of bounds");
-        if ((c->times.count && !floats_finite(array_at(r, c->times.offset, 1), c->times.count)) ||
-            (c->values.count && !floats_finite(array_at(r, c->values.offset, 1), c->values.count)))
-            return corrupt(r, "clip keys are not finite");
         const sinew_track *tracks = array_at(r, c->tracks.offset, c->tracks.count);
         for (uint32_t t = 0; t < c->tracks.count; t++) {
             if (tracks[t].node >= h->node_names.count || (t > 0 && tracks[t].node <= tracks[t - 1].node))

@@ -164,7 +164,7 @@ sinew_result sinew_player_create(const sinew_model *model, const sinew_clip *cli
             refs[ref_count++] = (channel_ref){ch, clip->tracks[t].node, k, g};
             uint32_t width = sinew_channel_width((int)k);
             lanes_total += width;
-            floats_total += (size_t)width * ch->key_count * (ch->interp == SINEW_INTERP_CUBIC ? 3u : 1u);
+            floats_total += (size_t)width * ch->key_count * sinew_interp_floats(ch->interp);
         }
 
     uint32_t n = model->node_count, stride = (n + 7u) & ~7u;
@@ -223,7 +223,7 @@ sinew_result sinew_player_create(const sinew_model *model, const sinew_clip *cli
         *gr = (group){.key_count = first->channel->key_count,
                       .interp = first->channel->interp,
                       .lane_count = lane_count,
-                      .row_floats = lane_count * (cubic ? 3u : 1u),
+                      .row_floats = lane_count * sinew_interp_floats(first->channel->interp),
                       .times = clip->times + first->channel->first_key};
         gr->rows = (float *)at;
         at += (size_t)gr->row_floats * gr->key_count * 4;
@@ -241,6 +241,9 @@ sinew_result sinew_player_create(const sinew_model *model, const sinew_clip *cli
                     row[l] = kv[width];                      /* value */
                     row[lane_count + l] = kv[0];             /* in-tangent */
                     row[2 * lane_count + l] = kv[2 * width]; /* out-tangent */
+                } else if (gr->interp == SINEW_INTERP_BEZIER) {
+                    for (uint32_t j = 0; j < 5; j++) /* value, in time, in value, out time, out value */
+                        row[j * lane_count + l] = kv[j * width];
                 } else {
                     row[l] = kv[0];
                 }
@@ -328,6 +331,7 @@ typedef struct segment {
     uint32_t k;
     bool copy;
     float s, dt;
+    float t; /* the time (Bezier segments solve for their parameter) */
 } segment;
 
 static segment find(group *g, float t)
@@ -335,13 +339,13 @@ static segment find(group *g, float t)
     const float *times = g->times;
     uint32_t n = g->key_count;
     if (t <= times[0])
-        return (segment){0, true, 0, 0};
+        return (segment){0, true, 0, 0, t};
     if (t >= times[n - 1])
-        return (segment){n - 1, true, 0, 0};
+        return (segment){n - 1, true, 0, 0, t};
     uint32_t k = sinew_find_segment(times, n, t, &g->cursor);
     float dt = times[k + 1] - times[k];
     float s = dt > 0.0f ? (t - times[k]) / dt : 0.0f;
-    return (segment){k, g->interp == SINEW_INTERP_STEP, s, dt};
+    return (segment){k, g->interp == SINEW_INTERP_STEP, s, dt, t};
 }
 
 /* Hermite basis for a cubic segment: value a, out-tangent a, value b, in-tangent b. */
@@ -390,6 +394,12 @@ static void blend_scalar(float *pose, const group *g, const segment *seg)
             const float *oa = va + 2 * L, *vb = b + ru->lane, *ib = vb + L;
             for (uint32_t i = 0; i < ru->length; i++)
                 dst[i] = w[0] * va[i] + w[1] * oa[i] + w[2] * vb[i] + w[3] * ib[i];
+        } else if (g->interp == SINEW_INTERP_BEZIER) {
+            /* each lane solves its own time polynomial (its control times are its own) */
+            const float *vb = b + ru->lane, t0 = g->times[seg->k], t3 = g->times[seg->k + 1];
+            for (uint32_t i = 0; i < ru->length; i++)
+                dst[i] = sinew_bezier(t0, va[i], va[3 * L + i], va[4 * L + i], vb[L + i], vb[2 * L + i], t3, vb[i],
+                                      seg->t);
         } else {
             const float *vb = b + ru->lane;
             for (uint32_t i = 0; i < ru->length; i++)
@@ -468,7 +478,7 @@ __attribute__((target("avx2,fma"))) static void blend_avx2(float *pose, const gr
 {
     const float *a = g->rows + (size_t)seg->k * g->row_floats;
     const float *b = a + g->row_floats;
-    if (seg->copy || g->interp == SINEW_INTERP_CUBIC) {
+    if (seg->copy || g->interp != SINEW_INTERP_LINEAR) {
         blend_scalar(pose, g, seg);
         return;
     }

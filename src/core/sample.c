@@ -4,7 +4,8 @@
  * cursor per channel remembers the last segment so that forward playback steps ahead
  * instead of searching; a jump backwards falls back to a binary search.
  * Step holds the earlier key; linear lerps vectors and slerps rotations the short way;
- * cubic is the Hermite spline of glTF with tangents scaled by the segment length.
+ * cubic is the Hermite spline of glTF with tangents scaled by the segment length; Bezier
+ * solves each component's time polynomial for its parameter (2-D control points).
  */
 #include <math.h>
 #include <string.h>
@@ -92,6 +93,45 @@ static void hermite(const float *v0, const float *out_tangent0, const float *in_
         out[i] = h00 * v0[i] + h10 * dt * out_tangent0[i] + h01 * v1[i] + h11 * dt * in_tangent1[i];
 }
 
+float sinew_bezier(float t0, float v0, float t1, float v1, float t2, float v2, float t3, float v3, float t)
+{
+    float span = t3 - t0;
+    if (!(span > 0.0f))
+        return v0;
+    float x1 = (t1 - t0) / span, x2 = (t2 - t0) / span, x = (t - t0) / span;
+    float lo = 0.0f, hi = 1.0f, s = x < 0.0f ? 0.0f : (x > 1.0f ? 1.0f : x);
+    for (int i = 0; i < 32; i++) {
+        float u = 1.0f - s;
+        float err = 3.0f * u * u * s * x1 + 3.0f * u * s * s * x2 + s * s * s - x;
+        if (fabsf(err) < 1e-7f)
+            break;
+        if (err > 0.0f)
+            hi = s;
+        else
+            lo = s;
+        float slope = 3.0f * u * u * x1 + 6.0f * u * s * (x2 - x1) + 3.0f * s * s * (1.0f - x2);
+        float next = slope > 1e-6f ? s - err / slope : -1.0f;
+        s = next > lo && next < hi ? next : 0.5f * (lo + hi);
+    }
+    float u = 1.0f - s;
+    /* relative to v0, so that a level segment stays exactly level */
+    return v0 + 3.0f * u * u * s * (v1 - v0) + 3.0f * u * s * s * (v2 - v0) + s * s * s * (v3 - v0);
+}
+
+bool sinew_bezier_times_ok(const float *times, const float *values, uint32_t count, uint32_t width)
+{
+    for (uint32_t k = 0; k < count; k++) {
+        const float *key = values + (size_t)k * 5 * width;
+        for (uint32_t i = 0; i < width; i++) {
+            float in = key[width + i], out = key[3 * width + i];
+            if ((k > 0 && !(in >= times[k - 1] && in <= times[k])) ||
+                (k + 1 < count && !(out >= times[k] && out <= times[k + 1])))
+                return false;
+        }
+    }
+    return true;
+}
+
 /* Shortest-path spherical interpolation of unit quaternions. Keys less than about 3 degrees
  * apart are lerped and normalised (the same to float precision); not through cglm's
  * glm_quat_slerp, which returns the first key outright when their dot product rounds to 1,
@@ -155,6 +195,14 @@ void sinew_channel_eval_keys(const sinew_clip *clip, const sinew_channel *channe
     case SINEW_INTERP_CUBIC:
         /* key layout: in-tangent a[0..w), value a[w..2w), out-tangent a[2w..3w) */
         hermite(a + width, a + 2 * width, b, b + width, dt, s, width, out);
+        if (kind == SINEW_CHANNEL_ROTATION)
+            glm_quat_normalize(out);
+        return;
+    case SINEW_INTERP_BEZIER:
+        /* key layout: value [0, w), in time [w, 2w), in value [2w, 3w), out time, out value */
+        for (uint32_t i = 0; i < width; i++)
+            out[i] = sinew_bezier(times[k], a[i], a[3 * width + i], a[4 * width + i], b[width + i], b[2 * width + i],
+                                  times[k + 1], b[i], time);
         if (kind == SINEW_CHANNEL_ROTATION)
             glm_quat_normalize(out);
         return;

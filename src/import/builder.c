@@ -507,7 +507,7 @@ static const char *const channel_names[SINEW_CHANNEL_COUNT] = {"translation", "r
 static bool pooled_channel_ok(const raw_model *m, const raw_channel *ch, int kind, uint32_t *clip_pool)
 {
     if (ch->pool == 0 || ch->pool > m->pool_count || (*clip_pool && ch->pool != *clip_pool) ||
-        ch->interp > SINEW_INTERP_CUBIC)
+        ch->interp > SINEW_INTERP_BEZIER || (ch->interp == SINEW_INTERP_BEZIER && kind == SINEW_CHANNEL_ROTATION))
         return false;
     *clip_pool = ch->pool;
     const raw_key_pool *pool = &m->pools[ch->pool - 1];
@@ -547,7 +547,7 @@ static sinew_result fix_clip(raw_model *m, raw_clip *clip, sinew_error *error)
             }
             owned = true;
             uint32_t stride = sinew_channel_stride(kind, ch->interp);
-            if (ch->interp > SINEW_INTERP_CUBIC || !all_finite(ch->times, ch->count) ||
+            if (ch->interp > SINEW_INTERP_BEZIER || !all_finite(ch->times, ch->count) ||
                 !all_finite(ch->values, (size_t)ch->count * stride))
                 return sinew_fail(error, SINEW_ERROR_DATA,
                                   "%s: clip \"%s\": the %s keys of node \"%s\" are not finite (NaN or Inf)", m->source,
@@ -558,6 +558,14 @@ static sinew_result fix_clip(raw_model *m, raw_clip *clip, sinew_error *error)
             if (!sort_keys(ch, stride))
                 return oom(m, error);
             unsorted += !was_sorted;
+            if (ch->interp == SINEW_INTERP_BEZIER &&
+                (kind == SINEW_CHANNEL_ROTATION ||
+                 !sinew_bezier_times_ok(ch->times, ch->values, ch->count, sinew_channel_width(kind))))
+                return sinew_fail(error, SINEW_ERROR_DATA,
+                                  "%s: clip \"%s\": the %s keys of node \"%s\" are Bezier keys %s", m->source,
+                                  clip->name, channel_names[kind], m->node_names[track->node],
+                                  kind == SINEW_CHANNEL_ROTATION ? "on a rotation (only translation and scale)"
+                                                                 : "whose control points leave their segments");
             if (kind == SINEW_CHANNEL_ROTATION && !fix_rotations(ch))
                 return sinew_fail(error, SINEW_ERROR_DATA,
                                   "%s: clip \"%s\": node \"%s\" has a zero-length rotation key", m->source, clip->name,

@@ -146,6 +146,70 @@ static void test_cubic_spline(void **state)
     assert_near(sample(&clip, 5, SINEW_WRAP_CLAMP, NULL).translation[1], 0, 0, "cubic after end");
 }
 
+/* Bezier translation, keys at t = 0, 1, 3, each component its own curve:
+ * x 0 -> 1 -> 0 eased (control times pulled towards the segment's ends, so it starts and
+ * ends slowly), y 0 -> 3 -> 3 with control points at a third and two thirds of the way
+ * (on the straight line, then level: y = 3 t, then 3), z constant 5. Layout of a key:
+ * value[3], in time[3], in value[3], out time[3], out value[3]. */
+static const float bezier_times[] = {0, 1, 3};
+static const float bezier_values[] = {
+    /* key 0 */ 0, 0, 5, 0, 0, 0, 0, 0, 5, 0.9f, 1.0f / 3, 1.0f / 3, 0, 1, 5,
+    /* key 1 */ 1, 3, 5, 0.1f, 2.0f / 3, 2.0f / 3, 1, 2, 5, 1.5f, 1 + 2.0f / 3, 1 + 2.0f / 3, 1, 3, 5,
+    /* key 2 */ 0, 3, 5, 2.5f, 1 + 4.0f / 3, 1 + 4.0f / 3, 0, 3, 5, 3, 3, 3, 0, 3, 5};
+
+/* The same curve in doubles: bisection on the parameter, then the value. */
+static double bezier_reference(double t0, double v0, double t1, double v1, double t2, double v2, double t3, double v3,
+                               double t)
+{
+    double lo = 0, hi = 1;
+    for (int i = 0; i < 80; i++) {
+        double s = (lo + hi) / 2, u = 1 - s;
+        double x = u * u * u * t0 + 3 * u * u * s * t1 + 3 * u * s * s * t2 + s * s * s * t3;
+        if (x < t)
+            lo = s;
+        else
+            hi = s;
+    }
+    double s = (lo + hi) / 2, u = 1 - s;
+    return u * u * u * v0 + 3 * u * u * s * v1 + 3 * u * s * s * v2 + s * s * s * v3;
+}
+
+static void test_bezier(void **state)
+{
+    (void)state;
+    sinew_track track = {0};
+    track.channels[SINEW_CHANNEL_TRANSLATION] = (sinew_channel){3, SINEW_INTERP_BEZIER, 0, 0};
+    sinew_clip clip = one_track_clip(&track, 3, bezier_times, 3, bezier_values, 45);
+    sinew_player *player = NULL;
+    assert_int_equal(sinew_player_create(&one_node, &clip, &player, NULL), SINEW_OK);
+    double most = 0, most_player = 0;
+    for (int i = 0; i <= 300; i++) {
+        float t = 3.0f * (float)i / 300;
+        sinew_transform got = sample(&clip, t, SINEW_WRAP_CLAMP, NULL);
+        int k = t < 1 ? 0 : 1;
+        const float *a = bezier_values + k * 15, *b = a + 15;
+        for (int c = 0; c < 3; c++) {
+            double want = bezier_reference(bezier_times[k], a[c], a[9 + c], a[12 + c], b[3 + c], b[6 + c],
+                                           bezier_times[k + 1], b[c], t);
+            most = fmax(most, fabs(got.translation[c] - want));
+        }
+        /* y: control points evenly spaced in time and on a line make that line */
+        assert_near(got.translation[1], k == 0 ? 3.0 * t : 3.0, 2e-6, "Bezier control points on a line");
+        assert_near(got.translation[2], 5, 0, "a constant component");
+        sinew_mat4 world;
+        assert_int_equal(sinew_player_update(player, t, SINEW_WRAP_CLAMP, NULL, &world, 1, NULL), SINEW_OK);
+        for (int c = 0; c < 3; c++)
+            most_player = fmax(most_player, fabs(world.m[12 + c] - got.translation[c]));
+    }
+    print_message("Bezier: largest difference from the double-precision curve %.2g, player from sinew_sample %.2g\n",
+                  most, most_player);
+    assert_true(most < 1e-6);
+    assert_true(most_player < 1e-6);
+    /* eased: a tenth of the way in time, x has moved far less than a tenth */
+    assert_true(sample(&clip, 0.1f, SINEW_WRAP_CLAMP, NULL).translation[0] < 0.05f);
+    sinew_player_free(player);
+}
+
 /* Translation: 2 keys at 0 and 2. Rotation: 3 keys at 0.5, 1, 1.5 (starts late, ends early).
  * Scale: one key. */
 static const float mixed_times[] = {0, 2, 0.5f, 1, 1.5f, 0.7f};
@@ -228,6 +292,7 @@ int main(void)
         cmocka_unit_test(test_clamp_and_loop),
         cmocka_unit_test(test_slerp_across_sign_flip),
         cmocka_unit_test(test_cubic_spline),
+        cmocka_unit_test(test_bezier),
         cmocka_unit_test(test_channels_have_their_own_keys),
         cmocka_unit_test(test_cursor_forward_and_back),
         cmocka_unit_test(test_bad_spans),
