@@ -94,7 +94,7 @@ const char *sinew_demo_humanoid_muscles(void);
  * made '_'; name = the name: Assimp names nodes by id), meshes (positions, normals, UVs), skins as controllers, materials as Phong
  * effects, and each clip as a time range of one timeline (<animation_clip>s; every
  * animated node gets one matrix channel keyed at its keys' times). Linear and step keys
- * are written as they are; cubic ones sampled 60 times a second. */
+ * are written as they are; cubic and Bezier ones sampled 60 times a second. */
 sinew_result sinew_model_write_collada(const sinew_model *model, const char *path, sinew_error *error);
 
 #ifdef __cplusplus

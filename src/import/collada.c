@@ -1760,8 +1760,109 @@ static int compare_float(const void *a, const void *b)
     return x < y ? -1 : x > y;
 }
 
+/* The node's translation (kind TRANSLATION, its first transform element a <translate>) or
+ * scale (SCALE, its last a <scale>) kept as the file's curves when the stack is translate,
+ * rotates, scale, and the element's animated components share their key times with BEZIER
+ * (2-D control points inside their segments) and LINEAR segments only: the channel becomes
+ * the runtime's Bezier keys, the file's own curve, instead of the baked one. Otherwise the
+ * baked channel stays. */
+static sinew_result keep_bezier(collada *c, const node_anim *a, int kind, double start, raw_track *track)
+{
+    const char *want = kind == SINEW_CHANNEL_TRANSLATION ? "translate" : "scale";
+    xmlNode *el = NULL;
+    int index = -1, elements = 0, wanted = 0;
+    for (xmlNode *e = a->el->children; e; e = e->next) {
+        if (!element_size(e))
+            continue;
+        if (!named(e, "translate") && !named(e, "rotate") && !named(e, "scale"))
+            return SINEW_OK; /* a matrix, lookat or skew: baked */
+        if (named(e, want))
+            el = e, index = elements, wanted++;
+        elements++;
+    }
+    if (!el || wanted != 1 || index != (kind == SINEW_CHANNEL_TRANSLATION ? 0 : elements - 1) ||
+        index >= a->elements)
+        return SINEW_OK;
+    const curve *drives[3] = {0};
+    int column[3] = {0};
+    const curve *ref = NULL;
+    for (uint32_t i = 0; i < a->count; i++) {
+        const curve *cv = &c->curves[a->curves[i]];
+        if (cv->xform != el)
+            continue;
+        for (int j = 0; j < cv->count; j++) {
+            if (cv->first + j >= 3 || drives[cv->first + j])
+                return SINEW_OK;
+            drives[cv->first + j] = cv, column[cv->first + j] = j;
+        }
+        if (ref && (cv->keys != ref->keys || memcmp(cv->times, ref->times, cv->keys * sizeof *cv->times) != 0))
+            return SINEW_OK; /* components keyed at different times: baked */
+        ref = cv;
+        for (uint32_t k = 0; k + 1 < cv->keys; k++)
+            if (!(cv->interp[k] == KEY_LINEAR || (cv->interp[k] == KEY_BEZIER && cv->tdim == 2)))
+                return SINEW_OK;
+    }
+    if (!ref || ref->keys < 2)
+        return SINEW_OK;
+    uint32_t n = ref->keys;
+    float *times = malloc(n * sizeof *times), *values = malloc((size_t)n * 15 * sizeof *values);
+    if (!times || !values) {
+        free(times);
+        free(values);
+        return oom(c);
+    }
+    for (uint32_t k = 0; k < n; k++)
+        times[k] = (float)(ref->times[k] - start);
+    bool inside = true;
+    for (uint32_t k = 0; k < n && inside; k++) {
+        float *key = values + (size_t)k * 15;
+        for (int i = 0; i < 3; i++) {
+            const curve *cv = drives[i];
+            int cnt = cv ? cv->count : 0;
+            size_t at = cv ? (size_t)k * (size_t)cnt + (size_t)column[i] : 0;
+            double v = cv ? cv->values[at] : a->file[index][i];
+            double in_t = times[k], in_v = v, out_t = times[k], out_v = v;
+            if (k > 0) { /* the segment before: its end's control point */
+                double dt = (double)times[k] - times[k - 1], pv = cv ? cv->values[at - (size_t)cnt] : v;
+                in_t = times[k] - dt / 3, in_v = v - (v - pv) / 3;
+                if (cv && cv->interp[k - 1] == KEY_BEZIER)
+                    in_t = cv->in_tan[at * 2] - start, in_v = cv->in_tan[at * 2 + 1];
+            }
+            if (k + 1 < n) { /* the segment after: its start's control point */
+                double dt = (double)times[k + 1] - times[k], nv = cv ? cv->values[at + (size_t)cnt] : v;
+                out_t = times[k] + dt / 3, out_v = v + (nv - v) / 3;
+                if (cv && cv->interp[k] == KEY_BEZIER)
+                    out_t = cv->out_tan[at * 2] - start, out_v = cv->out_tan[at * 2 + 1];
+            }
+            key[i] = (float)v;
+            key[3 + i] = (float)in_t, key[6 + i] = (float)in_v;
+            key[9 + i] = (float)out_t, key[12 + i] = (float)out_v;
+            /* inside its segment (to float rounding, then exactly) or not kept */
+            float lo_in = k > 0 ? times[k - 1] : times[k], hi_out = k + 1 < n ? times[k + 1] : times[k];
+            float slack = 1e-6f * fmaxf(1.0f, fabsf(times[k]));
+            inside = inside && key[3 + i] >= lo_in - slack && key[3 + i] <= times[k] + slack &&
+                     key[9 + i] >= times[k] - slack && key[9 + i] <= hi_out + slack;
+            key[3 + i] = fminf(fmaxf(key[3 + i], lo_in), times[k]);
+            key[9 + i] = fminf(fmaxf(key[9 + i], times[k]), hi_out);
+        }
+    }
+    for (uint32_t k = 1; k < n && inside; k++)
+        inside = times[k] >= times[k - 1];
+    if (!inside) {
+        free(times);
+        free(values);
+        return SINEW_OK;
+    }
+    raw_channel *ch = &track->channels[kind];
+    free(ch->times);
+    free(ch->values);
+    *ch = (raw_channel){.interp = SINEW_INTERP_BEZIER, .count = n, .times = times, .values = values};
+    return SINEW_OK;
+}
+
 /* One node's track over [start, end]: the decomposed key matrices when every curve drives a
- * whole matrix with LINEAR (or every one with STEP) keys, else baked from the stack. */
+ * whole matrix with LINEAR (or every one with STEP) keys, else baked from the stack, with
+ * translation and scale kept as the file's Bezier curves where they can be (keep_bezier). */
 static sinew_result node_track(collada *c, raw_clip *clip, uint32_t node, const uint32_t *curves, uint32_t count,
                                double start, double end, uint64_t *budget)
 {
@@ -1836,6 +1937,8 @@ static sinew_result node_track(collada *c, raw_clip *clip, uint32_t node, const 
                           .budget = budget};
         if (!bake_track(&desc, times, n, &m->node_rest[node], track))
             r = oom(c);
+        for (int kind = SINEW_CHANNEL_TRANSLATION; kind <= SINEW_CHANNEL_SCALE && !r; kind += 2)
+            r = keep_bezier(c, &a, kind, start, track);
     }
     free(times);
     return r;

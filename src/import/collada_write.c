@@ -425,7 +425,7 @@ static uint32_t clip_times(const sinew_clip *clip, const sinew_track *track, flo
             if (t >= from && t <= to)
                 out[n++] = t;
         }
-        if (ch->interp == SINEW_INTERP_CUBIC)
+        if (ch->interp == SINEW_INTERP_CUBIC || ch->interp == SINEW_INTERP_BEZIER)
             for (uint32_t i = 0; (float)i / CUBIC_RATE < clip->duration && n < capacity; i++)
                 out[n++] = from + (float)i / CUBIC_RATE;
     }

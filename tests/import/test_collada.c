@@ -513,6 +513,63 @@ static void test_samplers_as_the_file_says(void **state)
     sinew_model_free(m);
 }
 
+/* One component of a 2-D Bezier segment in doubles (bisection on the parameter). */
+static double bezier_double(const double p[4][2], double t)
+{
+    double lo = 0, hi = 1;
+    for (int i = 0; i < 80; i++) {
+        double s = (lo + hi) / 2, u = 1 - s;
+        if (u * u * u * p[0][0] + 3 * u * u * s * p[1][0] + 3 * u * s * s * p[2][0] + s * s * s * p[3][0] < t)
+            lo = s;
+        else
+            hi = s;
+    }
+    double s = (lo + hi) / 2, u = 1 - s;
+    return u * u * u * p[0][1] + 3 * u * u * s * p[1][1] + 3 * u * s * s * p[2][1] + s * s * s * p[3][1];
+}
+
+/* sinew's fixture bezier_kept.dae: a translate, rotate, scale stack whose translate is one
+ * BEZIER curve of three components and whose scale X is LINEAR keeps them as the runtime's
+ * Bezier keys, the file's three and two keys, equal to the curves written in the file. */
+static void test_bezier_kept_as_the_file_says(void **state)
+{
+    (void)state;
+    char path[1024];
+    sinew_model *m = load_or_fail(fixture_path("bezier_kept.dae", path, sizeof path));
+    int32_t eased = sinew_model_find_node(m, "eased");
+    assert_true(eased >= 0);
+    const sinew_clip *clip = &m->clips[0];
+    assert_int_equal(clip->track_count, 1);
+    const sinew_channel *t = &clip->tracks[0].channels[SINEW_CHANNEL_TRANSLATION],
+                        *s = &clip->tracks[0].channels[SINEW_CHANNEL_SCALE];
+    assert_int_equal(t->interp, SINEW_INTERP_BEZIER);
+    assert_int_equal(t->key_count, 3);
+    assert_int_equal(s->interp, SINEW_INTERP_BEZIER);
+    assert_int_equal(s->key_count, 2);
+    /* the file's curves: segment [0, 1] then [1, 3], per component (time, value) points */
+    static const double seg[2][3][4][2] = {
+        {{{0, 0}, {0.8, 0}, {0.2, 2}, {1, 2}}, {{0, 1}, {0.2, 1}, {0.9, 1}, {1, 1}}, {{0, 0}, {0.5, -0.5}, {0.6, -1}, {1, -1}}},
+        {{{1, 2}, {1.9, 2}, {2.9, 0}, {3, 0}}, {{1, 1}, {1.5, 1}, {2.0, 4}, {3, 4}}, {{1, -1}, {2, -1}, {2.5, -1}, {3, -1}}}};
+    double worst = 0, worst_scale = 0;
+    for (int i = 0; i <= 300; i++) {
+        double time = 3.0 * i / 300;
+        sinew_transform locals[4];
+        assert_true(m->node_count <= 4);
+        sinew_sample_desc desc = {
+            .model = m, .clip = clip, .time = (float)time, .locals = locals, .local_count = m->node_count};
+        assert_int_equal(sinew_sample(&desc, NULL), SINEW_OK);
+        for (int c = 0; c < 3; c++)
+            worst = fmax(worst, fabs(locals[eased].translation[c] - bezier_double(seg[time < 1 ? 0 : 1][c], time)));
+        worst_scale = fmax(worst_scale, fabs(locals[eased].scale[0] - (1 + time / 3)));
+    }
+    print_message("bezier_kept.dae: Bezier keys kept (3 translation, 2 scale); largest difference from the file's "
+                  "curves %.2g, scale from its line %.2g\n",
+                  worst, worst_scale);
+    assert_true(worst < 1e-6);
+    assert_true(worst_scale < 1e-6);
+    sinew_model_free(m);
+}
+
 /* A skeleton-only file that types no node JOINT: its joints are the nodes its clips move,
  * their end sites below moved nodes, never a camera or a node that nothing moves. */
 static void test_skeleton_from_the_clips(void **state)
@@ -817,6 +874,7 @@ int main(void)
         cmocka_unit_test(test_skin_4_influence_against_its_xml),
         cmocka_unit_test(test_animation_clips_against_their_xml),
         cmocka_unit_test(test_samplers_as_the_file_says),
+        cmocka_unit_test(test_bezier_kept_as_the_file_says),
         cmocka_unit_test(test_skeleton_from_the_clips),
         cmocka_unit_test(test_ten_thousand_clips),
         cmocka_unit_test(test_clip_windows_fixture),
