@@ -192,3 +192,17 @@ long differing_pixels(const unsigned char *a, const unsigned char *b, long pixel
     }
     return count;
 }
+
+double bezier_reference(const double p[4][2], double t)
+{
+    double lo = 0, hi = 1;
+    for (int i = 0; i < 80; i++) {
+        double s = (lo + hi) / 2, u = 1 - s;
+        if (u * u * u * p[0][0] + 3 * u * u * s * p[1][0] + 3 * u * s * s * p[2][0] + s * s * s * p[3][0] < t)
+            lo = s;
+        else
+            hi = s;
+    }
+    double s = (lo + hi) / 2, u = 1 - s;
+    return u * u * u * p[0][1] + 3 * u * u * s * p[1][1] + 3 * u * s * s * p[2][1] + s * s * s * p[3][1];
+}

@@ -29,6 +29,10 @@ void *read_file(const char *path, size_t *size);
 /* Fails the test when |a - b| > tol, naming what. */
 void assert_near(double a, double b, double tol, const char *what);
 
+/* One component of a cubic Bezier segment through the (time, value) points p[0..3], at time
+ * t, in doubles (bisection on the parameter): what sinew's Bezier keys are checked against. */
+double bezier_reference(const double p[4][2], double t);
+
 /* World matrices of a model at time t of clip (NULL: rest), malloc'd. */
 sinew_mat4 *pose_worlds(const sinew_model *model, const sinew_clip *clip, float t);
 

@@ -104,17 +104,8 @@ bool cli_pick_clip(const sinew_model *model, const char *spec, int32_t *clip)
         *clip = model->clip_count ? 0 : -1;
         return true;
     }
-    int32_t by_name = sinew_model_find_clip(model, spec);
-    if (by_name >= 0) {
-        *clip = by_name;
+    if ((*clip = sinew_model_pick_clip(model, spec)) >= 0)
         return true;
-    }
-    char *end = NULL;
-    long index = strtol(spec, &end, 10);
-    if (end != spec && *end == '\0' && index >= 0 && index < (long)model->clip_count) {
-        *clip = (int32_t)index;
-        return true;
-    }
     cli_error("%s: no clip \"%s\" (the file has %u clip%s%s)", model->source, spec, model->clip_count,
               model->clip_count == 1 ? "" : "s", model->clip_count ? "; see `sinew info`" : "");
     return false;

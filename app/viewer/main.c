@@ -171,22 +171,11 @@ static void resolve_joints(viewer *v)
         v->options.heatmap_joint = sinew_model_find_joint(v->model, v->heatmap);
 }
 
-/* The clip a user means, as `sinew` reads --clip: its name, else its index; -1 for none. */
-static int32_t find_clip(const sinew_model *model, const char *spec)
-{
-    int32_t clip = sinew_model_find_clip(model, spec);
-    char *end = NULL;
-    long index = clip < 0 ? strtol(spec, &end, 10) : -1;
-    if (clip < 0 && end != spec && *end == '\0' && index >= 0 && index < (long)model->clip_count)
-        clip = (int32_t)index;
-    return clip;
-}
-
 /* Takes `model` as the scene (the viewer owns it from here). */
 static bool set_model(viewer *v, sinew_model *model, const char *clip_name, const char *muscle_text)
 {
     sinew_mat4 *worlds = malloc((model->node_count + 1) * sizeof *worlds);
-    int32_t clip = clip_name ? find_clip(model, clip_name) : (model->clip_count ? 0 : -1);
+    int32_t clip = clip_name ? sinew_model_pick_clip(model, clip_name) : (model->clip_count ? 0 : -1);
     if (!worlds || (clip_name && clip < 0)) {
         char message[600];
         snprintf(message, sizeof message, "%s: no clip \"%s\" (the file has %u clip%s)", model->source,

@@ -202,6 +202,10 @@ void sinew_model_free(sinew_model *model);
 int32_t sinew_model_find_node(const sinew_model *model, const char *name);
 int32_t sinew_model_find_clip(const sinew_model *model, const char *name);
 
+/* The clip a user means by `text`: the first clip of that name, else the clip whose index
+ * it is written as (decimal), or -1. */
+int32_t sinew_model_pick_clip(const sinew_model *model, const char *text);
+
 /* The node a user means by a joint name: the first joint of that name, else the first node
  * of that name (files may name a mesh node like a bone, as robot.glb does), or -1. */
 int32_t sinew_model_find_joint(const sinew_model *model, const char *name);

@@ -626,6 +626,16 @@ int32_t sinew_model_find_clip(const sinew_model *model, const char *name)
     return -1;
 }
 
+int32_t sinew_model_pick_clip(const sinew_model *model, const char *text)
+{
+    int32_t clip = sinew_model_find_clip(model, text);
+    if (clip >= 0)
+        return clip;
+    char *end = NULL;
+    long index = strtol(text, &end, 10);
+    return end != text && *end == '\0' && index >= 0 && index < (long)model->clip_count ? (int32_t)index : -1;
+}
+
 bool sinew_model_node_is_joint(const sinew_model *model, uint32_t node)
 {
     for (uint32_t s = 0; s < model->skin_count; s++)

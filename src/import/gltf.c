@@ -320,6 +320,17 @@ static bool base64_decode(const char *text, blob *out)
     return *p == 0;
 }
 
+/* The bytes of a base64 data: URI (`where` names it in messages); out->bytes is owned. */
+static sinew_result data_uri_bytes(gltf *g, const char *uri, const char *where, blob *out)
+{
+    const char *comma = strstr(uri, ";base64,");
+    if (!comma)
+        return fail_at(g, "%s.uri: a data: URI that is not base64", where);
+    if (!base64_decode(comma + 8, out))
+        return out->bytes ? fail_at(g, "%s.uri: not valid base64", where) : oom(g);
+    return SINEW_OK;
+}
+
 /* The bytes of buffer `index`: the GLB BIN chunk, a base64 data: URI, or a file beside the
  * document, at least as long as the buffer's byteLength. */
 static sinew_result buffer_bytes(gltf *g, int index, const blob **out)
@@ -343,14 +354,8 @@ static sinew_result buffer_bytes(gltf *g, int index, const blob **out)
             return fail_at(g, "%s: no uri, and it is not the GLB's BIN chunk", where);
         *b = g->bin;
     } else if (strncmp(uri, "data:", 5) == 0) {
-        const char *comma = strstr(uri, ";base64,");
-        if (!comma)
-            return fail_at(g, "%s.uri: a data: URI that is not base64", where);
-        if (!base64_decode(comma + 8, b)) {
-            if (!b->bytes)
-                return oom(g);
-            return fail_at(g, "%s.uri: not valid base64", where);
-        }
+        if ((r = data_uri_bytes(g, uri, where, b)))
+            return r;
     } else {
         if (strstr(uri, "://"))
             return fail_at(g, "%s.uri: \"%.200s\" is not a file beside the model (sinew reads no URLs)", where, uri);
@@ -758,12 +763,9 @@ static sinew_result embedded_image(gltf *g, const cJSON *img, int image, const c
     blob decoded = {0};
     sinew_result r = SINEW_OK;
     if (uri) {
-        const char *comma = strstr(uri, ";base64,");
-        if (!comma)
-            return fail_at(g, "%s.uri: a data: URI that is not base64", where);
-        if (!base64_decode(comma + 8, &decoded)) {
+        if ((r = data_uri_bytes(g, uri, where, &decoded))) {
             free(decoded.bytes);
-            return decoded.bytes ? fail_at(g, "%s.uri: not valid base64", where) : oom(g);
+            return r;
         }
         bytes = decoded.bytes, size = decoded.size;
     } else {

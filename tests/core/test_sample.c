@@ -157,23 +157,6 @@ static const float bezier_values[] = {
     /* key 1 */ 1, 3, 5, 0.1f, 2.0f / 3, 2.0f / 3, 1, 2, 5, 1.5f, 1 + 2.0f / 3, 1 + 2.0f / 3, 1, 3, 5,
     /* key 2 */ 0, 3, 5, 2.5f, 1 + 4.0f / 3, 1 + 4.0f / 3, 0, 3, 5, 3, 3, 3, 0, 3, 5};
 
-/* The same curve in doubles: bisection on the parameter, then the value. */
-static double bezier_reference(double t0, double v0, double t1, double v1, double t2, double v2, double t3, double v3,
-                               double t)
-{
-    double lo = 0, hi = 1;
-    for (int i = 0; i < 80; i++) {
-        double s = (lo + hi) / 2, u = 1 - s;
-        double x = u * u * u * t0 + 3 * u * u * s * t1 + 3 * u * s * s * t2 + s * s * s * t3;
-        if (x < t)
-            lo = s;
-        else
-            hi = s;
-    }
-    double s = (lo + hi) / 2, u = 1 - s;
-    return u * u * u * v0 + 3 * u * u * s * v1 + 3 * u * s * s * v2 + s * s * s * v3;
-}
-
 static void test_bezier(void **state)
 {
     (void)state;
@@ -189,8 +172,9 @@ static void test_bezier(void **state)
         int k = t < 1 ? 0 : 1;
         const float *a = bezier_values + k * 15, *b = a + 15;
         for (int c = 0; c < 3; c++) {
-            double want = bezier_reference(bezier_times[k], a[c], a[9 + c], a[12 + c], b[3 + c], b[6 + c],
-                                           bezier_times[k + 1], b[c], t);
+            const double points[4][2] = {
+                {bezier_times[k], a[c]}, {a[9 + c], a[12 + c]}, {b[3 + c], b[6 + c]}, {bezier_times[k + 1], b[c]}};
+            double want = bezier_reference(points, t);
             most = fmax(most, fabs(got.translation[c] - want));
         }
         /* y: control points evenly spaced in time and on a line make that line */

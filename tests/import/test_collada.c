@@ -513,21 +513,6 @@ static void test_samplers_as_the_file_says(void **state)
     sinew_model_free(m);
 }
 
-/* One component of a 2-D Bezier segment in doubles (bisection on the parameter). */
-static double bezier_double(const double p[4][2], double t)
-{
-    double lo = 0, hi = 1;
-    for (int i = 0; i < 80; i++) {
-        double s = (lo + hi) / 2, u = 1 - s;
-        if (u * u * u * p[0][0] + 3 * u * u * s * p[1][0] + 3 * u * s * s * p[2][0] + s * s * s * p[3][0] < t)
-            lo = s;
-        else
-            hi = s;
-    }
-    double s = (lo + hi) / 2, u = 1 - s;
-    return u * u * u * p[0][1] + 3 * u * u * s * p[1][1] + 3 * u * s * s * p[2][1] + s * s * s * p[3][1];
-}
-
 /* sinew's fixture bezier_kept.dae: a translate, rotate, scale stack whose translate is one
  * BEZIER curve of three components and whose scale X is LINEAR keeps them as the runtime's
  * Bezier keys, the file's three and two keys, equal to the curves written in the file. */
@@ -559,7 +544,7 @@ static void test_bezier_kept_as_the_file_says(void **state)
             .model = m, .clip = clip, .time = (float)time, .locals = locals, .local_count = m->node_count};
         assert_int_equal(sinew_sample(&desc, NULL), SINEW_OK);
         for (int c = 0; c < 3; c++)
-            worst = fmax(worst, fabs(locals[eased].translation[c] - bezier_double(seg[time < 1 ? 0 : 1][c], time)));
+            worst = fmax(worst, fabs(locals[eased].translation[c] - bezier_reference(seg[time < 1 ? 0 : 1][c], time)));
         worst_scale = fmax(worst_scale, fabs(locals[eased].scale[0] - (1 + time / 3)));
     }
     print_message("bezier_kept.dae: Bezier keys kept (3 translation, 2 scale); largest difference from the file's "
