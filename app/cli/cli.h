@@ -4,6 +4,7 @@
 
 #include <stdio.h>
 
+#include "app.h"
 #include "sinew/sinew.h"
 
 /* 3: this machine lacks something the command needs (an OpenGL 3.3 context, ffmpeg). */

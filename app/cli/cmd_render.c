@@ -64,12 +64,12 @@ static bool parse_seconds(const char *option, const char *text, double *out)
     return true;
 }
 
-/* A display option (sinew_render_option_parse); returns the arguments used (0: not one). */
+/* A display option (app_render_option_parse); returns the arguments used (0: not one). */
 static int parse_display_option(int argc, char **argv, int i, render_args *a, bool *bad)
 {
     const char *name = NULL;
     sinew_error error = {0};
-    int used = sinew_render_option_parse(&a->options, argc, argv, i, &name, &error);
+    int used = app_render_option_parse(&a->options, argc, argv, i, &name, &error);
     if (used < 0) {
         cli_error("render: %s", error.message);
         *bad = true;

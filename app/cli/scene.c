@@ -51,7 +51,7 @@ int cli_scene_open(cli_scene *s, const cli_scene_desc *d)
     s->camera.pitch = 15.0f * (float)M_PI / 180.0f;
     s->frame_all = true;
     sinew_error error = {0};
-    if (d->camera && sinew_camera_parse(d->camera, &s->camera, &s->frame_all, &error) != SINEW_OK) {
+    if (d->camera && app_camera_parse(d->camera, &s->camera, &s->frame_all, &error) != SINEW_OK) {
         cli_error("%s", error.message);
         return EXIT_USAGE;
     }

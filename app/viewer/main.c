@@ -955,7 +955,7 @@ int main(int argc, char **argv)
     for (int i = 1; i < argc; i++) {
         sinew_error error = {0};
         const char *option = NULL;
-        int used = sinew_render_option_parse(&v.options, argc, argv, i, &option, &error);
+        int used = app_render_option_parse(&v.options, argc, argv, i, &option, &error);
         if (used < 0) {
             fprintf(stderr, "sinew-view: %s\n", error.message);
             return 1;
@@ -1002,7 +1002,7 @@ int main(int argc, char **argv)
                     return 1;
                 }
             } else if (strcmp(o, "--camera") == 0) {
-                if (sinew_camera_parse(value, &v.camera, &frame, &error) != SINEW_OK) {
+                if (app_camera_parse(value, &v.camera, &frame, &error) != SINEW_OK) {
                     fprintf(stderr, "sinew-view: %s\n", error.message);
                     return 1;
                 }

@@ -5,6 +5,7 @@
 
 #include <gtk/gtk.h>
 
+#include "app.h"
 #include "sinew/sinew.h"
 
 #define FRAME_RATE 30.0 /* frame numbers and Left/Right steps */

@@ -61,12 +61,6 @@ void sinew_camera_zoom(sinew_camera *camera, float factor);
  * In orbit mode the target moves the same way. */
 void sinew_camera_move(sinew_camera *camera, float forward, float right, float up);
 
-/* Reads "orbit:YAW,PITCH[,DISTANCE]" or "fly:X,Y,Z,YAW,PITCH" (angles in degrees) into
- * `camera`, leaving what the text does not give as it was. *frame_all is set true when
- * an orbit gives no distance (or "auto"): the caller then frames the scene and keeps the
- * angles. A malformed text gives SINEW_ERROR_INVALID_ARGUMENT saying what was expected. */
-sinew_result sinew_camera_parse(const char *text, sinew_camera *camera, bool *frame_all, sinew_error *error);
-
 void sinew_camera_view(const sinew_camera *camera, sinew_mat4 *view);
 void sinew_camera_projection(const sinew_camera *camera, float aspect, sinew_mat4 *projection);
 

@@ -8,7 +8,10 @@
  * positive, so the volume pi * dx * sum (a^2 + a b + b^2) / 3 stays the rest volume.
  * Also: the valid length range, the tube surface (rings of k vertices at each node plus
  * end caps, smooth normals) into caller buffers, and the two-rod arm's law of cosines.
- * What not: no allocation, no files (the muscle JSON is read on the import side), no drawing.
+ * Also the muscle set (sinew_muscle_set), the runtime's description of muscles and their
+ * attachments, which sinew/muscle_rig.h binds to a model.
+ * What not: no allocation (sinew_muscle_set_free() releases a set the JSON reader made), no
+ * files (the muscle JSON is read on the import side, sinew/muscle_file.h), no drawing.
  * Errors: SINEW_ERROR_INVALID_ARGUMENT for bad profiles (n < 2, radius <= 0, NaN) and
  * spans; SINEW_ERROR_LIMIT for a length outside the valid range (the message gives it).
  * Never a NaN.
@@ -27,6 +30,39 @@
 #ifdef __cplusplus
 extern "C" {
 #endif
+
+/* A set of muscles and where they attach: read from muscle JSON (sinew/muscle_file.h) or
+ * carried by a model (model->muscles, from a .sinew file). */
+#define SINEW_MUSCLE_MAX_NODES 256
+
+typedef struct sinew_muscle_attachment {
+    const char *joint; /* node name, or NULL for a point in model space */
+    float offset[3];
+} sinew_muscle_attachment;
+
+typedef struct sinew_muscle_def {
+    const char *name;
+    sinew_muscle_attachment origin, insertion;
+    double rest_length; /* 0 when the file leaves it to the rest pose */
+    uint32_t node_count;
+    const double *radii;
+    const double *coefficients;
+    uint32_t segments;
+    float color[3]; /* sRGB 0..1 */
+} sinew_muscle_def;
+
+typedef struct sinew_muscle_set {
+    const char *source;
+    uint32_t muscle_count;
+    const sinew_muscle_def *muscles;
+} sinew_muscle_set;
+
+/* Frees a set from sinew_muscle_set_read()/_parse() (one allocation); NULL is fine. Not for
+ * a model's own muscles, which live inside the model. */
+void sinew_muscle_set_free(sinew_muscle_set *set);
+
+/* Index of the muscle of that name, or -1. */
+int32_t sinew_muscle_set_find(const sinew_muscle_set *set, const char *name);
 
 typedef struct sinew_muscle_profile {
     uint32_t node_count;        /* n >= 2 */

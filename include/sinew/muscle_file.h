@@ -13,7 +13,9 @@
  * as in the model; a file that is not bound to a model (the arm) may leave "joint" out and
  * give points in the model's space as offsets. Found beside a model as NAME.muscles.json
  * (walker.dae -> walker.muscles.json), or given explicitly.
- * What not: no binding to a model here: the caller resolves joint names against its model.
+ * What not: no binding to a model here (sinew/muscle_rig.h does that). The set's types
+ * (sinew_muscle_set, sinew_muscle_def) are the runtime's, in sinew/muscle.h: an engine that
+ * gets its muscles from a .sinew file needs neither this reader nor its JSON library.
  * Memory: the set is one allocation; free it with sinew_muscle_set_free().
  * Errors: SINEW_ERROR_IO for an unreadable file; SINEW_ERROR_FORMAT for malformed JSON and
  * SINEW_ERROR_DATA for a wrong field, each with "FILE:LINE:COLUMN: field: what is wrong".
@@ -24,45 +26,16 @@
 #include <stddef.h>
 #include <stdint.h>
 
-#include "sinew/result.h"
+#include "sinew/muscle.h"
 
 #ifdef __cplusplus
 extern "C" {
 #endif
 
-#define SINEW_MUSCLE_MAX_NODES 256
-
-typedef struct sinew_muscle_attachment {
-    const char *joint; /* node name, or NULL for a point in model space */
-    float offset[3];
-} sinew_muscle_attachment;
-
-typedef struct sinew_muscle_def {
-    const char *name;
-    sinew_muscle_attachment origin, insertion;
-    double rest_length; /* 0 when the file leaves it to the rest pose */
-    uint32_t node_count;
-    const double *radii;
-    const double *coefficients;
-    uint32_t segments;
-    float color[3]; /* sRGB 0..1 */
-} sinew_muscle_def;
-
-typedef struct sinew_muscle_set {
-    const char *source;
-    uint32_t muscle_count;
-    const sinew_muscle_def *muscles;
-} sinew_muscle_set;
-
 sinew_result sinew_muscle_set_read(const char *path, sinew_muscle_set **out, sinew_error *error);
 /* The same from text in memory; `name` is used in messages. */
 sinew_result sinew_muscle_set_parse(const char *text, size_t size, const char *name, sinew_muscle_set **out,
                                     sinew_error *error);
-void sinew_muscle_set_free(sinew_muscle_set *set);
-
-/* Index of the muscle of that name, or -1. */
-int32_t sinew_muscle_set_find(const sinew_muscle_set *set, const char *name);
-
 /* The muscle file that goes with a model file: "dir/walker.dae" -> "dir/walker.muscles.json". */
 void sinew_muscle_path_for(const char *model_path, char *out, size_t size);
 

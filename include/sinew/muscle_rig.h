@@ -20,7 +20,7 @@
 
 #include "sinew/model.h"
 #include "sinew/muscle.h"
-#include "sinew/muscle_file.h"
+#include "sinew/muscle.h"
 
 #ifdef __cplusplus
 extern "C" {

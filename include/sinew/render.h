@@ -69,7 +69,7 @@ typedef struct sinew_render_options {
 
 sinew_render_options sinew_render_options_default(void);
 
-/* Display switches by name, for command lines and settings files. Names: materials,
+/* Display switches by name, for settings files and command lines. Names: materials,
  * lighting, wireframe, meshes, skeleton, joint-axes, joint-names, normals, grid, axes,
  * muscles (booleans: on/off, true/false, yes/no, 1/0; a NULL value means on), shading
  * (phong|gouraud|flat), skinning (gpu|cpu), background (RRGGBB, #RRGGBB, or r,g,b in 0..1),
@@ -83,13 +83,7 @@ sinew_result sinew_render_option_get(const sinew_render_options *options, const 
 /* The names above, NULL-terminated; and whether one is a boolean switch. */
 const char *const *sinew_render_option_names(void);
 
-/* Reads one display option from a command line at argv[i] (what `sinew render` and
- * `sinew-view` accept): --NAME, --no-NAME or --NAME on|off for a switch (--bones is
- * --skeleton), --NAME VALUE for the others. Returns the arguments used: 0 when argv[i] is
- * not a display option, -1 with the error filled for a missing or bad value. *name (may
- * be NULL) gets the option's name. */
-int sinew_render_option_parse(sinew_render_options *options, int argc, char *const *argv, int i, const char **name,
-                              sinew_error *error);
+/* Whether a name is a boolean switch (materials, grid, ...) rather than a valued option. */
 bool sinew_render_option_is_switch(const char *name);
 
 typedef struct sinew_renderer sinew_renderer;

@@ -14,7 +14,7 @@
 #include <string.h>
 
 #include "internal.h"
-#include "sinew/muscle_file.h"
+#include "sinew/muscle.h"
 
 #define SECTION(tag, field, type) {tag, offsetof(blob_header, field), sizeof(type)}
 const blob_section_kind blob_section_kinds[] = {

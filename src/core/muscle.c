@@ -4,6 +4,7 @@
  * law of cosines in half-angle form.
  */
 #include <math.h>
+#include <stdlib.h>
 #include <string.h>
 
 #include "internal.h"
@@ -311,4 +312,19 @@ sinew_result sinew_arm_angle(double a, double b, double length, double *angle, s
     double s2 = (length - lo) * (length + lo), c2 = (hi - length) * (hi + length);
     *angle = 2.0 * atan2(sqrt(s2), sqrt(c2));
     return SINEW_OK;
+}
+
+/* ---- muscle sets ---------------------------------------------------------------------------- */
+
+void sinew_muscle_set_free(sinew_muscle_set *set)
+{
+    free(set);
+}
+
+int32_t sinew_muscle_set_find(const sinew_muscle_set *set, const char *name)
+{
+    for (uint32_t i = 0; set && name && i < set->muscle_count; i++)
+        if (strcmp(set->muscles[i].name, name) == 0)
+            return (int32_t)i;
+    return -1;
 }

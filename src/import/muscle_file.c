@@ -450,19 +450,6 @@ sinew_result sinew_muscle_set_read(const char *path, sinew_muscle_set **out, sin
     return result;
 }
 
-void sinew_muscle_set_free(sinew_muscle_set *set)
-{
-    free(set);
-}
-
-int32_t sinew_muscle_set_find(const sinew_muscle_set *set, const char *name)
-{
-    for (uint32_t i = 0; set && name && i < set->muscle_count; i++)
-        if (strcmp(set->muscles[i].name, name) == 0)
-            return (int32_t)i;
-    return -1;
-}
-
 void sinew_muscle_path_for(const char *model_path, char *out, size_t size)
 {
     const char *slash = strrchr(model_path, '/');

@@ -2,6 +2,7 @@
 #include <math.h>
 #include <string.h>
 
+#include "app.h"
 #include "helpers.h"
 
 static void project(const sinew_camera *c, float aspect, const float p[3], float ndc[3])
@@ -127,24 +128,24 @@ static void test_parse(void **state)
     sinew_camera c = sinew_camera_default();
     bool frame_all = false;
     sinew_error e = {0};
-    assert_int_equal(sinew_camera_parse("orbit:90,-30,4.5", &c, &frame_all, &e), SINEW_OK);
+    assert_int_equal(app_camera_parse("orbit:90,-30,4.5", &c, &frame_all, &e), SINEW_OK);
     assert_int_equal(c.mode, SINEW_CAMERA_ORBIT);
     assert_near(c.yaw, M_PI / 2, 1e-6, "yaw");
     assert_near(c.pitch, -M_PI / 6, 1e-6, "pitch");
     assert_near(c.distance, 4.5, 1e-6, "distance");
     assert_false(frame_all);
-    assert_int_equal(sinew_camera_parse("orbit:10,20", &c, &frame_all, &e), SINEW_OK);
+    assert_int_equal(app_camera_parse("orbit:10,20", &c, &frame_all, &e), SINEW_OK);
     assert_true(frame_all);
-    assert_int_equal(sinew_camera_parse("orbit:10,20,auto", &c, &frame_all, &e), SINEW_OK);
+    assert_int_equal(app_camera_parse("orbit:10,20,auto", &c, &frame_all, &e), SINEW_OK);
     assert_true(frame_all);
-    assert_int_equal(sinew_camera_parse("fly:1,2,3,45,0", &c, &frame_all, &e), SINEW_OK);
+    assert_int_equal(app_camera_parse("fly:1,2,3,45,0", &c, &frame_all, &e), SINEW_OK);
     assert_int_equal(c.mode, SINEW_CAMERA_FLY);
     assert_near(c.position[2], 3.0, 1e-6, "fly z");
     static const char *const bad[] = {
         "",          "orbit:",      "orbit:1",         "orbit:1,2,0",     "orbit:1,2,-3", "orbit:1,2,3,4",
         "orbit:a,b", "fly:1,2,3,4", "fly:1,2,3,4,5,6", "fly:1,2,3,4,nan", "spin:1,2"};
     for (size_t i = 0; i < sizeof bad / sizeof bad[0]; i++) {
-        if (sinew_camera_parse(bad[i], &c, &frame_all, &e) != SINEW_ERROR_INVALID_ARGUMENT)
+        if (app_camera_parse(bad[i], &c, &frame_all, &e) != SINEW_ERROR_INVALID_ARGUMENT)
             fail_msg("camera \"%s\" was accepted", bad[i]);
         assert_non_null(strstr(e.message, "expected"));
     }

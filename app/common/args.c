@@ -1,0 +1,119 @@
+/* The command-line pieces sinew and sinew-view share: display options and camera specs read
+ * from arguments. Application code: the library takes values, not command lines. */
+#include <errno.h>
+#include <math.h>
+#include <stdarg.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "app.h"
+
+sinew_result app_fail(sinew_error *error, sinew_result kind, const char *format, ...)
+{
+    if (error) {
+        va_list args;
+        va_start(args, format);
+        error->kind = kind;
+        vsnprintf(error->message, sizeof error->message, format, args);
+        va_end(args);
+    }
+    return kind;
+}
+
+/* Reads exactly `count` comma-separated finite numbers. */
+static bool parse_numbers(const char *text, double *out, int count)
+{
+    const char *p = text;
+    for (int i = 0; i < count; i++) {
+        char *end = NULL;
+        errno = 0;
+        out[i] = strtod(p, &end);
+        if (end == p || errno || !isfinite(out[i]))
+            return false;
+        if (i + 1 < count) {
+            if (*end != ',')
+                return false;
+            p = end + 1;
+        } else if (*end) {
+            return false;
+        }
+    }
+    return true;
+}
+
+sinew_result app_camera_parse(const char *text, sinew_camera *camera, bool *frame_all, sinew_error *error)
+{
+    const double rad = 3.14159265358979323846 / 180.0;
+    if (!text || !camera)
+        return app_fail(error, SINEW_ERROR_INVALID_ARGUMENT, "app_camera_parse: missing argument");
+    double v[5];
+    if (strncmp(text, "orbit:", 6) == 0) {
+        const char *args = text + 6;
+        size_t len = strlen(args);
+        bool auto_distance = len > 5 && strcmp(args + len - 5, ",auto") == 0;
+        char angles[128];
+        snprintf(angles, sizeof angles, "%.*s", (int)(auto_distance ? len - 5 : len), args);
+        if (!auto_distance && parse_numbers(angles, v, 3) && v[2] > 0.0) {
+            camera->distance = (float)v[2];
+        } else if (parse_numbers(angles, v, 2)) {
+            auto_distance = true;
+        } else {
+            return app_fail(error, SINEW_ERROR_INVALID_ARGUMENT,
+                            "camera \"%s\": expected orbit:YAW,PITCH[,DISTANCE] (degrees, distance > 0)", text);
+        }
+        camera->mode = SINEW_CAMERA_ORBIT;
+        camera->yaw = (float)(v[0] * rad);
+        camera->pitch = 0.0f;
+        sinew_camera_rotate(camera, 0.0f, (float)(v[1] * rad));
+        if (frame_all)
+            *frame_all = auto_distance;
+        return SINEW_OK;
+    }
+    if (strncmp(text, "fly:", 4) == 0 && parse_numbers(text + 4, v, 5)) {
+        camera->mode = SINEW_CAMERA_FLY;
+        for (int i = 0; i < 3; i++)
+            camera->position[i] = (float)v[i];
+        camera->yaw = (float)(v[3] * rad);
+        camera->pitch = 0.0f;
+        sinew_camera_rotate(camera, 0.0f, (float)(v[4] * rad));
+        if (frame_all)
+            *frame_all = false;
+        return SINEW_OK;
+    }
+    return app_fail(error, SINEW_ERROR_INVALID_ARGUMENT,
+                    "camera \"%s\": expected orbit:YAW,PITCH[,DISTANCE] or fly:X,Y,Z,YAW,PITCH (degrees)", text);
+}
+
+int app_render_option_parse(sinew_render_options *options, int argc, char *const *argv, int i, const char **name_out,
+                            sinew_error *error)
+{
+    if (i >= argc || strncmp(argv[i], "--", 2) != 0)
+        return 0;
+    const char *arg = argv[i] + 2;
+    if (strcmp(arg, "bones") == 0)
+        arg = "skeleton";
+    bool off = strncmp(arg, "no-", 3) == 0 && sinew_render_option_is_switch(arg + 3);
+    const char *name = off ? arg + 3 : arg;
+    if (sinew_render_option_is_switch(name)) {
+        if (name_out)
+            *name_out = name;
+        /* An explicit value may follow: --grid off. */
+        if (!off && i + 1 < argc && sinew_render_option_set(options, name, argv[i + 1], NULL) == SINEW_OK)
+            return 2;
+        sinew_render_option_set(options, name, off ? "off" : "on", NULL);
+        return 1;
+    }
+    for (const char *const *n = sinew_render_option_names(); *n; n++) {
+        if (strcmp(*n, name) != 0)
+            continue;
+        if (name_out)
+            *name_out = *n;
+        if (i + 1 >= argc) {
+            app_fail(error, SINEW_ERROR_INVALID_ARGUMENT, "--%s needs a value", name);
+            return -1;
+        }
+        return sinew_render_option_set(options, name, argv[i + 1], error) == SINEW_OK ? 2 : -1;
+    }
+    return 0;
+}
