@@ -79,8 +79,9 @@ static bool open_context(sinew_headless *h, char *tried, size_t tried_size)
                 return true;
         }
     }
+    /* EGL_EXT_device_base is enumeration and query together: NVIDIA's driver lists only it. */
     if ((any || !strcmp(only, "device")) && has_extension(client, "EGL_EXT_platform_device") &&
-        has_extension(client, "EGL_EXT_device_enumeration")) {
+        (has_extension(client, "EGL_EXT_device_enumeration") || has_extension(client, "EGL_EXT_device_base"))) {
         EGLDeviceEXT devices[16];
         EGLint count = 0;
         if (eglQueryDevicesEXT(16, devices, &count)) {
