@@ -363,11 +363,20 @@ static long file_size(const char *path)
 }
 
 /* The best of three imports of `path` in this process (one for --quick), by sinew's own reader
- * for the formats it has one for or by Assimp; `keep` (when not NULL) gets the first model. */
+ * for the formats it has one for or by Assimp; `keep` (when not NULL) gets the first model.
+ * The file is first imported once in the helper, so that a file that crashes the reader is
+ * an error here too, not a dead benchmark. */
 static bool time_import(const char *path, bool assimp, double *best_ms, sinew_model **keep)
 {
     sinew_error error = {0};
     *best_ms = 1e30;
+    sinew_model *probe = NULL;
+    if (sinew_import(&(sinew_import_desc){.path = path, .assimp = assimp, .stderr_fd = STDERR_FILENO}, &probe,
+                     &error) != SINEW_OK) {
+        cli_error("%s%s", assimp ? "(through Assimp) " : "", error.message);
+        return false;
+    }
+    sinew_model_free(probe);
     for (int i = 0; i < (batches > 1 ? 3 : 1); i++) {
         sinew_model *m = NULL;
         sinew_import_desc d = {.path = path, .in_process = true, .assimp = assimp};

@@ -5,6 +5,7 @@
 #include <stdarg.h>
 #include <stdlib.h>
 #include <string.h>
+#include <unistd.h>
 
 #include <cjson/cJSON.h>
 
@@ -90,7 +91,8 @@ sinew_model *cli_load_model(const char *path)
     const char *importer = getenv("SINEW_IMPORTER");
     sinew_import_desc desc = {.path = path,
                               .in_process = getenv("SINEW_IMPORT_IN_PROCESS") != NULL,
-                              .assimp = importer && strcmp(importer, "assimp") == 0};
+                              .assimp = importer && strcmp(importer, "assimp") == 0,
+                              .stderr_fd = STDERR_FILENO};
     if (sinew_import(&desc, &model, &error) != SINEW_OK) {
         cli_error("%s", error.message);
         return NULL;

@@ -16,15 +16,21 @@
  * like FBX, glTF or COLLADA, or is named so, is never handed to Assimp unless desc->assimp
  * asks for it;
  * FBX 6 and older is refused (re-export as FBX 2011 or later).
- * By default the import runs in a child process and hands the model back through a pipe as
- * one flat blob, so that a crash inside Assimp becomes an error naming the file, never a
- * dead caller.
+ * By default the readers run in a helper program, sinew-import (installed beside sinew, see
+ * sinew_import_helper_path()), started with posix_spawn, which hands the model back through a
+ * pipe as one flat blob: a crash, a hang or a runaway allocation inside Assimp or a reader
+ * becomes an error naming the file, never a dead or frozen caller. The helper has a deadline
+ * and a memory limit (desc->timeout, desc->memory_limit), dies with the thread that started it,
+ * and its reply can be no larger than its memory limit. desc->in_process reads in the
+ * caller's process instead (for debuggers).
  * What not: no rendering, no sampling; the model is immutable once built.
  * Memory: the model is one allocation through desc->allocator (malloc when NULL); free it
  * with sinew_model_free().
  * Errors: SINEW_ERROR_IO (missing, directory, unreadable), SINEW_ERROR_FORMAT (empty,
- * unknown format, truncated), SINEW_ERROR_IMPORTER (Assimp refused or crashed: its own
- * message is quoted), SINEW_ERROR_DATA (NaN/Inf, bad indices, zero weights), SINEW_ERROR_LIMIT.
+ * unknown format, truncated), SINEW_ERROR_IMPORTER (Assimp refused; the helper crashed or was
+ * killed from outside: the signal is named, and its last stderr lines quoted),
+ * SINEW_ERROR_DATA (NaN/Inf, bad indices, zero weights), SINEW_ERROR_LIMIT (over a documented
+ * limit, or the helper passed its deadline or memory limit: the message says which).
  * Import warnings (dropped dummy meshes, missing textures, renormalised weights) are kept in
  * model->warnings.
  */
@@ -39,15 +45,28 @@ extern "C" {
 
 typedef struct sinew_import_desc {
     const char *path;
-    bool in_process;                  /* import in this process (faster; a crash in Assimp is the caller's) */
+    bool in_process;                  /* import in this process (no helper; a crash or hang is the caller's) */
     bool assimp;                      /* read with Assimp even a format sinew reads itself: to compare */
     const sinew_allocator *allocator; /* NULL: malloc/free */
+    /* The helper (ignored in process): */
+    const char *helper;    /* its path; NULL: found as sinew_import_helper_path() says */
+    double timeout;        /* seconds it may take; 0: 120; negative: no deadline */
+    uint64_t memory_limit; /* bytes of address space it may use; 0: half the machine's memory, kept
+                              within 1..16 GiB; UINT64_MAX: none */
+    int stderr_fd;         /* 0: its stderr is kept, and its last lines quoted when it fails; else
+                              the descriptor it writes its stderr to (2: the caller's stderr) */
 } sinew_import_desc;
 
 sinew_result sinew_import(const sinew_import_desc *desc, sinew_model **out, sinew_error *error);
 
+/* The helper program sinew_import() would start: desc->helper, else $SINEW_IMPORT_HELPER, else
+ * sinew-import beside the running program, in its ../libexec/sinew/, in the libexec folder
+ * beside the shared library, or in the installed libexec folder. SINEW_ERROR_IO lists where
+ * it looked when none is there. `desc` may be NULL. */
+sinew_result sinew_import_helper_path(const sinew_import_desc *desc, char *out, size_t size, sinew_error *error);
+
 /* Imports the file into the flat blob that sinew_model_from_blob() reads; *bytes is
- * malloc'd, the caller frees it. This is what the import child does. */
+ * malloc'd, the caller frees it. This is what the import helper does. */
 sinew_result sinew_import_blob(const char *path, void **bytes, size_t *size, sinew_error *error);
 /* The same with the import desc's choice of reader (desc->assimp). */
 sinew_result sinew_import_blob_desc(const sinew_import_desc *desc, void **bytes, size_t *size, sinew_error *error);

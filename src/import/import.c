@@ -1,24 +1,16 @@
-/* sinew_import: checks the path, reads a .sinew file directly or runs Assimp (in a child
- * process by default) and turns the blob it hands back into a runtime model.
- *
- * The child writes one message to the pipe: a reply header (status, error kind, payload
- * size) and then either the model blob or the error text. A child that dies on a signal
- * (Assimp crashing on a malformed file) or exits without a whole reply becomes an
- * SINEW_ERROR_IMPORTER naming the file and the signal.
+/* sinew_import: checks the path, reads a .sinew file directly, or picks the reader (sinew's
+ * own for FBX, glTF and COLLADA, Assimp for the rest) and runs it in the import helper
+ * (isolate.c) or in process, and turns the blob it makes into a runtime model.
  */
-#define _GNU_SOURCE /* pipe2 */
+#define _GNU_SOURCE /* realpath */
 #include <errno.h>
-#include <fcntl.h>
 #include <libgen.h>
 #include <limits.h>
-#include <signal.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include <strings.h>
 #include <sys/stat.h>
-#include <sys/wait.h>
-#include <unistd.h>
 
 #include <libxml/parser.h>
 
@@ -26,14 +18,6 @@
 #include "fbx_internal.h"
 #include "internal.h"
 #include "sinew/import.h"
-
-typedef struct reply_header {
-    uint32_t magic;
-    uint32_t kind; /* sinew_result */
-    uint64_t size; /* bytes that follow */
-} reply_header;
-
-#define REPLY_MAGIC 0x53524550u /* "PERS" */
 
 static sinew_result check_path(const char *path, sinew_error *error)
 {
@@ -169,35 +153,56 @@ static bool has_extension(const char *path, const char *ext)
     return n > e && strcasecmp(path + n - e, ext) == 0;
 }
 
-typedef sinew_result (*native_reader)(const char *path, const unsigned char *bytes, size_t size, raw_model *model,
-                                      sinew_error *error);
+typedef sinew_result (*file_reader)(const char *path, const unsigned char *bytes, size_t size, raw_model *model,
+                                    sinew_error *error);
 
-/* sinew's own readers for the formats it reads itself (FBX, glTF, COLLADA), Assimp for the rest. A
- * file that looks like one of them, or is named so, is never handed to Assimp. */
-static sinew_result raw_model_read(const char *path, bool assimp, raw_model *raw, sinew_error *error)
+/* sinew's own readers for the formats it reads itself (FBX, glTF, COLLADA), Assimp for the
+ * rest. A file that looks like one of them, or is named so, is never handed to Assimp. A NULL
+ * reader with a refusal: the name promises a format the bytes are not. */
+typedef struct reader_choice {
+    file_reader read; /* NULL: Assimp (or the refusal) */
+    const char *name;
+    const char *refusal;
+} reader_choice;
+
+static reader_choice choose_reader(const char *path, bool assimp)
 {
     if (assimp)
-        return raw_model_from_assimp(path, raw, error);
+        return (reader_choice){NULL, "Assimp", NULL};
     unsigned char head[1024];
     size_t head_size = read_head(path, head, sizeof head);
-    bool fbx = fbx_sniff(head, head_size);
-    if (!fbx && has_extension(path, ".fbx"))
-        return sinew_fail(error, SINEW_ERROR_FORMAT,
-                          "%s: not an FBX file (no binary FBX header and no ASCII FBX header)", path);
-    if (!gltf_sniff(head, head_size) && has_extension(path, ".glb"))
-        return sinew_fail(error, SINEW_ERROR_FORMAT, "%s: not a binary glTF file (it does not start with \"glTF\")",
-                          path);
-    native_reader reader = fbx                                                           ? raw_model_from_fbx
-                           : gltf_sniff(head, head_size) || has_extension(path, ".gltf") ? raw_model_from_gltf
-                           : collada_sniff(head, head_size) || has_extension(path, ".dae") ? raw_model_from_collada
-                                                                                          : NULL;
-    if (!reader)
+    if (fbx_sniff(head, head_size))
+        return (reader_choice){raw_model_from_fbx, "sinew's FBX reader", NULL};
+    if (has_extension(path, ".fbx"))
+        return (reader_choice){NULL, NULL, "not an FBX file (no binary FBX header and no ASCII FBX header)"};
+    bool gltf = gltf_sniff(head, head_size);
+    if (!gltf && has_extension(path, ".glb"))
+        return (reader_choice){NULL, NULL, "not a binary glTF file (it does not start with \"glTF\")"};
+    if (gltf || has_extension(path, ".gltf"))
+        return (reader_choice){raw_model_from_gltf, "sinew's glTF reader", NULL};
+    if (collada_sniff(head, head_size) || has_extension(path, ".dae"))
+        return (reader_choice){raw_model_from_collada, "sinew's COLLADA reader", NULL};
+    return (reader_choice){NULL, "Assimp", NULL};
+}
+
+const char *import_reader_name(const char *path, bool assimp)
+{
+    reader_choice choice = choose_reader(path, assimp);
+    return choice.name ? choice.name : "the importer";
+}
+
+static sinew_result raw_model_read(const char *path, bool assimp, raw_model *raw, sinew_error *error)
+{
+    reader_choice choice = choose_reader(path, assimp);
+    if (choice.refusal)
+        return sinew_fail(error, SINEW_ERROR_FORMAT, "%s: %s", path, choice.refusal);
+    if (!choice.read)
         return raw_model_from_assimp(path, raw, error);
     unsigned char *bytes = NULL;
     size_t size = 0;
     if (!import_read_file(path, &bytes, &size))
         return sinew_fail(error, SINEW_ERROR_IO, "%s: cannot read: %s", path, strerror(errno));
-    sinew_result result = reader(path, bytes, size, raw, error);
+    sinew_result result = choice.read(path, bytes, size, raw, error);
     free(bytes);
     return result;
 }
@@ -222,142 +227,6 @@ sinew_result sinew_import_blob(const char *path, void **bytes, size_t *size, sin
     return sinew_import_blob_desc(&(sinew_import_desc){.path = path}, bytes, size, error);
 }
 
-static bool write_all(int fd, const void *data, size_t size)
-{
-    const char *p = data;
-    while (size > 0) {
-        ssize_t n = write(fd, p, size);
-        if (n < 0 && errno == EINTR)
-            continue;
-        if (n <= 0)
-            return false;
-        p += n;
-        size -= (size_t)n;
-    }
-    return true;
-}
-
-/* In the child: import, reply, and leave without running atexit handlers. The caller's
- * signal handlers (a test runner's, a GUI's) are reset so that a crash in Assimp ends
- * the child with its signal, which the parent reports; its output goes to /dev/null. */
-static void child_main(int fd, const sinew_import_desc *desc)
-{
-    static const int fatal[] = {SIGSEGV, SIGBUS, SIGFPE, SIGILL, SIGABRT, SIGTRAP, SIGSYS};
-    for (size_t i = 0; i < sizeof fatal / sizeof fatal[0]; i++)
-        signal(fatal[i], SIG_DFL);
-    /* The library never prints: Assimp's own asserts and logs go nowhere. */
-    int null = open("/dev/null", O_WRONLY);
-    if (null >= 0) {
-        dup2(null, STDOUT_FILENO);
-        dup2(null, STDERR_FILENO);
-        close(null);
-    }
-    sinew_error error = {0};
-    void *bytes = NULL;
-    size_t size = 0;
-    sinew_result result = sinew_import_blob_desc(desc, &bytes, &size, &error);
-    reply_header reply = {.magic = REPLY_MAGIC, .kind = result};
-    const void *payload = bytes;
-    if (result) {
-        payload = error.message;
-        size = strlen(error.message) + 1;
-    }
-    reply.size = size;
-    bool ok = write_all(fd, &reply, sizeof reply) && write_all(fd, payload, size);
-    close(fd);
-    _exit(ok ? 0 : 3);
-}
-
-/* Reads everything until end of file into a malloc'd buffer. */
-static bool read_all(int fd, unsigned char **out, size_t *out_size)
-{
-    size_t size = 0, cap = 1 << 16;
-    unsigned char *buf = malloc(cap);
-    if (!buf)
-        return false;
-    for (;;) {
-        if (size == cap) {
-            unsigned char *grown = realloc(buf, cap * 2);
-            if (!grown) {
-                free(buf);
-                return false;
-            }
-            buf = grown;
-            cap *= 2;
-        }
-        ssize_t n = read(fd, buf + size, cap - size);
-        if (n < 0 && errno == EINTR)
-            continue;
-        if (n < 0) {
-            free(buf);
-            return false;
-        }
-        if (n == 0)
-            break;
-        size += (size_t)n;
-    }
-    *out = buf;
-    *out_size = size;
-    return true;
-}
-
-static sinew_result child_status(const char *path, int status, sinew_error *error)
-{
-    if (WIFSIGNALED(status)) {
-        int sig = WTERMSIG(status);
-        return sinew_fail(error, SINEW_ERROR_IMPORTER,
-                          "%s: the importer (Assimp) crashed while reading this file (signal %d, %s); the file is "
-                          "probably malformed",
-                          path, sig, strsignal(sig));
-    }
-    return sinew_fail(error, SINEW_ERROR_IMPORTER, "%s: the import process failed (exit status %d)", path,
-                      WIFEXITED(status) ? WEXITSTATUS(status) : -1);
-}
-
-static sinew_result import_in_child(const sinew_import_desc *desc, sinew_model **out, sinew_error *error)
-{
-    const char *path = desc->path;
-    int fds[2];
-    if (pipe2(fds, O_CLOEXEC) != 0)
-        return sinew_fail(error, SINEW_ERROR_IO, "%s: cannot start the import process: %s", path, strerror(errno));
-    pid_t pid = fork();
-    if (pid < 0) {
-        close(fds[0]);
-        close(fds[1]);
-        return sinew_fail(error, SINEW_ERROR_IO, "%s: cannot start the import process: %s", path, strerror(errno));
-    }
-    if (pid == 0) {
-        close(fds[0]);
-        child_main(fds[1], desc);
-    }
-    close(fds[1]);
-    unsigned char *buf = NULL;
-    size_t size = 0;
-    bool read_ok = read_all(fds[0], &buf, &size);
-    close(fds[0]);
-    int status = 0;
-    while (waitpid(pid, &status, 0) < 0 && errno == EINTR)
-        ;
-    if (!read_ok)
-        return sinew_fail(error, SINEW_ERROR_OUT_OF_MEMORY, "%s: cannot read the import process's reply", path);
-
-    sinew_result result;
-    reply_header reply;
-    if (size >= sizeof reply)
-        memcpy(&reply, buf, sizeof reply);
-    if (size < sizeof reply || reply.magic != REPLY_MAGIC || reply.size != size - sizeof reply ||
-        !(WIFEXITED(status) && WEXITSTATUS(status) == 0)) {
-        result = child_status(path, status, error);
-    } else if (reply.kind != SINEW_OK) {
-        buf[size - 1] = '\0';
-        result = sinew_fail(error, (sinew_result)reply.kind, "%s", (const char *)buf + sizeof reply);
-    } else {
-        result = sinew_model_from_blob(buf + sizeof reply, size - sizeof reply, path, desc->allocator, out, error);
-    }
-    free(buf);
-    return result;
-}
-
 sinew_result sinew_import(const sinew_import_desc *desc, sinew_model **out, sinew_error *error)
 {
     if (!desc || !desc->path || !out)
@@ -369,7 +238,7 @@ sinew_result sinew_import(const sinew_import_desc *desc, sinew_model **out, sine
     if (is_sinew_file(desc->path))
         return sinew_model_load(desc->path, desc->allocator, out, error);
     if (!desc->in_process)
-        return import_in_child(desc, out, error);
+        return import_in_helper(desc, out, error);
     void *bytes = NULL;
     size_t size = 0;
     if ((result = sinew_import_blob_desc(desc, &bytes, &size, error)))

@@ -11,6 +11,7 @@
 #include <stddef.h>
 #include <stdint.h>
 
+#include "sinew/import.h"
 #include "sinew/model.h"
 
 /* A channel owns its keys (times, values), or plays keys in one of the model's key pools
@@ -195,6 +196,25 @@ bool raw_model_rest_diagonal(const raw_model *model, double *diagonal);
 /* Reads a whole file into *bytes (malloc'd, with a NUL byte after the end); false when it
  * cannot be read. */
 bool import_read_file(const char *path, unsigned char **bytes, size_t *size);
+
+/* The import helper's reply on its stdout: this header, then the model blob (kind SINEW_OK)
+ * or the error message with its terminating NUL. */
+typedef struct reply_header {
+    uint32_t magic;
+    uint32_t kind; /* sinew_result */
+    uint64_t size; /* bytes that follow */
+} reply_header;
+#define REPLY_MAGIC 0x53524550u /* "PERS" */
+
+/* isolate.c: runs the import in the helper program under the desc's deadline and memory
+ * limit; decodes a whole reply (a model, or the helper's error). */
+sinew_result import_in_helper(const sinew_import_desc *desc, sinew_model **out, sinew_error *error);
+sinew_result import_reply_decode(const unsigned char *bytes, size_t size, const char *path,
+                                 const sinew_allocator *allocator, sinew_model **out, sinew_error *error);
+/* Which reader sinew_import() gives the file ("Assimp", "sinew's FBX reader", ...), for messages. */
+const char *import_reader_name(const char *path, bool assimp);
+/* desc->memory_limit, or its default (half the machine's memory, 1 to 16 GiB). */
+uint64_t import_memory_limit(const sinew_import_desc *desc);
 
 /* An XML document of `size` (<= INT32_MAX) bytes, parsed with no network, huge text nodes
  * allowed and nothing printed (libxml2's own error handlers quieted for the parse); NULL

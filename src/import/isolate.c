@@ -1,0 +1,486 @@
+/* The import helper: sinew_import() runs the readers in a separate program (sinew-import,
+ * import_helper.c) so that a crash, a hang or a runaway allocation in Assimp or a reader
+ * costs an error message, never the caller.
+ *
+ * Index: finding the helper - spawning it (posix_spawn: safe in a multithreaded host) -
+ * watching it (reply and stderr pipes, deadline, memory) - what its end means - the reply.
+ *
+ * The helper writes one message to its stdout: a reply header (magic, status, payload size)
+ * and then either the model blob or the error text. The parent checks the size in the
+ * header against the memory limit before it allocates, so a lying helper cannot make it
+ * allocate more than the helper itself was allowed.
+ */
+#define _GNU_SOURCE /* pipe2, dladdr, posix_spawn_file_actions_addclosefrom_np */
+#include <dlfcn.h>
+#include <errno.h>
+#include <fcntl.h>
+#include <limits.h>
+#include <poll.h>
+#include <signal.h>
+#include <spawn.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+#include <sys/wait.h>
+#include <time.h>
+#include <unistd.h>
+
+#include "../core/internal.h"
+#include "internal.h"
+#include "sinew/import.h"
+
+extern char **environ;
+
+#define HELPER_NAME "sinew-import"
+#define DEFAULT_TIMEOUT 120.0
+#define WATCH_MS 50    /* how often the helper's memory is looked at */
+#define TAIL_SIZE 1536 /* the end of the helper's stderr kept for the error message */
+
+/* ---- finding the helper ------------------------------------------------------------------ */
+
+static bool is_program(const char *path)
+{
+    struct stat st;
+    return stat(path, &st) == 0 && S_ISREG(st.st_mode) && access(path, X_OK) == 0;
+}
+
+/* The folder of a file path (in place). */
+static void strip_name(char *path)
+{
+    char *slash = strrchr(path, '/');
+    if (slash)
+        *slash = '\0';
+}
+
+static bool try_in(const char *folder, const char *relative, char *out, size_t size, char *looked, size_t looked_size)
+{
+    char candidate[PATH_MAX + 64];
+    snprintf(candidate, sizeof candidate, "%s/%s%s" HELPER_NAME, folder, relative, *relative ? "/" : "");
+    size_t n = strlen(looked);
+    snprintf(looked + n, looked_size - n, "%s%s", n ? ", " : "", candidate);
+    if (!is_program(candidate))
+        return false;
+    snprintf(out, size, "%s", candidate);
+    return true;
+}
+
+sinew_result sinew_import_helper_path(const sinew_import_desc *desc, char *out, size_t size, sinew_error *error)
+{
+    if (!out || size == 0)
+        return sinew_fail(error, SINEW_ERROR_INVALID_ARGUMENT, "sinew_import_helper_path: no output");
+    const char *given = desc && desc->helper ? desc->helper : getenv("SINEW_IMPORT_HELPER");
+    if (given && *given) {
+        if (!is_program(given))
+            return sinew_fail(error, SINEW_ERROR_IO, "the import helper %s is not an executable program%s", given,
+                              desc && desc->helper ? "" : " ($SINEW_IMPORT_HELPER)");
+        snprintf(out, size, "%s", given);
+        return SINEW_OK;
+    }
+    char looked[4 * PATH_MAX] = "", folder[PATH_MAX];
+    /* Beside the program (a build tree, or bin/ next to libexec/), then beside the library. */
+    ssize_t n = readlink("/proc/self/exe", folder, sizeof folder - 1);
+    if (n > 0) {
+        folder[n] = '\0';
+        strip_name(folder);
+        if (try_in(folder, "", out, size, looked, sizeof looked) ||
+            try_in(folder, SINEW_BIN_TO_LIBEXEC, out, size, looked, sizeof looked))
+            return SINEW_OK;
+    }
+    static const char anchor = 0; /* an address inside this library */
+    Dl_info info;
+    if (dladdr(&anchor, &info) && info.dli_fname && strchr(info.dli_fname, '/')) {
+        snprintf(folder, sizeof folder, "%s", info.dli_fname);
+        strip_name(folder);
+        if (!strstr(looked, folder) && try_in(folder, SINEW_LIB_TO_LIBEXEC, out, size, looked, sizeof looked))
+            return SINEW_OK;
+    }
+    if (try_in(SINEW_INSTALL_LIBEXEC, "", out, size, looked, sizeof looked))
+        return SINEW_OK;
+    return sinew_fail(error, SINEW_ERROR_IO,
+                      "cannot find the import helper " HELPER_NAME " (looked for %s); install it beside sinew, "
+                      "set $SINEW_IMPORT_HELPER, or import in process",
+                      looked);
+}
+
+/* ---- the limits ------------------------------------------------------------------------------ */
+
+uint64_t import_memory_limit(const sinew_import_desc *desc)
+{
+    if (desc->memory_limit)
+        return desc->memory_limit;
+    long pages = sysconf(_SC_PHYS_PAGES), page = sysconf(_SC_PAGESIZE);
+    uint64_t half = pages > 0 && page > 0 ? (uint64_t)pages * (uint64_t)page / 2 : (uint64_t)4 << 30;
+    const uint64_t lo = (uint64_t)1 << 30, hi = (uint64_t)16 << 30;
+    return half < lo ? lo : half > hi ? hi : half;
+}
+
+static double timeout_of(const sinew_import_desc *desc)
+{
+    return desc->timeout == 0.0 ? DEFAULT_TIMEOUT : desc->timeout;
+}
+
+static double now_seconds(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return (double)ts.tv_sec + (double)ts.tv_nsec * 1e-9;
+}
+
+static void format_bytes(uint64_t bytes, char *out, size_t size)
+{
+    if (bytes >= (uint64_t)1 << 30)
+        snprintf(out, size, "%.1f GiB", (double)bytes / (double)((uint64_t)1 << 30));
+    else
+        snprintf(out, size, "%.0f MiB", (double)bytes / (double)(1 << 20));
+}
+
+/* ---- spawning --------------------------------------------------------------------------------- */
+
+typedef struct helper_run {
+    const char *path; /* the model file, for messages */
+    pid_t pid;
+    int reply_fd, err_fd; /* -1 once at end of file (err_fd: or not captured) */
+    unsigned char *reply;
+    size_t reply_size, reply_cap;
+    uint64_t reply_limit;
+    bool reply_too_big;
+    char tail[TAIL_SIZE];
+    size_t tail_len;
+    uint64_t peak_rss, peak_vm, memory_limit;
+    bool killed_for_time, killed_for_memory;
+} helper_run;
+
+static sinew_result spawn_helper(const sinew_import_desc *desc, const char *helper, helper_run *run, sinew_error *error)
+{
+    int reply[2] = {-1, -1}, err[2] = {-1, -1};
+    if (pipe2(reply, O_CLOEXEC) != 0 || (desc->stderr_fd == 0 && pipe2(err, O_CLOEXEC) != 0)) {
+        int e = errno;
+        for (int i = 0; i < 2; i++) {
+            if (reply[i] >= 0)
+                close(reply[i]);
+            if (err[i] >= 0)
+                close(err[i]);
+        }
+        return sinew_fail(error, SINEW_ERROR_IO, "%s: cannot start the import helper: %s", desc->path, strerror(e));
+    }
+    char limit[32], parent[32];
+    snprintf(limit, sizeof limit, "%llu", (unsigned long long)run->memory_limit);
+    snprintf(parent, sizeof parent, "%ld", (long)getpid());
+    char *argv[10];
+    int argc = 0;
+    argv[argc++] = (char *)HELPER_NAME;
+    if (desc->assimp)
+        argv[argc++] = (char *)"--assimp";
+    argv[argc++] = (char *)"--memory-limit";
+    argv[argc++] = limit;
+    argv[argc++] = (char *)"--parent";
+    argv[argc++] = parent;
+    argv[argc++] = (char *)"--";
+    argv[argc++] = (char *)desc->path;
+    argv[argc] = NULL;
+
+    posix_spawn_file_actions_t actions;
+    posix_spawnattr_t attr;
+    posix_spawn_file_actions_init(&actions);
+    posix_spawnattr_init(&attr);
+    posix_spawn_file_actions_addopen(&actions, STDIN_FILENO, "/dev/null", O_RDONLY, 0);
+    posix_spawn_file_actions_adddup2(&actions, reply[1], STDOUT_FILENO);
+    posix_spawn_file_actions_adddup2(&actions, err[1] >= 0 ? err[1] : desc->stderr_fd, STDERR_FILENO);
+#if defined(__GLIBC__) && (__GLIBC__ > 2 || (__GLIBC__ == 2 && __GLIBC_MINOR__ >= 34))
+    posix_spawn_file_actions_addclosefrom_np(&actions, 3); /* the host's other descriptors */
+#endif
+    /* The host may block or ignore signals (a GUI, a job system); the helper starts clean. */
+    sigset_t none, all;
+    sigemptyset(&none);
+    sigfillset(&all);
+    posix_spawnattr_setsigmask(&attr, &none);
+    posix_spawnattr_setsigdefault(&attr, &all);
+    posix_spawnattr_setflags(&attr, POSIX_SPAWN_SETSIGMASK | POSIX_SPAWN_SETSIGDEF);
+    int rc = posix_spawn(&run->pid, helper, &actions, &attr, argv, environ);
+    posix_spawn_file_actions_destroy(&actions);
+    posix_spawnattr_destroy(&attr);
+    close(reply[1]);
+    if (err[1] >= 0)
+        close(err[1]);
+    if (rc != 0) {
+        close(reply[0]);
+        if (err[0] >= 0)
+            close(err[0]);
+        return sinew_fail(error, SINEW_ERROR_IO, "%s: cannot start the import helper %s: %s", desc->path, helper,
+                          strerror(rc));
+    }
+    run->reply_fd = reply[0];
+    run->err_fd = err[0];
+    return SINEW_OK;
+}
+
+/* ---- watching it ----------------------------------------------------------------------------- */
+
+static void keep_tail(helper_run *run, const char *bytes, size_t n)
+{
+    if (n >= TAIL_SIZE - 1) {
+        bytes += n - (TAIL_SIZE - 1);
+        n = TAIL_SIZE - 1;
+    }
+    if (run->tail_len + n > TAIL_SIZE - 1) {
+        size_t drop = run->tail_len + n - (TAIL_SIZE - 1);
+        memmove(run->tail, run->tail + drop, run->tail_len - drop);
+        run->tail_len -= drop;
+    }
+    memcpy(run->tail + run->tail_len, bytes, n);
+    run->tail_len += n;
+    run->tail[run->tail_len] = '\0';
+}
+
+/* Appends what arrived on the reply pipe; false when the reply is larger than the header
+ * says or than the helper could have made (then nothing more is read). */
+static bool take_reply(helper_run *run, const unsigned char *bytes, size_t n)
+{
+    size_t want = run->reply_size + n;
+    if (want > run->reply_cap) {
+        size_t cap = run->reply_cap ? run->reply_cap * 2 : 65536;
+        while (cap < want)
+            cap *= 2;
+        unsigned char *grown = realloc(run->reply, cap);
+        if (!grown) {
+            run->reply_too_big = true;
+            return false;
+        }
+        run->reply = grown;
+        run->reply_cap = cap;
+    }
+    memcpy(run->reply + run->reply_size, bytes, n);
+    run->reply_size = want;
+    if (run->reply_size >= sizeof(reply_header)) {
+        reply_header h;
+        memcpy(&h, run->reply, sizeof h);
+        if (h.size > run->reply_limit || run->reply_size - sizeof h > h.size) {
+            run->reply_too_big = true;
+            return false;
+        }
+    }
+    return true;
+}
+
+/* Reads what is ready on one pipe; closes it at end of file. */
+static void drain(helper_run *run, int *fd, bool is_reply)
+{
+    unsigned char buf[65536];
+    ssize_t n = read(*fd, buf, sizeof buf);
+    if (n < 0 && (errno == EINTR || errno == EAGAIN))
+        return;
+    if (n <= 0 || (is_reply && !take_reply(run, buf, (size_t)n))) {
+        close(*fd);
+        *fd = -1;
+        return;
+    }
+    if (!is_reply)
+        keep_tail(run, (const char *)buf, (size_t)n);
+}
+
+/* The helper's virtual size and resident memory, from /proc. */
+static void sample_memory(helper_run *run)
+{
+    char name[64];
+    snprintf(name, sizeof name, "/proc/%ld/statm", (long)run->pid);
+    FILE *f = fopen(name, "r");
+    if (!f)
+        return;
+    unsigned long long vm = 0, rss = 0;
+    if (fscanf(f, "%llu %llu", &vm, &rss) == 2) {
+        uint64_t page = (uint64_t)sysconf(_SC_PAGESIZE);
+        if (vm * page > run->peak_vm)
+            run->peak_vm = vm * page;
+        if (rss * page > run->peak_rss)
+            run->peak_rss = rss * page;
+    }
+    fclose(f);
+}
+
+/* Until both pipes close, the deadline passes or resident memory passes the limit (the
+ * address-space limit the helper sets on itself does not hold under AddressSanitizer). */
+static void watch(helper_run *run, double deadline)
+{
+    while (run->reply_fd >= 0 || run->err_fd >= 0) {
+        struct pollfd fds[2];
+        nfds_t count = 0;
+        if (run->reply_fd >= 0)
+            fds[count++] = (struct pollfd){.fd = run->reply_fd, .events = POLLIN};
+        if (run->err_fd >= 0)
+            fds[count++] = (struct pollfd){.fd = run->err_fd, .events = POLLIN};
+        int ready = poll(fds, count, WATCH_MS);
+        for (nfds_t i = 0; ready > 0 && i < count; i++) {
+            if (!fds[i].revents)
+                continue;
+            bool is_reply = fds[i].fd == run->reply_fd;
+            drain(run, is_reply ? &run->reply_fd : &run->err_fd, is_reply);
+        }
+        sample_memory(run);
+        if (run->memory_limit != UINT64_MAX && run->peak_rss > run->memory_limit) {
+            run->killed_for_memory = true;
+            break;
+        }
+        if (deadline > 0.0 && now_seconds() > deadline) {
+            run->killed_for_time = true;
+            break;
+        }
+        if (run->reply_too_big)
+            break;
+    }
+    if (run->reply_fd >= 0 || run->err_fd >= 0)
+        kill(run->pid, SIGKILL);
+    if (run->reply_fd >= 0)
+        close(run->reply_fd);
+    if (run->err_fd >= 0)
+        close(run->err_fd);
+}
+
+/* Waits for the helper's end; one that closed its pipes and lingers past the deadline is killed. */
+static int reap(helper_run *run, double deadline)
+{
+    int status = 0;
+    for (;;) {
+        pid_t done = waitpid(run->pid, &status, deadline > 0.0 ? WNOHANG : 0);
+        if (done == run->pid)
+            return status;
+        if (done < 0 && errno != EINTR)
+            return 0;
+        if (done == 0 && now_seconds() > deadline) {
+            run->killed_for_time = true;
+            kill(run->pid, SIGKILL);
+            deadline = 0.0;
+        } else if (done == 0) {
+            nanosleep(&(struct timespec){.tv_nsec = 5 * 1000 * 1000}, NULL);
+        }
+    }
+}
+
+/* ---- what its end means ---------------------------------------------------------------------- */
+
+/* The helper's last words, for a message: its stderr's last lines on one line. */
+static const char *last_words(helper_run *run)
+{
+    char *t = run->tail;
+    while (*t == '\n' || *t == ' ')
+        t++;
+    for (char *c = t; *c; c++)
+        if (*c == '\n' || *c == '\t')
+            *c = ' ';
+    size_t n = strlen(t);
+    while (n && t[n - 1] == ' ')
+        t[--n] = '\0';
+    return t;
+}
+
+/* Whether the helper came within a tenth of its memory limit (a failure then is the limit's). */
+static bool near_memory_limit(const helper_run *run)
+{
+#if defined(__SANITIZE_ADDRESS__)
+    uint64_t peak = run->peak_rss; /* the sanitizer reserves terabytes of address space */
+#else
+    uint64_t peak = run->peak_vm;
+#endif
+    return run->memory_limit != UINT64_MAX && peak >= run->memory_limit / 10 * 9;
+}
+
+static sinew_result memory_failure(const helper_run *run, const char *said, sinew_error *error)
+{
+    char limit[32], seen[32];
+    format_bytes(run->memory_limit, limit, sizeof limit);
+    format_bytes(run->peak_rss > run->peak_vm ? run->peak_rss : run->peak_vm, seen, sizeof seen);
+    return sinew_fail(
+        error, SINEW_ERROR_LIMIT,
+        "%s: the import needed more than its %s memory limit and was stopped (%s in use when last measured; "
+        "sinew_import_desc.memory_limit sets the limit)%s%s",
+        run->path, limit, seen, *said ? "; the reader said: " : "", said);
+}
+
+static sinew_result helper_failed(helper_run *run, const sinew_import_desc *desc, int status, sinew_error *error)
+{
+    char limit[32];
+    format_bytes(run->memory_limit, limit, sizeof limit);
+    const char *words = last_words(run);
+    const char *lead = *words ? "; its last words: " : "";
+    if (run->killed_for_time)
+        return sinew_fail(error, SINEW_ERROR_LIMIT,
+                          "%s: the import took longer than its %.3g s deadline and was stopped (the file may make "
+                          "the reader loop; sinew_import_desc.timeout sets the deadline)",
+                          run->path, timeout_of(desc));
+    if (run->killed_for_memory || near_memory_limit(run))
+        return memory_failure(run, words, error);
+    if (run->reply_too_big)
+        return sinew_fail(error, SINEW_ERROR_IMPORTER,
+                          "%s: the import helper's reply is larger than it announced or than its %s memory limit "
+                          "allows",
+                          run->path, limit);
+    if (WIFSIGNALED(status)) {
+        int sig = WTERMSIG(status);
+        if (sig == SIGKILL || sig == SIGTERM || sig == SIGINT || sig == SIGHUP)
+            return sinew_fail(error, SINEW_ERROR_IMPORTER,
+                              "%s: the import helper was killed from outside (signal %d, %s): by a user, or by the "
+                              "system when memory ran out%s%s",
+                              run->path, sig, strsignal(sig), lead, words);
+        return sinew_fail(error, SINEW_ERROR_IMPORTER,
+                          "%s: the importer (%s) crashed while reading this file (signal %d, %s); the file is "
+                          "probably malformed%s%s",
+                          run->path, import_reader_name(run->path, desc->assimp), sig, strsignal(sig), lead, words);
+    }
+    return sinew_fail(error, SINEW_ERROR_IMPORTER, "%s: the import helper failed (exit status %d)%s%s", run->path,
+                      WIFEXITED(status) ? WEXITSTATUS(status) : -1, lead, words);
+}
+
+sinew_result import_reply_decode(const unsigned char *bytes, size_t size, const char *path,
+                                 const sinew_allocator *allocator, sinew_model **out, sinew_error *error)
+{
+    reply_header reply;
+    if (size < sizeof reply)
+        return sinew_fail(error, SINEW_ERROR_IMPORTER, "%s: the import helper's reply is cut short (%zu bytes)", path,
+                          size);
+    memcpy(&reply, bytes, sizeof reply);
+    if (reply.magic != REPLY_MAGIC || reply.size != size - sizeof reply)
+        return sinew_fail(error, SINEW_ERROR_IMPORTER,
+                          "%s: the import helper's reply is malformed (%zu bytes, header says %llu)", path, size,
+                          (unsigned long long)reply.size);
+    const unsigned char *payload = bytes + sizeof reply;
+    if (reply.kind == SINEW_OK)
+        return sinew_model_from_blob(payload, (size_t)reply.size, path, allocator, out, error);
+    if (reply.kind > SINEW_ERROR_GRAPHICS || reply.size == 0 || payload[reply.size - 1] != '\0')
+        return sinew_fail(error, SINEW_ERROR_IMPORTER, "%s: the import helper's error reply is malformed", path);
+    return sinew_fail(error, (sinew_result)reply.kind, "%s", (const char *)payload);
+}
+
+sinew_result import_in_helper(const sinew_import_desc *desc, sinew_model **out, sinew_error *error)
+{
+    char helper[PATH_MAX];
+    sinew_result result = sinew_import_helper_path(desc, helper, sizeof helper, error);
+    if (result)
+        return result;
+    helper_run run = {.path = desc->path, .reply_fd = -1, .err_fd = -1, .memory_limit = import_memory_limit(desc)};
+    run.reply_limit = run.memory_limit;
+    if ((result = spawn_helper(desc, helper, &run, error)))
+        return result;
+    double timeout = timeout_of(desc), deadline = timeout > 0.0 ? now_seconds() + timeout : 0.0;
+    watch(&run, deadline);
+    int status = reap(&run, deadline);
+    if (run.killed_for_time || run.killed_for_memory || run.reply_too_big ||
+        !(WIFEXITED(status) && WEXITSTATUS(status) == 0))
+        result = helper_failed(&run, desc, status, error);
+    else
+        result = import_reply_decode(run.reply, run.reply_size, desc->path, desc->allocator, out, error);
+    /* A reader in the helper that gave up for want of memory (Assimp's std::bad_alloc), or
+     * came near the limit before failing, failed for the limit. */
+    reply_header reply = {0};
+    if (run.reply_size >= sizeof reply)
+        memcpy(&reply, run.reply, sizeof reply);
+    bool starved = reply.kind == SINEW_ERROR_OUT_OF_MEMORY ||
+                   (reply.kind != SINEW_OK && error && strstr(error->message, "bad_alloc"));
+    if (result != SINEW_OK && result != SINEW_ERROR_LIMIT && (starved || near_memory_limit(&run))) {
+        char said[SINEW_ERROR_MESSAGE_SIZE] = "";
+        if (error)
+            snprintf(said, sizeof said, "%s", error->message);
+        result = memory_failure(&run, said, error);
+    }
+    free(run.reply);
+    return result;
+}
