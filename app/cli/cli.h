@@ -13,7 +13,8 @@ enum { EXIT_OK = 0, EXIT_USAGE = 1, EXIT_BAD_INPUT = 2, EXIT_UNAVAILABLE = 3 };
 /* Prints "sinew: <message>" to stderr. */
 void cli_error(const char *format, ...) __attribute__((format(printf, 1, 2)));
 
-/* sinew's data folder (data/ in the source tree, or $SINEW_DATA): buf = folder/name. */
+/* sinew's data folder ($SINEW_DATA, else data/ beside the program, else share/sinew relative
+ * to it): buf = folder/name. */
 const char *cli_data_path(const char *name, char *buf, size_t size);
 
 /* The seed's arm (sinew/arm.h) with the distances from data/arm.muscles.json. */

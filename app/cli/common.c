@@ -43,7 +43,20 @@ bool cli_is_help(const char *arg)
 const char *cli_data_path(const char *name, char *buf, size_t size)
 {
     const char *dir = getenv("SINEW_DATA");
-    snprintf(buf, size, "%s/%s", dir && dir[0] ? dir : SINEW_DATA_DIR, name);
+    if (dir && dir[0]) {
+        snprintf(buf, size, "%s/%s", dir, name);
+        return buf;
+    }
+    /* data/ beside the program (a build tree), else share/sinew relative to it (installed). */
+    char exe[4096];
+    ssize_t n = readlink("/proc/self/exe", exe, sizeof exe - 1);
+    exe[n > 0 ? n : 0] = '\0';
+    char *slash = strrchr(exe, '/');
+    if (slash)
+        *slash = '\0';
+    snprintf(buf, size, "%s/data/%s", exe, name);
+    if (access(buf, R_OK) != 0)
+        snprintf(buf, size, "%s/" SINEW_BIN_TO_DATA "/%s", exe, name);
     return buf;
 }
 

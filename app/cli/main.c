@@ -46,7 +46,7 @@ int main(int argc, char **argv)
         return EXIT_OK;
     }
     if (strcmp(command, "--version") == 0) {
-        printf("sinew %s\n", SINEW_VERSION_STRING);
+        printf("sinew %s\n", sinew_version());
         return EXIT_OK;
     }
     if (strcmp(command, "info") == 0)

@@ -969,7 +969,7 @@ int main(int argc, char **argv)
             fputs(usage, stdout);
             return 0;
         } else if (strcmp(argv[i], "--version") == 0) {
-            printf("sinew-view %s\n", SINEW_VERSION_STRING);
+            printf("sinew-view %s\n", sinew_version());
             return 0;
         } else if (strcmp(argv[i], "--quit") == 0) {
             v.quit_after_screenshot = true;

@@ -35,6 +35,10 @@ typedef struct sinew_error {
 /* A short constant name for a result code ("ok", "i/o error", ...). */
 const char *sinew_result_string(sinew_result result);
 
+/* The version of the library linked ("0.1.0"); SINEW_VERSION_STRING (sinew/version.h) is the
+ * version of the headers compiled against. */
+const char *sinew_version(void);
+
 #ifdef __cplusplus
 }
 #endif

@@ -1,7 +1,7 @@
-/* sinew/sinew.h — everything in libsinew: the runtime model, evaluation and import.
- * A runtime user that only poses and skins needs sinew/model.h and sinew/anim.h
- * (library sinew_core); sinew/import.h needs sinew_import, which links Assimp;
- * sinew/render.h, camera.h and headless.h need sinew_render (libepoxy, EGL). */
+/* sinew/sinew.h — everything in libsinew: the runtime model, evaluation, import, rendering.
+ * Installed, libsinew (sinew::sinew, pkg-config sinew) holds all of it. A runtime user that
+ * only poses, skins and solves muscles needs sinew/model.h, anim.h, muscle.h, muscle_rig.h and
+ * camera.h: libsinew_core (sinew::core, pkg-config sinew-core), libc and cglm alone. */
 #ifndef SINEW_SINEW_H
 #define SINEW_SINEW_H
 
@@ -16,7 +16,6 @@
 #include "sinew/muscle_rig.h"
 #include "sinew/render.h"
 #include "sinew/result.h"
-
-#define SINEW_VERSION_STRING "0.1.0"
+#include "sinew/version.h"
 
 #endif

@@ -2,6 +2,7 @@
 #include <stdio.h>
 
 #include "internal.h"
+#include "sinew/version.h"
 
 const char *sinew_result_string(sinew_result result)
 {
@@ -38,4 +39,9 @@ sinew_result sinew_fail(sinew_error *error, sinew_result kind, const char *forma
         va_end(args);
     }
     return kind;
+}
+
+const char *sinew_version(void)
+{
+    return SINEW_VERSION_STRING;
 }

@@ -1,0 +1,57 @@
+#!/bin/sh
+# Installs the build into a temporary prefix and uses it as a user and an engine would:
+# the installed programs find their data and import helper; libsinew.so exports only sinew_*;
+# small programs build against it with find_package(sinew) (shared, static, core) and with
+# pkg-config (sinew, sinew-core), and run.
+#   test_install.sh BUILD_DIR SOURCE_DIR WORK_DIR CC
+set -eu
+build=$1 source=$2 work=$3 cc=$4
+fixture="$source/tests/fixtures/two_bone.dae"
+rm -rf "$work"
+mkdir -p "$work"
+cmake --install "$build" --prefix "$work/prefix" > "$work/install.log"
+prefix="$work/prefix"
+libdir=$(dirname "$(find "$prefix" -name libsinew.so | head -n 1)")
+unset SINEW_DATA SINEW_IMPORT_HELPER
+
+echo "== installed files"
+for f in bin/sinew libexec/sinew/sinew-import share/sinew/arm.muscles.json share/man/man1/sinew.1 \
+         include/sinew/sinew.h include/sinew/version.h; do
+    test -e "$prefix/$f" || { echo "missing: $f"; exit 1; }
+done
+test -e "$libdir/libsinew.a" && test -e "$libdir/libsinew_core.a" && test -e "$libdir/pkgconfig/sinew.pc" &&
+    test -e "$libdir/cmake/sinew/sinewConfig.cmake"
+
+echo "== the installed sinew, run from elsewhere"
+cd "$work"
+"$prefix/bin/sinew" --version
+"$prefix/bin/sinew" info "$fixture" | head -n 3
+"$prefix/bin/sinew" render builtin:arm --size 64x48 -o "$work/arm.png"
+
+echo "== exports"
+others=$(nm -D --defined-only "$libdir/libsinew.so" | awk '{print $3}' | grep -v '^sinew_' || true)
+if [ -n "$others" ]; then echo "libsinew.so exports more than sinew_*: $others"; exit 1; fi
+others=$(nm -g --defined-only "$libdir/libsinew.a" | awk 'NF == 3 {print $3}' | grep -v '^sinew_' || true)
+if [ -n "$others" ]; then echo "libsinew.a has global symbols other than sinew_*: $others"; exit 1; fi
+
+echo "== find_package(sinew)"
+cmake -S "$source/tests/install/consumer" -B "$work/consumer" -DCMAKE_PREFIX_PATH="$prefix" \
+      -DCMAKE_C_COMPILER="$cc" > "$work/consumer.log"
+cmake --build "$work/consumer" >> "$work/consumer.log"
+"$work/consumer/consumer_shared" "$fixture"
+"$work/consumer/consumer_static" "$fixture"
+"$work/consumer/consumer_core"
+ldd "$work/consumer/consumer_shared" | grep -q "$libdir/libsinew.so" ||
+    { echo "consumer_shared does not use the installed libsinew.so"; exit 1; }
+
+echo "== pkg-config"
+export PKG_CONFIG_PATH="$libdir/pkgconfig"
+pkg-config --modversion sinew
+# shellcheck disable=SC2046
+"$cc" -o "$work/pc_shared" "$source/tests/install/consumer/main.c" $(pkg-config --cflags --libs sinew) \
+      -Wl,-rpath,"$libdir"
+"$work/pc_shared" "$fixture"
+# shellcheck disable=SC2046
+"$cc" -o "$work/pc_core" "$source/tests/install/consumer/core.c" $(pkg-config --cflags --libs sinew-core)
+"$work/pc_core"
+echo "install test passed"
