@@ -13,8 +13,8 @@ out="$build/demo"
 humanoid="$out/humanoid.dae"
 echo "make run: no display; showing the built-in demo headless instead (sinew-view needs a display)"
 echo
-echo "\$ sinew demo $out"
-"$build/sinew" demo "$out"
+echo "\$ sinew demo $out --force"
+"$build/sinew" demo "$out" --force
 echo
 echo "\$ sinew info $humanoid"
 "$build/sinew" info "$humanoid" | head -12

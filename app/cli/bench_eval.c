@@ -512,7 +512,7 @@ int bench_eval(int argc, char **argv)
     char demo_dae[512], converted[512];
     snprintf(converted, sizeof converted, "%s/model.sinew", dir);
     if (!collada) {
-        if (!cli_demo_write(dir, false))
+        if (cli_demo_write(dir, false, true) != EXIT_OK)
             return EXIT_BAD_INPUT;
         snprintf(demo_dae, sizeof demo_dae, "%s/%s", dir, CLI_DEMO_HUMANOID);
         collada = demo_dae;

@@ -7,8 +7,12 @@
 #include "app.h"
 #include "sinew/sinew.h"
 
-/* 3: this machine lacks something the command needs (an OpenGL 3.3 context, ffmpeg). */
-enum { EXIT_OK = 0, EXIT_USAGE = 1, EXIT_BAD_INPUT = 2, EXIT_UNAVAILABLE = 3 };
+/* One exit status per kind of fault, in every command (README, sinew.1):
+ * 1: the command line is wrong (unknown option, malformed or out-of-range value);
+ * 2: an input is unreadable or malformed, or lacks what was named (a clip, a joint);
+ * 3: this machine lacks something the command needs (an OpenGL 3.3 context, ffmpeg);
+ * 4: an output cannot be written (no space, no permission, it is an input, it exists). */
+enum { EXIT_OK = 0, EXIT_USAGE = 1, EXIT_BAD_INPUT = 2, EXIT_UNAVAILABLE = 3, EXIT_OUTPUT = 4 };
 
 /* Prints "sinew: <message>" to stderr. */
 void cli_error(const char *format, ...) __attribute__((format(printf, 1, 2)));
@@ -129,7 +133,8 @@ const char *cli_muscles_arg(int argc, char **argv, int *i);
 struct cJSON;
 struct cJSON *cli_muscle_pose_json(const sinew_muscle_pose *pose);
 
-/* PNG output through stb_image_write; prints the error and returns false on failure. */
+/* PNG output through stb_image_write and app_output (whole or not at all); prints the error and
+ * returns false on failure. */
 bool cli_write_png(const char *path, const uint8_t *rgba, int width, int height);
 
 /* Video output: raw RGBA frames piped into the ffmpeg program. */
@@ -138,12 +143,15 @@ typedef struct cli_video {
     int fd;
     int pid;
     size_t frame_bytes;
-    bool unavailable; /* open failed because ffmpeg is not installed */
+    bool unavailable;  /* open failed because ffmpeg is not installed */
+    bool write_failed; /* the output could not be written (exit EXIT_OUTPUT) */
+    app_output output; /* the temporary file ffmpeg writes */
 } cli_video;
 
 bool cli_video_open(cli_video *video, const char *path, int width, int height, double fps);
 bool cli_video_write(cli_video *video, const uint8_t *rgba);
-bool cli_video_close(cli_video *video);
+/* Waits for ffmpeg and puts the video in place when `keep` and ffmpeg succeeded; else removes it. */
+bool cli_video_close(cli_video *video, bool keep);
 /* A dead ffmpeg must give a write error, not kill sinew. */
 void cli_ignore_sigpipe(void);
 
@@ -159,7 +167,7 @@ int bench_eval(int argc, char **argv);
 /* `sinew demo`: writes the demo content into dir (humanoid.dae, arm.dae and their muscle
  * files); prints each file when verbose. */
 #define CLI_DEMO_HUMANOID "humanoid.dae"
-bool cli_demo_write(const char *dir, bool verbose);
+int cli_demo_write(const char *dir, bool verbose, bool force); /* an exit code */
 /* Removes a folder of plain files. */
 bool cli_remove_tree(const char *dir);
 

@@ -27,17 +27,10 @@ static const char arm_usage[] =
 
 static bool parse_list(const char *option, const char *text, double *out, int count)
 {
-    const char *p = text;
-    for (int i = 0; i < count; i++) {
-        char *end = NULL;
-        errno = 0;
-        out[i] = strtod(p, &end);
-        if (end == p || errno || !isfinite(out[i]) || (i + 1 < count ? *end != ',' : *end != '\0')) {
-            cli_error("arm: bad %s \"%s\": expected %d number%s separated by commas", option, text, count,
-                      count == 1 ? "" : "s");
-            return false;
-        }
-        p = end + 1;
+    if (app_parse_list(text, out, count, count, -1e9, 1e9) != count) {
+        cli_error("arm: bad %s \"%s\": expected %d number%s separated by commas", option, text, count,
+                  count == 1 ? "" : "s");
+        return false;
     }
     return true;
 }
@@ -205,10 +198,11 @@ int cmd_arm(int argc, char **argv)
     code = cli_scene_open(&scene, &sd); /* takes the model over */
     if (code != EXIT_OK)
         return code;
-    code = cli_scene_frame_all(&scene, 0.0, 0.0) && cli_scene_draw(&scene, 0.0) && cli_scene_read(&scene) &&
-                   cli_write_png(a.out, scene.pixels, scene.width, scene.height)
+    code = cli_scene_frame_all(&scene, 0.0, 0.0) && cli_scene_draw(&scene, 0.0) && cli_scene_read(&scene)
                ? EXIT_OK
                : EXIT_BAD_INPUT;
+    if (code == EXIT_OK && !cli_write_png(a.out, scene.pixels, scene.width, scene.height))
+        code = EXIT_OUTPUT;
     cli_scene_close(&scene);
     return code;
 }

@@ -86,8 +86,9 @@ static int run_render_bench(const render_bench_args *a, int samples, int mode, d
         return code;
     bool ok = cli_scene_frame_all(&scene, 0.0, scene.clip ? scene.clip->duration : 0.0) &&
               time_frames(&scene, a->frames, spf);
+    bool written = true;
     if (ok && a->png && mode == 0)
-        ok = cli_scene_read(&scene) && cli_write_png(a->png, scene.pixels, a->width, a->height);
+        ok = cli_scene_read(&scene) && (written = cli_write_png(a->png, scene.pixels, a->width, a->height));
     *vertices = cli_vertex_count(scene.model);
     *joints = 0;
     for (uint32_t s = 0; s < scene.model->skin_count; s++)
@@ -95,7 +96,7 @@ static int run_render_bench(const render_bench_args *a, int samples, int mode, d
     snprintf(source, source_size, "%s", scene.model->source);
     snprintf(gl_name, gl_size, "%s", scene.gl_name);
     cli_scene_close(&scene);
-    return ok ? EXIT_OK : EXIT_BAD_INPUT;
+    return ok ? EXIT_OK : !written ? EXIT_OUTPUT : EXIT_BAD_INPUT;
 }
 
 static int bench_render(int argc, char **argv)

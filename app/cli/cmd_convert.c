@@ -62,6 +62,12 @@ int cmd_convert(int argc, char **argv)
         cli_error("%s: the output must be a .sinew file", out);
         return EXIT_USAGE;
     }
+    const char *inputs[2] = {in, muscles};
+    sinew_error error = {0};
+    if (app_output_check(out, inputs, 2, &error) != SINEW_OK) {
+        cli_error("convert: %s", error.message);
+        return EXIT_OUTPUT;
+    }
     sinew_model *model = cli_load_model(in);
     if (!model)
         return EXIT_BAD_INPUT;
@@ -80,13 +86,12 @@ int cmd_convert(int argc, char **argv)
             status = EXIT_BAD_INPUT; /* the message is out: a muscle that names no joint of IN */
         sinew_muscle_rig_free(rig);
     }
-    sinew_error error = {0};
     if (status == EXIT_OK) {
         /* An empty set stores none, so --no-muscles drops a .sinew's own. */
         static const sinew_muscle_set none = {.source = "", .muscle_count = 0, .muscles = NULL};
         if (sinew_model_save(model, set ? set : &none, out, &error) != SINEW_OK) {
             cli_error("%s", error.message);
-            status = EXIT_BAD_INPUT;
+            status = error.kind == SINEW_ERROR_IO ? EXIT_OUTPUT : EXIT_BAD_INPUT;
         }
     }
     if (status == EXIT_OK) {

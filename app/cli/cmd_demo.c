@@ -11,9 +11,10 @@
 #include "cli.h"
 
 static const char demo_usage[] =
-    "usage: sinew demo DIR\n"
+    "usage: sinew demo DIR [--force]\n"
     "\n"
-    "Writes sinew's demo content into DIR (made if missing):\n"
+    "Writes sinew's demo content into DIR (made if missing); files already there are kept and the\n"
+    "command fails (exit status 4) unless --force replaces them:\n"
     "  humanoid.dae           a 24-joint mannequin, 15,000 vertices skinned with smooth weights,\n"
     "                         a staff in its right hand, clips \"walk\" (1 s cycle) and \"wave\" (2 s)\n"
     "  humanoid.muscles.json  a biceps on each arm (shortens as the elbow bends in \"wave\")\n"
@@ -22,15 +23,17 @@ static const char demo_usage[] =
     "Every command finds the muscle file beside its model, e.g.\n"
     "  sinew render DIR/humanoid.dae --clip wave --muscles --time 0.5 -o wave.png\n";
 
-static bool write_text(const char *path, const char *text)
+static bool write_bytes(const char *path, const void *bytes, size_t size)
 {
-    FILE *f = fopen(path, "wb");
-    bool ok = f && fputs(text, f) >= 0;
-    if (f && fclose(f) != 0)
-        ok = false;
-    if (!ok)
-        cli_error("%s: cannot write: %s", path, strerror(errno));
-    return ok;
+    app_output out;
+    sinew_error error = {0};
+    if (app_output_open(&out, path, &error) == SINEW_OK) {
+        app_output_write(&out, bytes, size);
+        if (app_output_commit(&out, &error) == SINEW_OK)
+            return true;
+    }
+    cli_error("%s", error.message);
+    return false;
 }
 
 /* Copies sinew's data file `from` to `to`. */
@@ -41,19 +44,15 @@ static bool copy_file(const char *from, const char *to)
         cli_error("%s: cannot read sinew's data file: %s", from, strerror(errno));
         return false;
     }
-    FILE *out = fopen(to, "wb");
-    bool ok = out != NULL;
-    char chunk[4096];
-    size_t n;
-    while (ok && (n = fread(chunk, 1, sizeof chunk, in)) > 0)
-        ok = fwrite(chunk, 1, n, out) == n;
-    ok = ok && !ferror(in);
+    char chunk[65536];
+    size_t n = fread(chunk, 1, sizeof chunk, in);
+    bool whole = !ferror(in) && feof(in);
     fclose(in);
-    if (out && fclose(out) != 0)
-        ok = false;
-    if (!ok)
-        cli_error("%s: cannot write: %s", to, strerror(errno));
-    return ok;
+    if (!whole) {
+        cli_error("%s: cannot read sinew's data file", from);
+        return false;
+    }
+    return write_bytes(to, chunk, n);
 }
 
 static bool write_model(const sinew_model *model, const char *dir, const char *name, bool verbose)
@@ -75,23 +74,34 @@ static bool write_model(const sinew_model *model, const char *dir, const char *n
     return true;
 }
 
-bool cli_demo_write(const char *dir, bool verbose)
+static const char *const DEMO_FILES[] = {CLI_DEMO_HUMANOID, "humanoid.muscles.json", "arm.dae", "arm.muscles.json"};
+
+int cli_demo_write(const char *dir, bool verbose, bool force)
 {
     if (mkdir(dir, 0777) != 0 && errno != EEXIST) {
         cli_error("%s: cannot make the folder: %s", dir, strerror(errno));
-        return false;
+        return EXIT_OUTPUT;
+    }
+    for (size_t i = 0; i < sizeof DEMO_FILES / sizeof DEMO_FILES[0] && !force; i++) {
+        char existing[4096];
+        snprintf(existing, sizeof existing, "%s/%s", dir, DEMO_FILES[i]);
+        if (access(existing, F_OK) == 0) {
+            cli_error("demo: %s exists; nothing was written (--force replaces the demo files)", existing);
+            return EXIT_OUTPUT;
+        }
     }
     sinew_error error = {0};
     sinew_model *humanoid = NULL;
     if (sinew_demo_humanoid(&humanoid, &error) != SINEW_OK) {
         cli_error("%s", error.message);
-        return false;
+        return EXIT_BAD_INPUT;
     }
     char path[4096], data[4096];
     bool ok = write_model(humanoid, dir, CLI_DEMO_HUMANOID, verbose);
     sinew_model_free(humanoid);
     snprintf(path, sizeof path, "%s/humanoid.muscles.json", dir);
-    ok = ok && write_text(path, sinew_demo_humanoid_muscles());
+    const char *muscles = sinew_demo_humanoid_muscles();
+    ok = ok && write_bytes(path, muscles, strlen(muscles));
     if (ok && verbose)
         printf("%s: LeftBiceps, RightBiceps\n", path);
 
@@ -103,7 +113,7 @@ bool cli_demo_write(const char *dir, bool verbose)
     ok = ok && copy_file(cli_data_path("arm.muscles.json", data, sizeof data), path);
     if (ok && verbose)
         printf("%s: biceps\n", path);
-    return ok;
+    return ok ? EXIT_OK : EXIT_OUTPUT;
 }
 
 bool cli_remove_tree(const char *dir)
@@ -125,9 +135,24 @@ bool cli_remove_tree(const char *dir)
 
 int cmd_demo(int argc, char **argv)
 {
-    if (argc != 2 || cli_is_help(argv[1])) {
-        fputs(demo_usage, argc == 2 ? stdout : stderr);
-        return argc == 2 ? EXIT_OK : EXIT_USAGE;
+    const char *dir = NULL;
+    bool force = false;
+    for (int i = 1; i < argc; i++) {
+        if (cli_is_help(argv[i])) {
+            fputs(demo_usage, stdout);
+            return EXIT_OK;
+        } else if (strcmp(argv[i], "--force") == 0) {
+            force = true;
+        } else if (argv[i][0] == '-' || dir) {
+            cli_error("demo: unexpected \"%s\"\n%s", argv[i], demo_usage);
+            return EXIT_USAGE;
+        } else {
+            dir = argv[i];
+        }
     }
-    return cli_demo_write(argv[1], true) ? EXIT_OK : EXIT_BAD_INPUT;
+    if (!dir) {
+        fputs(demo_usage, stderr);
+        return EXIT_USAGE;
+    }
+    return cli_demo_write(dir, true, force);
 }

@@ -88,11 +88,8 @@ int cmd_muscle(int argc, char **argv)
         } else if (strcmp(a, "--name") == 0 && v) {
             name = argv[++i];
         } else if (strcmp(a, "--length") == 0 && v) {
-            char *end = NULL;
             const char *text = argv[++i];
-            errno = 0;
-            length = strtod(text, &end);
-            if (end == text || *end || errno || !isfinite(length) || length <= 0.0) {
+            if (!app_parse_number(text, 1e-300, 1e300, &length)) {
                 cli_error("muscle: bad --length \"%s\": expected a positive number", text);
                 return EXIT_USAGE;
             }

@@ -42,27 +42,16 @@ typedef struct pose_options {
 
 static bool parse_times(const char *text, pose_options *o)
 {
-    const char *p = text;
-    o->time_count = 0;
-    while (*p) {
-        char *end = NULL;
-        errno = 0;
-        double t = strtod(p, &end);
-        if (end == p || errno || !isfinite(t) || (*end != ',' && *end != '\0')) {
-            cli_error("pose: bad --time \"%s\": expected seconds separated by commas", text);
-            return false;
-        }
-        if (o->time_count == MAX_TIMES) {
-            cli_error("pose: more than %d times", MAX_TIMES);
-            return false;
-        }
-        o->times[o->time_count++] = (float)t;
-        p = *end ? end + 1 : end;
-    }
-    if (o->time_count == 0) {
-        cli_error("pose: --time needs at least one time");
+    double t[MAX_TIMES];
+    int n = app_parse_list(text, t, 1, MAX_TIMES, -APP_MAX_SECONDS, APP_MAX_SECONDS);
+    if (n < 0) {
+        cli_error("pose: bad --time \"%s\": expected 1 to %d times in seconds (within +-%g) separated by commas",
+                  text, MAX_TIMES, APP_MAX_SECONDS);
         return false;
     }
+    o->time_count = 0;
+    for (int i = 0; i < n; i++)
+        o->times[o->time_count++] = (float)t[i];
     return true;
 }
 
@@ -195,14 +184,19 @@ static void print_frame_text(const sinew_model *m, const cli_pose *pose, float t
     }
 }
 
-/* Writes every mesh instance, skinned or placed at its node, in world space. */
-static bool write_obj(const sinew_model *m, cli_pose *pose, const char *out_path)
+/* Writes every mesh instance, skinned or placed at its node, in world space, whole or not at
+ * all. Returns an exit code. */
+static int write_obj(const sinew_model *m, cli_pose *pose, const char *out_path)
 {
-    FILE *f = fopen(out_path, "w");
-    if (!f) {
-        cli_error("%s: cannot write: %s", out_path, strerror(errno));
-        return false;
+    app_output out;
+    sinew_error output_error = {0};
+    const char *inputs[1] = {m->source};
+    if (app_output_check(out_path, inputs, 1, &output_error) != SINEW_OK ||
+        app_output_open(&out, out_path, &output_error) != SINEW_OK) {
+        cli_error("pose: %s", output_error.message);
+        return EXIT_OUTPUT;
     }
+    FILE *f = out.file;
     fprintf(f, "# sinew pose of %s\n", m->source);
     uint32_t base = 1;
     bool ok = true;
@@ -242,11 +236,15 @@ static bool write_obj(const sinew_model *m, cli_pose *pose, const char *out_path
         free(pos);
         free(nrm);
     }
-    if (fclose(f) != 0 && ok) {
-        cli_error("%s: cannot write: %s", out_path, strerror(errno));
-        ok = false;
+    if (!ok) {
+        app_output_abort(&out);
+        return EXIT_BAD_INPUT;
     }
-    return ok;
+    if (app_output_commit(&out, &output_error) != SINEW_OK) {
+        cli_error("pose: %s", output_error.message);
+        return EXIT_OUTPUT;
+    }
+    return EXIT_OK;
 }
 
 int cmd_pose(int argc, char **argv)
@@ -256,6 +254,12 @@ int cmd_pose(int argc, char **argv)
     int code = parse_pose_args(argc, argv, &o);
     if (code >= 0)
         return code;
+    sinew_error early = {0};
+    const char *inputs[2] = {o.path, o.muscles && *o.muscles ? o.muscles : NULL};
+    if (o.mesh_out && app_output_check(o.mesh_out, inputs, 2, &early) != SINEW_OK) {
+        cli_error("pose: %s", early.message);
+        return EXIT_OUTPUT;
+    }
     sinew_model *model = cli_load_model(o.path);
     if (!model)
         return EXIT_BAD_INPUT;
@@ -263,7 +267,7 @@ int cmd_pose(int argc, char **argv)
     cli_pose pose;
     if (!cli_pick_clip(model, o.clip, &clip_index)) {
         sinew_model_free(model);
-        return EXIT_USAGE;
+        return EXIT_BAD_INPUT;
     }
     const sinew_clip *clip = clip_index >= 0 ? &model->clips[clip_index] : NULL;
     if (!cli_pose_init(&pose, model, clip)) {
@@ -325,8 +329,8 @@ int cmd_pose(int argc, char **argv)
             if (rig)
                 print_muscles_text(muscle_poses, muscle_count);
         }
-        if (o.mesh_out && !write_obj(model, &pose, o.mesh_out))
-            code = EXIT_BAD_INPUT;
+        if (o.mesh_out && code == EXIT_OK)
+            code = write_obj(model, &pose, o.mesh_out);
     }
     if (root && code == EXIT_OK) {
         char *text = cJSON_PrintUnformatted(root);

@@ -54,11 +54,8 @@ typedef struct render_args {
 
 static bool parse_seconds(const char *option, const char *text, double *out)
 {
-    char *end = NULL;
-    errno = 0;
-    *out = strtod(text, &end);
-    if (end == text || *end || errno || !isfinite(*out)) {
-        cli_error("render: bad %s \"%s\": expected seconds", option, text);
+    if (!app_parse_number(text, -APP_MAX_SECONDS, APP_MAX_SECONDS, out)) {
+        cli_error("render: bad %s \"%s\": expected seconds (within +-%g)", option, text, APP_MAX_SECONDS);
         return false;
     }
     return true;
@@ -170,7 +167,8 @@ static int parse_render_args(int argc, char **argv, render_args *a)
 
 typedef enum output_kind { OUTPUT_PNG, OUTPUT_PATTERN, OUTPUT_VIDEO } output_kind;
 
-/* A pattern has exactly one %d, %Nd or %0Nd and no other conversion (%% is a percent sign). */
+/* A pattern has exactly one %d, %Nd or %0Nd (N up to 9) and no other conversion (%% is a
+ * percent sign). */
 static bool is_frame_pattern(const char *path, bool *malformed)
 {
     int conversions = 0;
@@ -183,7 +181,8 @@ static bool is_frame_pattern(const char *path, bool *malformed)
         const char *q = p + 1;
         while (*q >= '0' && *q <= '9')
             q++;
-        if (*q != 'd')
+        long width = q > p + 1 ? strtol(p + 1, NULL, 10) : 0;
+        if (*q != 'd' || q - (p + 1) > 2 || width > 9)
             *malformed = true;
         conversions++;
     }
@@ -209,7 +208,8 @@ int cmd_render(int argc, char **argv)
                        : is_frame_pattern(a.out, &malformed) ? OUTPUT_PATTERN
                                                              : OUTPUT_PNG;
     if (malformed) {
-        cli_error("render: -o \"%s\": a frame pattern takes one %%d (or %%04d) for the frame number", a.out);
+        cli_error("render: -o \"%s\": a frame pattern takes one %%d (or %%04d, up to %%09d) for the frame number",
+                  a.out);
         return EXIT_USAGE;
     }
     bool sequence = a.from_set || a.to_set || a.fps_set;
@@ -230,6 +230,13 @@ int cmd_render(int argc, char **argv)
                            .gpu_joint_limit = a.gpu_joint_limit,
                            .muscles = a.muscles,
                            .options = a.options};
+    /* Never over an input: the model, or the muscle file. */
+    const char *inputs[2] = {a.path, a.muscles && *a.muscles ? a.muscles : NULL};
+    sinew_error error = {0};
+    if (kind != OUTPUT_PATTERN && app_output_check(a.out, inputs, 2, &error) != SINEW_OK) {
+        cli_error("render: %s", error.message);
+        return EXIT_OUTPUT;
+    }
     cli_scene scene;
     code = cli_scene_open(&scene, &desc);
     if (code != EXIT_OK)
@@ -259,7 +266,7 @@ int cmd_render(int argc, char **argv)
     if (code == EXIT_OK && kind == OUTPUT_VIDEO) {
         cli_ignore_sigpipe();
         if (!cli_video_open(&video, a.out, a.width, a.height, a.fps))
-            code = video.unavailable ? EXIT_UNAVAILABLE : EXIT_BAD_INPUT;
+            code = video.unavailable ? EXIT_UNAVAILABLE : video.write_failed ? EXIT_OUTPUT : EXIT_BAD_INPUT;
     }
     for (uint32_t f = 0; f < frames && code == EXIT_OK; f++) {
         double t = from + step * f;
@@ -269,7 +276,7 @@ int cmd_render(int argc, char **argv)
         }
         if (kind == OUTPUT_VIDEO) {
             if (!cli_video_write(&video, scene.pixels))
-                code = EXIT_BAD_INPUT;
+                code = EXIT_OUTPUT;
             continue;
         }
         char path[4096];
@@ -277,11 +284,15 @@ int cmd_render(int argc, char **argv)
             snprintf(path, sizeof path, a.out, (int)f);
         else
             snprintf(path, sizeof path, "%s", a.out);
-        if (!cli_write_png(path, scene.pixels, a.width, a.height))
-            code = EXIT_BAD_INPUT;
+        if (kind == OUTPUT_PATTERN && app_output_check(path, inputs, 2, &error) != SINEW_OK) {
+            cli_error("render: %s", error.message);
+            code = EXIT_OUTPUT;
+        } else if (!cli_write_png(path, scene.pixels, a.width, a.height)) {
+            code = EXIT_OUTPUT;
+        }
     }
-    if (kind == OUTPUT_VIDEO && video.fd >= 0 && !cli_video_close(&video))
-        code = EXIT_BAD_INPUT;
+    if (kind == OUTPUT_VIDEO && video.pid > 0 && !cli_video_close(&video, code == EXIT_OK) && code == EXIT_OK)
+        code = EXIT_OUTPUT;
     if (code == EXIT_OK)
         printf("%s: %u frame%s %dx%d, t = %g..%g s, %s skinning, %s\n", a.out, frames, frames == 1 ? "" : "s", a.width,
                a.height, from, from + step * (frames - 1),

@@ -260,10 +260,8 @@ cJSON *cli_muscle_pose_json(const sinew_muscle_pose *p)
 
 bool cli_parse_count(const char *command, const char *option, const char *text, long lo, long hi, long *out)
 {
-    char *end = NULL;
-    errno = 0;
-    long n = strtol(text, &end, 10);
-    if (end == text || *end || errno || n < lo || n > hi) {
+    long n = 0;
+    if (!app_parse_integer(text, lo, hi, &n)) {
         cli_error("%s: bad %s \"%s\": expected a whole number in %ld..%ld", command, option, text, lo, hi);
         return false;
     }
@@ -273,20 +271,10 @@ bool cli_parse_count(const char *command, const char *option, const char *text, 
 
 bool cli_parse_size(const char *command, const char *text, int *width, int *height)
 {
-    char *end = NULL;
-    errno = 0;
-    long w = strtol(text, &end, 10), h = 0;
-    bool ok = end != text && (*end == 'x' || *end == 'X') && !errno;
-    if (ok) {
-        const char *rest = end + 1;
-        h = strtol(rest, &end, 10);
-        ok = end != rest && !*end && !errno && w >= 1 && h >= 1 && w <= 16384 && h <= 16384;
-    }
-    if (!ok) {
+    if (!app_parse_size(text, 1, 16384, width, height)) {
         cli_error("%s: bad --size \"%s\": expected WIDTHxHEIGHT, each 1..16384", command, text);
         return false;
     }
-    *width = (int)w, *height = (int)h;
     return true;
 }
 

@@ -6,27 +6,15 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
-#include <stb_image_write.h>
-
 #include "cli.h"
 
 bool cli_write_png(const char *path, const uint8_t *rgba, int width, int height)
 {
-    /* Alpha is always opaque: RGB keeps the files smaller. */
-    size_t n = (size_t)width * (size_t)height;
-    uint8_t *rgb = malloc(n * 3);
-    if (!rgb) {
-        cli_error("%s: out of memory", path);
-        return false;
-    }
-    for (size_t i = 0; i < n; i++)
-        memcpy(&rgb[i * 3], &rgba[i * 4], 3);
-    errno = 0;
-    int ok = stbi_write_png(path, width, height, 3, rgb, width * 3);
-    free(rgb);
-    if (!ok)
-        cli_error("%s: cannot write the image (%s)", path, errno ? strerror(errno) : "encoder failed");
-    return ok != 0;
+    sinew_error error = {0};
+    if (app_write_png(path, rgba, width, height, false, &error) == SINEW_OK)
+        return true;
+    cli_error("%s", error.message);
+    return false;
 }
 
 /* The ffmpeg program on PATH, or false. */
@@ -57,9 +45,19 @@ bool cli_video_open(cli_video *video, const char *path, int width, int height, d
                   path);
         return false;
     }
+    /* ffmpeg writes a temporary file beside the target, renamed into place when it succeeds */
+    sinew_error error = {0};
+    if (app_output_open(&video->output, path, &error) != SINEW_OK) {
+        cli_error("%s", error.message);
+        video->write_failed = true;
+        return false;
+    }
+    app_output_release(&video->output);
+    const char *target = app_output_temp_path(&video->output);
     int fds[2];
     if (pipe(fds) != 0) {
         cli_error("%s: cannot start ffmpeg: %s", path, strerror(errno));
+        app_output_abort(&video->output);
         return false;
     }
     char size[32], rate[32];
@@ -70,6 +68,7 @@ bool cli_video_open(cli_video *video, const char *path, int width, int height, d
         cli_error("%s: cannot start ffmpeg: %s", path, strerror(errno));
         close(fds[0]);
         close(fds[1]);
+        app_output_abort(&video->output);
         return false;
     }
     if (pid == 0) {
@@ -98,7 +97,7 @@ bool cli_video_open(cli_video *video, const char *path, int width, int height, d
                               "yuv420p",
                               "-movflags",
                               "+faststart",
-                              (char *)path,
+                              (char *)target,
                               NULL};
         execv(program, args);
         _exit(127);
@@ -126,18 +125,33 @@ bool cli_video_write(cli_video *video, const uint8_t *rgba)
     return true;
 }
 
-bool cli_video_close(cli_video *video)
+bool cli_video_close(cli_video *video, bool keep)
 {
     if (video->fd > 0)
         close(video->fd);
     video->fd = -1;
     int status = 0;
-    if (video->pid > 0 && waitpid(video->pid, &status, 0) == video->pid && WIFEXITED(status) &&
-        WEXITSTATUS(status) == 0)
-        return true;
-    cli_error("%s: ffmpeg failed (%s %d); nothing usable was written", video->path,
-              WIFEXITED(status) ? "exit status" : "signal", WIFEXITED(status) ? WEXITSTATUS(status) : WTERMSIG(status));
-    return false;
+    bool done = video->pid > 0 && waitpid(video->pid, &status, 0) == video->pid && WIFEXITED(status) &&
+                WEXITSTATUS(status) == 0;
+    if (!keep) {
+        app_output_abort(&video->output);
+        return false;
+    }
+    if (!done) {
+        app_output_abort(&video->output);
+        video->write_failed = true;
+        cli_error("%s: ffmpeg failed (%s %d); nothing was written", video->path,
+                  WIFEXITED(status) ? "exit status" : "signal",
+                  WIFEXITED(status) ? WEXITSTATUS(status) : WTERMSIG(status));
+        return false;
+    }
+    sinew_error error = {0};
+    if (app_output_commit(&video->output, &error) != SINEW_OK) {
+        video->write_failed = true;
+        cli_error("%s", error.message);
+        return false;
+    }
+    return true;
 }
 
 void cli_ignore_sigpipe(void)

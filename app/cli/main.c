@@ -32,7 +32,9 @@ static const char usage[] =
     "SINEW_IMPORTER=assimp reads even FBX, glTF and COLLADA through Assimp (to compare); SINEW_IMPORT_IN_PROCESS=1 imports in\n"
     "this process (for a debugger).\n"
     "Exit status: 0 ok, 1 usage error, 2 bad input (the message names the file and the problem),\n"
-    "3 this machine lacks what the command needs (an OpenGL 3.3 context through EGL, ffmpeg).\n";
+    "3 this machine lacks what the command needs (an OpenGL 3.3 context through EGL, ffmpeg),\n"
+    "4 an output cannot be written (no space, no permission, it is one of the inputs, it exists: demo).\n"
+    "Outputs are written whole or not at all (a temporary file renamed into place).\n";
 
 int main(int argc, char **argv)
 {

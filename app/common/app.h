@@ -5,12 +5,55 @@
 #define SINEW_APP_H
 
 #include <stdbool.h>
+#include <stdio.h>
 
 #include "sinew/sinew.h"
 
 /* Fills `error` (when not NULL) with kind and message; returns kind. */
 sinew_result app_fail(sinew_error *error, sinew_result kind, const char *format, ...)
     __attribute__((format(printf, 3, 4)));
+
+/* Numbers, strictly: the whole text, plain decimal (no blanks, "nan", "inf" or hex), finite,
+ * within [lo, hi]. The list form reads min..max numbers separated by commas and returns how
+ * many, or -1. Sizes are WIDTHxHEIGHT, each within lo..hi. */
+int app_parse_list(const char *text, double *out, int min, int max, double lo, double hi);
+bool app_parse_number(const char *text, double lo, double hi, double *out);
+bool app_parse_integer(const char *text, long lo, long hi, long *out);
+bool app_parse_size(const char *text, int lo, int hi, int *width, int *height);
+
+/* The largest time in seconds (either sign) an option takes: about 115 days (the runtime's
+ * times are floats). */
+#define APP_MAX_SECONDS 1e7
+
+/* Output files, whole or not at all (output.c): written to a hidden temporary file in the
+ * target's folder and renamed over the target only when every write, the flush and the close
+ * succeeded; an existing target that is not a regular file (/dev/stdout, a FIFO) is written in
+ * place with every write checked. Errors say "PATH: cannot write: REASON". */
+typedef struct app_output {
+    char path[4096], temp[4096];
+    FILE *file;
+    bool in_place; /* writing the target itself */
+    bool external; /* another program writes the temporary file (ffmpeg) */
+    bool failed;
+    int saved_errno;
+} app_output;
+
+sinew_result app_output_open(app_output *o, const char *path, sinew_error *error);
+bool app_output_write(app_output *o, const void *bytes, size_t size);
+/* The file to hand to another program that writes the output (after app_output_release()). */
+const char *app_output_temp_path(const app_output *o);
+void app_output_release(app_output *o);
+/* Checks, closes and renames into place; on failure removes the temporary file. */
+sinew_result app_output_commit(app_output *o, sinew_error *error);
+void app_output_abort(app_output *o);
+
+/* Refuses an output that is one of the inputs (same file, by device and inode or real path). */
+sinew_result app_output_check(const char *output, const char *const *inputs, size_t input_count, sinew_error *error);
+bool app_same_file(const char *a, const char *b);
+
+/* An RGBA image as an RGB PNG through app_output (flip: the rows come bottom first). */
+sinew_result app_write_png(const char *path, const unsigned char *rgba, int width, int height, bool flip,
+                           sinew_error *error);
 
 /* Reads "orbit:YAW,PITCH[,DISTANCE]" or "fly:X,Y,Z,YAW,PITCH" (angles in degrees) into
  * `camera`, leaving what the text does not give as it was. *frame_all is set true when

@@ -21,25 +21,10 @@ sinew_result app_fail(sinew_error *error, sinew_result kind, const char *format,
     return kind;
 }
 
-/* Reads exactly `count` comma-separated finite numbers. */
+/* Reads exactly `count` comma-separated numbers (degrees and metres, within +-1e9). */
 static bool parse_numbers(const char *text, double *out, int count)
 {
-    const char *p = text;
-    for (int i = 0; i < count; i++) {
-        char *end = NULL;
-        errno = 0;
-        out[i] = strtod(p, &end);
-        if (end == p || errno || !isfinite(out[i]))
-            return false;
-        if (i + 1 < count) {
-            if (*end != ',')
-                return false;
-            p = end + 1;
-        } else if (*end) {
-            return false;
-        }
-    }
-    return true;
+    return app_parse_list(text, out, count, count, -1e9, 1e9) == count;
 }
 
 sinew_result app_camera_parse(const char *text, sinew_camera *camera, bool *frame_all, sinew_error *error)

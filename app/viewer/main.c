@@ -444,17 +444,20 @@ static void frame_all(viewer *v)
 
 static void save_screenshot(viewer *v, int width, int height)
 {
-    unsigned char *rgb = malloc((size_t)width * height * 3);
-    if (!rgb)
+    unsigned char *rgba = malloc((size_t)width * height * 4);
+    if (!rgba) {
+        fprintf(stderr, "sinew-view: %s: out of memory for the screenshot\n", v->screenshot);
+        v->exit_code = 4;
         return;
-    glPixelStorei(GL_PACK_ALIGNMENT, 1);
-    glReadPixels(0, 0, width, height, GL_RGB, GL_UNSIGNED_BYTE, rgb);
-    stbi_flip_vertically_on_write(1);
-    if (!stbi_write_png(v->screenshot, width, height, 3, rgb, width * 3)) {
-        fprintf(stderr, "sinew-view: %s: cannot write the screenshot: %s\n", v->screenshot, strerror(errno));
-        v->exit_code = 2;
     }
-    free(rgb);
+    glPixelStorei(GL_PACK_ALIGNMENT, 1);
+    glReadPixels(0, 0, width, height, GL_RGBA, GL_UNSIGNED_BYTE, rgba);
+    sinew_error error = {0};
+    if (app_write_png(v->screenshot, rgba, width, height, true, &error) != SINEW_OK) {
+        fprintf(stderr, "sinew-view: cannot write the screenshot: %s\n", error.message);
+        v->exit_code = 4; /* as sinew's: an output that cannot be written */
+    }
+    free(rgba);
 }
 
 static gboolean close_window(gpointer data)
@@ -913,8 +916,13 @@ static void on_activate(GtkApplication *app, gpointer data)
     if (sinew_demo_humanoid(&demo, &error) != SINEW_OK ||
         !set_model(v, demo, s->path ? NULL : s->clip, sinew_demo_humanoid_muscles()))
         view_show_error(v, error.message);
-    if (s->path && !view_open_file(v, s->path, s->clip))
+    /* A file that fails stays on screen as an error over the demo; a screenshot run says so
+     * in its exit status (2, bad input, as sinew's). */
+    if (s->path && !view_open_file(v, s->path, s->clip)) {
         v->framed = false;
+        if (v->screenshot)
+            v->exit_code = 2;
+    }
     show_time(v);
     set_playing(v, v->screenshot == NULL);
     gtk_widget_add_tick_callback(v->area, on_tick, v, NULL);
@@ -939,7 +947,9 @@ static const char usage[] =
     "  --size WxH            the window's size (default: as last closed, else 1200x760)\n"
     "  --panel NAME          the side panel's page shown first: hierarchy, display or log\n"
     "  --screenshot OUT.png  writes the first frame drawn (the drawing area only)\n"
-    "  --quit                leaves after the screenshot (exit 0 even when FILE failed to open)\n"
+    "  --quit                leaves after the screenshot\n"
+    "exit status (as sinew's): 0 ok, 1 usage error, 2 FILE failed to open (with --screenshot), 3 no OpenGL 3.3,\n"
+    "4 the screenshot could not be written\n"
     "  --version             prints sinew-view's version\n";
 
 int main(int argc, char **argv)
@@ -979,7 +989,11 @@ int main(int argc, char **argv)
             if (strcmp(o, "--clip") == 0) {
                 s.clip = value;
             } else if (strcmp(o, "--time") == 0) {
-                v.time = atof(value);
+                if (!app_parse_number(value, -APP_MAX_SECONDS, APP_MAX_SECONDS, &v.time)) {
+                    fprintf(stderr, "sinew-view: bad --time \"%s\": expected seconds (within +-%g)\n", value,
+                            APP_MAX_SECONDS);
+                    return 1;
+                }
             } else if (strcmp(o, "--screenshot") == 0) {
                 v.screenshot = value;
             } else if (strcmp(o, "--panel") == 0) {
@@ -997,8 +1011,8 @@ int main(int argc, char **argv)
             } else if (strcmp(o, "--heatmap") == 0) {
                 v.heatmap = value;
             } else if (strcmp(o, "--size") == 0) {
-                if (sscanf(value, "%dx%d", &s.width, &s.height) != 2 || s.width < 64 || s.height < 64) {
-                    fprintf(stderr, "sinew-view: bad --size \"%s\": expected WIDTHxHEIGHT\n", value);
+                if (!app_parse_size(value, 64, 16384, &s.width, &s.height)) {
+                    fprintf(stderr, "sinew-view: bad --size \"%s\": expected WIDTHxHEIGHT, each 64..16384\n", value);
                     return 1;
                 }
             } else if (strcmp(o, "--camera") == 0) {

@@ -34,6 +34,9 @@ extern "C" {
 /* A set of muscles and where they attach: read from muscle JSON (sinew/muscle_file.h) or
  * carried by a model (model->muscles, from a .sinew file). */
 #define SINEW_MUSCLE_MAX_NODES 256
+/* Radii, coefficients, offsets and lengths of a muscle stay within this magnitude (model units;
+ * 1,000 km in metres), so that volumes (cubes) and the valid range stay finite. */
+#define SINEW_MUSCLE_MAX_MAGNITUDE 1e6
 
 typedef struct sinew_muscle_attachment {
     const char *joint; /* node name, or NULL for a point in model space */

@@ -337,7 +337,7 @@ static bool numbers_ok(const reader *r, uint32_t offset, uint32_t count, bool po
         return false;
     const double *values = array_at(r, offset, count);
     for (uint32_t i = 0; i < count; i++)
-        if (!isfinite(values[i]) || (positive && !(values[i] > 0.0)))
+        if (!(fabs(values[i]) <= SINEW_MUSCLE_MAX_MAGNITUDE) || (positive && !(values[i] > 0.0)))
             return false;
     return true;
 }
@@ -353,10 +353,13 @@ static sinew_result check_muscles(reader *r)
             !string_ok(r, m->insertion_joint, true))
             return corrupt(r, "muscle name");
         if (m->node_count == 0 || m->node_count > SINEW_MUSCLE_MAX_NODES || m->segments < 3 || m->segments > 256 ||
-            !isfinite(m->rest_length) || m->rest_length < 0.0)
+            !(m->rest_length >= 0.0 && m->rest_length <= SINEW_MUSCLE_MAX_MAGNITUDE))
             return corrupt(r, "muscle header");
-        if (!floats_finite(m->origin_offset, 3) || !floats_finite(m->insertion_offset, 3) ||
-            !floats_finite(m->color, 3))
+        bool near = true;
+        for (int k = 0; k < 3; k++)
+            near = near && fabsf(m->origin_offset[k]) <= SINEW_MUSCLE_MAX_MAGNITUDE &&
+                   fabsf(m->insertion_offset[k]) <= SINEW_MUSCLE_MAX_MAGNITUDE;
+        if (!near || !floats_finite(m->color, 3))
             return corrupt(r, "muscle attachment");
         if (!numbers_ok(r, m->radii, m->node_count, true) || !numbers_ok(r, m->coefficients, m->node_count, false))
             return corrupt(r, "muscle radii or coefficients");

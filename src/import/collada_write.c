@@ -636,12 +636,15 @@ sinew_result sinew_model_write_collada(const sinew_model *model, const char *pat
         free(wr.ids);
         return sinew_fail(error, SINEW_ERROR_OUT_OF_MEMORY, "%s: out of memory", path);
     }
-    wr.w = xmlNewTextWriterFilename(path, 0);
+    /* Built in memory and written whole (import_write_file): a failure leaves no half file. */
+    xmlBufferPtr buffer = xmlBufferCreate();
+    wr.w = buffer ? xmlNewTextWriterMemory(buffer, 0) : NULL;
     if (!wr.w) {
+        xmlBufferFree(buffer);
         for (uint32_t i = 0; i < id_count; i++)
             free(wr.ids[i]);
         free(wr.ids);
-        return sinew_fail(error, SINEW_ERROR_IO, "%s: cannot write", path);
+        return sinew_fail(error, SINEW_ERROR_OUT_OF_MEMORY, "%s: out of memory", path);
     }
     xmlTextWriterSetIndent(wr.w, 1);
     xmlTextWriterSetIndentString(wr.w, BAD_CAST "  ");
@@ -696,9 +699,9 @@ sinew_result sinew_model_write_collada(const sinew_model *model, const char *pat
     for (uint32_t i = 0; i < id_count; i++)
         free(wr.ids[i]);
     free(wr.ids);
-    if (wr.failed) {
-        remove(path);
-        return sinew_fail(error, SINEW_ERROR_IO, "%s: cannot write (disk full or out of memory)", path);
-    }
-    return SINEW_OK;
+    sinew_result result = wr.failed ? sinew_fail(error, SINEW_ERROR_OUT_OF_MEMORY, "%s: out of memory", path)
+                                    : import_write_file(path, xmlBufferContent(buffer),
+                                                        (size_t)xmlBufferLength(buffer), error);
+    xmlBufferFree(buffer);
+    return result;
 }

@@ -2,7 +2,7 @@
  * own for FBX, glTF and COLLADA, Assimp for the rest) and runs it in the import helper
  * (isolate.c) or in process, and turns the blob it makes into a runtime model.
  */
-#define _GNU_SOURCE /* realpath */
+#define _GNU_SOURCE /* realpath, mkostemp */
 #include <errno.h>
 #include <libgen.h>
 #include <limits.h>
@@ -10,7 +10,9 @@
 #include <stdlib.h>
 #include <string.h>
 #include <strings.h>
+#include <fcntl.h>
 #include <sys/stat.h>
+#include <unistd.h>
 
 #include <libxml/parser.h>
 
@@ -57,6 +59,11 @@ static bool is_sinew_file(const char *path)
 
 bool import_read_file(const char *path, unsigned char **bytes, size_t *size)
 {
+    struct stat st;
+    if (stat(path, &st) == 0 && !S_ISREG(st.st_mode)) {
+        errno = EINVAL; /* a FIFO or device would block or never end */
+        return false;
+    }
     FILE *f = fopen(path, "rb");
     if (!f)
         return false;
@@ -74,6 +81,60 @@ bool import_read_file(const char *path, unsigned char **bytes, size_t *size)
     *bytes = buf;
     *size = (size_t)n;
     return true;
+}
+
+sinew_result import_write_file(const char *path, const void *bytes, size_t size, sinew_error *error)
+{
+    struct stat st;
+    bool in_place = stat(path, &st) == 0 && !S_ISREG(st.st_mode); /* /dev/stdout, a FIFO */
+    if (in_place && S_ISDIR(st.st_mode))
+        return sinew_fail(error, SINEW_ERROR_IO, "%s: is a folder, not a file", path);
+    size_t n = strlen(path) + 16;
+    char *temp = malloc(n);
+    if (!temp)
+        return sinew_fail(error, SINEW_ERROR_OUT_OF_MEMORY, "%s: out of memory", path);
+    int fd = -1;
+    if (in_place) {
+        snprintf(temp, n, "%s", path);
+        fd = open(path, O_WRONLY | O_CLOEXEC);
+    } else {
+        /* beside the target, renamed over it once whole: a failed write leaves no half file */
+        snprintf(temp, n, "%s.XXXXXX", path);
+        fd = mkostemp(temp, O_CLOEXEC);
+        if (fd >= 0) {
+            mode_t mask = umask(0);
+            umask(mask);
+            fchmod(fd, 0666 & ~mask);
+        }
+    }
+    if (fd < 0) {
+        sinew_result r = sinew_fail(error, SINEW_ERROR_IO, "%s: cannot write: %s", path, strerror(errno));
+        free(temp);
+        return r;
+    }
+    const char *p = bytes;
+    size_t left = size;
+    int failure = 0;
+    while (left > 0 && !failure) {
+        ssize_t w = write(fd, p, left);
+        if (w < 0 && errno == EINTR)
+            continue;
+        if (w <= 0)
+            failure = w < 0 ? errno : EIO;
+        else
+            p += w, left -= (size_t)w;
+    }
+    if (close(fd) != 0 && !failure)
+        failure = errno;
+    if (!failure && !in_place && rename(temp, path) != 0)
+        failure = errno;
+    if (failure && !in_place)
+        unlink(temp);
+    free(temp);
+    if (failure)
+        return sinew_fail(error, SINEW_ERROR_IO, "%s: cannot write: %s; nothing was written", path,
+                          strerror(failure));
+    return SINEW_OK;
 }
 
 void import_uri_decode(const char *uri, char *out, size_t size)

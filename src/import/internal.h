@@ -197,6 +197,11 @@ bool raw_model_rest_diagonal(const raw_model *model, double *diagonal);
  * cannot be read. */
 bool import_read_file(const char *path, unsigned char **bytes, size_t *size);
 
+/* Writes a whole file or nothing: into a temporary file beside `path`, renamed over it once
+ * every byte is written and closed (a target that is not a regular file, such as /dev/stdout,
+ * is written in place). */
+sinew_result import_write_file(const char *path, const void *bytes, size_t size, sinew_error *error);
+
 /* The import helper's reply on its stdout: this header, then the model blob (kind SINEW_OK)
  * or the error message with its terminating NUL. */
 typedef struct reply_header {

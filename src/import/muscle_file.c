@@ -5,11 +5,13 @@
  * Index: positions in the text - error messages - field readers - sizing and copying into
  * one block - public functions.
  */
+#include <errno.h>
 #include <math.h>
 #include <stdarg.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
 
 #include <cjson/cJSON.h>
 
@@ -160,6 +162,10 @@ static void push_index(reader *r, int index)
 
 /* ---- field readers ------------------------------------------------------------------------ */
 
+/* Numbers in a muscle file (radii, coefficients, offsets, lengths) stay within this: larger
+ * ones overflow the volume's squares and cubes (a radius of 8e306 made the valid range NaN). */
+#define MAX_MAGNITUDE SINEW_MUSCLE_MAX_MAGNITUDE
+
 /* Reads a number array of exactly `count` (count > 0) or of 2..max entries (count 0). */
 static sinew_result read_numbers(reader *r, const cJSON *array, uint32_t count, uint32_t max, double *out,
                                  uint32_t *got)
@@ -175,6 +181,8 @@ static sinew_result read_numbers(reader *r, const cJSON *array, uint32_t count, 
         push_index(r, (int)i);
         if (!cJSON_IsNumber(v) || !isfinite(v->valuedouble))
             return field_error(r, "expected a number");
+        if (fabs(v->valuedouble) > MAX_MAGNITUDE)
+            return field_error(r, "%g is out of range (at most %g either way)", v->valuedouble, MAX_MAGNITUDE);
         r->depth--;
         out[i] = v->valuedouble;
     }
@@ -241,6 +249,39 @@ typedef struct muscle_draft {
     double radii[SINEW_MUSCLE_MAX_NODES], coefficients[SINEW_MUSCLE_MAX_NODES];
 } muscle_draft;
 
+static int by_name_then_index(const void *a, const void *b)
+{
+    const muscle_draft *const *x = a, *const *y = b;
+    int c = strcmp((*x)->def.name, (*y)->def.name);
+    return c ? c : (*x < *y ? -1 : *x > *y);
+}
+
+/* Two muscles of one name: the later one is refused, naming the earlier (sorted: n log n, a
+ * pairwise check never finished at 100,000 muscles). */
+static sinew_result check_unique_names(reader *r, muscle_draft *drafts, uint32_t count)
+{
+    muscle_draft **order = malloc((size_t)count * sizeof *order);
+    if (!order)
+        return sinew_fail(r->error, SINEW_ERROR_OUT_OF_MEMORY, "%s: out of memory", r->name);
+    for (uint32_t i = 0; i < count; i++)
+        order[i] = &drafts[i];
+    qsort(order, count, sizeof *order, by_name_then_index);
+    uint32_t first = count, later = count;
+    for (uint32_t i = 1; i < count; i++) {
+        if (strcmp(order[i - 1]->def.name, order[i]->def.name) != 0)
+            continue;
+        uint32_t k = (uint32_t)(order[i - 1] - drafts), j = (uint32_t)(order[i] - drafts);
+        if (j < later) /* report the duplicate that comes first in the file */
+            first = k, later = j;
+    }
+    free(order);
+    if (later == count)
+        return SINEW_OK;
+    push_index(r, (int)later);
+    push_key(r, "name");
+    return field_error(r, "\"%s\" is already the name of muscle %u", drafts[later].def.name, first);
+}
+
 static sinew_result read_muscle(reader *r, const cJSON *m, muscle_draft *d)
 {
     memset(d, 0, sizeof *d);
@@ -291,8 +332,8 @@ static sinew_result read_muscle(reader *r, const cJSON *m, muscle_draft *d)
     const cJSON *rest = cJSON_GetObjectItemCaseSensitive(m, "rest_length");
     if (rest) {
         push_key(r, "rest_length");
-        if (!cJSON_IsNumber(rest) || !(rest->valuedouble > 0.0) || !isfinite(rest->valuedouble))
-            return field_error(r, "expected a length greater than 0");
+        if (!cJSON_IsNumber(rest) || !(rest->valuedouble > 0.0) || !(rest->valuedouble <= MAX_MAGNITUDE))
+            return field_error(r, "expected a length greater than 0 and at most %g", MAX_MAGNITUDE);
         r->depth--;
         d->def.rest_length = rest->valuedouble;
     }
@@ -403,13 +444,10 @@ static sinew_result read_document(reader *r, const cJSON *root, sinew_muscle_set
     for (const cJSON *m = muscles->child; m && result == SINEW_OK; m = m->next, i++) {
         push_index(r, (int)i);
         result = read_muscle(r, m, &drafts[i]);
-        for (uint32_t k = 0; k < i && result == SINEW_OK; k++)
-            if (strcmp(drafts[k].def.name, drafts[i].def.name) == 0) {
-                push_key(r, "name");
-                result = field_error(r, "\"%s\" is already the name of muscle %u", drafts[i].def.name, k);
-            }
         r->depth = 1;
     }
+    if (result == SINEW_OK)
+        result = check_unique_names(r, drafts, count);
     if (result == SINEW_OK)
         result = build_set(r->name, drafts, count, out, r->error);
     free(drafts);
@@ -443,8 +481,11 @@ sinew_result sinew_muscle_set_read(const char *path, sinew_muscle_set **out, sin
         return sinew_fail(error, SINEW_ERROR_INVALID_ARGUMENT, "sinew_muscle_set_read: no path or no output");
     unsigned char *bytes = NULL;
     size_t size = 0;
+    struct stat st;
+    if (stat(path, &st) == 0 && !S_ISREG(st.st_mode))
+        return sinew_fail(error, SINEW_ERROR_IO, "%s: not a regular file (a muscle file is JSON text)", path);
     if (!import_read_file(path, &bytes, &size))
-        return sinew_fail(error, SINEW_ERROR_IO, "%s: cannot read the muscle file", path);
+        return sinew_fail(error, SINEW_ERROR_IO, "%s: cannot read the muscle file: %s", path, strerror(errno));
     sinew_result result = sinew_muscle_set_parse((const char *)bytes, size, path, out, error);
     free(bytes);
     return result;
@@ -494,6 +535,9 @@ sinew_result sinew_arm_read(const char *path, sinew_arm_desc *out, sinew_error *
         return sinew_fail(error, SINEW_ERROR_INVALID_ARGUMENT, "sinew_arm_read: no path or no output");
     unsigned char *bytes = NULL;
     size_t size = 0;
+    struct stat st;
+    if (stat(path, &st) == 0 && !S_ISREG(st.st_mode))
+        return sinew_fail(error, SINEW_ERROR_IO, "%s: not a regular file (the arm file is JSON text)", path);
     if (!import_read_file(path, &bytes, &size))
         return sinew_fail(error, SINEW_ERROR_IO, "%s: cannot read the arm file", path);
     reader r = {.text = (const char *)bytes, .size = size, .name = path, .error = error};

@@ -194,25 +194,7 @@ sinew_result sinew_model_save(const sinew_model *model, const sinew_muscle_set *
     sinew_result result = sinew_model_write_blob(model, muscles, &bytes, &size, error);
     if (result)
         return result;
-    /* Written beside the target and renamed over it: a failed write leaves no half file. */
-    size_t n = strlen(path) + 16;
-    char *temp = malloc(n);
-    FILE *f = NULL;
-    if (temp) {
-        snprintf(temp, n, "%s.tmp%ld", path, (long)getpid());
-        f = fopen(temp, "wb");
-    }
-    if (!f) {
-        result = sinew_fail(error, SINEW_ERROR_IO, "%s: cannot write: %s", path, strerror(errno));
-    } else {
-        bool written = fwrite(bytes, 1, size, f) == size;
-        written = (fclose(f) == 0) && written;
-        if (!written || rename(temp, path) != 0) {
-            result = sinew_fail(error, SINEW_ERROR_IO, "%s: cannot write: %s", path, strerror(errno));
-            remove(temp);
-        }
-    }
-    free(temp);
+    result = import_write_file(path, bytes, size, error);
     free(bytes);
     return result;
 }

@@ -92,8 +92,8 @@ static void test_bad_input_exits_2(void **state)
     fixture_path("two_bone.dae", path, sizeof path);
     static const char *const bad_usage[][4] = {
         {"pose", "--time", "abc", NULL},    {"pose", "--time", "", NULL},
-        {"pose", "--clip", "nosuch", NULL}, {"pose", "--mesh", "/tmp/x.obj", "--time"},
-        {"info", "--frob", NULL, NULL},
+        {"pose", "--time", "1e39", NULL},   {"pose", "--mesh", "/tmp/x.obj", "--time"},
+        {"pose", "--time", "0,nan", NULL},  {"info", "--frob", NULL, NULL},
     };
     for (size_t i = 0; i < sizeof bad_usage / sizeof bad_usage[0]; i++) {
         const char *args[8] = {bad_usage[i][0], path};
@@ -110,8 +110,28 @@ static void test_bad_input_exits_2(void **state)
     assert_int_equal(r.code, 1);
     assert_non_null(strstr(r.err, "single --time"));
     run_free(&r);
-    r = RUN("pose", path, "--mesh", "/nonexistent-dir/x.obj", "--time", "0");
+    /* a clip the file lacks is bad input (2) in every command */
+    r = RUN("pose", path, "--clip", "nosuch");
     assert_int_equal(r.code, 2);
+    assert_non_null(strstr(r.err, "no clip \"nosuch\""));
+    run_free(&r);
+    r = RUN("bench", "muscle", "--bogus");
+    assert_int_equal(r.code, 1);
+    run_free(&r);
+    /* outputs (4): the OBJ over its own model, onto a full device; the model is untouched */
+    size_t before = 0, after = 0;
+    free(read_file(path, &before));
+    r = RUN("pose", path, "--mesh", path);
+    assert_int_equal(r.code, 4);
+    assert_non_null(strstr(r.err, "the output is the input file"));
+    run_free(&r);
+    free(read_file(path, &after));
+    assert_int_equal(before, after);
+    r = RUN("pose", path, "--mesh", "/dev/full");
+    assert_int_equal(r.code, 4);
+    run_free(&r);
+    r = RUN("pose", path, "--mesh", "/nonexistent-dir/x.obj", "--time", "0");
+    assert_int_equal(r.code, 4);
     assert_non_null(strstr(r.err, "/nonexistent-dir/x.obj"));
     run_free(&r);
 }
@@ -425,9 +445,22 @@ static void test_demo_convert_and_sinew_files(void **state)
     (void)state;
     char dir[2048], dae[4096], out[4096], muscles[4096];
     tmp_path("demo", dir, sizeof dir);
+    static const char *const names[] = {"humanoid.dae", "humanoid.muscles.json", "arm.dae", "arm.muscles.json"};
+    for (int i = 0; i < 4; i++) { /* from an earlier run */
+        snprintf(dae, sizeof dae, "%s/%s", dir, names[i]);
+        unlink(dae);
+    }
     run_result r = RUN("demo", dir);
     assert_int_equal(r.code, 0);
     assert_non_null(strstr(r.out, "humanoid.dae"));
+    run_free(&r);
+    /* again: the files are there, nothing is replaced without --force */
+    r = RUN("demo", dir);
+    assert_int_equal(r.code, 4);
+    assert_non_null(strstr(r.err, "exists; nothing was written (--force"));
+    run_free(&r);
+    r = RUN("demo", dir, "--force");
+    assert_int_equal(r.code, 0);
     run_free(&r);
     snprintf(dae, sizeof dae, "%s/humanoid.dae", dir);
     snprintf(muscles, sizeof muscles, "%s/humanoid.muscles.json", dir);

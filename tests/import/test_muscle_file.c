@@ -3,6 +3,8 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
+#include <unistd.h>
 
 #include "helpers.h"
 
@@ -71,6 +73,11 @@ static void test_errors_name_line_column_and_field(void **state)
     (void)state;
     expect_error("0.008, 0.02, 0.03", "0.008, -0.02, 0.03", SINEW_ERROR_DATA,
                  "m.json:8:24: muscles[0].radii[1]: radius -0.02 must be greater than 0");
+    /* numbers whose squares and cubes overflow (a radius of 8e306 made the valid range NaN) */
+    expect_error("0.008, 0.02, 0.03", "0.008, 8e306, 0.03", SINEW_ERROR_DATA,
+                 "muscles[0].radii[1]: 8e+306 is out of range (at most 1e+06 either way)");
+    expect_error("[0, 0.5, 1, 0.5, 0]", "[0, 0.5, -2e7, 0.5, 0]", SINEW_ERROR_DATA,
+                 "muscles[0].coefficients[2]: -2e+07 is out of range");
     expect_error("\"coefficients\": [0, 0.5, 1, 0.5, 0]", "\"coefficients\": [0, 0.5, 1]", SINEW_ERROR_DATA,
                  "m.json:9:23: muscles[0].coefficients: expected 5 numbers, found 3");
     expect_error("[0.008, 0.02, 0.03, 0.02, 0.008]", "[0.008]", SINEW_ERROR_DATA,
@@ -121,6 +128,44 @@ static void test_files_and_paths(void **state)
     sinew_muscle_set_free(set);
     assert_int_equal(sinew_muscle_set_read("/nonexistent/x.json", &set, &e), SINEW_ERROR_IO);
     assert_non_null(strstr(e.message, "/nonexistent/x.json"));
+    /* a FIFO would block the reader for ever: refused by its kind */
+    tmp_path("fifo.muscles.json", path, sizeof path);
+    unlink(path);
+    assert_int_equal(mkfifo(path, 0600), 0);
+    assert_int_equal(sinew_muscle_set_read(path, &set, &e), SINEW_ERROR_IO);
+    assert_non_null(strstr(e.message, "not a regular file"));
+    unlink(path);
+}
+
+/* 20,000 muscles, the last named as the 7th: the duplicate is found (sorted, not pairwise),
+ * and the message names both. */
+static void test_duplicate_names_among_many(void **state)
+{
+    (void)state;
+    const uint32_t count = 20000;
+    const char *one = "{\"name\": \"m%u\", \"origin\": {\"offset\": [0, 0, 0]}, \"insertion\": "
+                      "{\"offset\": [0.3, 0, 0]}, \"radii\": [0.01, 0.02], \"coefficients\": [0, 1]}";
+    size_t cap = (size_t)count * 160 + 64, n = 0;
+    char *text = malloc(cap);
+    assert_non_null(text);
+    n += (size_t)snprintf(text + n, cap - n, "{\"muscles\": [");
+    for (uint32_t i = 0; i < count; i++) {
+        n += (size_t)snprintf(text + n, cap - n, i ? ", " : "");
+        n += (size_t)snprintf(text + n, cap - n, one, i + 1 == count ? 6u : i);
+    }
+    n += (size_t)snprintf(text + n, cap - n, "]}");
+    sinew_muscle_set *set = NULL;
+    sinew_error e = {0};
+    assert_int_equal(sinew_muscle_set_parse(text, n, "many.json", &set, &e), SINEW_ERROR_DATA);
+    assert_non_null(strstr(e.message, "muscles[19999].name: \"m6\" is already the name of muscle 6"));
+    /* the same without the duplicate reads */
+    char *last = strstr(text + n - 200, "\"m6\"");
+    assert_non_null(last);
+    memcpy(last, "\"mX\"", 4);
+    assert_int_equal(sinew_muscle_set_parse(text, n, "many.json", &set, &e), SINEW_OK);
+    assert_int_equal(set->muscle_count, count);
+    sinew_muscle_set_free(set);
+    free(text);
 }
 
 /* On animated models, muscle ends are the joints' world matrices applied to the offsets,
@@ -290,6 +335,7 @@ int main(void)
         cmocka_unit_test(test_errors_name_line_column_and_field),
         cmocka_unit_test(test_every_prefix_refused),
         cmocka_unit_test(test_files_and_paths),
+        cmocka_unit_test(test_duplicate_names_among_many),
         cmocka_unit_test(test_rig_follows_joints),
         cmocka_unit_test(test_rig_errors),
         cmocka_unit_test(test_arm_model),

@@ -426,7 +426,15 @@ static void test_bad_input(void **state)
     EXPECT_FAILURE(1, "one %d", "render", fixture, "--fps", "10", "-o", "frame%s%d.png");
     EXPECT_FAILURE(2, "no clip \"nope\"", "render", fixture, "--clip", "nope", "-o", out);
     EXPECT_FAILURE(2, "no node of that name", "render", fixture, "--select", "nope", "-o", out);
-    EXPECT_FAILURE(2, "cannot write", "render", fixture, "--size", "8x8", "-o", "/nonexistent/dir/x.png");
+    /* outputs (exit 4): a folder that is not there, a full device, the input itself; nothing half written */
+    EXPECT_FAILURE(4, "cannot write", "render", fixture, "--size", "8x8", "-o", "/nonexistent/dir/x.png");
+    EXPECT_FAILURE(4, "/dev/full: cannot write: No space left on device", "render", fixture, "--size", "8x8", "-o",
+                   "/dev/full");
+    EXPECT_FAILURE(4, "the output is the input file", "render", fixture, "--size", "8x8", "-o", fixture);
+    EXPECT_FAILURE(1, "up to %09d", "render", fixture, "--fps", "10", "-o", "x.png%2147483648d");
+    EXPECT_FAILURE(1, "bad --time \"1e39\"", "render", fixture, "--time", "1e39", "-o", out);
+    EXPECT_FAILURE(1, "bad --time \"nan\"", "render", fixture, "--time", "nan", "-o", out);
+    EXPECT_FAILURE(1, "bad --fps", "render", fixture, "--fps", "1e400", "-o", "f%d.png");
     static const char *const no_egl[] = {"SINEW_EGL_PLATFORM=none", NULL};
     run_result r = RUN_ENV(no_egl, "render", fixture, "-o", out);
     assert_int_equal(r.code, 3);

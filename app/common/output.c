@@ -1,0 +1,185 @@
+/* Output files written whole or not at all: into a temporary file in the target's folder,
+ * renamed over the target only once everything was written and closed without error. A
+ * target that exists and is not a regular file (/dev/stdout, /dev/full, a FIFO) is written
+ * in place, with every write checked. */
+#define _GNU_SOURCE /* mkostemps */
+#include <errno.h>
+#include <fcntl.h>
+#include <limits.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <stb_image_write.h>
+
+#include "app.h"
+
+/* The folder part of a path ("." for a bare name). */
+static void folder_of(const char *path, char *out, size_t size)
+{
+    const char *slash = strrchr(path, '/');
+    if (!slash)
+        snprintf(out, size, ".");
+    else if (slash == path)
+        snprintf(out, size, "/");
+    else
+        snprintf(out, size, "%.*s", (int)(slash - path), path);
+}
+
+bool app_same_file(const char *a, const char *b)
+{
+    struct stat sa, sb;
+    if (stat(a, &sa) == 0 && stat(b, &sb) == 0)
+        return sa.st_dev == sb.st_dev && sa.st_ino == sb.st_ino;
+    char ra[PATH_MAX], rb[PATH_MAX];
+    return realpath(a, ra) && realpath(b, rb) && strcmp(ra, rb) == 0;
+}
+
+sinew_result app_output_check(const char *output, const char *const *inputs, size_t input_count, sinew_error *error)
+{
+    for (size_t i = 0; i < input_count; i++) {
+        if (inputs[i] && app_same_file(output, inputs[i]))
+            return app_fail(error, SINEW_ERROR_INVALID_ARGUMENT,
+                            "%s: the output is the input file %s; refusing to write over it", output, inputs[i]);
+    }
+    return SINEW_OK;
+}
+
+sinew_result app_output_open(app_output *o, const char *path, sinew_error *error)
+{
+    memset(o, 0, sizeof *o);
+    snprintf(o->path, sizeof o->path, "%s", path);
+    struct stat st;
+    if (stat(path, &st) == 0 && S_ISDIR(st.st_mode))
+        return app_fail(error, SINEW_ERROR_IO, "%s: is a folder, not a file", path);
+    if (stat(path, &st) == 0 && !S_ISREG(st.st_mode)) {
+        o->in_place = true;
+        o->file = fopen(path, "wb");
+        if (!o->file)
+            return app_fail(error, SINEW_ERROR_IO, "%s: cannot write: %s", path, strerror(errno));
+        return SINEW_OK;
+    }
+    char folder[PATH_MAX];
+    folder_of(path, folder, sizeof folder);
+    const char *name = strrchr(path, '/') ? strrchr(path, '/') + 1 : path;
+    const char *ext = strrchr(name, '.');
+    ext = ext && ext != name ? ext : "";
+    /* .NAME.XXXXXX.EXT: hidden, and with the target's extension (ffmpeg picks its muxer by it). */
+    int n = snprintf(o->temp, sizeof o->temp, "%s/.%s.XXXXXX%s", folder, name, ext);
+    if (n < 0 || (size_t)n >= sizeof o->temp)
+        return app_fail(error, SINEW_ERROR_IO, "%s: the path is too long", path);
+    int fd = mkostemps(o->temp, (int)strlen(ext), O_CLOEXEC);
+    if (fd < 0)
+        return app_fail(error, SINEW_ERROR_IO, "%s: cannot write in %s: %s", path, folder, strerror(errno));
+    mode_t mask = umask(0); /* files get 0666 less the umask, as fopen's would */
+    umask(mask);
+    fchmod(fd, 0666 & ~mask);
+    o->file = fdopen(fd, "wb");
+    if (!o->file) {
+        close(fd);
+        unlink(o->temp);
+        return app_fail(error, SINEW_ERROR_IO, "%s: cannot write: %s", path, strerror(errno));
+    }
+    return SINEW_OK;
+}
+
+const char *app_output_temp_path(const app_output *o)
+{
+    return o->in_place ? o->path : o->temp;
+}
+
+bool app_output_write(app_output *o, const void *bytes, size_t size)
+{
+    if (o->failed || !o->file)
+        return false;
+    if (size && fwrite(bytes, 1, size, o->file) != size) {
+        o->failed = true;
+        o->saved_errno = errno ? errno : EIO;
+    }
+    return !o->failed;
+}
+
+sinew_result app_output_commit(app_output *o, sinew_error *error)
+{
+    if (!o->file && !o->external)
+        return app_fail(error, SINEW_ERROR_IO, "%s: not open", o->path);
+    if (o->file) {
+        if (fflush(o->file) != 0 && !o->failed) {
+            o->failed = true;
+            o->saved_errno = errno;
+        }
+        if (ferror(o->file) && !o->failed) {
+            o->failed = true;
+            o->saved_errno = EIO;
+        }
+        if (fclose(o->file) != 0 && !o->failed) {
+            o->failed = true;
+            o->saved_errno = errno;
+        }
+        o->file = NULL;
+    }
+    if (o->failed) {
+        int e = o->saved_errno;
+        app_output_abort(o);
+        return app_fail(error, SINEW_ERROR_IO, "%s: cannot write: %s; nothing was written", o->path, strerror(e));
+    }
+    if (!o->in_place && rename(o->temp, o->path) != 0) {
+        int e = errno;
+        app_output_abort(o);
+        return app_fail(error, SINEW_ERROR_IO, "%s: cannot put the file in place: %s", o->path, strerror(e));
+    }
+    o->temp[0] = '\0';
+    return SINEW_OK;
+}
+
+void app_output_abort(app_output *o)
+{
+    if (o->file)
+        fclose(o->file);
+    o->file = NULL;
+    if (!o->in_place && o->temp[0])
+        unlink(o->temp);
+    o->temp[0] = '\0';
+}
+
+void app_output_release(app_output *o)
+{
+    if (o->file)
+        fclose(o->file);
+    o->file = NULL;
+    o->external = true;
+}
+
+static void png_sink(void *context, void *data, int size)
+{
+    app_output_write(context, data, (size_t)size);
+}
+
+sinew_result app_write_png(const char *path, const unsigned char *rgba, int width, int height, bool flip,
+                           sinew_error *error)
+{
+    /* Alpha is always opaque: RGB keeps the files smaller. */
+    size_t n = (size_t)width * (size_t)height;
+    unsigned char *rgb = malloc(n * 3 + 1);
+    if (!rgb)
+        return app_fail(error, SINEW_ERROR_OUT_OF_MEMORY, "%s: out of memory", path);
+    for (size_t i = 0; i < n; i++)
+        memcpy(&rgb[i * 3], &rgba[i * 4], 3);
+    app_output o;
+    sinew_result result = app_output_open(&o, path, error);
+    if (result == SINEW_OK) {
+        stbi_flip_vertically_on_write(flip);
+        int ok = stbi_write_png_to_func(png_sink, &o, width, height, 3, rgb, width * 3);
+        stbi_flip_vertically_on_write(0);
+        if (!ok) {
+            app_output_abort(&o);
+            result = app_fail(error, SINEW_ERROR_IO, "%s: cannot encode the image", path);
+        } else {
+            result = app_output_commit(&o, error);
+        }
+    }
+    free(rgb);
+    return result;
+}
