@@ -2,7 +2,8 @@
  *
  * Every figure is the best of 5 batches of 0.02 to 0.2 s each (the machine is shared: the
  * best batch is the one least disturbed), per unit (one character update, one vertex).
- * Threads: a second worker thread that spins between frames, as a game's job system would; the work splits by characters (crowd) or by vertex ranges (skinning). */
+ * Threads: a second worker thread that spins between frames, as a game's job system would; the work splits by
+ * characters (crowd) or by vertex ranges (skinning). */
 #include <pthread.h>
 #include <stdatomic.h>
 #include <stdlib.h>
@@ -14,7 +15,7 @@
 
 #include "cli.h"
 
-static int batches = 5;   /* --quick: 1 */
+static int batches = 5;         /* --quick: 1 */
 static double unit_scale = 1.0; /* --quick: 0.02 */
 
 static double now_seconds(void)

@@ -94,7 +94,7 @@ typedef struct cli_scene {
     sinew_render_options frame_options;
     sinew_wrap wrap;
     int width, height;
-    uint8_t *pixels; /* width * height * 4, top row first */
+    uint8_t *pixels;                 /* width * height * 4, top row first */
     sinew_muscle_set *owned_muscles; /* read from a file; NULL for a model's own */
     const sinew_muscle_set *muscle_set;
     sinew_muscle_rig *muscle_rig;
@@ -118,7 +118,8 @@ bool cli_scene_read(cli_scene *scene);
 void cli_scene_close(cli_scene *scene);
 
 /* Muscles for a model: `spec` is a muscle file, or "" for the model's own (a .sinew file
- * converted with muscles) or else the one beside the model (MODEL.muscles.json). Prints the error and returns NULL on failure. */
+ * converted with muscles) or else the one beside the model (MODEL.muscles.json). Prints the error and returns NULL on
+ * failure. */
 sinew_muscle_rig *cli_load_muscles(const sinew_model *model, const char *spec);
 /* The same, keeping the muscle set too (the renderer sizes its buffers from it). */
 sinew_muscle_rig *cli_load_muscle_set(const sinew_model *model, const char *spec, sinew_muscle_set **owned,

@@ -9,8 +9,8 @@
 
 #include "cli.h"
 
-#define MUSCLE_USAGE                                                                                           \
-    "usage: sinew bench muscle [--json]\n"                                                                      \
+#define MUSCLE_USAGE                                                                                                   \
+    "usage: sinew bench muscle [--json]\n"                                                                             \
     "  muscle   time to solve the shipped biceps (9 nodes) at a length, and to build its tube surface.\n"
 
 static const char bench_usage[] =
@@ -27,8 +27,7 @@ static const char bench_usage[] =
     "  eval     the runtime's speed: sampling + world matrices, skinning, 1000 characters, .sinew loading,\n"
     "           and with --fbx importing an FBX file by sinew's reader against Assimp\n"
     "           (`sinew bench eval --help` says what each figure is)\n"
-    "\n"
-    MUSCLE_USAGE;
+    "\n" MUSCLE_USAGE;
 
 static double now_seconds(void)
 {

@@ -105,7 +105,8 @@ int cli_demo_write(const char *dir, bool verbose, bool force)
     if (ok && verbose)
         printf("%s: LeftBiceps, RightBiceps\n", path);
 
-    cli_arm_spec spec = {.angle = 150.0 * M_PI / 180.0, .flex_from = 150.0 * M_PI / 180.0, .flex_to = 40.0 * M_PI / 180.0};
+    cli_arm_spec spec = {
+        .angle = 150.0 * M_PI / 180.0, .flex_from = 150.0 * M_PI / 180.0, .flex_to = 40.0 * M_PI / 180.0};
     sinew_model *arm = ok ? cli_arm_model(&spec) : NULL;
     ok = ok && arm && write_model(arm, dir, "arm.dae", verbose);
     sinew_model_free(arm);

@@ -45,8 +45,8 @@ static bool parse_times(const char *text, pose_options *o)
     double t[MAX_TIMES];
     int n = app_parse_list(text, t, 1, MAX_TIMES, -APP_MAX_SECONDS, APP_MAX_SECONDS);
     if (n < 0) {
-        cli_error("pose: bad --time \"%s\": expected 1 to %d times in seconds (within +-%g) separated by commas",
-                  text, MAX_TIMES, APP_MAX_SECONDS);
+        cli_error("pose: bad --time \"%s\": expected 1 to %d times in seconds (within +-%g) separated by commas", text,
+                  MAX_TIMES, APP_MAX_SECONDS);
         return false;
     }
     o->time_count = 0;

@@ -69,8 +69,8 @@ bool view_pose(viewer *v)
 {
     if (v->time == v->posed_at)
         return true;
-    if (sinew_player_update(v->player, (float)v->time, SINEW_WRAP_CLAMP, NULL, v->worlds, v->model->node_count,
-                            NULL) != SINEW_OK)
+    if (sinew_player_update(v->player, (float)v->time, SINEW_WRAP_CLAMP, NULL, v->worlds, v->model->node_count, NULL) !=
+        SINEW_OK)
         return false;
     v->posed_at = v->time;
     return true;
@@ -480,7 +480,8 @@ static gboolean on_render(GtkGLArea *area, GdkGLContext *context, gpointer data)
     (void)context;
     viewer *v = data;
     int scale = gtk_widget_get_scale_factor(GTK_WIDGET(area));
-    int width = gtk_widget_get_width(GTK_WIDGET(area)) * scale, height = gtk_widget_get_height(GTK_WIDGET(area)) * scale;
+    int width = gtk_widget_get_width(GTK_WIDGET(area)) * scale,
+        height = gtk_widget_get_height(GTK_WIDGET(area)) * scale;
     if (!v->renderer) {
         glClearColor(0.16f, 0.17f, 0.19f, 1.0f);
         glClear(GL_COLOR_BUFFER_BIT);
@@ -748,8 +749,8 @@ static void on_open(GtkButton *button, gpointer data)
                                                                GTK_FILE_CHOOSER_ACTION_OPEN, "_Open", "_Cancel");
     GtkFileFilter *models = gtk_file_filter_new();
     gtk_file_filter_set_name(models, "Animated models");
-    static const char *const patterns[] = {"*.dae", "*.gltf", "*.glb", "*.fbx", "*.bvh", "*.x", "*.md5mesh",
-                                           "*.smd", "*.iqm", "*.sinew", "*.DAE", "*.FBX", "*.X"};
+    static const char *const patterns[] = {"*.dae", "*.gltf", "*.glb",   "*.fbx", "*.bvh", "*.x", "*.md5mesh",
+                                           "*.smd", "*.iqm",  "*.sinew", "*.DAE", "*.FBX", "*.X"};
     for (size_t i = 0; i < sizeof patterns / sizeof patterns[0]; i++)
         gtk_file_filter_add_pattern(models, patterns[i]);
     gtk_file_chooser_add_filter(GTK_FILE_CHOOSER(dialog), models);

@@ -212,8 +212,8 @@ static void on_camera_mode(GObject *dropdown, GParamSpec *pspec, gpointer data)
     viewer *v = data;
     if (v->updating)
         return;
-    sinew_camera_set_mode(&v->camera, gtk_drop_down_get_selected(GTK_DROP_DOWN(dropdown)) ? SINEW_CAMERA_FLY
-                                                                                           : SINEW_CAMERA_ORBIT);
+    sinew_camera_set_mode(&v->camera,
+                          gtk_drop_down_get_selected(GTK_DROP_DOWN(dropdown)) ? SINEW_CAMERA_FLY : SINEW_CAMERA_ORBIT);
     view_redraw(v);
 }
 

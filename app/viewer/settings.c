@@ -87,7 +87,8 @@ void settings_load(viewer *v)
             fprintf(stderr, "sinew-view: %s: [display] %s\n", v->settings_path, e.message);
         g_free(value);
     }
-    int w = g_key_file_get_integer(file, "window", "width", NULL), h = g_key_file_get_integer(file, "window", "height", NULL);
+    int w = g_key_file_get_integer(file, "window", "width", NULL),
+        h = g_key_file_get_integer(file, "window", "height", NULL);
     if (w >= 200 && h >= 150 && w <= 16384 && h <= 16384)
         v->width = w, v->height = h;
     char **recent = g_key_file_get_string_list(file, "files", "recent", NULL, NULL);

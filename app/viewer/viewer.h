@@ -14,18 +14,20 @@
 typedef enum play_mode { PLAY_LOOP, PLAY_ONCE, PLAY_PING_PONG } play_mode;
 
 /* Actions that have a key (settings file [keys]: action = key name as GDK names it). */
+/* clang-format off */
 typedef enum view_action {
     ACTION_PLAY, ACTION_PREVIOUS_FRAME, ACTION_NEXT_FRAME, ACTION_FIRST, ACTION_LAST, ACTION_FRAME_ALL,
     ACTION_CAMERA_MODE, ACTION_MATERIALS, ACTION_LIGHTING, ACTION_SHADING, ACTION_WIREFRAME, ACTION_SKELETON,
     ACTION_NORMALS, ACTION_GRID, ACTION_AXES, ACTION_JOINT_NAMES, ACTION_JOINT_AXES, ACTION_MUSCLES, ACTION_MESHES,
     ACTION_FORWARD, ACTION_BACK, ACTION_LEFT, ACTION_RIGHT, ACTION_DOWN, ACTION_UP, ACTION_COUNT
 } view_action;
+/* clang-format on */
 
 typedef struct view_key {
-    const char *action;  /* name in the settings file */
-    const char *option;  /* render option it toggles, or NULL */
+    const char *action; /* name in the settings file */
+    const char *option; /* render option it toggles, or NULL */
     const char *default_key;
-    guint key;           /* GDK key value in use */
+    guint key; /* GDK key value in use */
 } view_key;
 
 typedef struct viewer {
@@ -41,7 +43,7 @@ typedef struct viewer {
     sinew_player *player;
     sinew_renderer *renderer;
     sinew_mat4 *worlds;
-    bool *hidden; /* instance_count flags */
+    bool *hidden;     /* instance_count flags */
     int32_t selected; /* node, -1 for none */
     sinew_camera camera;
     sinew_render_options options;
@@ -79,9 +81,9 @@ void view_recent_changed(viewer *v); /* rebuilds the Recent menu */
 
 /* panels.c */
 GtkWidget *panels_create(viewer *v);
-void panels_model_changed(viewer *v); /* rebuilds the hierarchy and the log */
+void panels_model_changed(viewer *v);   /* rebuilds the hierarchy and the log */
 void panels_options_changed(viewer *v); /* the display checks follow the options */
-void panels_frame_drawn(viewer *v);    /* the selected node's transforms */
+void panels_frame_drawn(viewer *v);     /* the selected node's transforms */
 void panels_log(viewer *v, const char *line);
 void panels_select(viewer *v, int32_t node);
 

@@ -110,10 +110,10 @@ const char *sinew_demo_humanoid_muscles(void);
 
 /* Writes a model as a COLLADA 1.4.1 file that other COLLADA readers open: nodes with
  * matrices (id = sid = the name with characters other than letters, digits, '_' and '-'
- * made '_'; name = the name: Assimp names nodes by id), meshes (positions, normals, UVs), skins as controllers, materials as Phong
- * effects, and each clip as a time range of one timeline (<animation_clip>s; every
- * animated node gets one matrix channel keyed at its keys' times). Linear and step keys
- * are written as they are; cubic and Bezier ones sampled 60 times a second. */
+ * made '_'; name = the name: Assimp names nodes by id), meshes (positions, normals, UVs), skins as controllers,
+ * materials as Phong effects, and each clip as a time range of one timeline (<animation_clip>s; every animated node
+ * gets one matrix channel keyed at its keys' times). Linear and step keys are written as they are; cubic and Bezier
+ * ones sampled 60 times a second. */
 sinew_result sinew_model_write_collada(const sinew_model *model, const char *path, sinew_error *error);
 
 #ifdef __cplusplus

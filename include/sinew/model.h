@@ -147,8 +147,8 @@ typedef struct sinew_material {
 typedef struct sinew_model {
     const char *source;         /* the file it was read from */
     const char *converted_from; /* a .sinew file: the file `sinew convert` read; else NULL */
-    const char *format; /* "collada", "gltf2", ... as the importer named it (for a .sinew file, that of
-                         * the file it was converted from) */
+    const char *format;         /* "collada", "gltf2", ... as the importer named it (for a .sinew file, that of
+                                 * the file it was converted from) */
 
     uint32_t node_count;
     const char *const *node_names;

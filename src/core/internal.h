@@ -113,8 +113,8 @@ typedef struct blob_material {
 } blob_material;
 
 typedef struct blob_muscle {
-    double rest_length;  /* 0: taken from the rest pose */
-    uint32_t name;       /* string */
+    double rest_length;                     /* 0: taken from the rest pose */
+    uint32_t name;                          /* string */
     uint32_t origin_joint, insertion_joint; /* strings, BLOB_NONE for a point in model space */
     float origin_offset[3], insertion_offset[3];
     uint32_t node_count; /* 1..SINEW_MUSCLE_MAX_NODES */
@@ -127,7 +127,7 @@ typedef struct blob_muscle {
 typedef struct blob_clip {
     uint32_t name;
     float duration;
-    float start;      /* on the keys' timeline; clips may share times and values */
+    float start; /* on the keys' timeline; clips may share times and values */
     uint32_t reserved;
     blob_span tracks; /* sinew_track */
     blob_span times;  /* float */

@@ -16,14 +16,23 @@
 #include "internal.h"
 #include "sinew/muscle.h"
 
-#define SECTION(tag, field, type) {tag, offsetof(blob_header, field), sizeof(type)}
+#define SECTION(tag, field, type)                                                                                      \
+    {                                                                                                                  \
+        tag, offsetof(blob_header, field), sizeof(type)                                                                \
+    }
 const blob_section_kind blob_section_kinds[] = {
-    SECTION("STRS", strings, char),           SECTION("NNAM", node_names, uint32_t),
-    SECTION("NPAR", node_parents, int32_t),   SECTION("NRST", node_rest, sinew_transform),
-    SECTION("SKIN", skins, blob_skin),        SECTION("MESH", meshes, blob_mesh),
-    SECTION("INST", instances, sinew_instance), SECTION("MATL", materials, blob_material),
-    SECTION("CLIP", clips, blob_clip),        SECTION("WARN", warnings, uint32_t),
-    SECTION("MUSC", muscles, blob_muscle),    SECTION("NINH", node_inherit, uint8_t),
+    SECTION("STRS", strings, char),
+    SECTION("NNAM", node_names, uint32_t),
+    SECTION("NPAR", node_parents, int32_t),
+    SECTION("NRST", node_rest, sinew_transform),
+    SECTION("SKIN", skins, blob_skin),
+    SECTION("MESH", meshes, blob_mesh),
+    SECTION("INST", instances, sinew_instance),
+    SECTION("MATL", materials, blob_material),
+    SECTION("CLIP", clips, blob_clip),
+    SECTION("WARN", warnings, uint32_t),
+    SECTION("MUSC", muscles, blob_muscle),
+    SECTION("NINH", node_inherit, uint8_t),
 };
 #undef SECTION
 const uint32_t blob_section_kind_count = sizeof blob_section_kinds / sizeof blob_section_kinds[0];
@@ -111,8 +120,7 @@ static sinew_result read_directory(reader *r, const blob_file_header *f, blob_he
     memset(h, 0, sizeof *h);
     h->source = f->source;
     h->format = f->format;
-    if (f->section_count > BLOB_MAX_SECTIONS ||
-        sizeof *f + (uint64_t)f->section_count * sizeof(blob_section) > r->size)
+    if (f->section_count > BLOB_MAX_SECTIONS || sizeof *f + (uint64_t)f->section_count * sizeof(blob_section) > r->size)
         return corrupt(r, "section directory");
     bool seen[sizeof blob_section_kinds / sizeof blob_section_kinds[0]] = {false};
     for (uint32_t i = 0; i < f->section_count; i++) {
@@ -562,8 +570,7 @@ sinew_result sinew_model_from_blob(const void *bytes, size_t size, const char *n
     return open_blob(bytes, size, name, NULL, allocator, out, error);
 }
 
-sinew_result sinew_model_load(const char *path, const sinew_allocator *allocator, sinew_model **out,
-                              sinew_error *error)
+sinew_result sinew_model_load(const char *path, const sinew_allocator *allocator, sinew_model **out, sinew_error *error)
 {
     if (!path || !out)
         return sinew_fail(error, SINEW_ERROR_INVALID_ARGUMENT, "sinew_model_load: NULL argument");

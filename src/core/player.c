@@ -203,7 +203,8 @@ sinew_result sinew_player_create(const sinew_model *model, const sinew_clip *cli
             const sinew_channel *ch = &clip->tracks[t].channels[k];
             if (ch->key_count != 1)
                 continue;
-            const float *v = clip->values + ch->first_value + (ch->interp == SINEW_INTERP_CUBIC ? sinew_channel_width((int)k) : 0);
+            const float *v =
+                clip->values + ch->first_value + (ch->interp == SINEW_INTERP_CUBIC ? sinew_channel_width((int)k) : 0);
             for (uint32_t i = 0; i < sinew_channel_width((int)k); i++)
                 p->pose[pose_component(k, i) * stride + clip->tracks[t].node] = v[i];
         }
@@ -398,8 +399,8 @@ static void blend_scalar(float *pose, const group *g, const segment *seg)
             /* each lane solves its own time polynomial (its control times are its own) */
             const float *vb = b + ru->lane, t0 = g->times[seg->k], t3 = g->times[seg->k + 1];
             for (uint32_t i = 0; i < ru->length; i++)
-                dst[i] = sinew_bezier(t0, va[i], va[3 * L + i], va[4 * L + i], vb[L + i], vb[2 * L + i], t3, vb[i],
-                                      seg->t);
+                dst[i] =
+                    sinew_bezier(t0, va[i], va[3 * L + i], va[4 * L + i], vb[L + i], vb[2 * L + i], t3, vb[i], seg->t);
         } else {
             const float *vb = b + ru->lane;
             for (uint32_t i = 0; i < ru->length; i++)
@@ -469,7 +470,8 @@ static void world_scalar(const sinew_player *p, const sinew_mat4 *root, sinew_ma
         }
         for (int c = 0; c < 4; c++)
             for (int r = 0; r < 4; r++)
-                o[c * 4 + r] = b[r] * l[c * 4] + b[4 + r] * l[c * 4 + 1] + b[8 + r] * l[c * 4 + 2] + b[12 + r] * l[c * 4 + 3];
+                o[c * 4 + r] =
+                    b[r] * l[c * 4] + b[4 + r] * l[c * 4 + 1] + b[8 + r] * l[c * 4 + 2] + b[12 + r] * l[c * 4 + 3];
     }
 }
 
@@ -547,15 +549,15 @@ __attribute__((target("avx2,fma"))) static void world_avx2(const sinew_player *p
             continue;
         }
         __m128 b0 = _mm_loadu_ps(b), b1 = _mm_loadu_ps(b + 4), b2 = _mm_loadu_ps(b + 8), b3 = _mm_loadu_ps(b + 12);
-        __m128 c0 = _mm_fmadd_ps(b2, _mm_broadcast_ss(M + M_02 * S + i),
-                                 _mm_fmadd_ps(b1, _mm_broadcast_ss(M + M_01 * S + i),
-                                              _mm_mul_ps(b0, _mm_broadcast_ss(M + M_00 * S + i))));
-        __m128 c1 = _mm_fmadd_ps(b2, _mm_broadcast_ss(M + M_12 * S + i),
-                                 _mm_fmadd_ps(b1, _mm_broadcast_ss(M + M_11 * S + i),
-                                              _mm_mul_ps(b0, _mm_broadcast_ss(M + M_10 * S + i))));
-        __m128 c2 = _mm_fmadd_ps(b2, _mm_broadcast_ss(M + M_22 * S + i),
-                                 _mm_fmadd_ps(b1, _mm_broadcast_ss(M + M_21 * S + i),
-                                              _mm_mul_ps(b0, _mm_broadcast_ss(M + M_20 * S + i))));
+        __m128 c0 = _mm_fmadd_ps(
+            b2, _mm_broadcast_ss(M + M_02 * S + i),
+            _mm_fmadd_ps(b1, _mm_broadcast_ss(M + M_01 * S + i), _mm_mul_ps(b0, _mm_broadcast_ss(M + M_00 * S + i))));
+        __m128 c1 = _mm_fmadd_ps(
+            b2, _mm_broadcast_ss(M + M_12 * S + i),
+            _mm_fmadd_ps(b1, _mm_broadcast_ss(M + M_11 * S + i), _mm_mul_ps(b0, _mm_broadcast_ss(M + M_10 * S + i))));
+        __m128 c2 = _mm_fmadd_ps(
+            b2, _mm_broadcast_ss(M + M_22 * S + i),
+            _mm_fmadd_ps(b1, _mm_broadcast_ss(M + M_21 * S + i), _mm_mul_ps(b0, _mm_broadcast_ss(M + M_20 * S + i))));
         __m128 c3 = _mm_fmadd_ps(b2, _mm_broadcast_ss(P + C_TZ * S + i),
                                  _mm_fmadd_ps(b1, _mm_broadcast_ss(P + C_TY * S + i),
                                               _mm_fmadd_ps(b0, _mm_broadcast_ss(P + C_TX * S + i), b3)));

@@ -76,8 +76,8 @@ void pose_world_inherit(const sinew_model *m, uint32_t node, const float transla
     inherited_scale(m, parent, scales, inherit);
     /* The scale that ends the parent's world matrix, taken off to leave it unscaled. */
     for (int c = 0; c < 3; c++)
-        applied[c] = m->node_inherit[parent] == SINEW_INHERIT_COMPONENTWISE_SCALE ? inherit[c]
-                                                                                  : pose_scale(scales, parent, c);
+        applied[c] =
+            m->node_inherit[parent] == SINEW_INHERIT_COMPONENTWISE_SCALE ? inherit[c] : pose_scale(scales, parent, c);
     sinew_mat4 unscaled = worlds[parent];
     for (int c = 0; c < 3; c++)
         for (int r = 0; r < 4; r++)

@@ -224,7 +224,8 @@ static const struct aiTexture *embedded_texture(const struct aiScene *s, const c
         return *end == 0 && i < s->mNumTextures ? s->mTextures[i] : NULL;
     }
     for (unsigned i = 0; i < s->mNumTextures; i++)
-        if (s->mTextures[i] && s->mTextures[i]->mFilename.length && strcmp(s->mTextures[i]->mFilename.data, texture) == 0)
+        if (s->mTextures[i] && s->mTextures[i]->mFilename.length &&
+            strcmp(s->mTextures[i]->mFilename.data, texture) == 0)
             return s->mTextures[i];
     return NULL;
 }

@@ -169,7 +169,8 @@ static bool fill_track(raw_track *track, const bake *b, const sinew_transform *r
                 v[2 * width + c] = (float)key->out[first[kind] + c];
             }
         }
-        track->channels[kind] = (raw_channel){.interp = SINEW_INTERP_CUBIC, .count = b->count, .times = times, .values = values};
+        track->channels[kind] =
+            (raw_channel){.interp = SINEW_INTERP_CUBIC, .count = b->count, .times = times, .values = values};
     }
     return true;
 }

@@ -540,9 +540,10 @@ static sinew_result fix_clip(raw_model *m, raw_clip *clip, sinew_error *error)
             if (ch->pool || pool) {
                 /* made by raw_model_pool_clip() (or a .sinew file's shared keys): repaired already */
                 if (owned || !pooled_channel_ok(m, ch, kind, &pool))
-                    return sinew_fail(error, SINEW_ERROR_DATA, "%s: clip \"%s\": the %s keys of node \"%s\" "
-                                      "are outside the keys the clip shares", m->source, clip->name,
-                                      channel_names[kind], m->node_names[track->node]);
+                    return sinew_fail(error, SINEW_ERROR_DATA,
+                                      "%s: clip \"%s\": the %s keys of node \"%s\" "
+                                      "are outside the keys the clip shares",
+                                      m->source, clip->name, channel_names[kind], m->node_names[track->node]);
                 continue;
             }
             owned = true;
@@ -694,8 +695,8 @@ static raw_channel window_channel(const raw_model *m, const raw_channel *ch, int
         return *ch;
     const float *times = m->pools[ch->pool - 1].times + ch->first_key;
     uint32_t n = ch->count;
-    uint32_t lo = count_below(times, n, from, true);  /* keys <= from */
-    uint32_t hi = count_below(times, n, to, false);   /* keys < to: the first >= to is next */
+    uint32_t lo = count_below(times, n, from, true); /* keys <= from */
+    uint32_t hi = count_below(times, n, to, false);  /* keys < to: the first >= to is next */
     lo = lo > 1 ? lo - 2 : 0;
     hi = hi + 1 < n ? hi + 1 : n - 1;
     raw_channel out = *ch;
@@ -875,9 +876,9 @@ static blob_span write_materials(writer *w, const raw_model *m)
         memcpy(table[i].base_color, m->materials[i].base_color, sizeof table[i].base_color);
         table[i].diffuse_texture = writer_string(w, m->materials[i].diffuse_texture);
         if (m->materials[i].diffuse_image)
-            table[i].diffuse_image = (blob_span){
-                writer_put(w, m->materials[i].diffuse_image, m->materials[i].diffuse_image_size),
-                m->materials[i].diffuse_image_size};
+            table[i].diffuse_image =
+                (blob_span){writer_put(w, m->materials[i].diffuse_image, m->materials[i].diffuse_image_size),
+                            m->materials[i].diffuse_image_size};
         else
             table[i].diffuse_image = (blob_span){BLOB_NONE, 0};
     }
@@ -990,7 +991,8 @@ static blob_span write_clips(writer *w, const raw_model *m)
     }
     for (uint32_t i = 0; i < m->clip_count && !w->failed; i++) {
         uint32_t pool = clip_pool(&m->clips[i]);
-        if (!(pool ? write_pooled_clip(w, &m->clips[i], pool_spans, &table[i]) : write_clip(w, &m->clips[i], &table[i])))
+        if (!(pool ? write_pooled_clip(w, &m->clips[i], pool_spans, &table[i])
+                   : write_clip(w, &m->clips[i], &table[i])))
             w->failed = true;
     }
     blob_span span = {writer_put(w, table, m->clip_count * sizeof *table), m->clip_count};
@@ -1080,9 +1082,8 @@ sinew_result raw_model_write(const raw_model *m, void **bytes, size_t *size, sin
     for (uint32_t k = 0; k < sections; k++) {
         const blob_section_kind *kind = &blob_section_kinds[k];
         const blob_span *span = (const blob_span *)((const char *)&h + kind->field);
-        blob_section sec = {.offset = span->count ? span->offset : BLOB_NONE,
-                            .count = span->count,
-                            .elem_size = kind->elem_size};
+        blob_section sec = {
+            .offset = span->count ? span->offset : BLOB_NONE, .count = span->count, .elem_size = kind->elem_size};
         memcpy(sec.tag, kind->tag, 4);
         memcpy(w.bytes + sizeof f + k * sizeof sec, &sec, sizeof sec);
     }

@@ -18,12 +18,11 @@
  *   colour or image texture.
  * - Animations: every <channel> into a node's transform element (whole, ".X/.Y/.Z/.ANGLE",
  *   "(i)(j)", "(i)"), samplers with LINEAR, STEP, BEZIER (2-D tangents; 1-D ones, which
- *   COLLADA 1.4.1 does not define, play linearly with a warning) and HERMITE keys. A node whose channels all drive whole matrices with
- *   LINEAR or STEP keys gets the decomposed key matrices with that interpolation (what the
- *   file means and what three.js plays); any other node is baked from the exact stack
- *   evaluation (bake.c). <animation_clip>s become clips over their windows; without them,
- *   one clip of every animation.
- * Refusals name the file and the element ("<node id="x">: ...").
+ *   COLLADA 1.4.1 does not define, play linearly with a warning) and HERMITE keys. A node whose channels all drive
+ * whole matrices with LINEAR or STEP keys gets the decomposed key matrices with that interpolation (what the file means
+ * and what three.js plays); any other node is baked from the exact stack evaluation (bake.c). <animation_clip>s become
+ * clips over their windows; without them, one clip of every animation. Refusals name the file and the element ("<node
+ * id="x">: ...").
  *
  * Index:
  *   errors, numbers, ids .... fail, parse_numbers, by_url
@@ -1245,7 +1244,7 @@ static sinew_result add_mesh(collada *c, prim *p, uint32_t node)
  * its own node; of the same controller bound to the same skeleton, it would draw the same
  * skinned meshes in the same place (skinned meshes ignore their node), so it adds nothing. */
 typedef struct geometry_use {
-    xmlNode *geometry; /* <geometry> or <controller> */
+    xmlNode *geometry;  /* <geometry> or <controller> */
     int32_t *materials; /* a primitive element of the <mesh>: its bound material */
     uint32_t prim_count, first_mesh, mesh_count;
     uint32_t roots[DAE_MAX_SKELETONS], root_count; /* a controller's <skeleton> nodes */
@@ -1780,8 +1779,7 @@ static sinew_result keep_bezier(collada *c, const node_anim *a, int kind, double
             el = e, index = elements, wanted++;
         elements++;
     }
-    if (!el || wanted != 1 || index != (kind == SINEW_CHANNEL_TRANSLATION ? 0 : elements - 1) ||
-        index >= a->elements)
+    if (!el || wanted != 1 || index != (kind == SINEW_CHANNEL_TRANSLATION ? 0 : elements - 1) || index >= a->elements)
         return SINEW_OK;
     const curve *drives[3] = {0};
     int column[3] = {0};

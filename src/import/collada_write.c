@@ -407,8 +407,7 @@ static const sinew_track *find_track(const sinew_clip *clip, uint32_t node)
 
 /* Key times of a node in one clip, on its keys' timeline (clip time + start): its
  * channels' keys, both ends, cubic spans sampled. */
-static uint32_t clip_times(const sinew_clip *clip, const sinew_track *track, float *out, uint32_t capacity,
-                           bool *step)
+static uint32_t clip_times(const sinew_clip *clip, const sinew_track *track, float *out, uint32_t capacity, bool *step)
 {
     uint32_t n = 0;
     const float from = clip->start, to = clip->start + clip->duration;
@@ -699,9 +698,9 @@ sinew_result sinew_model_write_collada(const sinew_model *model, const char *pat
     for (uint32_t i = 0; i < id_count; i++)
         free(wr.ids[i]);
     free(wr.ids);
-    sinew_result result = wr.failed ? sinew_fail(error, SINEW_ERROR_OUT_OF_MEMORY, "%s: out of memory", path)
-                                    : import_write_file(path, xmlBufferContent(buffer),
-                                                        (size_t)xmlBufferLength(buffer), error);
+    sinew_result result =
+        wr.failed ? sinew_fail(error, SINEW_ERROR_OUT_OF_MEMORY, "%s: out of memory", path)
+                  : import_write_file(path, xmlBufferContent(buffer), (size_t)xmlBufferLength(buffer), error);
     xmlBufferFree(buffer);
     return result;
 }

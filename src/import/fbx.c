@@ -144,7 +144,6 @@ typedef struct scene {
     uint32_t model_count;
 } scene;
 
-
 /* ---- small double-precision math ------------------------------------------------------- */
 
 /* Inverse of an affine matrix (last row 0 0 0 1); identity when singular. */

@@ -655,8 +655,9 @@ static sinew_result add_subtree(gltf *g, walk *w, int root)
             if (child < 0 || w->parent[child] != -2) {
                 free(children.at);
                 return child < 0 ? fail_at(g, "%s.children[%d]: not a node index", where, k)
-                                 : fail_at(g, "%s.children[%d]: node %d has more than one parent, or is its own "
-                                              "ancestor",
+                                 : fail_at(g,
+                                           "%s.children[%d]: node %d has more than one parent, or is its own "
+                                           "ancestor",
                                            where, k, child);
             }
             w->parent[child] = i;
@@ -784,8 +785,10 @@ static sinew_result embedded_image(gltf *g, const cJSON *img, int image, const c
     }
     if (size > GLTF_MAX_IMAGE) {
         free(decoded.bytes);
-        return raw_model_warn(g->m, "%s: material \"%s\": %s is %zu bytes, more than sinew keeps (%u); the "
-                              "material keeps its colour", g->path, material, where, size, GLTF_MAX_IMAGE)
+        return raw_model_warn(g->m,
+                              "%s: material \"%s\": %s is %zu bytes, more than sinew keeps (%u); the "
+                              "material keeps its colour",
+                              g->path, material, where, size, GLTF_MAX_IMAGE)
                    ? SINEW_OK
                    : oom(g);
     }

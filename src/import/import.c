@@ -132,8 +132,7 @@ sinew_result import_write_file(const char *path, const void *bytes, size_t size,
         unlink(temp);
     free(temp);
     if (failure)
-        return sinew_fail(error, SINEW_ERROR_IO, "%s: cannot write: %s; nothing was written", path,
-                          strerror(failure));
+        return sinew_fail(error, SINEW_ERROR_IO, "%s: cannot write: %s; nothing was written", path, strerror(failure));
     return SINEW_OK;
 }
 
@@ -152,8 +151,7 @@ void import_uri_decode(const char *uri, char *out, size_t size)
     out[n] = 0;
 }
 
-char *import_find_texture(const char *model_path, const char *reference, bool by_name, char *looked,
-                          size_t looked_size)
+char *import_find_texture(const char *model_path, const char *reference, bool by_name, char *looked, size_t looked_size)
 {
     char name[4096], folder[4096], path[8192];
     snprintf(name, sizeof name, "%s", reference);

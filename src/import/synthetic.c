@@ -159,9 +159,9 @@ static sinew_result make_clip(raw_model *m, uint32_t joints, float duration, flo
             q[0] = ax * s, q[1] = ay * s, q[2] = az * s, q[3] = cosf(angle * 0.5f);
         }
         static const float unit[3] = {1.0f, 1.0f, 1.0f};
-        if (trs && (!key_vectors(&clip->tracks[j], SINEW_CHANNEL_TRANSLATION, m->node_rest[j].translation, 0.002f,
-                                 duration) ||
-                    !key_vectors(&clip->tracks[j], SINEW_CHANNEL_SCALE, unit, 0.01f, duration)))
+        if (trs &&
+            (!key_vectors(&clip->tracks[j], SINEW_CHANNEL_TRANSLATION, m->node_rest[j].translation, 0.002f, duration) ||
+             !key_vectors(&clip->tracks[j], SINEW_CHANNEL_SCALE, unit, 0.01f, duration)))
             return SINEW_ERROR_OUT_OF_MEMORY;
     }
     return SINEW_OK;

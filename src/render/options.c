@@ -29,9 +29,9 @@ static const switch_entry SWITCHES[] = {
 };
 #define SWITCH_COUNT (sizeof SWITCHES / sizeof SWITCHES[0])
 
-static const char *const NAMES[] = {"materials",  "lighting",    "wireframe",  "meshes",        "skeleton",
-                                    "joint-axes", "joint-names", "normals",    "grid",          "axes",
-                                    "muscles",    "shading",     "skinning",   "background", "normal-length", NULL};
+static const char *const NAMES[] = {"materials",   "lighting",   "wireframe",     "meshes", "skeleton", "joint-axes",
+                                    "joint-names", "normals",    "grid",          "axes",   "muscles",  "shading",
+                                    "skinning",    "background", "normal-length", NULL};
 
 static const char *const SHADINGS[] = {"phong", "gouraud", "flat"};
 

@@ -91,9 +91,9 @@ static void test_bad_input_exits_2(void **state)
     free(bytes);
     fixture_path("two_bone.dae", path, sizeof path);
     static const char *const bad_usage[][4] = {
-        {"pose", "--time", "abc", NULL},    {"pose", "--time", "", NULL},
-        {"pose", "--time", "1e39", NULL},   {"pose", "--mesh", "/tmp/x.obj", "--time"},
-        {"pose", "--time", "0,nan", NULL},  {"info", "--frob", NULL, NULL},
+        {"pose", "--time", "abc", NULL},   {"pose", "--time", "", NULL},
+        {"pose", "--time", "1e39", NULL},  {"pose", "--mesh", "/tmp/x.obj", "--time"},
+        {"pose", "--time", "0,nan", NULL}, {"info", "--frob", NULL, NULL},
     };
     for (size_t i = 0; i < sizeof bad_usage / sizeof bad_usage[0]; i++) {
         const char *args[8] = {bad_usage[i][0], path};
@@ -521,8 +521,8 @@ static void test_bench_eval_json(void **state)
     assert_int_equal(r.code, 0);
     cJSON *o = cJSON_Parse(r.out);
     assert_non_null(o);
-    static const char *const keys[] = {"sample_world_us_64", "sample_world_us_128", "seek_us_64",
-                                       "skin_mverts_1t", "skin_mverts_2t", "crowd1000_speedup_2t",
+    static const char *const keys[] = {"sample_world_us_64",    "sample_world_us_128", "seek_us_64",
+                                       "skin_mverts_1t",        "skin_mverts_2t",      "crowd1000_speedup_2t",
                                        "load_speedup_vs_assimp"};
     for (size_t i = 0; i < sizeof keys / sizeof keys[0]; i++) {
         cJSON *v = cJSON_GetObjectItem(o, keys[i]);
@@ -537,13 +537,19 @@ static void test_bench_eval_json(void **state)
 int main(void)
 {
     const struct CMUnitTest tests[] = {
-        cmocka_unit_test(test_usage_and_help),     cmocka_unit_test(test_bad_input_exits_2),
-        cmocka_unit_test(test_pose_json),          cmocka_unit_test(test_pose_mesh_obj),
+        cmocka_unit_test(test_usage_and_help),
+        cmocka_unit_test(test_bad_input_exits_2),
+        cmocka_unit_test(test_pose_json),
+        cmocka_unit_test(test_pose_mesh_obj),
         cmocka_unit_test(test_info_json_and_text),
-        cmocka_unit_test(test_info_fbx_inherit), cmocka_unit_test(test_pose_without_animation),
-        cmocka_unit_test(test_pose_pairs_agree),   cmocka_unit_test(test_muscle_command),
-        cmocka_unit_test(test_pose_with_muscles),  cmocka_unit_test(test_arm_command),
-        cmocka_unit_test(test_demo_convert_and_sinew_files), cmocka_unit_test(test_bench_eval_json),
+        cmocka_unit_test(test_info_fbx_inherit),
+        cmocka_unit_test(test_pose_without_animation),
+        cmocka_unit_test(test_pose_pairs_agree),
+        cmocka_unit_test(test_muscle_command),
+        cmocka_unit_test(test_pose_with_muscles),
+        cmocka_unit_test(test_arm_command),
+        cmocka_unit_test(test_demo_convert_and_sinew_files),
+        cmocka_unit_test(test_bench_eval_json),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

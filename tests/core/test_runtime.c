@@ -43,8 +43,8 @@ static double check_player(const sinew_model *m, double tolerance)
             float t = i < 100 ? (float)i / 60.0f : duration * (float)((i * 7919) % 101) / 100.0f;
             assert_int_equal(sinew_player_update(simd, t, SINEW_WRAP_LOOP, NULL, fast, n, &error), SINEW_OK);
             sinew_transform *locals = malloc((n + 1) * sizeof *locals);
-            sinew_sample_desc d = {.model = m, .clip = clip, .time = t, .wrap = SINEW_WRAP_LOOP, .locals = locals,
-                                   .local_count = n};
+            sinew_sample_desc d = {
+                .model = m, .clip = clip, .time = t, .wrap = SINEW_WRAP_LOOP, .locals = locals, .local_count = n};
             assert_int_equal(sinew_sample(&d, &error), SINEW_OK);
             assert_int_equal(sinew_local_to_world(m, locals, n, NULL, slow, n, &error), SINEW_OK);
             free(locals);
@@ -153,8 +153,13 @@ static void test_skin_simd_matches_scalar(void **state)
         size_t n = mesh->vertex_count;
         float *a = calloc(n * 8, sizeof(float)), *b = calloc(n * 8, sizeof(float));
         /* interleaved output: position, normal, 2 floats of padding (stride 32) */
-        sinew_skin_desc sd = {.mesh = mesh, .palette = palette, .palette_count = skin->joint_count,
-                              .first = 7, .count = (uint32_t)n - 20, .out_positions = a, .out_normals = a + 3,
+        sinew_skin_desc sd = {.mesh = mesh,
+                              .palette = palette,
+                              .palette_count = skin->joint_count,
+                              .first = 7,
+                              .count = (uint32_t)n - 20,
+                              .out_positions = a,
+                              .out_normals = a + 3,
                               .out_stride = 32};
         assert_int_equal(sinew_skin_vertices(&sd, NULL), SINEW_OK);
         sd.out_positions = b, sd.out_normals = b + 3;

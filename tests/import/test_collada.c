@@ -532,9 +532,12 @@ static void test_bezier_kept_as_the_file_says(void **state)
     assert_int_equal(s->interp, SINEW_INTERP_BEZIER);
     assert_int_equal(s->key_count, 2);
     /* the file's curves: segment [0, 1] then [1, 3], per component (time, value) points */
-    static const double seg[2][3][4][2] = {
-        {{{0, 0}, {0.8, 0}, {0.2, 2}, {1, 2}}, {{0, 1}, {0.2, 1}, {0.9, 1}, {1, 1}}, {{0, 0}, {0.5, -0.5}, {0.6, -1}, {1, -1}}},
-        {{{1, 2}, {1.9, 2}, {2.9, 0}, {3, 0}}, {{1, 1}, {1.5, 1}, {2.0, 4}, {3, 4}}, {{1, -1}, {2, -1}, {2.5, -1}, {3, -1}}}};
+    static const double seg[2][3][4][2] = {{{{0, 0}, {0.8, 0}, {0.2, 2}, {1, 2}},
+                                            {{0, 1}, {0.2, 1}, {0.9, 1}, {1, 1}},
+                                            {{0, 0}, {0.5, -0.5}, {0.6, -1}, {1, -1}}},
+                                           {{{1, 2}, {1.9, 2}, {2.9, 0}, {3, 0}},
+                                            {{1, 1}, {1.5, 1}, {2.0, 4}, {3, 4}},
+                                            {{1, -1}, {2, -1}, {2.5, -1}, {3, -1}}}};
     double worst = 0, worst_scale = 0;
     for (int i = 0; i <= 300; i++) {
         double time = 3.0 * i / 300;

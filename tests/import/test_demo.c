@@ -40,7 +40,7 @@ static void test_humanoid_content(void **state)
         blended += mesh->weights[v * mesh->influence_count + 1] > 0.0f;
     }
     assert_true(blended > mesh->vertex_count / 5); /* smooth: many vertices follow two joints or more */
-    assert_int_equal(m->warning_count, 0); /* sinew's own content needs no repair */
+    assert_int_equal(m->warning_count, 0);         /* sinew's own content needs no repair */
     assert_true(sinew_model_find_clip(m, "walk") >= 0);
     assert_true(sinew_model_find_clip(m, "wave") >= 0);
     /* the prop: a rigid mesh on a node under the right hand */
@@ -191,8 +191,8 @@ static void check_read_back(const sinew_model *original, const char *path, const
                         uint32_t *match = match_vertices(ma, mb);
                         for (uint32_t v = 0; v < ma->vertex_count; v++)
                             for (int e = 0; e < 3; e++)
-                                worst_vertex = fmax(worst_vertex, fabs(va[(at_a + v) * 3 + e] -
-                                                                       vb[(at_b + match[v]) * 3 + e]));
+                                worst_vertex =
+                                    fmax(worst_vertex, fabs(va[(at_a + v) * 3 + e] - vb[(at_b + match[v]) * 3 + e]));
                         free(match);
                     } else {
                         at_b += mb->vertex_count;

@@ -50,11 +50,13 @@ static const expected models[] = {
     {"collada-cts/SkinController.dae", 13, 6, 1, 0, -1, NULL},
     {"collada-cts/skin_long_tube.dae", 20, 15, 1, 0, -1, NULL},
     {"collada-cts/non_identity.dae", 10, 4, 1, 0, -1, NULL},
-    {"collada-cts/JointsInLN/JointsInLN.dae", 24, 19, 4, 0, -1, "the skin names 19 joints (Assimp kept the 16 with weights)"},
+    {"collada-cts/JointsInLN/JointsInLN.dae", 24, 19, 4, 0, -1,
+     "the skin names 19 joints (Assimp kept the 16 with weights)"},
     {"collada-cts/clip_2_clips_on_same_animation_different_time.dae", 5, 0, 1, 2, 1.0f,
      "two clips: Assimp merges them into one 5 s clip, sinew cuts it again"},
     {"collada-dae-parser/leg-with-control-bones.dae", 12, 4, 1, 1, 3.3333f, NULL},
-    {"ozz/pab/walk.dae", 78, 67, 0, 1, 1.9f, "skeleton only: the 67 nodes typed JOINT (not cameras, targets, footsteps)"},
+    {"ozz/pab/walk.dae", 78, 67, 0, 1, 1.9f,
+     "skeleton only: the 67 nodes typed JOINT (not cameras, targets, footsteps)"},
     {"ozz/pab/arnaud.fbx", 56, 53, 1, 1, -1, "its stack \"Take 001\" is a clip (of the bind pose)"},
     {"ozz/pab/walk.fbx", 85, 0, 0, 1, 1.3333f, "animation only"},
     {"blender/robot_walk.dae", 59, 43, 19, 1, 0.9583f, "joints by SID: Assimp bound 6 meshes to other nodes"},
@@ -397,8 +399,8 @@ static void test_ufbx_reference_meshes(void **state)
         double d = fmax(one_way_distance(ref, n_ref, ours, n_ours), one_way_distance(ours, n_ours, ref, n_ref));
         print_message("%s %-38s t=%.4f: %u reference points, %u ours, size %.3g m, largest gap %.3g (%.2g of the "
                       "size); centres apart by (%.3g %.3g %.3g)\n",
-                      refs[i].exact ? "checked " : "measured", refs[i].fbx, (double)refs[i].time, n_ref, n_ours, size, d,
-                      d / size, (double)shift[0], (double)shift[1], (double)shift[2]);
+                      refs[i].exact ? "checked " : "measured", refs[i].fbx, (double)refs[i].time, n_ref, n_ours, size,
+                      d, d / size, (double)shift[0], (double)shift[1], (double)shift[2]);
         if (refs[i].exact && !(d <= 1e-3 * size))
             fail_msg("%s at t=%g differs from %s by %g (size %g)", refs[i].fbx, (double)refs[i].time, refs[i].obj, d,
                      size);

@@ -376,8 +376,8 @@ static void test_collada_gltf_against_threejs(void **state)
         free(sids.name);
         /* Nodes three.js makes up ("Scene", a mesh per glTF primitive) are not in the file. */
         bool ok = o.nodes <= files[i].limit && o.verts <= files[i].limit && o.missing <= files[i].made_up;
-        print_message("%-50s nodes %.2e verts %.2e of the diagonal (%u node positions, %u missing)%s\n",
-                      files[i].file, o.nodes, o.verts, o.compared, o.missing, ok ? "" : "  <-- over the limit");
+        print_message("%-50s nodes %.2e verts %.2e of the diagonal (%u node positions, %u missing)%s\n", files[i].file,
+                      o.nodes, o.verts, o.compared, o.missing, ok ? "" : "  <-- over the limit");
         failed |= !ok;
         sinew_model_free(m);
         cJSON_Delete(ref);

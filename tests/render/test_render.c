@@ -328,14 +328,14 @@ static void test_embedded_texture(void **state)
     const char *files[] = {glb, gltf, converted};
     image first = {0};
     for (int f = 0; f < 3; f++) {
-        image im = RENDER("textured.png", files[f], "--size", SIZE, "--no-grid", "--no-skeleton", "--background",
-                          "000000");
+        image im =
+            RENDER("textured.png", files[f], "--size", SIZE, "--no-grid", "--no-skeleton", "--background", "000000");
         colour_patch red = find_colour(&im, 255, 0, 0), green = find_colour(&im, 0, 255, 0),
                      blue = find_colour(&im, 0, 0, 255), white = find_colour(&im, 235, 235, 235);
         printf("embedded texture (%s): red %ld, green %ld, blue %ld, white %ld pixels\n", strrchr(files[f], '/') + 1,
                red.count, green.count, blue.count, white.count);
         assert_true(red.count > 500 && green.count > 500 && blue.count > 500 && white.count > 500);
-        assert_true(red.y > blue.y && green.y > white.y);  /* the image's top row at the strip's bottom */
+        assert_true(red.y > blue.y && green.y > white.y); /* the image's top row at the strip's bottom */
         assert_true(green.x > red.x && white.x > blue.x); /* u to the right */
         if (f == 0) {
             first = im;

@@ -180,9 +180,9 @@ static void test_settings_round_trip(void **state)
     const char *text = "[display]\ngrid=off\nshading=flat\n\n[window]\nwidth=900\nheight=620\n\n[keys]\nplay=p\n";
     write_file(ini, text, strlen(text));
     /* the file's settings are used */
-    compare_with_render((const char *const[]){dae, "--clip", "walk", "--time", "0.5", NULL},
-                        (const char *const[]){dae, "--clip", "walk", "--time", "0.5", "--no-grid", "--shading",
-                                              "flat", NULL});
+    compare_with_render(
+        (const char *const[]){dae, "--clip", "walk", "--time", "0.5", NULL},
+        (const char *const[]){dae, "--clip", "walk", "--time", "0.5", "--no-grid", "--shading", "flat", NULL});
     size_t size = 0;
     char *saved = read_file(ini, &size);
     assert_non_null(saved);
