@@ -37,6 +37,7 @@ void fuzz_exercise(const sinew_model *m)
     for (uint32_t i = 0; i < m->material_count; i++)
         for (uint32_t b = 0; b < m->materials[i].diffuse_image_size; b++)
             sum += m->materials[i].diffuse_image[b];
+    (void)sum;
     for (uint32_t i = 0; i < m->mesh_count; i++) {
         const sinew_mesh *mesh = &m->meshes[i];
         float *out = malloc(((size_t)mesh->vertex_count + 1) * 3 * sizeof(float));
