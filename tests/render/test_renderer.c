@@ -1,0 +1,156 @@
+/* The renderer as a library, without the CLI: a headless context, a renderer for a model, a
+ * frame drawn and read back. The synthetic chain (a tube along +Y) drawn unlit in clay on a
+ * plain background covers the middle of the picture and not the corners; its posed bounds
+ * are where the chain stands; GPU and CPU skinning draw the same picture; bad frames are
+ * refused with a message. Skips when this machine has no OpenGL 3.3 through EGL. */
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "helpers.h"
+
+#define W 96
+#define H 128
+
+typedef struct fixture {
+    sinew_headless *headless;
+    sinew_model *model;
+    sinew_renderer *renderer;
+    sinew_mat4 *worlds;
+    uint8_t pixels[W * H * 4];
+} fixture;
+
+static int setup(void **state)
+{
+    static fixture f;
+    memset(&f, 0, sizeof f);
+    sinew_error error = {0};
+    if (sinew_headless_create(&(sinew_headless_desc){.width = W, .height = H, .samples = 1}, &f.headless, &error) !=
+        SINEW_OK) {
+        *state = NULL;
+        return 0;
+    }
+    sinew_synthetic_desc sd = {.joints = 8, .vertices = 2000};
+    assert_int_equal(sinew_synthetic_model(&sd, &f.model, &error), SINEW_OK);
+    assert_int_equal(sinew_renderer_create(&(sinew_renderer_desc){.model = f.model}, &f.renderer, &error), SINEW_OK);
+    f.worlds = pose_worlds(f.model, NULL, 0.0f);
+    *state = &f;
+    return 0;
+}
+
+static int teardown(void **state)
+{
+    fixture *f = *state;
+    if (!f)
+        return 0;
+    free(f->worlds);
+    sinew_renderer_destroy(f->renderer);
+    sinew_model_free(f->model);
+    sinew_headless_destroy(f->headless);
+    return 0;
+}
+
+/* Draws with clay, no lighting, no grid, on black, seen from the front at the chain. */
+static void draw(fixture *f, sinew_skinning skinning)
+{
+    sinew_render_options o = sinew_render_options_default();
+    o.materials = false;
+    o.lighting = false;
+    o.grid = false;
+    o.background[0] = o.background[1] = o.background[2] = 0.0f;
+    o.skinning = skinning;
+    float lo[3], hi[3];
+    assert_true(sinew_renderer_bounds(f->renderer, f->worlds, f->model->node_count, lo, hi));
+    sinew_camera camera = sinew_camera_default();
+    camera.pitch = 0.0f;
+    sinew_camera_frame(&camera, lo, hi, (float)W / (float)H);
+    sinew_frame frame = {.worlds = f->worlds,
+                         .world_count = f->model->node_count,
+                         .camera = &camera,
+                         .width = W,
+                         .height = H,
+                         .options = &o};
+    sinew_error error = {0};
+    sinew_headless_bind(f->headless);
+    assert_int_equal(sinew_renderer_draw(f->renderer, &frame, &error), SINEW_OK);
+    assert_int_equal(sinew_headless_read(f->headless, f->pixels, &error), SINEW_OK);
+}
+
+static bool lit(const uint8_t *pixels, int x, int y)
+{
+    const uint8_t *p = &pixels[((size_t)y * W + (size_t)x) * 4];
+    return p[0] + p[1] + p[2] > 60;
+}
+
+static void test_draw_and_read_back(void **state)
+{
+    fixture *f = *state;
+    if (!f)
+        skip();
+    float lo[3], hi[3];
+    assert_true(sinew_renderer_bounds(f->renderer, f->worlds, f->model->node_count, lo, hi));
+    /* the chain stands 1.8 m tall on the origin */
+    assert_near(lo[1], 0.0, 0.05, "bottom");
+    assert_near(hi[1], 1.8, 0.1, "top");
+    draw(f, SINEW_SKINNING_GPU);
+    long covered = 0;
+    for (int y = 0; y < H; y++)
+        for (int x = 0; x < W; x++)
+            covered += lit(f->pixels, x, y);
+    print_message("the chain covers %ld of %d pixels\n", covered, W * H);
+    assert_true(lit(f->pixels, W / 2, H / 2));
+    assert_false(lit(f->pixels, 0, 0) || lit(f->pixels, W - 1, 0) || lit(f->pixels, 0, H - 1) ||
+                 lit(f->pixels, W - 1, H - 1));
+    assert_true(covered > W * H / 20 && covered < W * H / 2);
+    assert_non_null(sinew_renderer_gl_name(f->renderer));
+}
+
+static void test_cpu_and_gpu_skinning_agree(void **state)
+{
+    fixture *f = *state;
+    if (!f)
+        skip();
+    free(f->worlds);
+    f->worlds = pose_worlds(f->model, &f->model->clips[0], 0.5f); /* swayed */
+    draw(f, SINEW_SKINNING_GPU);
+    uint8_t *gpu = malloc(sizeof f->pixels);
+    memcpy(gpu, f->pixels, sizeof f->pixels);
+    draw(f, SINEW_SKINNING_CPU);
+    long differ = differing_pixels(gpu, f->pixels, W * H, NULL);
+    print_message("GPU and CPU skinning: %ld of %d pixels differ\n", differ, W * H);
+    assert_true(differ <= W * H / 200);
+    free(gpu);
+}
+
+static void test_bad_frames(void **state)
+{
+    fixture *f = *state;
+    if (!f)
+        skip();
+    sinew_camera camera = sinew_camera_default();
+    sinew_render_options o = sinew_render_options_default();
+    sinew_error error = {0};
+    sinew_frame frame = {.worlds = f->worlds,
+                         .world_count = f->model->node_count - 1, /* one short */
+                         .camera = &camera,
+                         .width = W,
+                         .height = H,
+                         .options = &o};
+    assert_int_equal(sinew_renderer_draw(f->renderer, &frame, &error), SINEW_ERROR_INVALID_ARGUMENT);
+    assert_true(error.message[0] != '\0');
+    frame.world_count = f->model->node_count;
+    frame.camera = NULL;
+    assert_int_equal(sinew_renderer_draw(f->renderer, &frame, &error), SINEW_ERROR_INVALID_ARGUMENT);
+    assert_int_equal(sinew_renderer_create(&(sinew_renderer_desc){.model = NULL}, &(sinew_renderer *){NULL}, &error),
+                     SINEW_ERROR_INVALID_ARGUMENT);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_draw_and_read_back),
+        cmocka_unit_test(test_cpu_and_gpu_skinning_agree),
+        cmocka_unit_test(test_bad_frames),
+    };
+    return cmocka_run_group_tests(tests, setup, teardown);
+}
