@@ -9,10 +9,6 @@
 
 #include "sinew/sinew.h"
 
-/* Fills `error` (when not NULL) with kind and message; returns kind. */
-sinew_result app_fail(sinew_error *error, sinew_result kind, const char *format, ...)
-    __attribute__((format(printf, 3, 4)));
-
 /* Numbers, strictly: the whole text, plain decimal (no blanks, "nan", "inf" or hex), finite,
  * within [lo, hi]. The list form reads min..max numbers separated by commas and returns how
  * many, or -1. Sizes are WIDTHxHEIGHT, each within lo..hi. */

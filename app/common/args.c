@@ -1,25 +1,11 @@
 /* The command-line pieces sinew and sinew-view share: display options and camera specs read
  * from arguments. Application code: the library takes values, not command lines. */
-#include <errno.h>
 #include <math.h>
-#include <stdarg.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
 #include "app.h"
-
-sinew_result app_fail(sinew_error *error, sinew_result kind, const char *format, ...)
-{
-    if (error) {
-        va_list args;
-        va_start(args, format);
-        error->kind = kind;
-        vsnprintf(error->message, sizeof error->message, format, args);
-        va_end(args);
-    }
-    return kind;
-}
 
 /* Reads exactly `count` comma-separated numbers (degrees and metres, within +-1e9). */
 static bool parse_numbers(const char *text, double *out, int count)
@@ -31,7 +17,7 @@ sinew_result app_camera_parse(const char *text, sinew_camera *camera, bool *fram
 {
     const double rad = 3.14159265358979323846 / 180.0;
     if (!text || !camera)
-        return app_fail(error, SINEW_ERROR_INVALID_ARGUMENT, "app_camera_parse: missing argument");
+        return sinew_fail(error, SINEW_ERROR_INVALID_ARGUMENT, "app_camera_parse: missing argument");
     double v[5];
     if (strncmp(text, "orbit:", 6) == 0) {
         const char *args = text + 6;
@@ -44,8 +30,8 @@ sinew_result app_camera_parse(const char *text, sinew_camera *camera, bool *fram
         } else if (parse_numbers(angles, v, 2)) {
             auto_distance = true;
         } else {
-            return app_fail(error, SINEW_ERROR_INVALID_ARGUMENT,
-                            "camera \"%s\": expected orbit:YAW,PITCH[,DISTANCE] (degrees, distance > 0)", text);
+            return sinew_fail(error, SINEW_ERROR_INVALID_ARGUMENT,
+                              "camera \"%s\": expected orbit:YAW,PITCH[,DISTANCE] (degrees, distance > 0)", text);
         }
         camera->mode = SINEW_CAMERA_ORBIT;
         camera->yaw = (float)(v[0] * rad);
@@ -66,8 +52,8 @@ sinew_result app_camera_parse(const char *text, sinew_camera *camera, bool *fram
             *frame_all = false;
         return SINEW_OK;
     }
-    return app_fail(error, SINEW_ERROR_INVALID_ARGUMENT,
-                    "camera \"%s\": expected orbit:YAW,PITCH[,DISTANCE] or fly:X,Y,Z,YAW,PITCH (degrees)", text);
+    return sinew_fail(error, SINEW_ERROR_INVALID_ARGUMENT,
+                      "camera \"%s\": expected orbit:YAW,PITCH[,DISTANCE] or fly:X,Y,Z,YAW,PITCH (degrees)", text);
 }
 
 int app_render_option_parse(sinew_render_options *options, int argc, char *const *argv, int i, const char **name_out,
@@ -95,7 +81,7 @@ int app_render_option_parse(sinew_render_options *options, int argc, char *const
         if (name_out)
             *name_out = *n;
         if (i + 1 >= argc) {
-            app_fail(error, SINEW_ERROR_INVALID_ARGUMENT, "--%s needs a value", name);
+            sinew_fail(error, SINEW_ERROR_INVALID_ARGUMENT, "--%s needs a value", name);
             return -1;
         }
         return sinew_render_option_set(options, name, argv[i + 1], error) == SINEW_OK ? 2 : -1;

@@ -41,8 +41,8 @@ sinew_result app_output_check(const char *output, const char *const *inputs, siz
 {
     for (size_t i = 0; i < input_count; i++) {
         if (inputs[i] && app_same_file(output, inputs[i]))
-            return app_fail(error, SINEW_ERROR_INVALID_ARGUMENT,
-                            "%s: the output is the input file %s; refusing to write over it", output, inputs[i]);
+            return sinew_fail(error, SINEW_ERROR_INVALID_ARGUMENT,
+                              "%s: the output is the input file %s; refusing to write over it", output, inputs[i]);
     }
     return SINEW_OK;
 }
@@ -53,12 +53,12 @@ sinew_result app_output_open(app_output *o, const char *path, sinew_error *error
     snprintf(o->path, sizeof o->path, "%s", path);
     struct stat st;
     if (stat(path, &st) == 0 && S_ISDIR(st.st_mode))
-        return app_fail(error, SINEW_ERROR_IO, "%s: is a folder, not a file", path);
+        return sinew_fail(error, SINEW_ERROR_IO, "%s: is a folder, not a file", path);
     if (stat(path, &st) == 0 && !S_ISREG(st.st_mode)) {
         o->in_place = true;
         o->file = fopen(path, "wb");
         if (!o->file)
-            return app_fail(error, SINEW_ERROR_IO, "%s: cannot write: %s", path, strerror(errno));
+            return sinew_fail(error, SINEW_ERROR_IO, "%s: cannot write: %s", path, strerror(errno));
         return SINEW_OK;
     }
     char folder[PATH_MAX];
@@ -69,10 +69,10 @@ sinew_result app_output_open(app_output *o, const char *path, sinew_error *error
     /* .NAME.XXXXXX.EXT: hidden, and with the target's extension (ffmpeg picks its muxer by it). */
     int n = snprintf(o->temp, sizeof o->temp, "%s/.%s.XXXXXX%s", folder, name, ext);
     if (n < 0 || (size_t)n >= sizeof o->temp)
-        return app_fail(error, SINEW_ERROR_IO, "%s: the path is too long", path);
+        return sinew_fail(error, SINEW_ERROR_IO, "%s: the path is too long", path);
     int fd = mkostemps(o->temp, (int)strlen(ext), O_CLOEXEC);
     if (fd < 0)
-        return app_fail(error, SINEW_ERROR_IO, "%s: cannot write in %s: %s", path, folder, strerror(errno));
+        return sinew_fail(error, SINEW_ERROR_IO, "%s: cannot write in %s: %s", path, folder, strerror(errno));
     mode_t mask = umask(0); /* files get 0666 less the umask, as fopen's would */
     umask(mask);
     fchmod(fd, 0666 & ~mask);
@@ -80,7 +80,7 @@ sinew_result app_output_open(app_output *o, const char *path, sinew_error *error
     if (!o->file) {
         close(fd);
         unlink(o->temp);
-        return app_fail(error, SINEW_ERROR_IO, "%s: cannot write: %s", path, strerror(errno));
+        return sinew_fail(error, SINEW_ERROR_IO, "%s: cannot write: %s", path, strerror(errno));
     }
     return SINEW_OK;
 }
@@ -104,7 +104,7 @@ bool app_output_write(app_output *o, const void *bytes, size_t size)
 sinew_result app_output_commit(app_output *o, sinew_error *error)
 {
     if (!o->file && !o->external)
-        return app_fail(error, SINEW_ERROR_IO, "%s: not open", o->path);
+        return sinew_fail(error, SINEW_ERROR_IO, "%s: not open", o->path);
     if (o->file) {
         if (fflush(o->file) != 0 && !o->failed) {
             o->failed = true;
@@ -123,12 +123,12 @@ sinew_result app_output_commit(app_output *o, sinew_error *error)
     if (o->failed) {
         int e = o->saved_errno;
         app_output_abort(o);
-        return app_fail(error, SINEW_ERROR_IO, "%s: cannot write: %s; nothing was written", o->path, strerror(e));
+        return sinew_fail(error, SINEW_ERROR_IO, "%s: cannot write: %s; nothing was written", o->path, strerror(e));
     }
     if (!o->in_place && rename(o->temp, o->path) != 0) {
         int e = errno;
         app_output_abort(o);
-        return app_fail(error, SINEW_ERROR_IO, "%s: cannot put the file in place: %s", o->path, strerror(e));
+        return sinew_fail(error, SINEW_ERROR_IO, "%s: cannot put the file in place: %s", o->path, strerror(e));
     }
     o->temp[0] = '\0';
     return SINEW_OK;
@@ -164,7 +164,7 @@ sinew_result app_write_png(const char *path, const unsigned char *rgba, int widt
     size_t n = (size_t)width * (size_t)height;
     unsigned char *rgb = malloc(n * 3 + 1);
     if (!rgb)
-        return app_fail(error, SINEW_ERROR_OUT_OF_MEMORY, "%s: out of memory", path);
+        return sinew_fail(error, SINEW_ERROR_OUT_OF_MEMORY, "%s: out of memory", path);
     for (size_t i = 0; i < n; i++)
         memcpy(&rgb[i * 3], &rgba[i * 4], 3);
     app_output o;
@@ -175,7 +175,7 @@ sinew_result app_write_png(const char *path, const unsigned char *rgba, int widt
         stbi_flip_vertically_on_write(0);
         if (!ok) {
             app_output_abort(&o);
-            result = app_fail(error, SINEW_ERROR_IO, "%s: cannot encode the image", path);
+            result = sinew_fail(error, SINEW_ERROR_IO, "%s: cannot encode the image", path);
         } else {
             result = app_output_commit(&o, error);
         }

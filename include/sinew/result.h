@@ -35,6 +35,15 @@ typedef struct sinew_error {
 /* A short constant name for a result code ("ok", "i/o error", ...). */
 const char *sinew_result_string(sinew_result result);
 
+/* Fills `error` (when not NULL) with kind and a printf-style message and returns kind: how the
+ * library reports every failure, and how code around it (the sinew apps, an engine's loaders)
+ * can report its own in the same record. */
+sinew_result sinew_fail(sinew_error *error, sinew_result kind, const char *format, ...)
+#if defined(__GNUC__)
+    __attribute__((format(printf, 3, 4)))
+#endif
+    ;
+
 /* The version of the library linked ("0.1.0"); SINEW_VERSION_STRING (sinew/version.h) is the
  * version of the headers compiled against. */
 const char *sinew_version(void);

@@ -157,13 +157,6 @@ void sinew_slerp_shortest(const float *a, const float *b, float s, float *out);
 /* Chooses the player's SIMD path (when the processor has it) or the scalar reference. */
 void sinew_player_set_simd(sinew_player *player, bool simd);
 
-/* Fills error (when not NULL) with kind and a printf-style message; returns kind. */
-sinew_result sinew_fail(sinew_error *error, sinew_result kind, const char *format, ...)
-#if defined(__GNUC__)
-    __attribute__((format(printf, 3, 4)))
-#endif
-    ;
-
 /* Width in floats of one key value of a channel kind (translation/scale 3, rotation 4). */
 static inline uint32_t sinew_channel_width(int kind)
 {
