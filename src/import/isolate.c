@@ -233,32 +233,34 @@ static void keep_tail(helper_run *run, const char *bytes, size_t n)
     run->tail[run->tail_len] = '\0';
 }
 
-/* Appends what arrived on the reply pipe; false when the reply is larger than the header
+/* Appends what arrived on the reply pipe; false when the reply is larger than its header
  * says or than the helper could have made (then nothing more is read). */
 static bool take_reply(helper_run *run, const unsigned char *bytes, size_t n)
 {
-    size_t want = run->reply_size + n;
-    if (want > run->reply_cap) {
-        size_t cap = run->reply_cap ? run->reply_cap * 2 : 65536;
-        while (cap < want)
-            cap *= 2;
-        unsigned char *grown = realloc(run->reply, cap);
-        if (!grown) {
-            run->reply_too_big = true;
-            return false;
-        }
-        run->reply = grown;
-        run->reply_cap = cap;
+    if (!run->reply) {
+        run->reply = malloc(sizeof(reply_header));
+        run->reply_cap = run->reply ? sizeof(reply_header) : 0;
+    }
+    if (run->reply_size + n > run->reply_cap) { /* more than the header announced */
+        run->reply_too_big = true;
+        return false;
     }
     memcpy(run->reply + run->reply_size, bytes, n);
-    run->reply_size = want;
-    if (run->reply_size >= sizeof(reply_header)) {
+    run->reply_size += n;
+    /* The header arrives alone (drain() reads no further): room for exactly what it
+     * announces, once, when that fits the limit. */
+    if (run->reply_size == sizeof(reply_header) && run->reply_cap == sizeof(reply_header)) {
         reply_header h;
         memcpy(&h, run->reply, sizeof h);
-        if (h.size > run->reply_limit || run->reply_size - sizeof h > h.size) {
+        unsigned char *whole = h.size <= run->reply_limit && h.size <= SIZE_MAX - sizeof h
+                                   ? realloc(run->reply, sizeof h + (size_t)h.size)
+                                   : NULL;
+        if (!whole) {
             run->reply_too_big = true;
             return false;
         }
+        run->reply = whole;
+        run->reply_cap = sizeof h + (size_t)h.size;
     }
     return true;
 }
@@ -267,7 +269,10 @@ static bool take_reply(helper_run *run, const unsigned char *bytes, size_t n)
 static void drain(helper_run *run, int *fd, bool is_reply)
 {
     unsigned char buf[65536];
-    ssize_t n = read(*fd, buf, sizeof buf);
+    size_t ask = sizeof buf;
+    if (is_reply && run->reply_size < sizeof(reply_header))
+        ask = sizeof(reply_header) - run->reply_size; /* the header alone first */
+    ssize_t n = read(*fd, buf, ask);
     if (n < 0 && (errno == EINTR || errno == EAGAIN))
         return;
     if (n <= 0 || (is_reply && !take_reply(run, buf, (size_t)n))) {
@@ -302,6 +307,7 @@ static void sample_memory(helper_run *run)
  * address-space limit the helper sets on itself does not hold under AddressSanitizer). */
 static void watch(helper_run *run, double deadline)
 {
+    double next_sample = 0.0;
     while (run->reply_fd >= 0 || run->err_fd >= 0) {
         struct pollfd fds[2];
         nfds_t count = 0;
@@ -316,12 +322,17 @@ static void watch(helper_run *run, double deadline)
             bool is_reply = fds[i].fd == run->reply_fd;
             drain(run, is_reply ? &run->reply_fd : &run->err_fd, is_reply);
         }
-        sample_memory(run);
+        /* every WATCH_MS, not after every read: a large reply arrives in many reads */
+        double now = now_seconds();
+        if (now >= next_sample) {
+            sample_memory(run);
+            next_sample = now + WATCH_MS * 1e-3;
+        }
         if (run->memory_limit != UINT64_MAX && run->peak_rss > run->memory_limit) {
             run->killed_for_memory = true;
             break;
         }
-        if (deadline > 0.0 && now_seconds() > deadline) {
+        if (deadline > 0.0 && now > deadline) {
             run->killed_for_time = true;
             break;
         }
