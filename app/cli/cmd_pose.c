@@ -185,14 +185,12 @@ static void print_frame_text(const sinew_model *m, const cli_pose *pose, float t
 }
 
 /* Writes every mesh instance, skinned or placed at its node, in world space, whole or not at
- * all. Returns an exit code. */
+ * all (cmd_pose has refused an output that is one of the inputs). Returns an exit code. */
 static int write_obj(const sinew_model *m, cli_pose *pose, const char *out_path)
 {
     app_output out;
     sinew_error output_error = {0};
-    const char *inputs[1] = {m->source};
-    if (app_output_check(out_path, inputs, 1, &output_error) != SINEW_OK ||
-        app_output_open(&out, out_path, &output_error) != SINEW_OK) {
+    if (app_output_open(&out, out_path, &output_error) != SINEW_OK) {
         cli_error("pose: %s", output_error.message);
         return EXIT_OUTPUT;
     }

@@ -52,9 +52,10 @@ sinew_result app_output_open(app_output *o, const char *path, sinew_error *error
     memset(o, 0, sizeof *o);
     snprintf(o->path, sizeof o->path, "%s", path);
     struct stat st;
-    if (stat(path, &st) == 0 && S_ISDIR(st.st_mode))
+    bool exists = stat(path, &st) == 0;
+    if (exists && S_ISDIR(st.st_mode))
         return sinew_fail(error, SINEW_ERROR_IO, "%s: is a folder, not a file", path);
-    if (stat(path, &st) == 0 && !S_ISREG(st.st_mode)) {
+    if (exists && !S_ISREG(st.st_mode)) {
         o->in_place = true;
         o->file = fopen(path, "wb");
         if (!o->file)
