@@ -15,7 +15,7 @@ static const char usage[] =
     "                                muscles' length, delta and volume\n"
     "  render FILE [--time T | --from A --to B --fps N] [--camera SPEC] [display options] -o OUT\n"
     "                                draw frames off-screen (OpenGL through EGL) to PNG, PNG sequences or MP4\n"
-    "  demo DIR                      write the demo content (humanoid and arm as COLLADA, muscle files)\n"
+    "  demo DIR [--force]            write the demo content (humanoid and arm as COLLADA, muscle files)\n"
     "  convert IN OUT.sinew [--muscles [M.json] | --no-muscles]\n"
     "                                write a model (and its muscles) as sinew's runtime format\n"
     "  bench render [FILE]           frames per second of the renderer, GPU against CPU skinning\n"
