@@ -45,7 +45,6 @@ void app_output_abort(app_output *o);
 
 /* Refuses an output that is one of the inputs (same file, by device and inode or real path). */
 sinew_result app_output_check(const char *output, const char *const *inputs, size_t input_count, sinew_error *error);
-bool app_same_file(const char *a, const char *b);
 
 /* An RGBA image as an RGB PNG through app_output (flip: the rows come bottom first). */
 sinew_result app_write_png(const char *path, const unsigned char *rgba, int width, int height, bool flip,

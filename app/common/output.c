@@ -28,7 +28,8 @@ static void folder_of(const char *path, char *out, size_t size)
         snprintf(out, size, "%.*s", (int)(slash - path), path);
 }
 
-bool app_same_file(const char *a, const char *b)
+/* The same file: by device and inode when both exist, else by real path. */
+static bool same_file(const char *a, const char *b)
 {
     struct stat sa, sb;
     if (stat(a, &sa) == 0 && stat(b, &sb) == 0)
@@ -40,7 +41,7 @@ bool app_same_file(const char *a, const char *b)
 sinew_result app_output_check(const char *output, const char *const *inputs, size_t input_count, sinew_error *error)
 {
     for (size_t i = 0; i < input_count; i++) {
-        if (inputs[i] && app_same_file(output, inputs[i]))
+        if (inputs[i] && same_file(output, inputs[i]))
             return sinew_fail(error, SINEW_ERROR_INVALID_ARGUMENT,
                               "%s: the output is the input file %s; refusing to write over it", output, inputs[i]);
     }

@@ -218,8 +218,6 @@ sinew_result import_reply_decode(const unsigned char *bytes, size_t size, const 
                                  const sinew_allocator *allocator, sinew_model **out, sinew_error *error);
 /* Which reader sinew_import() gives the file ("Assimp", "sinew's FBX reader", ...), for messages. */
 const char *import_reader_name(const char *path, bool assimp);
-/* desc->memory_limit, or its default (half the machine's memory, 1 to 16 GiB). */
-uint64_t import_memory_limit(const sinew_import_desc *desc);
 
 /* An XML document of `size` (<= INT32_MAX) bytes, parsed with no network, huge text nodes
  * allowed and nothing printed (libxml2's own error handlers quieted for the parse); NULL

@@ -105,7 +105,8 @@ sinew_result sinew_import_helper_path(const sinew_import_desc *desc, char *out, 
 
 /* ---- the limits ------------------------------------------------------------------------------ */
 
-uint64_t import_memory_limit(const sinew_import_desc *desc)
+/* desc->memory_limit, or its default (half the machine's memory, 1 to 16 GiB). */
+static uint64_t memory_limit_of(const sinew_import_desc *desc)
 {
     if (desc->memory_limit)
         return desc->memory_limit;
@@ -467,7 +468,7 @@ sinew_result import_in_helper(const sinew_import_desc *desc, sinew_model **out, 
     sinew_result result = sinew_import_helper_path(desc, helper, sizeof helper, error);
     if (result)
         return result;
-    helper_run run = {.path = desc->path, .reply_fd = -1, .err_fd = -1, .memory_limit = import_memory_limit(desc)};
+    helper_run run = {.path = desc->path, .reply_fd = -1, .err_fd = -1, .memory_limit = memory_limit_of(desc)};
     run.reply_limit = run.memory_limit;
     if ((result = spawn_helper(desc, helper, &run, error)))
         return result;
