@@ -23,14 +23,20 @@ void fuzz_exercise(const sinew_model *m)
                 sinew_local_to_world(m, locals, m->node_count, NULL, worlds, m->node_count, NULL) != SINEW_OK)
                 abort(); /* a model that loaded must sample */
         }
+        sinew_clip_layout *layout = NULL;
         sinew_player *player = NULL;
-        if (sinew_player_create(m, clip, &player, NULL) != SINEW_OK)
+        if (sinew_clip_layout_create(&(sinew_clip_layout_desc){.model = m, .clip = clip}, &layout, NULL) != SINEW_OK)
+            abort();
+        size_t size = sinew_player_size(layout);
+        void *memory = malloc(size);
+        if (!memory || sinew_player_init(memory, size, layout, &player, NULL) != SINEW_OK)
             abort();
         for (int step = 0; step < 3; step++)
             if (sinew_player_update(player, duration * ((float)step * 0.5f), SINEW_WRAP_CLAMP, NULL, worlds,
                                     m->node_count, NULL) != SINEW_OK)
                 abort();
-        sinew_player_free(player);
+        free(memory);
+        sinew_clip_layout_free(layout);
     }
     /* embedded images: every byte readable */
     volatile unsigned sum = 0;

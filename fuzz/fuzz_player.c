@@ -1,9 +1,9 @@
 /* libFuzzer target for the player: the first 17 bytes are four times (any float, NaN and
  * infinities included) and a wrap mode, the rest a .sinew model; an input that is a .sinew
  * file itself (the seeds) is played at 0, 0.5 s, 1e9 s and NaN, looped. Every clip of a model that
- * loads is played (and by a clone) at those times: an update either succeeds or refuses the
- * time, never reads or writes out of bounds.
- *   build/fuzz_player_replay FILES   the same on given files (part of `make test`) */
+ * loads is played (by two players of one layout, at those times in opposite orders): an update either succeeds or
+ * refuses the time, never reads or writes out of bounds. build/fuzz_player_replay FILES   the same on given files (part
+ * of `make test`) */
 #include <math.h>
 #include <stdint.h>
 #include <stdlib.h>
@@ -34,16 +34,22 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     sinew_mat4 *worlds = malloc(((size_t)m->node_count + 1) * sizeof *worlds);
     for (uint32_t c = 0; worlds && c <= m->clip_count; c++) {
         const sinew_clip *clip = c < m->clip_count ? &m->clips[c] : NULL; /* and the rest pose */
-        sinew_player *player = NULL, *clone = NULL;
-        if (sinew_player_create(m, clip, &player, NULL) != SINEW_OK ||
-            sinew_player_clone(player, &clone, NULL) != SINEW_OK)
+        sinew_clip_layout *layout = NULL;
+        sinew_player *player = NULL, *other = NULL;
+        if (sinew_clip_layout_create(&(sinew_clip_layout_desc){.model = m, .clip = clip}, &layout, NULL) != SINEW_OK)
             abort(); /* a model that loaded can be played */
+        size_t bytes = sinew_player_size(layout);
+        unsigned char *memory = malloc(2 * bytes + 1);
+        /* the second player starts on an odd address: it aligns itself */
+        if (!memory || sinew_player_init(memory, bytes, layout, &player, NULL) != SINEW_OK ||
+            sinew_player_init(memory + bytes + 1, bytes, layout, &other, NULL) != SINEW_OK)
+            abort();
         for (int i = 0; i < 4; i++) {
             sinew_player_update(player, times[i], wrap, NULL, worlds, m->node_count, NULL);
-            sinew_player_update(clone, times[3 - i], wrap, NULL, worlds, m->node_count, NULL);
+            sinew_player_update(other, times[3 - i], wrap, NULL, worlds, m->node_count, NULL);
         }
-        sinew_player_free(clone);
-        sinew_player_free(player);
+        free(memory);
+        sinew_clip_layout_free(layout);
     }
     free(worlds);
     sinew_model_free(m);

@@ -103,6 +103,36 @@ sinew_mat4 *pose_worlds(const sinew_model *model, const sinew_clip *clip, float 
     return worlds;
 }
 
+sinew_player *test_player_open(test_player *tp, const sinew_model *model, const sinew_clip *clip)
+{
+    sinew_error error = {0};
+    memset(tp, 0, sizeof *tp);
+    sinew_clip_layout_desc desc = {.model = model, .clip = clip};
+    if (sinew_clip_layout_create(&desc, &tp->layout, &error) != SINEW_OK)
+        fail_msg("layout of %s: %s", model->source, error.message);
+    tp->player = test_player_another(tp, &tp->memory);
+    return tp->player;
+}
+
+sinew_player *test_player_another(const test_player *tp, void **memory)
+{
+    sinew_error error = {0};
+    size_t size = sinew_player_size(tp->layout);
+    sinew_player *player = NULL;
+    *memory = malloc(size);
+    assert_non_null(*memory);
+    if (sinew_player_init(*memory, size, tp->layout, &player, &error) != SINEW_OK)
+        fail_msg("player: %s", error.message);
+    return player;
+}
+
+void test_player_close(test_player *tp)
+{
+    free(tp->memory);
+    sinew_clip_layout_free(tp->layout);
+    memset(tp, 0, sizeof *tp);
+}
+
 float *posed_vertices(const sinew_model *model, const sinew_mat4 *worlds, uint32_t *count)
 {
     size_t total = 0;

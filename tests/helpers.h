@@ -36,6 +36,18 @@ double bezier_reference(const double p[4][2], double t);
 /* World matrices of a model at time t of clip (NULL: rest), malloc'd. */
 sinew_mat4 *pose_worlds(const sinew_model *model, const sinew_clip *clip, float t);
 
+/* A player with its own layout and memory, for tests that play one clip (fails the test
+ * when it cannot be made). test_player_close() frees all three. */
+typedef struct test_player {
+    sinew_clip_layout *layout;
+    sinew_player *player;
+    void *memory;
+} test_player;
+sinew_player *test_player_open(test_player *tp, const sinew_model *model, const sinew_clip *clip);
+/* Another player of tp's layout, in memory the caller frees. */
+sinew_player *test_player_another(const test_player *tp, void **memory);
+void test_player_close(test_player *tp);
+
 /* All mesh instances skinned/placed at the pose, as one malloc'd xyz array. */
 float *posed_vertices(const sinew_model *model, const sinew_mat4 *worlds, uint32_t *count);
 

@@ -169,14 +169,15 @@ static bool bench_sampling(uint32_t joints, sample_result *out)
     void *context_memory = malloc(context_size);
     b.locals = malloc(b.model->node_count * sizeof *b.locals);
     b.worlds = malloc(b.model->node_count * sizeof *b.worlds);
-    bool ok = context_memory && b.locals && b.worlds &&
-              sinew_player_create(b.model, clip, &b.player, NULL) == SINEW_OK &&
+    app_player player = {0};
+    bool ok = context_memory && b.locals && b.worlds && app_player_open(&player, b.model, clip, NULL) == SINEW_OK &&
               sinew_sample_context_init(context_memory, context_size, clip, &b.context, NULL) == SINEW_OK;
     uint32_t seed = 12345;
     for (int i = 0; i < 1024; i++) {
         seed = seed * 1664525u + 1013904223u;
         b.times[i] = clip->duration * (float)(seed >> 8) / 16777216.0f;
     }
+    b.player = player.player;
     if (ok) {
         out->forward_us = 1e6 * best_per_unit(step_player, &b, 20000);
         out->reference_forward_us = 1e6 * best_per_unit(step_reference, &b, 5000);
@@ -184,7 +185,7 @@ static bool bench_sampling(uint32_t joints, sample_result *out)
         out->seek_us = 1e6 * best_per_unit(step_player, &b, 20000);
         out->reference_seek_us = 1e6 * best_per_unit(step_reference, &b, 5000);
     }
-    sinew_player_free(b.player);
+    app_player_close(&player);
     free(context_memory);
     free(b.locals);
     free(b.worlds);
@@ -251,11 +252,12 @@ static bool bench_skinning(pool *threads, skin_result *out)
                     .positions = malloc((size_t)mesh->vertex_count * 12),
                     .normals = malloc((size_t)mesh->vertex_count * 12),
                     .threads = threads};
-    sinew_player *player = NULL;
-    bool ok = worlds && b.palette && b.positions && b.normals &&
-              sinew_player_create(model, &model->clips[0], &player, NULL) == SINEW_OK &&
-              sinew_player_update(player, 0.5f, SINEW_WRAP_LOOP, NULL, worlds, model->node_count, NULL) == SINEW_OK &&
-              sinew_skin_palette(skin, worlds, model->node_count, b.palette, b.palette_count, NULL) == SINEW_OK;
+    app_player player = {0};
+    bool ok =
+        worlds && b.palette && b.positions && b.normals &&
+        app_player_open(&player, model, &model->clips[0], NULL) == SINEW_OK &&
+        sinew_player_update(player.player, 0.5f, SINEW_WRAP_LOOP, NULL, worlds, model->node_count, NULL) == SINEW_OK &&
+        sinew_skin_palette(skin, worlds, model->node_count, b.palette, b.palette_count, NULL) == SINEW_OK;
     if (ok) {
         out->vertices = mesh->vertex_count;
         out->mverts_1t = mesh->vertex_count / best_per_unit(step_skin_1t, &b, 100) * 1e-6;
@@ -263,7 +265,7 @@ static bool bench_skinning(pool *threads, skin_result *out)
         b.scalar = true;
         out->mverts_scalar = mesh->vertex_count / best_per_unit(step_skin_1t, &b, 20) * 1e-6;
     }
-    sinew_player_free(player);
+    app_player_close(&player);
     free(worlds);
     free(b.palette);
     free(b.positions);
@@ -278,9 +280,11 @@ static bool bench_skinning(pool *threads, skin_result *out)
 
 typedef struct crowd_bench {
     const sinew_model *model;
+    sinew_clip_layout *layout; /* one clip, laid out once: every character plays it */
     sinew_player *players[CROWD];
-    sinew_mat4 *worlds;  /* node_count a thread: world matrices are scratch */
-    sinew_mat4 *palette; /* joint_count a character: what goes to the GPU */
+    unsigned char *states; /* CROWD players' memory */
+    sinew_mat4 *worlds;    /* node_count a thread: world matrices are scratch */
+    sinew_mat4 *palette;   /* joint_count a character: what goes to the GPU */
     float time;
     pool *threads;
 } crowd_bench;
@@ -326,17 +330,20 @@ static bool bench_crowd(pool *threads, crowd_result *out)
         b->worlds = malloc((size_t)2 * model->node_count * sizeof(sinew_mat4));
         b->palette = malloc((size_t)CROWD * model->skins[0].joint_count * sizeof(sinew_mat4));
         ok = b->worlds && b->palette;
-        ok = ok && sinew_player_create(model, &model->clips[0], &b->players[0], NULL) == SINEW_OK;
-        for (int c = 1; ok && c < CROWD; c++) /* one clip, laid out once: every character clones */
-            ok = sinew_player_clone(b->players[0], &b->players[c], NULL) == SINEW_OK;
+        sinew_clip_layout_desc desc = {.model = model, .clip = &model->clips[0]};
+        ok = ok && sinew_clip_layout_create(&desc, &b->layout, NULL) == SINEW_OK;
+        size_t size = ok ? sinew_player_size(b->layout) : 0;
+        ok = ok && (b->states = malloc(size * CROWD));
+        for (int c = 0; ok && c < CROWD; c++)
+            ok = sinew_player_init(b->states + size * c, size, b->layout, &b->players[c], NULL) == SINEW_OK;
     }
     if (ok) {
         out->ms_1t = 1e3 * best_per_unit(step_crowd_1t, b, 60);
         out->ms_2t = 1e3 * best_per_unit(step_crowd_2t, b, 60);
     }
-    for (int c = CROWD - 1; b && c >= 0; c--)
-        sinew_player_free(b->players[c]);
     if (b) {
+        free(b->states);
+        sinew_clip_layout_free(b->layout);
         free(b->worlds);
         free(b->palette);
     }

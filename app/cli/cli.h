@@ -4,7 +4,7 @@
 
 #include <stdio.h>
 
-#include "app.h"
+#include "scene.h"
 #include "sinew/sinew.h"
 
 /* One exit status per kind of fault, in every command (README, sinew.1):
@@ -17,28 +17,9 @@ enum { EXIT_OK = 0, EXIT_USAGE = 1, EXIT_BAD_INPUT = 2, EXIT_UNAVAILABLE = 3, EX
 /* Prints "sinew: <message>" to stderr. */
 void cli_error(const char *format, ...) __attribute__((format(printf, 1, 2)));
 
-/* sinew's data folder ($SINEW_DATA, else data/ beside the program, else share/sinew relative
- * to it): buf = folder/name. */
-const char *cli_data_path(const char *name, char *buf, size_t size);
-
-/* The seed's arm (sinew/arm.h) with the distances from data/arm.muscles.json. */
-typedef struct cli_arm_spec {
-    double angle;              /* elbow angle, radians */
-    double length;             /* > 0: the muscle length instead of the angle */
-    double flex_from, flex_to; /* a "flex" clip between these angles, both 0: none */
-    sinew_transform place;     /* rotate, move, scale the whole arm */
-} cli_arm_spec;
-sinew_model *cli_arm_model(const cli_arm_spec *spec);
-
-#define CLI_BUILTIN_ARM "builtin:arm"
-
-/* Loads a model file (any format Assimp reads), or the built-in arm for "builtin:arm"; prints
+/* Loads a model file (any format sinew reads), or APP_BUILTIN_ARM / APP_BUILTIN_DEMO; prints
  * the error and returns NULL on failure. */
 sinew_model *cli_load_model(const char *path);
-
-/* Resolves --clip NAME|INDEX; NULL spec picks clip 0 (or none when the model has none).
- * Returns false (after printing why) when the clip does not exist. */
-bool cli_pick_clip(const sinew_model *model, const char *spec, int32_t *clip);
 
 /* The double nearest the shortest decimal that reads back as `value`, so JSON shows
  * 0.1 rather than 0.100000001490116 for a float 0.1; tiny values below 1e-12 become 0. */
@@ -49,25 +30,8 @@ double cli_json_float(float value);
 bool cli_parse_count(const char *command, const char *option, const char *text, long lo, long hi, long *out);
 bool cli_parse_size(const char *command, const char *text, int *width, int *height);
 
-/* Vertices drawn: every mesh instance's vertices (0 for a skeleton-only file). */
-uint32_t cli_vertex_count(const sinew_model *model);
-
 /* True when `arg` is --help or -h. */
 bool cli_is_help(const char *arg);
-
-/* A posed model: locals, world matrices, scratch for one skin palette. */
-typedef struct cli_pose {
-    const sinew_model *model;
-    sinew_transform *locals;
-    sinew_mat4 *worlds;
-    sinew_mat4 *palette;
-    void *context_memory;
-    sinew_sample_context *context;
-} cli_pose;
-
-bool cli_pose_init(cli_pose *pose, const sinew_model *model, const sinew_clip *clip);
-bool cli_pose_at(cli_pose *pose, const sinew_clip *clip, float time, sinew_wrap wrap);
-void cli_pose_free(cli_pose *pose);
 
 /* A model posed and drawn off-screen: what `render` and `bench render` share. */
 typedef struct cli_scene_desc {
@@ -82,9 +46,9 @@ typedef struct cli_scene_desc {
 } cli_scene_desc;
 
 typedef struct cli_scene {
-    sinew_model *model;
-    const sinew_clip *clip;
-    cli_pose pose;
+    app_scene scene;
+    sinew_model *model;     /* scene.model */
+    const sinew_clip *clip; /* scene.clip */
     sinew_headless *headless;
     sinew_renderer *renderer;
     sinew_camera camera;
@@ -94,14 +58,14 @@ typedef struct cli_scene {
     sinew_render_options frame_options;
     sinew_wrap wrap;
     int width, height;
-    uint8_t *pixels;                 /* width * height * 4, top row first */
-    sinew_muscle_set *owned_muscles; /* read from a file; NULL for a model's own */
-    const sinew_muscle_set *muscle_set;
-    sinew_muscle_rig *muscle_rig;
-    sinew_muscle_pose *muscle_poses;
-    uint32_t muscle_count;
+    uint8_t *pixels; /* width * height * 4, top row first */
     const char *gl_name;
 } cli_scene;
+
+/* --muscles as a scene wants it: NULL none, "" the model's own or the file beside it, else a file. */
+void cli_scene_muscles(const char *spec, app_scene_desc *desc);
+/* app_scene_open() with the import's stderr passed through; prints the error. */
+bool cli_scene_load(app_scene *scene, const app_scene_desc *desc);
 
 /* Loads, makes the context and the renderer; prints the error and returns an exit code. */
 int cli_scene_open(cli_scene *scene, const cli_scene_desc *desc);
@@ -116,14 +80,6 @@ bool cli_scene_draw(cli_scene *scene, double time);
 /* Reads the frame into scene->pixels. */
 bool cli_scene_read(cli_scene *scene);
 void cli_scene_close(cli_scene *scene);
-
-/* Muscles for a model: `spec` is a muscle file, or "" for the model's own (a .sinew file
- * converted with muscles) or else the one beside the model (MODEL.muscles.json). Prints the error and returns NULL on
- * failure. */
-sinew_muscle_rig *cli_load_muscles(const sinew_model *model, const char *spec);
-/* The same, keeping the muscle set too (the renderer sizes its buffers from it). */
-sinew_muscle_rig *cli_load_muscle_set(const sinew_model *model, const char *spec, sinew_muscle_set **owned,
-                                      const sinew_muscle_set **set);
 
 /* Takes --muscles [FILE.json] at argv[*i]: the file when the next argument ends in .json,
  * else "" (the file beside the model). */

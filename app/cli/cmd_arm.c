@@ -132,7 +132,7 @@ int cmd_arm(int argc, char **argv)
     if (code >= 0)
         return code;
     char data[4096];
-    cli_data_path("arm.muscles.json", data, sizeof data);
+    app_data_path("arm.muscles.json", data, sizeof data);
     sinew_arm_desc desc = {0};
     sinew_muscle_set *set = NULL;
     sinew_error error = {0};
@@ -142,7 +142,7 @@ int cmd_arm(int argc, char **argv)
     }
     double rest = set->muscles[0].rest_length > 0.0 ? set->muscles[0].rest_length : 0.0;
     sinew_muscle_set_free(set);
-    cli_arm_spec spec = {.angle = a.angle_deg * M_PI / 180.0, .length = a.length_set ? a.length : 0.0};
+    app_arm_spec spec = {.angle = a.angle_deg * M_PI / 180.0, .length = a.length_set ? a.length : 0.0};
     if (a.contract_set)
         spec.length = rest * (1.0 - a.contract);
     else if (!a.angle_set && !a.length_set)
@@ -156,9 +156,11 @@ int cmd_arm(int argc, char **argv)
         spec.place.translation[i] = (float)a.move[i];
         spec.place.scale[i] = (float)a.scale;
     }
-    sinew_model *model = cli_arm_model(&spec);
-    if (!model)
+    sinew_model *model = NULL;
+    if (app_arm_model(&spec, &model, &error) != SINEW_OK) {
+        cli_error("%s", error.message);
         return EXIT_BAD_INPUT;
+    }
     double angle = 0.0;
     sinew_arm_angle(desc.origin_to_elbow, desc.elbow_to_insertion, spec.length, &angle, NULL);
     if (!(spec.length > 0.0))
@@ -170,29 +172,19 @@ int cmd_arm(int argc, char **argv)
                          .width = a.width,
                          .height = a.height,
                          .options = sinew_render_options_default()};
-    /* Numbers need no GL: the rig alone; a picture goes through the headless scene. */
-    sinew_muscle_rig *rig = cli_load_muscles(model, "");
-    sinew_muscle_rig_set_scale(rig, a.scale);
-    sinew_muscle_pose pose;
-    cli_pose p;
-    bool ok = rig && cli_pose_init(&p, model, NULL);
-    if (ok) {
-        ok = cli_pose_at(&p, NULL, 0.0f, SINEW_WRAP_CLAMP) &&
-             sinew_muscle_rig_update(rig, p.worlds, model->node_count, &pose, 1, &error) == SINEW_OK;
-        if (ok)
-            print_arm(&a, angle, &pose);
-        else if (error.message[0])
-            cli_error("%s", error.message);
-        cli_pose_free(&p);
-    }
-    sinew_muscle_rig_free(rig);
-    if (!ok) {
-        sinew_model_free(model);
-        return EXIT_BAD_INPUT;
-    }
     if (!a.out) {
-        sinew_model_free(model);
-        return EXIT_OK;
+        /* Numbers need no GL: the arm's own biceps, solved at the rest pose. */
+        app_scene arm;
+        app_scene_desc ad = {.model = model, .muscles = APP_MUSCLES_REQUIRED, .muscle_scale = a.scale};
+        if (!cli_scene_load(&arm, &ad)) /* takes the model over */
+            return EXIT_BAD_INPUT;
+        bool ok = app_scene_pose(&arm, 0.0, SINEW_WRAP_CLAMP, &error) == SINEW_OK && arm.muscle_count > 0;
+        if (ok)
+            print_arm(&a, angle, &arm.muscle_poses[0]);
+        else
+            cli_error("%s", error.message[0] ? error.message : "arm: no biceps in the arm's muscle file");
+        app_scene_close(&arm);
+        return ok ? EXIT_OK : EXIT_BAD_INPUT;
     }
     cli_scene scene;
     code = cli_scene_open(&scene, &sd); /* takes the model over */
@@ -201,6 +193,8 @@ int cmd_arm(int argc, char **argv)
     code = cli_scene_frame_all(&scene, 0.0, 0.0) && cli_scene_draw(&scene, 0.0) && cli_scene_read(&scene)
                ? EXIT_OK
                : EXIT_BAD_INPUT;
+    if (code == EXIT_OK && scene.scene.muscle_count > 0)
+        print_arm(&a, angle, &scene.scene.muscle_poses[0]);
     if (code == EXIT_OK && !cli_write_png(a.out, scene.pixels, scene.width, scene.height))
         code = EXIT_OUTPUT;
     cli_scene_close(&scene);

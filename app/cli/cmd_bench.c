@@ -88,7 +88,7 @@ static int run_render_bench(const render_bench_args *a, int samples, int mode, d
     bool written = true;
     if (ok && a->png && mode == 0)
         ok = cli_scene_read(&scene) && (written = cli_write_png(a->png, scene.pixels, a->width, a->height));
-    *vertices = cli_vertex_count(scene.model);
+    *vertices = app_vertex_count(scene.model);
     *joints = 0;
     for (uint32_t s = 0; s < scene.model->skin_count; s++)
         *joints += scene.model->skins[s].joint_count;
@@ -198,7 +198,7 @@ static int bench_muscle(int argc, char **argv)
     char path[4096];
     sinew_muscle_set *set = NULL;
     sinew_error error = {0};
-    if (sinew_muscle_set_read(cli_data_path("arm.muscles.json", path, sizeof path), &set, &error) != SINEW_OK) {
+    if (sinew_muscle_set_read(app_data_path("arm.muscles.json", path, sizeof path), &set, &error) != SINEW_OK) {
         cli_error("%s", error.message);
         return EXIT_BAD_INPUT;
     }

@@ -68,31 +68,27 @@ int cmd_convert(int argc, char **argv)
         cli_error("convert: %s", error.message);
         return EXIT_OUTPUT;
     }
-    sinew_model *model = cli_load_model(in);
-    if (!model)
-        return EXIT_BAD_INPUT;
-
-    /* Muscles: named, the model's own, or the file beside it when there is one. */
+    /* Muscles: named, the model's own, or the file beside it when there is one (which must
+     * then fit the model). */
     char beside[4096];
-    sinew_muscle_path_for(model->source, beside, sizeof beside);
+    sinew_muscle_path_for(in, beside, sizeof beside);
     struct stat st;
-    bool have_beside = stat(beside, &st) == 0 || strcmp(model->source, "built-in arm") == 0;
-    sinew_muscle_set *owned = NULL;
-    const sinew_muscle_set *set = NULL;
+    app_scene_desc desc = {.path = in, .muscles = APP_MUSCLES_IF_ANY};
+    if (muscles || stat(beside, &st) == 0)
+        cli_scene_muscles(muscles ? muscles : "", &desc);
+    if (no_muscles)
+        desc.muscles = APP_MUSCLES_NONE;
+    app_scene scene;
+    if (!cli_scene_load(&scene, &desc))
+        return EXIT_BAD_INPUT; /* a muscle that names no joint of IN, too */
+    const sinew_model *model = scene.model;
+    const sinew_muscle_set *set = scene.muscle_set;
     int status = EXIT_OK;
-    if (!no_muscles && (muscles || model->muscles || have_beside)) {
-        sinew_muscle_rig *rig = cli_load_muscle_set(model, muscles ? muscles : "", &owned, &set);
-        if (!rig)
-            status = EXIT_BAD_INPUT; /* the message is out: a muscle that names no joint of IN */
-        sinew_muscle_rig_free(rig);
-    }
-    if (status == EXIT_OK) {
-        /* An empty set stores none, so --no-muscles drops a .sinew's own. */
-        static const sinew_muscle_set none = {.source = "", .muscle_count = 0, .muscles = NULL};
-        if (sinew_model_save(model, set ? set : &none, out, &error) != SINEW_OK) {
-            cli_error("%s", error.message);
-            status = error.kind == SINEW_ERROR_IO ? EXIT_OUTPUT : EXIT_BAD_INPUT;
-        }
+    /* An empty set stores none, so --no-muscles drops a .sinew's own. */
+    static const sinew_muscle_set none = {.source = "", .muscle_count = 0, .muscles = NULL};
+    if (sinew_model_save(model, set ? set : &none, out, &error) != SINEW_OK) {
+        cli_error("%s", error.message);
+        status = error.kind == SINEW_ERROR_IO ? EXIT_OUTPUT : EXIT_BAD_INPUT;
     }
     if (status == EXIT_OK) {
         stat(out, &st);
@@ -100,7 +96,6 @@ int cmd_convert(int argc, char **argv)
                model->node_count, model->mesh_count, model->clip_count, set ? set->muscle_count : 0,
                set && set != model->muscles ? " from " : "", set && set != model->muscles ? set->source : "");
     }
-    sinew_muscle_set_free(owned);
-    sinew_model_free(model);
+    app_scene_close(&scene);
     return status;
 }

@@ -105,13 +105,17 @@ int cli_demo_write(const char *dir, bool verbose, bool force)
     if (ok && verbose)
         printf("%s: LeftBiceps, RightBiceps\n", path);
 
-    cli_arm_spec spec = {
+    app_arm_spec spec = {
         .angle = 150.0 * M_PI / 180.0, .flex_from = 150.0 * M_PI / 180.0, .flex_to = 40.0 * M_PI / 180.0};
-    sinew_model *arm = ok ? cli_arm_model(&spec) : NULL;
+    sinew_model *arm = NULL;
+    if (ok && app_arm_model(&spec, &arm, &error) != SINEW_OK) {
+        cli_error("%s", error.message);
+        ok = false;
+    }
     ok = ok && arm && write_model(arm, dir, "arm.dae", verbose);
     sinew_model_free(arm);
     snprintf(path, sizeof path, "%s/arm.muscles.json", dir);
-    ok = ok && copy_file(cli_data_path("arm.muscles.json", data, sizeof data), path);
+    ok = ok && copy_file(app_data_path("arm.muscles.json", data, sizeof data), path);
     if (ok && verbose)
         printf("%s: biceps\n", path);
     return ok ? EXIT_OK : EXIT_OUTPUT;

@@ -119,14 +119,14 @@ static cJSON *vector_json(const float *v, int n)
     return a;
 }
 
-static cJSON *frame_json(const sinew_model *m, const cli_pose *pose, float time)
+static cJSON *frame_json(const sinew_model *m, const sinew_mat4 *worlds, float time)
 {
     cJSON *frame = cJSON_CreateObject();
     cJSON_AddNumberToObject(frame, "time", cli_json_float(time));
     cJSON *nodes = cJSON_AddArrayToObject(frame, "nodes");
     for (uint32_t n = 0; n < m->node_count; n++) {
         sinew_transform t;
-        sinew_mat4_decompose(&pose->worlds[n], &t);
+        sinew_mat4_decompose(&worlds[n], &t);
         cJSON *o = cJSON_CreateObject();
         cJSON_AddStringToObject(o, "name", m->node_names[n]);
         if (m->node_parents[n] >= 0)
@@ -139,18 +139,6 @@ static cJSON *frame_json(const sinew_model *m, const cli_pose *pose, float time)
         cJSON_AddItemToArray(nodes, o);
     }
     return frame;
-}
-
-/* Every muscle at this pose; false (after printing why) when the rig cannot be updated. */
-static bool update_muscles(sinew_muscle_rig *rig, const sinew_model *m, const cli_pose *pose, sinew_muscle_pose *out)
-{
-    sinew_error error = {0};
-    if (sinew_muscle_rig_update(rig, pose->worlds, m->node_count, out, sinew_muscle_rig_count(rig), &error) !=
-        SINEW_OK) {
-        cli_error("%s", error.message);
-        return false;
-    }
-    return true;
 }
 
 static cJSON *muscles_json(const sinew_muscle_pose *poses, uint32_t count)
@@ -171,12 +159,12 @@ static void print_muscles_text(const sinew_muscle_pose *poses, uint32_t count)
     }
 }
 
-static void print_frame_text(const sinew_model *m, const cli_pose *pose, float time)
+static void print_frame_text(const sinew_model *m, const sinew_mat4 *worlds, float time)
 {
     printf("time %.6g s\n", (double)time);
     for (uint32_t n = 0; n < m->node_count; n++) {
         sinew_transform t;
-        sinew_mat4_decompose(&pose->worlds[n], &t);
+        sinew_mat4_decompose(&worlds[n], &t);
         printf("  %-32s  t (% .6f % .6f % .6f)  r (% .6f % .6f % .6f % .6f)  s (%.6g %.6g %.6g)\n", m->node_names[n],
                (double)t.translation[0], (double)t.translation[1], (double)t.translation[2], (double)t.rotation[0],
                (double)t.rotation[1], (double)t.rotation[2], (double)t.rotation[3], (double)t.scale[0],
@@ -186,7 +174,7 @@ static void print_frame_text(const sinew_model *m, const cli_pose *pose, float t
 
 /* Writes every mesh instance, skinned or placed at its node, in world space, whole or not at
  * all (cmd_pose has refused an output that is one of the inputs). Returns an exit code. */
-static int write_obj(const sinew_model *m, cli_pose *pose, const char *out_path)
+static int write_obj(const sinew_model *m, const sinew_mat4 *worlds, sinew_mat4 *palette, const char *out_path)
 {
     app_output out;
     sinew_error output_error = {0};
@@ -206,16 +194,15 @@ static int write_obj(const sinew_model *m, cli_pose *pose, const char *out_path)
         ok = pos && nrm;
         if (ok && mesh->skin >= 0) {
             const sinew_skin *skin = &m->skins[mesh->skin];
-            ok = sinew_skin_palette(skin, pose->worlds, m->node_count, pose->palette, SINEW_MAX_JOINTS, &error) ==
-                     SINEW_OK &&
+            ok = sinew_skin_palette(skin, worlds, m->node_count, palette, SINEW_MAX_JOINTS, &error) == SINEW_OK &&
                  sinew_skin_vertices(&(sinew_skin_desc){.mesh = mesh,
-                                                        .palette = pose->palette,
+                                                        .palette = palette,
                                                         .palette_count = skin->joint_count,
                                                         .out_positions = pos,
                                                         .out_normals = nrm},
                                      &error) == SINEW_OK;
         } else if (ok) {
-            ok = sinew_transform_vertices(mesh, &pose->worlds[m->instances[i].node], pos, nrm, 0, &error) == SINEW_OK;
+            ok = sinew_transform_vertices(mesh, &worlds[m->instances[i].node], pos, nrm, 0, &error) == SINEW_OK;
         }
         if (ok) {
             fprintf(f, "o %s\n", mesh->name);
@@ -258,37 +245,23 @@ int cmd_pose(int argc, char **argv)
         cli_error("pose: %s", early.message);
         return EXIT_OUTPUT;
     }
-    sinew_model *model = cli_load_model(o.path);
-    if (!model)
+    app_scene scene;
+    app_scene_desc desc = {.path = o.path, .clip = o.clip};
+    cli_scene_muscles(o.muscles, &desc);
+    if (!cli_scene_load(&scene, &desc))
         return EXIT_BAD_INPUT;
-    int32_t clip_index;
-    cli_pose pose;
-    if (!cli_pick_clip(model, o.clip, &clip_index)) {
-        sinew_model_free(model);
-        return EXIT_BAD_INPUT;
-    }
-    const sinew_clip *clip = clip_index >= 0 ? &model->clips[clip_index] : NULL;
-    if (!cli_pose_init(&pose, model, clip)) {
-        sinew_model_free(model);
+    const sinew_model *model = scene.model;
+    const sinew_clip *clip = scene.clip;
+    int32_t clip_index = scene.clip_index;
+    sinew_muscle_rig *rig = scene.muscle_rig;
+    sinew_mat4 *palette = o.mesh_out ? malloc(SINEW_MAX_JOINTS * sizeof *palette) : NULL;
+    if (o.mesh_out && !palette) {
+        cli_error("out of memory");
+        app_scene_close(&scene);
         return EXIT_BAD_INPUT;
     }
     if (o.time_count == 0)
         default_times(clip, &o);
-    sinew_muscle_rig *rig = NULL;
-    sinew_muscle_pose *muscle_poses = NULL;
-    uint32_t muscle_count = 0;
-    if (o.muscles) {
-        rig = cli_load_muscles(model, o.muscles);
-        muscle_count = sinew_muscle_rig_count(rig);
-        muscle_poses = calloc(muscle_count ? muscle_count : 1, sizeof *muscle_poses);
-        if (!rig || !muscle_poses) {
-            free(muscle_poses);
-            sinew_muscle_rig_free(rig);
-            cli_pose_free(&pose);
-            sinew_model_free(model);
-            return EXIT_BAD_INPUT;
-        }
-    }
     sinew_wrap wrap = o.loop ? SINEW_WRAP_LOOP : SINEW_WRAP_CLAMP;
 
     cJSON *root = NULL, *frames = NULL;
@@ -309,26 +282,24 @@ int cmd_pose(int argc, char **argv)
     }
     code = EXIT_OK;
     for (uint32_t i = 0; i < o.time_count && code == EXIT_OK; i++) {
-        if (!cli_pose_at(&pose, clip, o.times[i], wrap)) {
-            code = EXIT_BAD_INPUT;
-            break;
-        }
-        if (rig && !update_muscles(rig, model, &pose, muscle_poses)) {
+        sinew_error error = {0};
+        if (app_scene_pose(&scene, o.times[i], wrap, &error) != SINEW_OK) {
+            cli_error("%s: %s", model->source, error.message);
             code = EXIT_BAD_INPUT;
             break;
         }
         if (o.json) {
-            cJSON *frame = frame_json(model, &pose, o.times[i]);
+            cJSON *frame = frame_json(model, scene.worlds, o.times[i]);
             if (rig)
-                cJSON_AddItemToObject(frame, "muscles", muscles_json(muscle_poses, muscle_count));
+                cJSON_AddItemToObject(frame, "muscles", muscles_json(scene.muscle_poses, scene.muscle_count));
             cJSON_AddItemToArray(frames, frame);
         } else {
-            print_frame_text(model, &pose, o.times[i]);
+            print_frame_text(model, scene.worlds, o.times[i]);
             if (rig)
-                print_muscles_text(muscle_poses, muscle_count);
+                print_muscles_text(scene.muscle_poses, scene.muscle_count);
         }
         if (o.mesh_out && code == EXIT_OK)
-            code = write_obj(model, &pose, o.mesh_out);
+            code = write_obj(model, scene.worlds, palette, o.mesh_out);
     }
     if (root && code == EXIT_OK) {
         char *text = cJSON_PrintUnformatted(root);
@@ -337,9 +308,7 @@ int cmd_pose(int argc, char **argv)
         free(text);
     }
     cJSON_Delete(root);
-    free(muscle_poses);
-    sinew_muscle_rig_free(rig);
-    cli_pose_free(&pose);
-    sinew_model_free(model);
+    free(palette);
+    app_scene_close(&scene);
     return code;
 }

@@ -2,6 +2,7 @@
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
+#include <unistd.h>
 
 #include "cli.h"
 
@@ -28,7 +29,7 @@ static int open_graphics(cli_scene *s, const cli_scene_desc *d)
         cli_error("%s", error.message);
         return error.kind == SINEW_ERROR_INVALID_ARGUMENT ? EXIT_USAGE : EXIT_UNAVAILABLE;
     }
-    sinew_renderer_desc rd = {.model = s->model, .max_gpu_joints = d->gpu_joint_limit, .muscles = s->muscle_set};
+    sinew_renderer_desc rd = {.model = s->model, .max_gpu_joints = d->gpu_joint_limit, .muscles = s->scene.muscle_set};
     if (sinew_renderer_create(&rd, &s->renderer, &error) != SINEW_OK) {
         cli_error("%s: %s", s->model->source, error.message);
         return error.kind == SINEW_ERROR_GRAPHICS ? EXIT_UNAVAILABLE : EXIT_BAD_INPUT;
@@ -37,6 +38,24 @@ static int open_graphics(cli_scene *s, const cli_scene_desc *d)
         fprintf(stderr, "sinew: warning: %s\n", sinew_renderer_warning(s->renderer, i));
     s->gl_name = sinew_renderer_gl_name(s->renderer);
     return EXIT_OK;
+}
+
+void cli_scene_muscles(const char *spec, app_scene_desc *desc)
+{
+    desc->muscles = spec ? APP_MUSCLES_REQUIRED : APP_MUSCLES_NONE;
+    desc->muscle_path = spec && spec[0] ? spec : NULL;
+}
+
+bool cli_scene_load(app_scene *scene, const app_scene_desc *desc)
+{
+    app_scene_desc d = *desc;
+    d.stderr_fd = STDERR_FILENO;
+    sinew_error error = {0};
+    if (app_scene_open(scene, &d, &error) != SINEW_OK) {
+        cli_error("%s", error.message);
+        return false;
+    }
+    return true;
 }
 
 int cli_scene_open(cli_scene *s, const cli_scene_desc *d)
@@ -53,36 +72,24 @@ int cli_scene_open(cli_scene *s, const cli_scene_desc *d)
     sinew_error error = {0};
     if (d->camera && app_camera_parse(d->camera, &s->camera, &s->frame_all, &error) != SINEW_OK) {
         cli_error("%s", error.message);
+        if (d->model)
+            sinew_model_free(d->model);
         return EXIT_USAGE;
     }
-    s->model = d->model ? d->model : cli_load_model(d->path);
-    if (!s->model)
+    app_scene_desc ad = {.path = d->path, .model = d->model, .clip = d->clip, .muscle_scale = d->muscle_scale};
+    cli_scene_muscles(d->muscles, &ad);
+    if (!cli_scene_load(&s->scene, &ad))
         return EXIT_BAD_INPUT;
-    int32_t clip = -1;
-    if (!cli_pick_clip(s->model, d->clip, &clip) ||
-        !resolve_joint(s->model, d->select, "--select", &s->frame_options.selected_joint) ||
+    s->model = s->scene.model;
+    s->clip = s->scene.clip;
+    if (!resolve_joint(s->model, d->select, "--select", &s->frame_options.selected_joint) ||
         !resolve_joint(s->model, d->heatmap, "--heatmap", &s->frame_options.heatmap_joint)) {
         cli_scene_close(s);
         return EXIT_BAD_INPUT;
     }
-    s->clip = clip >= 0 ? &s->model->clips[clip] : NULL;
     /* Nothing to see but a skeleton: show it unless asked not to. */
-    if (cli_vertex_count(s->model) == 0 && !d->skeleton_set)
+    if (app_vertex_count(s->model) == 0 && !d->skeleton_set)
         s->frame_options.skeleton = true;
-    if (!cli_pose_init(&s->pose, s->model, s->clip)) {
-        cli_scene_close(s);
-        return EXIT_BAD_INPUT;
-    }
-    if (d->muscles) {
-        s->muscle_rig = cli_load_muscle_set(s->model, d->muscles, &s->owned_muscles, &s->muscle_set);
-        s->muscle_count = sinew_muscle_rig_count(s->muscle_rig);
-        sinew_muscle_rig_set_scale(s->muscle_rig, d->muscle_scale);
-        s->muscle_poses = calloc(s->muscle_count ? s->muscle_count : 1, sizeof *s->muscle_poses);
-        if (!s->muscle_rig || !s->muscle_poses) {
-            cli_scene_close(s);
-            return EXIT_BAD_INPUT;
-        }
-    }
     s->pixels = malloc((size_t)d->width * (size_t)d->height * 4);
     if (!s->pixels) {
         cli_error("out of memory for a %dx%d image", d->width, d->height);
@@ -97,28 +104,22 @@ int cli_scene_open(cli_scene *s, const cli_scene_desc *d)
 
 bool cli_scene_pose(cli_scene *s, double time)
 {
-    return cli_pose_at(&s->pose, s->clip, (float)time, s->wrap);
+    sinew_error error = {0};
+    if (app_scene_pose(&s->scene, time, s->wrap, &error) != SINEW_OK) {
+        cli_error("%s: %s", s->model->source, error.message);
+        return false;
+    }
+    return true;
 }
 
 /* Frames the union of the posed bounds at evenly spaced times in [from, to], so that a
  * sequence keeps one camera. An orbit distance or a fly position from --camera is kept. */
 bool cli_scene_frame_all(cli_scene *s, double from, double to)
 {
-    float lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
-    int samples = to > from ? FRAMING_SAMPLES : 1;
-    for (int i = 0; i < samples; i++) {
-        double t = samples > 1 ? from + (to - from) * i / (samples - 1) : from;
-        float a[3], b[3];
-        if (!cli_scene_pose(s, t))
-            return false;
-        if (!sinew_renderer_bounds(s->renderer, s->pose.worlds, s->model->node_count, a, b))
-            continue;
-        for (int k = 0; k < 3; k++)
-            lo[k] = fminf(lo[k], a[k]), hi[k] = fmaxf(hi[k], b[k]);
-    }
-    if (!(lo[0] <= hi[0]))
-        for (int k = 0; k < 3; k++)
-            lo[k] = -1.0f, hi[k] = 1.0f;
+    float lo[3], hi[3];
+    if (!cli_scene_pose(s, from) || !cli_scene_pose(s, to))
+        return false;
+    app_scene_bounds(&s->scene, s->renderer, from, to, FRAMING_SAMPLES, s->wrap, lo, hi);
     sinew_camera keep = s->camera;
     sinew_camera_frame(&s->camera, lo, hi, (float)s->width / (float)s->height);
     if (!s->frame_all) {
@@ -135,7 +136,7 @@ bool cli_scene_track(cli_scene *s, double time)
     float lo[3], hi[3];
     if (!cli_scene_pose(s, time))
         return false;
-    if (!sinew_renderer_bounds(s->renderer, s->pose.worlds, s->model->node_count, lo, hi))
+    if (!app_scene_bounds(&s->scene, s->renderer, time, time, 1, s->wrap, lo, hi))
         return true;
     float *moved = s->camera.mode == SINEW_CAMERA_ORBIT ? s->camera.target : s->camera.position;
     for (int k = 0; k < 3; k++) {
@@ -154,19 +155,7 @@ bool cli_scene_draw(cli_scene *s, double time)
     if (!cli_scene_pose(s, time))
         return false;
     sinew_error error = {0};
-    if (s->muscle_rig && sinew_muscle_rig_update(s->muscle_rig, s->pose.worlds, s->model->node_count, s->muscle_poses,
-                                                 s->muscle_count, &error) != SINEW_OK) {
-        cli_error("%s", error.message);
-        return false;
-    }
-    sinew_frame frame = {.worlds = s->pose.worlds,
-                         .world_count = s->model->node_count,
-                         .camera = &s->camera,
-                         .width = s->width,
-                         .height = s->height,
-                         .options = &s->frame_options,
-                         .muscles = s->muscle_poses,
-                         .muscle_count = s->muscle_count};
+    sinew_frame frame = app_scene_frame(&s->scene, &s->camera, &s->frame_options, s->width, s->height);
     if (sinew_renderer_draw(s->renderer, &frame, &error) != SINEW_OK) {
         cli_error("%s: %s", s->model->source, error.message);
         return false;
@@ -188,12 +177,7 @@ void cli_scene_close(cli_scene *s)
 {
     sinew_renderer_destroy(s->renderer);
     sinew_headless_destroy(s->headless);
-    cli_pose_free(&s->pose);
-    if (s->model)
-        sinew_model_free(s->model);
+    app_scene_close(&s->scene);
     free(s->pixels);
-    free(s->muscle_poses);
-    sinew_muscle_rig_free(s->muscle_rig);
-    sinew_muscle_set_free(s->owned_muscles);
     memset(s, 0, sizeof *s);
 }

@@ -50,6 +50,15 @@ sinew_result app_output_check(const char *output, const char *const *inputs, siz
 sinew_result app_write_png(const char *path, const unsigned char *rgba, int width, int height, bool flip,
                            sinew_error *error);
 
+/* A player with its own clip layout and state (sinew/anim.h), for one character. */
+typedef struct app_player {
+    sinew_clip_layout *layout;
+    sinew_player *player;
+    void *memory;
+} app_player;
+sinew_result app_player_open(app_player *p, const sinew_model *model, const sinew_clip *clip, sinew_error *error);
+void app_player_close(app_player *p);
+
 /* Reads "orbit:YAW,PITCH[,DISTANCE]" or "fly:X,Y,Z,YAW,PITCH" (angles in degrees) into
  * `camera`, leaving what the text does not give as it was. *frame_all is set true when
  * an orbit gives no distance (or "auto"): the caller then frames the scene and keeps the

@@ -27,22 +27,6 @@
 
 /* ---- model ------------------------------------------------------------------------------- */
 
-static uint32_t vertex_count(const sinew_model *m)
-{
-    uint32_t n = 0;
-    for (uint32_t i = 0; i < m->instance_count; i++)
-        n += m->meshes[m->instances[i].mesh].vertex_count;
-    return n;
-}
-
-static uint32_t joint_count(const sinew_model *m)
-{
-    uint32_t n = 0;
-    for (uint32_t i = 0; i < m->node_count; i++)
-        n += sinew_model_node_is_joint(m, i);
-    return n;
-}
-
 /* Shows (and logs, and prints on stderr) an error above the scene; NULL hides it. */
 void view_show_error(viewer *v, const char *message)
 {
@@ -67,154 +51,86 @@ void view_redraw(viewer *v)
 /* The worlds at the current time; once a time (the tick, the panel and the draw all ask). */
 bool view_pose(viewer *v)
 {
-    if (v->time == v->posed_at)
-        return true;
-    if (sinew_player_update(v->player, (float)v->time, SINEW_WRAP_CLAMP, NULL, v->worlds, v->model->node_count, NULL) !=
-        SINEW_OK)
-        return false;
-    v->posed_at = v->time;
-    return true;
+    return v->scene.model && app_scene_pose(&v->scene, v->time, SINEW_WRAP_CLAMP, NULL) == SINEW_OK;
 }
 
 static double duration(const viewer *v)
 {
-    return v->clip ? v->clip->duration : 0.0;
+    return v->scene.clip ? v->scene.clip->duration : 0.0;
 }
 
 static void update_timeline(viewer *v);
+static void show_time(viewer *v);
 
 /* Plays clip `index` (-1: the rest pose) of the current model from its start. */
 static bool use_clip(viewer *v, int32_t index)
 {
-    sinew_player *player = NULL;
     sinew_error error = {0};
-    const sinew_clip *clip = index >= 0 ? &v->model->clips[index] : NULL;
-    if (sinew_player_create(v->model, clip, &player, &error) != SINEW_OK) {
+    if (app_scene_use_clip(&v->scene, index, &error) != SINEW_OK) {
         view_show_error(v, error.message);
         return false;
     }
-    sinew_player_free(v->player);
-    v->player = player;
-    v->clip = clip;
-    v->posed_at = NAN; /* a new player (or model): pose again */
     if (v->time > duration(v))
         v->time = 0.0;
     update_timeline(v);
     return true;
 }
 
-/* Makes the renderer for the current model in the area's context. */
-static void make_renderer(viewer *v)
+/* A renderer for `scene` in the area's context: false (error shown) when GL refuses the
+ * model; true with *out NULL when there is no context yet (on_realize makes it). */
+static bool make_renderer(viewer *v, const app_scene *scene, sinew_renderer **out)
 {
+    *out = NULL;
     if (!v->area || !gtk_widget_get_realized(v->area))
-        return;
+        return true;
     gtk_gl_area_make_current(GTK_GL_AREA(v->area));
     if (gtk_gl_area_get_error(GTK_GL_AREA(v->area)))
-        return;
-    sinew_renderer_destroy(v->renderer);
-    v->renderer = NULL;
+        return true;
     sinew_error error = {0};
-    sinew_renderer_desc desc = {.model = v->model, .muscles = v->muscles};
-    if (sinew_renderer_create(&desc, &v->renderer, &error) != SINEW_OK)
+    sinew_renderer_desc desc = {.model = scene->model, .muscles = scene->muscle_set};
+    if (sinew_renderer_create(&desc, out, &error) != SINEW_OK) {
         view_show_error(v, error.message);
-}
-
-static void free_muscles(viewer *v)
-{
-    sinew_muscle_rig_free(v->muscle_rig);
-    sinew_muscle_set_free(v->muscle_set);
-    free(v->muscle_poses);
-    v->muscle_rig = NULL;
-    v->muscle_set = NULL;
-    v->muscles = NULL;
-    v->muscle_poses = NULL;
-    v->muscle_count = 0;
-}
-
-/* The model's muscles: a .sinew's own, `text` (the demo's), or MODEL.muscles.json beside the
- * file when there is one. A muscle file that does not fit the model goes to the log. */
-static void load_muscles(viewer *v, const char *text)
-{
-    free_muscles(v);
-    sinew_error error = {0};
-    char beside[4096];
-    sinew_muscle_path_for(v->model->source, beside, sizeof beside);
-    if (v->model->muscles)
-        v->muscles = v->model->muscles;
-    else if (text && sinew_muscle_set_parse(text, strlen(text), "demo muscles", &v->muscle_set, &error) == SINEW_OK)
-        v->muscles = v->muscle_set;
-    else if (!text && g_file_test(beside, G_FILE_TEST_EXISTS) &&
-             sinew_muscle_set_read(beside, &v->muscle_set, &error) == SINEW_OK)
-        v->muscles = v->muscle_set;
-    if (!v->muscles) {
-        if (error.message[0])
-            panels_log(v, error.message);
-        return;
+        return false;
     }
-    if (sinew_muscle_rig_create(v->model, v->muscles, &v->muscle_rig, &error) != SINEW_OK) {
-        panels_log(v, error.message);
-        free_muscles(v);
-        return;
-    }
-    v->muscle_count = sinew_muscle_rig_count(v->muscle_rig);
-    v->muscle_poses = calloc(v->muscle_count + 1, sizeof *v->muscle_poses);
-    char line[600];
-    snprintf(line, sizeof line, "%s: %u muscles attached", v->model->source, v->muscle_count);
-    panels_log(v, line);
+    return true;
 }
 
 static void resolve_joints(viewer *v)
 {
     if (v->select)
-        v->options.selected_joint = sinew_model_find_joint(v->model, v->select);
+        v->options.selected_joint = sinew_model_find_joint(v->scene.model, v->select);
     if (v->heatmap)
-        v->options.heatmap_joint = sinew_model_find_joint(v->model, v->heatmap);
+        v->options.heatmap_joint = sinew_model_find_joint(v->scene.model, v->heatmap);
 }
 
-/* Takes `model` as the scene (the viewer owns it from here). */
-static bool set_model(viewer *v, sinew_model *model, const char *clip_name, const char *muscle_text)
+/* Makes `incoming` the scene (the viewer owns it from here, whatever happens). When the
+ * renderer refuses the model, the error shows and the old scene stays. */
+static bool adopt_scene(viewer *v, app_scene *incoming)
 {
-    sinew_mat4 *worlds = malloc((model->node_count + 1) * sizeof *worlds);
-    int32_t clip = clip_name ? sinew_model_pick_clip(model, clip_name) : (model->clip_count ? 0 : -1);
-    if (!worlds || (clip_name && clip < 0)) {
-        char message[600];
-        snprintf(message, sizeof message, "%s: no clip \"%s\" (the file has %u clip%s)", model->source,
-                 clip_name ? clip_name : "", model->clip_count, model->clip_count == 1 ? "" : "s");
-        view_show_error(v, worlds ? message : "out of memory");
-        free(worlds);
-        sinew_model_free(model);
-        return false;
-    }
+    const sinew_model *model = incoming->model;
     bool *hidden = calloc(model->instance_count + 1, sizeof *hidden);
-    if (!hidden) {
-        view_show_error(v, "out of memory");
-        free(worlds);
-        sinew_model_free(model);
-        return false;
-    }
-    sinew_model *old = v->model;
-    sinew_mat4 *old_worlds = v->worlds;
-    bool *old_hidden = v->hidden;
-    v->model = model;
-    v->worlds = worlds;
-    v->hidden = hidden;
-    if (!use_clip(v, clip)) {
-        v->model = old;
-        v->worlds = old_worlds;
-        v->hidden = old_hidden;
-        free(worlds);
+    sinew_renderer *renderer = NULL;
+    if (!hidden || !make_renderer(v, incoming, &renderer)) {
+        if (!hidden)
+            view_show_error(v, "out of memory");
         free(hidden);
-        sinew_model_free(model);
+        app_scene_close(incoming);
         return false;
     }
-    load_muscles(v, muscle_text);
-    make_renderer(v);
-    sinew_model_free(old);
-    free(old_worlds);
-    free(old_hidden);
+    if (renderer) /* make_renderer left the area's context current */
+        sinew_renderer_destroy(v->renderer);
+    v->renderer = renderer;
+    app_scene_close(&v->scene);
+    v->scene = *incoming;
+    free(v->hidden);
+    v->hidden = hidden;
     v->options.hidden_instances = v->hidden;
+    for (int i = 0; i < v->scene.note_count; i++)
+        panels_log(v, v->scene.notes[i]);
+    if (v->time > duration(v))
+        v->time = 0.0;
     resolve_joints(v);
-    if (vertex_count(model) == 0)
+    if (app_vertex_count(model) == 0)
         v->options.skeleton = true;
     v->framed = v->camera_given;
     v->camera_given = false;
@@ -229,10 +145,12 @@ static bool set_model(viewer *v, sinew_model *model, const char *clip_name, cons
             gtk_string_list_append(names, "(no clips: rest pose)");
         v->updating = true;
         gtk_drop_down_set_model(GTK_DROP_DOWN(v->clip_list), G_LIST_MODEL(names));
-        gtk_drop_down_set_selected(GTK_DROP_DOWN(v->clip_list), clip >= 0 ? (guint)clip : 0);
+        gtk_drop_down_set_selected(GTK_DROP_DOWN(v->clip_list),
+                                   v->scene.clip_index >= 0 ? (guint)v->scene.clip_index : 0);
         v->updating = false;
         g_object_unref(names);
         update_timeline(v);
+        show_time(v);
         panels_model_changed(v);
         panels_options_changed(v);
         /* --select / --heatmap name joints of every model opened */
@@ -245,28 +163,92 @@ static bool set_model(viewer *v, sinew_model *model, const char *clip_name, cons
     return true;
 }
 
-/* Opens a file; on failure the error is shown and the scene stays. */
-bool view_open_file(viewer *v, const char *path, const char *clip_name)
+/* Opens a built-in model at once (the demo at start); the error shows on failure. */
+static bool open_now(viewer *v, const char *path, const char *clip_name)
 {
-    sinew_model *model = NULL;
+    app_scene scene;
     sinew_error error = {0};
-    if (sinew_import(&(sinew_import_desc){.path = path}, &model, &error) != SINEW_OK) {
+    app_scene_desc desc = {.path = path, .clip = clip_name, .muscles = APP_MUSCLES_IF_ANY};
+    if (app_scene_open(&scene, &desc, &error) != SINEW_OK) {
         view_show_error(v, error.message);
         return false;
     }
-    if (!set_model(v, model, clip_name, NULL))
-        return false;
-    view_show_error(v, NULL);
-    char *uri = g_filename_to_uri(path, NULL, NULL);
-    if (!uri) {
-        char *absolute = g_canonicalize_filename(path, NULL);
-        uri = g_filename_to_uri(absolute, NULL, NULL);
-        g_free(absolute);
+    return adopt_scene(v, &scene);
+}
+
+/* ---- opening a file on a worker thread ---------------------------------------------------- */
+
+/* One file being opened: app_scene_open() runs on its own thread; the window keeps its scene,
+ * shows the progress and a Cancel button, and takes the new scene when it is ready. A newer
+ * open (or Cancel, or closing the window) asks the older one to stop. */
+struct view_load {
+    viewer *v;
+    char *path, *clip;
+    app_scene scene;
+    sinew_error error;
+    sinew_result result;
+    gint cancel;   /* atomic */
+    gint progress; /* atomic: the import's fraction in thousandths, or -1000 while reading */
+    GThread *thread;
+    gint64 started;
+};
+
+static bool load_progress(float fraction, void *user)
+{
+    view_load *l = user;
+    g_atomic_int_set(&l->progress, (gint)(fraction * 1000.0f));
+    return !g_atomic_int_get(&l->cancel);
+}
+
+static gboolean load_finished(gpointer data);
+
+static gpointer load_thread(gpointer data)
+{
+    view_load *l = data;
+    app_scene_desc desc = {
+        .path = l->path, .clip = l->clip, .muscles = APP_MUSCLES_IF_ANY, .progress = load_progress, .progress_user = l};
+    l->result = app_scene_open(&l->scene, &desc, &l->error);
+    g_idle_add(load_finished, l);
+    return NULL;
+}
+
+static void load_free(view_load *l)
+{
+    if (l->result == SINEW_OK)
+        app_scene_close(&l->scene);
+    g_free(l->path);
+    g_free(l->clip);
+    g_free(l);
+}
+
+/* The progress line while a file opens. */
+static gboolean load_tick(gpointer data)
+{
+    viewer *v = data;
+    view_load *l = v->load;
+    if (!l) {
+        v->load_timer = 0;
+        return G_SOURCE_REMOVE;
     }
+    int progress = g_atomic_int_get(&l->progress);
+    if (progress < 0)
+        gtk_progress_bar_pulse(GTK_PROGRESS_BAR(v->load_progress));
+    else
+        gtk_progress_bar_set_fraction(GTK_PROGRESS_BAR(v->load_progress), progress / 1000.0);
+    char *base = g_path_get_basename(l->path), text[600];
+    snprintf(text, sizeof text, "Opening %s… %.1f s", base, (double)(g_get_monotonic_time() - l->started) * 1e-6);
+    g_free(base);
+    gtk_label_set_text(GTK_LABEL(v->load_label), text);
+    return G_SOURCE_CONTINUE;
+}
+
+static void remember_file(viewer *v, const char *path)
+{
+    char *absolute = g_canonicalize_filename(path, NULL);
+    char *uri = g_filename_to_uri(absolute, NULL, NULL);
     if (uri)
         gtk_recent_manager_add_item(gtk_recent_manager_get_default(), uri);
     g_free(uri);
-    char *absolute = g_canonicalize_filename(path, NULL);
     g_free(v->last_folder);
     v->last_folder = g_path_get_dirname(absolute);
     int at = 0; /* to the front of the recent list, once */
@@ -276,7 +258,82 @@ bool view_open_file(viewer *v, const char *path, const char *clip_name)
     memmove(&v->recent[1], &v->recent[0], (size_t)at * sizeof v->recent[0]);
     v->recent[0] = absolute;
     view_recent_changed(v);
-    return true;
+}
+
+static gboolean load_finished(gpointer data)
+{
+    view_load *l = data;
+    viewer *v = l->v;
+    g_thread_join(l->thread);
+    if (v->load != l) { /* superseded by a newer open or given up */
+        load_free(l);
+        return G_SOURCE_REMOVE;
+    }
+    v->load = NULL;
+    if (v->load_bar)
+        gtk_widget_set_visible(v->load_bar, FALSE);
+    bool opened = false;
+    if (l->result == SINEW_OK && g_atomic_int_get(&l->cancel)) {
+        panels_log(v, "opening cancelled");
+    } else if (l->result == SINEW_OK) {
+        l->result = SINEW_ERROR_CANCELLED; /* the scene is the viewer's now */
+        opened = adopt_scene(v, &l->scene);
+        if (opened) {
+            view_show_error(v, NULL);
+            remember_file(v, l->path);
+        }
+    } else if (l->result != SINEW_ERROR_CANCELLED) {
+        view_show_error(v, l->error.message);
+    } else {
+        panels_log(v, l->error.message);
+    }
+    if (!opened && v->screenshot) /* a screenshot run says so in its exit status (2, as sinew's) */
+        v->exit_code = 2;
+    if (opened && !isnan(v->start_time)) /* --time: against the file's clip, not the demo's */
+        v->time = v->start_time;
+    v->start_time = NAN;
+    if (v->time > duration(v))
+        v->time = duration(v);
+    show_time(v);
+    view_redraw(v);
+    load_free(l);
+    return G_SOURCE_REMOVE;
+}
+
+void view_open_file(viewer *v, const char *path, const char *clip_name)
+{
+    if (v->load) /* the newer open wins */
+        g_atomic_int_set(&v->load->cancel, 1);
+    view_load *l = g_new0(view_load, 1);
+    *l = (view_load){.v = v,
+                     .path = g_strdup(path),
+                     .clip = g_strdup(clip_name),
+                     .progress = -1000,
+                     .started = g_get_monotonic_time(),
+                     .result = SINEW_ERROR_CANCELLED};
+    v->load = l;
+    if (v->load_bar) {
+        gtk_widget_set_visible(v->load_bar, TRUE);
+        load_tick(v);
+        if (!v->load_timer)
+            v->load_timer = g_timeout_add(100, load_tick, v);
+    }
+    l->thread = g_thread_new("sinew-open", load_thread, l);
+}
+
+void view_cancel_open(viewer *v, bool wait)
+{
+    view_load *l = v->load;
+    if (!l)
+        return;
+    g_atomic_int_set(&l->cancel, 1);
+    if (!wait)
+        return;
+    /* leaving: wait for the thread here, its idle callback will not run */
+    v->load = NULL;
+    g_thread_join(l->thread);
+    g_idle_remove_by_data(l);
+    load_free(l);
 }
 
 void view_recent_changed(viewer *v)
@@ -318,7 +375,7 @@ static void update_timeline(viewer *v)
     double d = duration(v);
     gtk_range_set_range(GTK_RANGE(v->scale), 0.0, d > 0.0 ? d : 1.0);
     gtk_scale_clear_marks(GTK_SCALE(v->scale));
-    const sinew_clip *clip = v->clip;
+    const sinew_clip *clip = v->scene.clip;
     size_t count = 0;
     for (uint32_t t = 0; clip && t < clip->track_count; t++)
         for (int k = 0; k < SINEW_CHANNEL_COUNT; k++)
@@ -438,7 +495,7 @@ static void frame_all(viewer *v)
 {
     float lo[3], hi[3];
     int w = gtk_widget_get_width(v->area), h = gtk_widget_get_height(v->area);
-    if (v->renderer && view_pose(v) && sinew_renderer_bounds(v->renderer, v->worlds, v->model->node_count, lo, hi))
+    if (v->renderer && app_scene_bounds(&v->scene, v->renderer, v->time, v->time, 1, SINEW_WRAP_CLAMP, lo, hi))
         sinew_camera_frame(&v->camera, lo, hi, h > 0 ? (float)w / (float)h : 1.0f);
 }
 
@@ -470,8 +527,8 @@ static gboolean close_window(gpointer data)
 static void show_status(viewer *v)
 {
     char text[256];
-    snprintf(text, sizeof text, "%.0f fps   %u vertices   %u joints   %s", v->fps, vertex_count(v->model),
-             joint_count(v->model), v->renderer ? sinew_renderer_gl_name(v->renderer) : "no OpenGL 3.3");
+    snprintf(text, sizeof text, "%.0f fps   %u vertices   %u joints   %s", v->fps, app_vertex_count(v->scene.model),
+             app_joint_count(v->scene.model), v->renderer ? sinew_renderer_gl_name(v->renderer) : "no OpenGL 3.3");
     gtk_label_set_text(GTK_LABEL(v->status), text);
 }
 
@@ -492,20 +549,9 @@ static gboolean on_render(GtkGLArea *area, GdkGLContext *context, gpointer data)
         v->framed = true;
     }
     sinew_error error = {0};
-    sinew_frame frame = {.worlds = v->worlds,
-                         .world_count = v->model->node_count,
-                         .camera = &v->camera,
-                         .width = width,
-                         .height = height,
-                         .options = &v->options};
-    bool posed = view_pose(v);
-    if (posed && v->muscle_rig &&
-        sinew_muscle_rig_update(v->muscle_rig, v->worlds, v->model->node_count, v->muscle_poses, v->muscle_count,
-                                &error) == SINEW_OK) {
-        frame.muscles = v->muscle_poses;
-        frame.muscle_count = v->muscle_count;
-    }
-    if (!posed || sinew_renderer_draw(v->renderer, &frame, &error) != SINEW_OK)
+    sinew_frame frame = app_scene_frame(&v->scene, &v->camera, &v->options, width, height);
+    if (app_scene_pose(&v->scene, v->time, SINEW_WRAP_CLAMP, &error) != SINEW_OK ||
+        sinew_renderer_draw(v->renderer, &frame, &error) != SINEW_OK)
         view_show_error(v, error.message);
     gint64 now = g_get_monotonic_time();
     if (v->fps_since == 0)
@@ -516,7 +562,7 @@ static gboolean on_render(GtkGLArea *area, GdkGLContext *context, gpointer data)
         v->fps_since = now;
         show_status(v);
     }
-    if (v->screenshot) {
+    if (v->screenshot && !v->load) { /* of the file asked for, once it is open (or has failed) */
         save_screenshot(v, width, height);
         v->screenshot = NULL;
         if (v->quit_after_screenshot) /* not from inside the draw: when GTK is idle */
@@ -537,7 +583,8 @@ static void on_realize(GtkGLArea *area, gpointer data)
         v->exit_code = 3;
         return;
     }
-    make_renderer(v);
+    if (v->scene.model && !v->renderer)
+        make_renderer(v, &v->scene, &v->renderer);
     show_status(v);
 }
 
@@ -572,7 +619,7 @@ static void on_clip(GObject *dropdown, GParamSpec *pspec, gpointer data)
     if (v->updating)
         return;
     guint index = gtk_drop_down_get_selected(GTK_DROP_DOWN(dropdown));
-    if (index < v->model->clip_count && use_clip(v, (int32_t)index))
+    if (index < v->scene.model->clip_count && use_clip(v, (int32_t)index))
         set_time(v, 0.0);
 }
 
@@ -721,9 +768,10 @@ static gboolean on_drop(GtkDropTarget *target, const GValue *value, double x, do
     if (!G_VALUE_HOLDS(value, G_TYPE_FILE))
         return FALSE;
     char *path = g_file_get_path(g_value_get_object(value));
-    bool ok = path && view_open_file(v, path, NULL);
+    if (path)
+        view_open_file(v, path, NULL);
     g_free(path);
-    return ok;
+    return path != NULL;
 }
 
 static void on_open_response(GtkNativeDialog *dialog, int response, gpointer data)
@@ -765,6 +813,15 @@ static void on_open(GtkButton *button, gpointer data)
     }
     g_signal_connect(dialog, "response", G_CALLBACK(on_open_response), v);
     gtk_native_dialog_show(GTK_NATIVE_DIALOG(dialog));
+}
+
+static void on_cancel_open(GtkButton *button, gpointer data)
+{
+    (void)button;
+    viewer *v = data;
+    if (v->load)
+        gtk_label_set_text(GTK_LABEL(v->load_label), "Cancelling…");
+    view_cancel_open(v, false);
 }
 
 static void on_close_error(GtkButton *button, gpointer data)
@@ -831,6 +888,23 @@ static void on_activate(GtkApplication *app, gpointer data)
     gtk_box_append(GTK_BOX(v->error_bar), dismiss);
     gtk_widget_set_visible(v->error_bar, FALSE);
     gtk_box_append(GTK_BOX(box), v->error_bar);
+
+    /* While a file opens: what, how long, how far (when known), and Cancel. */
+    v->load_bar = gtk_box_new(GTK_ORIENTATION_HORIZONTAL, 8);
+    gtk_widget_set_margin_start(v->load_bar, 8);
+    gtk_widget_set_margin_end(v->load_bar, 4);
+    v->load_label = gtk_label_new("");
+    gtk_label_set_ellipsize(GTK_LABEL(v->load_label), PANGO_ELLIPSIZE_MIDDLE);
+    gtk_box_append(GTK_BOX(v->load_bar), v->load_label);
+    v->load_progress = gtk_progress_bar_new();
+    gtk_widget_set_hexpand(v->load_progress, TRUE);
+    gtk_widget_set_valign(v->load_progress, GTK_ALIGN_CENTER);
+    gtk_box_append(GTK_BOX(v->load_bar), v->load_progress);
+    GtkWidget *cancel = gtk_button_new_with_mnemonic("_Cancel");
+    g_signal_connect(cancel, "clicked", G_CALLBACK(on_cancel_open), v);
+    gtk_box_append(GTK_BOX(v->load_bar), cancel);
+    gtk_widget_set_visible(v->load_bar, FALSE);
+    gtk_box_append(GTK_BOX(box), v->load_bar);
 
     v->area = gtk_gl_area_new();
     gtk_gl_area_set_required_version(GTK_GL_AREA(v->area), 3, 3);
@@ -911,19 +985,17 @@ static void on_activate(GtkApplication *app, gpointer data)
     gtk_box_append(GTK_BOX(box), controls);
     gtk_window_set_child(GTK_WINDOW(v->window), box);
 
-    /* The demo first; a file given replaces it, or its error shows above the demo. */
-    sinew_model *demo = NULL;
-    sinew_error error = {0};
-    if (sinew_demo_humanoid(&demo, &error) != SINEW_OK ||
-        !set_model(v, demo, s->path ? NULL : s->clip, sinew_demo_humanoid_muscles()))
-        view_show_error(v, error.message);
-    /* A file that fails stays on screen as an error over the demo; a screenshot run says so
-     * in its exit status (2, bad input, as sinew's). */
-    if (s->path && !view_open_file(v, s->path, s->clip)) {
-        v->framed = false;
-        if (v->screenshot)
-            v->exit_code = 2;
+    /* The demo first; a file given opens on a worker thread and replaces it, or its error
+     * shows above the demo. */
+    if (open_now(v, APP_BUILTIN_DEMO, s->path ? NULL : s->clip) && !s->path && !isnan(v->start_time)) {
+        v->time = v->start_time;
+        if (v->time > duration(v))
+            v->time = duration(v);
     }
+    if (s->path)
+        view_open_file(v, s->path, s->clip);
+    else
+        v->start_time = NAN;
     show_time(v);
     set_playing(v, v->screenshot == NULL);
     gtk_widget_add_tick_callback(v->area, on_tick, v, NULL);
@@ -956,7 +1028,7 @@ static const char usage[] =
 int main(int argc, char **argv)
 {
     viewer v = {
-        .options = sinew_render_options_default(), .speed = 1.0, .direction = 1, .selected = -1, .posed_at = NAN};
+        .options = sinew_render_options_default(), .speed = 1.0, .direction = 1, .selected = -1, .start_time = NAN};
     settings_defaults(&v);
     settings_load(&v);
     v.camera = sinew_camera_default();
@@ -990,7 +1062,7 @@ int main(int argc, char **argv)
             if (strcmp(o, "--clip") == 0) {
                 s.clip = value;
             } else if (strcmp(o, "--time") == 0) {
-                if (!app_parse_number(value, -APP_MAX_SECONDS, APP_MAX_SECONDS, &v.time)) {
+                if (!app_parse_number(value, -APP_MAX_SECONDS, APP_MAX_SECONDS, &v.start_time)) {
                     fprintf(stderr, "sinew-view: bad --time \"%s\": expected seconds (within +-%g)\n", value,
                             APP_MAX_SECONDS);
                     return 1;
@@ -1036,16 +1108,14 @@ int main(int argc, char **argv)
     GtkApplication *app = gtk_application_new("org.sinew.View", G_APPLICATION_NON_UNIQUE);
     g_signal_connect(app, "activate", G_CALLBACK(on_activate), &s);
     int status = g_application_run(G_APPLICATION(app), 1, argv);
+    view_cancel_open(&v, true);
     g_object_unref(app);
     settings_save(&v);
     for (int i = 0; i < 10; i++)
         g_free(v.recent[i]);
-    free_muscles(&v);
+    app_scene_close(&v.scene);
     g_free(v.settings_path);
     g_free(v.last_folder);
     free(v.hidden);
-    sinew_player_free(v.player);
-    free(v.worlds);
-    sinew_model_free(v.model);
     return status ? status : v.exit_code;
 }

@@ -27,9 +27,9 @@ static gboolean filter_row(GtkListBoxRow *row, gpointer data)
     if (!text[0])
         return TRUE;
     int node = GPOINTER_TO_INT(g_object_get_data(G_OBJECT(row), "node"));
-    if (!v->model || node < 0 || (uint32_t)node >= v->model->node_count)
+    if (!v->scene.model || node < 0 || (uint32_t)node >= v->scene.model->node_count)
         return FALSE;
-    char *name = g_utf8_casefold(v->model->node_names[node], -1), *want = g_utf8_casefold(text, -1);
+    char *name = g_utf8_casefold(v->scene.model->node_names[node], -1), *want = g_utf8_casefold(text, -1);
     gboolean match = strstr(name, want) != NULL;
     g_free(name);
     g_free(want);
@@ -49,7 +49,7 @@ static void on_hide_mesh(GtkCheckButton *check, gpointer data)
 {
     viewer *v = data;
     int instance = GPOINTER_TO_INT(g_object_get_data(G_OBJECT(check), "instance"));
-    if (v->hidden && instance >= 0 && (uint32_t)instance < v->model->instance_count) {
+    if (v->hidden && instance >= 0 && (uint32_t)instance < v->scene.model->instance_count) {
         v->hidden[instance] = !gtk_check_button_get_active(check);
         view_redraw(v);
     }
@@ -66,10 +66,10 @@ void panels_select(viewer *v, int32_t node)
             gtk_list_box_select_row(GTK_LIST_BOX(v->node_list), row);
         v->updating = was;
     }
-    bool joint = node >= 0 && sinew_model_node_is_joint(v->model, (uint32_t)node);
+    bool joint = node >= 0 && sinew_model_node_is_joint(v->scene.model, (uint32_t)node);
     v->options.selected_joint = joint ? node : -1;
     v->options.heatmap_joint = joint && gtk_check_button_get_active(GTK_CHECK_BUTTON(v->heatmap_check)) ? node : -1;
-    if (v->player && node >= 0)
+    if (node >= 0)
         view_pose(v);
     panels_frame_drawn(v);
     view_redraw(v);
@@ -93,7 +93,7 @@ static void on_heatmap(GtkCheckButton *check, gpointer data)
 
 static void add_node_row(viewer *v, uint32_t node)
 {
-    const sinew_model *m = v->model;
+    const sinew_model *m = v->scene.model;
     GtkWidget *box = gtk_box_new(GTK_ORIENTATION_HORIZONTAL, 4);
     gtk_widget_set_margin_start(box, 4 + 12 * depth_of(m, node));
     bool joint = sinew_model_node_is_joint(m, node);
@@ -157,24 +157,24 @@ void panels_frame_drawn(viewer *v)
 {
     if (!v->transform_label)
         return;
-    if (v->selected < 0 || !v->model || (uint32_t)v->selected >= v->model->node_count) {
+    if (v->selected < 0 || !v->scene.model || (uint32_t)v->selected >= v->scene.model->node_count) {
         gtk_label_set_markup(GTK_LABEL(v->transform_label), "<i>Select a node to see its transforms.</i>");
         return;
     }
-    const sinew_mat4 *world = &v->worlds[v->selected];
+    const sinew_mat4 *world = &v->scene.worlds[v->selected];
     sinew_mat4 local = *world;
-    int32_t parent = v->model->node_parents[v->selected];
+    int32_t parent = v->scene.model->node_parents[v->selected];
     if (parent >= 0) { /* local = inverse(parent world) * world */
         mat4 inverse;
-        glm_mat4_inv((vec4 *)v->worlds[parent].m, inverse);
+        glm_mat4_inv((vec4 *)v->scene.worlds[parent].m, inverse);
         glm_mat4_mul(inverse, (vec4 *)world->m, (vec4 *)local.m);
     }
     char a[512], b[512], text[1200];
     format_transform("local", &local, a, sizeof a);
     format_transform("world", world, b, sizeof b);
-    char *name = g_markup_escape_text(v->model->node_names[v->selected], -1);
+    char *name = g_markup_escape_text(v->scene.model->node_names[v->selected], -1);
     snprintf(text, sizeof text, "<b><big>%s</big></b>%s\n%s\n%s", name,
-             sinew_model_node_is_joint(v->model, (uint32_t)v->selected) ? "  (joint)" : "", a, b);
+             sinew_model_node_is_joint(v->scene.model, (uint32_t)v->selected) ? "  (joint)" : "", a, b);
     g_free(name);
     gtk_label_set_markup(GTK_LABEL(v->transform_label), text);
 }
@@ -299,17 +299,18 @@ void panels_model_changed(viewer *v)
     GtkWidget *child;
     while ((child = gtk_widget_get_first_child(v->node_list)) != NULL)
         gtk_list_box_remove(GTK_LIST_BOX(v->node_list), child);
-    for (uint32_t n = 0; n < v->model->node_count; n++)
+    for (uint32_t n = 0; n < v->scene.model->node_count; n++)
         add_node_row(v, n);
     v->updating = false;
     v->selected = -1;
     panels_select(v, -1);
     char line[1024];
-    snprintf(line, sizeof line, "%s: %u nodes, %u meshes, %u clips, %u warnings", v->model->source,
-             v->model->node_count, v->model->mesh_count, v->model->clip_count, v->model->warning_count);
+    snprintf(line, sizeof line, "%s: %u nodes, %u meshes, %u clips, %u warnings", v->scene.model->source,
+             v->scene.model->node_count, v->scene.model->mesh_count, v->scene.model->clip_count,
+             v->scene.model->warning_count);
     panels_log(v, line);
-    for (uint32_t i = 0; i < v->model->warning_count; i++) {
-        snprintf(line, sizeof line, "%s: warning: %s", v->model->source, v->model->warnings[i]);
+    for (uint32_t i = 0; i < v->scene.model->warning_count; i++) {
+        snprintf(line, sizeof line, "%s: warning: %s", v->scene.model->source, v->scene.model->warnings[i]);
         panels_log(v, line);
     }
 }

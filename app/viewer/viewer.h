@@ -5,7 +5,7 @@
 
 #include <gtk/gtk.h>
 
-#include "app.h"
+#include "scene.h"
 #include "sinew/sinew.h"
 
 #define FRAME_RATE 30.0 /* frame numbers and Left/Right steps */
@@ -38,17 +38,17 @@ typedef struct viewer {
     GtkWidget *shading_list;
     const char *screenshot, *select, *heatmap;
     bool quit_after_screenshot, camera_given;
-    sinew_model *model;
-    const sinew_clip *clip;
-    sinew_player *player;
+    app_scene scene; /* the model shown, its clip, muscles and pose */
     sinew_renderer *renderer;
-    sinew_mat4 *worlds;
-    bool *hidden;     /* instance_count flags */
-    int32_t selected; /* node, -1 for none */
+    struct view_load *load; /* a file being opened, or NULL */
+    GtkWidget *load_bar, *load_label, *load_progress;
+    guint load_timer;
+    double start_time; /* --time, applied to the file's clip once it is open; NAN: none */
+    bool *hidden;      /* instance_count flags */
+    int32_t selected;  /* node, -1 for none */
     sinew_camera camera;
     sinew_render_options options;
     double time, speed;
-    double posed_at; /* the time `worlds` hold; NAN when they must be computed again */
     play_mode mode;
     int direction; /* ping-pong: +1 or -1 */
     gint64 last_frame;
@@ -62,11 +62,6 @@ typedef struct viewer {
     char *last_folder;
     char *recent[10]; /* files opened, newest first (settings [files] recent) */
     GMenu *recent_menu;
-    sinew_muscle_set *muscle_set; /* read from a file; a .sinew's own are the model's */
-    const sinew_muscle_set *muscles;
-    sinew_muscle_rig *muscle_rig;
-    sinew_muscle_pose *muscle_poses;
-    uint32_t muscle_count;
     char *settings_path;
     view_key keys[ACTION_COUNT];
     int exit_code;
@@ -76,7 +71,12 @@ typedef struct viewer {
 void view_show_error(viewer *v, const char *message);
 void view_redraw(viewer *v);
 bool view_pose(viewer *v);
-bool view_open_file(viewer *v, const char *path, const char *clip_name);
+/* Opens a file on a worker thread (the scene stays until the new one is ready; a failure
+ * shows its error); a newer open supersedes one under way. */
+typedef struct view_load view_load;
+void view_open_file(viewer *v, const char *path, const char *clip_name);
+/* Asks the open under way to stop; `wait`: also waits for its thread and drops it (leaving). */
+void view_cancel_open(viewer *v, bool wait);
 void view_recent_changed(viewer *v); /* rebuilds the Recent menu */
 
 /* panels.c */

@@ -90,27 +90,50 @@ sinew_result sinew_skin_vertices(const sinew_skin_desc *desc, sinew_error *error
 sinew_result sinew_transform_vertices(const sinew_mesh *mesh, const sinew_mat4 *matrix, float *out_positions,
                                       float *out_normals, size_t out_stride, sinew_error *error);
 
-/* ---- sinew_player: the fast path for playing one clip on one character ----
+/* ---- the player: the fast path for playing clips on characters ----
  *
- * Made once from a model and a clip; each update samples the clip and writes every node's
- * world matrix, with no allocation and no search in forward play. Keys of channels that
- * share their times are stored together in time order; rotations blend component-wise and
- * are normalised (nlerp) where neighbouring keys are close (within 5e-7 rad of
- * sinew_sample()'s slerp) and are slerped where they are not; step, cubic and Bezier keys
- * as sinew_sample() evaluates them. A player holds one character's pose, so use one
- * player per character (players of different characters may update on different threads).
- * AVX2+FMA where the processor has them, else scalar code that gives the same results. */
+ * Two parts, as ozz-animation's Animation and SamplingJob::Context:
+ *   sinew_clip_layout  the asset: one clip of one model laid out for playback, built once
+ *                      (through an allocator), immutable after, shared by every character
+ *                      and thread that plays the clip;
+ *   sinew_player       one character's state (its pose and key cursors) in memory the
+ *                      caller owns, sized by sinew_player_size(); a few kilobytes.
+ * Each update samples the clip and writes every node's world matrix, with no allocation
+ * and no search in forward play. Keys of channels that share their times are stored
+ * together in time order; rotations blend component-wise and are normalised (nlerp) where
+ * neighbouring keys are close (within 5e-7 rad of sinew_sample()'s slerp) and are slerped
+ * where they are not; step, cubic and Bezier keys as sinew_sample() evaluates them.
+ * Players of one layout may update on different threads; one player on one thread at a
+ * time. AVX2+FMA where the processor has them, else scalar code that gives the same results.
+ *
+ *   sinew_clip_layout *layout;
+ *   sinew_clip_layout_create(&(sinew_clip_layout_desc){.model = m, .clip = &m->clips[0]}, &layout, &error);
+ *   size_t size = sinew_player_size(layout);
+ *   for each character c: memory[c] = malloc(size); sinew_player_init(memory[c], size, layout, &player[c], &error);
+ *   each frame:           sinew_player_update(player[c], time[c], SINEW_WRAP_LOOP, NULL, worlds[c], n, &error);
+ *   at the end:           free(memory[c]) for each; sinew_clip_layout_free(layout);
+ */
+typedef struct sinew_clip_layout sinew_clip_layout;
 typedef struct sinew_player sinew_player;
 
-/* clip may be NULL (the rest pose). The model and clip must outlive the player. */
-sinew_result sinew_player_create(const sinew_model *model, const sinew_clip *clip, sinew_player **out,
-                                 sinew_error *error);
-void sinew_player_free(sinew_player *player);
+typedef struct sinew_clip_layout_desc {
+    const sinew_model *model;         /* must outlive the layout */
+    const sinew_clip *clip;           /* NULL: the rest pose; must outlive the layout */
+    const sinew_allocator *allocator; /* NULL: malloc/free; the layout and its scratch */
+} sinew_clip_layout_desc;
 
-/* Another player of the same clip for another character: it has its own pose and cursors
- * (a few kilobytes) and shares the source's key rows (the clip's keys, laid out once), so
- * a crowd playing one clip keeps one copy of it. The source must outlive the clone. */
-sinew_result sinew_player_clone(const sinew_player *source, sinew_player **out, sinew_error *error);
+/* Lays the clip's keys out for the player. SINEW_ERROR_INVALID_ARGUMENT when the clip
+ * animates a node the model does not have; SINEW_ERROR_OUT_OF_MEMORY. */
+sinew_result sinew_clip_layout_create(const sinew_clip_layout_desc *desc, sinew_clip_layout **out, sinew_error *error);
+void sinew_clip_layout_free(sinew_clip_layout *layout);
+
+/* Bytes a player of `layout` needs, with room to align itself (any alignment will do). */
+size_t sinew_player_size(const sinew_clip_layout *layout);
+/* Makes a player in `memory` (size >= sinew_player_size(layout)), at the clip's start. The
+ * layout must outlive it; there is nothing to free but the memory. Calling it again on the
+ * same memory starts the character over. */
+sinew_result sinew_player_init(void *memory, size_t size, const sinew_clip_layout *layout, sinew_player **out,
+                               sinew_error *error);
 
 /* Samples the clip at `time` (wrapped or clamped as sinew_clip_time() does) and writes
  * worlds[0 .. node_count): world[i] = world[parent] * local[i], roots get root * local

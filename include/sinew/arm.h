@@ -13,7 +13,8 @@
  * also holds the biceps): {"arm": {"free_to_origin": .., "origin_to_elbow": ..,
  * "elbow_to_insertion": .., "insertion_to_free": .., "rod_radius": ..}}.
  * What not: no muscle solving here (sinew/muscle_rig.h binds the file's muscles to the
- * model's "upper" and "lower" nodes like any rig).
+ * model's "upper" and "lower" nodes like any rig; desc->muscles, when given, travel with the
+ * model as a .sinew file's do).
  * Memory: the model is one allocation (sinew_model_free()).
  * Errors: SINEW_ERROR_DATA / FORMAT with FILE:LINE:COLUMN for the JSON; INVALID_ARGUMENT for
  * non-positive distances or an angle outside [0, 180] degrees.
@@ -33,8 +34,10 @@ typedef struct sinew_arm_desc {
     double elbow_angle; /* radians in [0, pi]: the rest pose */
     double flex_from;   /* a "flex" clip from this angle to flex_to and back; both 0: no clip */
     double flex_to;
-    float flex_duration;   /* seconds; 0 means 2 */
-    sinew_transform place; /* the whole model: rotation, translation, scale (zero scale means 1) */
+    float flex_duration;                    /* seconds; 0 means 2 */
+    sinew_transform place;                  /* the whole model: rotation, translation, scale (zero scale means 1) */
+    const struct sinew_muscle_set *muscles; /* stored with the model as its own (model->muscles), or
+                                               NULL; read the biceps with sinew_muscle_set_read() */
 } sinew_arm_desc;
 
 /* Reads the four distances (and rod_radius) from the "arm" object of a JSON file; leaves the

@@ -30,7 +30,8 @@
  * unknown format, truncated), SINEW_ERROR_IMPORTER (Assimp refused; the helper crashed or was
  * killed from outside: the signal is named, and its last stderr lines quoted),
  * SINEW_ERROR_DATA (NaN/Inf, bad indices, zero weights), SINEW_ERROR_LIMIT (over a documented
- * limit, or the helper passed its deadline or memory limit: the message says which).
+ * limit, or the helper passed its deadline or memory limit: the message says which),
+ * SINEW_ERROR_CANCELLED (desc->progress asked to stop).
  * Import warnings (dropped dummy meshes, missing textures, renormalised weights) are kept in
  * model->warnings.
  */
@@ -55,6 +56,11 @@ typedef struct sinew_import_desc {
                               within 1..16 GiB; UINT64_MAX: none */
     int stderr_fd;         /* 0: its stderr is kept, and its last lines quoted when it fails; else
                               the descriptor it writes its stderr to (2: the caller's stderr) */
+    /* Called on the calling thread about every 50 ms while the helper works (once, before
+     * reading, in process): `fraction` is -1 while the file is read, then 0..1 as the model
+     * comes back. Returning false stops the helper at once: SINEW_ERROR_CANCELLED. NULL: none. */
+    bool (*progress)(float fraction, void *user);
+    void *progress_user;
 } sinew_import_desc;
 
 sinew_result sinew_import(const sinew_import_desc *desc, sinew_model **out, sinew_error *error);
@@ -102,7 +108,8 @@ sinew_result sinew_synthetic_model(const sinew_synthetic_desc *desc, sinew_model
  * named as Unity's humanoid avatar names bones (Hips, Spine, Chest, ..., LeftUpperArm,
  * RightLowerArm, LeftUpperLeg, ...), a 15,000-vertex body skinned with smooth weights, a staff on its own node under
  * Hand.R, and the clips "walk" (1 s cycle in place) and "wave" (2 s), keyed 30 times a
- * second. Y up, metres, facing +z. */
+ * second. Y up, metres, facing +z. Its muscles (sinew_demo_humanoid_muscles()) are its own
+ * (model->muscles), as a .sinew file's. */
 sinew_result sinew_demo_humanoid(sinew_model **out, sinew_error *error);
 
 /* Its muscles as muscle JSON (sinew/muscle_file.h): LeftBiceps and RightBiceps. Static text. */

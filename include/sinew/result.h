@@ -22,7 +22,8 @@ typedef enum sinew_result {
     SINEW_ERROR_DATA,             /* the file parsed, but its content is invalid (NaN, bad indices) */
     SINEW_ERROR_LIMIT,            /* over a documented limit (joints per skin, influences) */
     SINEW_ERROR_OUT_OF_MEMORY,
-    SINEW_ERROR_GRAPHICS /* no EGL display or GL 3.3 core context, a shader or framebuffer GL refused */
+    SINEW_ERROR_GRAPHICS, /* no EGL display or GL 3.3 core context, a shader or framebuffer GL refused */
+    SINEW_ERROR_CANCELLED /* the caller asked to stop (sinew_import_desc.progress returned false) */
 } sinew_result;
 
 #define SINEW_ERROR_MESSAGE_SIZE 512

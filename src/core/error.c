@@ -25,6 +25,8 @@ const char *sinew_result_string(sinew_result result)
         return "out of memory";
     case SINEW_ERROR_GRAPHICS:
         return "graphics error";
+    case SINEW_ERROR_CANCELLED:
+        return "cancelled";
     }
     return "unknown error";
 }

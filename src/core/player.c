@@ -54,26 +54,35 @@ typedef struct group {
     uint32_t row_floats; /* lane_count, or 3 * lane_count for cubic (value, in, out) */
     uint32_t run_count;
     uint32_t fix_count;
-    uint32_t cursor;
     const float *times; /* the clip's, key_count */
     float *rows;        /* key_count * row_floats */
     run *runs;
     slerp_fix *fixes;
 } group;
 
-struct sinew_player {
+/* The asset: built once per model and clip, read by every player of it. */
+struct sinew_clip_layout {
     const sinew_model *model;
     const sinew_clip *clip;
     uint32_t node_count, stride; /* stride: node_count rounded up to 8 */
-    bool simd;
-    float *pose;   /* C_COUNT * stride */
-    float *locals; /* M_COUNT * stride: rotation * scale */
     uint32_t group_count;
     group *groups;
-    void *block; /* everything above, one allocation */
+    float *start_pose; /* C_COUNT * stride: the rest pose with one-key channels written in */
+    sinew_allocator allocator;
 };
 
-/* ---- building -------------------------------------------------------------------------- */
+/* One character's state, in memory the caller owns. */
+struct sinew_player {
+    const sinew_clip_layout *layout;
+    bool simd;
+    float *pose;       /* C_COUNT * stride, 32-byte aligned */
+    float *locals;     /* M_COUNT * stride: rotation * scale, 32-byte aligned */
+    uint32_t *cursors; /* group_count key cursors */
+};
+
+#define ALIGN32(n) (((n) + 31u) & ~(size_t)31u)
+
+/* ---- building the layout ------------------------------------------------------------------ */
 
 typedef struct lane_src {
     uint32_t dst;
@@ -85,6 +94,15 @@ typedef struct channel_ref {
     const sinew_channel *channel;
     uint32_t node, kind, group;
 } channel_ref;
+
+/* What the layout holds, counted before anything is laid out. */
+typedef struct layout_plan {
+    channel_ref *refs;     /* channels with two keys or more */
+    uint32_t *group_first; /* each group's first channel in refs */
+    lane_src *lanes;       /* scratch: one group's lanes */
+    uint32_t ref_count, group_count;
+    size_t lane_total, float_total;
+} layout_plan;
 
 static int compare_lanes(const void *a, const void *b)
 {
@@ -116,89 +134,47 @@ static bool wide_segment(const sinew_clip *clip, const sinew_channel *ch)
     return false;
 }
 
-static void write_rest(sinew_player *p)
+/* Channels with two keys or more, grouped by equal times; one-key channels are constants,
+ * written into the start pose. */
+static void plan_groups(const sinew_clip *clip, layout_plan *plan)
 {
-    const sinew_model *m = p->model;
-    for (uint32_t c = 0; c < C_COUNT; c++)
-        for (uint32_t i = 0; i < p->stride; i++)
-            p->pose[c * p->stride + i] = c == C_QW || c >= C_SX ? 1.0f : 0.0f;
-    for (uint32_t i = 0; i < m->node_count; i++) {
-        const sinew_transform *r = &m->node_rest[i];
-        for (uint32_t k = 0; k < 3; k++) {
-            p->pose[(C_TX + k) * p->stride + i] = r->translation[k];
-            p->pose[(C_SX + k) * p->stride + i] = r->scale[k];
-        }
-        for (uint32_t k = 0; k < 4; k++)
-            p->pose[(C_QX + k) * p->stride + i] = r->rotation[k];
-    }
-}
-
-sinew_result sinew_player_create(const sinew_model *model, const sinew_clip *clip, sinew_player **out,
-                                 sinew_error *error)
-{
-    if (!model || !out)
-        return sinew_fail(error, SINEW_ERROR_INVALID_ARGUMENT, "sinew_player_create: NULL model or output");
-    *out = NULL;
     uint32_t track_count = clip ? clip->track_count : 0;
-    channel_ref *refs = calloc((size_t)track_count * SINEW_CHANNEL_COUNT + 1, sizeof *refs);
-    uint32_t *group_first = calloc((size_t)track_count * SINEW_CHANNEL_COUNT + 1, sizeof *group_first);
-    if (!refs || !group_first) {
-        free(refs);
-        free(group_first);
-        return sinew_fail(error, SINEW_ERROR_OUT_OF_MEMORY, "%s: out of memory for a player", model->source);
-    }
-    /* Channels with two keys or more, grouped by equal times (first channel of each group
-     * in group_first); one-key channels are constants, written with the rest pose. */
-    uint32_t ref_count = 0, group_count = 0;
-    size_t lanes_total = 0, floats_total = 0;
     for (uint32_t t = 0; t < track_count; t++)
         for (uint32_t k = 0; k < SINEW_CHANNEL_COUNT; k++) {
             const sinew_channel *ch = &clip->tracks[t].channels[k];
             if (ch->key_count < 2)
                 continue;
             uint32_t g = 0;
-            while (g < group_count && !same_times(clip, refs[group_first[g]].channel, ch))
+            while (g < plan->group_count && !same_times(clip, plan->refs[plan->group_first[g]].channel, ch))
                 g++;
-            if (g == group_count)
-                group_first[group_count++] = ref_count;
-            refs[ref_count++] = (channel_ref){ch, clip->tracks[t].node, k, g};
+            if (g == plan->group_count)
+                plan->group_first[plan->group_count++] = plan->ref_count;
+            plan->refs[plan->ref_count++] = (channel_ref){ch, clip->tracks[t].node, k, g};
             uint32_t width = sinew_channel_width((int)k);
-            lanes_total += width;
-            floats_total += (size_t)width * ch->key_count * sinew_interp_floats(ch->interp);
+            plan->lane_total += width;
+            plan->float_total += (size_t)width * ch->key_count * sinew_interp_floats(ch->interp);
         }
+}
 
-    uint32_t n = model->node_count, stride = (n + 7u) & ~7u;
-    if (stride == 0)
-        stride = 8;
-    size_t bytes = sizeof(sinew_player) + (size_t)C_COUNT * stride * 4 + (size_t)M_COUNT * stride * 4 +
-                   group_count * (sizeof(group) + 64) + floats_total * 4 + lanes_total * sizeof(run) +
-                   ref_count * sizeof(slerp_fix) + 64;
-    unsigned char *block = aligned_alloc(32, (bytes + 31) & ~(size_t)31);
-    lane_src *lanes = malloc((lanes_total + 1) * sizeof *lanes);
-    if (!block || !lanes) {
-        free(block);
-        free(lanes);
-        free(refs);
-        free(group_first);
-        return sinew_fail(error, SINEW_ERROR_OUT_OF_MEMORY, "%s: out of memory for a player", model->source);
+static void write_start_pose(sinew_clip_layout *l)
+{
+    const sinew_model *m = l->model;
+    const uint32_t S = l->stride;
+    float *pose = l->start_pose;
+    for (uint32_t c = 0; c < C_COUNT; c++)
+        for (uint32_t i = 0; i < S; i++)
+            pose[c * S + i] = c == C_QW || c >= C_SX ? 1.0f : 0.0f;
+    for (uint32_t i = 0; i < m->node_count; i++) {
+        const sinew_transform *r = &m->node_rest[i];
+        for (uint32_t k = 0; k < 3; k++) {
+            pose[(C_TX + k) * S + i] = r->translation[k];
+            pose[(C_SX + k) * S + i] = r->scale[k];
+        }
+        for (uint32_t k = 0; k < 4; k++)
+            pose[(C_QX + k) * S + i] = r->rotation[k];
     }
-    sinew_player *p = (sinew_player *)block;
-    *p = (sinew_player){.model = model, .clip = clip, .node_count = n, .stride = stride, .block = block};
-#ifdef PLAYER_X86
-    p->simd = __builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma");
-#endif
-    unsigned char *at = block + ((sizeof *p + 31) & ~(size_t)31);
-    p->pose = (float *)at;
-    at += (size_t)C_COUNT * stride * 4;
-    p->locals = (float *)at;
-    at += (size_t)M_COUNT * stride * 4;
-    p->groups = (group *)at;
-    p->group_count = group_count;
-    at += group_count * sizeof(group);
-    write_rest(p);
-
-    /* Constants: one-key channels. */
-    for (uint32_t t = 0; t < track_count; t++)
+    const sinew_clip *clip = l->clip;
+    for (uint32_t t = 0; clip && t < clip->track_count; t++)
         for (uint32_t k = 0; k < SINEW_CHANNEL_COUNT; k++) {
             const sinew_channel *ch = &clip->tracks[t].channels[k];
             if (ch->key_count != 1)
@@ -206,112 +182,191 @@ sinew_result sinew_player_create(const sinew_model *model, const sinew_clip *cli
             const float *v =
                 clip->values + ch->first_value + (ch->interp == SINEW_INTERP_CUBIC ? sinew_channel_width((int)k) : 0);
             for (uint32_t i = 0; i < sinew_channel_width((int)k); i++)
-                p->pose[pose_component(k, i) * stride + clip->tracks[t].node] = v[i];
+                pose[pose_component(k, i) * S + clip->tracks[t].node] = v[i];
         }
+}
 
-    for (uint32_t g = 0; g < group_count; g++) {
-        group *gr = &p->groups[g];
-        const channel_ref *first = &refs[group_first[g]];
-        uint32_t lane_count = 0;
-        for (uint32_t r = 0; r < ref_count; r++) {
-            if (refs[r].group != g)
-                continue;
+/* Group g's key rows (for each key the lanes' values, then in- and out-tangents), its runs
+ * of lanes that land next to each other in the pose, and its slerp fixes, laid out from
+ * `at`; returns the end. */
+static unsigned char *lay_out_group(sinew_clip_layout *l, const layout_plan *plan, uint32_t g, unsigned char *at)
+{
+    const sinew_clip *clip = l->clip;
+    const uint32_t S = l->stride;
+    group *gr = &l->groups[g];
+    const channel_ref *refs = plan->refs, *first = &refs[plan->group_first[g]];
+    lane_src *lanes = plan->lanes;
+    uint32_t lane_count = 0;
+    for (uint32_t r = 0; r < plan->ref_count; r++)
+        if (refs[r].group == g)
             for (uint32_t i = 0; i < sinew_channel_width((int)refs[r].kind); i++)
-                lanes[lane_count++] = (lane_src){pose_component(refs[r].kind, i) * stride + refs[r].node, r, i};
+                lanes[lane_count++] = (lane_src){pose_component(refs[r].kind, i) * S + refs[r].node, r, i};
+    qsort(lanes, lane_count, sizeof *lanes, compare_lanes);
+    bool cubic = first->channel->interp == SINEW_INTERP_CUBIC;
+    *gr = (group){.key_count = first->channel->key_count,
+                  .interp = first->channel->interp,
+                  .lane_count = lane_count,
+                  .row_floats = lane_count * sinew_interp_floats(first->channel->interp),
+                  .times = clip->times + first->channel->first_key};
+    gr->rows = (float *)at;
+    at += ALIGN32((size_t)gr->row_floats * gr->key_count * 4);
+    gr->runs = (run *)at;
+    for (uint32_t ln = 0; ln < lane_count; ln++) {
+        const channel_ref *ref = &refs[lanes[ln].channel];
+        uint32_t width = sinew_channel_width((int)ref->kind);
+        uint32_t key_stride = sinew_channel_stride((int)ref->kind, ref->channel->interp);
+        const float *src = clip->values + ref->channel->first_value + lanes[ln].component;
+        for (uint32_t key = 0; key < gr->key_count; key++) {
+            float *row = gr->rows + (size_t)key * gr->row_floats;
+            const float *kv = src + (size_t)key * key_stride;
+            if (cubic) {
+                row[ln] = kv[width];                      /* value */
+                row[lane_count + ln] = kv[0];             /* in-tangent */
+                row[2 * lane_count + ln] = kv[2 * width]; /* out-tangent */
+            } else if (gr->interp == SINEW_INTERP_BEZIER) {
+                for (uint32_t j = 0; j < 5; j++) /* value, in time, in value, out time, out value */
+                    row[j * lane_count + ln] = kv[j * width];
+            } else {
+                row[ln] = kv[0];
+            }
         }
-        qsort(lanes, lane_count, sizeof *lanes, compare_lanes);
-        bool cubic = first->channel->interp == SINEW_INTERP_CUBIC;
-        *gr = (group){.key_count = first->channel->key_count,
-                      .interp = first->channel->interp,
-                      .lane_count = lane_count,
-                      .row_floats = lane_count * sinew_interp_floats(first->channel->interp),
-                      .times = clip->times + first->channel->first_key};
-        gr->rows = (float *)at;
-        at += (size_t)gr->row_floats * gr->key_count * 4;
-        gr->runs = (run *)at;
-        /* Rows: for each key, the lanes' values (then in-tangents, out-tangents). */
-        for (uint32_t l = 0; l < lane_count; l++) {
-            const channel_ref *ref = &refs[lanes[l].channel];
-            uint32_t width = sinew_channel_width((int)ref->kind);
-            uint32_t key_stride = sinew_channel_stride((int)ref->kind, ref->channel->interp);
-            const float *src = clip->values + ref->channel->first_value + lanes[l].component;
-            for (uint32_t key = 0; key < gr->key_count; key++) {
-                float *row = gr->rows + (size_t)key * gr->row_floats;
-                const float *kv = src + (size_t)key * key_stride;
-                if (cubic) {
-                    row[l] = kv[width];                      /* value */
-                    row[lane_count + l] = kv[0];             /* in-tangent */
-                    row[2 * lane_count + l] = kv[2 * width]; /* out-tangent */
-                } else if (gr->interp == SINEW_INTERP_BEZIER) {
-                    for (uint32_t j = 0; j < 5; j++) /* value, in time, in value, out time, out value */
-                        row[j * lane_count + l] = kv[j * width];
-                } else {
-                    row[l] = kv[0];
-                }
-            }
-            if (gr->run_count > 0) {
-                run *last = &gr->runs[gr->run_count - 1];
-                if (last->dst + last->length == lanes[l].dst) {
-                    last->length++;
-                    continue;
-                }
-            }
-            gr->runs[gr->run_count++] = (run){lanes[l].dst, l, 1};
-        }
-        at += (size_t)gr->run_count * sizeof(run);
-        at = (unsigned char *)(((uintptr_t)at + 31) & ~(uintptr_t)31);
-        gr->fixes = (slerp_fix *)at;
-        for (uint32_t r = 0; r < ref_count; r++)
-            if (refs[r].group == g && refs[r].kind == SINEW_CHANNEL_ROTATION &&
-                refs[r].channel->interp == SINEW_INTERP_LINEAR && wide_segment(clip, refs[r].channel)) {
-                slerp_fix *fix = &gr->fixes[gr->fix_count++];
-                for (uint32_t l = 0; l < lane_count; l++)
-                    if (lanes[l].channel == r) {
-                        fix->lane[lanes[l].component] = l;
-                        fix->dst[lanes[l].component] = lanes[l].dst;
-                    }
-            }
-        at += (size_t)gr->fix_count * sizeof(slerp_fix);
-        at = (unsigned char *)(((uintptr_t)at + 31) & ~(uintptr_t)31);
+        run *last = gr->run_count ? &gr->runs[gr->run_count - 1] : NULL;
+        if (last && last->dst + last->length == lanes[ln].dst)
+            last->length++;
+        else
+            gr->runs[gr->run_count++] = (run){lanes[ln].dst, ln, 1};
     }
-    free(lanes);
-    free(refs);
-    free(group_first);
-    *out = p;
-    return SINEW_OK;
+    at += ALIGN32((size_t)gr->run_count * sizeof(run));
+    gr->fixes = (slerp_fix *)at;
+    for (uint32_t r = 0; r < plan->ref_count; r++) {
+        if (refs[r].group != g || refs[r].kind != SINEW_CHANNEL_ROTATION ||
+            refs[r].channel->interp != SINEW_INTERP_LINEAR || !wide_segment(clip, refs[r].channel))
+            continue;
+        slerp_fix *fix = &gr->fixes[gr->fix_count++];
+        for (uint32_t ln = 0; ln < lane_count; ln++)
+            if (lanes[ln].channel == r) {
+                fix->lane[lanes[ln].component] = ln;
+                fix->dst[lanes[ln].component] = lanes[ln].dst;
+            }
+    }
+    return at + ALIGN32((size_t)gr->fix_count * sizeof(slerp_fix));
 }
 
-sinew_result sinew_player_clone(const sinew_player *source, sinew_player **out, sinew_error *error)
+static void *malloc_user(size_t size, void *user)
 {
-    if (!source || !out)
-        return sinew_fail(error, SINEW_ERROR_INVALID_ARGUMENT, "sinew_player_clone: NULL player or output");
+    (void)user;
+    return malloc(size);
+}
+
+static void free_user(void *ptr, void *user)
+{
+    (void)user;
+    free(ptr);
+}
+
+sinew_result sinew_clip_layout_create(const sinew_clip_layout_desc *desc, sinew_clip_layout **out, sinew_error *error)
+{
+    if (!desc || !desc->model || !out)
+        return sinew_fail(error, SINEW_ERROR_INVALID_ARGUMENT, "sinew_clip_layout_create: NULL desc, model or output");
     *out = NULL;
-    /* Own: the player, the pose and local matrices, the groups (for their cursors);
-     * shared: the key rows, runs and slerp lists the groups point to. */
-    size_t head = (sizeof *source + 31) & ~(size_t)31;
-    size_t pose = (size_t)C_COUNT * source->stride * 4, locals = (size_t)M_COUNT * source->stride * 4;
-    size_t groups = source->group_count * sizeof(group);
-    unsigned char *block = aligned_alloc(32, (head + pose + locals + groups + 31) & ~(size_t)31);
-    if (!block)
-        return sinew_fail(error, SINEW_ERROR_OUT_OF_MEMORY, "%s: out of memory for a player", source->model->source);
-    sinew_player *p = (sinew_player *)block;
-    *p = *source;
-    p->block = block;
-    p->pose = (float *)(block + head);
-    p->locals = (float *)(block + head + pose);
-    p->groups = (group *)(block + head + pose + locals);
-    memcpy(p->pose, source->pose, pose);
-    memcpy(p->groups, source->groups, groups);
-    for (uint32_t g = 0; g < p->group_count; g++)
-        p->groups[g].cursor = 0;
-    *out = p;
+    const sinew_allocator *a = desc->allocator;
+    if (a && (!a->alloc || !a->free))
+        return sinew_fail(error, SINEW_ERROR_INVALID_ARGUMENT,
+                          "sinew_clip_layout_create: allocator without alloc or free");
+    sinew_allocator alloc = a ? *a : (sinew_allocator){malloc_user, free_user, NULL};
+    const sinew_model *model = desc->model;
+    const sinew_clip *clip = desc->clip;
+    for (uint32_t t = 0; clip && t < clip->track_count; t++)
+        if (clip->tracks[t].node >= model->node_count)
+            return sinew_fail(error, SINEW_ERROR_INVALID_ARGUMENT,
+                              "%s: clip \"%s\" animates node %u, the model has %u nodes", model->source,
+                              clip->name ? clip->name : "", clip->tracks[t].node, model->node_count);
+
+    /* Scratch for the plan: a channel reference and a group start per channel (three a
+     * track at most), a lane per component (ten a track at most). */
+    size_t channels = (size_t)(clip ? clip->track_count : 0) * SINEW_CHANNEL_COUNT + 1;
+    size_t scratch_bytes =
+        channels * (sizeof(channel_ref) + sizeof(uint32_t)) + (channels * 10 / 3 + 1) * sizeof(lane_src) + 16;
+    unsigned char *scratch = alloc.alloc(scratch_bytes, alloc.user);
+    if (!scratch)
+        return sinew_fail(error, SINEW_ERROR_OUT_OF_MEMORY, "%s: out of memory for a clip layout", model->source);
+    layout_plan plan = {.refs = (channel_ref *)scratch};
+    plan.lanes = (lane_src *)(scratch + channels * sizeof(channel_ref));
+    plan.group_first =
+        (uint32_t *)(scratch + channels * sizeof(channel_ref) + (channels * 10 / 3 + 1) * sizeof(lane_src));
+    plan_groups(clip, &plan);
+
+    /* One allocation: the layout, the start pose, the groups, then each group's rows, runs
+     * and fixes (each part 32-byte aligned from the start of the block). */
+    uint32_t stride = (model->node_count + 7u) & ~7u;
+    if (stride == 0)
+        stride = 8;
+    size_t bytes = ALIGN32(sizeof(sinew_clip_layout)) + ALIGN32((size_t)C_COUNT * stride * 4) +
+                   ALIGN32(plan.group_count * sizeof(group)) + plan.float_total * 4 + plan.lane_total * sizeof(run) +
+                   plan.ref_count * sizeof(slerp_fix) + (size_t)plan.group_count * 3 * 32;
+    unsigned char *block = alloc.alloc(bytes, alloc.user);
+    if (!block) {
+        alloc.free(scratch, alloc.user);
+        return sinew_fail(error, SINEW_ERROR_OUT_OF_MEMORY, "%s: out of memory for a clip layout", model->source);
+    }
+    sinew_clip_layout *l = (sinew_clip_layout *)block;
+    *l = (sinew_clip_layout){.model = model,
+                             .clip = clip,
+                             .node_count = model->node_count,
+                             .stride = stride,
+                             .group_count = plan.group_count,
+                             .allocator = alloc};
+    unsigned char *at = block + ALIGN32(sizeof *l);
+    l->start_pose = (float *)at;
+    at += ALIGN32((size_t)C_COUNT * stride * 4);
+    l->groups = (group *)at;
+    at += ALIGN32(plan.group_count * sizeof(group));
+    write_start_pose(l);
+    for (uint32_t g = 0; g < plan.group_count; g++)
+        at = lay_out_group(l, &plan, g, at);
+    alloc.free(scratch, alloc.user);
+    *out = l;
     return SINEW_OK;
 }
 
-void sinew_player_free(sinew_player *player)
+void sinew_clip_layout_free(sinew_clip_layout *layout)
 {
-    if (player)
-        free(player->block);
+    if (layout)
+        layout->allocator.free(layout, layout->allocator.user);
+}
+
+/* ---- one character's state ------------------------------------------------------------------ */
+
+size_t sinew_player_size(const sinew_clip_layout *layout)
+{
+    if (!layout)
+        return 0;
+    /* 31 bytes of slack: the memory may start anywhere, the pose starts on 32 bytes. */
+    return 31 + ALIGN32(sizeof(sinew_player)) + (size_t)(C_COUNT + M_COUNT) * layout->stride * 4 +
+           (size_t)layout->group_count * sizeof(uint32_t);
+}
+
+sinew_result sinew_player_init(void *memory, size_t size, const sinew_clip_layout *layout, sinew_player **out,
+                               sinew_error *error)
+{
+    if (!memory || !layout || !out)
+        return sinew_fail(error, SINEW_ERROR_INVALID_ARGUMENT, "sinew_player_init: NULL memory, layout or output");
+    *out = NULL;
+    if (size < sinew_player_size(layout))
+        return sinew_fail(error, SINEW_ERROR_INVALID_ARGUMENT,
+                          "sinew_player_init: %zu bytes given, the clip's player needs %zu (sinew_player_size())", size,
+                          sinew_player_size(layout));
+    unsigned char *at = (unsigned char *)(((uintptr_t)memory + 31) & ~(uintptr_t)31);
+    sinew_player *p = (sinew_player *)at;
+    at += ALIGN32(sizeof *p);
+    size_t pose_bytes = (size_t)C_COUNT * layout->stride * 4;
+    *p = (sinew_player){.layout = layout, .pose = (float *)at, .locals = (float *)(at + pose_bytes)};
+    p->cursors = (uint32_t *)(at + pose_bytes + (size_t)M_COUNT * layout->stride * 4);
+    memcpy(p->pose, layout->start_pose, pose_bytes);
+    memset(p->cursors, 0, layout->group_count * sizeof *p->cursors);
+    sinew_player_set_simd(p, true);
+    *out = p;
+    return SINEW_OK;
 }
 
 void sinew_player_set_simd(sinew_player *player, bool simd)
@@ -335,7 +390,7 @@ typedef struct segment {
     float t; /* the time (Bezier segments solve for their parameter) */
 } segment;
 
-static segment find(group *g, float t)
+static segment find(const group *g, uint32_t *cursor, float t)
 {
     const float *times = g->times;
     uint32_t n = g->key_count;
@@ -343,7 +398,7 @@ static segment find(group *g, float t)
         return (segment){0, true, 0, 0, t};
     if (t >= times[n - 1])
         return (segment){n - 1, true, 0, 0, t};
-    uint32_t k = sinew_find_segment(times, n, t, &g->cursor);
+    uint32_t k = sinew_find_segment(times, n, t, cursor);
     float dt = times[k + 1] - times[k];
     float s = dt > 0.0f ? (t - times[k]) / dt : 0.0f;
     return (segment){k, g->interp == SINEW_INTERP_STEP, s, dt, t};
@@ -412,7 +467,7 @@ static void blend_scalar(float *pose, const group *g, const segment *seg)
 /* Local rotation*scale matrices of nodes [0, stride) from the pose. */
 static void locals_scalar(sinew_player *p)
 {
-    const uint32_t S = p->stride;
+    const uint32_t S = p->layout->stride;
     const float *P = p->pose;
     float *M = p->locals;
     for (uint32_t i = 0; i < S; i++) {
@@ -438,10 +493,10 @@ static void locals_scalar(sinew_player *p)
 /* A node whose inherit type is not NORMAL (sinew_inherit): its world from the pose's TRS. */
 static bool world_inherit(const sinew_player *p, uint32_t i, sinew_mat4 *worlds)
 {
-    const sinew_model *m = p->model;
+    const sinew_model *m = p->layout->model;
     if (!m->node_inherit || m->node_inherit[i] == SINEW_INHERIT_NORMAL || m->node_parents[i] < 0)
         return false;
-    const uint32_t S = p->stride;
+    const uint32_t S = p->layout->stride;
     const float *P = p->pose;
     float t[3] = {P[C_TX * S + i], P[C_TY * S + i], P[C_TZ * S + i]};
     float q[4] = {P[C_QX * S + i], P[C_QY * S + i], P[C_QZ * S + i], P[C_QW * S + i]};
@@ -452,16 +507,17 @@ static bool world_inherit(const sinew_player *p, uint32_t i, sinew_mat4 *worlds)
 
 static void world_scalar(const sinew_player *p, const sinew_mat4 *root, sinew_mat4 *worlds)
 {
-    const uint32_t S = p->stride;
+    const uint32_t S = p->layout->stride;
     const float *M = p->locals, *P = p->pose;
-    for (uint32_t i = 0; i < p->node_count; i++) {
+    const int32_t *parents = p->layout->model->node_parents;
+    for (uint32_t i = 0; i < p->layout->node_count; i++) {
         if (world_inherit(p, i, worlds))
             continue;
         float l[16] = {M[M_00 * S + i], M[M_01 * S + i], M[M_02 * S + i], 0.0f,
                        M[M_10 * S + i], M[M_11 * S + i], M[M_12 * S + i], 0.0f,
                        M[M_20 * S + i], M[M_21 * S + i], M[M_22 * S + i], 0.0f,
                        P[C_TX * S + i], P[C_TY * S + i], P[C_TZ * S + i], 1.0f};
-        int32_t parent = p->model->node_parents[i];
+        int32_t parent = parents[i];
         const float *b = parent >= 0 ? worlds[parent].m : root ? root->m : NULL;
         float *o = worlds[i].m;
         if (!b) {
@@ -501,7 +557,7 @@ __attribute__((target("avx2,fma"))) static void blend_avx2(float *pose, const gr
 
 __attribute__((target("avx2,fma"))) static void locals_avx2(sinew_player *p)
 {
-    const uint32_t S = p->stride;
+    const uint32_t S = p->layout->stride;
     const float *P = p->pose;
     float *M = p->locals;
     const __m256 one = _mm256_set1_ps(1.0f), two = _mm256_set1_ps(2.0f), zero = _mm256_setzero_ps();
@@ -531,10 +587,10 @@ __attribute__((target("avx2,fma"))) static void locals_avx2(sinew_player *p)
 __attribute__((target("avx2,fma"))) static void world_avx2(const sinew_player *p, const sinew_mat4 *root,
                                                            sinew_mat4 *worlds)
 {
-    const uint32_t S = p->stride;
+    const uint32_t S = p->layout->stride;
     const float *M = p->locals, *P = p->pose;
-    const int32_t *parents = p->model->node_parents;
-    for (uint32_t i = 0; i < p->node_count; i++) {
+    const int32_t *parents = p->layout->model->node_parents;
+    for (uint32_t i = 0; i < p->layout->node_count; i++) {
         if (world_inherit(p, i, worlds))
             continue;
         int32_t parent = parents[i];
@@ -574,29 +630,30 @@ sinew_result sinew_player_update(sinew_player *p, float time, sinew_wrap wrap, c
 {
     if (!p || !worlds)
         return sinew_fail(error, SINEW_ERROR_INVALID_ARGUMENT, "sinew_player_update: NULL player or output");
-    if (world_count < p->node_count)
+    const sinew_clip_layout *l = p->layout;
+    if (world_count < l->node_count)
         return sinew_fail(error, SINEW_ERROR_INVALID_ARGUMENT,
                           "sinew_player_update: %u world matrices given, the model has %u nodes", world_count,
-                          p->node_count);
+                          l->node_count);
     if (!isfinite(time))
         return sinew_fail(error, SINEW_ERROR_INVALID_ARGUMENT, "sinew_player_update: time is not finite");
-    float t = sinew_clip_time(p->clip, time, wrap) + (p->clip ? p->clip->start : 0.0f);
+    float t = sinew_clip_time(l->clip, time, wrap) + (l->clip ? l->clip->start : 0.0f);
 #ifdef PLAYER_X86
     if (p->simd) {
-        for (uint32_t g = 0; g < p->group_count; g++) {
-            segment seg = find(&p->groups[g], t);
-            blend_avx2(p->pose, &p->groups[g], &seg);
-            slerp_fixes(p->pose, &p->groups[g], &seg);
+        for (uint32_t g = 0; g < l->group_count; g++) {
+            segment seg = find(&l->groups[g], &p->cursors[g], t);
+            blend_avx2(p->pose, &l->groups[g], &seg);
+            slerp_fixes(p->pose, &l->groups[g], &seg);
         }
         locals_avx2(p);
         world_avx2(p, root, worlds);
         return SINEW_OK;
     }
 #endif
-    for (uint32_t g = 0; g < p->group_count; g++) {
-        segment seg = find(&p->groups[g], t);
-        blend_scalar(p->pose, &p->groups[g], &seg);
-        slerp_fixes(p->pose, &p->groups[g], &seg);
+    for (uint32_t g = 0; g < l->group_count; g++) {
+        segment seg = find(&l->groups[g], &p->cursors[g], t);
+        blend_scalar(p->pose, &l->groups[g], &seg);
+        slerp_fixes(p->pose, &l->groups[g], &seg);
     }
     locals_scalar(p);
     world_scalar(p, root, worlds);

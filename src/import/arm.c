@@ -128,7 +128,7 @@ sinew_result sinew_arm_model(const sinew_arm_desc *desc, sinew_model **out, sine
     double upper = desc->free_to_origin + desc->origin_to_elbow;
     double lower = desc->elbow_to_insertion + desc->insertion_to_free;
     double radius = desc->rod_radius > 0.0 ? desc->rod_radius : 0.04 * upper;
-    raw_model raw = {.source = raw_strdup("built-in arm"), .format = raw_strdup("sinew arm")};
+    raw_model raw = {.source = raw_strdup("built-in arm"), .format = raw_strdup("sinew arm"), .muscles = desc->muscles};
     result = raw.source && raw.format ? make_nodes(&raw, desc) : SINEW_ERROR_OUT_OF_MEMORY;
     if (result == SINEW_OK) {
         raw.mesh_count = raw.instance_count = 2;

@@ -11,6 +11,7 @@
 #include "../core/internal.h"
 #include "internal.h"
 #include "sinew/import.h"
+#include "sinew/muscle_file.h"
 
 #define PI 3.14159265f
 #define RINGS 24
@@ -428,10 +429,17 @@ sinew_result sinew_demo_humanoid(sinew_model **out, sinew_error *error)
         raw_model_free(&raw);
         return sinew_fail(error, SINEW_ERROR_OUT_OF_MEMORY, "demo humanoid: out of memory");
     }
+    /* its biceps travel with it, as a .sinew file's muscles do */
+    const char *text = sinew_demo_humanoid_muscles();
+    sinew_muscle_set *muscles = NULL;
+    sinew_result result = sinew_muscle_set_parse(text, strlen(text), "demo humanoid muscles", &muscles, error);
+    raw.muscles = muscles;
     void *bytes = NULL;
     size_t size = 0;
-    sinew_result result = raw_model_build(&raw, &bytes, &size, error);
+    if (result == SINEW_OK)
+        result = raw_model_build(&raw, &bytes, &size, error);
     raw_model_free(&raw);
+    sinew_muscle_set_free(muscles);
     if (result == SINEW_OK)
         result = sinew_model_from_blob(bytes, size, "demo humanoid", NULL, out, error);
     free(bytes);

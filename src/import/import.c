@@ -298,6 +298,8 @@ sinew_result sinew_import(const sinew_import_desc *desc, sinew_model **out, sine
         return sinew_model_load(desc->path, desc->allocator, out, error);
     if (!desc->in_process)
         return import_in_helper(desc, out, error);
+    if (desc->progress && !desc->progress(-1.0f, desc->progress_user))
+        return sinew_fail(error, SINEW_ERROR_CANCELLED, "%s: the import was cancelled", desc->path);
     void *bytes = NULL;
     size_t size = 0;
     if ((result = sinew_import_blob_desc(desc, &bytes, &size, error)))

@@ -149,7 +149,9 @@ typedef struct helper_run {
     char tail[TAIL_SIZE];
     size_t tail_len;
     uint64_t peak_rss, peak_vm, memory_limit;
-    bool killed_for_time, killed_for_memory;
+    bool killed_for_time, killed_for_memory, cancelled;
+    bool (*progress)(float fraction, void *user);
+    void *progress_user;
 } helper_run;
 
 static sinew_result spawn_helper(const sinew_import_desc *desc, const char *helper, helper_run *run, sinew_error *error)
@@ -328,6 +330,12 @@ static void watch(helper_run *run, double deadline)
         if (now >= next_sample) {
             sample_memory(run);
             next_sample = now + WATCH_MS * 1e-3;
+            float fraction =
+                run->reply_cap > sizeof(reply_header) ? (float)run->reply_size / (float)run->reply_cap : -1.0f;
+            if (run->progress && !run->progress(fraction, run->progress_user)) {
+                run->cancelled = true;
+                break;
+            }
         }
         if (run->memory_limit != UINT64_MAX && run->peak_rss > run->memory_limit) {
             run->killed_for_memory = true;
@@ -414,6 +422,8 @@ static sinew_result helper_failed(helper_run *run, const sinew_import_desc *desc
     format_bytes(run->memory_limit, limit, sizeof limit);
     const char *words = last_words(run);
     const char *lead = *words ? "; its last words: " : "";
+    if (run->cancelled)
+        return sinew_fail(error, SINEW_ERROR_CANCELLED, "%s: the import was cancelled", run->path);
     if (run->killed_for_time)
         return sinew_fail(error, SINEW_ERROR_LIMIT,
                           "%s: the import took longer than its %.3g s deadline and was stopped (the file may make "
@@ -457,7 +467,7 @@ sinew_result import_reply_decode(const unsigned char *bytes, size_t size, const 
     const unsigned char *payload = bytes + sizeof reply;
     if (reply.kind == SINEW_OK)
         return sinew_model_from_blob(payload, (size_t)reply.size, path, allocator, out, error);
-    if (reply.kind > SINEW_ERROR_GRAPHICS || reply.size == 0 || payload[reply.size - 1] != '\0')
+    if (reply.kind > SINEW_ERROR_CANCELLED || reply.size == 0 || payload[reply.size - 1] != '\0')
         return sinew_fail(error, SINEW_ERROR_IMPORTER, "%s: the import helper's error reply is malformed", path);
     return sinew_fail(error, (sinew_result)reply.kind, "%s", (const char *)payload);
 }
@@ -468,14 +478,19 @@ sinew_result import_in_helper(const sinew_import_desc *desc, sinew_model **out, 
     sinew_result result = sinew_import_helper_path(desc, helper, sizeof helper, error);
     if (result)
         return result;
-    helper_run run = {.path = desc->path, .reply_fd = -1, .err_fd = -1, .memory_limit = memory_limit_of(desc)};
+    helper_run run = {.path = desc->path,
+                      .reply_fd = -1,
+                      .err_fd = -1,
+                      .memory_limit = memory_limit_of(desc),
+                      .progress = desc->progress,
+                      .progress_user = desc->progress_user};
     run.reply_limit = run.memory_limit;
     if ((result = spawn_helper(desc, helper, &run, error)))
         return result;
     double timeout = timeout_of(desc), deadline = timeout > 0.0 ? now_seconds() + timeout : 0.0;
     watch(&run, deadline);
     int status = reap(&run, deadline);
-    if (run.killed_for_time || run.killed_for_memory || run.reply_too_big ||
+    if (run.cancelled || run.killed_for_time || run.killed_for_memory || run.reply_too_big ||
         !(WIFEXITED(status) && WEXITSTATUS(status) == 0))
         result = helper_failed(&run, desc, status, error);
     else
@@ -487,7 +502,7 @@ sinew_result import_in_helper(const sinew_import_desc *desc, sinew_model **out, 
         memcpy(&reply, run.reply, sizeof reply);
     bool starved = reply.kind == SINEW_ERROR_OUT_OF_MEMORY ||
                    (reply.kind != SINEW_OK && error && strstr(error->message, "bad_alloc"));
-    if (result != SINEW_OK && result != SINEW_ERROR_LIMIT && (starved || near_memory_limit(&run))) {
+    if (result != SINEW_OK && result != SINEW_ERROR_LIMIT && !run.cancelled && (starved || near_memory_limit(&run))) {
         char said[SINEW_ERROR_MESSAGE_SIZE] = "";
         if (error)
             snprintf(said, sizeof said, "%s", error->message);

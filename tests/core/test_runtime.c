@@ -29,13 +29,14 @@ static double check_player(const sinew_model *m, double tolerance)
     double worst = 0.0, simd_vs_scalar = 0.0;
     for (uint32_t c = 0; c <= m->clip_count; c++) {
         const sinew_clip *clip = c < m->clip_count ? &m->clips[c] : NULL;
-        sinew_player *source = NULL, *simd = NULL, *scalar = NULL;
         sinew_error error = {0};
-        assert_int_equal(sinew_player_create(m, clip, &source, &error), SINEW_OK);
-        assert_int_equal(sinew_player_update(source, 0.3f, SINEW_WRAP_LOOP, NULL, fast, n, &error), SINEW_OK);
-        /* clones share the source's keys and keep their own pose and cursors */
-        assert_int_equal(sinew_player_clone(source, &simd, &error), SINEW_OK);
-        assert_int_equal(sinew_player_create(m, clip, &scalar, &error), SINEW_OK);
+        test_player tp;
+        void *simd_memory, *scalar_memory;
+        sinew_player *first = test_player_open(&tp, m, clip);
+        assert_int_equal(sinew_player_update(first, 0.3f, SINEW_WRAP_LOOP, NULL, fast, n, &error), SINEW_OK);
+        /* players of one layout share its keys and keep their own pose and cursors */
+        sinew_player *simd = test_player_another(&tp, &simd_memory);
+        sinew_player *scalar = test_player_another(&tp, &scalar_memory);
         sinew_player_set_simd(scalar, false);
         float duration = clip ? clip->duration : 1.0f;
         for (int i = 0; i < 160; i++) {
@@ -52,9 +53,9 @@ static double check_player(const sinew_model *m, double tolerance)
             assert_int_equal(sinew_player_update(scalar, t, SINEW_WRAP_LOOP, NULL, slow, n, &error), SINEW_OK);
             simd_vs_scalar = fmax(simd_vs_scalar, matrix_difference(fast, slow, n));
         }
-        sinew_player_free(simd);
-        sinew_player_free(scalar);
-        sinew_player_free(source);
+        free(simd_memory);
+        free(scalar_memory);
+        test_player_close(&tp);
     }
     print_message("%s: player vs reference %.2e, SIMD vs scalar player %.2e\n", m->source, worst, simd_vs_scalar);
     assert_true(worst <= tolerance);
@@ -110,24 +111,75 @@ static void test_player_real_files(void **state)
     }
 }
 
+typedef struct counting {
+    int allocations, live;
+} counting;
+
+static void *count_alloc(size_t size, void *user)
+{
+    counting *c = user;
+    c->allocations++;
+    c->live++;
+    return malloc(size);
+}
+
+static void count_free(void *ptr, void *user)
+{
+    counting *c = user;
+    c->live--;
+    free(ptr);
+}
+
 static void test_player_arguments(void **state)
 {
     (void)state;
     sinew_model *m = NULL;
     assert_int_equal(sinew_demo_humanoid(&m, NULL), SINEW_OK);
+    sinew_clip_layout *layout = NULL;
     sinew_player *p = NULL;
     sinew_error error = {0};
-    assert_int_equal(sinew_player_create(NULL, NULL, &p, &error), SINEW_ERROR_INVALID_ARGUMENT);
-    assert_int_equal(sinew_player_create(m, &m->clips[0], &p, &error), SINEW_OK);
+    assert_int_equal(sinew_clip_layout_create(NULL, &layout, &error), SINEW_ERROR_INVALID_ARGUMENT);
+    sinew_allocator half = {.alloc = count_alloc};
+    sinew_clip_layout_desc desc = {.model = m, .clip = &m->clips[0], .allocator = &half};
+    assert_int_equal(sinew_clip_layout_create(&desc, &layout, &error), SINEW_ERROR_INVALID_ARGUMENT);
+    /* the layout and its scratch come from the allocator, and all go back to it */
+    counting count = {0};
+    sinew_allocator allocator = {count_alloc, count_free, &count};
+    desc.allocator = &allocator;
+    assert_int_equal(sinew_clip_layout_create(&desc, &layout, &error), SINEW_OK);
+    assert_int_equal(count.allocations, 2);
+    assert_int_equal(count.live, 1);
+
+    /* the state: too little memory is refused; any alignment is taken */
+    size_t size = sinew_player_size(layout);
+    unsigned char *memory = malloc(size + 3);
+    assert_int_equal(sinew_player_init(memory, size - 1, layout, &p, &error), SINEW_ERROR_INVALID_ARGUMENT);
+    assert_non_null(strstr(error.message, "sinew_player_size"));
+    assert_int_equal(sinew_player_init(memory + 3, size, layout, &p, &error), SINEW_OK);
     sinew_mat4 worlds[4];
     assert_int_equal(sinew_player_update(p, 0.0f, SINEW_WRAP_CLAMP, NULL, worlds, 4, &error),
                      SINEW_ERROR_INVALID_ARGUMENT);
     assert_non_null(strstr(error.message, "nodes"));
-    sinew_mat4 *all = malloc(m->node_count * sizeof *all);
-    assert_int_equal(sinew_player_update(p, NAN, SINEW_WRAP_CLAMP, NULL, all, m->node_count, &error),
-                     SINEW_ERROR_INVALID_ARGUMENT);
+    uint32_t n = m->node_count;
+    sinew_mat4 *all = malloc(n * sizeof *all), *again = malloc(n * sizeof *again);
+    assert_int_equal(sinew_player_update(p, NAN, SINEW_WRAP_CLAMP, NULL, all, n, &error), SINEW_ERROR_INVALID_ARGUMENT);
+    /* init again on the same memory starts over: the same worlds as a fresh player */
+    assert_int_equal(sinew_player_update(p, 0.7f, SINEW_WRAP_LOOP, NULL, all, n, &error), SINEW_OK);
+    assert_int_equal(sinew_player_init(memory + 3, size, layout, &p, &error), SINEW_OK);
+    assert_int_equal(sinew_player_update(p, 0.7f, SINEW_WRAP_LOOP, NULL, again, n, &error), SINEW_OK);
+    assert_memory_equal(all, again, n * sizeof *all);
     free(all);
-    sinew_player_free(p);
+    free(again);
+    free(memory);
+    sinew_clip_layout_free(layout);
+    assert_int_equal(count.live, 0);
+
+    /* a clip that animates a node the model lacks (another model's) is refused */
+    sinew_track track = {.node = m->node_count};
+    sinew_clip foreign = {.name = "foreign", .duration = 1.0f, .track_count = 1, .tracks = &track};
+    desc = (sinew_clip_layout_desc){.model = m, .clip = &foreign};
+    assert_int_equal(sinew_clip_layout_create(&desc, &layout, &error), SINEW_ERROR_INVALID_ARGUMENT);
+    assert_non_null(strstr(error.message, "foreign"));
     sinew_model_free(m);
 }
 

@@ -205,8 +205,8 @@ static void test_bezier(void **state)
     sinew_track track = {0};
     track.channels[SINEW_CHANNEL_TRANSLATION] = (sinew_channel){3, SINEW_INTERP_BEZIER, 0, 0};
     sinew_clip clip = one_track_clip(&track, 3, bezier_times, 3, bezier_values, 45);
-    sinew_player *player = NULL;
-    assert_int_equal(sinew_player_create(&one_node, &clip, &player, NULL), SINEW_OK);
+    test_player tp;
+    sinew_player *player = test_player_open(&tp, &one_node, &clip);
     double most = 0, most_player = 0;
     for (int i = 0; i <= 300; i++) {
         float t = 3.0f * (float)i / 300;
@@ -233,7 +233,7 @@ static void test_bezier(void **state)
     assert_true(most_player < 1e-6);
     /* eased: a tenth of the way in time, x has moved far less than a tenth */
     assert_true(sample(&clip, 0.1f, SINEW_WRAP_CLAMP, NULL).translation[0] < 0.05f);
-    sinew_player_free(player);
+    test_player_close(&tp);
 }
 
 /* Translation: 2 keys at 0 and 2. Rotation: 3 keys at 0.5, 1, 1.5 (starts late, ends early).

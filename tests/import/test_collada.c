@@ -764,8 +764,8 @@ static void test_clip_windows_everywhere(void **state)
     /* the player against sinew_sample() + sinew_local_to_world() */
     double player_most = 0;
     for (uint32_t c = 0; c < m->clip_count; c++) {
-        sinew_player *player = NULL;
-        assert_int_equal(sinew_player_create(m, &m->clips[c], &player, NULL), SINEW_OK);
+        test_player tp;
+        sinew_player *player = test_player_open(&tp, m, &m->clips[c]);
         sinew_mat4 *worlds = calloc(m->node_count, sizeof *worlds);
         for (int i = 0; i <= 40; i++) {
             float t = m->clips[c].duration * (float)i / 40;
@@ -778,7 +778,7 @@ static void test_clip_windows_everywhere(void **state)
             free(ref);
         }
         free(worlds);
-        sinew_player_free(player);
+        test_player_close(&tp);
     }
 
     /* .sinew: the shared keys written once, read back shared, the same numbers */

@@ -81,6 +81,58 @@ static void test_hang_stops_at_the_deadline(void **state)
     assert_no_children();
 }
 
+typedef struct progress_log {
+    double cancel_at; /* seconds from the start */
+    double start;
+    int calls, unknown;
+    float last;
+} progress_log;
+
+static bool note_progress(float fraction, void *user)
+{
+    progress_log *log = user;
+    log->calls++;
+    log->unknown += fraction < 0.0f;
+    if (fraction >= 0.0f)
+        assert_true(fraction <= 1.0f && fraction >= log->last);
+    log->last = fraction >= 0.0f ? fraction : log->last;
+    return now() - log->start < log->cancel_at;
+}
+
+/* The progress callback hears from the helper every 50 ms or so; returning false stops it at
+ * once with SINEW_ERROR_CANCELLED (the viewer's Cancel button); a file that reads in time
+ * reports its reply's arrival up to 1. */
+static void test_progress_and_cancel(void **state)
+{
+    (void)state;
+    char path[1024];
+    if (!hanging_file(path, sizeof path))
+        skip();
+    sinew_error error = {0};
+    progress_log log = {.cancel_at = 0.4, .start = now()};
+    sinew_import_desc desc = {.path = path, .assimp = true, .progress = note_progress, .progress_user = &log};
+    sinew_result r = import_with(&desc, &error);
+    double took = now() - log.start;
+    expect(r, SINEW_ERROR_CANCELLED, &error, path, "cancelled");
+    if (took > 3.0)
+        fail_msg("stopped %.1f s after the start (cancelled at 0.4 s)", took);
+    assert_true(log.calls >= 3 && log.unknown == log.calls);
+    assert_no_children();
+
+    char good[1024];
+    assert_non_null(testdata_path("assimp/Collada/duck.dae", good, sizeof good));
+    log = (progress_log){.cancel_at = 1e9, .start = now()};
+    desc.path = good;
+    assert_int_equal(import_with(&desc, &error), SINEW_OK);
+    assert_true(log.calls >= 1);
+    /* in process: asked once before reading, and it may stop there */
+    log = (progress_log){.cancel_at = -1.0, .start = now()};
+    desc.in_process = true;
+    expect(import_with(&desc, &error), SINEW_ERROR_CANCELLED, &error, good, "cancelled");
+    assert_int_equal(log.calls, 1);
+    assert_no_children();
+}
+
 static void test_memory_limit(void **state)
 {
     (void)state;
@@ -223,6 +275,7 @@ int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_hang_stops_at_the_deadline),
+        cmocka_unit_test(test_progress_and_cancel),
         cmocka_unit_test(test_memory_limit),
         cmocka_unit_test(test_killed_from_outside),
         cmocka_unit_test(test_missing_helper),

@@ -1,0 +1,325 @@
+/* The scene both apps show: loading, clip, muscles, posing, framing (scene.h). */
+#include <math.h>
+#include <stdarg.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include "scene.h"
+
+/* ---- a player with its own layout ------------------------------------------------------------ */
+
+sinew_result app_player_open(app_player *p, const sinew_model *model, const sinew_clip *clip, sinew_error *error)
+{
+    memset(p, 0, sizeof *p);
+    sinew_clip_layout_desc desc = {.model = model, .clip = clip};
+    sinew_result result = sinew_clip_layout_create(&desc, &p->layout, error);
+    if (result != SINEW_OK)
+        return result;
+    size_t size = sinew_player_size(p->layout);
+    p->memory = malloc(size);
+    if (!p->memory)
+        result = sinew_fail(error, SINEW_ERROR_OUT_OF_MEMORY, "%s: out of memory for a player", model->source);
+    else
+        result = sinew_player_init(p->memory, size, p->layout, &p->player, error);
+    if (result != SINEW_OK)
+        app_player_close(p);
+    return result;
+}
+
+void app_player_close(app_player *p)
+{
+    free(p->memory);
+    sinew_clip_layout_free(p->layout);
+    memset(p, 0, sizeof *p);
+}
+
+/* ---- what a model holds ---------------------------------------------------------------------- */
+
+uint32_t app_vertex_count(const sinew_model *model)
+{
+    uint32_t n = 0;
+    for (uint32_t i = 0; i < model->instance_count; i++)
+        n += model->meshes[model->instances[i].mesh].vertex_count;
+    return n;
+}
+
+uint32_t app_joint_count(const sinew_model *model)
+{
+    uint32_t n = 0;
+    for (uint32_t i = 0; i < model->node_count; i++)
+        n += sinew_model_node_is_joint(model, i);
+    return n;
+}
+
+int32_t app_pick_clip(const sinew_model *model, const char *text, sinew_error *error)
+{
+    int32_t clip = sinew_model_pick_clip(model, text);
+    if (clip < 0)
+        sinew_fail(error, SINEW_ERROR_DATA, "%s: no clip \"%s\" (the file has %u clip%s%s)", model->source, text,
+                   model->clip_count, model->clip_count == 1 ? "" : "s", model->clip_count ? "; see `sinew info`" : "");
+    return clip;
+}
+
+/* ---- built-in models -------------------------------------------------------------------------- */
+
+const char *app_data_path(const char *name, char *buf, size_t size)
+{
+    const char *dir = getenv("SINEW_DATA");
+    if (dir && dir[0]) {
+        snprintf(buf, size, "%s/%s", dir, name);
+        return buf;
+    }
+    /* data/ beside the program (a build tree), else share/sinew relative to it (installed). */
+    char exe[4096];
+    ssize_t n = readlink("/proc/self/exe", exe, sizeof exe - 1);
+    exe[n > 0 ? n : 0] = '\0';
+    char *slash = strrchr(exe, '/');
+    if (slash)
+        *slash = '\0';
+    snprintf(buf, size, "%s/data/%s", exe, name);
+    if (access(buf, R_OK) != 0)
+        snprintf(buf, size, "%s/" SINEW_BIN_TO_DATA "/%s", exe, name);
+    return buf;
+}
+
+sinew_result app_arm_model(const app_arm_spec *spec, sinew_model **out, sinew_error *error)
+{
+    char path[4096];
+    app_data_path("arm.muscles.json", path, sizeof path);
+    sinew_arm_desc desc = {0};
+    sinew_muscle_set *biceps = NULL;
+    sinew_result result = sinew_arm_read(path, &desc, error);
+    if (result == SINEW_OK)
+        result = sinew_muscle_set_read(path, &biceps, error);
+    double angle = spec->angle;
+    if (result == SINEW_OK && spec->length > 0.0)
+        result = sinew_arm_angle(desc.origin_to_elbow, desc.elbow_to_insertion, spec->length, &angle, error);
+    if (result == SINEW_OK) {
+        desc.elbow_angle = angle;
+        desc.flex_from = spec->flex_from;
+        desc.flex_to = spec->flex_to;
+        desc.place = spec->place;
+        desc.muscles = biceps;
+        result = sinew_arm_model(&desc, out, error);
+    }
+    sinew_muscle_set_free(biceps);
+    return result;
+}
+
+sinew_result app_load_model(const app_scene_desc *d, sinew_model **out, sinew_error *error)
+{
+    const char *path = d->path ? d->path : APP_BUILTIN_DEMO;
+    if (strcmp(path, APP_BUILTIN_DEMO) == 0)
+        return sinew_demo_humanoid(out, error);
+    if (strcmp(path, APP_BUILTIN_ARM) == 0) {
+        /* The seed's arm at 150 degrees, with a clip that flexes it to 40 degrees and back. */
+        app_arm_spec arm = {.angle = 150.0 * M_PI / 180.0,
+                            .flex_from = 150.0 * M_PI / 180.0,
+                            .flex_to = 40.0 * M_PI / 180.0,
+                            .place = {.translation = {0.0f, 0.15f, 0.0f}}};
+        return app_arm_model(&arm, out, error);
+    }
+    /* SINEW_IMPORTER=assimp: read even FBX through Assimp, to compare (README). */
+    const char *importer = getenv("SINEW_IMPORTER");
+    sinew_import_desc desc = {.path = path,
+                              .in_process = d->in_process || getenv("SINEW_IMPORT_IN_PROCESS") != NULL,
+                              .assimp = d->assimp || (importer && strcmp(importer, "assimp") == 0),
+                              .timeout = d->timeout,
+                              .memory_limit = d->memory_limit,
+                              .stderr_fd = d->stderr_fd,
+                              .progress = d->progress,
+                              .progress_user = d->progress_user};
+    return sinew_import(&desc, out, error);
+}
+
+/* ---- muscles ----------------------------------------------------------------------------------- */
+
+static void note(app_scene *s, const char *format, ...) __attribute__((format(printf, 2, 3)));
+static void note(app_scene *s, const char *format, ...)
+{
+    if (s->note_count >= APP_SCENE_NOTES)
+        return;
+    va_list args;
+    va_start(args, format);
+    vsnprintf(s->notes[s->note_count++], sizeof s->notes[0], format, args);
+    va_end(args);
+}
+
+/* The set the desc asks for: *set NULL with SINEW_OK when there is none to attach. */
+static sinew_result find_muscles(app_scene *s, const app_scene_desc *d, const sinew_muscle_set **set,
+                                 sinew_error *error)
+{
+    *set = NULL;
+    const sinew_model *m = s->model;
+    bool required = d->muscles == APP_MUSCLES_REQUIRED;
+    if (!(required && d->muscle_path && d->muscle_path[0]) && m->muscles) {
+        *set = m->muscles;
+        return SINEW_OK;
+    }
+    char beside[4096];
+    const char *path = d->muscle_path;
+    if (!required || !path || !path[0]) {
+        sinew_muscle_path_for(m->source, beside, sizeof beside);
+        path = beside;
+        struct stat st;
+        if (!required && stat(beside, &st) != 0)
+            return SINEW_OK; /* nothing beside the model: none */
+    }
+    sinew_result result = sinew_muscle_set_read(path, &s->owned_muscles, error);
+    if (result == SINEW_ERROR_IO && path == beside)
+        return sinew_fail(error, result, "%s: no muscle file beside the model (%s); give one with --muscles FILE.json",
+                          m->source, beside);
+    *set = s->owned_muscles;
+    return result;
+}
+
+static sinew_result attach_muscles(app_scene *s, const app_scene_desc *d, sinew_error *error)
+{
+    const sinew_muscle_set *set = NULL;
+    sinew_error why = {0};
+    sinew_result result = find_muscles(s, d, &set, &why);
+    if (result == SINEW_OK && set)
+        result = sinew_muscle_rig_create(s->model, set, &s->muscle_rig, &why);
+    if (result == SINEW_OK && set) {
+        s->muscle_count = sinew_muscle_rig_count(s->muscle_rig);
+        s->muscle_poses = calloc(s->muscle_count + 1, sizeof *s->muscle_poses);
+        if (!s->muscle_poses)
+            result = sinew_fail(&why, SINEW_ERROR_OUT_OF_MEMORY, "%s: out of memory for muscles", s->model->source);
+    }
+    if (result == SINEW_OK) {
+        s->muscle_set = set;
+        if (set)
+            sinew_muscle_rig_set_scale(s->muscle_rig, d->muscle_scale > 0.0 ? d->muscle_scale : 1.0);
+        if (set)
+            note(s, "%s: %u muscles attached", s->model->source, s->muscle_count);
+        return SINEW_OK;
+    }
+    sinew_muscle_rig_free(s->muscle_rig);
+    sinew_muscle_set_free(s->owned_muscles);
+    free(s->muscle_poses);
+    s->muscle_rig = NULL;
+    s->owned_muscles = NULL;
+    s->muscle_poses = NULL;
+    s->muscle_count = 0;
+    if (d->muscles == APP_MUSCLES_REQUIRED) {
+        if (error)
+            *error = why;
+        return result;
+    }
+    note(s, "muscles not attached: %s", why.message);
+    return SINEW_OK;
+}
+
+/* ---- the scene ---------------------------------------------------------------------------------- */
+
+sinew_result app_scene_open(app_scene *s, const app_scene_desc *d, sinew_error *error)
+{
+    memset(s, 0, sizeof *s);
+    s->posed_at = NAN;
+    s->clip_index = -1;
+    s->model = d->model;
+    sinew_result result = s->model ? SINEW_OK : app_load_model(d, &s->model, error);
+    if (result != SINEW_OK)
+        return result;
+    int32_t clip = d->clip ? app_pick_clip(s->model, d->clip, error) : (s->model->clip_count ? 0 : -1);
+    s->worlds = malloc(((size_t)s->model->node_count + 1) * sizeof *s->worlds);
+    if (d->clip && clip < 0)
+        result = SINEW_ERROR_DATA;
+    else if (!s->worlds)
+        result = sinew_fail(error, SINEW_ERROR_OUT_OF_MEMORY, "%s: out of memory", s->model->source);
+    if (result == SINEW_OK)
+        result = app_scene_use_clip(s, clip, error);
+    if (result == SINEW_OK && d->muscles != APP_MUSCLES_NONE)
+        result = attach_muscles(s, d, error);
+    if (result != SINEW_OK)
+        app_scene_close(s);
+    return result;
+}
+
+sinew_result app_scene_use_clip(app_scene *s, int32_t index, sinew_error *error)
+{
+    if (index >= (int32_t)s->model->clip_count)
+        return sinew_fail(error, SINEW_ERROR_INVALID_ARGUMENT, "%s: no clip %d", s->model->source, index);
+    const sinew_clip *clip = index >= 0 ? &s->model->clips[index] : NULL;
+    app_player player;
+    sinew_result result = app_player_open(&player, s->model, clip, error);
+    if (result != SINEW_OK)
+        return result;
+    app_player_close(&s->player);
+    s->player = player;
+    s->clip_index = index;
+    s->clip = clip;
+    s->posed_at = NAN;
+    return SINEW_OK;
+}
+
+sinew_result app_scene_pose(app_scene *s, double time, sinew_wrap wrap, sinew_error *error)
+{
+    if (time == s->posed_at && wrap == s->posed_wrap)
+        return SINEW_OK;
+    const sinew_model *m = s->model;
+    if (!isfinite(time) || fabs(time) > APP_MAX_SECONDS)
+        return sinew_fail(error, SINEW_ERROR_INVALID_ARGUMENT, "time %g s is out of range (at most %g s either way)",
+                          time, APP_MAX_SECONDS);
+    sinew_result result =
+        sinew_player_update(s->player.player, (float)time, wrap, NULL, s->worlds, m->node_count, error);
+    if (result == SINEW_OK && s->muscle_rig)
+        result =
+            sinew_muscle_rig_update(s->muscle_rig, s->worlds, m->node_count, s->muscle_poses, s->muscle_count, error);
+    s->posed_at = result == SINEW_OK ? time : NAN;
+    s->posed_wrap = wrap;
+    return result;
+}
+
+sinew_frame app_scene_frame(const app_scene *s, const sinew_camera *camera, const sinew_render_options *options,
+                            int width, int height)
+{
+    return (sinew_frame){.worlds = s->worlds,
+                         .world_count = s->model->node_count,
+                         .camera = camera,
+                         .width = width,
+                         .height = height,
+                         .options = options,
+                         .muscles = s->muscle_rig ? s->muscle_poses : NULL,
+                         .muscle_count = s->muscle_rig ? s->muscle_count : 0};
+}
+
+bool app_scene_bounds(app_scene *s, sinew_renderer *renderer, double from, double to, int samples, sinew_wrap wrap,
+                      float lo[3], float hi[3])
+{
+    for (int k = 0; k < 3; k++)
+        lo[k] = INFINITY, hi[k] = -INFINITY;
+    if (!(to > from) || samples < 2)
+        samples = 1;
+    for (int i = 0; i < samples; i++) {
+        double t = samples > 1 ? from + (to - from) * i / (samples - 1) : to;
+        float a[3], b[3];
+        if (app_scene_pose(s, t, wrap, NULL) != SINEW_OK ||
+            !sinew_renderer_bounds(renderer, s->worlds, s->model->node_count, a, b))
+            continue;
+        for (int k = 0; k < 3; k++)
+            lo[k] = fminf(lo[k], a[k]), hi[k] = fmaxf(hi[k], b[k]);
+    }
+    if (lo[0] <= hi[0])
+        return true;
+    for (int k = 0; k < 3; k++)
+        lo[k] = -1.0f, hi[k] = 1.0f;
+    return false;
+}
+
+void app_scene_close(app_scene *s)
+{
+    app_player_close(&s->player);
+    sinew_muscle_rig_free(s->muscle_rig);
+    sinew_muscle_set_free(s->owned_muscles);
+    free(s->muscle_poses);
+    free(s->worlds);
+    if (s->model)
+        sinew_model_free(s->model);
+    memset(s, 0, sizeof *s);
+    s->posed_at = NAN;
+    s->clip_index = -1;
+}

@@ -1,0 +1,107 @@
+/* app/common/scene.h: the scene both apps show, `sinew` (render, pose, bench) and sinew-view.
+ *
+ * What: a model (a file, the built-in demo humanoid or the seed's arm), the clip chosen by name
+ * or index, its muscles by one rule, and one way to pose it (a sinew_player: world matrices,
+ * then the muscle rig). Framing over a time range and the sinew_frame to draw.
+ * What not: no OpenGL context and no renderer (the CLI draws off-screen, the viewer in its
+ * window: each makes its renderer for scene->model in its own context); no printing.
+ * Errors come back in a sinew_error; notes for a log (muscles attached, a muscle file beside
+ * the model that does not fit) in scene->notes.
+ * Threads: app_scene_open() touches nothing global; the viewer runs it on a worker thread and
+ * hands the finished scene to the window. */
+#ifndef SINEW_APP_SCENE_H
+#define SINEW_APP_SCENE_H
+
+#include "app.h"
+
+#define APP_BUILTIN_ARM "builtin:arm"   /* the seed's arm, flexing, with its biceps */
+#define APP_BUILTIN_DEMO "builtin:demo" /* the demo humanoid, with its biceps */
+
+/* Which muscles a scene attaches. A model's own are a .sinew file's stored muscles, or the
+ * built-in models' biceps. */
+typedef enum app_muscle_mode {
+    APP_MUSCLES_NONE = 0,
+    /* the model's own, else MODEL.muscles.json beside the file when there is one; one that
+     * cannot be read or does not fit the model is a note, not an error (the viewer) */
+    APP_MUSCLES_IF_ANY,
+    /* muscle_path, else the model's own, else the file beside it; missing, unreadable or not
+     * fitting is an error (sinew --muscles) */
+    APP_MUSCLES_REQUIRED
+} app_muscle_mode;
+
+typedef struct app_scene_desc {
+    const char *path;   /* a model file, APP_BUILTIN_ARM or APP_BUILTIN_DEMO (NULL: the demo) */
+    sinew_model *model; /* instead of path: a model the scene takes over (freed on failure too) */
+    const char *clip;   /* a clip's name or index; NULL: the first (none: the rest pose) */
+    app_muscle_mode muscles;
+    const char *muscle_path; /* APP_MUSCLES_REQUIRED: this file instead of the model's own */
+    double muscle_scale;     /* sinew_muscle_rig_set_scale(); 0: 1 */
+    /* importing a file (sinew/import.h): */
+    bool in_process, assimp; /* also $SINEW_IMPORT_IN_PROCESS and $SINEW_IMPORTER=assimp */
+    int stderr_fd;
+    double timeout;                               /* the import helper's deadline, seconds; 0: the library's default */
+    uint64_t memory_limit;                        /* its memory limit, bytes; 0: the library's default */
+    bool (*progress)(float fraction, void *user); /* sinew_import_desc.progress: false cancels */
+    void *progress_user;
+} app_scene_desc;
+
+#define APP_SCENE_NOTES 4
+
+typedef struct app_scene {
+    sinew_model *model;
+    int32_t clip_index; /* -1: the rest pose */
+    const sinew_clip *clip;
+    app_player player;
+    sinew_mat4 *worlds; /* model->node_count: the pose of the last app_scene_pose() */
+    double posed_at;    /* the time `worlds` hold; NAN: none yet */
+    sinew_wrap posed_wrap;
+    sinew_muscle_set *owned_muscles; /* read from a file; NULL for the model's own */
+    const sinew_muscle_set *muscle_set;
+    sinew_muscle_rig *muscle_rig;
+    sinew_muscle_pose *muscle_poses; /* muscle_count: solved with the pose */
+    uint32_t muscle_count;
+    char notes[APP_SCENE_NOTES][SINEW_ERROR_MESSAGE_SIZE + 96];
+    int note_count;
+} app_scene;
+
+/* The model desc asks for: desc->path read (import options from desc), or a built-in one. */
+sinew_result app_load_model(const app_scene_desc *desc, sinew_model **out, sinew_error *error);
+
+/* Loads (or takes desc->model), picks the clip, attaches muscles and makes the player.
+ * Errors: the import's; SINEW_ERROR_DATA for a clip the file lacks ("no clip ..."); the
+ * muscle file's with APP_MUSCLES_REQUIRED. On failure the scene is empty (nothing to close). */
+sinew_result app_scene_open(app_scene *scene, const app_scene_desc *desc, sinew_error *error);
+/* Plays clip `index` (-1: the rest pose) from its start. On failure the clip stays. */
+sinew_result app_scene_use_clip(app_scene *scene, int32_t index, sinew_error *error);
+/* Poses at `time` (world matrices, then the muscles); once per time and wrap. */
+sinew_result app_scene_pose(app_scene *scene, double time, sinew_wrap wrap, sinew_error *error);
+/* The frame to draw of the last pose. */
+sinew_frame app_scene_frame(const app_scene *scene, const sinew_camera *camera, const sinew_render_options *options,
+                            int width, int height);
+/* The union of the posed bounds at `samples` evenly spaced times in [from, to] (one when
+ * from == to); false when nothing has extent (lo/hi then hold -1..1). Leaves the scene posed at `to`. */
+bool app_scene_bounds(app_scene *scene, sinew_renderer *renderer, double from, double to, int samples, sinew_wrap wrap,
+                      float lo[3], float hi[3]);
+void app_scene_close(app_scene *scene);
+
+/* What the scene holds, for a status line: every mesh instance's vertices (0 for a skeleton
+ * only), nodes that are joints. */
+uint32_t app_vertex_count(const sinew_model *model);
+uint32_t app_joint_count(const sinew_model *model);
+/* The clip `text` names (sinew_model_pick_clip()), or -1 with "no clip ..." in the error. */
+int32_t app_pick_clip(const sinew_model *model, const char *text, sinew_error *error);
+
+/* sinew's data folder ($SINEW_DATA, else data/ beside the program, else share/sinew relative
+ * to it): buf = folder/name. */
+const char *app_data_path(const char *name, char *buf, size_t size);
+
+/* The seed's arm (sinew/arm.h) with the distances and the biceps of data/arm.muscles.json. */
+typedef struct app_arm_spec {
+    double angle;              /* elbow angle, radians */
+    double length;             /* > 0: the muscle length instead of the angle */
+    double flex_from, flex_to; /* a "flex" clip between these angles, both 0: none */
+    sinew_transform place;     /* rotate, move, scale the whole arm */
+} app_arm_spec;
+sinew_result app_arm_model(const app_arm_spec *spec, sinew_model **out, sinew_error *error);
+
+#endif
