@@ -379,8 +379,12 @@ static bool time_import(const char *path, bool assimp, double *best_ms, sinew_mo
     sinew_error error = {0};
     *best_ms = 1e30;
     sinew_model *probe = NULL;
-    if (sinew_import(&(sinew_import_desc){.path = path, .assimp = assimp, .stderr_fd = STDERR_FILENO}, &probe,
-                     &error) != SINEW_OK) {
+    sinew_import_desc probe_desc = {.path = path,
+                                    .assimp = assimp,
+                                    .stderr_fd = STDERR_FILENO,
+                                    .timeout = cli_import.timeout,
+                                    .memory_limit = cli_import.memory_limit};
+    if (sinew_import(&probe_desc, &probe, &error) != SINEW_OK) {
         cli_error("%s%s", assimp ? "(through Assimp) " : "", error.message);
         return false;
     }

@@ -14,6 +14,9 @@
  * 4: an output cannot be written (no space, no permission, it is an input, it exists). */
 enum { EXIT_OK = 0, EXIT_USAGE = 1, EXIT_BAD_INPUT = 2, EXIT_UNAVAILABLE = 3, EXIT_OUTPUT = 4 };
 
+/* --import-timeout / --import-memory, wherever they are on the command line (main.c). */
+extern app_import_options cli_import;
+
 /* Prints "sinew: <message>" to stderr. */
 void cli_error(const char *format, ...) __attribute__((format(printf, 1, 2)));
 

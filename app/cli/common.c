@@ -44,7 +44,7 @@ sinew_model *cli_load_model(const char *path)
 {
     sinew_model *model = NULL;
     sinew_error error = {0};
-    app_scene_desc desc = {.path = path, .stderr_fd = STDERR_FILENO};
+    app_scene_desc desc = {.path = path, .stderr_fd = STDERR_FILENO, .import = cli_import};
     if (app_load_model(&desc, &model, &error) != SINEW_OK) {
         cli_error("%s", error.message);
         return NULL;

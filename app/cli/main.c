@@ -37,7 +37,32 @@ static const char usage[] =
     "Exit status: 0 ok, 1 usage error, 2 bad input (the message names the file and the problem),\n"
     "3 this machine lacks what the command needs (an OpenGL 3.3 context through EGL, ffmpeg),\n"
     "4 an output cannot be written (no space, no permission, it is one of the inputs, it exists: demo).\n"
-    "Outputs are written whole or not at all (a temporary file renamed into place).\n";
+    "Outputs are written whole or not at all (a temporary file renamed into place).\n"
+    "Files are read by a helper process (sinew-import) that is stopped when it takes too long or too much memory;\n"
+    "every command that reads a model takes:\n" APP_IMPORT_OPTIONS_HELP;
+
+app_import_options cli_import;
+
+/* Takes the import options out of argv (every command reads models the same way); returns
+ * the arguments left, or -1 after printing the error. */
+static int take_import_options(int argc, char **argv)
+{
+    int kept = 0;
+    for (int i = 0; i < argc; i++) {
+        sinew_error error = {0};
+        int used = app_import_option_parse(&cli_import, argc, argv, i, &error);
+        if (used < 0) {
+            cli_error("%s", error.message);
+            return -1;
+        }
+        if (used > 0)
+            i += used - 1;
+        else
+            argv[kept++] = argv[i];
+    }
+    argv[kept] = NULL;
+    return kept;
+}
 
 int main(int argc, char **argv)
 {
@@ -54,6 +79,8 @@ int main(int argc, char **argv)
         printf("sinew %s\n", sinew_version());
         return EXIT_OK;
     }
+    if ((argc = take_import_options(argc, argv)) < 0)
+        return EXIT_USAGE;
     if (strcmp(command, "info") == 0)
         return cmd_info(argc - 1, argv + 1);
     if (strcmp(command, "pose") == 0)

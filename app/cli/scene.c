@@ -50,6 +50,7 @@ bool cli_scene_load(app_scene *scene, const app_scene_desc *desc)
 {
     app_scene_desc d = *desc;
     d.stderr_fd = STDERR_FILENO;
+    d.import = cli_import;
     sinew_error error = {0};
     if (app_scene_open(scene, &d, &error) != SINEW_OK) {
         cli_error("%s", error.message);

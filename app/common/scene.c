@@ -63,6 +63,24 @@ int32_t app_pick_clip(const sinew_model *model, const char *text, sinew_error *e
     return clip;
 }
 
+int app_import_option_parse(app_import_options *o, int argc, char *const *argv, int i, sinew_error *error)
+{
+    bool timeout = strcmp(argv[i], "--import-timeout") == 0, memory = strcmp(argv[i], "--import-memory") == 0;
+    if (!timeout && !memory)
+        return 0;
+    double value = 0.0;
+    if (i + 1 >= argc || !app_parse_number(argv[i + 1], 0.0, timeout ? APP_MAX_SECONDS : 1e9, &value)) {
+        sinew_fail(error, SINEW_ERROR_INVALID_ARGUMENT, "bad %s \"%s\": expected %s", argv[i],
+                   i + 1 < argc ? argv[i + 1] : "", timeout ? "seconds (0: no deadline)" : "MiB (0: no limit)");
+        return -1;
+    }
+    if (timeout)
+        o->timeout = value > 0.0 ? value : -1.0; /* the desc's "no deadline" */
+    else
+        o->memory_limit = value > 0.0 ? (uint64_t)(value * 1048576.0) : UINT64_MAX;
+    return 2;
+}
+
 /* ---- built-in models -------------------------------------------------------------------------- */
 
 const char *app_data_path(const char *name, char *buf, size_t size)
@@ -127,8 +145,8 @@ sinew_result app_load_model(const app_scene_desc *d, sinew_model **out, sinew_er
     sinew_import_desc desc = {.path = path,
                               .in_process = d->in_process || getenv("SINEW_IMPORT_IN_PROCESS") != NULL,
                               .assimp = d->assimp || (importer && strcmp(importer, "assimp") == 0),
-                              .timeout = d->timeout,
-                              .memory_limit = d->memory_limit,
+                              .timeout = d->import.timeout,
+                              .memory_limit = d->import.memory_limit,
                               .stderr_fd = d->stderr_fd,
                               .progress = d->progress,
                               .progress_user = d->progress_user};

@@ -17,6 +17,21 @@
 #define APP_BUILTIN_ARM "builtin:arm"   /* the seed's arm, flexing, with its biceps */
 #define APP_BUILTIN_DEMO "builtin:demo" /* the demo humanoid, with its biceps */
 
+/* The import helper's limits, as both apps take them on their command lines:
+ * --import-timeout SECONDS (0: none) and --import-memory MIB (0: none); absent: the library's
+ * defaults (120 s; half the memory, within 1..16 GiB). */
+typedef struct app_import_options {
+    double timeout;        /* sinew_import_desc.timeout */
+    uint64_t memory_limit; /* sinew_import_desc.memory_limit */
+} app_import_options;
+/* Reads one of them at argv[i]: the arguments used (2), 0 when argv[i] is not one, -1 with the
+ * error filled for a missing or bad value. */
+int app_import_option_parse(app_import_options *options, int argc, char *const *argv, int i, sinew_error *error);
+#define APP_IMPORT_OPTIONS_HELP                                                                                        \
+    "  --import-timeout S    stop reading a file after S seconds (default 120; 0: never)\n"                            \
+    "  --import-memory MIB   stop reading a file that needs more than MIB MiB (default: half the memory,\n"            \
+    "                        within 1..16 GiB; 0: no limit)\n"
+
 /* Which muscles a scene attaches. A model's own are a .sinew file's stored muscles, or the
  * built-in models' biceps. */
 typedef enum app_muscle_mode {
@@ -39,8 +54,7 @@ typedef struct app_scene_desc {
     /* importing a file (sinew/import.h): */
     bool in_process, assimp; /* also $SINEW_IMPORT_IN_PROCESS and $SINEW_IMPORTER=assimp */
     int stderr_fd;
-    double timeout;                               /* the import helper's deadline, seconds; 0: the library's default */
-    uint64_t memory_limit;                        /* its memory limit, bytes; 0: the library's default */
+    app_import_options import;
     bool (*progress)(float fraction, void *user); /* sinew_import_desc.progress: false cancels */
     void *progress_user;
 } app_scene_desc;

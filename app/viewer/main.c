@@ -205,8 +205,12 @@ static gboolean load_finished(gpointer data);
 static gpointer load_thread(gpointer data)
 {
     view_load *l = data;
-    app_scene_desc desc = {
-        .path = l->path, .clip = l->clip, .muscles = APP_MUSCLES_IF_ANY, .progress = load_progress, .progress_user = l};
+    app_scene_desc desc = {.path = l->path,
+                           .clip = l->clip,
+                           .muscles = APP_MUSCLES_IF_ANY,
+                           .import = l->v->import,
+                           .progress = load_progress,
+                           .progress_user = l};
     l->result = app_scene_open(&l->scene, &desc, &l->error);
     g_idle_add(load_finished, l);
     return NULL;
@@ -1020,7 +1024,7 @@ static const char usage[] =
     "  --size WxH            the window's size (default: as last closed, else 1200x760)\n"
     "  --panel NAME          the side panel's page shown first: hierarchy, display or log\n"
     "  --screenshot OUT.png  writes the first frame drawn (the drawing area only)\n"
-    "  --quit                leaves after the screenshot\n"
+    "  --quit                leaves after the screenshot\n" APP_IMPORT_OPTIONS_HELP
     "exit status (as sinew's): 0 ok, 1 usage error, 2 FILE failed to open (with --screenshot), 3 no OpenGL 3.3,\n"
     "4 the screenshot could not be written\n"
     "  --version             prints sinew-view's version\n";
@@ -1039,11 +1043,14 @@ int main(int argc, char **argv)
         sinew_error error = {0};
         const char *option = NULL;
         int used = app_render_option_parse(&v.options, argc, argv, i, &option, &error);
-        if (used < 0) {
+        int import_used = used == 0 ? app_import_option_parse(&v.import, argc, argv, i, &error) : 0;
+        if (used < 0 || import_used < 0) {
             fprintf(stderr, "sinew-view: %s\n", error.message);
             return 1;
         }
-        if (used > 0) {
+        if (import_used > 0) {
+            i += import_used - 1;
+        } else if (used > 0) {
             int index = settings_option_index(option);
             if (index >= 0)
                 v.overridden[index] = true;

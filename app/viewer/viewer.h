@@ -43,9 +43,10 @@ typedef struct viewer {
     struct view_load *load; /* a file being opened, or NULL */
     GtkWidget *load_bar, *load_label, *load_progress;
     guint load_timer;
-    double start_time; /* --time, applied to the file's clip once it is open; NAN: none */
-    bool *hidden;      /* instance_count flags */
-    int32_t selected;  /* node, -1 for none */
+    double start_time;         /* --time, applied to the file's clip once it is open; NAN: none */
+    app_import_options import; /* --import-timeout, --import-memory */
+    bool *hidden;              /* instance_count flags */
+    int32_t selected;          /* node, -1 for none */
     sinew_camera camera;
     sinew_render_options options;
     double time, speed;

@@ -118,6 +118,26 @@ static void test_bad_input_exits_2(void **state)
     r = RUN("bench", "muscle", "--bogus");
     assert_int_equal(r.code, 1);
     run_free(&r);
+    /* the import helper's limits, on any command, anywhere after it */
+    r = RUN("info", path, "--import-timeout", "soon");
+    assert_int_equal(r.code, 1);
+    assert_non_null(strstr(r.err, "--import-timeout"));
+    run_free(&r);
+    r = RUN("pose", "--import-memory", "64", path, "--import-timeout", "30", "--time", "0");
+    assert_int_equal(r.code, 0);
+    run_free(&r);
+    char duck[1024], hangs[1024];
+    if (testdata_path("assimp/Collada/duck.dae", duck, sizeof duck)) {
+        char *d = read_file(duck, &size);
+        d[245632] = (char)0xC0; /* Assimp's COLLADA reader loops on it */
+        write_file(tmp_path("cli-hangs.dae", hangs, sizeof hangs), d, size);
+        free(d);
+        r = run_sinew((const char *const[]){"SINEW_IMPORTER=assimp", NULL},
+                      (const char *const[]){"info", hangs, "--import-timeout", "0.5", NULL});
+        assert_int_equal(r.code, 2);
+        assert_non_null(strstr(r.err, "0.5 s deadline"));
+        run_free(&r);
+    }
     /* outputs (4): the OBJ over its own model, onto a full device; the model is untouched */
     size_t before = 0, after = 0;
     free(read_file(path, &before));

@@ -159,6 +159,50 @@ static void test_screenshot_equals_headless_render(void **state)
                                               "--heatmap", "RightLowerArm", NULL});
 }
 
+/* The file opens on a worker thread after the demo: --time applies to the file's clip (a
+ * 1 s demo walk used to clamp 15 s of a mocap take to 0). */
+static void test_time_past_the_demo_clip(void **state)
+{
+    (void)state;
+    char bvh[4096];
+    if (!xvfb || !testdata_path("assimp/BVH/01_01.bvh", bvh, sizeof bvh))
+        skip();
+    compare_with_render((const char *const[]){bvh, "--time", "15", NULL},
+                        (const char *const[]){bvh, "--time", "15", NULL});
+}
+
+/* A file that makes the reader loop is stopped at --import-timeout; meanwhile and after, the
+ * demo is on screen, and the run says the file failed. */
+static void test_hanging_file_keeps_the_demo(void **state)
+{
+    (void)state;
+    char source[4096], hangs[4096], shot[4096];
+    if (!xvfb || !testdata_path("assimp/Collada/duck.dae", source, sizeof source))
+        skip();
+    size_t n = 0;
+    unsigned char *bytes = read_file(source, &n);
+    bytes[245632] = 0xC0; /* Assimp's COLLADA reader loops on it, allocating */
+    write_file(tmp_path("view-hangs.dae", hangs, sizeof hangs), bytes, n);
+    free(bytes);
+    tmp_path("view-hangs.png", shot, sizeof shot);
+    unlink(shot);
+    setenv("SINEW_IMPORTER", "assimp", 1);
+    char *err = NULL;
+    int code =
+        run_view((const char *const[]){hangs, "--import-timeout", "1", "--screenshot", shot, "--quit", NULL}, &err);
+    unsetenv("SINEW_IMPORTER");
+    assert_int_equal(code, 2);
+    if (!err || !strstr(err, hangs) || !strstr(err, "1 s deadline"))
+        fail_msg("expected the deadline named: %s", err ? err : "");
+    struct stat st;
+    assert_int_equal(stat(shot, &st), 0); /* the demo was drawn */
+    assert_true(st.st_size > 10000);
+    free(err);
+    /* a bad value is a usage error */
+    assert_int_equal(run_view((const char *const[]){"--import-timeout", "soon", NULL}, &err), 1);
+    free(err);
+}
+
 static char *settings_file(char *path, size_t size)
 {
     char dir[2048];
@@ -244,10 +288,9 @@ static void test_broken_file_keeps_the_demo(void **state)
 int main(void)
 {
     const struct CMUnitTest tests[] = {
-        cmocka_unit_test(test_screenshot_equals_headless_render),
-        cmocka_unit_test(test_version),
-        cmocka_unit_test(test_broken_file_keeps_the_demo),
-        cmocka_unit_test(test_settings_round_trip),
+        cmocka_unit_test(test_screenshot_equals_headless_render), cmocka_unit_test(test_version),
+        cmocka_unit_test(test_broken_file_keeps_the_demo),        cmocka_unit_test(test_time_past_the_demo_clip),
+        cmocka_unit_test(test_hanging_file_keeps_the_demo),       cmocka_unit_test(test_settings_round_trip),
     };
     return cmocka_run_group_tests(tests, start_xvfb, stop_xvfb);
 }
