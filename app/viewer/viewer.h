@@ -72,13 +72,26 @@ typedef struct viewer {
 void view_show_error(viewer *v, const char *message);
 void view_redraw(viewer *v);
 bool view_pose(viewer *v);
+void view_recent_changed(viewer *v); /* rebuilds the Recent menu */
+
+double view_duration(const viewer *v); /* of the clip playing; 0 for the rest pose */
+void view_update_timeline(viewer *v);  /* the scrub bar's range and key ticks */
+void view_show_time(viewer *v);
+
+/* open.c */
+/* Plays clip `index` (-1: the rest pose) from its start; the error shows on failure. */
+bool view_use_clip(viewer *v, int32_t index);
+/* A renderer for `scene` in the area's context: false (error shown) when GL refuses the
+ * model; true with *out NULL when there is no context yet. */
+bool view_make_renderer(viewer *v, const app_scene *scene, sinew_renderer **out);
+/* Opens a built-in model (APP_BUILTIN_DEMO) at once; the error shows on failure. */
+bool view_open_now(viewer *v, const char *path, const char *clip_name);
 /* Opens a file on a worker thread (the scene stays until the new one is ready; a failure
  * shows its error); a newer open supersedes one under way. */
 typedef struct view_load view_load;
 void view_open_file(viewer *v, const char *path, const char *clip_name);
 /* Asks the open under way to stop; `wait`: also waits for its thread and drops it (leaving). */
 void view_cancel_open(viewer *v, bool wait);
-void view_recent_changed(viewer *v); /* rebuilds the Recent menu */
 
 /* panels.c */
 GtkWidget *panels_create(viewer *v);

@@ -1,0 +1,295 @@
+/* sinew-view: the scene shown and how files are opened: the built-in demo at once, a file on a
+ * worker thread (app_scene_open) while the window keeps its scene, with a progress bar and
+ * Cancel; the new scene replaces the old one only when it is ready and the renderer takes it. */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include <epoxy/gl.h>
+#include <gtk/gtk.h>
+
+#include "viewer.h"
+
+double view_duration(const viewer *v)
+{
+    return v->scene.clip ? v->scene.clip->duration : 0.0;
+}
+
+/* Plays clip `index` (-1: the rest pose) of the current model from its start. */
+bool view_use_clip(viewer *v, int32_t index)
+{
+    sinew_error error = {0};
+    if (app_scene_use_clip(&v->scene, index, &error) != SINEW_OK) {
+        view_show_error(v, error.message);
+        return false;
+    }
+    if (v->time > view_duration(v))
+        v->time = 0.0;
+    view_update_timeline(v);
+    return true;
+}
+
+/* A renderer for `scene` in the area's context: false (error shown) when GL refuses the
+ * model; true with *out NULL when there is no context yet (on_realize makes it). */
+bool view_make_renderer(viewer *v, const app_scene *scene, sinew_renderer **out)
+{
+    *out = NULL;
+    if (!v->area || !gtk_widget_get_realized(v->area))
+        return true;
+    gtk_gl_area_make_current(GTK_GL_AREA(v->area));
+    if (gtk_gl_area_get_error(GTK_GL_AREA(v->area)))
+        return true;
+    sinew_error error = {0};
+    sinew_renderer_desc desc = {.model = scene->model, .muscles = scene->muscle_set};
+    if (sinew_renderer_create(&desc, out, &error) != SINEW_OK) {
+        view_show_error(v, error.message);
+        return false;
+    }
+    return true;
+}
+
+static void resolve_joints(viewer *v)
+{
+    if (v->select)
+        v->options.selected_joint = sinew_model_find_joint(v->scene.model, v->select);
+    if (v->heatmap)
+        v->options.heatmap_joint = sinew_model_find_joint(v->scene.model, v->heatmap);
+}
+
+/* Makes `incoming` the scene (the viewer owns it from here, whatever happens). When the
+ * renderer refuses the model, the error shows and the old scene stays. */
+static bool adopt_scene(viewer *v, app_scene *incoming)
+{
+    const sinew_model *model = incoming->model;
+    bool *hidden = calloc(model->instance_count + 1, sizeof *hidden);
+    sinew_renderer *renderer = NULL;
+    if (!hidden || !view_make_renderer(v, incoming, &renderer)) {
+        if (!hidden)
+            view_show_error(v, "out of memory");
+        free(hidden);
+        app_scene_close(incoming);
+        return false;
+    }
+    if (renderer) /* make_renderer left the area's context current */
+        sinew_renderer_destroy(v->renderer);
+    v->renderer = renderer;
+    app_scene_close(&v->scene);
+    v->scene = *incoming;
+    free(v->hidden);
+    v->hidden = hidden;
+    v->options.hidden_instances = v->hidden;
+    for (int i = 0; i < v->scene.note_count; i++)
+        panels_log(v, v->scene.notes[i]);
+    if (v->time > view_duration(v))
+        v->time = 0.0;
+    resolve_joints(v);
+    if (app_vertex_count(model) == 0)
+        v->options.skeleton = true;
+    v->framed = v->camera_given;
+    v->camera_given = false;
+    if (v->window) {
+        char title[600];
+        snprintf(title, sizeof title, "%s — sinew", model->source);
+        gtk_window_set_title(GTK_WINDOW(v->window), title);
+        GtkStringList *names = gtk_string_list_new(NULL);
+        for (uint32_t i = 0; i < model->clip_count; i++)
+            gtk_string_list_append(names, model->clips[i].name);
+        if (model->clip_count == 0)
+            gtk_string_list_append(names, "(no clips: rest pose)");
+        v->updating = true;
+        gtk_drop_down_set_model(GTK_DROP_DOWN(v->clip_list), G_LIST_MODEL(names));
+        gtk_drop_down_set_selected(GTK_DROP_DOWN(v->clip_list),
+                                   v->scene.clip_index >= 0 ? (guint)v->scene.clip_index : 0);
+        v->updating = false;
+        g_object_unref(names);
+        view_update_timeline(v);
+        view_show_time(v);
+        panels_model_changed(v);
+        panels_options_changed(v);
+        /* --select / --heatmap name joints of every model opened */
+        int32_t select = v->select ? sinew_model_find_joint(model, v->select) : -1;
+        if (select >= 0)
+            panels_select(v, select);
+        resolve_joints(v);
+        gtk_gl_area_queue_render(GTK_GL_AREA(v->area));
+    }
+    return true;
+}
+
+/* Opens a built-in model at once (the demo at start); the error shows on failure. */
+bool view_open_now(viewer *v, const char *path, const char *clip_name)
+{
+    app_scene scene;
+    sinew_error error = {0};
+    app_scene_desc desc = {.path = path, .clip = clip_name, .muscles = APP_MUSCLES_IF_ANY};
+    if (app_scene_open(&scene, &desc, &error) != SINEW_OK) {
+        view_show_error(v, error.message);
+        return false;
+    }
+    return adopt_scene(v, &scene);
+}
+
+/* ---- opening a file on a worker thread ---------------------------------------------------- */
+
+/* One file being opened: app_scene_open() runs on its own thread; the window keeps its scene,
+ * shows the progress and a Cancel button, and takes the new scene when it is ready. A newer
+ * open (or Cancel, or closing the window) asks the older one to stop. */
+struct view_load {
+    viewer *v;
+    char *path, *clip;
+    app_scene scene;
+    sinew_error error;
+    sinew_result result;
+    gint cancel;   /* atomic */
+    gint progress; /* atomic: the import's fraction in thousandths, or -1000 while reading */
+    GThread *thread;
+    gint64 started;
+};
+
+static bool load_progress(float fraction, void *user)
+{
+    view_load *l = user;
+    g_atomic_int_set(&l->progress, (gint)(fraction * 1000.0f));
+    return !g_atomic_int_get(&l->cancel);
+}
+
+static gboolean load_finished(gpointer data);
+
+static gpointer load_thread(gpointer data)
+{
+    view_load *l = data;
+    app_scene_desc desc = {.path = l->path,
+                           .clip = l->clip,
+                           .muscles = APP_MUSCLES_IF_ANY,
+                           .import = l->v->import,
+                           .progress = load_progress,
+                           .progress_user = l};
+    l->result = app_scene_open(&l->scene, &desc, &l->error);
+    g_idle_add(load_finished, l);
+    return NULL;
+}
+
+static void load_free(view_load *l)
+{
+    if (l->result == SINEW_OK)
+        app_scene_close(&l->scene);
+    g_free(l->path);
+    g_free(l->clip);
+    g_free(l);
+}
+
+/* The progress line while a file opens. */
+static gboolean load_tick(gpointer data)
+{
+    viewer *v = data;
+    view_load *l = v->load;
+    if (!l) {
+        v->load_timer = 0;
+        return G_SOURCE_REMOVE;
+    }
+    int progress = g_atomic_int_get(&l->progress);
+    if (progress < 0)
+        gtk_progress_bar_pulse(GTK_PROGRESS_BAR(v->load_progress));
+    else
+        gtk_progress_bar_set_fraction(GTK_PROGRESS_BAR(v->load_progress), progress / 1000.0);
+    char *base = g_path_get_basename(l->path), text[600];
+    snprintf(text, sizeof text, "Opening %s… %.1f s", base, (double)(g_get_monotonic_time() - l->started) * 1e-6);
+    g_free(base);
+    gtk_label_set_text(GTK_LABEL(v->load_label), text);
+    return G_SOURCE_CONTINUE;
+}
+
+static void remember_file(viewer *v, const char *path)
+{
+    char *absolute = g_canonicalize_filename(path, NULL);
+    char *uri = g_filename_to_uri(absolute, NULL, NULL);
+    if (uri)
+        gtk_recent_manager_add_item(gtk_recent_manager_get_default(), uri);
+    g_free(uri);
+    g_free(v->last_folder);
+    v->last_folder = g_path_get_dirname(absolute);
+    int at = 0; /* to the front of the recent list, once */
+    while (at < 9 && v->recent[at] && strcmp(v->recent[at], absolute) != 0)
+        at++;
+    g_free(v->recent[at]);
+    memmove(&v->recent[1], &v->recent[0], (size_t)at * sizeof v->recent[0]);
+    v->recent[0] = absolute;
+    view_recent_changed(v);
+}
+
+static gboolean load_finished(gpointer data)
+{
+    view_load *l = data;
+    viewer *v = l->v;
+    g_thread_join(l->thread);
+    if (v->load != l) { /* superseded by a newer open or given up */
+        load_free(l);
+        return G_SOURCE_REMOVE;
+    }
+    v->load = NULL;
+    if (v->load_bar)
+        gtk_widget_set_visible(v->load_bar, FALSE);
+    bool opened = false;
+    if (l->result == SINEW_OK && g_atomic_int_get(&l->cancel)) {
+        panels_log(v, "opening cancelled");
+    } else if (l->result == SINEW_OK) {
+        l->result = SINEW_ERROR_CANCELLED; /* the scene is the viewer's now */
+        opened = adopt_scene(v, &l->scene);
+        if (opened) {
+            view_show_error(v, NULL);
+            remember_file(v, l->path);
+        }
+    } else if (l->result != SINEW_ERROR_CANCELLED) {
+        view_show_error(v, l->error.message);
+    } else {
+        panels_log(v, l->error.message);
+    }
+    if (!opened && v->screenshot) /* a screenshot run says so in its exit status (2, as sinew's) */
+        v->exit_code = 2;
+    if (opened && !isnan(v->start_time)) /* --time: against the file's clip, not the demo's */
+        v->time = v->start_time;
+    v->start_time = NAN;
+    if (v->time > view_duration(v))
+        v->time = view_duration(v);
+    view_show_time(v);
+    view_redraw(v);
+    load_free(l);
+    return G_SOURCE_REMOVE;
+}
+
+void view_open_file(viewer *v, const char *path, const char *clip_name)
+{
+    if (v->load) /* the newer open wins */
+        g_atomic_int_set(&v->load->cancel, 1);
+    view_load *l = g_new0(view_load, 1);
+    *l = (view_load){.v = v,
+                     .path = g_strdup(path),
+                     .clip = g_strdup(clip_name),
+                     .progress = -1000,
+                     .started = g_get_monotonic_time(),
+                     .result = SINEW_ERROR_CANCELLED};
+    v->load = l;
+    if (v->load_bar) {
+        gtk_widget_set_visible(v->load_bar, TRUE);
+        load_tick(v);
+        if (!v->load_timer)
+            v->load_timer = g_timeout_add(100, load_tick, v);
+    }
+    l->thread = g_thread_new("sinew-open", load_thread, l);
+}
+
+void view_cancel_open(viewer *v, bool wait)
+{
+    view_load *l = v->load;
+    if (!l)
+        return;
+    g_atomic_int_set(&l->cancel, 1);
+    if (!wait)
+        return;
+    /* leaving: wait for the thread here, its idle callback will not run */
+    v->load = NULL;
+    g_thread_join(l->thread);
+    g_idle_remove_by_data(l);
+    load_free(l);
+}
