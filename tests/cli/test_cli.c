@@ -393,6 +393,16 @@ static void test_pose_with_muscles(void **state)
     assert_int_equal(r.code, 2);
     assert_non_null(strstr(r.err, "no muscle file beside the model"));
     run_free(&r);
+    /* the built-in models carry their biceps: --muscles alone attaches them */
+    cJSON *demo = RUN_JSON("pose", "builtin:demo", "--clip", "wave", "--time", "1", "--muscles", "--json");
+    cJSON *muscles = cJSON_GetObjectItem(cJSON_GetArrayItem(cJSON_GetObjectItem(demo, "frames"), 0), "muscles");
+    assert_int_equal(cJSON_GetArraySize(muscles), 2);
+    assert_string_equal(cJSON_GetObjectItem(cJSON_GetArrayItem(muscles, 0), "name")->valuestring, "LeftBiceps");
+    cJSON_Delete(demo);
+    cJSON *arm = RUN_JSON("pose", "builtin:arm", "--time", "1", "--muscles", "--json");
+    muscles = cJSON_GetObjectItem(cJSON_GetArrayItem(cJSON_GetObjectItem(arm, "frames"), 0), "muscles");
+    assert_int_equal(cJSON_GetArraySize(muscles), 1);
+    cJSON_Delete(arm);
     const char *json = "{\"muscles\": [{\"name\": \"m\", \"origin\": {\"joint\": \"root\", \"offset\": [0.1, 0.3, 0]},"
                        " \"insertion\": {\"joint\": \"tip\", \"offset\": [0.1, 0.4, 0]},"
                        " \"radii\": [0.02, 0.05, 0.02], \"coefficients\": [0, 1, 0]}]}";
