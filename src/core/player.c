@@ -625,6 +625,17 @@ __attribute__((target("avx2,fma"))) static void world_avx2(const sinew_player *p
 }
 #endif
 
+/* Every group's keys at t into the pose, blended by `blend` (the SIMD or the scalar one). */
+static void sample_groups(sinew_player *p, float t, void (*blend)(float *, const group *, const segment *))
+{
+    const sinew_clip_layout *l = p->layout;
+    for (uint32_t g = 0; g < l->group_count; g++) {
+        segment seg = find(&l->groups[g], &p->cursors[g], t);
+        blend(p->pose, &l->groups[g], &seg);
+        slerp_fixes(p->pose, &l->groups[g], &seg);
+    }
+}
+
 sinew_result sinew_player_update(sinew_player *p, float time, sinew_wrap wrap, const sinew_mat4 *root,
                                  sinew_mat4 *worlds, uint32_t world_count, sinew_error *error)
 {
@@ -640,21 +651,13 @@ sinew_result sinew_player_update(sinew_player *p, float time, sinew_wrap wrap, c
     float t = sinew_clip_time(l->clip, time, wrap) + (l->clip ? l->clip->start : 0.0f);
 #ifdef PLAYER_X86
     if (p->simd) {
-        for (uint32_t g = 0; g < l->group_count; g++) {
-            segment seg = find(&l->groups[g], &p->cursors[g], t);
-            blend_avx2(p->pose, &l->groups[g], &seg);
-            slerp_fixes(p->pose, &l->groups[g], &seg);
-        }
+        sample_groups(p, t, blend_avx2);
         locals_avx2(p);
         world_avx2(p, root, worlds);
         return SINEW_OK;
     }
 #endif
-    for (uint32_t g = 0; g < l->group_count; g++) {
-        segment seg = find(&l->groups[g], &p->cursors[g], t);
-        blend_scalar(p->pose, &l->groups[g], &seg);
-        slerp_fixes(p->pose, &l->groups[g], &seg);
-    }
+    sample_groups(p, t, blend_scalar);
     locals_scalar(p);
     world_scalar(p, root, worlds);
     return SINEW_OK;
