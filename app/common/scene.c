@@ -150,7 +150,19 @@ sinew_result app_load_model(const app_scene_desc *d, sinew_model **out, sinew_er
                               .stderr_fd = d->stderr_fd,
                               .progress = d->progress,
                               .progress_user = d->progress_user};
-    return sinew_import(&desc, out, error);
+    sinew_result result = sinew_import(&desc, out, error);
+    if (result == SINEW_ERROR_LIMIT && error) /* in the apps' words: the options that set them */
+        for (int i = 0; i < 2; i++) {
+            static const char *const library[2] = {"sinew_import_desc.timeout", "sinew_import_desc.memory_limit"};
+            static const char *const option[2] = {"--import-timeout", "--import-memory"};
+            char *at = strstr(error->message, library[i]);
+            if (at) {
+                char rest[SINEW_ERROR_MESSAGE_SIZE];
+                snprintf(rest, sizeof rest, "%s", at + strlen(library[i]));
+                snprintf(at, sizeof error->message - (size_t)(at - error->message), "%s%s", option[i], rest);
+            }
+        }
+    return result;
 }
 
 /* ---- muscles ----------------------------------------------------------------------------------- */

@@ -136,6 +136,7 @@ static void test_bad_input_exits_2(void **state)
                       (const char *const[]){"info", hangs, "--import-timeout", "0.5", NULL});
         assert_int_equal(r.code, 2);
         assert_non_null(strstr(r.err, "0.5 s deadline"));
+        assert_non_null(strstr(r.err, "--import-timeout sets the deadline"));
         run_free(&r);
     }
     /* outputs (4): the OBJ over its own model, onto a full device; the model is untouched */
