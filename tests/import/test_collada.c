@@ -23,6 +23,7 @@
 #include <libxml/tree.h>
 
 #include "../helpers.h"
+#include "import/internal.h"
 #include "sinew/sinew.h"
 
 /* ---- reading the XML ------------------------------------------------------------------ */
@@ -97,48 +98,16 @@ static double *source_numbers(const xmlNode *source, uint32_t *count)
     return numbers(first(source, "float_array"), count);
 }
 
-/* ---- matrices (column-major doubles, as sinew_mat4) ----------------------------------- */
-
-typedef struct mat {
-    double m[16];
-} mat;
-
-static mat identity(void)
-{
-    return (mat){{1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1}};
-}
-
-static mat mul(const mat *a, const mat *b)
-{
-    mat r;
-    for (int c = 0; c < 4; c++)
-        for (int row = 0; row < 4; row++) {
-            double s = 0;
-            for (int k = 0; k < 4; k++)
-                s += a->m[k * 4 + row] * b->m[c * 4 + k];
-            r.m[c * 4 + row] = s;
-        }
-    return r;
-}
-
-/* COLLADA writes matrices row by row. */
-static mat from_rows(const double *v)
-{
-    mat r;
-    for (int row = 0; row < 4; row++)
-        for (int c = 0; c < 4; c++)
-            r.m[c * 4 + row] = v[row * 4 + c];
-    return r;
-}
+/* ---- matrices (dmat: column-major doubles, as sinew_mat4) ----------------------------------- */
 
 /* One transform element as COLLADA 1.4.1 section 5 defines it. */
-static mat element(const xmlNode *e)
+static dmat element(const xmlNode *e)
 {
     uint32_t n;
     double *v = numbers(e, &n);
-    mat r = identity();
+    dmat r = dmat_identity();
     if (is(e, "matrix") && n == 16) {
-        r = from_rows(v);
+        r = dmat_from_rows(v);
     } else if (is(e, "translate") && n == 3) {
         r.m[12] = v[0], r.m[13] = v[1], r.m[14] = v[2];
     } else if (is(e, "scale") && n == 3) {
@@ -163,27 +132,27 @@ static mat element(const xmlNode *e)
                            0,
                            0,
                            1};
-        r = from_rows(rows);
+        r = dmat_from_rows(rows);
     }
     free(v);
     return r;
 }
 
 /* A <node>'s world matrix in the file's own space: its stack and its parents'. */
-static mat node_world(const xmlNode *node)
+static dmat node_world(const xmlNode *node)
 {
-    mat local = identity();
+    dmat local = dmat_identity();
     for (xmlNode *k = node->children; k; k = k->next) {
-        mat e = element(k);
-        local = mul(&local, &e);
+        dmat e = element(k);
+        local = dmat_mul(&local, &e);
     }
     if (!is(node->parent, "node"))
         return local;
-    mat parent = node_world(node->parent);
-    return mul(&parent, &local);
+    dmat parent = node_world(node->parent);
+    return dmat_mul(&parent, &local);
 }
 
-static void transform_point(const mat *a, const double p[3], double out[3])
+static void transform_point(const dmat *a, const double p[3], double out[3])
 {
     for (int r = 0; r < 3; r++)
         out[r] = a->m[r] * p[0] + a->m[4 + r] * p[1] + a->m[8 + r] * p[2] + a->m[12 + r];
@@ -202,7 +171,7 @@ static double *file_skinned_corners(xmlDoc *doc, uint32_t *corner_count, uint32_
     uint32_t n;
     double *bsm_v = numbers(first(skin, "bind_shape_matrix"), &n);
     assert_int_equal(n, 16);
-    mat bind_shape = from_rows(bsm_v);
+    dmat bind_shape = dmat_from_rows(bsm_v);
     free(bsm_v);
     /* joints (IDREFs) and inverse binds */
     xmlNode *joints = first(skin, "joints"), *names_src = NULL, *ibm_src = NULL;
@@ -212,16 +181,16 @@ static double *file_skinned_corners(xmlDoc *doc, uint32_t *corner_count, uint32_
     xmlChar *names = xmlNodeGetContent(first(names_src, "IDREF_array"));
     uint32_t ibm_count;
     double *ibm = source_numbers(ibm_src, &ibm_count);
-    mat skinning[16];
+    dmat skinning[16];
     uint32_t joint_count = 0;
     for (char *save = NULL, *id = strtok_r((char *)names, " \t\r\n", &save); id;
          id = strtok_r(NULL, " \t\r\n", &save), joint_count++) {
         assert_true(joint_count < 16 && (joint_count + 1) * 16 <= ibm_count);
         xmlNode *joint = find_attr(root, "id", id);
         assert_true(is(joint, "node"));
-        mat world = node_world(joint), inverse_bind = from_rows(&ibm[joint_count * 16]);
-        mat a = mul(&world, &inverse_bind);
-        skinning[joint_count] = mul(&a, &bind_shape);
+        dmat world = node_world(joint), inverse_bind = dmat_from_rows(&ibm[joint_count * 16]);
+        dmat a = dmat_mul(&world, &inverse_bind);
+        skinning[joint_count] = dmat_mul(&a, &bind_shape);
     }
     xmlFree(names);
     free(ibm);
@@ -305,7 +274,7 @@ static void test_skin_4_influence_against_its_xml(void **state)
     float *got = posed_vertices(m, worlds, &count);
     /* sinew's vertices are in Y-up metres under its root node: the file's space times the
      * root's matrix (the conversion itself is tested in test_models) */
-    mat root;
+    dmat root;
     for (int i = 0; i < 16; i++)
         root.m[i] = worlds[0].m[i];
     double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
@@ -424,7 +393,7 @@ static void test_animation_clips_against_their_xml(void **state)
                 assert_int_equal(sinew_sample(&desc, NULL), SINEW_OK);
                 sinew_mat4 got;
                 sinew_transform_to_mat4(&locals[ni], &got);
-                mat want = from_rows(&values[k * 16]);
+                dmat want = dmat_from_rows(&values[k * 16]);
                 for (int e = 0; e < 16; e++)
                     worst = fmax(worst, fabs(got.m[e] - want.m[e]));
                 keys_checked++;
