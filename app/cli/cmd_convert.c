@@ -70,12 +70,9 @@ int cmd_convert(int argc, char **argv)
     }
     /* Muscles: named, the model's own, or the file beside it when there is one (which must
      * then fit the model). */
-    char beside[4096];
-    sinew_muscle_path_for(in, beside, sizeof beside);
-    struct stat st;
-    app_scene_desc desc = {.path = in, .muscles = APP_MUSCLES_IF_ANY};
-    if (muscles || stat(beside, &st) == 0)
-        cli_scene_muscles(muscles ? muscles : "", &desc);
+    app_scene_desc desc = {.path = in, .muscles = APP_MUSCLES_IF_PRESENT};
+    if (muscles)
+        cli_scene_muscles(muscles, &desc);
     if (no_muscles)
         desc.muscles = APP_MUSCLES_NONE;
     app_scene scene;
@@ -90,6 +87,7 @@ int cmd_convert(int argc, char **argv)
         cli_error("%s", error.message);
         status = error.kind == SINEW_ERROR_IO ? EXIT_OUTPUT : EXIT_BAD_INPUT;
     }
+    struct stat st;
     if (status == EXIT_OK) {
         stat(out, &st);
         printf("%s: %lld bytes, %u nodes, %u meshes, %u clips, %u muscles%s%s\n", out, (long long)st.st_size,

@@ -184,7 +184,7 @@ static sinew_result find_muscles(app_scene *s, const app_scene_desc *d, const si
 {
     *set = NULL;
     const sinew_model *m = s->model;
-    bool required = d->muscles == APP_MUSCLES_REQUIRED;
+    bool required = d->muscles == APP_MUSCLES_REQUIRED; /* else none is fine */
     if (!(required && d->muscle_path && d->muscle_path[0]) && m->muscles) {
         *set = m->muscles;
         return SINEW_OK;
@@ -221,10 +221,10 @@ static sinew_result attach_muscles(app_scene *s, const app_scene_desc *d, sinew_
     }
     if (result == SINEW_OK) {
         s->muscle_set = set;
-        if (set)
+        if (set) {
             sinew_muscle_rig_set_scale(s->muscle_rig, d->muscle_scale > 0.0 ? d->muscle_scale : 1.0);
-        if (set)
             note(s, "%s: %u muscles attached", s->model->source, s->muscle_count);
+        }
         return SINEW_OK;
     }
     sinew_muscle_rig_free(s->muscle_rig);
@@ -234,7 +234,7 @@ static sinew_result attach_muscles(app_scene *s, const app_scene_desc *d, sinew_
     s->owned_muscles = NULL;
     s->muscle_poses = NULL;
     s->muscle_count = 0;
-    if (d->muscles == APP_MUSCLES_REQUIRED) {
+    if (d->muscles != APP_MUSCLES_IF_ANY) {
         if (error)
             *error = why;
         return result;
@@ -313,8 +313,8 @@ sinew_frame app_scene_frame(const app_scene *s, const sinew_camera *camera, cons
                          .width = width,
                          .height = height,
                          .options = options,
-                         .muscles = s->muscle_rig ? s->muscle_poses : NULL,
-                         .muscle_count = s->muscle_rig ? s->muscle_count : 0};
+                         .muscles = s->muscle_poses, /* NULL and 0 without muscles */
+                         .muscle_count = s->muscle_count};
 }
 
 bool app_scene_bounds(app_scene *s, sinew_renderer *renderer, double from, double to, int samples, sinew_wrap wrap,

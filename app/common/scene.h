@@ -39,6 +39,9 @@ typedef enum app_muscle_mode {
     /* the model's own, else MODEL.muscles.json beside the file when there is one; one that
      * cannot be read or does not fit the model is a note, not an error (the viewer) */
     APP_MUSCLES_IF_ANY,
+    /* the same, but one that is there and cannot be read or does not fit is an error (sinew
+     * convert: what it stores must be what the user has) */
+    APP_MUSCLES_IF_PRESENT,
     /* muscle_path, else the model's own, else the file beside it; missing, unreadable or not
      * fitting is an error (sinew --muscles) */
     APP_MUSCLES_REQUIRED

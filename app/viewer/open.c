@@ -57,8 +57,8 @@ static void resolve_joints(viewer *v)
         v->options.heatmap_joint = sinew_model_find_joint(v->scene.model, v->heatmap);
 }
 
-/* Makes `incoming` the scene (the viewer owns it from here, whatever happens). When the
- * renderer refuses the model, the error shows and the old scene stays. */
+/* Makes `incoming` the scene (the viewer owns it from here, whatever happens; `incoming` is
+ * left empty). When the renderer refuses the model, the error shows and the old scene stays. */
 static bool adopt_scene(viewer *v, app_scene *incoming)
 {
     const sinew_model *model = incoming->model;
@@ -76,6 +76,7 @@ static bool adopt_scene(viewer *v, app_scene *incoming)
     v->renderer = renderer;
     app_scene_close(&v->scene);
     v->scene = *incoming;
+    memset(incoming, 0, sizeof *incoming); /* the viewer's now */
     free(v->hidden);
     v->hidden = hidden;
     v->options.hidden_instances = v->hidden;
@@ -172,8 +173,7 @@ static gpointer load_thread(gpointer data)
 
 static void load_free(view_load *l)
 {
-    if (l->result == SINEW_OK)
-        app_scene_close(&l->scene);
+    app_scene_close(&l->scene); /* empty when it failed or was adopted */
     g_free(l->path);
     g_free(l->clip);
     g_free(l);
@@ -234,7 +234,6 @@ static gboolean load_finished(gpointer data)
     if (l->result == SINEW_OK && g_atomic_int_get(&l->cancel)) {
         panels_log(v, "opening cancelled");
     } else if (l->result == SINEW_OK) {
-        l->result = SINEW_ERROR_CANCELLED; /* the scene is the viewer's now */
         opened = adopt_scene(v, &l->scene);
         if (opened) {
             view_show_error(v, NULL);
@@ -267,8 +266,7 @@ void view_open_file(viewer *v, const char *path, const char *clip_name)
                      .path = g_strdup(path),
                      .clip = g_strdup(clip_name),
                      .progress = -1000,
-                     .started = g_get_monotonic_time(),
-                     .result = SINEW_ERROR_CANCELLED};
+                     .started = g_get_monotonic_time()};
     v->load = l;
     if (v->load_bar) {
         gtk_widget_set_visible(v->load_bar, TRUE);
