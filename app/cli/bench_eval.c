@@ -199,8 +199,9 @@ typedef struct skin_bench {
     const sinew_mesh *mesh;
     sinew_mat4 *palette;
     uint32_t palette_count;
+    sinew_dq_joint *dq_palette;
     float *positions, *normals;
-    bool scalar;
+    bool scalar, positions_only, dqs;
     pool *threads;
 } skin_bench;
 
@@ -214,8 +215,10 @@ static void skin_part(void *ctx, int part, int parts)
                          .palette_count = b->palette_count,
                          .first = first,
                          .count = last - first,
+                         .method = b->dqs ? SINEW_SKIN_DUAL_QUATERNION : SINEW_SKIN_LINEAR,
+                         .dq_palette = b->dq_palette,
                          .out_positions = b->positions,
-                         .out_normals = b->normals};
+                         .out_normals = b->positions_only ? NULL : b->normals};
     if (last > first)
         (b->scalar ? sinew_skin_vertices_scalar : sinew_skin_vertices)(&d, NULL);
 }
@@ -235,7 +238,7 @@ static void step_skin_2t(void *ctx, uint32_t i)
 
 typedef struct skin_result {
     uint32_t vertices;
-    double mverts_1t, mverts_2t, mverts_scalar;
+    double mverts_1t, mverts_2t, mverts_scalar, mverts_posonly, mverts_dqs, mverts_dqs_scalar;
 } skin_result;
 
 static bool bench_skinning(pool *threads, skin_result *out)
@@ -248,6 +251,7 @@ static bool bench_skinning(pool *threads, skin_result *out)
     sinew_mat4 *worlds = malloc(model->node_count * sizeof *worlds);
     skin_bench b = {.mesh = mesh,
                     .palette = malloc(skin->joint_count * sizeof(sinew_mat4)),
+                    .dq_palette = malloc(skin->joint_count * sizeof(sinew_dq_joint)),
                     .palette_count = skin->joint_count,
                     .positions = malloc((size_t)mesh->vertex_count * 12),
                     .normals = malloc((size_t)mesh->vertex_count * 12),
@@ -257,17 +261,25 @@ static bool bench_skinning(pool *threads, skin_result *out)
         worlds && b.palette && b.positions && b.normals &&
         app_player_open(&player, model, &model->clips[0], NULL) == SINEW_OK &&
         sinew_player_update(player.player, 0.5f, SINEW_WRAP_LOOP, NULL, worlds, model->node_count, NULL) == SINEW_OK &&
-        sinew_skin_palette(skin, worlds, model->node_count, b.palette, b.palette_count, NULL) == SINEW_OK;
+        sinew_skin_palette(skin, worlds, model->node_count, b.palette, b.palette_count, NULL) == SINEW_OK &&
+        b.dq_palette && sinew_skin_dq_palette(b.palette, b.palette_count, b.dq_palette, NULL) == SINEW_OK;
     if (ok) {
         out->vertices = mesh->vertex_count;
         out->mverts_1t = mesh->vertex_count / best_per_unit(step_skin_1t, &b, 100) * 1e-6;
         out->mverts_2t = mesh->vertex_count / best_per_unit(step_skin_2t, &b, 100) * 1e-6;
+        b.positions_only = true;
+        out->mverts_posonly = mesh->vertex_count / best_per_unit(step_skin_1t, &b, 100) * 1e-6;
+        b.positions_only = false, b.dqs = true;
+        out->mverts_dqs = mesh->vertex_count / best_per_unit(step_skin_1t, &b, 100) * 1e-6;
         b.scalar = true;
+        out->mverts_dqs_scalar = mesh->vertex_count / best_per_unit(step_skin_1t, &b, 20) * 1e-6;
+        b.dqs = false;
         out->mverts_scalar = mesh->vertex_count / best_per_unit(step_skin_1t, &b, 20) * 1e-6;
     }
     app_player_close(&player);
     free(worlds);
     free(b.palette);
+    free(b.dq_palette);
     free(b.positions);
     free(b.normals);
     sinew_model_free(model);
@@ -467,11 +479,7 @@ static void machine_name(char *out, size_t size)
     }
     if (f)
         fclose(f);
-    bool simd = false;
-#if defined(__x86_64__) && defined(__GNUC__)
-    simd = __builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma");
-#endif
-    snprintf(out, size, "%s, %ld cores, %s", model, sysconf(_SC_NPROCESSORS_ONLN), simd ? "AVX2+FMA" : "scalar");
+    snprintf(out, size, "%s, %ld cores, skinning %s", model, sysconf(_SC_NPROCESSORS_ONLN), sinew_simd_name());
 }
 
 static const char eval_usage[] =
@@ -482,7 +490,7 @@ static const char eval_usage[] =
     "    on translation, rotation and scale of every joint: forward play at 60 Hz and random seeking\n"
     "    (sinew_player; the reference sinew_sample + sinew_local_to_world beside it);\n"
     "  skinning 50,000 vertices of 4 influences, positions and normals: Mvertices/s on 1 and 2 threads\n"
-    "    (and the scalar reference);\n"
+    "    (and the scalar reference), positions only, and dual quaternions;\n"
     "  1000 characters of 64 joints updated a frame (sampling, world matrices, skinning palettes) on 1\n"
     "    and 2 threads;\n"
     "  loading a .sinew file against Assimp importing the COLLADA file it came from (in this process):\n"
@@ -491,7 +499,8 @@ static const char eval_usage[] =
     "    this process; --fbx FILE is the same).\n"
     "--quick runs one short batch of each (a smoke test; the figures mean little).\n"
     "--json prints one object with sample_world_us_64, sample_world_us_128, seek_us_64, skin_mverts_1t,\n"
-    "skin_mverts_2t, crowd1000_speedup_2t, load_speedup_vs_assimp, machine and the other figures\n"
+    "skin_mverts_2t, skin_mverts_1t_posonly, skin_mverts_dqs_1t, simd, crowd1000_speedup_2t, load_speedup_vs_assimp, "
+    "machine and the other figures\n"
     "(with --import also import_ms_sinew, import_ms_assimp and import_file).\n";
 
 int bench_eval(int argc, char **argv)
@@ -562,6 +571,10 @@ int bench_eval(int argc, char **argv)
         cJSON_AddNumberToObject(o, "skin_mverts_1t", skin.mverts_1t);
         cJSON_AddNumberToObject(o, "skin_mverts_2t", skin.mverts_2t);
         cJSON_AddNumberToObject(o, "skin_mverts_scalar_1t", skin.mverts_scalar);
+        cJSON_AddNumberToObject(o, "skin_mverts_1t_posonly", skin.mverts_posonly);
+        cJSON_AddNumberToObject(o, "skin_mverts_dqs_1t", skin.mverts_dqs);
+        cJSON_AddNumberToObject(o, "skin_mverts_dqs_scalar_1t", skin.mverts_dqs_scalar);
+        cJSON_AddStringToObject(o, "simd", sinew_simd_name());
         cJSON_AddNumberToObject(o, "crowd1000_ms_1t", crowd.ms_1t);
         cJSON_AddNumberToObject(o, "crowd1000_ms_2t", crowd.ms_2t);
         cJSON_AddNumberToObject(o, "crowd1000_speedup_2t", crowd_speedup);
@@ -593,6 +606,9 @@ int bench_eval(int argc, char **argv)
     printf("%-44s %6.0f Mv/s %6.0f Mv/s %10s\n", "skinning (pos + normal, 4 infl), 1 thread", skin.mverts_1t,
            skin.mverts_scalar, ">= 350");
     printf("%-44s %6.0f Mv/s %12s %10s\n", "skinning, 2 threads", skin.mverts_2t, "", "");
+    printf("%-44s %6.0f Mv/s %12s %10s\n", "skinning, positions only, 1 thread", skin.mverts_posonly, "", ">= 500");
+    printf("%-44s %6.0f Mv/s %6.0f Mv/s %10s\n", "skinning, dual quaternions, 1 thread", skin.mverts_dqs,
+           skin.mverts_dqs_scalar, "");
     printf("%-44s %9.3f ms %9.3f ms %10s\n", "1000 characters a frame, 1 | 2 threads", crowd.ms_1t, crowd.ms_2t, "");
     printf("%-44s %11.2fx %12s %10s\n", "  speed-up from 2 threads", crowd_speedup, "", ">= 1.8x");
     printf("%-44s %9.3f ms %9.3f ms %10s\n", "load .sinew | Assimp COLLADA", load.sinew_ms, load.assimp_ms, "");

@@ -424,6 +424,13 @@ static gboolean on_key(GtkEventControllerKey *controller, guint key, guint code,
         panels_options_changed(v);
         view_redraw(v);
         return TRUE;
+    case ACTION_SKIN_METHOD:
+        settings_option_changed(v, "skinning-method");
+        v->options.skin_method =
+            v->options.skin_method == SINEW_SKIN_DUAL_QUATERNION ? SINEW_SKIN_LINEAR : SINEW_SKIN_DUAL_QUATERNION;
+        panels_options_changed(v);
+        view_redraw(v);
+        return TRUE;
     default:
         if (action >= ACTION_FORWARD && v->camera.mode == SINEW_CAMERA_FLY) {
             v->held[action] = true;

@@ -206,6 +206,18 @@ static void on_shading(GObject *dropdown, GParamSpec *pspec, gpointer data)
     view_redraw(v);
 }
 
+static void on_skin_method(GObject *dropdown, GParamSpec *pspec, gpointer data)
+{
+    (void)pspec;
+    viewer *v = data;
+    if (v->updating)
+        return;
+    settings_option_changed(v, "skinning-method");
+    sinew_render_option_set(&v->options, "skinning-method",
+                            gtk_drop_down_get_selected(GTK_DROP_DOWN(dropdown)) ? "dqs" : "lbs", NULL);
+    view_redraw(v);
+}
+
 static void on_camera_mode(GObject *dropdown, GParamSpec *pspec, gpointer data)
 {
     (void)pspec;
@@ -236,6 +248,9 @@ void panels_options_changed(viewer *v)
     }
     if (v->shading_list)
         gtk_drop_down_set_selected(GTK_DROP_DOWN(v->shading_list), (guint)v->options.shading);
+    if (v->skin_method_list)
+        gtk_drop_down_set_selected(GTK_DROP_DOWN(v->skin_method_list),
+                                   v->options.skin_method == SINEW_SKIN_DUAL_QUATERNION);
     if (v->camera_list)
         gtk_drop_down_set_selected(GTK_DROP_DOWN(v->camera_list), v->camera.mode == SINEW_CAMERA_FLY);
     v->updating = false;
@@ -266,6 +281,12 @@ static GtkWidget *display_page(viewer *v)
     v->shading_list = gtk_drop_down_new_from_strings(shadings);
     g_signal_connect(v->shading_list, "notify::selected", G_CALLBACK(on_shading), v);
     gtk_box_append(GTK_BOX(box), v->shading_list);
+    snprintf(label, sizeof label, "Skinning   (%s switches)", gdk_keyval_name(v->keys[ACTION_SKIN_METHOD].key));
+    gtk_box_append(GTK_BOX(box), gtk_label_new(label));
+    static const char *const methods[] = {"Linear blend", "Dual quaternion", NULL};
+    v->skin_method_list = gtk_drop_down_new_from_strings(methods);
+    g_signal_connect(v->skin_method_list, "notify::selected", G_CALLBACK(on_skin_method), v);
+    gtk_box_append(GTK_BOX(box), v->skin_method_list);
     snprintf(label, sizeof label, "Camera   (%s switches)", gdk_keyval_name(v->keys[ACTION_CAMERA_MODE].key));
     gtk_box_append(GTK_BOX(box), gtk_label_new(label));
     static const char *const cameras[] = {"Orbit: drag, shift-drag, wheel", "Fly: WASD, Q/E, right-drag", NULL};

@@ -19,6 +19,7 @@ typedef enum view_action {
     ACTION_PLAY, ACTION_PREVIOUS_FRAME, ACTION_NEXT_FRAME, ACTION_FIRST, ACTION_LAST, ACTION_FRAME_ALL,
     ACTION_CAMERA_MODE, ACTION_MATERIALS, ACTION_LIGHTING, ACTION_SHADING, ACTION_WIREFRAME, ACTION_SKELETON,
     ACTION_NORMALS, ACTION_GRID, ACTION_AXES, ACTION_JOINT_NAMES, ACTION_JOINT_AXES, ACTION_MUSCLES, ACTION_MESHES,
+    ACTION_SKIN_METHOD,
     ACTION_FORWARD, ACTION_BACK, ACTION_LEFT, ACTION_RIGHT, ACTION_DOWN, ACTION_UP, ACTION_COUNT
 } view_action;
 /* clang-format on */
@@ -36,6 +37,7 @@ typedef struct viewer {
     GtkWidget *option_checks[32]; /* by index into sinew_render_option_names() */
     bool overridden[32];          /* set on the command line and not changed since: not saved */
     GtkWidget *shading_list;
+    GtkWidget *skin_method_list; /* linear blend | dual quaternion */
     const char *screenshot, *select, *heatmap;
     bool quit_after_screenshot, camera_given;
     app_scene scene; /* the model shown, its clip, muscles and pose */

@@ -4,7 +4,8 @@
  *   1. sinew_sample():        clip + time -> local transforms of every node (rest where untracked)
  *   2. sinew_local_to_world(): local transforms -> world matrices, one pass, parents first
  *   3. sinew_skin_palette():   world matrices + skin -> skinning matrices (world * inverse bind)
- *   4. sinew_skin_vertices():  linear-blend skinning of positions and normals into caller buffers
+ *   4. sinew_skin_vertices():  linear-blend or dual-quaternion skinning of positions, normals and
+ *                              tangents into caller buffers
  * What not: no allocation, no threads, no pointers kept after a call returns. To use two
  * threads, give each a part of the vertex range (sinew_skin_desc.first/count).
  * Memory: frame-to-frame state (key cursors) lives in a sinew_sample_context the caller owns
@@ -70,21 +71,58 @@ sinew_result sinew_local_to_world(const sinew_model *model, const sinew_transfor
 sinew_result sinew_skin_palette(const sinew_skin *skin, const sinew_mat4 *worlds, uint32_t world_count,
                                 sinew_mat4 *palette, uint32_t palette_count, sinew_error *error);
 
+/* How skinning blends a vertex's joints. */
+typedef enum sinew_skin_method {
+    SINEW_SKIN_LINEAR = 0,         /* linear blend skinning: the weighted sum of the joints' matrices */
+    SINEW_SKIN_DUAL_QUATERNION = 1 /* dual quaternions for rotation and translation (no candy wrapper), a
+                                      linearly blended scale/shear matrix before them (Kavan et al. 2008) */
+} sinew_skin_method;
+
+/* One joint for dual-quaternion skinning, made from its skinning matrix by
+ * sinew_skin_dq_palette(): M = [R | t] * S with R the rotation of the polar decomposition
+ * (a proper rotation: a mirror goes into S), S symmetric, in mesh space. 64 bytes, the size
+ * of a sinew_mat4: the GPU path uploads it in place of the matrix. */
+typedef struct sinew_dq_joint {
+    float real[4];  /* the rotation R as a unit quaternion, x y z w */
+    float dual[4];  /* 0.5 * t * real: the translation */
+    float scale[6]; /* S: xx yy zz xy xz yz */
+    float unused[2];
+} sinew_dq_joint;
+
+/* Turns skinning matrices into dual-quaternion joints (polar decomposition in double; a
+ * singular matrix, such as a joint scaled to 0, keeps the rotation sinew_mat4_decompose()
+ * finds). palette and out may not overlap. */
+sinew_result sinew_skin_dq_palette(const sinew_mat4 *palette, uint32_t count, sinew_dq_joint *out, sinew_error *error);
+
 typedef struct sinew_skin_desc {
-    const sinew_mesh *mesh;    /* vertex data, joints and weights */
-    const sinew_mat4 *palette; /* skinning matrices of the mesh's skin */
-    uint32_t palette_count;
-    uint32_t first;       /* vertex range to skin: [first, first + count) */
-    uint32_t count;       /* 0 means every vertex from first on */
-    float *out_positions; /* indexed by vertex number (not by range), 3 floats at out_stride */
-    float *out_normals;   /* may be NULL */
-    size_t out_stride;    /* bytes between vertices; 0 means 12 */
+    const sinew_mesh *mesh;           /* vertex data, joints and weights */
+    const sinew_mat4 *palette;        /* skinning matrices of the mesh's skin (SINEW_SKIN_LINEAR) */
+    uint32_t palette_count;           /* entries of palette or dq_palette */
+    sinew_skin_method method;         /* 0: linear blend */
+    const sinew_dq_joint *dq_palette; /* SINEW_SKIN_DUAL_QUATERNION: from sinew_skin_dq_palette() */
+    uint32_t first;                   /* vertex range to skin: [first, first + count) */
+    uint32_t count;                   /* 0 means every vertex from first on */
+    float *out_positions;             /* indexed by vertex number (not by range), 3 floats at out_stride */
+    float *out_normals;               /* may be NULL */
+    float *out_tangents;              /* may be NULL; 4 floats (xyz, handedness) at out_stride; needs mesh->tangents */
+    size_t out_stride;                /* bytes between vertices; 0 means 12 (16 with tangents) */
 } sinew_skin_desc;
 
-/* v' = sum_k w_k * palette[j_k] * v; normals through the cofactor (inverse transpose up
- * to scale) of the blended 3x3 part, renormalised, so that non-uniform scale and mirrored
- * joints keep normals pointing out. */
+/* Linear blend: v' = sum_k w_k * palette[j_k] * v; normals through the cofactor (inverse
+ * transpose up to scale) of the blended 3x3 part, renormalised, so that non-uniform scale
+ * and mirrored joints keep normals pointing out; tangents through the blended 3x3 part,
+ * renormalised, their handedness flipped where it mirrors. Dual quaternion: the blended
+ * scale/shear S first (normals through its cofactor), then the blended, normalised dual
+ * quaternion (each joint's quaternion taken in the hemisphere of the vertex's first joint).
+ * The SIMD paths (AVX-512: 16 vertices at a time in structure-of-arrays registers; AVX2+FMA:
+ * linear blend of positions and normals) are chosen at run time and give the results of
+ * sinew_skin_vertices_scalar() within 2e-6. Different ranges may be skinned on different
+ * threads at once. */
 sinew_result sinew_skin_vertices(const sinew_skin_desc *desc, sinew_error *error);
+
+/* The instruction set sinew_skin_vertices() and the player use on this processor:
+ * "avx512", "avx2+fma" or "scalar". */
+const char *sinew_simd_name(void);
 
 /* A rigid mesh at a node: positions and normals transformed by one matrix. */
 sinew_result sinew_transform_vertices(const sinew_mesh *mesh, const sinew_mat4 *matrix, float *out_positions,
@@ -141,8 +179,8 @@ sinew_result sinew_player_init(void *memory, size_t size, const sinew_clip_layou
 sinew_result sinew_player_update(sinew_player *player, float time, sinew_wrap wrap, const sinew_mat4 *root,
                                  sinew_mat4 *worlds, uint32_t world_count, sinew_error *error);
 
-/* Skins positions (and normals) like sinew_skin_vertices() with the plain C reference code,
- * never SIMD: what tests and benchmarks compare the SIMD path with. */
+/* Skins like sinew_skin_vertices() with the plain C reference code, never SIMD: what tests
+ * and benchmarks compare the SIMD paths with. */
 sinew_result sinew_skin_vertices_scalar(const sinew_skin_desc *desc, sinew_error *error);
 
 #ifdef __cplusplus

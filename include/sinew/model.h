@@ -120,6 +120,7 @@ typedef struct sinew_mesh {
     const float *positions; /* 3 floats a vertex, mesh space */
     const float *normals;   /* 3 floats a vertex */
     const float *uvs;       /* 2 floats a vertex (v up: 0 is the image's bottom row), or NULL */
+    const float *tangents;  /* 4 floats a vertex (xyz, handedness +-1: bitangent = w * normal x tangent), or NULL */
     const uint32_t *indices;
     uint32_t influence_count; /* per vertex, 0 for a rigid mesh, at most SINEW_MAX_INFLUENCES */
     const uint16_t *joints;   /* influence_count a vertex, indices into the skin's joints */

@@ -26,6 +26,7 @@
 #include <stdbool.h>
 #include <stdint.h>
 
+#include "sinew/anim.h"
 #include "sinew/camera.h"
 #include "sinew/model.h"
 #include "sinew/muscle_rig.h"
@@ -64,7 +65,8 @@ typedef struct sinew_render_options {
     float background[3];    /* 0..1 RGB as displayed (sRGB) */
     float normal_length;    /* world units; 0 = 3% of the scene radius */
     sinew_skinning skinning;
-    const bool *hidden_instances; /* instance_count flags, true = hidden; NULL = all shown */
+    sinew_skin_method skin_method; /* linear blend (the default) or dual quaternions, GPU and CPU alike */
+    const bool *hidden_instances;  /* instance_count flags, true = hidden; NULL = all shown */
 } sinew_render_options;
 
 sinew_render_options sinew_render_options_default(void);
@@ -72,7 +74,7 @@ sinew_render_options sinew_render_options_default(void);
 /* Display switches by name, for settings files and command lines. Names: materials,
  * lighting, wireframe, meshes, skeleton, joint-axes, joint-names, normals, grid, axes,
  * muscles (booleans: on/off, true/false, yes/no, 1/0; a NULL value means on), shading
- * (phong|gouraud|flat), skinning (gpu|cpu), background (RRGGBB, #RRGGBB, or r,g,b in 0..1),
+ * (phong|gouraud|flat), skinning (gpu|cpu), skinning-method (lbs|dqs), background (RRGGBB, #RRGGBB, or r,g,b in 0..1),
  * normal-length (world units, 0 = automatic). Joint choices are node indices and are set
  * directly. An unknown name or a bad value gives SINEW_ERROR_INVALID_ARGUMENT. */
 sinew_result sinew_render_option_set(sinew_render_options *options, const char *name, const char *value,

@@ -21,6 +21,7 @@
 #define SINEW_CORE_INTERNAL_H
 
 #include <stdarg.h>
+#include <stdbool.h>
 #include <stddef.h>
 #include <stdint.h>
 
@@ -153,6 +154,29 @@ uint32_t sinew_find_segment(const float *times, uint32_t count, float t, uint32_
 
 /* Shortest-path slerp of unit quaternions a -> b at s in [0, 1], normalised (sample.c). */
 void sinew_slerp_shortest(const float *a, const float *b, float s, float *out);
+
+/* One checked skinning call as the kernels see it (skin.c). records: 16 floats a joint, a
+ * column-major matrix (linear blend) or a sinew_dq_joint (dual quaternion). */
+typedef struct skin_call {
+    const sinew_mesh *mesh;
+    const float *records;
+    bool dqs;
+    uint32_t first, count;
+    float *out_p, *out_n, *out_t; /* out_n, out_t may be NULL */
+    size_t stride;                /* bytes, 12 .. 2^26 */
+} skin_call;
+
+typedef enum sinew_isa { SINEW_ISA_SCALAR, SINEW_ISA_AVX2, SINEW_ISA_AVX512 } sinew_isa;
+
+/* The path sinew_skin_vertices() takes for `call` (NULL: the best this processor has), at
+ * most the limit set by sinew_skin_set_isa_limit() (tests and benchmarks; returns the old). */
+sinew_isa sinew_skin_isa(const skin_call *call);
+sinew_isa sinew_skin_set_isa_limit(sinew_isa limit);
+
+/* The SIMD kernels (skin_x86.c): AVX-512 does everything the reference does; AVX2+FMA
+ * linear blend of positions and normals. */
+void sinew_skin_avx512(const skin_call *call);
+void sinew_skin_avx2(const skin_call *call);
 
 /* Chooses the player's SIMD path (when the processor has it) or the scalar reference. */
 void sinew_player_set_simd(sinew_player *player, bool simd);

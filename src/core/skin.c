@@ -1,73 +1,119 @@
-/* CPU linear-blend skinning and rigid transforms of vertices.
+/* CPU skinning: checks, the scalar reference, dual-quaternion joints, and the choice of path.
  *
- * skin_range_scalar() is the reference; skin_range_avx2() does the same arithmetic a vertex
- * at a time in SIMD registers (the blended matrix's four columns in two 8-float registers,
- * the cofactor normal transform with shuffles, rsqrt plus a Newton step for the length),
- * chosen when the processor has AVX2 and FMA. tests/core/test_skin_simd.c holds the two
- * within 2e-6 of each other. */
+ * The reference is skin_range_scalar(): for linear blend (LBS) the weighted sum of the
+ * joints' matrices applied to the vertex, normals through the blended matrix's cofactor; for
+ * dual quaternions (DQS) the blended scale/shear S, then the blended unit dual quaternion.
+ * The SIMD kernels live in skin_x86.c and compute the same arithmetic on the same 16-float
+ * joint records (a column-major matrix for LBS, a sinew_dq_joint for DQS); tests hold them
+ * within 2e-6 of this code. */
 #include <math.h>
 #include <string.h>
 
 #include "internal.h"
 #include "sinew/anim.h"
 
-#if defined(__x86_64__) && defined(__GNUC__)
-#include <immintrin.h>
-#define SKIN_X86 1
-#endif
+/* ---- vector helpers shared by the reference paths ---- */
+
+static void normalize3(float *v)
+{
+    float len = sqrtf(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
+    float inv = len > 0.0f ? 1.0f / len : 0.0f;
+    v[0] *= inv, v[1] *= inv, v[2] *= inv;
+}
+
+static void cross3(const float *a, const float *b, float *out)
+{
+    float x = a[1] * b[2] - a[2] * b[1], y = a[2] * b[0] - a[0] * b[2], z = a[0] * b[1] - a[1] * b[0];
+    out[0] = x, out[1] = y, out[2] = z;
+}
 
 /* Normal transform for a 3x3 part given as columns c0, c1, c2: the cofactor matrix,
  * which is det * inverse-transpose; its sign is fixed by det so mirrored matrices keep
- * normals outward. The caller renormalises. */
-static void transform_normal(const float *m, const float *n, float *out)
+ * normals outward. Returns det (its sign flips tangent handedness). */
+static float transform_normal(const float *m, const float *n, float *out)
 {
     const float *c0 = &m[0], *c1 = &m[4], *c2 = &m[8];
-    float k0[3] = {c1[1] * c2[2] - c1[2] * c2[1], c1[2] * c2[0] - c1[0] * c2[2], c1[0] * c2[1] - c1[1] * c2[0]};
-    float k1[3] = {c2[1] * c0[2] - c2[2] * c0[1], c2[2] * c0[0] - c2[0] * c0[2], c2[0] * c0[1] - c2[1] * c0[0]};
-    float k2[3] = {c0[1] * c1[2] - c0[2] * c1[1], c0[2] * c1[0] - c0[0] * c1[2], c0[0] * c1[1] - c0[1] * c1[0]};
+    float k0[3], k1[3], k2[3];
+    cross3(c1, c2, k0);
+    cross3(c2, c0, k1);
+    cross3(c0, c1, k2);
     float det = c0[0] * k0[0] + c0[1] * k0[1] + c0[2] * k0[2];
     float sign = det < 0.0f ? -1.0f : 1.0f;
-    float x = sign * (k0[0] * n[0] + k1[0] * n[1] + k2[0] * n[2]);
-    float y = sign * (k0[1] * n[0] + k1[1] * n[1] + k2[1] * n[2]);
-    float z = sign * (k0[2] * n[0] + k1[2] * n[1] + k2[2] * n[2]);
-    float len = sqrtf(x * x + y * y + z * z);
-    float inv = len > 0.0f ? 1.0f / len : 0.0f;
-    out[0] = x * inv;
-    out[1] = y * inv;
-    out[2] = z * inv;
+    if (out) {
+        out[0] = sign * (k0[0] * n[0] + k1[0] * n[1] + k2[0] * n[2]);
+        out[1] = sign * (k0[1] * n[0] + k1[1] * n[1] + k2[1] * n[2]);
+        out[2] = sign * (k0[2] * n[0] + k1[2] * n[1] + k2[2] * n[2]);
+        normalize3(out);
+    }
+    return det;
+}
+
+static void transform_direction(const float *m, const float *d, float *out)
+{
+    out[0] = m[0] * d[0] + m[4] * d[1] + m[8] * d[2];
+    out[1] = m[1] * d[0] + m[5] * d[1] + m[9] * d[2];
+    out[2] = m[2] * d[0] + m[6] * d[1] + m[10] * d[2];
 }
 
 static void transform_point(const float *m, const float *p, float *out)
 {
-    out[0] = m[0] * p[0] + m[4] * p[1] + m[8] * p[2] + m[12];
-    out[1] = m[1] * p[0] + m[5] * p[1] + m[9] * p[2] + m[13];
-    out[2] = m[2] * p[0] + m[6] * p[1] + m[10] * p[2] + m[14];
+    transform_direction(m, p, out);
+    out[0] += m[12], out[1] += m[13], out[2] += m[14];
 }
 
-/* The largest of n joint indices, 8 lanes at a time (a loop the compiler vectorises). */
-static uint16_t largest_index(const uint16_t *joints, size_t n)
+/* A tangent (xyz, handedness) through the 3x3 part `m` whose determinant is `det`. */
+static void transform_tangent(const float *m, float det, const float *t, float *out)
 {
-    uint16_t lanes[8] = {0};
+    transform_direction(m, t, out);
+    normalize3(out);
+    out[3] = det < 0.0f ? -t[3] : t[3];
+}
+
+/* ---- checks ---- */
+
+/* The largest of n joint indices, 32 lanes at a time: a loop the compiler vectorises, built
+ * for AVX-512BW, AVX2 and the baseline (chosen when the library loads). It reads 8 bytes a
+ * vertex of 4 influences, a tenth of what skinning reads. */
+#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__)
+__attribute__((target_clones("arch=x86-64-v4", "arch=x86-64-v3", "default"), optimize("tree-vectorize")))
+#endif
+static uint16_t
+largest_index(const uint16_t *joints, size_t n)
+{
+    uint16_t lanes[32] = {0};
     size_t i = 0;
-    for (; i + 8 <= n; i += 8)
-        for (int l = 0; l < 8; l++)
+    for (; i + 32 <= n; i += 32)
+        for (int l = 0; l < 32; l++)
             lanes[l] = joints[i + l] > lanes[l] ? joints[i + l] : lanes[l];
     uint16_t largest = 0;
-    for (int l = 0; l < 8; l++)
+    for (int l = 0; l < 32; l++)
         largest = lanes[l] > largest ? lanes[l] : largest;
     for (; i < n; i++)
         largest = joints[i] > largest ? joints[i] : largest;
     return largest;
 }
 
-/* Checks a skinning request; fills the vertex range and output stride. */
-static sinew_result check_skin(const sinew_skin_desc *desc, uint32_t *count_out, size_t *stride_out, sinew_error *error)
+/* Checks a skinning request and turns it into the kernels' form. */
+static sinew_result check_skin(const sinew_skin_desc *desc, skin_call *call, sinew_error *error)
 {
-    if (!desc || !desc->mesh || !desc->palette || !desc->out_positions)
-        return sinew_fail(error, SINEW_ERROR_INVALID_ARGUMENT, "sinew_skin_vertices: NULL mesh, palette or output");
+    if (!desc || !desc->mesh || !desc->out_positions)
+        return sinew_fail(error, SINEW_ERROR_INVALID_ARGUMENT, "sinew_skin_vertices: NULL mesh or output");
     const sinew_mesh *mesh = desc->mesh;
+    bool dqs = desc->method == SINEW_SKIN_DUAL_QUATERNION;
+    if (desc->method != SINEW_SKIN_LINEAR && !dqs)
+        return sinew_fail(error, SINEW_ERROR_INVALID_ARGUMENT, "sinew_skin_vertices: unknown method %d",
+                          (int)desc->method);
+    if (dqs ? !desc->dq_palette : !desc->palette)
+        return sinew_fail(error, SINEW_ERROR_INVALID_ARGUMENT, "sinew_skin_vertices: NULL %s",
+                          dqs ? "dq_palette (dual-quaternion skinning)" : "palette");
     if (mesh->influence_count == 0 || (mesh->vertex_count && (!mesh->joints || !mesh->weights)))
         return sinew_fail(error, SINEW_ERROR_INVALID_ARGUMENT, "sinew_skin_vertices: mesh \"%s\" is not skinned",
+                          mesh->name);
+    if (desc->out_tangents && !mesh->tangents)
+        return sinew_fail(error, SINEW_ERROR_INVALID_ARGUMENT, "sinew_skin_vertices: mesh \"%s\" has no tangents",
+                          mesh->name);
+    if (desc->out_normals && !mesh->normals)
+        return sinew_fail(error, SINEW_ERROR_INVALID_ARGUMENT, "sinew_skin_vertices: mesh \"%s\" has no normals",
                           mesh->name);
     if (desc->first > mesh->vertex_count)
         return sinew_fail(error, SINEW_ERROR_INVALID_ARGUMENT,
@@ -76,11 +122,12 @@ static sinew_result check_skin(const sinew_skin_desc *desc, uint32_t *count_out,
     if (count > mesh->vertex_count - desc->first)
         return sinew_fail(error, SINEW_ERROR_INVALID_ARGUMENT, "sinew_skin_vertices: range %u+%u past the %u vertices",
                           desc->first, count, mesh->vertex_count);
-    size_t stride = desc->out_stride ? desc->out_stride : 3 * sizeof(float);
-    if (stride < 3 * sizeof(float))
-        return sinew_fail(error, SINEW_ERROR_INVALID_ARGUMENT, "sinew_skin_vertices: stride %zu below 12 bytes",
-                          stride);
-    /* Every joint index the range uses must be in the palette (the SIMD loop does not
+    size_t least = desc->out_tangents ? 4 * sizeof(float) : 3 * sizeof(float);
+    size_t stride = desc->out_stride ? desc->out_stride : least;
+    if (stride < least || stride > ((size_t)1 << 26))
+        return sinew_fail(error, SINEW_ERROR_INVALID_ARGUMENT,
+                          "sinew_skin_vertices: stride %zu outside %zu..2^26 bytes", stride, least);
+    /* Every joint index the range uses must be in the palette (the SIMD loops do not
      * check): one pass for the largest, another to name the vertex only when one is out. */
     const uint32_t k = mesh->influence_count;
     const uint16_t *joints = count ? mesh->joints + (size_t)desc->first * k : NULL;
@@ -90,121 +137,308 @@ static sinew_result check_skin(const sinew_skin_desc *desc, uint32_t *count_out,
                 return sinew_fail(error, SINEW_ERROR_INVALID_ARGUMENT,
                                   "sinew_skin_vertices: vertex %zu uses joint %u, the palette has %u",
                                   desc->first + i / k, joints[i], desc->palette_count);
-    *count_out = count;
-    *stride_out = stride;
+    *call = (skin_call){.mesh = mesh,
+                        .records = dqs ? desc->dq_palette[0].real : desc->palette[0].m,
+                        .dqs = dqs,
+                        .first = desc->first,
+                        .count = count,
+                        .out_p = desc->out_positions,
+                        .out_n = desc->out_normals,
+                        .out_t = desc->out_tangents,
+                        .stride = stride};
     return SINEW_OK;
 }
 
-static void skin_range_scalar(const sinew_skin_desc *desc, uint32_t count, size_t stride)
+/* ---- the scalar reference ---- */
+
+/* Blends a vertex's joint records: weights sorted descending, so the first zero ends it.
+ * For DQS the dual quaternion of each joint is taken in the first joint's hemisphere
+ * (the scale part is blended as it is). */
+static void blend_records(const skin_call *c, uint32_t v, float out[16])
 {
-    const sinew_mesh *mesh = desc->mesh;
-    const uint32_t k = mesh->influence_count;
-    for (uint32_t v = desc->first; v < desc->first + count; v++) {
-        const uint16_t *joints = &mesh->joints[(size_t)v * k];
-        const float *weights = &mesh->weights[(size_t)v * k];
-        float blended[16] = {0};
-        for (uint32_t i = 0; i < k; i++) {
-            float w = weights[i];
-            if (w == 0.0f)
-                break; /* weights are sorted: the rest are zero too */
-            const float *m = desc->palette[joints[i]].m;
-            for (int e = 0; e < 16; e++)
-                blended[e] += w * m[e];
-        }
-        float *out_p = (float *)((char *)desc->out_positions + (size_t)v * stride);
-        transform_point(blended, &mesh->positions[(size_t)v * 3], out_p);
-        if (desc->out_normals) {
-            float *out_n = (float *)((char *)desc->out_normals + (size_t)v * stride);
-            transform_normal(blended, &mesh->normals[(size_t)v * 3], out_n);
-        }
+    const uint32_t k = c->mesh->influence_count;
+    const uint16_t *joints = &c->mesh->joints[(size_t)v * k];
+    const float *weights = &c->mesh->weights[(size_t)v * k];
+    const float *first = c->records + (size_t)joints[0] * 16;
+    memset(out, 0, 16 * sizeof(float));
+    for (uint32_t i = 0; i < k && weights[i] != 0.0f; i++) {
+        const float *r = c->records + (size_t)joints[i] * 16;
+        float w = weights[i];
+        float wq = w;
+        if (c->dqs && r[0] * first[0] + r[1] * first[1] + r[2] * first[2] + r[3] * first[3] < 0.0f)
+            wq = -w;
+        for (int e = 0; e < 16; e++)
+            out[e] += (e < 8 ? wq : w) * r[e];
     }
 }
 
-#ifdef SKIN_X86
-#define YZX(v) _mm_shuffle_ps((v), (v), _MM_SHUFFLE(3, 0, 2, 1))
-
-/* a x b given a, b and their yzx rotations. */
-__attribute__((target("avx2,fma"))) static inline __m128 cross(__m128 a, __m128 a_yzx, __m128 b, __m128 b_yzx)
+/* v + 2 q.xyz x (q.xyz x v + q.w v) for a unit quaternion q. */
+static void rotate(const float *q, const float *v, float *out)
 {
-    __m128 t = _mm_fmsub_ps(a, b_yzx, _mm_mul_ps(a_yzx, b));
-    return YZX(t);
+    float t[3], u[3];
+    cross3(q, v, t);
+    t[0] += q[3] * v[0], t[1] += q[3] * v[1], t[2] += q[3] * v[2];
+    cross3(q, t, u);
+    out[0] = v[0] + 2.0f * u[0], out[1] = v[1] + 2.0f * u[1], out[2] = v[2] + 2.0f * u[2];
 }
 
-__attribute__((target("avx2,fma"))) static void skin_range_avx2(const sinew_skin_desc *desc, uint32_t count,
-                                                                size_t stride)
+/* A blended DQS record's scale/shear S as a column-major 4x4 (no translation). */
+static void dq_scale_matrix(const float *b, float m[16])
 {
-    const sinew_mesh *mesh = desc->mesh;
-    const uint32_t k = mesh->influence_count;
-    const float *palette = desc->palette[0].m;
-    const __m128 zero = _mm_setzero_ps();
-    for (uint32_t v = desc->first; v < desc->first + count; v++) {
-        const uint16_t *joints = &mesh->joints[(size_t)v * k];
-        const float *weights = &mesh->weights[(size_t)v * k];
-        /* columns 0|1 and 2|3 of the blended matrix */
-        const float *m = palette + (size_t)joints[0] * 16;
-        __m256 w = _mm256_broadcast_ss(&weights[0]);
-        __m256 c01 = _mm256_mul_ps(w, _mm256_loadu_ps(m));
-        __m256 c23 = _mm256_mul_ps(w, _mm256_loadu_ps(m + 8));
-        for (uint32_t i = 1; i < k && weights[i] != 0.0f; i++) {
-            m = palette + (size_t)joints[i] * 16;
-            w = _mm256_broadcast_ss(&weights[i]);
-            c01 = _mm256_fmadd_ps(w, _mm256_loadu_ps(m), c01);
-            c23 = _mm256_fmadd_ps(w, _mm256_loadu_ps(m + 8), c23);
-        }
-        __m128 c0 = _mm256_castps256_ps128(c01), c1 = _mm256_extractf128_ps(c01, 1);
-        __m128 c2 = _mm256_castps256_ps128(c23), c3 = _mm256_extractf128_ps(c23, 1);
-        const float *p = &mesh->positions[(size_t)v * 3];
-        __m128 pos = _mm_fmadd_ps(c2, _mm_broadcast_ss(p + 2),
-                                  _mm_fmadd_ps(c1, _mm_broadcast_ss(p + 1), _mm_fmadd_ps(c0, _mm_broadcast_ss(p), c3)));
-        float *out_p = (float *)((char *)desc->out_positions + (size_t)v * stride);
-        _mm_storel_pi((__m64 *)out_p, pos);
-        _mm_store_ss(out_p + 2, _mm_movehl_ps(pos, pos));
-        if (!desc->out_normals)
+    const float *s = b + 8; /* xx yy zz xy xz yz */
+    float cols[16] = {s[0], s[3], s[4], 0, s[3], s[1], s[5], 0, s[4], s[5], s[2], 0, 0, 0, 0, 1};
+    memcpy(m, cols, sizeof cols);
+}
+
+static void skin_vertex_dqs(const skin_call *c, uint32_t v, const float b[16], float *out_p, float *out_n, float *out_t)
+{
+    const sinew_mesh *mesh = c->mesh;
+    float len = sqrtf(b[0] * b[0] + b[1] * b[1] + b[2] * b[2] + b[3] * b[3]);
+    float inv = len > 0.0f ? 1.0f / len : 0.0f;
+    float q[4] = {b[0] * inv, b[1] * inv, b[2] * inv, b[3] * inv};
+    float d[4] = {b[4] * inv, b[5] * inv, b[6] * inv, b[7] * inv};
+    float s[16], scaled[4], qd[3];
+    dq_scale_matrix(b, s);
+    /* translation 2 (q.w d.xyz - d.w q.xyz + q.xyz x d.xyz) */
+    cross3(q, d, qd);
+    float t[3];
+    for (int e = 0; e < 3; e++)
+        t[e] = 2.0f * (q[3] * d[e] - d[3] * q[e] + qd[e]);
+    transform_direction(s, &mesh->positions[(size_t)v * 3], scaled);
+    rotate(q, scaled, out_p);
+    out_p[0] += t[0], out_p[1] += t[1], out_p[2] += t[2];
+    float det = transform_normal(s, mesh->normals ? &mesh->normals[(size_t)v * 3] : NULL, out_n ? scaled : NULL);
+    if (out_n)
+        rotate(q, scaled, out_n);
+    if (out_t) {
+        transform_tangent(s, det, &mesh->tangents[(size_t)v * 4], scaled);
+        rotate(q, scaled, out_t);
+        out_t[3] = det < 0.0f ? -mesh->tangents[(size_t)v * 4 + 3] : mesh->tangents[(size_t)v * 4 + 3];
+    }
+}
+
+static void skin_range_scalar(const skin_call *c)
+{
+    const sinew_mesh *mesh = c->mesh;
+    for (uint32_t v = c->first; v < c->first + c->count; v++) {
+        float b[16];
+        blend_records(c, v, b);
+        size_t at = (size_t)v * c->stride;
+        float *out_p = (float *)((char *)c->out_p + at);
+        float *out_n = c->out_n ? (float *)((char *)c->out_n + at) : NULL;
+        float *out_t = c->out_t ? (float *)((char *)c->out_t + at) : NULL;
+        if (c->dqs) {
+            skin_vertex_dqs(c, v, b, out_p, out_n, out_t);
             continue;
-        /* cofactor columns k0 = c1 x c2, k1 = c2 x c0, k2 = c0 x c1; n' = sign(det) K n */
-        __m128 c0r = YZX(c0), c1r = YZX(c1), c2r = YZX(c2);
-        __m128 k0 = cross(c1, c1r, c2, c2r), k1 = cross(c2, c2r, c0, c0r), k2 = cross(c0, c0r, c1, c1r);
-        const float *n = &mesh->normals[(size_t)v * 3];
-        __m128 nv = _mm_fmadd_ps(k2, _mm_broadcast_ss(n + 2),
-                                 _mm_fmadd_ps(k1, _mm_broadcast_ss(n + 1), _mm_mul_ps(k0, _mm_broadcast_ss(n))));
-        __m128 det = _mm_dp_ps(c0, k0, 0x7f);
-        __m128 len2 = _mm_dp_ps(nv, nv, 0x7f);
-        __m128 r = _mm_rsqrt_ps(len2); /* one Newton step: r * (1.5 - 0.5 * len2 * r * r) */
-        r = _mm_mul_ps(r, _mm_fnmadd_ps(_mm_mul_ps(_mm_mul_ps(_mm_set1_ps(0.5f), len2), r), r, _mm_set1_ps(1.5f)));
-        r = _mm_and_ps(r, _mm_cmpgt_ps(len2, zero));
-        r = _mm_xor_ps(r, _mm_and_ps(det, _mm_set1_ps(-0.0f))); /* the sign of det */
-        nv = _mm_mul_ps(nv, r);
-        float *out_n = (float *)((char *)desc->out_normals + (size_t)v * stride);
-        _mm_storel_pi((__m64 *)out_n, nv);
-        _mm_store_ss(out_n + 2, _mm_movehl_ps(nv, nv));
+        }
+        transform_point(b, &mesh->positions[(size_t)v * 3], out_p);
+        if (out_n || out_t) {
+            float det = transform_normal(b, out_n ? &mesh->normals[(size_t)v * 3] : NULL, out_n);
+            if (out_t)
+                transform_tangent(b, det, &mesh->tangents[(size_t)v * 4], out_t);
+        }
     }
 }
+
+/* ---- the choice of path ---- */
+
+static sinew_isa isa_limit = SINEW_ISA_AVX512;
+
+sinew_isa sinew_skin_isa(const skin_call *c)
+{
+    sinew_isa best = SINEW_ISA_SCALAR;
+#if defined(__x86_64__) && defined(__GNUC__)
+    if (__builtin_cpu_supports("avx512f") && __builtin_cpu_supports("avx512dq"))
+        best = SINEW_ISA_AVX512;
+    else if (__builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma"))
+        best = SINEW_ISA_AVX2;
 #endif
+    if (best > isa_limit)
+        best = isa_limit;
+    /* the AVX2 kernel does linear blend of positions and normals only */
+    if (best == SINEW_ISA_AVX2 && c && (c->dqs || c->out_t))
+        best = SINEW_ISA_SCALAR;
+    return best;
+}
+
+sinew_isa sinew_skin_set_isa_limit(sinew_isa limit)
+{
+    sinew_isa previous = isa_limit;
+    isa_limit = limit;
+    return previous;
+}
+
+const char *sinew_simd_name(void)
+{
+    static const char *names[] = {"scalar", "avx2+fma", "avx512"};
+    return names[sinew_skin_isa(NULL)];
+}
 
 sinew_result sinew_skin_vertices_scalar(const sinew_skin_desc *desc, sinew_error *error)
 {
-    uint32_t count;
-    size_t stride;
-    sinew_result result = check_skin(desc, &count, &stride, error);
+    skin_call call;
+    sinew_result result = check_skin(desc, &call, error);
     if (result == SINEW_OK)
-        skin_range_scalar(desc, count, stride);
+        skin_range_scalar(&call);
     return result;
 }
 
 sinew_result sinew_skin_vertices(const sinew_skin_desc *desc, sinew_error *error)
 {
-    uint32_t count;
-    size_t stride;
-    sinew_result result = check_skin(desc, &count, &stride, error);
-    if (result != SINEW_OK)
+    skin_call call;
+    sinew_result result = check_skin(desc, &call, error);
+    if (result != SINEW_OK || call.count == 0)
         return result;
-#ifdef SKIN_X86
-    if (__builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma")) {
-        skin_range_avx2(desc, count, stride);
-        return SINEW_OK;
-    }
+    switch (sinew_skin_isa(&call)) {
+#if defined(__x86_64__) && defined(__GNUC__)
+    case SINEW_ISA_AVX512:
+        sinew_skin_avx512(&call);
+        break;
+    case SINEW_ISA_AVX2:
+        sinew_skin_avx2(&call);
+        break;
 #endif
-    skin_range_scalar(desc, count, stride);
+    default:
+        skin_range_scalar(&call);
+    }
+    return SINEW_OK;
+}
+
+/* ---- dual-quaternion joints ---- */
+
+typedef double dmat3[3][3]; /* [column][row] */
+
+static double det3(dmat3 a)
+{
+    return a[0][0] * (a[1][1] * a[2][2] - a[1][2] * a[2][1]) - a[1][0] * (a[0][1] * a[2][2] - a[0][2] * a[2][1]) +
+           a[2][0] * (a[0][1] * a[1][2] - a[0][2] * a[1][1]);
+}
+
+/* out = a^-T (a non-singular). */
+static void inverse_transpose3(dmat3 a, double det, dmat3 out)
+{
+    /* the cofactor matrix over det is the inverse transpose */
+    for (int c = 0; c < 3; c++)
+        for (int r = 0; r < 3; r++) {
+            int c1 = (c + 1) % 3, c2 = (c + 2) % 3, r1 = (r + 1) % 3, r2 = (r + 2) % 3;
+            out[c][r] = (a[c1][r1] * a[c2][r2] - a[c1][r2] * a[c2][r1]) / det;
+        }
+}
+
+static double norm3(dmat3 a)
+{
+    double s = 0.0;
+    for (int c = 0; c < 3; c++)
+        for (int r = 0; r < 3; r++)
+            s += a[c][r] * a[c][r];
+    return sqrt(s);
+}
+
+/* The rotation of the polar decomposition of `a` (det > 0) by Higham's scaled Newton
+ * iteration X <- (g X + X^-T / g) / 2; false when it does not settle. */
+static bool polar_rotation(dmat3 a, dmat3 out)
+{
+    dmat3 x;
+    memcpy(x, a, sizeof x);
+    for (int it = 0; it < 40; it++) {
+        double det = det3(x);
+        if (!(fabs(det) > 1e-300))
+            return false;
+        dmat3 it_x;
+        inverse_transpose3(x, det, it_x);
+        double g = sqrt(norm3(it_x) / norm3(x));
+        double change = 0.0;
+        for (int c = 0; c < 3; c++)
+            for (int r = 0; r < 3; r++) {
+                double next = 0.5 * (g * x[c][r] + it_x[c][r] / g);
+                change = fmax(change, fabs(next - x[c][r]));
+                x[c][r] = next;
+            }
+        if (change < 1e-13)
+            break;
+    }
+    memcpy(out, x, sizeof x);
+    return fabs(det3(out) - 1.0) < 1e-6;
+}
+
+/* Unit quaternion (x y z w) of a rotation matrix (Shepperd's method). */
+static void rotation_quaternion(dmat3 m, double q[4])
+{
+    double tr = m[0][0] + m[1][1] + m[2][2];
+    if (tr > 0.0) {
+        double s = 2.0 * sqrt(tr + 1.0);
+        q[3] = 0.25 * s, q[0] = (m[1][2] - m[2][1]) / s, q[1] = (m[2][0] - m[0][2]) / s, q[2] = (m[0][1] - m[1][0]) / s;
+    } else if (m[0][0] > m[1][1] && m[0][0] > m[2][2]) {
+        double s = 2.0 * sqrt(1.0 + m[0][0] - m[1][1] - m[2][2]);
+        q[3] = (m[1][2] - m[2][1]) / s, q[0] = 0.25 * s, q[1] = (m[1][0] + m[0][1]) / s, q[2] = (m[2][0] + m[0][2]) / s;
+    } else if (m[1][1] > m[2][2]) {
+        double s = 2.0 * sqrt(1.0 + m[1][1] - m[0][0] - m[2][2]);
+        q[3] = (m[2][0] - m[0][2]) / s, q[0] = (m[1][0] + m[0][1]) / s, q[1] = 0.25 * s, q[2] = (m[2][1] + m[1][2]) / s;
+    } else {
+        double s = 2.0 * sqrt(1.0 + m[2][2] - m[0][0] - m[1][1]);
+        q[3] = (m[0][1] - m[1][0]) / s, q[0] = (m[2][0] + m[0][2]) / s, q[1] = (m[2][1] + m[1][2]) / s, q[2] = 0.25 * s;
+    }
+    double n = sqrt(q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3]);
+    for (int e = 0; e < 4; e++)
+        q[e] /= n;
+}
+
+static void dq_joint(const sinew_mat4 *matrix, sinew_dq_joint *out)
+{
+    const float *m = matrix->m;
+    dmat3 a, r;
+    for (int c = 0; c < 3; c++)
+        for (int e = 0; e < 3; e++)
+            a[c][e] = m[c * 4 + e];
+    double det = det3(a), scale = norm3(a);
+    bool found = false;
+    if (fabs(det) > 1e-9 * scale * scale * scale) {
+        /* a mirror (det < 0) goes into S: the rotation of -a, S = R^T a */
+        dmat3 signed_a;
+        for (int c = 0; c < 3; c++)
+            for (int e = 0; e < 3; e++)
+                signed_a[c][e] = det < 0.0 ? -a[c][e] : a[c][e];
+        found = polar_rotation(signed_a, r);
+    }
+    if (!found) {
+        sinew_transform t;
+        sinew_mat4_decompose(matrix, &t);
+        double x = t.rotation[0], y = t.rotation[1], z = t.rotation[2], w = t.rotation[3];
+        dmat3 from_q = {{1 - 2 * (y * y + z * z), 2 * (x * y + z * w), 2 * (x * z - y * w)},
+                        {2 * (x * y - z * w), 1 - 2 * (x * x + z * z), 2 * (y * z + x * w)},
+                        {2 * (x * z + y * w), 2 * (y * z - x * w), 1 - 2 * (x * x + y * y)}};
+        memcpy(r, from_q, sizeof r);
+    }
+    /* S = R^T a, made exactly symmetric */
+    double s[3][3];
+    for (int i = 0; i < 3; i++)
+        for (int j = 0; j < 3; j++)
+            s[i][j] = r[i][0] * a[j][0] + r[i][1] * a[j][1] + r[i][2] * a[j][2]; /* row i of R^T . column j */
+    double q[4];
+    rotation_quaternion(r, q);
+    double t[3] = {m[12], m[13], m[14]};
+    /* dual = 0.5 * (t, 0) * q */
+    double dual[4] = {0.5 * (q[3] * t[0] + t[1] * q[2] - t[2] * q[1]), 0.5 * (q[3] * t[1] + t[2] * q[0] - t[0] * q[2]),
+                      0.5 * (q[3] * t[2] + t[0] * q[1] - t[1] * q[0]),
+                      -0.5 * (t[0] * q[0] + t[1] * q[1] + t[2] * q[2])};
+    memset(out, 0, sizeof *out);
+    for (int e = 0; e < 4; e++)
+        out->real[e] = (float)q[e], out->dual[e] = (float)dual[e];
+    /* s[i][j] = S row i, column j */
+    out->scale[0] = (float)s[0][0];
+    out->scale[1] = (float)s[1][1];
+    out->scale[2] = (float)s[2][2];
+    out->scale[3] = (float)(0.5 * (s[0][1] + s[1][0]));
+    out->scale[4] = (float)(0.5 * (s[0][2] + s[2][0]));
+    out->scale[5] = (float)(0.5 * (s[1][2] + s[2][1]));
+}
+
+sinew_result sinew_skin_dq_palette(const sinew_mat4 *palette, uint32_t count, sinew_dq_joint *out, sinew_error *error)
+{
+    if (count && (!palette || !out))
+        return sinew_fail(error, SINEW_ERROR_INVALID_ARGUMENT, "sinew_skin_dq_palette: NULL palette or output");
+    for (uint32_t j = 0; j < count; j++)
+        dq_joint(&palette[j], &out[j]);
     return SINEW_OK;
 }
 

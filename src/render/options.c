@@ -29,9 +29,10 @@ static const switch_entry SWITCHES[] = {
 };
 #define SWITCH_COUNT (sizeof SWITCHES / sizeof SWITCHES[0])
 
-static const char *const NAMES[] = {"materials",   "lighting",   "wireframe",     "meshes", "skeleton", "joint-axes",
-                                    "joint-names", "normals",    "grid",          "axes",   "muscles",  "shading",
-                                    "skinning",    "background", "normal-length", NULL};
+static const char *const NAMES[] = {
+    "materials",   "lighting",        "wireframe",  "meshes",        "skeleton", "joint-axes",
+    "joint-names", "normals",         "grid",       "axes",          "muscles",  "shading",
+    "skinning",    "skinning-method", "background", "normal-length", NULL};
 
 static const char *const SHADINGS[] = {"phong", "gouraud", "flat"};
 
@@ -114,6 +115,14 @@ sinew_result sinew_render_option_set(sinew_render_options *o, const char *name, 
         }
         return sinew_fail(error, SINEW_ERROR_INVALID_ARGUMENT, "skinning: expected gpu or cpu, not \"%s\"", value);
     }
+    if (strcmp(name, "skinning-method") == 0) {
+        if (strcasecmp(value, "lbs") == 0 || strcasecmp(value, "linear") == 0)
+            return o->skin_method = SINEW_SKIN_LINEAR, SINEW_OK;
+        if (strcasecmp(value, "dqs") == 0 || strcasecmp(value, "dual-quaternion") == 0)
+            return o->skin_method = SINEW_SKIN_DUAL_QUATERNION, SINEW_OK;
+        return sinew_fail(error, SINEW_ERROR_INVALID_ARGUMENT,
+                          "skinning-method: expected lbs (linear blend) or dqs (dual quaternion), not \"%s\"", value);
+    }
     if (strcmp(name, "background") == 0) {
         if (parse_color(value, o->background))
             return SINEW_OK;
@@ -145,6 +154,8 @@ sinew_result sinew_render_option_get(const sinew_render_options *o, const char *
         snprintf(out, size, "%s", SHADINGS[o->shading <= SINEW_SHADING_FLAT ? o->shading : 0]);
     else if (strcmp(name, "skinning") == 0)
         snprintf(out, size, "%s", o->skinning == SINEW_SKINNING_CPU ? "cpu" : "gpu");
+    else if (strcmp(name, "skinning-method") == 0)
+        snprintf(out, size, "%s", o->skin_method == SINEW_SKIN_DUAL_QUATERNION ? "dqs" : "lbs");
     else if (strcmp(name, "background") == 0)
         snprintf(out, size, "#%02x%02x%02x", (unsigned)lroundf(o->background[0] * 255.0f),
                  (unsigned)lroundf(o->background[1] * 255.0f), (unsigned)lroundf(o->background[2] * 255.0f));

@@ -30,8 +30,8 @@ typedef struct render_mesh {
 } render_mesh;
 
 typedef struct mesh_uniforms {
-    GLint model, view_proj, gpu_sets, palette_offset, palette, heat_joint, heat_rigid, gouraud, key_dir, fill_dir, eye,
-        base_color, use_texture, texture, mode, heat, override, normal_length;
+    GLint model, view_proj, gpu_sets, dqs, palette_offset, palette, heat_joint, heat_rigid, gouraud, key_dir, fill_dir,
+        eye, base_color, use_texture, texture, mode, heat, override, normal_length;
 } mesh_uniforms;
 
 struct sinew_renderer {
@@ -45,10 +45,12 @@ struct sinew_renderer {
     uint32_t *skin_offsets; /* first palette matrix of each skin */
     bool *skin_on_gpu;      /* false: this skin is too big for the GPU path */
     uint32_t total_joints;
-    sinew_mat4 *palettes; /* total_joints matrices */
-    float *stream;        /* largest mesh's vertex count * 6 floats */
-    bool *skeleton_nodes; /* node_count flags */
-    overlay_list overlay; /* world-space geometry, then text quads */
+    sinew_mat4 *palettes;        /* total_joints matrices */
+    sinew_dq_joint *dq_palettes; /* the same as dual-quaternion joints, when a frame asks for them */
+    sinew_skin_method method;    /* of the last frame drawn (CPU skinning and bounds follow it) */
+    float *stream;               /* largest mesh's vertex count * 6 floats */
+    bool *skeleton_nodes;        /* node_count flags */
+    overlay_list overlay;        /* world-space geometry, then text quads */
     GLuint palette_buffer, palette_texture;
     GLuint muscle_vao, muscle_vertices, muscle_indices;
     uint32_t muscle_vertex_capacity, muscle_index_capacity;
@@ -99,8 +101,8 @@ static void warn(sinew_renderer *r, const char *format, ...)
 
 /* Sizes every CPU-side array once, so the whole renderer is one allocation. */
 typedef struct layout {
-    size_t meshes, textures, skin_offsets, skin_on_gpu, palettes, stream, skeleton, overlay, warnings, muscle,
-        muscle_index, total;
+    size_t meshes, textures, skin_offsets, skin_on_gpu, palettes, dq_palettes, stream, skeleton, overlay, warnings,
+        muscle, muscle_index, total;
 } layout;
 
 static layout plan_layout(const sinew_model *m, uint32_t total_joints, uint32_t max_vertices, uint32_t warnings,
@@ -116,6 +118,7 @@ static layout plan_layout(const sinew_model *m, uint32_t total_joints, uint32_t 
     PLACE(skin_offsets, (size_t)m->skin_count * sizeof(uint32_t));
     PLACE(skin_on_gpu, (size_t)m->skin_count * sizeof(bool));
     PLACE(palettes, (size_t)total_joints * sizeof(sinew_mat4));
+    PLACE(dq_palettes, (size_t)total_joints * sizeof(sinew_dq_joint));
     PLACE(stream, (size_t)max_vertices * 6 * sizeof(float));
     PLACE(skeleton, (size_t)m->node_count * sizeof(bool));
     PLACE(overlay, ((size_t)overlay_capacity(m->node_count) + OVERLAY_TEXT_VERTICES) * sizeof(overlay_vertex));
@@ -245,7 +248,8 @@ static GLuint load_texture(sinew_renderer *r, const sinew_material *material)
 static void lookup_mesh_uniforms(GLuint program, mesh_uniforms *u)
 {
 #define U(name) u->name = glGetUniformLocation(program, "u_" #name)
-    U(model), U(view_proj), U(gpu_sets), U(palette_offset), U(palette), U(heat_joint), U(heat_rigid), U(gouraud);
+    U(model), U(view_proj), U(gpu_sets), U(dqs), U(palette_offset), U(palette), U(heat_joint), U(heat_rigid),
+        U(gouraud);
     U(key_dir), U(fill_dir), U(eye), U(base_color), U(use_texture), U(texture), U(mode), U(heat), U(override);
     U(normal_length);
 #undef U
@@ -384,6 +388,7 @@ sinew_result sinew_renderer_create(const sinew_renderer_desc *desc, sinew_render
     r->skin_offsets = (uint32_t *)(block + l.skin_offsets);
     r->skin_on_gpu = (bool *)(block + l.skin_on_gpu);
     r->palettes = (sinew_mat4 *)(block + l.palettes);
+    r->dq_palettes = (sinew_dq_joint *)(block + l.dq_palettes);
     r->stream = (float *)(block + l.stream);
     r->skeleton_nodes = (bool *)(block + l.skeleton);
     r->overlay.vertices = (overlay_vertex *)(block + l.overlay);
@@ -463,6 +468,8 @@ static sinew_result compute_palettes(sinew_renderer *r, const sinew_mat4 *worlds
         if (result != SINEW_OK)
             return result;
     }
+    if (r->method == SINEW_SKIN_DUAL_QUATERNION)
+        return sinew_skin_dq_palette(r->palettes, r->total_joints, r->dq_palettes, error);
     return SINEW_OK;
 }
 
@@ -478,6 +485,8 @@ static sinew_result skin_on_cpu(sinew_renderer *r, const sinew_mesh *mesh, sinew
     sinew_skin_desc d = {.mesh = mesh,
                          .palette = &r->palettes[r->skin_offsets[mesh->skin]],
                          .palette_count = skin->joint_count,
+                         .method = r->method,
+                         .dq_palette = &r->dq_palettes[r->skin_offsets[mesh->skin]],
                          .out_positions = r->stream,
                          .out_normals = r->stream + 3,
                          .out_stride = 24};
@@ -550,6 +559,7 @@ static sinew_result prepare_instance(sinew_renderer *r, const mesh_uniforms *u, 
     } else {
         glBindVertexArray(rm->vao_static);
         glUniform1i(u->gpu_sets, rm->influence_sets);
+        glUniform1i(u->dqs, r->method == SINEW_SKIN_DUAL_QUATERNION);
         glUniform1i(u->palette_offset, (GLint)r->skin_offsets[mesh->skin]);
     }
     return SINEW_OK;
@@ -834,12 +844,17 @@ sinew_result sinew_renderer_draw(sinew_renderer *r, const sinew_frame *frame, si
     glm_mat4_mul((vec4 *)proj.m, (vec4 *)view.m, (vec4 *)fs.view_proj);
     camera_lights(frame->camera, &fs);
 
+    r->method =
+        frame->options->skin_method == SINEW_SKIN_DUAL_QUATERNION ? SINEW_SKIN_DUAL_QUATERNION : SINEW_SKIN_LINEAR;
     sinew_result result = compute_palettes(r, frame->worlds, frame->world_count, error);
     if (result != SINEW_OK)
         return result;
     if (r->total_joints) {
+        /* a sinew_dq_joint is 64 bytes, as a matrix: the shader reads either as 4 texels */
         glBindBuffer(GL_TEXTURE_BUFFER, r->palette_buffer);
-        glBufferSubData(GL_TEXTURE_BUFFER, 0, (GLsizeiptr)r->total_joints * 64, r->palettes);
+        glBufferSubData(GL_TEXTURE_BUFFER, 0, (GLsizeiptr)r->total_joints * 64,
+                        r->method == SINEW_SKIN_DUAL_QUATERNION ? (const void *)r->dq_palettes
+                                                                : (const void *)r->palettes);
     }
     glActiveTexture(GL_TEXTURE0);
     glBindTexture(GL_TEXTURE_BUFFER, r->palette_texture);

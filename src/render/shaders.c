@@ -27,7 +27,8 @@ static const char *const LIGHTING =
     "    specular = key > 0.0 ? vec3(0.18) * pow(max(dot(n, h), 0.0), 32.0) : vec3(0.0);\n"
     "}\n";
 
-static const char *const MESH_VS =
+/* The mesh vertex shader: inputs, uniforms and the skinning functions, then main(). */
+static const char *const MESH_VS_HEAD =
     "layout(location = 0) in vec3 a_position;\n"
     "layout(location = 1) in vec3 a_normal;\n"
     "layout(location = 2) in vec2 a_uv;\n"
@@ -38,6 +39,7 @@ static const char *const MESH_VS =
     "uniform mat4 u_model;          // rigid or CPU-skinned: vertices to world\n"
     "uniform mat4 u_view_proj;\n"
     "uniform int u_gpu_sets;        // 0: no GPU skinning; 1: 4 influences; 2: 8\n"
+    "uniform bool u_dqs;            // u_palette holds sinew_dq_joint records, not matrices\n"
     "uniform int u_palette_offset;  // first matrix of this skin in u_palette\n"
     "uniform samplerBuffer u_palette;\n"
     "uniform int u_heat_joint;      // skin-local joint index, -1 for none\n"
@@ -54,12 +56,60 @@ static const char *const MESH_VS =
     "    return mat4(texelFetch(u_palette, base), texelFetch(u_palette, base + 1),\n"
     "                texelFetch(u_palette, base + 2), texelFetch(u_palette, base + 3));\n"
     "}\n"
+    "// Dual-quaternion skinning (as sinew_skin_vertices): blended scale/shear S, then the\n"
+    "// blended unit dual quaternion; each joint's quaternion in the first one's hemisphere.\n"
+    "vec4 dq_real0;\n"
+    "void dq_add(uint j, float w, inout vec4 real, inout vec4 dual, inout vec4 s0, inout vec4 s1) {\n"
+    "    int base = (u_palette_offset + int(j)) * 4;\n"
+    "    vec4 r = texelFetch(u_palette, base);\n"
+    "    float wq = dot(r, dq_real0) < 0.0 ? -w : w;\n"
+    "    real += wq * r;\n"
+    "    dual += wq * texelFetch(u_palette, base + 1);\n"
+    "    s0 += w * texelFetch(u_palette, base + 2);\n"
+    "    s1 += w * texelFetch(u_palette, base + 3);\n"
+    "}\n"
+    "vec3 dq_rotate(vec4 q, vec3 v) {\n"
+    "    return v + 2.0 * cross(q.xyz, cross(q.xyz, v) + q.w * v);\n"
+    "}\n"
     "float heat_of(uvec4 j, vec4 w) {\n"
     "    uint h = uint(u_heat_joint);\n"
     "    return dot(w, vec4(equal(j, uvec4(h))));\n"
+    "}\n";
+
+static const char *const MESH_VS =
+    "// Everything after the vertex's world position and v_normal.\n"
+    "void finish(vec3 world) {\n"
+    "    v_world = world;\n"
+    "    v_uv = a_uv;\n"
+    "    v_heat = u_heat_joint < 0 ? u_heat_rigid : heat_of(a_joints0, a_weights0) + heat_of(a_joints1, a_weights1);\n"
+    "    v_diffuse = vec3(1.0);\n"
+    "    v_specular = vec3(0.0);\n"
+    "    if (u_gouraud)\n"
+    "        light_terms(v_normal, v_world, v_diffuse, v_specular);\n"
+    "    gl_Position = u_view_proj * vec4(world, 1.0);\n"
     "}\n"
     "void main() {\n"
     "    mat4 m = u_model;\n"
+    "    if (u_gpu_sets > 0 && u_dqs) {\n"
+    "        dq_real0 = texelFetch(u_palette, (u_palette_offset + int(a_joints0.x)) * 4);\n"
+    "        vec4 real = vec4(0.0), dual = vec4(0.0), s0 = vec4(0.0), s1 = vec4(0.0);\n"
+    "        for (int i = 0; i < 4; i++) dq_add(a_joints0[i], a_weights0[i], real, dual, s0, s1);\n"
+    "        if (u_gpu_sets > 1)\n"
+    "            for (int i = 0; i < 4; i++) dq_add(a_joints1[i], a_weights1[i], real, dual, s0, s1);\n"
+    "        float len = length(real);\n"
+    "        real /= len;\n"
+    "        dual /= len;\n"
+    "        mat3 s = mat3(s0.x, s0.w, s1.x, s0.w, s0.y, s1.y, s1.x, s1.y, s0.z); // xx yy zz xy | xz yz\n"
+    "        vec3 t = 2.0 * (real.w * dual.xyz - dual.w * real.xyz + cross(real.xyz, dual.xyz));\n"
+    "        vec3 world = dq_rotate(real, s * a_position) + t;\n"
+    "        mat3 cof = mat3(cross(s[1], s[2]), cross(s[2], s[0]), cross(s[0], s[1]));\n"
+    "        float side = dot(s[0], cof[0]) < 0.0 ? -1.0 : 1.0;\n"
+    "        vec3 n = dq_rotate(real, side * (cof * a_normal));\n"
+    "        float nlen = length(n);\n"
+    "        v_normal = nlen > 0.0 ? n / nlen : vec3(0.0, 1.0, 0.0);\n"
+    "        finish(world);\n"
+    "        return;\n"
+    "    }\n"
     "    if (u_gpu_sets > 0) {\n"
     "        m = a_weights0.x * joint_matrix(a_joints0.x) + a_weights0.y * joint_matrix(a_joints0.y)\n"
     "          + a_weights0.z * joint_matrix(a_joints0.z) + a_weights0.w * joint_matrix(a_joints0.w);\n"
@@ -74,14 +124,7 @@ static const char *const MESH_VS =
     "    vec3 n = side * (cof * a_normal);\n"
     "    float len = length(n);\n"
     "    v_normal = len > 0.0 ? n / len : vec3(0.0, 1.0, 0.0);\n"
-    "    v_world = world.xyz;\n"
-    "    v_uv = a_uv;\n"
-    "    v_heat = u_heat_joint < 0 ? u_heat_rigid : heat_of(a_joints0, a_weights0) + heat_of(a_joints1, a_weights1);\n"
-    "    v_diffuse = vec3(1.0);\n"
-    "    v_specular = vec3(0.0);\n"
-    "    if (u_gouraud)\n"
-    "        light_terms(v_normal, v_world, v_diffuse, v_specular);\n"
-    "    gl_Position = u_view_proj * world;\n"
+    "    finish(world.xyz);\n"
     "}\n";
 
 static const char *const MESH_FS =
@@ -213,16 +256,16 @@ static GLuint compile(GLenum stage, const char *const *parts, int part_count, co
 }
 
 /* Links a program from a vertex, an optional geometry and a fragment stage, each made of
- * the version line, `lighting` when asked, and the stage's body. */
-static GLuint link_program(const char *vs, const char *gs, const char *fs, bool lighting, const char *what,
-                           sinew_error *error)
+ * the version line, `lighting` when asked, and the stage's body (the vertex stage's in two parts). */
+static GLuint link_program(const char *vs_head, const char *vs, const char *gs, const char *fs, bool lighting,
+                           const char *what, sinew_error *error)
 {
     static const char *const VERSION = "#version 330 core\n";
-    const char *vs_parts[] = {VERSION, lighting ? LIGHTING : "", vs};
+    const char *vs_parts[] = {VERSION, lighting ? LIGHTING : "", vs_head ? vs_head : "", vs};
     const char *gs_parts[] = {VERSION, gs ? gs : ""};
     const char *fs_parts[] = {VERSION, lighting ? LIGHTING : "", fs};
     GLuint stages[3] = {0}, program = 0;
-    stages[0] = compile(GL_VERTEX_SHADER, vs_parts, 3, what, error);
+    stages[0] = compile(GL_VERTEX_SHADER, vs_parts, 4, what, error);
     stages[1] = gs ? compile(GL_GEOMETRY_SHADER, gs_parts, 2, what, error) : 0;
     stages[2] = compile(GL_FRAGMENT_SHADER, fs_parts, 3, what, error);
     if (!stages[0] || (gs && !stages[1]) || !stages[2])
@@ -245,13 +288,13 @@ out_delete_stages:
 
 sinew_result render_programs_create(render_programs *programs, sinew_error *error)
 {
-    programs->mesh = link_program(MESH_VS, NULL, MESH_FS, true, "mesh", error);
+    programs->mesh = link_program(MESH_VS_HEAD, MESH_VS, NULL, MESH_FS, true, "mesh", error);
     if (!programs->mesh)
         goto fail;
-    programs->normals = link_program(MESH_VS, NORMALS_GS, NORMALS_FS, true, "normals", error);
+    programs->normals = link_program(MESH_VS_HEAD, MESH_VS, NORMALS_GS, NORMALS_FS, true, "normals", error);
     if (!programs->normals)
         goto fail;
-    programs->overlay = link_program(OVERLAY_VS, NULL, OVERLAY_FS, false, "overlay", error);
+    programs->overlay = link_program(NULL, OVERLAY_VS, NULL, OVERLAY_FS, false, "overlay", error);
     if (!programs->overlay)
         goto fail;
     return SINEW_OK;

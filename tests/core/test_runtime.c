@@ -183,70 +183,225 @@ static void test_player_arguments(void **state)
     sinew_model_free(m);
 }
 
-/* SIMD skinning equals the scalar reference, positions and normals, with strides and
- * ranges; a joint index past the palette is refused. */
+/* Tangents for a test mesh: perpendicular to the normal, handedness alternating. */
+static float *test_tangents(const sinew_mesh *mesh)
+{
+    float *t = malloc((size_t)mesh->vertex_count * 4 * sizeof(float));
+    for (uint32_t v = 0; v < mesh->vertex_count; v++) {
+        const float *n = &mesh->normals[(size_t)v * 3];
+        float a[3] = {fabsf(n[0]) < 0.9f ? 1.0f : 0.0f, fabsf(n[0]) < 0.9f ? 0.0f : 1.0f, 0.0f};
+        float x = a[1] * n[2] - a[2] * n[1], y = a[2] * n[0] - a[0] * n[2], z = a[0] * n[1] - a[1] * n[0];
+        float len = sqrtf(x * x + y * y + z * z);
+        t[v * 4 + 0] = x / len, t[v * 4 + 1] = y / len, t[v * 4 + 2] = z / len;
+        t[v * 4 + 3] = (v & 1) ? -1.0f : 1.0f;
+    }
+    return t;
+}
+
+/* Largest difference of `width` floats a vertex at stride 12 floats, offset `at`. */
+static double worst_difference(const float *a, const float *b, size_t n, int at, int width)
+{
+    double worst = 0.0;
+    for (size_t v = 0; v < n; v++)
+        for (int e = 0; e < width; e++)
+            worst = fmax(worst, fabs(a[v * 12 + at + e] - b[v * 12 + at + e]));
+    return worst;
+}
+
+/* Every SIMD path (AVX-512, AVX2+FMA, as far as the processor has them) equals the scalar
+ * reference for linear blend and dual quaternions, positions, normals and tangents, with
+ * interleaved and packed outputs and ranges that do not fill a block; a joint index past the
+ * palette is refused. */
 static void test_skin_simd_matches_scalar(void **state)
 {
     (void)state;
     sinew_synthetic_desc d = {.joints = 64, .vertices = 20000, .influences = 4, .keyed_trs = true};
-    for (uint32_t influences = 1; influences <= 8; influences *= 2) {
+    for (uint32_t influences = 1; influences <= 8; influences++) {
+        if (influences > 4 && influences != 5 && influences != 8)
+            continue;
         d.influences = influences;
         sinew_model *m = NULL;
         assert_int_equal(sinew_synthetic_model(&d, &m, NULL), SINEW_OK);
-        const sinew_mesh *mesh = &m->meshes[0];
+        sinew_mesh mesh = m->meshes[0];
+        float *tangents = test_tangents(&mesh);
+        mesh.tangents = tangents;
         const sinew_skin *skin = &m->skins[0];
         sinew_mat4 *worlds = pose_worlds(m, &m->clips[0], 0.37f);
         sinew_mat4 *palette = malloc(skin->joint_count * sizeof *palette);
+        sinew_dq_joint *dq = malloc(skin->joint_count * sizeof *dq);
         assert_int_equal(sinew_skin_palette(skin, worlds, m->node_count, palette, skin->joint_count, NULL), SINEW_OK);
         /* a mirrored joint and a squashed one: normals go through the cofactor */
         palette[3].m[0] = -palette[3].m[0], palette[3].m[1] = -palette[3].m[1], palette[3].m[2] = -palette[3].m[2];
         for (int e = 4; e < 7; e++)
             palette[5].m[e] *= 0.3f;
-        size_t n = mesh->vertex_count;
-        float *a = calloc(n * 8, sizeof(float)), *b = calloc(n * 8, sizeof(float));
-        /* interleaved output: position, normal, 2 floats of padding (stride 32) */
-        sinew_skin_desc sd = {.mesh = mesh,
-                              .palette = palette,
-                              .palette_count = skin->joint_count,
-                              .first = 7,
-                              .count = (uint32_t)n - 20,
-                              .out_positions = a,
-                              .out_normals = a + 3,
-                              .out_stride = 32};
-        assert_int_equal(sinew_skin_vertices(&sd, NULL), SINEW_OK);
-        sd.out_positions = b, sd.out_normals = b + 3;
-        assert_int_equal(sinew_skin_vertices_scalar(&sd, NULL), SINEW_OK);
-        double worst_p = 0.0, worst_n = 0.0;
-        for (size_t v = 0; v < n; v++)
-            for (int e = 0; e < 3; e++) {
-                worst_p = fmax(worst_p, fabs(a[v * 8 + e] - b[v * 8 + e]));
-                worst_n = fmax(worst_n, fabs(a[v * 8 + 3 + e] - b[v * 8 + 3 + e]));
-                assert_true(a[v * 8 + 6] == 0.0f && a[v * 8 + 7] == 0.0f); /* padding untouched */
+        assert_int_equal(sinew_skin_dq_palette(palette, skin->joint_count, dq, NULL), SINEW_OK);
+        size_t n = mesh.vertex_count;
+        float *a = calloc(n * 12, sizeof(float)), *b = calloc(n * 12, sizeof(float));
+        float *packed = calloc(n * 3, sizeof(float)), *packed_ref = calloc(n * 3, sizeof(float));
+        for (int method = 0; method < 2; method++)
+            for (sinew_isa isa = SINEW_ISA_AVX512; isa > SINEW_ISA_SCALAR; isa--) {
+                sinew_skin_set_isa_limit(isa);
+                /* interleaved output: position, normal, tangent, 2 floats of padding (stride 48) */
+                memset(a, 0, n * 12 * sizeof(float));
+                memset(b, 0, n * 12 * sizeof(float));
+                sinew_skin_desc sd = {.mesh = &mesh,
+                                      .palette = palette,
+                                      .palette_count = skin->joint_count,
+                                      .method = (sinew_skin_method)method,
+                                      .dq_palette = dq,
+                                      .first = 7,
+                                      .count = (uint32_t)n - 20,
+                                      .out_positions = a,
+                                      .out_normals = a + 3,
+                                      .out_tangents = isa == SINEW_ISA_AVX2 ? NULL : a + 6, /* AVX2 has none */
+                                      .out_stride = 48};
+                assert_int_equal(sinew_skin_vertices(&sd, NULL), SINEW_OK);
+                sd.out_positions = b, sd.out_normals = b + 3, sd.out_tangents = sd.out_tangents ? b + 6 : NULL;
+                assert_int_equal(sinew_skin_vertices_scalar(&sd, NULL), SINEW_OK);
+                double worst_p = worst_difference(a, b, n, 0, 3), worst_n = worst_difference(a, b, n, 3, 3);
+                double worst_t = worst_difference(a, b, n, 6, 4);
+                for (size_t v = 0; v < n; v++)
+                    assert_true(a[v * 12 + 10] == 0.0f && a[v * 12 + 11] == 0.0f); /* padding untouched */
+                assert_true(a[0] == 0.0f && a[(n - 1) * 12] == 0.0f);              /* outside the range untouched */
+                /* packed positions only, a range ending mid-block */
+                sinew_skin_desc pd = {.mesh = &mesh,
+                                      .palette = palette,
+                                      .palette_count = skin->joint_count,
+                                      .method = (sinew_skin_method)method,
+                                      .dq_palette = dq,
+                                      .first = 16,
+                                      .count = (uint32_t)n - 16 - 3,
+                                      .out_positions = packed};
+                assert_int_equal(sinew_skin_vertices(&pd, NULL), SINEW_OK);
+                pd.out_positions = packed_ref;
+                assert_int_equal(sinew_skin_vertices_scalar(&pd, NULL), SINEW_OK);
+                double worst_packed = 0.0;
+                for (size_t i = 0; i < n * 3; i++)
+                    worst_packed = fmax(worst_packed, fabs(packed[i] - packed_ref[i]));
+                print_message("%s, %u influences, %s: SIMD vs scalar %.2e positions, %.2e normals, %.2e tangents, "
+                              "%.2e packed\n",
+                              method ? "DQS" : "LBS", influences, isa == SINEW_ISA_AVX512 ? "avx512" : "avx2", worst_p,
+                              worst_n, worst_t, worst_packed);
+                assert_true(worst_p <= 2e-6 && worst_packed <= 2e-6);
+                assert_true(worst_n <= 2e-6);
+                assert_true(worst_t <= 2e-6);
             }
-        assert_true(a[0] == 0.0f && a[(n - 1) * 8] == 0.0f); /* outside the range untouched */
-        print_message("%u influences: SIMD vs scalar skinning %.2e in positions, %.2e in normals\n", influences,
-                      worst_p, worst_n);
-        assert_true(worst_p <= 2e-6);
-        assert_true(worst_n <= 2e-6);
-        sd.palette_count = 2;
+        sinew_skin_set_isa_limit(SINEW_ISA_AVX512);
+        sinew_skin_desc sd = {.mesh = &mesh, .palette = palette, .palette_count = 2, .out_positions = a};
         sinew_error error = {0};
         assert_int_equal(sinew_skin_vertices(&sd, &error), SINEW_ERROR_INVALID_ARGUMENT);
         assert_non_null(strstr(error.message, "the palette has 2"));
         free(a);
         free(b);
+        free(packed);
+        free(packed_ref);
+        free(tangents);
         free(worlds);
         free(palette);
+        free(dq);
         sinew_model_free(m);
     }
+}
+
+/* A tube along x of radius 1 skinned by two joints blending across the middle; the second
+ * joint twisted 170 degrees about x. Linear blend collapses the middle ring (the candy
+ * wrapper); dual quaternions keep its radius. With one influence a vertex (and with mirrored
+ * and squashed joints) the two methods agree: the dual-quaternion joints are exact. */
+static void test_skin_dual_quaternion_twist(void **state)
+{
+    (void)state;
+    enum { RINGS = 21, AROUND = 24, N = RINGS * AROUND };
+    static float positions[N * 3], normals[N * 3], weights[N * 2], lbs[N * 3], dqs[N * 3];
+    static uint16_t joints[N * 2];
+    for (int r = 0; r < RINGS; r++)
+        for (int a = 0; a < AROUND; a++) {
+            int v = r * AROUND + a;
+            float x = -1.0f + 2.0f * (float)r / (RINGS - 1), angle = 6.2831853f * (float)a / AROUND;
+            positions[v * 3] = x, positions[v * 3 + 1] = cosf(angle), positions[v * 3 + 2] = sinf(angle);
+            normals[v * 3] = 0.0f, normals[v * 3 + 1] = cosf(angle), normals[v * 3 + 2] = sinf(angle);
+            float w1 = fminf(fmaxf((x + 0.5f), 0.0f), 1.0f); /* 0 at x <= -0.5, 1 at x >= 0.5 */
+            bool second_first = w1 > 0.5f;
+            joints[v * 2] = second_first ? 1 : 0, joints[v * 2 + 1] = second_first ? 0 : 1;
+            weights[v * 2] = second_first ? w1 : 1.0f - w1, weights[v * 2 + 1] = second_first ? 1.0f - w1 : w1;
+        }
+    sinew_mesh mesh = {.name = "tube",
+                       .vertex_count = N,
+                       .positions = positions,
+                       .normals = normals,
+                       .influence_count = 2,
+                       .joints = joints,
+                       .weights = weights};
+    float c = cosf(170.0f * 3.14159265f / 180.0f), s = sinf(170.0f * 3.14159265f / 180.0f);
+    sinew_mat4 palette[2] = {{{1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1}},
+                             {{1, 0, 0, 0, 0, c, s, 0, 0, -s, c, 0, 0.1f, 0, 0, 1}}};
+    sinew_dq_joint dq[2];
+    assert_int_equal(sinew_skin_dq_palette(palette, 2, dq, NULL), SINEW_OK);
+    sinew_skin_desc d = {.mesh = &mesh, .palette = palette, .palette_count = 2, .out_positions = lbs};
+    assert_int_equal(sinew_skin_vertices(&d, NULL), SINEW_OK);
+    d.method = SINEW_SKIN_DUAL_QUATERNION, d.dq_palette = dq, d.out_positions = dqs;
+    assert_int_equal(sinew_skin_vertices(&d, NULL), SINEW_OK);
+    double radius_lbs = 0.0, radius_dqs = 0.0;
+    int middle = RINGS / 2;
+    for (int a = 0; a < AROUND; a++) {
+        int v = middle * AROUND + a;
+        radius_lbs += hypot(lbs[v * 3 + 1], lbs[v * 3 + 2]) / AROUND;
+        radius_dqs += hypot(dqs[v * 3 + 1], dqs[v * 3 + 2]) / AROUND;
+    }
+    print_message("170-degree twist, middle ring radius: linear blend %.3f, dual quaternion %.3f (rest 1)\n",
+                  radius_lbs, radius_dqs);
+    assert_true(radius_lbs < 0.1);
+    assert_true(fabs(radius_dqs - 1.0) < 1e-4);
+    /* the rigid ends move the same under both */
+    for (int v = 0; v < AROUND; v++)
+        for (int e = 0; e < 3; e++) {
+            assert_float_equal(lbs[v * 3 + e], dqs[v * 3 + e], 1e-5);
+            assert_float_equal(lbs[(N - 1 - v) * 3 + e], dqs[(N - 1 - v) * 3 + e], 1e-5);
+        }
+
+    /* one influence: DQS equals LBS for rotated, translated, mirrored, squashed and sheared joints */
+    sinew_synthetic_desc sd = {.joints = 16, .vertices = 2000, .influences = 1, .keyed_trs = true};
+    sinew_model *m = NULL;
+    assert_int_equal(sinew_synthetic_model(&sd, &m, NULL), SINEW_OK);
+    const sinew_skin *skin = &m->skins[0];
+    sinew_mat4 *worlds = pose_worlds(m, &m->clips[0], 0.61f);
+    sinew_mat4 *pal = malloc(skin->joint_count * sizeof *pal);
+    sinew_dq_joint *dqp = malloc(skin->joint_count * sizeof *dqp);
+    assert_int_equal(sinew_skin_palette(skin, worlds, m->node_count, pal, skin->joint_count, NULL), SINEW_OK);
+    pal[3].m[0] = -pal[3].m[0], pal[3].m[1] = -pal[3].m[1], pal[3].m[2] = -pal[3].m[2];
+    for (int e = 4; e < 7; e++)
+        pal[5].m[e] *= 0.3f;
+    pal[7].m[4] += 0.4f * pal[7].m[0]; /* shear */
+    assert_int_equal(sinew_skin_dq_palette(pal, skin->joint_count, dqp, NULL), SINEW_OK);
+    size_t n = m->meshes[0].vertex_count;
+    float *a = malloc(n * 6 * sizeof(float)), *b = malloc(n * 6 * sizeof(float));
+    sinew_skin_desc one = {.mesh = &m->meshes[0],
+                           .palette = pal,
+                           .palette_count = skin->joint_count,
+                           .out_positions = a,
+                           .out_normals = a + 3,
+                           .out_stride = 24};
+    assert_int_equal(sinew_skin_vertices_scalar(&one, NULL), SINEW_OK);
+    one.method = SINEW_SKIN_DUAL_QUATERNION, one.dq_palette = dqp, one.out_positions = b, one.out_normals = b + 3;
+    assert_int_equal(sinew_skin_vertices_scalar(&one, NULL), SINEW_OK);
+    double worst = 0.0;
+    for (size_t i = 0; i < n * 6; i++)
+        worst = fmax(worst, fabs(a[i] - b[i]));
+    print_message("one influence: dual quaternion vs linear blend %.2e\n", worst);
+    assert_true(worst < 2e-5);
+    free(a);
+    free(b);
+    free(pal);
+    free(dqp);
+    free(worlds);
+    sinew_model_free(m);
 }
 
 int main(void)
 {
     const struct CMUnitTest tests[] = {
-        cmocka_unit_test(test_player_generated),
-        cmocka_unit_test(test_player_real_files),
-        cmocka_unit_test(test_player_arguments),
-        cmocka_unit_test(test_skin_simd_matches_scalar),
+        cmocka_unit_test(test_player_generated),           cmocka_unit_test(test_player_real_files),
+        cmocka_unit_test(test_player_arguments),           cmocka_unit_test(test_skin_simd_matches_scalar),
+        cmocka_unit_test(test_skin_dual_quaternion_twist),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

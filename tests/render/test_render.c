@@ -224,6 +224,58 @@ static void test_gpu_and_cpu_skinning_agree(void **state)
     free_image(&cpu);
 }
 
+/* Bright (tube) pixels in the narrowest row of the middle fifth of the picture. */
+static int narrowest_middle_row(const image *im)
+{
+    int narrowest = im->width;
+    for (int y = im->height * 2 / 5; y < im->height * 3 / 5; y++) {
+        int bright = 0;
+        for (int x = 0; x < im->width; x++) {
+            const unsigned char *p = &im->rgb[((size_t)y * im->width + x) * 3];
+            bright += p[0] + p[1] + p[2] > 3 * 120;
+        }
+        narrowest = bright < narrowest ? bright : narrowest;
+    }
+    return narrowest;
+}
+
+/* The candy wrapper: a tube twisted 170 degrees pinches under linear blend skinning and
+ * keeps its width under dual quaternions; GPU and CPU dual-quaternion skinning draw the same
+ * picture, on the fixture and on the robot. */
+static void test_dual_quaternion_skinning(void **state)
+{
+    (void)state;
+    char tube[1024], robot[1024];
+    fixture_path("twist_tube.glb", tube, sizeof tube);
+    image lbs = RENDER("twist-lbs.png", tube, "--time", "2", "--size", SIZE, "--no-grid");
+    image dqs = RENDER("twist-dqs.png", tube, "--time", "2", "--size", SIZE, "--no-grid", "--skinning-method", "dqs");
+    image dqs_cpu = RENDER("twist-dqs-cpu.png", tube, "--time", "2", "--size", SIZE, "--no-grid", "--skinning-method",
+                           "dqs", "--skinning", "cpu");
+    int narrow_lbs = narrowest_middle_row(&lbs), narrow_dqs = narrowest_middle_row(&dqs);
+    long differing = 0;
+    bool same = same_picture(&dqs, &dqs_cpu, &differing);
+    printf("twisted tube: narrowest middle row %d pixels (linear blend), %d (dual quaternion); DQS GPU vs CPU %ld "
+           "pixels differ\n",
+           narrow_lbs, narrow_dqs, differing);
+    assert_true(narrow_dqs > 20);
+    assert_true(narrow_lbs * 4 < narrow_dqs);
+    assert_true(same);
+    free_image(&lbs);
+    free_image(&dqs);
+    free_image(&dqs_cpu);
+    if (!testdata_path("raylib/robot.glb", robot, sizeof robot))
+        return;
+    image gpu = RENDER("robot-dqs-gpu.png", robot, "--clip", "Robot_Wave", "--time", "0.6", "--size", SIZE,
+                       "--skinning-method", "dqs");
+    image cpu = RENDER("robot-dqs-cpu.png", robot, "--clip", "Robot_Wave", "--time", "0.6", "--size", SIZE,
+                       "--skinning-method", "dqs", "--skinning", "cpu");
+    same = same_picture(&gpu, &cpu, &differing);
+    printf("robot wave, dual quaternions, GPU vs CPU: %ld pixels differ\n", differing);
+    assert_true(same);
+    free_image(&gpu);
+    free_image(&cpu);
+}
+
 /* Skins over the GPU limit go to the CPU with a warning, and the picture is the same. */
 static void test_gpu_joint_limit_falls_back_to_cpu(void **state)
 {
@@ -471,6 +523,7 @@ int main(void)
         cmocka_unit_test(test_golden_muscles),
         cmocka_unit_test(test_tolerance_catches_a_wrong_pose),
         cmocka_unit_test(test_gpu_and_cpu_skinning_agree),
+        cmocka_unit_test(test_dual_quaternion_skinning),
         cmocka_unit_test(test_gpu_joint_limit_falls_back_to_cpu),
         cmocka_unit_test(test_animated_frames_differ_static_do_not),
         cmocka_unit_test(test_bone_only_file_shows_bones),

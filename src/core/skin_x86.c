@@ -1,0 +1,450 @@
+/* The x86 SIMD skinning kernels, chosen at run time by skin.c.
+ *
+ * AVX-512 (sinew_skin_avx512), 16 vertices at a time:
+ *   1. blend: each vertex's joint records (16 floats: a column-major matrix, or a
+ *      sinew_dq_joint) are summed with its weights in one zmm register, one load and one FMA
+ *      an influence; the influence count is a compile-time constant for 1 to 8 (no branch);
+ *   2. transpose: the 16 blended records become 16 registers of one element for 16
+ *      vertices (structure of arrays: unpacks and 128-bit shuffles);
+ *   3. math in SoA registers: positions, the cofactor normal transform (exact, no
+ *      approximation: it costs fewer instructions than blending a second palette),
+ *      tangents, or the dual-quaternion rotation and translation after the scale/shear;
+ *      rsqrt14 plus a Newton step where the reference divides by a square root;
+ *   4. positions and normals are read and written as xyz triples by two-register permutes
+ *      when the output stride is 12, by scatters otherwise (interleaved vertex buffers).
+ * AVX2+FMA (sinew_skin_avx2): linear blend of positions and normals a vertex at a time, the
+ * blended matrix's columns in two 8-float registers (for processors without AVX-512).
+ * tests/core/test_runtime.c holds both within 2e-6 of skin.c's reference. */
+#include <string.h>
+
+#include "internal.h"
+
+#if defined(__x86_64__) && defined(__GNUC__)
+#include <immintrin.h>
+
+#define AVX512 __attribute__((target("avx512f,avx512dq"))) static inline __attribute__((always_inline))
+#define AVX512_FN __attribute__((target("avx512f,avx512dq")))
+
+/* ---- AVX-512 ---- */
+
+/* Record blend of one vertex: sum of w_i * record[j_i] over k influences. DQS takes each
+ * joint's quaternion (the first 8 floats) in the first joint's hemisphere. */
+AVX512 __m512 blend_vertex(const float *records, const uint16_t *joints, const float *weights, uint32_t k, bool dqs)
+{
+    /* up to 4 joint indices in one load */
+    uint64_t packed = 0;
+    if (k >= 4)
+        memcpy(&packed, joints, 8);
+#define JOINT(i) ((k >= 4 && (i) < 4) ? (size_t)((packed >> (16 * (i))) & 0xffff) : (size_t)joints[i])
+    __m512 first = _mm512_loadu_ps(records + JOINT(0) * 16);
+    __m512 acc[2] = {_mm512_mul_ps(_mm512_set1_ps(weights[0]), first), _mm512_setzero_ps()};
+    __m128 real0 = _mm512_castps512_ps128(first);
+#pragma GCC unroll 8
+    for (uint32_t i = 1; i < k; i++) {
+        __m512 r = _mm512_loadu_ps(records + JOINT(i) * 16);
+        __m512 w = _mm512_set1_ps(weights[i]);
+        if (dqs) {
+            __m128 d = _mm_mul_ps(real0, _mm512_castps512_ps128(r)); /* dot of the real parts, all lanes */
+            d = _mm_add_ps(d, _mm_shuffle_ps(d, d, _MM_SHUFFLE(2, 3, 0, 1)));
+            d = _mm_add_ps(d, _mm_shuffle_ps(d, d, _MM_SHUFFLE(1, 0, 3, 2)));
+            __m128 sign = _mm_and_ps(d, _mm_set1_ps(-0.0f));
+            w = _mm512_xor_ps(w, _mm512_maskz_broadcast_f32x4(0x00ff, sign));
+        }
+        acc[i & 1] = _mm512_fmadd_ps(w, r, acc[i & 1]); /* two chains: half the FMA latency a vertex */
+    }
+    return k > 1 ? _mm512_add_ps(acc[0], acc[1]) : acc[0];
+#undef JOINT
+}
+
+/* Blends the n <= 16 vertices from `v` and transposes them: e[i] holds element i of the 16
+ * vertices' blended records (lanes past n are 0). Pairs of vertices are unpacked as they are
+ * blended, so that no more than 16 registers are live between the stages. */
+AVX512 void blend_transposed(const skin_call *c, uint32_t v, uint32_t n, uint32_t k, bool dqs, __m512 e[16])
+{
+    const uint16_t *joints = &c->mesh->joints[(size_t)v * k];
+    const float *weights = &c->mesh->weights[(size_t)v * k];
+    __m512 t[16], u[16];
+#pragma GCC unroll 16
+    for (uint32_t i = 0; i < 16; i += 2) {
+        __m512 a = i < n ? blend_vertex(c->records, joints + i * k, weights + i * k, k, dqs) : _mm512_setzero_ps();
+        __m512 b = i + 1 < n ? blend_vertex(c->records, joints + (i + 1) * k, weights + (i + 1) * k, k, dqs)
+                             : _mm512_setzero_ps();
+        t[i] = _mm512_unpacklo_ps(a, b);
+        t[i + 1] = _mm512_unpackhi_ps(a, b);
+    }
+#pragma GCC unroll 16
+    for (int g = 0; g < 4; g++) {
+        __m512d lo0 = _mm512_castps_pd(t[4 * g]), lo1 = _mm512_castps_pd(t[4 * g + 2]);
+        __m512d hi0 = _mm512_castps_pd(t[4 * g + 1]), hi1 = _mm512_castps_pd(t[4 * g + 3]);
+        u[4 * g + 0] = _mm512_castpd_ps(_mm512_unpacklo_pd(lo0, lo1));
+        u[4 * g + 1] = _mm512_castpd_ps(_mm512_unpackhi_pd(lo0, lo1));
+        u[4 * g + 2] = _mm512_castpd_ps(_mm512_unpacklo_pd(hi0, hi1));
+        u[4 * g + 3] = _mm512_castpd_ps(_mm512_unpackhi_pd(hi0, hi1));
+    }
+    /* u[4g + j]: in 128-bit lane L, element 4L + j of vertices 4g .. 4g + 3 */
+#pragma GCC unroll 16
+    for (int j = 0; j < 4; j++) {
+        __m512 v0 = _mm512_shuffle_f32x4(u[j], u[4 + j], _MM_SHUFFLE(1, 0, 1, 0));
+        __m512 v1 = _mm512_shuffle_f32x4(u[j], u[4 + j], _MM_SHUFFLE(3, 2, 3, 2));
+        __m512 v2 = _mm512_shuffle_f32x4(u[8 + j], u[12 + j], _MM_SHUFFLE(1, 0, 1, 0));
+        __m512 v3 = _mm512_shuffle_f32x4(u[8 + j], u[12 + j], _MM_SHUFFLE(3, 2, 3, 2));
+        e[0 + j] = _mm512_shuffle_f32x4(v0, v2, _MM_SHUFFLE(2, 0, 2, 0));
+        e[4 + j] = _mm512_shuffle_f32x4(v0, v2, _MM_SHUFFLE(3, 1, 3, 1));
+        e[8 + j] = _mm512_shuffle_f32x4(v1, v3, _MM_SHUFFLE(2, 0, 2, 0));
+        e[12 + j] = _mm512_shuffle_f32x4(v1, v3, _MM_SHUFFLE(3, 1, 3, 1));
+    }
+}
+
+/* Permute indices that turn 16 xyz triples (3 registers) into x, y, z registers and back. */
+typedef struct triples {
+    __m512i split_a[3], split_b[3]; /* component c: permutex2var(P0, a, P1), then with P2 */
+    __m512i join_a[3], join_b[3];   /* output register o: permutex2var(x, a, y), then with z */
+} triples;
+
+AVX512 triples make_triples(void)
+{
+    int32_t sa[3][16], sb[3][16], ja[3][16], jb[3][16];
+#pragma GCC unroll 16
+    for (int c = 0; c < 3; c++)
+#pragma GCC unroll 16
+        for (int v = 0; v < 16; v++) {
+            int f = 3 * v + c;
+            sa[c][v] = f < 32 ? f : 0;
+            sb[c][v] = f < 32 ? v : 16 + (f - 32);
+        }
+#pragma GCC unroll 16
+    for (int o = 0; o < 3; o++)
+#pragma GCC unroll 16
+        for (int i = 0; i < 16; i++) {
+            int f = 16 * o + i, v = f / 3, c = f % 3;
+            ja[o][i] = c == 0 ? v : c == 1 ? 16 + v : 0;
+            jb[o][i] = c == 2 ? 16 + v : i;
+        }
+    triples t;
+#pragma GCC unroll 16
+    for (int c = 0; c < 3; c++) {
+        t.split_a[c] = _mm512_loadu_si512(sa[c]);
+        t.split_b[c] = _mm512_loadu_si512(sb[c]);
+        t.join_a[c] = _mm512_loadu_si512(ja[c]);
+        t.join_b[c] = _mm512_loadu_si512(jb[c]);
+    }
+    return t;
+}
+
+/* Loads n <= 16 xyz triples from p into x, y, z (lanes past n are 0). */
+AVX512 void load3(const triples *t, const float *p, uint32_t n, __m512 out[3])
+{
+    __m512 r[3];
+#pragma GCC unroll 16
+    for (int i = 0; i < 3; i++) {
+        int valid = (int)(3 * n) - 16 * i;
+        __mmask16 m = valid >= 16 ? 0xffff : valid <= 0 ? 0 : (__mmask16)((1u << valid) - 1);
+        r[i] = _mm512_maskz_loadu_ps(m, p + 16 * i);
+    }
+#pragma GCC unroll 16
+    for (int c = 0; c < 3; c++)
+        out[c] = _mm512_permutex2var_ps(_mm512_permutex2var_ps(r[0], t->split_a[c], r[1]), t->split_b[c], r[2]);
+}
+
+/* Stores n <= 16 vertices' x, y, z (and w when given) at `base`, `stride` bytes apart. */
+AVX512 void store_vertices(const triples *t, float *base, size_t stride, uint32_t n, const __m512 v[3], const __m512 *w)
+{
+    if (stride == 12 && !w && n == 16) {
+#pragma GCC unroll 16
+        for (int o = 0; o < 3; o++)
+            _mm512_storeu_ps(base + 16 * o, _mm512_permutex2var_ps(_mm512_permutex2var_ps(v[0], t->join_a[o], v[1]),
+                                                                   t->join_b[o], v[2]));
+        return;
+    }
+    __mmask16 m = n >= 16 ? 0xffff : (__mmask16)((1u << n) - 1);
+    __m512i at = _mm512_mullo_epi32(_mm512_set_epi32(15, 14, 13, 12, 11, 10, 9, 8, 7, 6, 5, 4, 3, 2, 1, 0),
+                                    _mm512_set1_epi32((int)stride));
+#pragma GCC unroll 16
+    for (int c = 0; c < 3; c++)
+        _mm512_mask_i32scatter_ps(base + c, m, at, v[c], 1);
+    if (w)
+        _mm512_mask_i32scatter_ps(base + 3, m, at, *w, 1);
+}
+
+/* 1 / |v| (0 for a zero vector): rsqrt14 and one Newton step. */
+AVX512 __m512 inverse_length4(__m512 x, __m512 y, __m512 z, __m512 w);
+
+AVX512 __m512 inverse_length(__m512 x, __m512 y, __m512 z)
+{
+    return inverse_length4(x, y, z, _mm512_setzero_ps());
+}
+
+/* 1 / |q| for a 4-vector (0 for zero). */
+AVX512 __m512 inverse_length4(__m512 x, __m512 y, __m512 z, __m512 w)
+{
+    __m512 len2 = _mm512_fmadd_ps(w, w, _mm512_fmadd_ps(x, x, _mm512_fmadd_ps(y, y, _mm512_mul_ps(z, z))));
+    __m512 r = _mm512_rsqrt14_ps(len2);
+    __m512 half_len2 = _mm512_mul_ps(_mm512_set1_ps(0.5f), len2);
+    r = _mm512_mul_ps(r, _mm512_fnmadd_ps(_mm512_mul_ps(half_len2, r), r, _mm512_set1_ps(1.5f)));
+    return _mm512_maskz_mov_ps(_mm512_cmp_ps_mask(len2, _mm512_setzero_ps(), _CMP_GT_OQ), r);
+}
+
+AVX512 __m512 sign_of(__m512 x)
+{
+    return _mm512_and_ps(x, _mm512_set1_ps(-0.0f));
+}
+
+/* A 3x3 matrix in SoA registers, m[column][row]. */
+typedef struct soa3 {
+    __m512 m[3][3];
+} soa3;
+
+AVX512 void apply3(const soa3 *a, const __m512 v[3], __m512 out[3])
+{
+#pragma GCC unroll 16
+    for (int r = 0; r < 3; r++)
+        out[r] = _mm512_fmadd_ps(a->m[0][r], v[0], _mm512_fmadd_ps(a->m[1][r], v[1], _mm512_mul_ps(a->m[2][r], v[2])));
+}
+
+/* Cofactor matrix of a (det * a^-T) and det. */
+AVX512 __m512 cofactor3(const soa3 *a, soa3 *out)
+{
+#pragma GCC unroll 16
+    for (int c = 0; c < 3; c++)
+#pragma GCC unroll 16
+        for (int r = 0; r < 3; r++) {
+            int c1 = (c + 1) % 3, c2 = (c + 2) % 3, r1 = (r + 1) % 3, r2 = (r + 2) % 3;
+            out->m[c][r] = _mm512_fmsub_ps(a->m[c1][r1], a->m[c2][r2], _mm512_mul_ps(a->m[c1][r2], a->m[c2][r1]));
+        }
+    return _mm512_fmadd_ps(a->m[0][0], out->m[0][0],
+                           _mm512_fmadd_ps(a->m[0][1], out->m[0][1], _mm512_mul_ps(a->m[0][2], out->m[0][2])));
+}
+
+/* Normalises v in place, times -1 where `sign` has its sign bit. */
+AVX512 void normalize_signed(__m512 v[3], __m512 sign)
+{
+    __m512 r = _mm512_xor_ps(inverse_length(v[0], v[1], v[2]), sign);
+#pragma GCC unroll 16
+    for (int c = 0; c < 3; c++)
+        v[c] = _mm512_mul_ps(v[c], r);
+}
+
+/* q.xyz x v for SoA vectors. */
+AVX512 void cross_soa(const __m512 a[3], const __m512 b[3], __m512 out[3])
+{
+    __m512 x = _mm512_fmsub_ps(a[1], b[2], _mm512_mul_ps(a[2], b[1]));
+    __m512 y = _mm512_fmsub_ps(a[2], b[0], _mm512_mul_ps(a[0], b[2]));
+    __m512 z = _mm512_fmsub_ps(a[0], b[1], _mm512_mul_ps(a[1], b[0]));
+    out[0] = x, out[1] = y, out[2] = z;
+}
+
+/* v + 2 q.xyz x (q.xyz x v + q.w v), in place. */
+AVX512 void rotate_soa(const __m512 q[4], __m512 v[3])
+{
+    __m512 t[3], u[3];
+    cross_soa(q, v, t);
+#pragma GCC unroll 16
+    for (int c = 0; c < 3; c++)
+        t[c] = _mm512_fmadd_ps(q[3], v[c], t[c]);
+    cross_soa(q, t, u);
+#pragma GCC unroll 16
+    for (int c = 0; c < 3; c++)
+        v[c] = _mm512_fmadd_ps(_mm512_set1_ps(2.0f), u[c], v[c]);
+}
+
+/* Tangent w components of n vertices (stride 4 floats), gathered. */
+AVX512 __m512 load_tangents(const float *t, uint32_t n, __m512 xyz[3])
+{
+    __mmask16 m = n >= 16 ? 0xffff : (__mmask16)((1u << n) - 1);
+    __m512i at = _mm512_mullo_epi32(_mm512_set_epi32(15, 14, 13, 12, 11, 10, 9, 8, 7, 6, 5, 4, 3, 2, 1, 0),
+                                    _mm512_set1_epi32(4));
+#pragma GCC unroll 16
+    for (int c = 0; c < 3; c++)
+        xyz[c] = _mm512_mask_i32gather_ps(_mm512_setzero_ps(), m, at, t + c, 4);
+    return _mm512_mask_i32gather_ps(_mm512_setzero_ps(), m, at, t + 3, 4);
+}
+
+/* The vertices [v, v + n) of one block, n <= 16. */
+AVX512 void skin_block(const skin_call *c, const triples *tr, uint32_t v, uint32_t n, uint32_t k, bool dqs)
+{
+    const sinew_mesh *mesh = c->mesh;
+    __m512 e[16];
+    blend_transposed(c, v, n, k, dqs, e);
+    __m512 p[3], out[3], t_w = _mm512_setzero_ps();
+    __m512 n_in[3] = {_mm512_setzero_ps(), _mm512_setzero_ps(), _mm512_setzero_ps()};
+    __m512 t_in[3] = {_mm512_setzero_ps(), _mm512_setzero_ps(), _mm512_setzero_ps()};
+    load3(tr, &mesh->positions[(size_t)v * 3], n, p);
+    if (c->out_n)
+        load3(tr, &mesh->normals[(size_t)v * 3], n, n_in);
+    if (c->out_t)
+        t_w = load_tangents(&mesh->tangents[(size_t)v * 4], n, t_in);
+    size_t at = (size_t)v * c->stride;
+    soa3 a, cof;
+    __m512 det = _mm512_setzero_ps();
+    if (!dqs) {
+#pragma GCC unroll 16
+        for (int col = 0; col < 3; col++)
+#pragma GCC unroll 16
+            for (int row = 0; row < 3; row++)
+                a.m[col][row] = e[col * 4 + row];
+        apply3(&a, p, out);
+#pragma GCC unroll 16
+        for (int row = 0; row < 3; row++)
+            out[row] = _mm512_add_ps(out[row], e[12 + row]);
+        store_vertices(tr, (float *)((char *)c->out_p + at), c->stride, n, out, NULL);
+        if (c->out_n || c->out_t)
+            det = cofactor3(&a, &cof);
+        if (c->out_n) {
+            apply3(&cof, n_in, out);
+            normalize_signed(out, sign_of(det));
+            store_vertices(tr, (float *)((char *)c->out_n + at), c->stride, n, out, NULL);
+        }
+        if (c->out_t) {
+            apply3(&a, t_in, out);
+            normalize_signed(out, _mm512_setzero_ps());
+            __m512 w = _mm512_xor_ps(t_w, sign_of(det));
+            store_vertices(tr, (float *)((char *)c->out_t + at), c->stride, n, out, &w);
+        }
+        return;
+    }
+    /* dual quaternion: normalise by the real part's length */
+    __m512 inv = inverse_length4(e[0], e[1], e[2], e[3]);
+    __m512 q[4], d[4];
+#pragma GCC unroll 16
+    for (int i = 0; i < 4; i++)
+        q[i] = _mm512_mul_ps(e[i], inv), d[i] = _mm512_mul_ps(e[4 + i], inv);
+    /* S: xx yy zz xy xz yz in e[8 .. 13], symmetric */
+    __m512 sxx = e[8], syy = e[9], szz = e[10], sxy = e[11], sxz = e[12], syz = e[13];
+    a = (soa3){{{sxx, sxy, sxz}, {sxy, syy, syz}, {sxz, syz, szz}}};
+    /* translation 2 (q.w d.xyz - d.w q.xyz + q.xyz x d.xyz) */
+    __m512 t[3];
+    cross_soa(q, d, t);
+#pragma GCC unroll 16
+    for (int i = 0; i < 3; i++)
+        t[i] = _mm512_mul_ps(_mm512_set1_ps(2.0f),
+                             _mm512_add_ps(t[i], _mm512_fmsub_ps(q[3], d[i], _mm512_mul_ps(d[3], q[i]))));
+    apply3(&a, p, out);
+    rotate_soa(q, out);
+#pragma GCC unroll 16
+    for (int i = 0; i < 3; i++)
+        out[i] = _mm512_add_ps(out[i], t[i]);
+    store_vertices(tr, (float *)((char *)c->out_p + at), c->stride, n, out, NULL);
+    if (c->out_n || c->out_t)
+        det = cofactor3(&a, &cof);
+    if (c->out_n) {
+        apply3(&cof, n_in, out);
+        normalize_signed(out, sign_of(det));
+        rotate_soa(q, out);
+        store_vertices(tr, (float *)((char *)c->out_n + at), c->stride, n, out, NULL);
+    }
+    if (c->out_t) {
+        apply3(&a, t_in, out);
+        normalize_signed(out, _mm512_setzero_ps());
+        rotate_soa(q, out);
+        __m512 w = _mm512_xor_ps(t_w, sign_of(det));
+        store_vertices(tr, (float *)((char *)c->out_t + at), c->stride, n, out, &w);
+    }
+}
+
+/* Every block of the range, with the influence count k and the method known at compile
+ * time (an instance a pair). */
+AVX512 void skin_blocks(const skin_call *c, uint32_t k, bool dqs)
+{
+    triples tr = make_triples();
+    uint32_t v = c->first, end = c->first + c->count;
+    for (; v + 16 <= end; v += 16)
+        skin_block(c, &tr, v, 16, k, dqs);
+    if (v < end)
+        skin_block(c, &tr, v, end - v, k, dqs);
+}
+
+#define SKIN_BLOCKS(k)                                                                                                 \
+    AVX512_FN static void skin_blocks_lbs_##k(const skin_call *c)                                                      \
+    {                                                                                                                  \
+        skin_blocks(c, k, false);                                                                                      \
+    }                                                                                                                  \
+    AVX512_FN static void skin_blocks_dqs_##k(const skin_call *c)                                                      \
+    {                                                                                                                  \
+        skin_blocks(c, k, true);                                                                                       \
+    }
+SKIN_BLOCKS(1)
+SKIN_BLOCKS(2)
+SKIN_BLOCKS(3)
+SKIN_BLOCKS(4)
+SKIN_BLOCKS(8)
+
+AVX512_FN void sinew_skin_avx512(const skin_call *c)
+{
+    static void (*const lbs[9])(const skin_call *) = {[1] = skin_blocks_lbs_1,
+                                                      [2] = skin_blocks_lbs_2,
+                                                      [3] = skin_blocks_lbs_3,
+                                                      [4] = skin_blocks_lbs_4,
+                                                      [8] = skin_blocks_lbs_8};
+    static void (*const dqs[9])(const skin_call *) = {[1] = skin_blocks_dqs_1,
+                                                      [2] = skin_blocks_dqs_2,
+                                                      [3] = skin_blocks_dqs_3,
+                                                      [4] = skin_blocks_dqs_4,
+                                                      [8] = skin_blocks_dqs_8};
+    uint32_t k = c->mesh->influence_count;
+    void (*fn)(const skin_call *) = k < 9 ? (c->dqs ? dqs : lbs)[k] : NULL;
+    if (fn)
+        fn(c);
+    else
+        skin_blocks(c, k, c->dqs); /* 5, 6, 7 or more than 8: the count is read at run time */
+}
+
+/* ---- AVX2 + FMA ---- */
+
+#define YZX(v) _mm_shuffle_ps((v), (v), _MM_SHUFFLE(3, 0, 2, 1))
+
+/* a x b given a, b and their yzx rotations. */
+__attribute__((target("avx2,fma"))) static inline __m128 cross(__m128 a, __m128 a_yzx, __m128 b, __m128 b_yzx)
+{
+    __m128 t = _mm_fmsub_ps(a, b_yzx, _mm_mul_ps(a_yzx, b));
+    return YZX(t);
+}
+
+__attribute__((target("avx2,fma"))) void sinew_skin_avx2(const skin_call *c)
+{
+    const sinew_mesh *mesh = c->mesh;
+    const uint32_t k = mesh->influence_count;
+    const float *palette = c->records;
+    const __m128 zero = _mm_setzero_ps();
+    for (uint32_t v = c->first; v < c->first + c->count; v++) {
+        const uint16_t *joints = &mesh->joints[(size_t)v * k];
+        const float *weights = &mesh->weights[(size_t)v * k];
+        /* columns 0|1 and 2|3 of the blended matrix */
+        const float *m = palette + (size_t)joints[0] * 16;
+        __m256 w = _mm256_broadcast_ss(&weights[0]);
+        __m256 c01 = _mm256_mul_ps(w, _mm256_loadu_ps(m));
+        __m256 c23 = _mm256_mul_ps(w, _mm256_loadu_ps(m + 8));
+        for (uint32_t i = 1; i < k && weights[i] != 0.0f; i++) {
+            m = palette + (size_t)joints[i] * 16;
+            w = _mm256_broadcast_ss(&weights[i]);
+            c01 = _mm256_fmadd_ps(w, _mm256_loadu_ps(m), c01);
+            c23 = _mm256_fmadd_ps(w, _mm256_loadu_ps(m + 8), c23);
+        }
+        __m128 c0 = _mm256_castps256_ps128(c01), c1 = _mm256_extractf128_ps(c01, 1);
+        __m128 c2 = _mm256_castps256_ps128(c23), c3 = _mm256_extractf128_ps(c23, 1);
+        const float *p = &mesh->positions[(size_t)v * 3];
+        __m128 pos = _mm_fmadd_ps(c2, _mm_broadcast_ss(p + 2),
+                                  _mm_fmadd_ps(c1, _mm_broadcast_ss(p + 1), _mm_fmadd_ps(c0, _mm_broadcast_ss(p), c3)));
+        float *out_p = (float *)((char *)c->out_p + (size_t)v * c->stride);
+        _mm_storel_pi((__m64 *)out_p, pos);
+        _mm_store_ss(out_p + 2, _mm_movehl_ps(pos, pos));
+        if (!c->out_n)
+            continue;
+        /* cofactor columns k0 = c1 x c2, k1 = c2 x c0, k2 = c0 x c1; n' = sign(det) K n */
+        __m128 c0r = YZX(c0), c1r = YZX(c1), c2r = YZX(c2);
+        __m128 k0 = cross(c1, c1r, c2, c2r), k1 = cross(c2, c2r, c0, c0r), k2 = cross(c0, c0r, c1, c1r);
+        const float *n = &mesh->normals[(size_t)v * 3];
+        __m128 nv = _mm_fmadd_ps(k2, _mm_broadcast_ss(n + 2),
+                                 _mm_fmadd_ps(k1, _mm_broadcast_ss(n + 1), _mm_mul_ps(k0, _mm_broadcast_ss(n))));
+        __m128 det = _mm_dp_ps(c0, k0, 0x7f);
+        __m128 len2 = _mm_dp_ps(nv, nv, 0x7f);
+        __m128 r = _mm_rsqrt_ps(len2); /* one Newton step: r * (1.5 - 0.5 * len2 * r * r) */
+        r = _mm_mul_ps(r, _mm_fnmadd_ps(_mm_mul_ps(_mm_mul_ps(_mm_set1_ps(0.5f), len2), r), r, _mm_set1_ps(1.5f)));
+        r = _mm_and_ps(r, _mm_cmpgt_ps(len2, zero));
+        r = _mm_xor_ps(r, _mm_and_ps(det, _mm_set1_ps(-0.0f))); /* the sign of det */
+        nv = _mm_mul_ps(nv, r);
+        float *out_n = (float *)((char *)c->out_n + (size_t)v * c->stride);
+        _mm_storel_pi((__m64 *)out_n, nv);
+        _mm_store_ss(out_n + 2, _mm_movehl_ps(nv, nv));
+    }
+}
+#endif
