@@ -2,10 +2,8 @@
  *
  * Every figure is the best of 5 batches of 0.02 to 0.2 s each (the machine is shared: the
  * best batch is the one least disturbed), per unit (one character update, one vertex).
- * Threads: a second worker thread that spins between frames, as a game's job system would; the work splits by
- * characters (crowd) or by vertex ranges (skinning). */
-#include <pthread.h>
-#include <stdatomic.h>
+ * Threads: sinew's job system (sinew/jobs.h) with 1 .. --threads threads; the work splits in
+ * chunks of characters (crowd) or of vertex ranges (skinning). */
 #include <stdlib.h>
 #include <string.h>
 #include <time.h>
@@ -23,71 +21,6 @@ static double now_seconds(void)
     struct timespec t;
     clock_gettime(CLOCK_MONOTONIC, &t);
     return (double)t.tv_sec + (double)t.tv_nsec * 1e-9;
-}
-
-/* ---- two-thread pool ---------------------------------------------------------------------- */
-
-/* The worker spins on a frame counter (with the pause instruction) instead of sleeping on a
- * futex: waking a sleeping thread costs tens of microseconds on this virtual machine, as
- * long as a whole 1000-character frame takes here. Game job systems spin likewise. */
-typedef void (*part_fn)(void *context, int part, int parts);
-
-typedef struct pool {
-    pthread_t thread;
-    atomic_uint frame, done;
-    part_fn fn;
-    void *context;
-    atomic_bool quit;
-} pool;
-
-static inline void cpu_relax(void)
-{
-#if defined(__x86_64__)
-    __builtin_ia32_pause();
-#endif
-}
-
-static void *pool_worker(void *arg)
-{
-    pool *p = arg;
-    unsigned seen = 0;
-    for (;;) {
-        unsigned frame;
-        while ((frame = atomic_load_explicit(&p->frame, memory_order_acquire)) == seen)
-            cpu_relax();
-        seen = frame;
-        if (atomic_load(&p->quit))
-            return NULL;
-        p->fn(p->context, 1, 2);
-        atomic_store_explicit(&p->done, frame, memory_order_release);
-    }
-}
-
-static bool pool_open(pool *p)
-{
-    memset(p, 0, sizeof *p);
-    atomic_init(&p->frame, 0);
-    atomic_init(&p->done, 0);
-    atomic_init(&p->quit, false);
-    return pthread_create(&p->thread, NULL, pool_worker, p) == 0;
-}
-
-static void pool_run(pool *p, part_fn fn, void *context)
-{
-    p->fn = fn;
-    p->context = context;
-    unsigned frame = atomic_load(&p->frame) + 1;
-    atomic_store_explicit(&p->frame, frame, memory_order_release);
-    fn(context, 0, 2);
-    while (atomic_load_explicit(&p->done, memory_order_acquire) != frame)
-        cpu_relax();
-}
-
-static void pool_close(pool *p)
-{
-    atomic_store(&p->quit, true);
-    atomic_fetch_add(&p->frame, 1);
-    pthread_join(p->thread, NULL);
 }
 
 /* Best seconds per unit over BATCHES batches of `units` calls of step(context, i). */
@@ -202,46 +135,55 @@ typedef struct skin_bench {
     sinew_dq_joint *dq_palette;
     float *positions, *normals;
     bool scalar, positions_only, dqs;
-    pool *threads;
+    sinew_jobs *jobs; /* NULL: the calling thread alone */
 } skin_bench;
 
-static void skin_part(void *ctx, int part, int parts)
+#define SKIN_GRAIN 2048 /* vertices a chunk */
+
+static void skin_range(void *ctx, uint32_t first, uint32_t count, uint32_t thread)
 {
+    (void)thread;
     skin_bench *b = ctx;
-    uint32_t n = b->mesh->vertex_count, first = (uint32_t)((uint64_t)n * part / parts);
-    uint32_t last = (uint32_t)((uint64_t)n * (part + 1) / parts);
     sinew_skin_desc d = {.mesh = b->mesh,
                          .palette = b->palette,
                          .palette_count = b->palette_count,
                          .first = first,
-                         .count = last - first,
+                         .count = count,
                          .method = b->dqs ? SINEW_SKIN_DUAL_QUATERNION : SINEW_SKIN_LINEAR,
                          .dq_palette = b->dq_palette,
                          .out_positions = b->positions,
                          .out_normals = b->positions_only ? NULL : b->normals};
-    if (last > first)
-        (b->scalar ? sinew_skin_vertices_scalar : sinew_skin_vertices)(&d, NULL);
+    (b->scalar ? sinew_skin_vertices_scalar : sinew_skin_vertices)(&d, NULL);
 }
 
-static void step_skin_1t(void *ctx, uint32_t i)
-{
-    (void)i;
-    skin_part(ctx, 0, 1);
-}
-
-static void step_skin_2t(void *ctx, uint32_t i)
+static void step_skin(void *ctx, uint32_t i)
 {
     (void)i;
     skin_bench *b = ctx;
-    pool_run(b->threads, skin_part, b);
+    sinew_jobs_run(b->jobs, b->mesh->vertex_count, SKIN_GRAIN, skin_range, b);
+}
+
+#define MAX_BENCH_THREADS 64
+
+/* A job system of `threads` threads for a scaling step (NULL for one: the caller alone). */
+static bool open_jobs(uint32_t threads, sinew_jobs **out)
+{
+    *out = NULL;
+    sinew_error error = {0};
+    if (threads > 1 && sinew_jobs_create(&(sinew_jobs_desc){.threads = threads}, out, &error) != SINEW_OK) {
+        cli_error("bench eval: %s", error.message);
+        return false;
+    }
+    return true;
 }
 
 typedef struct skin_result {
     uint32_t vertices;
-    double mverts_1t, mverts_2t, mverts_scalar, mverts_posonly, mverts_dqs, mverts_dqs_scalar;
+    double mverts_1t, mverts_scalar, mverts_posonly, mverts_dqs, mverts_dqs_scalar;
+    double mverts[MAX_BENCH_THREADS + 1]; /* by thread count, 1 .. threads */
 } skin_result;
 
-static bool bench_skinning(pool *threads, skin_result *out)
+static bool bench_skinning(uint32_t threads, skin_result *out)
 {
     sinew_model *model = character(64, 50000);
     if (!model)
@@ -254,8 +196,7 @@ static bool bench_skinning(pool *threads, skin_result *out)
                     .dq_palette = malloc(skin->joint_count * sizeof(sinew_dq_joint)),
                     .palette_count = skin->joint_count,
                     .positions = malloc((size_t)mesh->vertex_count * 12),
-                    .normals = malloc((size_t)mesh->vertex_count * 12),
-                    .threads = threads};
+                    .normals = malloc((size_t)mesh->vertex_count * 12)};
     app_player player = {0};
     bool ok =
         worlds && b.palette && b.positions && b.normals &&
@@ -264,17 +205,26 @@ static bool bench_skinning(pool *threads, skin_result *out)
         sinew_skin_palette(skin, worlds, model->node_count, b.palette, b.palette_count, NULL) == SINEW_OK &&
         b.dq_palette && sinew_skin_dq_palette(b.palette, b.palette_count, b.dq_palette, NULL) == SINEW_OK;
     if (ok) {
+        double n = mesh->vertex_count * 1e-6;
         out->vertices = mesh->vertex_count;
-        out->mverts_1t = mesh->vertex_count / best_per_unit(step_skin_1t, &b, 100) * 1e-6;
-        out->mverts_2t = mesh->vertex_count / best_per_unit(step_skin_2t, &b, 100) * 1e-6;
+        out->mverts_1t = n / best_per_unit(step_skin, &b, 100);
         b.positions_only = true;
-        out->mverts_posonly = mesh->vertex_count / best_per_unit(step_skin_1t, &b, 100) * 1e-6;
+        out->mverts_posonly = n / best_per_unit(step_skin, &b, 100);
         b.positions_only = false, b.dqs = true;
-        out->mverts_dqs = mesh->vertex_count / best_per_unit(step_skin_1t, &b, 100) * 1e-6;
+        out->mverts_dqs = n / best_per_unit(step_skin, &b, 100);
         b.scalar = true;
-        out->mverts_dqs_scalar = mesh->vertex_count / best_per_unit(step_skin_1t, &b, 20) * 1e-6;
+        out->mverts_dqs_scalar = n / best_per_unit(step_skin, &b, 20);
         b.dqs = false;
-        out->mverts_scalar = mesh->vertex_count / best_per_unit(step_skin_1t, &b, 20) * 1e-6;
+        out->mverts_scalar = n / best_per_unit(step_skin, &b, 20);
+        b.scalar = false;
+        out->mverts[1] = out->mverts_1t;
+        for (uint32_t t = 2; ok && t <= threads; t++) {
+            ok = open_jobs(t, &b.jobs);
+            if (ok)
+                out->mverts[t] = n / best_per_unit(step_skin, &b, 100 * t);
+            sinew_jobs_free(b.jobs);
+            b.jobs = NULL;
+        }
     }
     app_player_close(&player);
     free(worlds);
@@ -289,6 +239,7 @@ static bool bench_skinning(pool *threads, skin_result *out)
 /* ---- a crowd ------------------------------------------------------------------------------- */
 
 #define CROWD 1000
+#define CROWD_GRAIN 16 /* characters a chunk */
 
 typedef struct crowd_bench {
     const sinew_model *model;
@@ -298,48 +249,40 @@ typedef struct crowd_bench {
     sinew_mat4 *worlds;    /* node_count a thread: world matrices are scratch */
     sinew_mat4 *palette;   /* joint_count a character: what goes to the GPU */
     float time;
-    pool *threads;
+    sinew_jobs *jobs;
 } crowd_bench;
 
-static void crowd_part(void *ctx, int part, int parts)
+static void crowd_range(void *ctx, uint32_t first, uint32_t count, uint32_t thread)
 {
     crowd_bench *b = ctx;
     const sinew_skin *skin = &b->model->skins[0];
     uint32_t n = b->model->node_count, j = skin->joint_count;
-    sinew_mat4 *worlds = b->worlds + (size_t)part * n;
-    for (uint32_t c = (uint32_t)(CROWD * part / parts); c < (uint32_t)(CROWD * (part + 1) / parts); c++) {
+    sinew_mat4 *worlds = b->worlds + (size_t)thread * n;
+    for (uint32_t c = first; c < first + count; c++) {
         sinew_player_update(b->players[c], b->time + (float)c * 0.013f, SINEW_WRAP_LOOP, NULL, worlds, n, NULL);
         sinew_skin_palette(skin, worlds, n, b->palette + (size_t)c * j, j, NULL);
     }
 }
 
-static void step_crowd_1t(void *ctx, uint32_t i)
+static void step_crowd(void *ctx, uint32_t i)
 {
     crowd_bench *b = ctx;
     b->time = (float)i / 60.0f;
-    crowd_part(b, 0, 1);
-}
-
-static void step_crowd_2t(void *ctx, uint32_t i)
-{
-    crowd_bench *b = ctx;
-    b->time = (float)i / 60.0f;
-    pool_run(b->threads, crowd_part, b);
+    sinew_jobs_run(b->jobs, CROWD, CROWD_GRAIN, crowd_range, b);
 }
 
 typedef struct crowd_result {
-    double ms_1t, ms_2t;
+    double ms[MAX_BENCH_THREADS + 1]; /* a frame, by thread count */
 } crowd_result;
 
-static bool bench_crowd(pool *threads, crowd_result *out)
+static bool bench_crowd_eval(uint32_t threads, crowd_result *out)
 {
     crowd_bench *b = calloc(1, sizeof *b);
     sinew_model *model = character(64, 256);
     bool ok = b && model;
     if (ok) {
         b->model = model;
-        b->threads = threads;
-        b->worlds = malloc((size_t)2 * model->node_count * sizeof(sinew_mat4));
+        b->worlds = malloc((size_t)threads * model->node_count * sizeof(sinew_mat4));
         b->palette = malloc((size_t)CROWD * model->skins[0].joint_count * sizeof(sinew_mat4));
         ok = b->worlds && b->palette;
         sinew_clip_layout_desc desc = {.model = model, .clip = &model->clips[0]};
@@ -349,9 +292,12 @@ static bool bench_crowd(pool *threads, crowd_result *out)
         for (int c = 0; ok && c < CROWD; c++)
             ok = sinew_player_init(b->states + size * c, size, b->layout, &b->players[c], NULL) == SINEW_OK;
     }
-    if (ok) {
-        out->ms_1t = 1e3 * best_per_unit(step_crowd_1t, b, 60);
-        out->ms_2t = 1e3 * best_per_unit(step_crowd_2t, b, 60);
+    for (uint32_t t = 1; ok && t <= threads; t++) {
+        ok = open_jobs(t, &b->jobs);
+        if (ok)
+            out->ms[t] = 1e3 * best_per_unit(step_crowd, b, 60 * t);
+        sinew_jobs_free(b->jobs);
+        b->jobs = NULL;
     }
     if (b) {
         free(b->states);
@@ -483,36 +429,43 @@ static void machine_name(char *out, size_t size)
 }
 
 static const char eval_usage[] =
-    "usage: sinew bench eval [--json] [--collada FILE.dae] [--import FILE] [--quick]\n"
+    "usage: sinew bench eval [--json] [--threads N] [--collada FILE.dae] [--import FILE] [--quick]\n"
     "\n"
     "The runtime's speed per unit (best of 5 batches), against the goals of the evaluation:\n"
     "  sampling + world matrices of one character, 64 and 128 joints, a 2 s clip keyed 30 times a second\n"
     "    on translation, rotation and scale of every joint: forward play at 60 Hz and random seeking\n"
     "    (sinew_player; the reference sinew_sample + sinew_local_to_world beside it);\n"
-    "  skinning 50,000 vertices of 4 influences, positions and normals: Mvertices/s on 1 and 2 threads\n"
-    "    (and the scalar reference), positions only, and dual quaternions;\n"
-    "  1000 characters of 64 joints updated a frame (sampling, world matrices, skinning palettes) on 1\n"
-    "    and 2 threads;\n"
+    "  skinning 50,000 vertices of 4 influences, positions and normals: Mvertices/s on one thread (and\n"
+    "    the scalar reference), positions only, dual quaternions, and on 1 .. N threads;\n"
+    "  1000 characters of 64 joints updated a frame (sampling, world matrices, skinning palettes) on\n"
+    "    1 .. N threads: the speed-up and efficiency (speed-up / threads) at each;\n"
     "  loading a .sinew file against Assimp importing the COLLADA file it came from (in this process):\n"
     "    FILE.dae, or the demo humanoid that `sinew demo` writes (made in a temporary folder);\n"
     "  with --import, importing FILE (FBX, glTF or COLLADA) by sinew's own reader against Assimp's (in\n"
     "    this process; --fbx FILE is the same).\n"
+    "--threads N: the most threads (sinew's job system; default: the cores this process may use).\n"
     "--quick runs one short batch of each (a smoke test; the figures mean little).\n"
     "--json prints one object with sample_world_us_64, sample_world_us_128, seek_us_64, skin_mverts_1t,\n"
-    "skin_mverts_2t, skin_mverts_1t_posonly, skin_mverts_dqs_1t, simd, crowd1000_speedup_2t, load_speedup_vs_assimp, "
-    "machine and the other figures\n"
+    "skin_mverts_1t_posonly, skin_mverts_dqs_1t, threads, skin_mverts_nt, crowd1000_speedup_nt, scaling\n"
+    "([{threads, crowd_ms, crowd_speedup, crowd_efficiency, skin_mverts, skin_speedup}]), simd,\n"
+    "load_speedup_vs_assimp, machine and the other figures (with 2 threads or more also skin_mverts_2t\n"
+    "and crowd1000_speedup_2t)\n"
     "(with --import also import_ms_sinew, import_ms_assimp and import_file).\n";
 
 int bench_eval(int argc, char **argv)
 {
     bool json = false;
     const char *collada = NULL, *import = NULL;
+    uint32_t threads = sinew_cpu_count();
     for (int i = 1; i < argc; i++) {
         if (cli_is_help(argv[i])) {
             fputs(eval_usage, stdout);
             return EXIT_OK;
         } else if (strcmp(argv[i], "--json") == 0) {
             json = true;
+        } else if (strcmp(argv[i], "--threads") == 0) {
+            if (!cli_threads_arg(argc, argv, &i, MAX_BENCH_THREADS, &threads))
+                return EXIT_USAGE;
         } else if (strcmp(argv[i], "--quick") == 0) {
             batches = 1;
             unit_scale = 0.02;
@@ -538,27 +491,21 @@ int bench_eval(int argc, char **argv)
         snprintf(demo_dae, sizeof demo_dae, "%s/%s", dir, CLI_DEMO_HUMANOID);
         collada = demo_dae;
     }
-    pool threads;
-    if (!pool_open(&threads)) {
-        cli_error("bench eval: cannot start a thread");
-        return EXIT_UNAVAILABLE;
-    }
     sample_result s64 = {0}, s128 = {0};
     skin_result skin = {0};
     crowd_result crowd = {0};
     load_result load = {0};
     import_result import_times = {0};
-    bool ok = bench_sampling(64, &s64) && bench_sampling(128, &s128) && bench_skinning(&threads, &skin) &&
-              bench_crowd(&threads, &crowd) && bench_load(collada, converted, &load) &&
+    bool ok = bench_sampling(64, &s64) && bench_sampling(128, &s128) && bench_skinning(threads, &skin) &&
+              bench_crowd_eval(threads, &crowd) && bench_load(collada, converted, &load) &&
               (!import || bench_import(import, &import_times));
-    pool_close(&threads);
     cli_remove_tree(dir);
     if (!ok)
         return EXIT_BAD_INPUT;
 
     char machine[384];
     machine_name(machine, sizeof machine);
-    double crowd_speedup = crowd.ms_1t / crowd.ms_2t, load_speedup = load.assimp_ms / load.sinew_ms;
+    double load_speedup = load.assimp_ms / load.sinew_ms;
     if (json) {
         cJSON *o = cJSON_CreateObject();
         cJSON_AddNumberToObject(o, "sample_world_us_64", s64.forward_us);
@@ -569,15 +516,32 @@ int bench_eval(int argc, char **argv)
         cJSON_AddNumberToObject(o, "reference_seek_us_64", s64.reference_seek_us);
         cJSON_AddNumberToObject(o, "skin_vertices", skin.vertices);
         cJSON_AddNumberToObject(o, "skin_mverts_1t", skin.mverts_1t);
-        cJSON_AddNumberToObject(o, "skin_mverts_2t", skin.mverts_2t);
         cJSON_AddNumberToObject(o, "skin_mverts_scalar_1t", skin.mverts_scalar);
         cJSON_AddNumberToObject(o, "skin_mverts_1t_posonly", skin.mverts_posonly);
         cJSON_AddNumberToObject(o, "skin_mverts_dqs_1t", skin.mverts_dqs);
         cJSON_AddNumberToObject(o, "skin_mverts_dqs_scalar_1t", skin.mverts_dqs_scalar);
         cJSON_AddStringToObject(o, "simd", sinew_simd_name());
-        cJSON_AddNumberToObject(o, "crowd1000_ms_1t", crowd.ms_1t);
-        cJSON_AddNumberToObject(o, "crowd1000_ms_2t", crowd.ms_2t);
-        cJSON_AddNumberToObject(o, "crowd1000_speedup_2t", crowd_speedup);
+        cJSON_AddNumberToObject(o, "threads", threads);
+        cJSON_AddNumberToObject(o, "skin_mverts_nt", skin.mverts[threads]);
+        cJSON_AddNumberToObject(o, "crowd1000_ms_1t", crowd.ms[1]);
+        cJSON_AddNumberToObject(o, "crowd1000_ms_nt", crowd.ms[threads]);
+        cJSON_AddNumberToObject(o, "crowd1000_speedup_nt", crowd.ms[1] / crowd.ms[threads]);
+        if (threads >= 2) {
+            cJSON_AddNumberToObject(o, "skin_mverts_2t", skin.mverts[2]);
+            cJSON_AddNumberToObject(o, "crowd1000_ms_2t", crowd.ms[2]);
+            cJSON_AddNumberToObject(o, "crowd1000_speedup_2t", crowd.ms[1] / crowd.ms[2]);
+        }
+        cJSON *scaling = cJSON_AddArrayToObject(o, "scaling");
+        for (uint32_t t = 1; t <= threads; t++) {
+            cJSON *step = cJSON_CreateObject();
+            cJSON_AddNumberToObject(step, "threads", t);
+            cJSON_AddNumberToObject(step, "crowd_ms", crowd.ms[t]);
+            cJSON_AddNumberToObject(step, "crowd_speedup", crowd.ms[1] / crowd.ms[t]);
+            cJSON_AddNumberToObject(step, "crowd_efficiency", crowd.ms[1] / crowd.ms[t] / t);
+            cJSON_AddNumberToObject(step, "skin_mverts", skin.mverts[t]);
+            cJSON_AddNumberToObject(step, "skin_speedup", skin.mverts[t] / skin.mverts[1]);
+            cJSON_AddItemToArray(scaling, step);
+        }
         cJSON_AddNumberToObject(o, "load_ms_sinew", load.sinew_ms);
         cJSON_AddNumberToObject(o, "load_ms_assimp", load.assimp_ms);
         cJSON_AddNumberToObject(o, "load_speedup_vs_assimp", load_speedup);
@@ -605,12 +569,21 @@ int bench_eval(int argc, char **argv)
            s128.reference_seek_us);
     printf("%-44s %6.0f Mv/s %6.0f Mv/s %10s\n", "skinning (pos + normal, 4 infl), 1 thread", skin.mverts_1t,
            skin.mverts_scalar, ">= 350");
-    printf("%-44s %6.0f Mv/s %12s %10s\n", "skinning, 2 threads", skin.mverts_2t, "", "");
     printf("%-44s %6.0f Mv/s %12s %10s\n", "skinning, positions only, 1 thread", skin.mverts_posonly, "", ">= 500");
     printf("%-44s %6.0f Mv/s %6.0f Mv/s %10s\n", "skinning, dual quaternions, 1 thread", skin.mverts_dqs,
            skin.mverts_dqs_scalar, "");
-    printf("%-44s %9.3f ms %9.3f ms %10s\n", "1000 characters a frame, 1 | 2 threads", crowd.ms_1t, crowd.ms_2t, "");
-    printf("%-44s %11.2fx %12s %10s\n", "  speed-up from 2 threads", crowd_speedup, "", ">= 1.8x");
+    printf("%-44s %9.3f ms %12s %10s\n", "1000 characters a frame, 1 thread", crowd.ms[1], "", "");
+    for (uint32_t t = 2; t <= threads; t++) {
+        char label[64];
+        snprintf(label, sizeof label, "  %u threads: frame | speed-up | efficiency", t);
+        printf("%-44s %9.3f ms %11.2fx %9.0f%%\n", label, crowd.ms[t], crowd.ms[1] / crowd.ms[t],
+               100.0 * crowd.ms[1] / crowd.ms[t] / t);
+    }
+    for (uint32_t t = 2; t <= threads; t++) {
+        char label[64];
+        snprintf(label, sizeof label, "skinning, %u threads | speed-up", t);
+        printf("%-44s %6.0f Mv/s %11.2fx\n", label, skin.mverts[t], skin.mverts[t] / skin.mverts[1]);
+    }
     printf("%-44s %9.3f ms %9.3f ms %10s\n", "load .sinew | Assimp COLLADA", load.sinew_ms, load.assimp_ms, "");
     printf("%-44s %11.0fx %12s %10s\n", "  .sinew load speed-up", load_speedup, "", ">= 100x");
     if (import)

@@ -4,6 +4,7 @@
 
 #include <stdio.h>
 
+#include "crowd.h"
 #include "scene.h"
 #include "sinew/sinew.h"
 
@@ -33,6 +34,9 @@ double cli_json_float(float value);
 bool cli_parse_count(const char *command, const char *option, const char *text, long lo, long hi, long *out);
 bool cli_parse_size(const char *command, const char *text, int *width, int *height);
 
+/* --threads N at argv[*i] (1..most): the value; advances *i past it. */
+bool cli_threads_arg(int argc, char **argv, int *i, uint32_t most, uint32_t *out);
+
 /* True when `arg` is --help or -h. */
 bool cli_is_help(const char *arg);
 
@@ -46,6 +50,8 @@ typedef struct cli_scene_desc {
     bool loop, skeleton_set;
     uint32_t gpu_joint_limit;
     sinew_render_options options;
+    uint32_t crowd;   /* > 0: that many characters on a grid (app_crowd), each at its own time and clip */
+    uint32_t threads; /* the crowd's job system: 0 = the cores this process may use */
 } cli_scene_desc;
 
 typedef struct cli_scene {
@@ -63,6 +69,8 @@ typedef struct cli_scene {
     int width, height;
     uint8_t *pixels; /* width * height * 4, top row first */
     const char *gl_name;
+    app_crowd crowd; /* count 0: no crowd */
+    sinew_jobs *jobs;
 } cli_scene;
 
 /* --muscles as a scene wants it: NULL none, "" the model's own or the file beside it, else a file. */
@@ -123,6 +131,7 @@ int cmd_arm(int argc, char **argv);
 int cmd_convert(int argc, char **argv);
 int cmd_demo(int argc, char **argv);
 int bench_eval(int argc, char **argv);
+int bench_crowd(int argc, char **argv);
 
 /* `sinew demo`: writes the demo content into dir (humanoid.dae, arm.dae and their muscle
  * files); prints each file when verbose. */

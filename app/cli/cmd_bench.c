@@ -23,7 +23,11 @@ static const char bench_usage[] =
     "           The clip plays forward at 60 Hz from 0, looping; N frames (default 300) after 10 warm-up frames.\n"
     "           --png OUT writes the last GPU-skinned frame, to see what was measured.\n"
     "\n"
-    "usage: sinew bench eval [--json] [--collada FILE.dae] [--fbx FILE.fbx] [--quick]\n"
+    "usage: sinew bench crowd [FILE] [--count N] [--threads N] [--size WxH] [--samples N] [--json]\n"
+    "  crowd    characters drawn at 60 fps, GPU (instanced) and CPU skinning, with and without MSAA\n"
+    "           (`sinew bench crowd --help` says how)\n"
+    "\n"
+    "usage: sinew bench eval [--json] [--threads N] [--collada FILE.dae] [--fbx FILE.fbx] [--quick]\n"
     "  eval     the runtime's speed: sampling + world matrices, skinning, 1000 characters, .sinew loading,\n"
     "           and with --fbx importing an FBX file by sinew's reader against Assimp\n"
     "           (`sinew bench eval --help` says what each figure is)\n"
@@ -258,6 +262,8 @@ int cmd_bench(int argc, char **argv)
     }
     if (strcmp(argv[1], "render") == 0)
         return bench_render(argc - 1, argv + 1);
+    if (strcmp(argv[1], "crowd") == 0)
+        return bench_crowd(argc - 1, argv + 1);
     if (strcmp(argv[1], "eval") == 0)
         return bench_eval(argc - 1, argv + 1);
     if (strcmp(argv[1], "muscle") == 0)

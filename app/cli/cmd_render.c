@@ -39,7 +39,14 @@ static const char render_usage[] =
     "  --normal-length L                       length of drawn normals (default 3% of the model)\n"
     "  --gpu-joint-limit N                     skin larger skins on the CPU (tests the fallback)\n"
     "  --muscles [M.json]                      attach and draw muscles (M, or FILE's stem + .muscles.json);\n"
-    "                                          --no-muscles hides them\n";
+    "                                          --no-muscles hides them\n"
+    "  --skinning-method lbs|dqs               linear blend (default) or dual-quaternion skinning\n"
+    "\n"
+    "crowds:\n"
+    "  --crowd N           N characters on a grid, each at its own time and clip (the --clip given, else\n"
+    "                      the file's clips in turn); poses on the CPU, skinning on the GPU with instancing\n"
+    "                      (one draw a mesh) or with --skinning cpu on the CPU; meshes and grid only\n"
+    "  --threads N         threads posing (and CPU-skinning) the crowd (default: the cores)\n";
 
 #define MAX_FRAMES 100000
 
@@ -48,7 +55,7 @@ typedef struct render_args {
     int width, height, samples;
     double time, from, to, fps;
     bool from_set, to_set, fps_set, loop, skeleton_set, track;
-    uint32_t gpu_joint_limit;
+    uint32_t gpu_joint_limit, crowd, threads;
     sinew_render_options options;
 } render_args;
 
@@ -107,6 +114,10 @@ static int parse_value_option(int argc, char **argv, int i, render_args *a, bool
         }
     } else if (strcmp(o, "--size") == 0) {
         *bad = !cli_parse_size("render", v, &a->width, &a->height);
+    } else if (strcmp(o, "--crowd") == 0 || strcmp(o, "--threads") == 0) {
+        long n = 0;
+        *bad = !cli_parse_count("render", o, v, 1, o[2] == 'c' ? APP_CROWD_MAX : 256, &n);
+        *(o[2] == 'c' ? &a->crowd : &a->threads) = (uint32_t)n;
     } else if (strcmp(o, "--samples") == 0 || strcmp(o, "--gpu-joint-limit") == 0) {
         long n = 0;
         *bad = !cli_parse_count("render", o, v, 1, 1 << 20, &n);
@@ -229,7 +240,9 @@ int cmd_render(int argc, char **argv)
                            .skeleton_set = a.skeleton_set,
                            .gpu_joint_limit = a.gpu_joint_limit,
                            .muscles = a.muscles,
-                           .options = a.options};
+                           .options = a.options,
+                           .crowd = a.crowd,
+                           .threads = a.threads};
     /* Never over an input: the model, or the muscle file. */
     const char *inputs[2] = {a.path, a.muscles && *a.muscles ? a.muscles : NULL};
     sinew_error error = {0};
@@ -270,7 +283,8 @@ int cmd_render(int argc, char **argv)
     }
     for (uint32_t f = 0; f < frames && code == EXIT_OK; f++) {
         double t = from + step * f;
-        if ((a.track && !cli_scene_track(&scene, t)) || !cli_scene_draw(&scene, t) || !cli_scene_read(&scene)) {
+        if ((a.track && !scene.crowd.count && !cli_scene_track(&scene, t)) || !cli_scene_draw(&scene, t) ||
+            !cli_scene_read(&scene)) {
             code = EXIT_BAD_INPUT;
             break;
         }

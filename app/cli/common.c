@@ -35,6 +35,19 @@ double cli_json_float(float value)
     return strtod(text, NULL);
 }
 
+bool cli_threads_arg(int argc, char **argv, int *i, uint32_t most, uint32_t *out)
+{
+    long n = 0;
+    if (*i + 1 >= argc) {
+        cli_error("%s: --threads needs a count (1..%u)", argv[0], most);
+        return false;
+    }
+    if (!cli_parse_count(argv[0], "--threads", argv[++*i], 1, most, &n))
+        return false;
+    *out = (uint32_t)n;
+    return true;
+}
+
 bool cli_is_help(const char *arg)
 {
     return strcmp(arg, "--help") == 0 || strcmp(arg, "-h") == 0;

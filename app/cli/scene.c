@@ -59,6 +59,30 @@ bool cli_scene_load(app_scene *scene, const app_scene_desc *desc)
     return true;
 }
 
+/* The crowd: spaced by one character's footprint over its clip, on a job system. */
+static int open_crowd(cli_scene *s, const cli_scene_desc *d)
+{
+    sinew_error error = {0};
+    if (sinew_jobs_create(&(sinew_jobs_desc){.threads = d->threads}, &s->jobs, &error) != SINEW_OK) {
+        cli_error("%s", error.message);
+        return EXIT_UNAVAILABLE;
+    }
+    float lo[3] = {-0.5f, 0.0f, -0.5f}, hi[3] = {0.5f, 1.0f, 0.5f};
+    double duration = s->clip ? s->clip->duration : 0.0;
+    app_scene_bounds(&s->scene, s->renderer, 0.0, duration, FRAMING_SAMPLES, SINEW_WRAP_LOOP, lo, hi);
+    float footprint = fmaxf(hi[0] - lo[0], hi[2] - lo[2]);
+    app_crowd_desc cd = {.model = s->model,
+                         .clip = d->clip ? s->clip : NULL,
+                         .count = d->crowd,
+                         .spacing = fmaxf(footprint * 1.25f, 0.05f),
+                         .jobs = s->jobs};
+    if (app_crowd_open(&s->crowd, &cd, &error) != SINEW_OK) {
+        cli_error("%s: %s", s->model->source, error.message);
+        return EXIT_BAD_INPUT;
+    }
+    return EXIT_OK;
+}
+
 int cli_scene_open(cli_scene *s, const cli_scene_desc *d)
 {
     memset(s, 0, sizeof *s);
@@ -98,6 +122,8 @@ int cli_scene_open(cli_scene *s, const cli_scene_desc *d)
         return EXIT_BAD_INPUT;
     }
     int code = open_graphics(s, d);
+    if (code == EXIT_OK && d->crowd)
+        code = open_crowd(s, d);
     if (code != EXIT_OK)
         cli_scene_close(s);
     return code;
@@ -121,6 +147,12 @@ bool cli_scene_frame_all(cli_scene *s, double from, double to)
     if (!cli_scene_pose(s, from) || !cli_scene_pose(s, to))
         return false;
     app_scene_bounds(&s->scene, s->renderer, from, to, FRAMING_SAMPLES, s->wrap, lo, hi);
+    if (s->crowd.count) {
+        float one_lo[3], one_hi[3];
+        memcpy(one_lo, lo, sizeof lo);
+        memcpy(one_hi, hi, sizeof hi);
+        app_crowd_bounds(&s->crowd, one_lo, one_hi, lo, hi);
+    }
     sinew_camera keep = s->camera;
     sinew_camera_frame(&s->camera, lo, hi, (float)s->width / (float)s->height);
     if (!s->frame_all) {
@@ -157,6 +189,12 @@ bool cli_scene_draw(cli_scene *s, double time)
         return false;
     sinew_error error = {0};
     sinew_frame frame = app_scene_frame(&s->scene, &s->camera, &s->frame_options, s->width, s->height);
+    if (s->crowd.count) {
+        app_crowd_pose(&s->crowd, time);
+        frame.crowd_count = s->crowd.count;
+        frame.crowd_worlds = s->crowd.worlds;
+        frame.jobs = s->jobs;
+    }
     if (sinew_renderer_draw(s->renderer, &frame, &error) != SINEW_OK) {
         cli_error("%s: %s", s->model->source, error.message);
         return false;
@@ -176,6 +214,8 @@ bool cli_scene_read(cli_scene *s)
 
 void cli_scene_close(cli_scene *s)
 {
+    app_crowd_close(&s->crowd);
+    sinew_jobs_free(s->jobs);
     sinew_renderer_destroy(s->renderer);
     sinew_headless_destroy(s->headless);
     app_scene_close(&s->scene);

@@ -28,6 +28,7 @@
 
 #include "sinew/anim.h"
 #include "sinew/camera.h"
+#include "sinew/jobs.h"
 #include "sinew/model.h"
 #include "sinew/muscle_rig.h"
 
@@ -119,6 +120,15 @@ typedef struct sinew_frame {
     const sinew_render_options *options;
     const sinew_muscle_pose *muscles; /* from sinew_muscle_rig_update(), or NULL */
     uint32_t muscle_count;
+    /* A crowd: crowd_count characters of the model in one frame, each posed and placed by its
+     * own world matrices (crowd_worlds: crowd_count * node_count, character after character;
+     * a player's `root` places one). Meshes, grid and axes only (no skeleton, names,
+     * normals, muscles or heat map). GPU skinning draws each mesh once for all characters
+     * (instancing: the palettes of every character in one texture buffer); CPU skinning skins
+     * and draws character after character. 0: the one character of `worlds`. */
+    uint32_t crowd_count;
+    const sinew_mat4 *crowd_worlds;
+    sinew_jobs *jobs; /* optional: a crowd's palettes and CPU skinning on several threads */
 } sinew_frame;
 
 /* Clears the bound framebuffer's viewport and draws the frame. */

@@ -1,6 +1,6 @@
 /* sinew/sinew.h — everything in libsinew: the runtime model, evaluation, import, rendering.
  * Installed, libsinew (sinew::sinew, pkg-config sinew) holds all of it. A runtime user that
- * only poses, skins and solves muscles needs sinew/model.h, anim.h, muscle.h, muscle_rig.h and
+ * only poses, skins and solves muscles needs sinew/model.h, anim.h, jobs.h, muscle.h, muscle_rig.h and
  * camera.h: libsinew_core (sinew::core, pkg-config sinew-core), libc and cglm alone. */
 #ifndef SINEW_SINEW_H
 #define SINEW_SINEW_H
@@ -10,6 +10,7 @@
 #include "sinew/camera.h"
 #include "sinew/headless.h"
 #include "sinew/import.h"
+#include "sinew/jobs.h"
 #include "sinew/model.h"
 #include "sinew/muscle.h"
 #include "sinew/muscle_file.h"

@@ -30,8 +30,9 @@ typedef struct render_mesh {
 } render_mesh;
 
 typedef struct mesh_uniforms {
-    GLint model, view_proj, gpu_sets, dqs, palette_offset, palette, heat_joint, heat_rigid, gouraud, key_dir, fill_dir,
-        eye, base_color, use_texture, texture, mode, heat, override, normal_length;
+    GLint model, view_proj, gpu_sets, dqs, palette_offset, instance_stride, rigid_record, instance_base, palette,
+        heat_joint, heat_rigid, gouraud, key_dir, fill_dir, eye, base_color, use_texture, texture, mode, heat, override,
+        normal_length;
 } mesh_uniforms;
 
 struct sinew_renderer {
@@ -52,6 +53,10 @@ struct sinew_renderer {
     bool *skeleton_nodes;        /* node_count flags */
     overlay_list overlay;        /* world-space geometry, then text quads */
     GLuint palette_buffer, palette_texture;
+    /* a crowd: each character's palettes (total_joints records) then its node worlds */
+    sinew_mat4 *crowd_records;
+    uint32_t crowd_capacity; /* characters crowd_records holds */
+    GLuint crowd_buffer, crowd_texture;
     GLuint muscle_vao, muscle_vertices, muscle_indices;
     uint32_t muscle_vertex_capacity, muscle_index_capacity;
     float *muscle_scratch; /* position + normal a vertex */
@@ -248,8 +253,8 @@ static GLuint load_texture(sinew_renderer *r, const sinew_material *material)
 static void lookup_mesh_uniforms(GLuint program, mesh_uniforms *u)
 {
 #define U(name) u->name = glGetUniformLocation(program, "u_" #name)
-    U(model), U(view_proj), U(gpu_sets), U(dqs), U(palette_offset), U(palette), U(heat_joint), U(heat_rigid),
-        U(gouraud);
+    U(model), U(view_proj), U(gpu_sets), U(dqs), U(palette_offset), U(instance_stride), U(rigid_record),
+        U(instance_base), U(palette), U(heat_joint), U(heat_rigid), U(gouraud);
     U(key_dir), U(fill_dir), U(eye), U(base_color), U(use_texture), U(texture), U(mode), U(heat), U(override);
     U(normal_length);
 #undef U
@@ -431,6 +436,10 @@ void sinew_renderer_destroy(sinew_renderer *r)
     glDeleteTextures((GLsizei)r->model->material_count, r->textures);
     glDeleteTextures(1, &r->palette_texture);
     glDeleteBuffers(1, &r->palette_buffer);
+    glDeleteTextures(1, &r->crowd_texture);
+    glDeleteBuffers(1, &r->crowd_buffer);
+    if (r->crowd_records)
+        r->allocator.free(r->crowd_records, r->allocator.user);
     glDeleteVertexArrays(1, &r->overlay_vao);
     glDeleteVertexArrays(1, &r->muscle_vao);
     glDeleteBuffers(1, &r->muscle_vertices);
@@ -521,6 +530,9 @@ static void set_common_uniforms(GLuint program, const mesh_uniforms *u, const fr
     glUniform3fv(u->fill_dir, 1, fs->fill);
     glUniform1i(u->palette, 0);
     glUniform1i(u->texture, 1);
+    glUniform1i(u->instance_stride, 0);
+    glUniform1i(u->rigid_record, -1);
+    glUniform1i(u->instance_base, 0);
 }
 
 /* Binds the VAO and sets the skinning uniforms of one instance; streams CPU-skinned
@@ -825,6 +837,187 @@ static void camera_lights(const sinew_camera *camera, frame_state *fs)
     sinew_camera_eye(camera, fs->eye);
 }
 
+/* ---- crowds ---------------------------------------------------------------------- */
+
+/* Characters a crowd draw call holds at most. */
+#define CROWD_BATCH 64u
+
+/* Records a crowd character takes: its palettes, then its node world matrices (rigid meshes). */
+static uint32_t crowd_stride(const sinew_renderer *r)
+{
+    return r->total_joints + r->model->node_count;
+}
+
+typedef struct crowd_work {
+    sinew_renderer *r;
+    const sinew_mat4 *worlds;
+} crowd_work;
+
+/* Palettes (as dual-quaternion joints for DQS, converted in place) and node worlds of a
+ * range of characters. */
+static void crowd_records(void *user, uint32_t first, uint32_t count, uint32_t thread)
+{
+    (void)thread;
+    crowd_work *w = user;
+    sinew_renderer *r = w->r;
+    const sinew_model *m = r->model;
+    uint32_t stride = crowd_stride(r);
+    for (uint32_t c = first; c < first + count; c++) {
+        sinew_mat4 *block = r->crowd_records + (size_t)c * stride;
+        const sinew_mat4 *worlds = w->worlds + (size_t)c * m->node_count;
+        for (uint32_t s = 0; s < m->skin_count; s++)
+            sinew_skin_palette(&m->skins[s], worlds, m->node_count, block + r->skin_offsets[s], m->skins[s].joint_count,
+                               NULL);
+        if (r->method == SINEW_SKIN_DUAL_QUATERNION)
+            sinew_skin_dq_palette(block, r->total_joints, (sinew_dq_joint *)block, NULL);
+        memcpy(block + r->total_joints, worlds, (size_t)m->node_count * sizeof(sinew_mat4));
+    }
+}
+
+/* Makes room for `count` characters' records, CPU and GPU side. */
+static sinew_result crowd_reserve(sinew_renderer *r, uint32_t count, sinew_error *error)
+{
+    size_t bytes = (size_t)count * crowd_stride(r) * sizeof(sinew_mat4);
+    GLint texels = 0;
+    glGetIntegerv(GL_MAX_TEXTURE_BUFFER_SIZE, &texels);
+    if (bytes / 16 > (size_t)texels)
+        return sinew_fail(error, SINEW_ERROR_LIMIT,
+                          "%s: a crowd of %u characters needs %zu texels of palettes, GL_MAX_TEXTURE_BUFFER_SIZE is %d",
+                          r->model->source, count, bytes / 16, texels);
+    if (count <= r->crowd_capacity)
+        return SINEW_OK;
+    sinew_mat4 *records = r->allocator.alloc(bytes, r->allocator.user);
+    if (!records)
+        return sinew_fail(error, SINEW_ERROR_OUT_OF_MEMORY, "%s: out of memory for a crowd of %u characters",
+                          r->model->source, count);
+    if (r->crowd_records)
+        r->allocator.free(r->crowd_records, r->allocator.user);
+    r->crowd_records = records;
+    r->crowd_capacity = count;
+    if (!r->crowd_buffer) {
+        glGenBuffers(1, &r->crowd_buffer);
+        glGenTextures(1, &r->crowd_texture);
+    }
+    glBindBuffer(GL_TEXTURE_BUFFER, r->crowd_buffer);
+    glBufferData(GL_TEXTURE_BUFFER, (GLsizeiptr)bytes, NULL, GL_STREAM_DRAW);
+    glBindTexture(GL_TEXTURE_BUFFER, r->crowd_texture);
+    glTexBuffer(GL_TEXTURE_BUFFER, GL_RGBA32F, r->crowd_buffer);
+    return SINEW_OK;
+}
+
+typedef struct crowd_skin {
+    sinew_skin_desc desc;
+} crowd_skin;
+
+static void crowd_skin_range(void *user, uint32_t first, uint32_t count, uint32_t thread)
+{
+    (void)thread;
+    sinew_skin_desc d = ((crowd_skin *)user)->desc;
+    d.first = first, d.count = count;
+    sinew_skin_vertices(&d, NULL);
+}
+
+/* One CPU-skinned mesh of every character: skinned (on the frame's jobs), streamed, drawn. */
+static sinew_result draw_crowd_cpu_mesh(sinew_renderer *r, const frame_state *fs, const sinew_mesh *mesh,
+                                        render_mesh *rm, sinew_error *error)
+{
+    const mesh_uniforms *u = &r->mesh_u;
+    uint32_t stride = crowd_stride(r);
+    glBindVertexArray(rm->vao_stream);
+    glUniform1i(u->gpu_sets, 0);
+    glUniform1i(u->instance_stride, 0);
+    glUniform1i(u->rigid_record, -1);
+    for (uint32_t c = 0; c < fs->frame->crowd_count; c++) {
+        const sinew_mat4 *block = r->crowd_records + (size_t)c * stride + r->skin_offsets[mesh->skin];
+        crowd_skin job = {{.mesh = mesh,
+                           .palette = block,
+                           .dq_palette = (const sinew_dq_joint *)block,
+                           .method = r->method,
+                           .palette_count = r->model->skins[mesh->skin].joint_count,
+                           .out_positions = r->stream,
+                           .out_normals = r->stream + 3,
+                           .out_stride = 24}};
+        /* the model's joint indices were checked when it was loaded: the ranges cannot fail */
+        if (fs->frame->jobs) {
+            sinew_jobs_run(fs->frame->jobs, mesh->vertex_count, 4096, crowd_skin_range, &job);
+        } else {
+            sinew_result result = sinew_skin_vertices(&job.desc, error);
+            if (result != SINEW_OK)
+                return result;
+        }
+        glBindBuffer(GL_ARRAY_BUFFER, rm->buffers[BUF_STREAM]);
+        glBufferSubData(GL_ARRAY_BUFFER, 0, (GLsizeiptr)mesh->vertex_count * 24, r->stream);
+        glDrawElements(GL_TRIANGLES, (GLsizei)mesh->index_count, GL_UNSIGNED_INT, NULL);
+    }
+    return SINEW_OK;
+}
+
+/* Every instance of the model for every character: one instanced draw a mesh. */
+static sinew_result draw_crowd(sinew_renderer *r, const frame_state *fs, sinew_error *error)
+{
+    const sinew_model *m = r->model;
+    const sinew_frame *frame = fs->frame;
+    sinew_result result = crowd_reserve(r, frame->crowd_count, error);
+    if (result != SINEW_OK)
+        return result;
+    crowd_work work = {r, frame->crowd_worlds};
+    sinew_jobs_run(frame->jobs, frame->crowd_count, 8, crowd_records, &work);
+    uint32_t stride = crowd_stride(r);
+    glBindBuffer(GL_TEXTURE_BUFFER, r->crowd_buffer);
+    glBufferSubData(GL_TEXTURE_BUFFER, 0, (GLsizeiptr)((size_t)frame->crowd_count * stride * sizeof(sinew_mat4)),
+                    r->crowd_records);
+    glActiveTexture(GL_TEXTURE0);
+    glBindTexture(GL_TEXTURE_BUFFER, r->crowd_texture);
+    const mesh_uniforms *u = &r->mesh_u;
+    static const float IDENTITY[16] = {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1}, NONE[4] = {0, 0, 0, 0};
+    set_common_uniforms(r->programs.mesh, u, fs);
+    int mode = shading_mode(fs->o);
+    glUniform1i(u->mode, mode);
+    glUniform1i(u->gouraud, mode == 2);
+    glUniform1i(u->heat, 0);
+    glUniform1i(u->heat_joint, -1);
+    glUniform1f(u->heat_rigid, 0.0f);
+    glUniform4fv(u->override, 1, NONE);
+    glUniformMatrix4fv(u->model, 1, GL_FALSE, IDENTITY);
+    for (uint32_t i = 0; i < m->instance_count; i++) {
+        if (instance_hidden(fs->o, i))
+            continue;
+        const sinew_instance *inst = &m->instances[i];
+        const sinew_mesh *mesh = &m->meshes[inst->mesh];
+        render_mesh *rm = &r->meshes[inst->mesh];
+        set_material(r, fs, mesh);
+        if (mesh_is_skinned(mesh) && (fs->o->skinning == SINEW_SKINNING_CPU || !r->skin_on_gpu[mesh->skin])) {
+            result = draw_crowd_cpu_mesh(r, fs, mesh, rm, error);
+            if (result != SINEW_OK)
+                return result;
+            continue;
+        }
+        glBindVertexArray(rm->vao_static);
+        glUniform1i(u->instance_stride, (GLint)stride);
+        if (mesh_is_skinned(mesh)) {
+            glUniform1i(u->gpu_sets, rm->influence_sets);
+            glUniform1i(u->dqs, r->method == SINEW_SKIN_DUAL_QUATERNION);
+            glUniform1i(u->palette_offset, (GLint)r->skin_offsets[mesh->skin]);
+            glUniform1i(u->rigid_record, -1);
+        } else {
+            glUniform1i(u->gpu_sets, 0);
+            glUniform1i(u->rigid_record, (GLint)(r->total_joints + inst->node));
+        }
+        /* in batches: Mesa's software renderer shades all of a draw's vertices into one buffer
+         * first, which grows past its caches (and costs page faults) with thousands of
+         * instances; GPUs do not mind the extra draws */
+        for (uint32_t first = 0; first < frame->crowd_count; first += CROWD_BATCH) {
+            uint32_t n = frame->crowd_count - first < CROWD_BATCH ? frame->crowd_count - first : CROWD_BATCH;
+            glUniform1i(u->instance_base, (GLint)first);
+            glDrawElementsInstanced(GL_TRIANGLES, (GLsizei)mesh->index_count, GL_UNSIGNED_INT, NULL, (GLsizei)n);
+        }
+    }
+    glUniform1i(u->instance_stride, 0);
+    glUniform1i(u->rigid_record, -1);
+    glUniform1i(u->instance_base, 0);
+    return SINEW_OK;
+}
+
 sinew_result sinew_renderer_draw(sinew_renderer *r, const sinew_frame *frame, sinew_error *error)
 {
     if (!r || !frame || !frame->camera || !frame->options || !frame->worlds)
@@ -836,6 +1029,9 @@ sinew_result sinew_renderer_draw(sinew_renderer *r, const sinew_frame *frame, si
     if (frame->width <= 0 || frame->height <= 0)
         return sinew_fail(error, SINEW_ERROR_INVALID_ARGUMENT, "sinew_renderer_draw: viewport %dx%d", frame->width,
                           frame->height);
+    if (frame->crowd_count && !frame->crowd_worlds)
+        return sinew_fail(error, SINEW_ERROR_INVALID_ARGUMENT, "sinew_renderer_draw: a crowd of %u without worlds",
+                          frame->crowd_count);
     frame_state fs = {.frame = frame, .o = frame->options};
     r->frame++;
     sinew_mat4 view, proj;
@@ -870,6 +1066,18 @@ sinew_result sinew_renderer_draw(sinew_renderer *r, const sinew_frame *frame, si
     glDisable(GL_BLEND);
     glEnable(GL_PROGRAM_POINT_SIZE);
     draw_overlay(r, &fs, true);
+    if (frame->crowd_count) {
+        result = frame->options->meshes ? draw_crowd(r, &fs, error) : SINEW_OK;
+        glBindVertexArray(0);
+        glUseProgram(0);
+        if (result != SINEW_OK)
+            return result;
+        GLenum crowd_error = glGetError();
+        if (crowd_error != GL_NO_ERROR)
+            return sinew_fail(error, SINEW_ERROR_GRAPHICS, "%s: OpenGL error 0x%04x while drawing a crowd", m->source,
+                              crowd_error);
+        return SINEW_OK;
+    }
     if (frame->options->meshes) {
         result = draw_meshes(r, &fs, error);
         if (result == SINEW_OK && frame->options->normals) {

@@ -552,15 +552,33 @@ static void test_bench_eval_json(void **state)
     assert_int_equal(r.code, 0);
     cJSON *o = cJSON_Parse(r.out);
     assert_non_null(o);
-    static const char *const keys[] = {"sample_world_us_64",    "sample_world_us_128", "seek_us_64",
-                                       "skin_mverts_1t",        "skin_mverts_2t",      "crowd1000_speedup_2t",
-                                       "load_speedup_vs_assimp"};
+    static const char *const keys[] = {
+        "sample_world_us_64",     "sample_world_us_128",   "seek_us_64", "skin_mverts_1t",
+        "skin_mverts_1t_posonly", "skin_mverts_dqs_1t",    "threads",    "skin_mverts_nt",
+        "crowd1000_speedup_nt",   "load_speedup_vs_assimp"};
     for (size_t i = 0; i < sizeof keys / sizeof keys[0]; i++) {
         cJSON *v = cJSON_GetObjectItem(o, keys[i]);
         if (!cJSON_IsNumber(v) || !(v->valuedouble > 0.0))
             fail_msg("bench eval --json: %s missing or not positive", keys[i]);
     }
     assert_true(cJSON_IsString(cJSON_GetObjectItem(o, "machine")));
+    /* scaling: one entry a thread count, 1 .. threads, the first at speed-up 1 */
+    cJSON *scaling = cJSON_GetObjectItem(o, "scaling");
+    int threads = cJSON_GetObjectItem(o, "threads")->valueint;
+    assert_int_equal(cJSON_GetArraySize(scaling), threads);
+    assert_float_equal(cJSON_GetObjectItem(cJSON_GetArrayItem(scaling, 0), "crowd_speedup")->valuedouble, 1.0, 1e-9);
+    cJSON_Delete(o);
+    run_free(&r);
+    /* --threads is checked */
+    r = RUN("bench", "eval", "--threads", "0");
+    assert_int_equal(r.code, 1);
+    assert_non_null(strstr(r.err, "--threads"));
+    run_free(&r);
+    r = RUN("bench", "eval", "--json", "--quick", "--threads", "3");
+    assert_int_equal(r.code, 0);
+    o = cJSON_Parse(r.out);
+    assert_int_equal(cJSON_GetObjectItem(o, "threads")->valueint, 3);
+    assert_int_equal(cJSON_GetArraySize(cJSON_GetObjectItem(o, "scaling")), 3);
     cJSON_Delete(o);
     run_free(&r);
 }

@@ -2,12 +2,15 @@
  * sinew_sample + sinew_local_to_world, forward and seeking, on generated characters and real
  * files; SIMD skinning against the scalar reference. */
 #include <math.h>
+#include <stdatomic.h>
+#include <unistd.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
 #include "core/internal.h"
 #include "helpers.h"
+#include "sinew/jobs.h"
 
 /* Largest difference of matrix elements, relative to the element where it is over 1 (files
  * in centimetres have translations in the hundreds). */
@@ -396,12 +399,82 @@ static void test_skin_dual_quaternion_twist(void **state)
     sinew_model_free(m);
 }
 
+/* ---- the job system ---- */
+
+typedef struct job_check {
+    _Atomic uint32_t *visits;
+    _Atomic uint32_t bad_thread;
+    uint32_t threads;
+} job_check;
+
+static void count_visits(void *user, uint32_t first, uint32_t count, uint32_t thread)
+{
+    job_check *c = user;
+    if (thread >= c->threads)
+        atomic_fetch_add(&c->bad_thread, 1);
+    for (uint32_t i = first; i < first + count; i++)
+        atomic_fetch_add(&c->visits[i], 1);
+}
+
+/* Every item is visited exactly once, by a thread index in range, for any thread count
+ * (more threads than processors too), grain and total; thousands of back-to-back runs lose
+ * nothing (a late worker cannot take a chunk of the next run); runs after the workers went
+ * to sleep still finish; NULL jobs runs inline. */
+static void test_jobs(void **state)
+{
+    (void)state;
+    enum { MAX = 5000 };
+    static _Atomic uint32_t visits[MAX];
+    const uint32_t thread_counts[] = {1, 2, 3, 8};
+    const uint32_t totals[] = {0, 1, 17, MAX};
+    const uint32_t grains[] = {0, 1, 7, 64, MAX};
+    for (size_t t = 0; t < 4; t++) {
+        sinew_jobs *jobs = NULL;
+        sinew_jobs_desc desc = {.threads = thread_counts[t], .spin_us = 20};
+        assert_int_equal(sinew_jobs_create(&desc, &jobs, NULL), SINEW_OK);
+        assert_int_equal(sinew_jobs_threads(jobs), thread_counts[t]);
+        job_check c = {.visits = visits, .threads = thread_counts[t]};
+        for (size_t n = 0; n < 4; n++)
+            for (size_t g = 0; g < 5; g++) {
+                for (uint32_t i = 0; i < MAX; i++)
+                    atomic_store(&visits[i], 0);
+                sinew_jobs_run(jobs, totals[n], grains[g], count_visits, &c);
+                for (uint32_t i = 0; i < MAX; i++)
+                    assert_int_equal(atomic_load(&visits[i]), i < totals[n] ? 1 : 0);
+            }
+        /* back to back: 3000 runs of 40 items in chunks of 1 */
+        for (uint32_t i = 0; i < 40; i++)
+            atomic_store(&visits[i], 0);
+        for (int run = 0; run < 3000; run++)
+            sinew_jobs_run(jobs, 40, 1, count_visits, &c);
+        for (uint32_t i = 0; i < 40; i++)
+            assert_int_equal(atomic_load(&visits[i]), 3000);
+        /* after the workers slept */
+        usleep(3000);
+        sinew_jobs_run(jobs, 40, 1, count_visits, &c);
+        assert_int_equal(atomic_load(&visits[39]), 3001);
+        assert_int_equal(atomic_load(&c.bad_thread), 0);
+        sinew_jobs_free(jobs);
+    }
+    job_check inline_check = {.visits = visits, .threads = 1};
+    atomic_store(&visits[3], 0);
+    sinew_jobs_run(NULL, 10, 3, count_visits, &inline_check);
+    assert_int_equal(atomic_load(&visits[3]), 1);
+    sinew_jobs *jobs = NULL;
+    sinew_error error = {0};
+    assert_int_equal(sinew_jobs_create(&(sinew_jobs_desc){.threads = 257}, &jobs, &error),
+                     SINEW_ERROR_INVALID_ARGUMENT);
+    assert_non_null(strstr(error.message, "at most 256"));
+    assert_true(sinew_cpu_count() >= 1);
+    sinew_jobs_free(NULL);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_player_generated),           cmocka_unit_test(test_player_real_files),
         cmocka_unit_test(test_player_arguments),           cmocka_unit_test(test_skin_simd_matches_scalar),
-        cmocka_unit_test(test_skin_dual_quaternion_twist),
+        cmocka_unit_test(test_skin_dual_quaternion_twist), cmocka_unit_test(test_jobs),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

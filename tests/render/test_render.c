@@ -276,6 +276,42 @@ static void test_dual_quaternion_skinning(void **state)
     free_image(&cpu);
 }
 
+/* A crowd: GPU skinning (instanced) and CPU skinning draw the same picture, linear blend
+ * and dual quaternions alike; the crowd is not one character (more of the image is covered
+ * than by the single model framed the same way); bad counts are refused. */
+static void test_crowd(void **state)
+{
+    (void)state;
+    char robot[1024];
+    if (!testdata_path("raylib/robot.glb", robot, sizeof robot))
+        skip();
+    image gpu = RENDER("crowd-gpu.png", robot, "--crowd", "12", "--time", "0.5", "--size", SIZE, "--no-grid");
+    image cpu = RENDER("crowd-cpu.png", robot, "--crowd", "12", "--time", "0.5", "--size", SIZE, "--no-grid",
+                       "--skinning", "cpu", "--threads", "2");
+    image dqs = RENDER("crowd-dqs.png", robot, "--crowd", "12", "--time", "0.5", "--size", SIZE, "--no-grid",
+                       "--skinning-method", "dqs");
+    long differing = 0, differing_dqs = 0;
+    bool same = same_picture(&gpu, &cpu, &differing);
+    bool same_dqs = same_picture(&gpu, &dqs, &differing_dqs);
+    long covered = 0, background = gpu.rgb[0] + gpu.rgb[1] + gpu.rgb[2];
+    for (long p = 0; p < (long)gpu.width * gpu.height; p++)
+        covered += labs(gpu.rgb[p * 3] + gpu.rgb[p * 3 + 1] + gpu.rgb[p * 3 + 2] - background) > 30;
+    printf("robot crowd of 12: GPU vs CPU skinning %ld pixels differ, LBS vs DQS %ld; %ld pixels covered\n", differing,
+           differing_dqs, covered);
+    assert_true(same);
+    assert_true(same_dqs);
+    assert_true(covered > 2000);
+    free_image(&gpu);
+    free_image(&cpu);
+    free_image(&dqs);
+    char out[1024];
+    tmp_path("crowd-bad.png", out, sizeof out);
+    run_result r = RUN("render", robot, "--crowd", "0", "-o", out);
+    assert_int_equal(r.code, 1);
+    assert_non_null(strstr(r.err, "--crowd"));
+    run_free(&r);
+}
+
 /* Skins over the GPU limit go to the CPU with a warning, and the picture is the same. */
 static void test_gpu_joint_limit_falls_back_to_cpu(void **state)
 {
@@ -513,6 +549,15 @@ static void test_bench_render_reports(void **state)
     EXPECT_FAILURE(1, "bad --size", "bench", "render", "--size", "64x48junk");
     EXPECT_FAILURE(1, "bad --size", "arm", "--size", "0x5", "-o", "arm.png");
     EXPECT_FAILURE(1, "unknown benchmark", "bench", "fly");
+    r = RUN("bench", "crowd", "--size", "64x48", "--frames", "1", "--count", "1", "--most", "4", "--samples", "1",
+            "--skinning", "gpu", "--json");
+    if (r.code != 0)
+        fail_msg("bench crowd: exit %d: %s", r.code, r.err);
+    assert_non_null(strstr(r.out, "\"characters_at_60fps\""));
+    assert_non_null(strstr(r.out, "\"renderer\""));
+    assert_non_null(strstr(r.out, "\"pose_ms\""));
+    run_free(&r);
+    EXPECT_FAILURE(1, "--threads", "bench", "crowd", "--threads", "0");
 }
 
 int main(void)
@@ -524,6 +569,7 @@ int main(void)
         cmocka_unit_test(test_tolerance_catches_a_wrong_pose),
         cmocka_unit_test(test_gpu_and_cpu_skinning_agree),
         cmocka_unit_test(test_dual_quaternion_skinning),
+        cmocka_unit_test(test_crowd),
         cmocka_unit_test(test_gpu_joint_limit_falls_back_to_cpu),
         cmocka_unit_test(test_animated_frames_differ_static_do_not),
         cmocka_unit_test(test_bone_only_file_shows_bones),
