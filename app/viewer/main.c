@@ -211,12 +211,59 @@ static gboolean on_tick(GtkWidget *widget, GdkFrameClock *clock, gpointer data)
 
 /* ---- drawing -------------------------------------------------------------------------------- */
 
+/* The crowd for the scene's model, made when the toggle is on and the model changed (spaced
+ * by one character's footprint over its clip). False with the error shown when it cannot be. */
+static bool crowd_ready(viewer *v)
+{
+    if (v->crowd.count && v->crowd.model == v->scene.model)
+        return true;
+    app_crowd_close(&v->crowd);
+    sinew_error error = {0};
+    if (!v->jobs && sinew_jobs_create(&(sinew_jobs_desc){0}, &v->jobs, &error) != SINEW_OK) {
+        view_show_error(v, error.message);
+        return false;
+    }
+    float lo[3] = {-0.5f, 0.0f, -0.5f}, hi[3] = {0.5f, 1.0f, 0.5f};
+    app_scene_bounds(&v->scene, v->renderer, 0.0, view_duration(v), 5, SINEW_WRAP_LOOP, lo, hi);
+    float footprint = fmaxf(hi[0] - lo[0], hi[2] - lo[2]);
+    app_crowd_desc d = {.model = v->scene.model,
+                        .clip = v->scene.clip,
+                        .count = v->crowd_size,
+                        .spacing = fmaxf(footprint * 1.25f, 0.05f),
+                        .jobs = v->jobs};
+    if (app_crowd_open(&v->crowd, &d, &error) != SINEW_OK) {
+        view_show_error(v, error.message);
+        v->crowd_on = false;
+        return false;
+    }
+    return true;
+}
+
 static void frame_all(viewer *v)
 {
     float lo[3], hi[3];
     int w = gtk_widget_get_width(v->area), h = gtk_widget_get_height(v->area);
-    if (v->renderer && app_scene_bounds(&v->scene, v->renderer, v->time, v->time, 1, SINEW_WRAP_CLAMP, lo, hi))
-        sinew_camera_frame(&v->camera, lo, hi, h > 0 ? (float)w / (float)h : 1.0f);
+    if (!v->renderer || !app_scene_bounds(&v->scene, v->renderer, v->time, v->time, 1, SINEW_WRAP_CLAMP, lo, hi))
+        return;
+    if (v->crowd_on && crowd_ready(v)) {
+        float one_lo[3], one_hi[3];
+        memcpy(one_lo, lo, sizeof lo);
+        memcpy(one_hi, hi, sizeof hi);
+        app_crowd_bounds(&v->crowd, one_lo, one_hi, lo, hi);
+    }
+    sinew_camera_frame(&v->camera, lo, hi, h > 0 ? (float)w / (float)h : 1.0f);
+}
+
+void view_toggle_crowd(viewer *v, bool on)
+{
+    v->crowd_on = on;
+    v->framed = false;
+    if (v->crowd_check) {
+        v->updating = true;
+        gtk_check_button_set_active(GTK_CHECK_BUTTON(v->crowd_check), on);
+        v->updating = false;
+    }
+    view_redraw(v);
 }
 
 static void save_screenshot(viewer *v, int width, int height)
@@ -247,8 +294,12 @@ static gboolean close_window(gpointer data)
 static void show_status(viewer *v)
 {
     char text[256];
-    snprintf(text, sizeof text, "%.0f fps   %u vertices   %u joints   %s", v->fps, app_vertex_count(v->scene.model),
-             app_joint_count(v->scene.model), v->renderer ? sinew_renderer_gl_name(v->renderer) : "no OpenGL 3.3");
+    char crowd[48] = "";
+    if (v->crowd_on && v->crowd.count)
+        snprintf(crowd, sizeof crowd, "   crowd of %u", v->crowd.count);
+    snprintf(text, sizeof text, "%.0f fps   %u vertices   %u joints%s   %s", v->fps, app_vertex_count(v->scene.model),
+             app_joint_count(v->scene.model), crowd,
+             v->renderer ? sinew_renderer_gl_name(v->renderer) : "no OpenGL 3.3");
     gtk_label_set_text(GTK_LABEL(v->status), text);
 }
 
@@ -270,6 +321,12 @@ static gboolean on_render(GtkGLArea *area, GdkGLContext *context, gpointer data)
     }
     sinew_error error = {0};
     sinew_frame frame = app_scene_frame(&v->scene, &v->camera, &v->options, width, height);
+    if (v->crowd_on && crowd_ready(v)) {
+        app_crowd_pose(&v->crowd, v->time);
+        frame.crowd_count = v->crowd.count;
+        frame.crowd_worlds = v->crowd.worlds;
+        frame.jobs = v->jobs;
+    }
     if (app_scene_pose(&v->scene, v->time, SINEW_WRAP_CLAMP, &error) != SINEW_OK ||
         sinew_renderer_draw(v->renderer, &frame, &error) != SINEW_OK)
         view_show_error(v, error.message);
@@ -423,6 +480,9 @@ static gboolean on_key(GtkEventControllerKey *controller, guint key, guint code,
         cycle_shading(v);
         panels_options_changed(v);
         view_redraw(v);
+        return TRUE;
+    case ACTION_CROWD:
+        view_toggle_crowd(v, !v->crowd_on);
         return TRUE;
     case ACTION_SKIN_METHOD:
         settings_option_changed(v, "skinning-method");
@@ -739,7 +799,8 @@ static const char usage[] =
     "scene, which stays. Space plays and pauses, Left/Right step a frame (1/30 s), Home/End go to the ends;\n"
     "drag rotates, shift-drag or middle-drag pans, the wheel zooms, F frames all; Tab switches to the fly\n"
     "camera (W/A/S/D, Q/E, drag to look) and back. Keys 1-9, 0 and M toggle the display switches (see the\n"
-    "Display panel). Settings: ~/.config/sinew/settings.ini ([display], [window], [files], [keys]); the\n"
+    "Display panel), K switches linear blend / dual-quaternion skinning, C a crowd of the model. Settings: "
+    "~/.config/sinew/settings.ini ([display], [window], [files], [keys]); the\n"
     "options below override them for the run.\n"
     "\n"
     "  --clip C, --time T, --camera orbit:YAW,PITCH[,DIST] | fly:X,Y,Z,YAW,PITCH, --select JOINT,\n"
@@ -747,6 +808,8 @@ static const char usage[] =
     "                        as `sinew render` takes them (see `sinew render --help`)\n"
     "  --size WxH            the window's size (default: as last closed, else 1200x760)\n"
     "  --panel NAME          the side panel's page shown first: hierarchy, display or log\n"
+    "  --crowd N             shows N characters of the model on a grid, each at its own time (key C\n"
+    "                        toggles a crowd of 100, or of N)\n"
     "  --screenshot OUT.png  writes the first frame drawn (the drawing area only)\n"
     "  --quit                leaves after the screenshot\n" APP_IMPORT_OPTIONS_HELP
     "exit status (as sinew's): 0 ok, 1 usage error, 2 FILE failed to open (with --screenshot), 3 no OpenGL 3.3,\n"
@@ -755,8 +818,12 @@ static const char usage[] =
 
 int main(int argc, char **argv)
 {
-    viewer v = {
-        .options = sinew_render_options_default(), .speed = 1.0, .direction = 1, .selected = -1, .start_time = NAN};
+    viewer v = {.options = sinew_render_options_default(),
+                .speed = 1.0,
+                .direction = 1,
+                .selected = -1,
+                .start_time = NAN,
+                .crowd_size = 100};
     settings_defaults(&v);
     settings_load(&v);
     v.camera = sinew_camera_default();
@@ -800,6 +867,15 @@ int main(int argc, char **argv)
                 }
             } else if (strcmp(o, "--screenshot") == 0) {
                 v.screenshot = value;
+            } else if (strcmp(o, "--crowd") == 0) {
+                double n = 0;
+                if (!app_parse_number(value, 1, APP_CROWD_MAX, &n) || n != floor(n)) {
+                    fprintf(stderr, "sinew-view: bad --crowd \"%s\": expected a whole number in 1..%u\n", value,
+                            APP_CROWD_MAX);
+                    return 1;
+                }
+                v.crowd_size = (uint32_t)n;
+                v.crowd_on = true;
             } else if (strcmp(o, "--panel") == 0) {
                 static const char *const pages[] = {"hierarchy", "display", "log"};
                 s.panel = -1;
@@ -844,6 +920,8 @@ int main(int argc, char **argv)
     settings_save(&v);
     for (int i = 0; i < 10; i++)
         g_free(v.recent[i]);
+    app_crowd_close(&v.crowd);
+    sinew_jobs_free(v.jobs);
     app_scene_close(&v.scene);
     g_free(v.settings_path);
     g_free(v.last_folder);

@@ -24,6 +24,7 @@ bool view_use_clip(viewer *v, int32_t index)
         view_show_error(v, error.message);
         return false;
     }
+    app_crowd_close(&v->crowd); /* remade for the new clip when shown */
     if (v->time > view_duration(v))
         v->time = 0.0;
     view_update_timeline(v);
@@ -74,6 +75,7 @@ static bool adopt_scene(viewer *v, app_scene *incoming)
     if (renderer) /* make_renderer left the area's context current */
         sinew_renderer_destroy(v->renderer);
     v->renderer = renderer;
+    app_crowd_close(&v->crowd); /* of the old model: remade for the new one when shown */
     app_scene_close(&v->scene);
     v->scene = *incoming;
     memset(incoming, 0, sizeof *incoming); /* the viewer's now */

@@ -218,6 +218,13 @@ static void on_skin_method(GObject *dropdown, GParamSpec *pspec, gpointer data)
     view_redraw(v);
 }
 
+static void on_crowd(GtkCheckButton *check, gpointer data)
+{
+    viewer *v = data;
+    if (!v->updating)
+        view_toggle_crowd(v, gtk_check_button_get_active(check));
+}
+
 static void on_camera_mode(GObject *dropdown, GParamSpec *pspec, gpointer data)
 {
     (void)pspec;
@@ -287,6 +294,12 @@ static GtkWidget *display_page(viewer *v)
     v->skin_method_list = gtk_drop_down_new_from_strings(methods);
     g_signal_connect(v->skin_method_list, "notify::selected", G_CALLBACK(on_skin_method), v);
     gtk_box_append(GTK_BOX(box), v->skin_method_list);
+    char crowd[64];
+    snprintf(crowd, sizeof crowd, "crowd of %u   (%s)", v->crowd_size, gdk_keyval_name(v->keys[ACTION_CROWD].key));
+    v->crowd_check = gtk_check_button_new_with_label(crowd);
+    gtk_check_button_set_active(GTK_CHECK_BUTTON(v->crowd_check), v->crowd_on);
+    g_signal_connect(v->crowd_check, "toggled", G_CALLBACK(on_crowd), v);
+    gtk_box_append(GTK_BOX(box), v->crowd_check);
     snprintf(label, sizeof label, "Camera   (%s switches)", gdk_keyval_name(v->keys[ACTION_CAMERA_MODE].key));
     gtk_box_append(GTK_BOX(box), gtk_label_new(label));
     static const char *const cameras[] = {"Orbit: drag, shift-drag, wheel", "Fly: WASD, Q/E, right-drag", NULL};

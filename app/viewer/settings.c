@@ -34,6 +34,7 @@ static const view_key default_keys[ACTION_COUNT] = {
     [ACTION_MUSCLES] = {"muscles", "muscles", "m", 0},
     [ACTION_MESHES] = {"meshes", "meshes", "h", 0},
     [ACTION_SKIN_METHOD] = {"skinning-method", NULL, "k", 0},
+    [ACTION_CROWD] = {"crowd", NULL, "c", 0},
     [ACTION_FORWARD] = {"fly-forward", NULL, "w", 0},
     [ACTION_BACK] = {"fly-back", NULL, "s", 0},
     [ACTION_LEFT] = {"fly-left", NULL, "a", 0},

@@ -5,6 +5,7 @@
 
 #include <gtk/gtk.h>
 
+#include "crowd.h"
 #include "scene.h"
 #include "sinew/sinew.h"
 
@@ -19,7 +20,7 @@ typedef enum view_action {
     ACTION_PLAY, ACTION_PREVIOUS_FRAME, ACTION_NEXT_FRAME, ACTION_FIRST, ACTION_LAST, ACTION_FRAME_ALL,
     ACTION_CAMERA_MODE, ACTION_MATERIALS, ACTION_LIGHTING, ACTION_SHADING, ACTION_WIREFRAME, ACTION_SKELETON,
     ACTION_NORMALS, ACTION_GRID, ACTION_AXES, ACTION_JOINT_NAMES, ACTION_JOINT_AXES, ACTION_MUSCLES, ACTION_MESHES,
-    ACTION_SKIN_METHOD,
+    ACTION_SKIN_METHOD, ACTION_CROWD,
     ACTION_FORWARD, ACTION_BACK, ACTION_LEFT, ACTION_RIGHT, ACTION_DOWN, ACTION_UP, ACTION_COUNT
 } view_action;
 /* clang-format on */
@@ -42,6 +43,12 @@ typedef struct viewer {
     bool quit_after_screenshot, camera_given;
     app_scene scene; /* the model shown, its clip, muscles and pose */
     sinew_renderer *renderer;
+    /* the crowd toggle (key C, --crowd N): crowd_size characters of the scene's model */
+    uint32_t crowd_size;
+    bool crowd_on;
+    app_crowd crowd; /* built for crowd.model; rebuilt when the scene's model changes */
+    sinew_jobs *jobs;
+    GtkWidget *crowd_check;
     struct view_load *load; /* a file being opened, or NULL */
     GtkWidget *load_bar, *load_label, *load_progress;
     guint load_timer;
@@ -77,7 +84,8 @@ bool view_pose(viewer *v);
 void view_recent_changed(viewer *v); /* rebuilds the Recent menu */
 
 double view_duration(const viewer *v); /* of the clip playing; 0 for the rest pose */
-void view_update_timeline(viewer *v);  /* the scrub bar's range and key ticks */
+void view_toggle_crowd(viewer *v, bool on);
+void view_update_timeline(viewer *v); /* the scrub bar's range and key ticks */
 void view_show_time(viewer *v);
 
 /* open.c */

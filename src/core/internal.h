@@ -178,6 +178,9 @@ sinew_isa sinew_skin_set_isa_limit(sinew_isa limit);
 void sinew_skin_avx512(const skin_call *call);
 void sinew_skin_avx2(const skin_call *call);
 
+/* *allocator, or aligned_alloc/free (16-byte aligned) when it is NULL (model.c). */
+sinew_allocator sinew_allocator_or_default(const sinew_allocator *allocator);
+
 /* Chooses the player's SIMD path (when the processor has it) or the scalar reference. */
 void sinew_player_set_simd(sinew_player *player, bool simd);
 

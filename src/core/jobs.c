@@ -142,18 +142,6 @@ uint32_t sinew_cpu_count(void)
     return n > 0 ? (uint32_t)n : 1u;
 }
 
-static void *malloc_user(size_t size, void *user)
-{
-    (void)user;
-    return malloc(size);
-}
-
-static void free_user(void *ptr, void *user)
-{
-    (void)user;
-    free(ptr);
-}
-
 sinew_result sinew_jobs_create(const sinew_jobs_desc *desc, sinew_jobs **out, sinew_error *error)
 {
     if (!out)
@@ -166,7 +154,7 @@ sinew_result sinew_jobs_create(const sinew_jobs_desc *desc, sinew_jobs **out, si
     if (threads > MAX_THREADS)
         return sinew_fail(error, SINEW_ERROR_INVALID_ARGUMENT, "sinew_jobs_create: %u threads, at most %u", threads,
                           MAX_THREADS);
-    sinew_allocator a = d.allocator ? *d.allocator : (sinew_allocator){malloc_user, free_user, NULL};
+    sinew_allocator a = sinew_allocator_or_default(d.allocator);
     size_t size = sizeof(sinew_jobs) + threads * sizeof(pthread_t) + threads * sizeof(worker_arg);
     sinew_jobs *j = a.alloc(size, a.user);
     if (!j)

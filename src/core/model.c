@@ -66,6 +66,11 @@ static void default_free(void *ptr, void *user)
     free(ptr);
 }
 
+sinew_allocator sinew_allocator_or_default(const sinew_allocator *allocator)
+{
+    return allocator ? *allocator : (sinew_allocator){default_alloc, default_free, NULL};
+}
+
 static sinew_result corrupt(const reader *r, const char *what)
 {
     return sinew_fail(r->error, SINEW_ERROR_FORMAT, "%s: corrupted model data: %s", r->name, what);
@@ -521,7 +526,7 @@ static sinew_result open_blob(const void *bytes, size_t size, const char *name, 
         name = "model data";
     if (allocator && (!allocator->alloc || !allocator->free))
         return sinew_fail(error, SINEW_ERROR_INVALID_ARGUMENT, "%s: allocator without alloc or free", name);
-    sinew_allocator alloc = allocator ? *allocator : (sinew_allocator){default_alloc, default_free, NULL};
+    sinew_allocator alloc = sinew_allocator_or_default(allocator);
 
     /* The header, the directory and the table sizes are checked on the caller's bytes
      * before their counts size any allocation; the copy has the same directory. */

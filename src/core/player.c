@@ -252,18 +252,6 @@ static unsigned char *lay_out_group(sinew_clip_layout *l, const layout_plan *pla
     return at + ALIGN32((size_t)gr->fix_count * sizeof(slerp_fix));
 }
 
-static void *malloc_user(size_t size, void *user)
-{
-    (void)user;
-    return malloc(size);
-}
-
-static void free_user(void *ptr, void *user)
-{
-    (void)user;
-    free(ptr);
-}
-
 sinew_result sinew_clip_layout_create(const sinew_clip_layout_desc *desc, sinew_clip_layout **out, sinew_error *error)
 {
     if (!desc || !desc->model || !out)
@@ -273,7 +261,7 @@ sinew_result sinew_clip_layout_create(const sinew_clip_layout_desc *desc, sinew_
     if (a && (!a->alloc || !a->free))
         return sinew_fail(error, SINEW_ERROR_INVALID_ARGUMENT,
                           "sinew_clip_layout_create: allocator without alloc or free");
-    sinew_allocator alloc = a ? *a : (sinew_allocator){malloc_user, free_user, NULL};
+    sinew_allocator alloc = sinew_allocator_or_default(a);
     const sinew_model *model = desc->model;
     const sinew_clip *clip = desc->clip;
     for (uint32_t t = 0; clip && t < clip->track_count; t++)

@@ -265,7 +265,7 @@ AVX512 void skin_block(const skin_call *c, const triples *tr, uint32_t v, uint32
     const sinew_mesh *mesh = c->mesh;
     __m512 e[16];
     blend_transposed(c, v, n, k, dqs, e);
-    __m512 p[3], out[3], t_w = _mm512_setzero_ps();
+    __m512 p[3], t_w = _mm512_setzero_ps();
     __m512 n_in[3] = {_mm512_setzero_ps(), _mm512_setzero_ps(), _mm512_setzero_ps()};
     __m512 t_in[3] = {_mm512_setzero_ps(), _mm512_setzero_ps(), _mm512_setzero_ps()};
     load3(tr, &mesh->positions[(size_t)v * 3], n, p);
@@ -274,52 +274,37 @@ AVX512 void skin_block(const skin_call *c, const triples *tr, uint32_t v, uint32
     if (c->out_t)
         t_w = load_tangents(&mesh->tangents[(size_t)v * 4], n, t_in);
     size_t at = (size_t)v * c->stride;
+    /* the linear part a and translation t; for DQS also the rotation q applied after a */
     soa3 a, cof;
-    __m512 det = _mm512_setzero_ps();
+    __m512 t[3], q[4];
     if (!dqs) {
 #pragma GCC unroll 16
         for (int col = 0; col < 3; col++)
 #pragma GCC unroll 16
             for (int row = 0; row < 3; row++)
                 a.m[col][row] = e[col * 4 + row];
-        apply3(&a, p, out);
 #pragma GCC unroll 16
         for (int row = 0; row < 3; row++)
-            out[row] = _mm512_add_ps(out[row], e[12 + row]);
-        store_vertices(tr, (float *)((char *)c->out_p + at), c->stride, n, out, NULL);
-        if (c->out_n || c->out_t)
-            det = cofactor3(&a, &cof);
-        if (c->out_n) {
-            apply3(&cof, n_in, out);
-            normalize_signed(out, sign_of(det));
-            store_vertices(tr, (float *)((char *)c->out_n + at), c->stride, n, out, NULL);
-        }
-        if (c->out_t) {
-            apply3(&a, t_in, out);
-            normalize_signed(out, _mm512_setzero_ps());
-            __m512 w = _mm512_xor_ps(t_w, sign_of(det));
-            store_vertices(tr, (float *)((char *)c->out_t + at), c->stride, n, out, &w);
-        }
-        return;
+            t[row] = e[12 + row];
+    } else {
+        /* normalised by the real part's length; S (xx yy zz xy xz yz) in e[8 .. 13] */
+        __m512 inv = inverse_length4(e[0], e[1], e[2], e[3]), d[4];
+#pragma GCC unroll 16
+        for (int i = 0; i < 4; i++)
+            q[i] = _mm512_mul_ps(e[i], inv), d[i] = _mm512_mul_ps(e[4 + i], inv);
+        __m512 sxx = e[8], syy = e[9], szz = e[10], sxy = e[11], sxz = e[12], syz = e[13];
+        a = (soa3){{{sxx, sxy, sxz}, {sxy, syy, syz}, {sxz, syz, szz}}};
+        /* translation 2 (q.w d.xyz - d.w q.xyz + q.xyz x d.xyz) */
+        cross_soa(q, d, t);
+#pragma GCC unroll 16
+        for (int i = 0; i < 3; i++)
+            t[i] = _mm512_mul_ps(_mm512_set1_ps(2.0f),
+                                 _mm512_add_ps(t[i], _mm512_fmsub_ps(q[3], d[i], _mm512_mul_ps(d[3], q[i]))));
     }
-    /* dual quaternion: normalise by the real part's length */
-    __m512 inv = inverse_length4(e[0], e[1], e[2], e[3]);
-    __m512 q[4], d[4];
-#pragma GCC unroll 16
-    for (int i = 0; i < 4; i++)
-        q[i] = _mm512_mul_ps(e[i], inv), d[i] = _mm512_mul_ps(e[4 + i], inv);
-    /* S: xx yy zz xy xz yz in e[8 .. 13], symmetric */
-    __m512 sxx = e[8], syy = e[9], szz = e[10], sxy = e[11], sxz = e[12], syz = e[13];
-    a = (soa3){{{sxx, sxy, sxz}, {sxy, syy, syz}, {sxz, syz, szz}}};
-    /* translation 2 (q.w d.xyz - d.w q.xyz + q.xyz x d.xyz) */
-    __m512 t[3];
-    cross_soa(q, d, t);
-#pragma GCC unroll 16
-    for (int i = 0; i < 3; i++)
-        t[i] = _mm512_mul_ps(_mm512_set1_ps(2.0f),
-                             _mm512_add_ps(t[i], _mm512_fmsub_ps(q[3], d[i], _mm512_mul_ps(d[3], q[i]))));
+    __m512 out[3], det = _mm512_setzero_ps();
     apply3(&a, p, out);
-    rotate_soa(q, out);
+    if (dqs)
+        rotate_soa(q, out);
 #pragma GCC unroll 16
     for (int i = 0; i < 3; i++)
         out[i] = _mm512_add_ps(out[i], t[i]);
@@ -329,13 +314,15 @@ AVX512 void skin_block(const skin_call *c, const triples *tr, uint32_t v, uint32
     if (c->out_n) {
         apply3(&cof, n_in, out);
         normalize_signed(out, sign_of(det));
-        rotate_soa(q, out);
+        if (dqs)
+            rotate_soa(q, out);
         store_vertices(tr, (float *)((char *)c->out_n + at), c->stride, n, out, NULL);
     }
     if (c->out_t) {
         apply3(&a, t_in, out);
         normalize_signed(out, _mm512_setzero_ps());
-        rotate_soa(q, out);
+        if (dqs)
+            rotate_soa(q, out);
         __m512 w = _mm512_xor_ps(t_w, sign_of(det));
         store_vertices(tr, (float *)((char *)c->out_t + at), c->stride, n, out, &w);
     }
