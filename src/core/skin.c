@@ -72,25 +72,42 @@ static void transform_tangent(const float *m, float det, const float *t, float *
 /* ---- checks ---- */
 
 /* The largest of n joint indices, 32 lanes at a time: a loop the compiler vectorises, built
- * for AVX-512BW, AVX2 and the baseline (chosen when the library loads). It reads 8 bytes a
- * vertex of 4 influences, a tenth of what skinning reads. */
+ * for AVX-512BW, AVX2 and the baseline and chosen at run time (not through target_clones:
+ * an ifunc resolver runs before a sanitizer's runtime is up). It reads 8 bytes a vertex of
+ * 4 influences, a tenth of what skinning reads. */
+#define LARGEST_INDEX_BODY                                                                                             \
+    {                                                                                                                  \
+        uint16_t lanes[32] = {0};                                                                                      \
+        size_t i = 0;                                                                                                  \
+        for (; i + 32 <= n; i += 32)                                                                                   \
+            for (int l = 0; l < 32; l++)                                                                               \
+                lanes[l] = joints[i + l] > lanes[l] ? joints[i + l] : lanes[l];                                        \
+        uint16_t largest = 0;                                                                                          \
+        for (int l = 0; l < 32; l++)                                                                                   \
+            largest = lanes[l] > largest ? lanes[l] : largest;                                                         \
+        for (; i < n; i++)                                                                                             \
+            largest = joints[i] > largest ? joints[i] : largest;                                                       \
+        return largest;                                                                                                \
+    }
+
 #if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__)
-__attribute__((target_clones("arch=x86-64-v4", "arch=x86-64-v3", "default"), optimize("tree-vectorize")))
+__attribute__((target("avx512bw"), optimize("tree-vectorize"))) static uint16_t
+largest_index_avx512(const uint16_t *joints, size_t n) LARGEST_INDEX_BODY
+    __attribute__((target("avx2"), optimize("tree-vectorize"))) static uint16_t
+    largest_index_avx2(const uint16_t *joints, size_t n) LARGEST_INDEX_BODY
 #endif
-static uint16_t
-largest_index(const uint16_t *joints, size_t n)
+
+    static uint16_t largest_index_plain(const uint16_t *joints, size_t n) LARGEST_INDEX_BODY
+
+    static uint16_t largest_index(const uint16_t *joints, size_t n)
 {
-    uint16_t lanes[32] = {0};
-    size_t i = 0;
-    for (; i + 32 <= n; i += 32)
-        for (int l = 0; l < 32; l++)
-            lanes[l] = joints[i + l] > lanes[l] ? joints[i + l] : lanes[l];
-    uint16_t largest = 0;
-    for (int l = 0; l < 32; l++)
-        largest = lanes[l] > largest ? lanes[l] : largest;
-    for (; i < n; i++)
-        largest = joints[i] > largest ? joints[i] : largest;
-    return largest;
+#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__)
+    if (__builtin_cpu_supports("avx512bw"))
+        return largest_index_avx512(joints, n);
+    if (__builtin_cpu_supports("avx2"))
+        return largest_index_avx2(joints, n);
+#endif
+    return largest_index_plain(joints, n);
 }
 
 /* Checks a skinning request and turns it into the kernels' form. */
