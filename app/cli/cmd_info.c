@@ -125,6 +125,10 @@ static void print_text(const sinew_model *m)
                    mesh->influence_count);
         else
             printf(", rigid");
+        if (mesh->uvs)
+            printf(", UVs");
+        if (mesh->tangents)
+            printf(", tangents");
         if (mesh->material >= 0)
             printf(", material \"%s\"", m->materials[mesh->material].name);
         printf("\n");
@@ -178,6 +182,8 @@ static cJSON *info_json(const sinew_model *m)
         cJSON_AddBoolToObject(o, "skinned", mesh->skin >= 0);
         cJSON_AddNumberToObject(o, "joints", mesh->skin >= 0 ? m->skins[mesh->skin].joint_count : 0);
         cJSON_AddNumberToObject(o, "influences", mesh->influence_count);
+        cJSON_AddBoolToObject(o, "uvs", mesh->uvs != NULL);
+        cJSON_AddBoolToObject(o, "tangents", mesh->tangents != NULL);
         if (mesh->material >= 0)
             cJSON_AddStringToObject(o, "material", m->materials[mesh->material].name);
         else

@@ -14,7 +14,8 @@
  * the blob; strings are offsets into the pool (section STRS), which ends with a NUL;
  * BLOB_NONE marks an absent string or array; arrays may be shared (clips cut from one
  * animation point at the same times and values). Version 3 added blob_clip.start and
- * blob_material.diffuse_image. The checksum is CRC-32C (Castagnoli) of the
+ * blob_material.diffuse_image; later minor additions (sections older readers skip): NINH (FBX
+ * inherit types), MTAN (mesh tangents). The checksum is CRC-32C (Castagnoli) of the
  * whole blob computed with the checksum field set to 0.
  */
 #ifndef SINEW_CORE_INTERNAL_H
@@ -62,18 +63,19 @@ typedef struct blob_section {
 /* The sections by name, as the writer fills them and the reader finds them (not on disk). */
 typedef struct blob_header {
     uint32_t source, format;
-    blob_span strings;      /* STRS bytes */
-    blob_span node_names;   /* NNAM uint32_t strings */
-    blob_span node_parents; /* NPAR int32_t */
-    blob_span node_rest;    /* NRST sinew_transform */
-    blob_span skins;        /* SKIN blob_skin */
-    blob_span meshes;       /* MESH blob_mesh */
-    blob_span instances;    /* INST sinew_instance */
-    blob_span materials;    /* MATL blob_material */
-    blob_span clips;        /* CLIP blob_clip */
-    blob_span warnings;     /* WARN uint32_t strings */
-    blob_span muscles;      /* MUSC blob_muscle */
-    blob_span node_inherit; /* NINH uint8_t sinew_inherit, absent when every node is NORMAL */
+    blob_span strings;       /* STRS bytes */
+    blob_span node_names;    /* NNAM uint32_t strings */
+    blob_span node_parents;  /* NPAR int32_t */
+    blob_span node_rest;     /* NRST sinew_transform */
+    blob_span skins;         /* SKIN blob_skin */
+    blob_span meshes;        /* MESH blob_mesh */
+    blob_span instances;     /* INST sinew_instance */
+    blob_span materials;     /* MATL blob_material */
+    blob_span clips;         /* CLIP blob_clip */
+    blob_span warnings;      /* WARN uint32_t strings */
+    blob_span muscles;       /* MUSC blob_muscle */
+    blob_span node_inherit;  /* NINH uint8_t sinew_inherit, absent when every node is NORMAL */
+    blob_span mesh_tangents; /* MTAN uint32_t a mesh: offset of 4 floats a vertex or BLOB_NONE; absent when none */
 } blob_header;
 
 /* One known section: its tag, where its span lives in blob_header, its element size. */

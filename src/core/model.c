@@ -33,6 +33,7 @@ const blob_section_kind blob_section_kinds[] = {
     SECTION("WARN", warnings, uint32_t),
     SECTION("MUSC", muscles, blob_muscle),
     SECTION("NINH", node_inherit, uint8_t),
+    SECTION("MTAN", mesh_tangents, uint32_t),
 };
 #undef SECTION
 const uint32_t blob_section_kind_count = sizeof blob_section_kinds / sizeof blob_section_kinds[0];
@@ -280,6 +281,15 @@ static sinew_result check_meshes(reader *r)
         if (!mesh_arrays_ok(r, m, joint_limit))
             return corrupt(r, "mesh arrays");
     }
+    if (h->mesh_tangents.count && h->mesh_tangents.count != h->meshes.count)
+        return corrupt(r, "mesh tangents table");
+    const uint32_t *tangents = h->mesh_tangents.count ? array_at(r, h->mesh_tangents.offset, h->meshes.count) : NULL;
+    for (uint32_t i = 0; tangents && i < h->meshes.count; i++) {
+        uint64_t v = meshes[i].vertex_count;
+        if (tangents[i] != BLOB_NONE &&
+            (!range_ok(r, tangents[i], v, 16) || (v && !floats_finite(array_at(r, tangents[i], v), v * 4))))
+            return corrupt(r, "mesh tangents");
+    }
     const blob_material *materials = array_at(r, h->materials.offset, h->materials.count);
     for (uint32_t i = 0; i < h->materials.count; i++)
         if (!string_ok(r, materials[i].name, false) || !string_ok(r, materials[i].diffuse_texture, true) ||
@@ -450,6 +460,10 @@ static void fill_model(model_block *b, const reader *r, unsigned char *tables)
             .positions = array_at(r, bm->positions, bm->vertex_count),
             .normals = array_at(r, bm->normals, bm->vertex_count),
             .uvs = array_at(r, bm->uvs, bm->vertex_count),
+            .tangents = h->mesh_tangents.count
+                            ? array_at(r, ((const uint32_t *)array_at(r, h->mesh_tangents.offset, m->mesh_count))[i],
+                                       bm->vertex_count)
+                            : NULL,
             .indices = array_at(r, bm->indices, bm->index_count),
             .influence_count = bm->influence_count,
             .joints = array_at(r, bm->joints, k),

@@ -518,6 +518,21 @@ static sinew_result read_mesh(context *c, const struct aiMesh *in, uint32_t inde
             out->uvs[i * 2 + 1] = in->mTextureCoords[0][i].y;
         }
     }
+    /* Tangents as the file has them (no aiProcess_CalcTangentSpace); handedness from the
+     * bitangent, which Assimp keeps along +v. */
+    if (in->mTangents && in->mBitangents && in->mNormals) {
+        if (!(out->tangents = malloc((v ? v : 1) * 4 * sizeof(float))))
+            return oom(c);
+        for (uint32_t i = 0; i < v; i++) {
+            const struct aiVector3D *n = &in->mNormals[i], *t = &in->mTangents[i], *b = &in->mBitangents[i];
+            float x = n->y * t->z - n->z * t->y, y = n->z * t->x - n->x * t->z, z = n->x * t->y - n->y * t->x;
+            float len = sqrtf(t->x * t->x + t->y * t->y + t->z * t->z);
+            float inv = len > 0.0f ? 1.0f / len : 0.0f;
+            out->tangents[i * 4] = t->x * inv, out->tangents[i * 4 + 1] = t->y * inv;
+            out->tangents[i * 4 + 2] = t->z * inv;
+            out->tangents[i * 4 + 3] = x * b->x + y * b->y + z * b->z < 0.0f ? -1.0f : 1.0f;
+        }
+    }
     uint32_t triangles = 0, other = 0;
     for (unsigned f = 0; f < in->mNumFaces; f++)
         in->mFaces[f].mNumIndices == 3 ? triangles++ : other++;

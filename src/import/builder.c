@@ -94,6 +94,7 @@ void raw_mesh_free(raw_mesh *mesh)
     free(mesh->positions);
     free(mesh->normals);
     free(mesh->uvs);
+    free(mesh->tangents);
     free(mesh->indices);
     free(mesh->joints);
     free(mesh->weights);
@@ -412,6 +413,9 @@ static sinew_result fix_mesh(raw_model *m, uint32_t index, sinew_error *error)
     if (mesh->uvs && !all_finite(mesh->uvs, v * 2))
         return sinew_fail(error, SINEW_ERROR_DATA, "%s: mesh \"%s\" has texture coordinates that are not finite",
                           m->source, mesh->name);
+    if (mesh->tangents && !all_finite(mesh->tangents, v * 4))
+        return sinew_fail(error, SINEW_ERROR_DATA, "%s: mesh \"%s\" has tangents that are not finite", m->source,
+                          mesh->name);
     if (mesh->index_count % 3 != 0)
         return sinew_fail(error, SINEW_ERROR_DATA, "%s: mesh \"%s\" has %u indices, not whole triangles", m->source,
                           mesh->name, mesh->index_count);
@@ -846,6 +850,26 @@ static blob_span write_meshes(writer *w, const raw_model *m)
     return span;
 }
 
+/* MTAN: a mesh's tangents offset (BLOB_NONE when it has none); no section when no mesh has any. */
+static blob_span write_mesh_tangents(writer *w, const raw_model *m)
+{
+    bool any = false;
+    for (uint32_t i = 0; i < m->mesh_count; i++)
+        any |= m->meshes[i].tangents != NULL;
+    if (!any)
+        return (blob_span){0, 0};
+    uint32_t *offsets = malloc(m->mesh_count * sizeof *offsets);
+    if (!offsets) {
+        w->failed = true;
+        return (blob_span){BLOB_NONE, 0};
+    }
+    for (uint32_t i = 0; i < m->mesh_count; i++)
+        offsets[i] = writer_put(w, m->meshes[i].tangents, (size_t)m->meshes[i].vertex_count * 16);
+    blob_span span = {writer_put(w, offsets, m->mesh_count * sizeof *offsets), m->mesh_count};
+    free(offsets);
+    return span;
+}
+
 static blob_span write_skins(writer *w, const raw_model *m)
 {
     blob_skin *table = calloc(m->skin_count ? m->skin_count : 1, sizeof *table);
@@ -1059,6 +1083,7 @@ sinew_result raw_model_write(const raw_model *m, void **bytes, size_t *size, sin
         h.node_inherit = (blob_span){writer_put(&w, m->node_inherit, m->node_count), m->node_count};
     h.skins = write_skins(&w, m);
     h.meshes = write_meshes(&w, m);
+    h.mesh_tangents = write_mesh_tangents(&w, m);
     h.instances =
         (blob_span){writer_put(&w, m->instances, m->instance_count * sizeof(sinew_instance)), m->instance_count};
     h.materials = write_materials(&w, m);

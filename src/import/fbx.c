@@ -170,6 +170,14 @@ static dmat dmat_inverse_affine(const dmat *a)
     return r;
 }
 
+/* Determinant of the 3x3 part (negative: the matrix mirrors). */
+static double dmat_det3(const dmat *a)
+{
+    const double *m = a->m;
+    return m[0] * (m[5] * m[10] - m[9] * m[6]) + m[4] * (m[9] * m[2] - m[1] * m[10]) +
+           m[8] * (m[1] * m[6] - m[5] * m[2]);
+}
+
 static void dmat_point(const dmat *a, const double p[3], double out[3])
 {
     for (int r = 0; r < 3; r++)
@@ -1070,7 +1078,7 @@ typedef struct corner {
     uint32_t point;
     uint32_t polygon;
     int32_t material;
-    float normal[3], uv[2];
+    float normal[3], uv[2], tangent[4]; /* contiguous: hashed and compared together */
 } corner;
 
 typedef struct vertex_table {
@@ -1082,7 +1090,7 @@ static uint32_t corner_hash(const corner *c)
 {
     uint32_t h = 2166136261u;
     const unsigned char *b = (const unsigned char *)c->normal;
-    for (size_t i = 0; i < sizeof c->normal + sizeof c->uv; i++)
+    for (size_t i = 0; i < sizeof c->normal + sizeof c->uv + sizeof c->tangent; i++)
         h = (h ^ b[i]) * 16777619u;
     return (h ^ c->point) * 16777619u;
 }
@@ -1090,7 +1098,27 @@ static uint32_t corner_hash(const corner *c)
 static bool corner_same(const corner *a, const corner *b)
 {
     return a->point == b->point && memcmp(a->normal, b->normal, sizeof a->normal) == 0 &&
-           memcmp(a->uv, b->uv, sizeof a->uv) == 0;
+           memcmp(a->uv, b->uv, sizeof a->uv) == 0 && memcmp(a->tangent, b->tangent, sizeof a->tangent) == 0;
+}
+
+/* A corner's tangent from the tangent layer, its handedness from the binormal layer: +1 when
+ * normal x tangent points along the binormal (FBX's binormal follows +v, as sinew's
+ * bitangent does), -1 when against it, +1 without binormals. */
+static void corner_tangent(corner *c, const layer_map *tangents, const layer_map *binormals, uint32_t i,
+                           uint32_t polygon, bool *bad)
+{
+    int64_t e = layer_at(tangents, i, c->point, polygon, bad);
+    for (int k = 0; e >= 0 && k < 3; k++)
+        c->tangent[k] = (float)tangents->data[e * 3 + k];
+    c->tangent[3] = 1.0f;
+    e = binormals->mapping == MAP_NONE ? -1 : layer_at(binormals, i, c->point, polygon, bad);
+    if (e < 0)
+        return;
+    const float *n = c->normal, *t = c->tangent;
+    const double *b = &binormals->data[e * 3];
+    double nxt[3] = {n[1] * t[2] - n[2] * t[1], n[2] * t[0] - n[0] * t[2], n[0] * t[1] - n[1] * t[0]};
+    if (nxt[0] * b[0] + nxt[1] * b[1] + nxt[2] * b[2] < 0.0)
+        c->tangent[3] = -1.0f;
 }
 
 /* The polygon corners of a mesh with their attributes (triangle fans come later). */
@@ -1101,7 +1129,7 @@ typedef struct mesh_source {
     uint32_t corner_count, polygon_count;
     corner *corners;
     uint32_t *polygon_start; /* polygon_count + 1 */
-    bool normals, uvs;
+    bool normals, uvs, tangents;
 } mesh_source;
 
 static sinew_result read_polygons(scene *s, const fbx_object *g, mesh_source *src)
@@ -1117,14 +1145,17 @@ static sinew_result read_polygons(scene *s, const fbx_object *g, mesh_source *sr
         if (!isfinite(src->points[i]))
             return fail_data(s, "mesh has a vertex that is not finite", g);
     const double *idx = fbx_array(g->node, "PolygonVertexIndex", &idx_count);
-    layer_map normals, uvs, materials;
+    layer_map normals, uvs, materials, tangents, binormals;
     sinew_result result;
     if ((result = layer_element(s, g, "LayerElementNormal", "Normals", "NormalsIndex", 3, &normals)) ||
         (result = layer_element(s, g, "LayerElementUV", "UV", "UVIndex", 2, &uvs)) ||
+        (result = layer_element(s, g, "LayerElementTangent", "Tangents", "TangentsIndex", 3, &tangents)) ||
+        (result = layer_element(s, g, "LayerElementBinormal", "Binormals", "BinormalsIndex", 3, &binormals)) ||
         (result = layer_element(s, g, "LayerElementMaterial", "Materials", NULL, 1, &materials)))
         return result;
     src->normals = normals.mapping != MAP_NONE;
     src->uvs = uvs.mapping != MAP_NONE;
+    src->tangents = tangents.mapping != MAP_NONE && src->normals;
     src->corners = malloc((idx_count ? idx_count : 1) * sizeof *src->corners);
     src->polygon_start = malloc((idx_count + 1) * sizeof *src->polygon_start);
     if (!src->corners || !src->polygon_start)
@@ -1147,10 +1178,12 @@ static sinew_result read_polygons(scene *s, const fbx_object *g, mesh_source *sr
         e = layer_at(&uvs, i, c->point, polygon, &bad);
         for (int k = 0; e >= 0 && k < 2; k++)
             c->uv[k] = (float)uvs.data[e * 2 + k];
+        if (src->tangents)
+            corner_tangent(c, &tangents, &binormals, i, polygon, &bad);
         e = materials.mapping == MAP_NONE ? -1 : layer_at(&materials, i, c->point, polygon, &bad);
         c->material = e >= 0 ? file_int(materials.data[e], -1) : 0;
         if (bad)
-            return fail_data(s, "mesh has a normal, UV or material index outside its array", g);
+            return fail_data(s, "mesh has a normal, UV, tangent or material index outside its array", g);
         if (last) {
             src->polygon_start[polygon++] = start;
             start = i + 1;
@@ -1450,7 +1483,9 @@ static sinew_result emit_mesh(scene *s, const mesh_source *src, const fbx_object
     mesh->positions = malloc((vcount ? vcount : 1) * 3 * sizeof(float));
     mesh->normals = src->normals ? malloc((vcount ? vcount : 1) * 3 * sizeof(float)) : NULL;
     mesh->uvs = src->uvs ? malloc((vcount ? vcount : 1) * 2 * sizeof(float)) : NULL;
-    if (!mesh->positions || (src->normals && !mesh->normals) || (src->uvs && !mesh->uvs)) {
+    mesh->tangents = src->tangents ? malloc((vcount ? vcount : 1) * 4 * sizeof(float)) : NULL;
+    if (!mesh->positions || (src->normals && !mesh->normals) || (src->uvs && !mesh->uvs) ||
+        (src->tangents && !mesh->tangents)) {
         free(verts);
         return oom(s);
     }
@@ -1480,6 +1515,17 @@ static sinew_result emit_mesh(scene *s, const mesh_source *src, const fbx_object
         if (mesh->uvs) {
             mesh->uvs[v * 2] = c->uv[0];
             mesh->uvs[v * 2 + 1] = c->uv[1];
+        }
+        if (mesh->tangents) { /* a direction on the surface: through the placement itself */
+            double t[3], len = 0;
+            for (int r = 0; r < 3; r++) {
+                t[r] = place.m[r] * c->tangent[0] + place.m[4 + r] * c->tangent[1] + place.m[8 + r] * c->tangent[2];
+                len += t[r] * t[r];
+            }
+            len = len > 0 ? sqrt(len) : 1;
+            for (int r = 0; r < 3; r++)
+                mesh->tangents[v * 4 + r] = (float)(t[r] / len);
+            mesh->tangents[v * 4 + 3] = dmat_det3(&place) < 0 ? -c->tangent[3] : c->tangent[3];
         }
     }
     if (skin) {

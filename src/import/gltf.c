@@ -905,6 +905,7 @@ static sinew_result build_materials(gltf *g)
 
 static const long long POSITION_TYPES[] = {5126, 5120, 5121, 5122, 5123, 0};
 static const long long NORMAL_TYPES[] = {5126, 5120, 5122, 0};
+static const long long TANGENT_TYPES[] = {5126, 5120, 5122, 0}; /* float, or normalised (quantization) */
 static const long long UV_TYPES[] = {5126, 5120, 5121, 5122, 5123, 0};
 static const long long JOINT_TYPES[] = {5121, 5123, 0};
 static const long long WEIGHT_TYPES[] = {5126, 5121, 5123, 0};
@@ -1108,6 +1109,7 @@ static sinew_result read_primitive(gltf *g, int mesh, int k, int skin, raw_mesh 
     out->vertex_count = n;
     if ((r = attribute(g, attrs, "NORMAL", where, 3, NORMAL_TYPES, n, &out->normals)) ||
         (r = attribute(g, attrs, "TEXCOORD_0", where, 2, UV_TYPES, n, &out->uvs)) ||
+        (r = attribute(g, attrs, "TANGENT", where, 4, TANGENT_TYPES, n, &out->tangents)) ||
         (r = primitive_indices(g, prim, where, mode, n, out)))
         return r;
     /* The texture transform in glTF's UV space (v down), then v up as the runtime has it. */
@@ -1120,6 +1122,9 @@ static sinew_result read_primitive(gltf *g, int mesh, int k, int skin, raw_mesh 
         }
         out->uvs[i * 2 + 1] = 1.0f - v;
     }
+    /* glTF's bitangent (w * normal x tangent) points along its v, down the image; sinew's v is up */
+    for (uint32_t i = 0; out->tangents && i < n; i++)
+        out->tangents[i * 4 + 3] = out->tangents[i * 4 + 3] < 0.0f ? 1.0f : -1.0f;
     if (skin >= 0) {
         uint32_t joints = g->m->skins[skin].joint_count;
         if ((r = primitive_influences(g, attrs, where, joints, out)))

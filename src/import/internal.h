@@ -62,6 +62,7 @@ typedef struct raw_mesh {
     float *positions; /* 3 a vertex */
     float *normals;   /* 3 a vertex, or NULL: the builder computes smooth normals */
     float *uvs;       /* 2 a vertex, or NULL */
+    float *tangents;  /* 4 a vertex (xyz, handedness: bitangent = w * normal x tangent along +v), or NULL */
     uint32_t *indices;
     int32_t skin; /* -1 rigid */
     int32_t material;

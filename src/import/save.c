@@ -54,6 +54,7 @@ static void copy_mesh(const sinew_mesh *src, raw_mesh *dst, bool *ok)
         .positions = copy_array(src->positions, v * 3, sizeof(float), ok),
         .normals = copy_array(src->normals, v * 3, sizeof(float), ok),
         .uvs = copy_array(src->uvs, v * 2, sizeof(float), ok),
+        .tangents = copy_array(src->tangents, v * 4, sizeof(float), ok),
         .indices = copy_array(src->indices, src->index_count, sizeof(uint32_t), ok),
         .skin = src->skin,
         .material = src->material,

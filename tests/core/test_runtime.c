@@ -399,6 +399,117 @@ static void test_skin_dual_quaternion_twist(void **state)
     sinew_model_free(m);
 }
 
+/* Tangents read from a glTF file (TANGENT, w flipped for sinew's v-up UVs) survive a .sinew
+ * round trip and are skinned: under the twist they stay unit length, perpendicular to the
+ * skinned normals and turned about the tube's axis like the surface (SIMD = scalar). */
+static void test_tangents_read_and_skinned(void **state)
+{
+    (void)state;
+    char path[1024], saved[1024];
+    sinew_model *m = load_or_fail(fixture_path("twist_tube.glb", path, sizeof path));
+    const sinew_mesh *mesh = &m->meshes[0];
+    assert_non_null(mesh->tangents);
+    assert_float_equal(mesh->tangents[3], -1.0f, 0.0f); /* +1 in the file, along glTF's v (down) */
+    assert_float_equal(mesh->tangents[2], 1.0f, 1e-6f); /* vertex 0 at angle 0: tangent +z */
+    tmp_path("twist_tube.sinew", saved, sizeof saved);
+    assert_int_equal(sinew_model_save(m, NULL, saved, NULL), SINEW_OK);
+    sinew_model *back = load_or_fail(saved);
+    assert_non_null(back->meshes[0].tangents);
+    assert_memory_equal(back->meshes[0].tangents, mesh->tangents, mesh->vertex_count * 16);
+    sinew_model_free(back);
+    sinew_mat4 *worlds = pose_worlds(m, &m->clips[0], 2.0f);
+    sinew_mat4 palette[2];
+    assert_int_equal(sinew_skin_palette(&m->skins[0], worlds, m->node_count, palette, 2, NULL), SINEW_OK);
+    size_t n = mesh->vertex_count;
+    float *out = malloc(n * 12 * sizeof(float)), *ref = malloc(n * 12 * sizeof(float));
+    sinew_skin_desc d = {.mesh = mesh,
+                         .palette = palette,
+                         .palette_count = 2,
+                         .out_positions = out,
+                         .out_normals = out + 3,
+                         .out_tangents = out + 6,
+                         .out_stride = 48};
+    assert_int_equal(sinew_skin_vertices(&d, NULL), SINEW_OK);
+    d.out_positions = ref, d.out_normals = ref + 3, d.out_tangents = ref + 6;
+    assert_int_equal(sinew_skin_vertices_scalar(&d, NULL), SINEW_OK);
+    double worst_dot = 0.0, worst_len = 0.0, worst_ref = 0.0;
+    for (size_t v = 0; v < n; v++) {
+        const float *nv = out + v * 12 + 3, *t = out + v * 12 + 6;
+        worst_dot = fmax(worst_dot, fabs(nv[0] * t[0] + nv[1] * t[1] + nv[2] * t[2]));
+        worst_len = fmax(worst_len, fabs(sqrt(t[0] * t[0] + t[1] * t[1] + t[2] * t[2]) - 1.0));
+        for (int e = 0; e < 10; e++)
+            worst_ref = fmax(worst_ref, fabs(out[v * 12 + e] - ref[v * 12 + e]));
+        assert_float_equal(t[3], -1.0f, 0.0f);
+    }
+    /* the top ring turned 170 degrees about y: its first tangent (+z at rest) points near -z */
+    const float *top = out + (n - 24) * 12 + 6;
+    print_message(
+        "skinned tangents: |n.t| <= %.1e, | |t| - 1 | <= %.1e, SIMD vs scalar %.1e; top ring (%.3f %.3f %.3f)\n",
+        worst_dot, worst_len, worst_ref, top[0], top[1], top[2]);
+    assert_true(worst_dot < 1e-5 && worst_len < 1e-5 && worst_ref < 2e-6);
+    assert_true(top[2] < -0.98f);
+    free(out);
+    free(ref);
+    free(worlds);
+    sinew_model_free(m);
+}
+
+/* FBX tangents (LayerElementTangent, handedness from LayerElementBinormal) on Maya's and
+ * Blender's exports: unit length, perpendicular to the normals, handedness +-1 and agreeing
+ * with the file's binormals (checked through normal x tangent against the v direction of the
+ * UVs on each triangle). */
+static void test_fbx_tangents(void **state)
+{
+    (void)state;
+    static const char *const files[] = {"ufbx/maya_transformed_skin_7700_binary.fbx",
+                                        "ufbx/maya_instanced_skin_7700_ascii.fbx", "assimp/FBX/huesitos.fbx"};
+    for (size_t f = 0; f < sizeof files / sizeof files[0]; f++) {
+        char path[1024];
+        if (!testdata_path(files[f], path, sizeof path))
+            skip();
+        sinew_model *m = load_or_fail(path);
+        for (uint32_t i = 0; i < m->mesh_count; i++) {
+            const sinew_mesh *mesh = &m->meshes[i];
+            assert_non_null(mesh->tangents);
+            double worst_dot = 0.0, worst_len = 0.0;
+            for (uint32_t v = 0; v < mesh->vertex_count; v++) {
+                const float *t = &mesh->tangents[v * 4], *n = &mesh->normals[v * 3];
+                worst_dot = fmax(worst_dot, fabs(t[0] * n[0] + t[1] * n[1] + t[2] * n[2]));
+                worst_len = fmax(worst_len, fabs(sqrt(t[0] * t[0] + t[1] * t[1] + t[2] * t[2]) - 1.0));
+                assert_true(t[3] == 1.0f || t[3] == -1.0f);
+            }
+            /* the bitangent w * n x t points along +v on every triangle with a UV gradient */
+            uint32_t agree = 0, triangles = 0;
+            for (uint32_t k = 0; mesh->uvs && k + 2 < mesh->index_count; k += 3) {
+                const uint32_t *ix = &mesh->indices[k];
+                const float *p0 = &mesh->positions[ix[0] * 3], *p1 = &mesh->positions[ix[1] * 3];
+                const float *p2 = &mesh->positions[ix[2] * 3];
+                const float *u0 = &mesh->uvs[ix[0] * 2], *u1 = &mesh->uvs[ix[1] * 2], *u2 = &mesh->uvs[ix[2] * 2];
+                double e1[3], e2[3], du1 = u1[0] - u0[0], dv1 = u1[1] - u0[1], du2 = u2[0] - u0[0], dv2 = u2[1] - u0[1];
+                for (int c = 0; c < 3; c++)
+                    e1[c] = p1[c] - p0[c], e2[c] = p2[c] - p0[c];
+                double r = du1 * dv2 - du2 * dv1;
+                if (fabs(r) < 1e-12)
+                    continue;
+                double dpdv[3]; /* the surface's direction of increasing v */
+                for (int c = 0; c < 3; c++)
+                    dpdv[c] = (du1 * e2[c] - du2 * e1[c]) / r;
+                const float *t = &mesh->tangents[ix[0] * 4], *n = &mesh->normals[ix[0] * 3];
+                double b[3] = {n[1] * t[2] - n[2] * t[1], n[2] * t[0] - n[0] * t[2], n[0] * t[1] - n[1] * t[0]};
+                agree += t[3] * (b[0] * dpdv[0] + b[1] * dpdv[1] + b[2] * dpdv[2]) > 0.0;
+                triangles++;
+            }
+            print_message("%s mesh %u: %u vertices, |n.t| <= %.1e, | |t| - 1 | <= %.1e, bitangent along +v on %u of "
+                          "%u triangles\n",
+                          files[f], i, mesh->vertex_count, worst_dot, worst_len, agree, triangles);
+            assert_true(worst_len < 1e-5);
+            assert_true(worst_dot < 1e-3);
+            assert_true(agree * 10 >= triangles * 9);
+        }
+        sinew_model_free(m);
+    }
+}
+
 /* ---- the job system ---- */
 
 typedef struct job_check {
@@ -472,9 +583,14 @@ static void test_jobs(void **state)
 int main(void)
 {
     const struct CMUnitTest tests[] = {
-        cmocka_unit_test(test_player_generated),           cmocka_unit_test(test_player_real_files),
-        cmocka_unit_test(test_player_arguments),           cmocka_unit_test(test_skin_simd_matches_scalar),
-        cmocka_unit_test(test_skin_dual_quaternion_twist), cmocka_unit_test(test_jobs),
+        cmocka_unit_test(test_player_generated),
+        cmocka_unit_test(test_player_real_files),
+        cmocka_unit_test(test_player_arguments),
+        cmocka_unit_test(test_skin_simd_matches_scalar),
+        cmocka_unit_test(test_skin_dual_quaternion_twist),
+        cmocka_unit_test(test_tangents_read_and_skinned),
+        cmocka_unit_test(test_fbx_tangents),
+        cmocka_unit_test(test_jobs),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
