@@ -101,9 +101,9 @@ const char *cli_muscles_arg(int argc, char **argv, int *i);
 struct cJSON;
 struct cJSON *cli_muscle_pose_json(const sinew_muscle_pose *pose);
 
-/* PNG output through stb_image_write and app_output (whole or not at all); prints the error and
- * returns false on failure. */
-bool cli_write_png(const char *path, const uint8_t *rgba, int width, int height);
+/* An image (PNG, JPEG, BMP or TGA by the extension) through app_write_image() (whole or not at
+ * all); prints the error and returns false on failure. */
+bool cli_write_image(const char *path, const uint8_t *rgba, int width, int height);
 
 /* Video output: raw RGBA frames piped into the ffmpeg program. */
 typedef struct cli_video {

@@ -11,8 +11,9 @@ static const char render_usage[] =
     "usage: sinew render FILE [--clip C] [--time T] [--size WxH] [--camera SPEC] [display options] -o OUT.png\n"
     "       sinew render FILE [--clip C] [--from A] [--to B] [--fps N] [...] -o DIR/frame%04d.png | -o OUT.mp4\n"
     "\n"
-    "Renders FILE's animation off-screen with OpenGL (Mesa's llvmpipe without a GPU) and writes PNG images,\n"
-    "or an MP4 video through the ffmpeg program.\n"
+    "Renders FILE's animation off-screen with OpenGL (Mesa's llvmpipe without a GPU) and writes images (PNG,\n"
+    "JPEG, BMP or TGA, by the extension) or a video (MP4, WebM, MKV, MOV or GIF) through the ffmpeg program.\n"
+    "Missing output folders are made.\n"
     "\n"
     "  --clip C            clip by name or index (default: the first; none: the rest pose)\n"
     "  --time T            the moment in seconds for one image (default 0)\n"
@@ -24,7 +25,8 @@ static const char render_usage[] =
     "  --samples N         multisampling (default 4, 1 = off)\n"
     "  --camera SPEC       orbit:YAW,PITCH[,DISTANCE] or fly:X,Y,Z,YAW,PITCH, degrees and metres\n"
     "                      (default orbit:30,15: framed on the posed model over the frames drawn)\n"
-    "  -o, --output PATH   OUT.png, a pattern with one %d (frame number), or OUT.mp4\n"
+    "  -o, --output PATH   OUT.png (.jpg .bmp .tga), a pattern with one %d (frame number), or OUT.mp4\n"
+    "                      (.webm .mkv .mov .gif)\n"
     "\n"
     "display options (--NAME or --NAME on turns a switch on, --no-NAME or --NAME off turns it off):\n"
     "  --materials --lighting --grid           on by default\n"
@@ -202,12 +204,6 @@ static bool is_frame_pattern(const char *path, bool *malformed)
     return conversions > 0;
 }
 
-static bool ends_with(const char *s, const char *suffix)
-{
-    size_t a = strlen(s), b = strlen(suffix);
-    return a >= b && strcasecmp(s + a - b, suffix) == 0;
-}
-
 int cmd_render(int argc, char **argv)
 {
     render_args a = {.width = 1280, .height = 720, .fps = 30.0, .options = sinew_render_options_default()};
@@ -215,11 +211,18 @@ int cmd_render(int argc, char **argv)
     if (code >= 0)
         return code;
     bool malformed = false;
-    output_kind kind = ends_with(a.out, ".mp4")              ? OUTPUT_VIDEO
+    app_image_format format = app_image_format_of(a.out);
+    output_kind kind = format == APP_VIDEO                   ? OUTPUT_VIDEO
                        : is_frame_pattern(a.out, &malformed) ? OUTPUT_PATTERN
                                                              : OUTPUT_PNG;
     if (malformed) {
         cli_error("render: -o \"%s\": a frame pattern takes one %%d (or %%04d, up to %%09d) for the frame number",
+                  a.out);
+        return EXIT_USAGE;
+    }
+    if (format == APP_IMAGE_UNKNOWN) {
+        cli_error("render: -o \"%s\": write images as .png, .jpg, .bmp or .tga, video as .mp4, .webm, .mkv, .mov or "
+                  ".gif (through ffmpeg)",
                   a.out);
         return EXIT_USAGE;
     }
@@ -247,6 +250,11 @@ int cmd_render(int argc, char **argv)
     const char *inputs[2] = {a.path, a.muscles && *a.muscles ? a.muscles : NULL};
     sinew_error error = {0};
     if (kind != OUTPUT_PATTERN && app_output_check(a.out, inputs, 2, &error) != SINEW_OK) {
+        cli_error("render: %s", error.message);
+        return EXIT_OUTPUT;
+    }
+    /* Missing output folders are made, as other renderers and encoders do. */
+    if (app_make_parent_folders(a.out, &error) != SINEW_OK) {
         cli_error("render: %s", error.message);
         return EXIT_OUTPUT;
     }
@@ -301,7 +309,7 @@ int cmd_render(int argc, char **argv)
         if (kind == OUTPUT_PATTERN && app_output_check(path, inputs, 2, &error) != SINEW_OK) {
             cli_error("render: %s", error.message);
             code = EXIT_OUTPUT;
-        } else if (!cli_write_png(path, scene.pixels, a.width, a.height)) {
+        } else if (!cli_write_image(path, scene.pixels, a.width, a.height)) {
             code = EXIT_OUTPUT;
         }
     }

@@ -3,15 +3,16 @@
 #include <signal.h>
 #include <stdlib.h>
 #include <string.h>
+#include <strings.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
 #include "cli.h"
 
-bool cli_write_png(const char *path, const uint8_t *rgba, int width, int height)
+bool cli_write_image(const char *path, const uint8_t *rgba, int width, int height)
 {
     sinew_error error = {0};
-    if (app_write_png(path, rgba, width, height, false, &error) == SINEW_OK)
+    if (app_write_image(path, rgba, width, height, false, &error) == SINEW_OK)
         return true;
     cli_error("%s", error.message);
     return false;
@@ -75,30 +76,31 @@ bool cli_video_open(cli_video *video, const char *path, int width, int height, d
         dup2(fds[0], STDIN_FILENO);
         close(fds[0]);
         close(fds[1]);
-        /* yuv420p (what players expect) needs even sizes: pad odd ones by a pixel. */
-        char *const args[] = {program,
-                              "-hide_banner",
-                              "-loglevel",
-                              "error",
-                              "-y",
-                              "-f",
-                              "rawvideo",
-                              "-pix_fmt",
-                              "rgba",
-                              "-s",
-                              size,
-                              "-r",
-                              rate,
-                              "-i",
-                              "-",
-                              "-vf",
-                              "pad=ceil(iw/2)*2:ceil(ih/2)*2",
-                              "-pix_fmt",
-                              "yuv420p",
-                              "-movflags",
-                              "+faststart",
-                              (char *)target,
-                              NULL};
+        /* yuv420p (what players expect) needs even sizes: pad odd ones by a pixel. A GIF gets a
+         * palette made for its frames instead; MP4 and MOV their index at the front. */
+        bool gif = app_image_format_of(path) == APP_VIDEO && strcasecmp(path + strlen(path) - 4, ".gif") == 0;
+        size_t len = strlen(path);
+        bool faststart =
+            len > 4 && (strcasecmp(path + len - 4, ".mp4") == 0 || strcasecmp(path + len - 4, ".mov") == 0 ||
+                        strcasecmp(path + len - 4, ".m4v") == 0);
+        char *args[32] = {program, "-hide_banner", "-loglevel", "error", "-y", "-f", "rawvideo", "-pix_fmt",
+                          "rgba",  "-s",           size,        "-r",    rate, "-i", "-"};
+        int n = 15;
+        if (gif) {
+            args[n++] = "-vf";
+            args[n++] = "split[a][b];[a]palettegen[p];[b][p]paletteuse";
+        } else {
+            args[n++] = "-vf";
+            args[n++] = "pad=ceil(iw/2)*2:ceil(ih/2)*2";
+            args[n++] = "-pix_fmt";
+            args[n++] = "yuv420p";
+        }
+        if (faststart) {
+            args[n++] = "-movflags";
+            args[n++] = "+faststart";
+        }
+        args[n++] = (char *)target;
+        args[n] = NULL;
         execv(program, args);
         _exit(127);
     }

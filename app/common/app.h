@@ -46,9 +46,24 @@ void app_output_abort(app_output *o);
 /* Refuses an output that is one of the inputs (same file, by device and inode or real path). */
 sinew_result app_output_check(const char *output, const char *const *inputs, size_t input_count, sinew_error *error);
 
-/* An RGBA image as an RGB PNG through app_output (flip: the rows come bottom first). */
-sinew_result app_write_png(const char *path, const unsigned char *rgba, int width, int height, bool flip,
-                           sinew_error *error);
+/* What a file name's extension asks to be written as (no extension, as /dev/stdout: PNG). */
+typedef enum app_image_format {
+    APP_IMAGE_UNKNOWN,
+    APP_IMAGE_PNG,
+    APP_IMAGE_JPEG, /* quality 92 */
+    APP_IMAGE_BMP,
+    APP_IMAGE_TGA,
+    APP_VIDEO /* .mp4 .m4v .mov .mkv .webm .gif: through ffmpeg */
+} app_image_format;
+app_image_format app_image_format_of(const char *path);
+
+/* An RGBA image as RGB PNG, JPEG, BMP or TGA (by the extension; another is refused) through
+ * app_output (flip: the rows come bottom first). */
+sinew_result app_write_image(const char *path, const unsigned char *rgba, int width, int height, bool flip,
+                             sinew_error *error);
+
+/* Makes the folders of `path` that are missing (as mkdir -p on its parent). */
+sinew_result app_make_parent_folders(const char *path, sinew_error *error);
 
 /* A player with its own clip layout and state (sinew/anim.h), for one character. */
 typedef struct app_player {

@@ -6,6 +6,7 @@
 #include <errno.h>
 #include <fcntl.h>
 #include <limits.h>
+#include <strings.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -154,14 +155,69 @@ void app_output_release(app_output *o)
     o->external = true;
 }
 
-static void png_sink(void *context, void *data, int size)
+static void image_sink(void *context, void *data, int size)
 {
     app_output_write(context, data, (size_t)size);
 }
 
-sinew_result app_write_png(const char *path, const unsigned char *rgba, int width, int height, bool flip,
-                           sinew_error *error)
+static bool has_extension(const char *path, const char *ext)
 {
+    size_t a = strlen(path), b = strlen(ext);
+    return a > b && path[a - b - 1] == '.' && strcasecmp(path + a - b, ext) == 0;
+}
+
+app_image_format app_image_format_of(const char *path)
+{
+    static const struct {
+        const char *ext;
+        app_image_format format;
+    } known[] = {{"png", APP_IMAGE_PNG}, {"jpg", APP_IMAGE_JPEG}, {"jpeg", APP_IMAGE_JPEG}, {"bmp", APP_IMAGE_BMP},
+                 {"tga", APP_IMAGE_TGA}, {"mp4", APP_VIDEO},      {"m4v", APP_VIDEO},       {"mov", APP_VIDEO},
+                 {"mkv", APP_VIDEO},     {"webm", APP_VIDEO},     {"gif", APP_VIDEO}};
+    for (size_t i = 0; i < sizeof known / sizeof known[0]; i++)
+        if (has_extension(path, known[i].ext))
+            return known[i].format;
+    const char *base = strrchr(path, '/');
+    return strchr(base ? base + 1 : path, '.') ? APP_IMAGE_UNKNOWN : APP_IMAGE_PNG; /* no extension: PNG */
+}
+
+sinew_result app_make_parent_folders(const char *path, sinew_error *error)
+{
+    char dir[4096];
+    if (snprintf(dir, sizeof dir, "%s", path) >= (int)sizeof dir)
+        return sinew_fail(error, SINEW_ERROR_IO, "%.64s...: path too long", path);
+    char *slash = strrchr(dir, '/');
+    if (!slash || slash == dir)
+        return SINEW_OK;
+    *slash = '\0';
+    for (char *p = dir + 1;; p++) {
+        bool end = *p == '\0';
+        if (*p == '/' || end) {
+            char keep = *p;
+            *p = '\0';
+            struct stat st;
+            if (stat(dir, &st) != 0) {
+                if (mkdir(dir, 0777) != 0 && errno != EEXIST)
+                    return sinew_fail(error, SINEW_ERROR_IO, "%s: cannot make the folder %s: %s", path, dir,
+                                      strerror(errno));
+            } else if (!S_ISDIR(st.st_mode)) {
+                return sinew_fail(error, SINEW_ERROR_IO, "%s: %s is not a folder", path, dir);
+            }
+            *p = keep;
+        }
+        if (end)
+            break;
+    }
+    return SINEW_OK;
+}
+
+sinew_result app_write_image(const char *path, const unsigned char *rgba, int width, int height, bool flip,
+                             sinew_error *error)
+{
+    app_image_format format = app_image_format_of(path);
+    if (format == APP_IMAGE_UNKNOWN || format == APP_VIDEO)
+        return sinew_fail(error, SINEW_ERROR_INVALID_ARGUMENT,
+                          "%s: an image is written as PNG, JPEG, BMP or TGA (.png, .jpg, .jpeg, .bmp, .tga)", path);
     /* Alpha is always opaque: RGB keeps the files smaller. */
     size_t n = (size_t)width * (size_t)height;
     unsigned char *rgb = malloc(n * 3 + 1);
@@ -173,7 +229,10 @@ sinew_result app_write_png(const char *path, const unsigned char *rgba, int widt
     sinew_result result = app_output_open(&o, path, error);
     if (result == SINEW_OK) {
         stbi_flip_vertically_on_write(flip);
-        int ok = stbi_write_png_to_func(png_sink, &o, width, height, 3, rgb, width * 3);
+        int ok = format == APP_IMAGE_PNG    ? stbi_write_png_to_func(image_sink, &o, width, height, 3, rgb, width * 3)
+                 : format == APP_IMAGE_JPEG ? stbi_write_jpg_to_func(image_sink, &o, width, height, 3, rgb, 92)
+                 : format == APP_IMAGE_BMP  ? stbi_write_bmp_to_func(image_sink, &o, width, height, 3, rgb)
+                                            : stbi_write_tga_to_func(image_sink, &o, width, height, 3, rgb);
         stbi_flip_vertically_on_write(0);
         if (!ok) {
             app_output_abort(&o);

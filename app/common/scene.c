@@ -1,9 +1,11 @@
 /* The scene both apps show: loading, clip, muscles, posing, framing (scene.h). */
+#include <ctype.h>
 #include <math.h>
 #include <stdarg.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <strings.h>
 #include <sys/stat.h>
 #include <unistd.h>
 
@@ -54,13 +56,78 @@ uint32_t app_joint_count(const sinew_model *model)
     return n;
 }
 
+/* Whether `part` appears in `text`, case ignored. */
+static bool contains_nocase(const char *text, const char *part)
+{
+    size_t n = strlen(part);
+    for (; *text; text++)
+        if (strncasecmp(text, part, n) == 0)
+            return true;
+    return n == 0;
+}
+
+/* Edits (insert, delete, change; case ignored) from a to b; 99 for names over 63 bytes. */
+static int edit_distance(const char *a, const char *b)
+{
+    size_t n = strlen(b);
+    if (n > 63 || strlen(a) > 63)
+        return 99;
+    int row[64];
+    for (size_t j = 0; j <= n; j++)
+        row[j] = (int)j;
+    for (size_t i = 1; a[i - 1]; i++) {
+        int diagonal = row[0];
+        row[0] = (int)i;
+        for (size_t j = 1; j <= n; j++) {
+            int above = row[j];
+            int change = diagonal + (tolower((unsigned char)a[i - 1]) != tolower((unsigned char)b[j - 1]));
+            row[j] = change < above + 1 ? change : above + 1;
+            row[j] = row[j] < row[j - 1] + 1 ? row[j] : row[j - 1] + 1;
+            diagonal = above;
+        }
+    }
+    return row[n];
+}
+
 int32_t app_pick_clip(const sinew_model *model, const char *text, sinew_error *error)
 {
+    if (strcmp(text, "none") == 0 && sinew_model_find_clip(model, text) < 0)
+        return APP_CLIP_NONE;
     int32_t clip = sinew_model_pick_clip(model, text);
-    if (clip < 0)
-        sinew_fail(error, SINEW_ERROR_DATA, "%s: no clip \"%s\" (the file has %u clip%s%s)", model->source, text,
-                   model->clip_count, model->clip_count == 1 ? "" : "s", model->clip_count ? "; see `sinew info`" : "");
-    return clip;
+    if (clip >= 0)
+        return clip;
+    /* the clips' names, up to 8, and the nearest to a misspelt name */
+    char names[512] = "";
+    size_t used = 0;
+    const char *nearest = NULL;
+    bool tied = false;
+    int len = (int)strlen(text), best = (len / 2 > 2 ? len / 2 : 2) + 1; /* a near name: half the text at most */
+    for (uint32_t i = 0; i < model->clip_count; i++) {
+        const char *name = model->clips[i].name ? model->clips[i].name : "";
+        int d = len >= 3 && contains_nocase(name, text) ? 1 : edit_distance(text, name); /* "walk" in "Robot_Walking" */
+        if (d < best)
+            best = d, nearest = name, tied = false;
+        else if (d == best)
+            tied = true; /* two as near: suggest neither */
+        if (i < 8 && used < sizeof names)
+            used += (size_t)snprintf(names + used, sizeof names - used, "%s%u \"%s\"", i ? ", " : "", i, name);
+    }
+    if (model->clip_count > 8 && used < sizeof names)
+        snprintf(names + used, sizeof names - used, ", ... (%u in all; `sinew info` lists them)", model->clip_count);
+    char *end = NULL;
+    long index = strtol(text, &end, 10);
+    if (model->clip_count == 0)
+        sinew_fail(error, SINEW_ERROR_DATA, "%s: no clip \"%s\": the file has no clips (--clip none: the rest pose)",
+                   model->source, text);
+    else if (end != text && *end == '\0')
+        sinew_fail(error, SINEW_ERROR_DATA, "%s: no clip %ld: the file's clips are 0..%u: %s", model->source, index,
+                   model->clip_count - 1, names);
+    else if (nearest && !tied)
+        sinew_fail(error, SINEW_ERROR_DATA, "%s: no clip \"%s\"; did you mean \"%s\"? The clips: %s", model->source,
+                   text, nearest, names);
+    else
+        sinew_fail(error, SINEW_ERROR_DATA, "%s: no clip \"%s\"; the clips: %s", model->source, text, names);
+    return APP_CLIP_ERROR;
 }
 
 int app_import_option_parse(app_import_options *o, int argc, char *const *argv, int i, sinew_error *error)
@@ -254,9 +321,9 @@ sinew_result app_scene_open(app_scene *s, const app_scene_desc *d, sinew_error *
     sinew_result result = s->model ? SINEW_OK : app_load_model(d, &s->model, error);
     if (result != SINEW_OK)
         return result;
-    int32_t clip = d->clip ? app_pick_clip(s->model, d->clip, error) : (s->model->clip_count ? 0 : -1);
+    int32_t clip = d->clip ? app_pick_clip(s->model, d->clip, error) : (s->model->clip_count ? 0 : APP_CLIP_NONE);
     s->worlds = malloc(((size_t)s->model->node_count + 1) * sizeof *s->worlds);
-    if (d->clip && clip < 0)
+    if (clip == APP_CLIP_ERROR)
         result = SINEW_ERROR_DATA;
     else if (!s->worlds)
         result = sinew_fail(error, SINEW_ERROR_OUT_OF_MEMORY, "%s: out of memory", s->model->source);

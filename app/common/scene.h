@@ -105,7 +105,11 @@ void app_scene_close(app_scene *scene);
  * only), nodes that are joints. */
 uint32_t app_vertex_count(const sinew_model *model);
 uint32_t app_joint_count(const sinew_model *model);
-/* The clip `text` names (sinew_model_pick_clip()), or -1 with "no clip ..." in the error. */
+/* The clip `text` names (sinew_model_pick_clip()); APP_CLIP_NONE for "none" (the rest pose;
+ * unless a clip is named so); APP_CLIP_ERROR with "no clip ..." in the error, which lists the
+ * clips by index and name and suggests the nearest name to a misspelt one. */
+#define APP_CLIP_NONE (-1)
+#define APP_CLIP_ERROR (-2)
 int32_t app_pick_clip(const sinew_model *model, const char *text, sinew_error *error);
 
 /* sinew's data folder ($SINEW_DATA, else data/ beside the program, else share/sinew relative

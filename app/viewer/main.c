@@ -46,7 +46,7 @@ void view_show_error(viewer *v, const char *message)
 
 void view_redraw(viewer *v)
 {
-    if (v->area)
+    if (v->area && !v->closing)
         gtk_gl_area_queue_render(GTK_GL_AREA(v->area));
 }
 
@@ -179,6 +179,8 @@ static void advance(viewer *v, double dt)
     v->time = t;
 }
 
+static void show_status(viewer *v);
+
 static gboolean on_tick(GtkWidget *widget, GdkFrameClock *clock, gpointer data)
 {
     (void)widget;
@@ -196,6 +198,10 @@ static gboolean on_tick(GtkWidget *widget, GdkFrameClock *clock, gpointer data)
             sinew_camera_move(&v->camera, f * speed, r * speed, u * speed);
             view_redraw(v);
         }
+    }
+    if (v->status_due) {
+        v->status_due = false;
+        show_status(v);
     }
     if (v->playing) {
         if (v->last_frame)
@@ -277,7 +283,7 @@ static void save_screenshot(viewer *v, int width, int height)
     glPixelStorei(GL_PACK_ALIGNMENT, 1);
     glReadPixels(0, 0, width, height, GL_RGBA, GL_UNSIGNED_BYTE, rgba);
     sinew_error error = {0};
-    if (app_write_png(v->screenshot, rgba, width, height, true, &error) != SINEW_OK) {
+    if (app_write_image(v->screenshot, rgba, width, height, true, &error) != SINEW_OK) {
         fprintf(stderr, "sinew-view: cannot write the screenshot: %s\n", error.message);
         v->exit_code = 4; /* as sinew's: an output that cannot be written */
     }
@@ -337,7 +343,9 @@ static gboolean on_render(GtkGLArea *area, GdkGLContext *context, gpointer data)
         v->fps = v->fps_frames / fmax(1e-6, (double)(now - v->fps_since) * 1e-6);
         v->fps_frames = 0;
         v->fps_since = now;
-        show_status(v);
+        v->status_due = true; /* set by the next tick: a label changed while the frame is being drawn
+                                 leaves its row without an allocation for that frame, so GTK skips
+                                 drawing it ("Trying to snapshot GtkBox without a current allocation") */
     }
     if (v->screenshot && !v->load) { /* of the file asked for, once it is open (or has failed) */
         save_screenshot(v, width, height);
@@ -624,6 +632,10 @@ static gboolean on_close_request(GtkWindow *window, gpointer data)
 {
     viewer *v = data;
     gtk_window_get_default_size(window, &v->width, &v->height);
+    /* The widgets go next: their last signals (a list row deselected, a check unset) must not
+     * reach the handlers, which would draw into or query widgets half destroyed. */
+    v->updating = true;
+    v->closing = true;
     return FALSE;
 }
 
@@ -720,8 +732,7 @@ static void on_activate(GtkApplication *app, gpointer data)
     gtk_widget_add_controller(v->window, keys);
     GtkWidget *paned = gtk_paned_new(GTK_ORIENTATION_HORIZONTAL);
     gtk_paned_set_start_child(GTK_PANED(paned), v->area);
-    GtkWidget *panels = panels_create(v);
-    gtk_notebook_set_current_page(GTK_NOTEBOOK(panels), s->panel);
+    GtkWidget *panels = v->panels = panels_create(v);
     gtk_paned_set_end_child(GTK_PANED(paned), panels);
     gtk_paned_set_resize_end_child(GTK_PANED(paned), FALSE);
     gtk_paned_set_shrink_end_child(GTK_PANED(paned), FALSE);
@@ -787,6 +798,11 @@ static void on_activate(GtkApplication *app, gpointer data)
     view_show_time(v);
     set_playing(v, v->screenshot == NULL);
     gtk_widget_add_tick_callback(v->area, on_tick, v, NULL);
+    /* the page asked for once the panel is in the window (switching pages moves the focus, which
+     * GTK looks up in the window: before, it logs a gtk_root_get_focus CRITICAL) */
+    gtk_notebook_set_current_page(GTK_NOTEBOOK(panels), s->panel);
+    if (v->quit_after > 0.0)
+        g_timeout_add((guint)(v->quit_after * 1000.0), close_window, v);
     gtk_window_present(GTK_WINDOW(v->window));
 }
 
@@ -811,7 +827,8 @@ static const char usage[] =
     "  --crowd N             shows N characters of the model on a grid, each at its own time (key C\n"
     "                        toggles a crowd of 100, or of N)\n"
     "  --screenshot OUT.png  writes the first frame drawn (the drawing area only)\n"
-    "  --quit                leaves after the screenshot\n" APP_IMPORT_OPTIONS_HELP
+    "  --quit                leaves after the screenshot\n"
+    "  --quit-after S        leaves S seconds after the window opens (playing meanwhile)\n" APP_IMPORT_OPTIONS_HELP
     "exit status (as sinew's): 0 ok, 1 usage error, 2 FILE failed to open (with --screenshot), 3 no OpenGL 3.3,\n"
     "4 the screenshot could not be written\n"
     "  --version             prints sinew-view's version\n";
@@ -867,6 +884,11 @@ int main(int argc, char **argv)
                 }
             } else if (strcmp(o, "--screenshot") == 0) {
                 v.screenshot = value;
+            } else if (strcmp(o, "--quit-after") == 0) {
+                if (!app_parse_number(value, 0.0, 86400.0, &v.quit_after) || !(v.quit_after > 0.0)) {
+                    fprintf(stderr, "sinew-view: bad --quit-after \"%s\": expected seconds in (0, 86400]\n", value);
+                    return 1;
+                }
             } else if (strcmp(o, "--crowd") == 0) {
                 double n = 0;
                 if (!app_parse_number(value, 1, APP_CROWD_MAX, &n) || n != floor(n)) {

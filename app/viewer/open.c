@@ -87,8 +87,20 @@ static bool adopt_scene(viewer *v, app_scene *incoming)
     if (v->time > view_duration(v))
         v->time = 0.0;
     resolve_joints(v);
-    if (app_vertex_count(model) == 0)
+    /* Nothing to see but a skeleton: show it, for this file only (not saved in the settings,
+     * and given back when a file with meshes comes) */
+    int skeleton = settings_option_index("skeleton");
+    if (app_vertex_count(model) == 0 && !v->options.skeleton) {
         v->options.skeleton = true;
+        v->skeleton_shown_for_file = true;
+        if (skeleton >= 0)
+            v->overridden[skeleton] = true;
+    } else if (app_vertex_count(model) > 0 && v->skeleton_shown_for_file) {
+        v->options.skeleton = false;
+        v->skeleton_shown_for_file = false;
+        if (skeleton >= 0)
+            v->overridden[skeleton] = false;
+    }
     v->framed = v->camera_given;
     v->camera_given = false;
     if (v->window) {
@@ -110,8 +122,14 @@ static bool adopt_scene(viewer *v, app_scene *incoming)
         view_show_time(v);
         panels_model_changed(v);
         panels_options_changed(v);
-        /* --select / --heatmap name joints of every model opened */
+        /* --select / --heatmap name joints of every model opened; the hierarchy shows the one
+         * selected, or else the heat map's joint (its row selected, its transforms shown) */
         int32_t select = v->select ? sinew_model_find_joint(model, v->select) : -1;
+        if (select < 0 && v->heatmap) {
+            select = sinew_model_find_joint(model, v->heatmap);
+            if (select >= 0 && v->heatmap_check)
+                gtk_check_button_set_active(GTK_CHECK_BUTTON(v->heatmap_check), true);
+        }
         if (select >= 0)
             panels_select(v, select);
         resolve_joints(v);
@@ -169,7 +187,9 @@ static gpointer load_thread(gpointer data)
                            .progress = load_progress,
                            .progress_user = l};
     l->result = app_scene_open(&l->scene, &desc, &l->error);
-    g_idle_add(load_finished, l);
+    /* at the default priority: an idle one waits behind the redraws of a scene that is playing
+     * (on a software renderer they never leave it idle), so the file would open only on leaving */
+    g_idle_add_full(G_PRIORITY_DEFAULT, load_finished, l, NULL);
     return NULL;
 }
 
@@ -225,7 +245,9 @@ static gboolean load_finished(gpointer data)
     view_load *l = data;
     viewer *v = l->v;
     g_thread_join(l->thread);
-    if (v->load != l) { /* superseded by a newer open or given up */
+    if (v->load != l || v->closing) { /* superseded by a newer open, given up, or the window is going */
+        if (v->load == l)
+            v->load = NULL;
         load_free(l);
         return G_SOURCE_REMOVE;
     }

@@ -57,6 +57,8 @@ void settings_option_changed(viewer *v, const char *name)
     int i = settings_option_index(name);
     if (i >= 0)
         v->overridden[i] = false;
+    if (strcmp(name, "skeleton") == 0)
+        v->skeleton_shown_for_file = false; /* the user's choice from now on */
 }
 
 void settings_defaults(viewer *v)

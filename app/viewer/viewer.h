@@ -37,6 +37,7 @@ typedef struct viewer {
     GtkWidget *node_list, *node_search, *transform_label, *heatmap_check, *log_view, *camera_list;
     GtkWidget *option_checks[32]; /* by index into sinew_render_option_names() */
     bool overridden[32];          /* set on the command line and not changed since: not saved */
+    GtkWidget *panels;            /* the side panel's notebook */
     GtkWidget *shading_list;
     GtkWidget *skin_method_list; /* linear blend | dual quaternion */
     const char *screenshot, *select, *heatmap;
@@ -52,10 +53,14 @@ typedef struct viewer {
     struct view_load *load; /* a file being opened, or NULL */
     GtkWidget *load_bar, *load_label, *load_progress;
     guint load_timer;
-    double start_time;         /* --time, applied to the file's clip once it is open; NAN: none */
-    app_import_options import; /* --import-timeout, --import-memory */
-    bool *hidden;              /* instance_count flags */
-    int32_t selected;          /* node, -1 for none */
+    double start_time;            /* --time, applied to the file's clip once it is open; NAN: none */
+    app_import_options import;    /* --import-timeout, --import-memory */
+    bool *hidden;                 /* instance_count flags */
+    bool skeleton_shown_for_file; /* the skeleton switch was turned on for a file without meshes */
+    bool closing;                 /* the window is being closed: widgets are going away */
+    double quit_after;            /* --quit-after: seconds, 0 for never */
+    bool status_due;              /* the status bar's figures changed in a draw: shown at the next tick */
+    int32_t selected;             /* node, -1 for none */
     sinew_camera camera;
     sinew_render_options options;
     double time, speed;

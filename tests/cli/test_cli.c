@@ -115,6 +115,20 @@ static void test_bad_input_exits_2(void **state)
     assert_int_equal(r.code, 2);
     assert_non_null(strstr(r.err, "no clip \"nosuch\""));
     run_free(&r);
+    /* the message lists the clips, suggests a near name, names the index range; "none" is the rest pose */
+    r = RUN("pose", "builtin:demo", "--clip", "Wlak");
+    assert_int_equal(r.code, 2);
+    assert_non_null(strstr(r.err, "did you mean \"walk\""));
+    assert_non_null(strstr(r.err, "0 \"walk\", 1 \"wave\""));
+    run_free(&r);
+    r = RUN("pose", "builtin:demo", "--clip", "7");
+    assert_int_equal(r.code, 2);
+    assert_non_null(strstr(r.err, "no clip 7: the file's clips are 0..1"));
+    run_free(&r);
+    r = RUN("pose", "builtin:demo", "--clip", "none", "--json", "--time", "0");
+    assert_int_equal(r.code, 0);
+    assert_non_null(strstr(r.out, "\"clip\":null"));
+    run_free(&r);
     r = RUN("bench", "muscle", "--bogus");
     assert_int_equal(r.code, 1);
     run_free(&r);

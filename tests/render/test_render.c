@@ -480,6 +480,50 @@ static void test_frame_sequence_and_video(void **state)
     assert_true(size > 100);
     assert_memory_equal(mp4 + 4, "ftyp", 4);
     free(mp4);
+    /* the container follows the extension: a GIF (its own palette) and a WebM */
+    static const struct {
+        const char *name, *magic;
+        size_t at;
+    } kinds[] = {{"clip.gif", "GIF89a", 0}, {"clip.webm", "\x1a\x45\xdf\xa3", 0}};
+    for (size_t k = 0; k < sizeof kinds / sizeof kinds[0]; k++) {
+        tmp_path(kinds[k].name, video, sizeof video);
+        r = RUN("render", fixture, "--fps", "10", "--size", "65x47", "-o", video);
+        if (r.code != 0)
+            fail_msg("%s: %s", kinds[k].name, r.err);
+        run_free(&r);
+        unsigned char *bytes_out = read_file(video, &size);
+        assert_non_null(bytes_out);
+        assert_memory_equal(bytes_out + kinds[k].at, kinds[k].magic, strlen(kinds[k].magic));
+        free(bytes_out);
+    }
+}
+
+/* -o chooses the format by its extension (JPEG here, not PNG bytes in a .jpg) and makes the
+ * folders that are missing, for a frame pattern too (issue 16). */
+static void test_output_formats_and_folders(void **state)
+{
+    (void)state;
+    char fixture[1024], dir[1024], jpg[1200], pattern[1200], first[1200];
+    fixture_path("two_bone_cubic.gltf", fixture, sizeof fixture);
+    tmp_path("made/by/render", dir, sizeof dir);
+    snprintf(jpg, sizeof jpg, "%s/still.jpg", dir);
+    snprintf(pattern, sizeof pattern, "%s/seq/f%%02d.bmp", dir);
+    snprintf(first, sizeof first, "%s/seq/f00.bmp", dir);
+    run_result r = RUN("render", fixture, "--size", "32x24", "-o", jpg);
+    assert_int_equal(r.code, 0);
+    run_free(&r);
+    size_t size = 0;
+    unsigned char *bytes = read_file(jpg, &size);
+    assert_non_null(bytes);
+    assert_true(size > 4 && bytes[0] == 0xff && bytes[1] == 0xd8); /* a JPEG's start-of-image */
+    free(bytes);
+    r = RUN("render", fixture, "--size", "32x24", "--from", "0", "--to", "0.1", "--fps", "10", "-o", pattern);
+    assert_int_equal(r.code, 0);
+    run_free(&r);
+    bytes = read_file(first, &size);
+    assert_non_null(bytes);
+    assert_true(size > 2 && bytes[0] == 'B' && bytes[1] == 'M');
+    free(bytes);
 }
 
 static void expect_failure(int code, const char *message, const char *const *args)
@@ -515,10 +559,24 @@ static void test_bad_input(void **state)
     EXPECT_FAILURE(2, "no clip \"nope\"", "render", fixture, "--clip", "nope", "-o", out);
     EXPECT_FAILURE(2, "no node of that name", "render", fixture, "--select", "nope", "-o", out);
     /* outputs (exit 4): a folder that is not there, a full device, the input itself; nothing half written */
-    EXPECT_FAILURE(4, "cannot write", "render", fixture, "--size", "8x8", "-o", "/nonexistent/dir/x.png");
+    /* a folder that cannot be made: a file is in the way */
+    char blocker[1024], under[1100];
+    tmp_path("not-a-folder", blocker, sizeof blocker);
+    write_file(blocker, "x", 1);
+    snprintf(under, sizeof under, "%s/x.png", blocker);
+    EXPECT_FAILURE(4, "is not a folder", "render", fixture, "--size", "8x8", "-o", under);
+    EXPECT_FAILURE(1, "write images as .png, .jpg", "render", fixture, "--size", "8x8", "-o", "x.xyz");
     EXPECT_FAILURE(4, "/dev/full: cannot write: No space left on device", "render", fixture, "--size", "8x8", "-o",
                    "/dev/full");
-    EXPECT_FAILURE(4, "the output is the input file", "render", fixture, "--size", "8x8", "-o", fixture);
+    /* never over an input: a model named like an output (no extension: PNG) */
+    char model[1024];
+    tmp_path("model-without-extension", model, sizeof model);
+    size_t model_size = 0;
+    char *bytes = read_file(fixture, &model_size);
+    write_file(model, bytes, model_size);
+    free(bytes);
+    EXPECT_FAILURE(4, "the output is the input file", "render", model, "--size", "8x8", "-o", model);
+    EXPECT_FAILURE(1, "write images as .png", "render", fixture, "--size", "8x8", "-o", fixture);
     EXPECT_FAILURE(1, "up to %09d", "render", fixture, "--fps", "10", "-o", "x.png%2147483648d");
     EXPECT_FAILURE(1, "bad --time \"1e39\"", "render", fixture, "--time", "1e39", "-o", out);
     EXPECT_FAILURE(1, "bad --time \"nan\"", "render", fixture, "--time", "nan", "-o", out);
@@ -570,6 +628,7 @@ int main(void)
         cmocka_unit_test(test_gpu_and_cpu_skinning_agree),
         cmocka_unit_test(test_dual_quaternion_skinning),
         cmocka_unit_test(test_crowd),
+        cmocka_unit_test(test_output_formats_and_folders),
         cmocka_unit_test(test_gpu_joint_limit_falls_back_to_cpu),
         cmocka_unit_test(test_animated_frames_differ_static_do_not),
         cmocka_unit_test(test_bone_only_file_shows_bones),
