@@ -120,8 +120,11 @@ void view_update_timeline(viewer *v)
         size_t step = distinct > MAX_TICKS ? (distinct + MAX_TICKS - 1) / MAX_TICKS : 1;
         for (size_t i = 0; i < distinct; i += step)
             gtk_scale_add_mark(GTK_SCALE(v->scale), times[i], GTK_POS_BOTTOM, NULL);
-        free(times);
+        count = distinct;
     }
+    free(v->key_times); /* kept for the key jumps (Up / Down) */
+    v->key_times = times;
+    v->key_time_count = times ? count : 0;
     v->updating = false;
 }
 
@@ -404,7 +407,9 @@ static void on_clip(GObject *dropdown, GParamSpec *pspec, gpointer data)
     if (v->updating)
         return;
     guint index = gtk_drop_down_get_selected(GTK_DROP_DOWN(dropdown));
-    if (index < v->scene.model->clip_count && view_use_clip(v, (int32_t)index))
+    /* the last entry, after the clips, is the rest pose */
+    int32_t clip = index < v->scene.model->clip_count ? (int32_t)index : APP_CLIP_NONE;
+    if (index <= v->scene.model->clip_count && view_use_clip(v, clip))
         set_time(v, 0.0);
 }
 
@@ -489,6 +494,21 @@ static gboolean on_key(GtkEventControllerKey *controller, guint key, guint code,
         panels_options_changed(v);
         view_redraw(v);
         return TRUE;
+    case ACTION_PREVIOUS_KEY:
+    case ACTION_NEXT_KEY: { /* the nearest key time before or after now, as Blender's Up/Down */
+        set_playing(v, false);
+        bool next = action == ACTION_NEXT_KEY;
+        double to = next ? view_duration(v) : 0.0;
+        for (size_t i = 0; i < v->key_time_count; i++) {
+            double t = v->key_times[next ? i : v->key_time_count - 1 - i];
+            if (next ? t > v->time + 1e-5 : t < v->time - 1e-5) {
+                to = t;
+                break;
+            }
+        }
+        set_time(v, to);
+        return TRUE;
+    }
     case ACTION_CROWD:
         view_toggle_crowd(v, !v->crowd_on);
         return TRUE;
@@ -812,7 +832,8 @@ static const char usage[] =
     "\n"
     "Opens FILE (any format sinew reads, or a .sinew; without one, the built-in demo humanoid) and plays its\n"
     "clip. Open… or drop a file on the window to open another; a file that fails shows its error above the\n"
-    "scene, which stays. Space plays and pauses, Left/Right step a frame (1/30 s), Home/End go to the ends;\n"
+    "scene, which stays. Space plays and pauses, Left/Right step a frame (1/30 s), Up/Down jump to the next/\n"
+    "previous key, Home/End go to the ends (the clip list ends with the rest pose, --clip none);\n"
     "drag rotates, shift-drag or middle-drag pans, the wheel zooms, F frames all; Tab switches to the fly\n"
     "camera (W/A/S/D, Q/E, drag to look) and back. Keys 1-9, 0 and M toggle the display switches (see the\n"
     "Display panel), K switches linear blend / dual-quaternion skinning, C a crowd of the model. Settings: "
@@ -944,6 +965,7 @@ int main(int argc, char **argv)
         g_free(v.recent[i]);
     app_crowd_close(&v.crowd);
     sinew_jobs_free(v.jobs);
+    free(v.key_times);
     app_scene_close(&v.scene);
     g_free(v.settings_path);
     g_free(v.last_folder);

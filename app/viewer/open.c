@@ -110,12 +110,11 @@ static bool adopt_scene(viewer *v, app_scene *incoming)
         GtkStringList *names = gtk_string_list_new(NULL);
         for (uint32_t i = 0; i < model->clip_count; i++)
             gtk_string_list_append(names, model->clips[i].name);
-        if (model->clip_count == 0)
-            gtk_string_list_append(names, "(no clips: rest pose)");
+        gtk_string_list_append(names, model->clip_count ? "(rest pose)" : "(no clips: rest pose)");
         v->updating = true;
         gtk_drop_down_set_model(GTK_DROP_DOWN(v->clip_list), G_LIST_MODEL(names));
         gtk_drop_down_set_selected(GTK_DROP_DOWN(v->clip_list),
-                                   v->scene.clip_index >= 0 ? (guint)v->scene.clip_index : 0);
+                                   v->scene.clip_index >= 0 ? (guint)v->scene.clip_index : model->clip_count);
         v->updating = false;
         g_object_unref(names);
         view_update_timeline(v);

@@ -20,7 +20,7 @@ typedef enum view_action {
     ACTION_PLAY, ACTION_PREVIOUS_FRAME, ACTION_NEXT_FRAME, ACTION_FIRST, ACTION_LAST, ACTION_FRAME_ALL,
     ACTION_CAMERA_MODE, ACTION_MATERIALS, ACTION_LIGHTING, ACTION_SHADING, ACTION_WIREFRAME, ACTION_SKELETON,
     ACTION_NORMALS, ACTION_GRID, ACTION_AXES, ACTION_JOINT_NAMES, ACTION_JOINT_AXES, ACTION_MUSCLES, ACTION_MESHES,
-    ACTION_SKIN_METHOD, ACTION_CROWD,
+    ACTION_SKIN_METHOD, ACTION_CROWD, ACTION_PREVIOUS_KEY, ACTION_NEXT_KEY,
     ACTION_FORWARD, ACTION_BACK, ACTION_LEFT, ACTION_RIGHT, ACTION_DOWN, ACTION_UP, ACTION_COUNT
 } view_action;
 /* clang-format on */
@@ -59,8 +59,10 @@ typedef struct viewer {
     bool skeleton_shown_for_file; /* the skeleton switch was turned on for a file without meshes */
     bool closing;                 /* the window is being closed: widgets are going away */
     double quit_after;            /* --quit-after: seconds, 0 for never */
-    bool status_due;              /* the status bar's figures changed in a draw: shown at the next tick */
-    int32_t selected;             /* node, -1 for none */
+    float *key_times;             /* the clip's distinct key times, sorted (the timeline's ticks, every one) */
+    size_t key_time_count;
+    bool status_due;  /* the status bar's figures changed in a draw: shown at the next tick */
+    int32_t selected; /* node, -1 for none */
     sinew_camera camera;
     sinew_render_options options;
     double time, speed;

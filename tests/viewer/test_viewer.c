@@ -156,6 +156,9 @@ static void test_screenshot_equals_headless_render(void **state)
     /* --clip takes an index as `sinew` does: clip 1 of the demo is "wave" */
     compare_with_render((const char *const[]){dae, "--clip", "1", "--time", "0.6", NULL},
                         (const char *const[]){dae, "--clip", "wave", "--time", "0.6", NULL});
+    /* --clip none: the rest pose (the clip list's last entry), as `sinew render` draws it */
+    compare_with_render((const char *const[]){dae, "--clip", "none", "--time", "0.6", NULL},
+                        (const char *const[]){dae, "--clip", "none", NULL});
     /* a selected joint with its heat map */
     compare_with_render((const char *const[]){dae, "--clip", "wave", "--time", "0.3", "--select", "RightLowerArm",
                                               "--heatmap", "RightLowerArm", NULL},
