@@ -828,7 +828,7 @@ static void on_activate(GtkApplication *app, gpointer data)
 
 static const char usage[] =
     "usage: sinew-view [FILE] [--clip C] [--time T] [--camera SPEC] [display options] [--size WxH]\n"
-    "                  [--screenshot OUT.png] [--quit]\n"
+    "                  [--crowd N] [--screenshot OUT.png] [--quit | --quit-after S]\n"
     "\n"
     "Opens FILE (any format sinew reads, or a .sinew; without one, the built-in demo humanoid) and plays its\n"
     "clip. Open… or drop a file on the window to open another; a file that fails shows its error above the\n"
