@@ -87,6 +87,32 @@ static int compare_floats(const void *a, const void *b)
 
 /* The scrub bar's range and keyframe ticks: the distinct key times of the clip's channels
  * inside its window (a clip may be a window onto keys it shares with other clips). */
+/* The rate the clip was keyed at: the spacing its key times share (a file keyed at 24 fps
+ * steps by 1/24 s), when 4 gaps in 5 have it and it is between 1 and 240 a second; else
+ * FRAME_RATE (keys baked at uneven times, as sinew's FBX bake places them, show no rate). */
+static double clip_frame_rate(const float *times, size_t n)
+{
+    size_t best_count = 0, gaps = n > 1 ? n - 1 : 0;
+    double best = 0.0;
+    for (size_t i = 0; i + 1 < n && i < 64; i++) { /* candidates: the first gaps */
+        double gap = times[i + 1] - times[i];
+        size_t same = 0;
+        for (size_t j = 0; j + 1 < n; j++)
+            same += fabs((times[j + 1] - times[j]) - gap) < 1e-4 * fmax(gap, 1e-3);
+        if (same > best_count)
+            best_count = same, best = gap;
+    }
+    if (gaps == 0 || best_count * 5 < gaps * 4 || !(best >= 1.0 / 240.0 && best <= 1.0))
+        return FRAME_RATE;
+    double rate = 1.0 / best, rounded = floor(rate + 0.5);
+    return fabs(rate - rounded) < 0.01 * rounded ? rounded : rate; /* 23.99997 is 24 */
+}
+
+double view_frame_rate(const viewer *v)
+{
+    return v->frame_rate > 0.0 ? v->frame_rate : FRAME_RATE;
+}
+
 void view_update_timeline(viewer *v)
 {
     if (!v->scale)
@@ -125,14 +151,16 @@ void view_update_timeline(viewer *v)
     free(v->key_times); /* kept for the key jumps (Up / Down) */
     v->key_times = times;
     v->key_time_count = times ? count : 0;
+    v->frame_rate = clip_frame_rate(v->key_times, v->key_time_count);
     v->updating = false;
 }
 
 void view_show_time(viewer *v)
 {
     char text[128];
-    snprintf(text, sizeof text, "%6.3f / %.3f s   frame %d / %d", v->time, view_duration(v),
-             (int)floor(v->time * FRAME_RATE + 1e-6), (int)floor(view_duration(v) * FRAME_RATE + 1e-6));
+    double rate = view_frame_rate(v);
+    snprintf(text, sizeof text, "%6.3f / %.3f s   frame %d / %d at %g fps", v->time, view_duration(v),
+             (int)floor(v->time * rate + 1e-6), (int)floor(view_duration(v) * rate + 1e-6), rate);
     gtk_label_set_text(GTK_LABEL(v->time_label), text);
     v->updating = true;
     gtk_range_set_value(GTK_RANGE(v->scale), v->time);
@@ -471,7 +499,8 @@ static gboolean on_key(GtkEventControllerKey *controller, guint key, guint code,
     case ACTION_PREVIOUS_FRAME:
     case ACTION_NEXT_FRAME:
         set_playing(v, false);
-        set_time(v, (floor(v->time * FRAME_RATE + 0.5) + (action == ACTION_NEXT_FRAME ? 1 : -1)) / FRAME_RATE);
+        set_time(v, (floor(v->time * view_frame_rate(v) + 0.5) + (action == ACTION_NEXT_FRAME ? 1 : -1)) /
+                        view_frame_rate(v));
         return TRUE;
     case ACTION_FIRST:
         set_time(v, 0.0);
@@ -832,8 +861,9 @@ static const char usage[] =
     "\n"
     "Opens FILE (any format sinew reads, or a .sinew; without one, the built-in demo humanoid) and plays its\n"
     "clip. Open… or drop a file on the window to open another; a file that fails shows its error above the\n"
-    "scene, which stays. Space plays and pauses, Left/Right step a frame (1/30 s), Up/Down jump to the next/\n"
-    "previous key, Home/End go to the ends (the clip list ends with the rest pose, --clip none);\n"
+    "scene, which stays. Space plays and pauses, Left/Right step a frame (at the clip's key rate, else 1/30 s),\n"
+    "Up/Down jump to the next/previous key, Home/End go to the ends (the clip list ends with the rest pose,\n"
+    "--clip none);\n"
     "drag rotates, shift-drag or middle-drag pans, the wheel zooms, F frames all; Tab switches to the fly\n"
     "camera (W/A/S/D, Q/E, drag to look) and back. Keys 1-9, 0 and M toggle the display switches (see the\n"
     "Display panel), K switches linear blend / dual-quaternion skinning, C a crowd of the model. Settings: "

@@ -9,7 +9,7 @@
 #include "scene.h"
 #include "sinew/sinew.h"
 
-#define FRAME_RATE 30.0 /* frame numbers and Left/Right steps */
+#define FRAME_RATE 30.0 /* frame numbers and Left/Right steps when the clip's keys show no rate */
 #define MAX_TICKS 400
 
 typedef enum play_mode { PLAY_LOOP, PLAY_ONCE, PLAY_PING_PONG } play_mode;
@@ -61,8 +61,9 @@ typedef struct viewer {
     double quit_after;            /* --quit-after: seconds, 0 for never */
     float *key_times;             /* the clip's distinct key times, sorted (the timeline's ticks, every one) */
     size_t key_time_count;
-    bool status_due;  /* the status bar's figures changed in a draw: shown at the next tick */
-    int32_t selected; /* node, -1 for none */
+    double frame_rate; /* the clip's own (its usual key spacing), else FRAME_RATE */
+    bool status_due;   /* the status bar's figures changed in a draw: shown at the next tick */
+    int32_t selected;  /* node, -1 for none */
     sinew_camera camera;
     sinew_render_options options;
     double time, speed;
@@ -92,7 +93,8 @@ void view_recent_changed(viewer *v); /* rebuilds the Recent menu */
 
 double view_duration(const viewer *v); /* of the clip playing; 0 for the rest pose */
 void view_toggle_crowd(viewer *v, bool on);
-void view_update_timeline(viewer *v); /* the scrub bar's range and key ticks */
+double view_frame_rate(const viewer *v); /* of the clip: frame numbers and Left/Right steps */
+void view_update_timeline(viewer *v);    /* the scrub bar's range and key ticks */
 void view_show_time(viewer *v);
 
 /* open.c */
