@@ -823,6 +823,44 @@ static void draw_overlay(sinew_renderer *r, const frame_state *fs, bool before_m
     glEnable(GL_DEPTH_TEST);
 }
 
+/* A crowd's skeletons (the skeleton switch on, or a file without meshes): each character's
+ * bones and joints, one character a pass through the overlay buffer. */
+static void draw_crowd_skeletons(sinew_renderer *r, const frame_state *fs)
+{
+    const sinew_frame *frame = fs->frame;
+    const uint32_t n = r->model->node_count;
+    overlay_frame of = {.model = r->model,
+                        .skeleton_nodes = r->skeleton_nodes,
+                        .options = fs->o,
+                        .camera = frame->camera,
+                        .view_proj = fs->view_proj,
+                        .width = frame->width,
+                        .height = frame->height,
+                        .scene_radius = frame->camera->scene_radius > 0.0f ? frame->camera->scene_radius : 1.0f};
+    glUseProgram(r->programs.overlay);
+    glBindVertexArray(r->overlay_vao);
+    glBindBuffer(GL_ARRAY_BUFFER, r->overlay_buffer);
+    glUniformMatrix4fv(r->overlay_matrix, 1, GL_FALSE, fs->view_proj);
+    float dot = frame->height >= 1000 ? 2.0f : 1.0f;
+    glUniform1f(r->overlay_point_size, 5.0f * dot);
+    for (uint32_t c = 0; c < frame->crowd_count; c++) {
+        of.worlds = frame->crowd_worlds + (size_t)c * n;
+        overlay_list *list = &r->overlay;
+        list->count = 0;
+        overlay_range bones = add_range(list, &of, overlay_add_bones);
+        overlay_range joints = add_range(list, &of, add_all_joints);
+        if (!list->count)
+            continue;
+        glBufferData(GL_ARRAY_BUFFER, (GLsizeiptr)(list->count * sizeof(overlay_vertex)), list->vertices,
+                     GL_STREAM_DRAW);
+        glUniform1i(r->overlay_round, 0);
+        draw_overlay_range(GL_TRIANGLES, bones);
+        glUniform1i(r->overlay_round, 1);
+        draw_overlay_range(GL_POINTS, joints);
+    }
+    glUniform1i(r->overlay_round, 0);
+}
+
 /* Lights ride with the camera: the key from above-left, the fill from the right. */
 static void camera_lights(const sinew_camera *camera, frame_state *fs)
 {
@@ -1068,6 +1106,8 @@ sinew_result sinew_renderer_draw(sinew_renderer *r, const sinew_frame *frame, si
     draw_overlay(r, &fs, true);
     if (frame->crowd_count) {
         result = frame->options->meshes ? draw_crowd(r, &fs, error) : SINEW_OK;
+        if (result == SINEW_OK && frame->options->skeleton)
+            draw_crowd_skeletons(r, &fs);
         glBindVertexArray(0);
         glUseProgram(0);
         if (result != SINEW_OK)

@@ -304,6 +304,17 @@ static void test_crowd(void **state)
     free_image(&gpu);
     free_image(&cpu);
     free_image(&dqs);
+    /* a file without meshes: a crowd of skeletons */
+    char bvh[1024];
+    if (testdata_path("assimp/BVH/01_01.bvh", bvh, sizeof bvh)) {
+        image bones = RENDER("crowd-bvh.png", bvh, "--crowd", "9", "--time", "3", "--size", SIZE, "--no-grid");
+        long drawn = 0, bg = bones.rgb[0] + bones.rgb[1] + bones.rgb[2];
+        for (long p = 0; p < (long)bones.width * bones.height; p++)
+            drawn += labs(bones.rgb[p * 3] + bones.rgb[p * 3 + 1] + bones.rgb[p * 3 + 2] - bg) > 30;
+        printf("BVH crowd of 9 skeletons: %ld pixels drawn\n", drawn);
+        assert_true(drawn > 300);
+        free_image(&bones);
+    }
     char out[1024];
     tmp_path("crowd-bad.png", out, sizeof out);
     run_result r = RUN("render", robot, "--crowd", "0", "-o", out);
