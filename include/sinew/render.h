@@ -122,8 +122,9 @@ typedef struct sinew_frame {
     uint32_t muscle_count;
     /* A crowd: crowd_count characters of the model in one frame, each posed and placed by its
      * own world matrices (crowd_worlds: crowd_count * node_count, character after character;
-     * a player's `root` places one). Meshes, grid and axes only (no skeleton, names,
-     * normals, muscles or heat map). GPU skinning draws each mesh once for all characters
+     * a player's `root` places one). Meshes, grid, axes, and with the skeleton switch each
+     * character's bones and joints (no names, joint axes, normals, muscles or heat map). GPU
+     * skinning draws each mesh once for all characters
      * (instancing: the palettes of every character in one texture buffer); CPU skinning skins
      * and draws character after character. 0: the one character of `worlds`. */
     uint32_t crowd_count;
