@@ -57,6 +57,7 @@ struct sinew_renderer {
     sinew_mat4 *crowd_records;
     uint32_t crowd_capacity; /* characters crowd_records holds */
     GLuint crowd_buffer, crowd_texture;
+    uint32_t max_buffer_texels; /* GL_MAX_TEXTURE_BUFFER_SIZE */
     GLuint muscle_vao, muscle_vertices, muscle_indices;
     uint32_t muscle_vertex_capacity, muscle_index_capacity;
     float *muscle_scratch; /* position + normal a vertex */
@@ -67,6 +68,8 @@ struct sinew_renderer {
     uint64_t frame; /* counts draws, so a mesh is skinned on the CPU once a frame */
     char gl_name[256];
 };
+
+static const float IDENTITY[16] = {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1};
 
 static void *default_alloc(size_t size, void *user)
 {
@@ -410,8 +413,9 @@ sinew_result sinew_renderer_create(const sinew_renderer_desc *desc, sinew_render
 
     GLint texels = 0;
     glGetIntegerv(GL_MAX_TEXTURE_BUFFER_SIZE, &texels);
+    r->max_buffer_texels = texels > 0 ? (uint32_t)texels : 0;
     uint32_t max_gpu = desc->max_gpu_joints ? desc->max_gpu_joints : UINT32_MAX;
-    place_skins(r, max_gpu, (uint32_t)texels / 4);
+    place_skins(r, max_gpu, r->max_buffer_texels / 4);
     mark_skeleton(r);
     sinew_result result = create_gl_objects(r, max_vertices, error);
     if (result != SINEW_OK) {
@@ -487,19 +491,34 @@ static bool mesh_is_skinned(const sinew_mesh *mesh)
     return mesh->skin >= 0 && mesh->influence_count > 0;
 }
 
-/* Skins a mesh on the CPU into r->stream (position, normal interleaved). */
-static sinew_result skin_on_cpu(sinew_renderer *r, const sinew_mesh *mesh, sinew_error *error)
+static void skin_range_job(void *user, uint32_t first, uint32_t count, uint32_t thread)
+{
+    (void)thread;
+    sinew_skin_desc d = *(const sinew_skin_desc *)user;
+    d.first = first, d.count = count;
+    sinew_skin_vertices(&d, NULL);
+}
+
+/* Skins a mesh on the CPU into r->stream (position, normal interleaved) from a palette of
+ * total_joints records (matrices, and for DQS the dual-quaternion joints: r->palettes and
+ * r->dq_palettes, or both one crowd character's block), over `jobs` when given (the ranges
+ * cannot fail: the model's joint indices were checked when it was loaded). */
+static sinew_result skin_on_cpu(sinew_renderer *r, const sinew_mesh *mesh, const sinew_mat4 *palettes,
+                                const sinew_dq_joint *dq_palettes, sinew_jobs *jobs, sinew_error *error)
 {
     const sinew_skin *skin = &r->model->skins[mesh->skin];
     sinew_skin_desc d = {.mesh = mesh,
-                         .palette = &r->palettes[r->skin_offsets[mesh->skin]],
+                         .palette = palettes + r->skin_offsets[mesh->skin],
                          .palette_count = skin->joint_count,
                          .method = r->method,
-                         .dq_palette = &r->dq_palettes[r->skin_offsets[mesh->skin]],
+                         .dq_palette = dq_palettes + r->skin_offsets[mesh->skin],
                          .out_positions = r->stream,
                          .out_normals = r->stream + 3,
                          .out_stride = 24};
-    return sinew_skin_vertices(&d, error);
+    if (!jobs)
+        return sinew_skin_vertices(&d, error);
+    sinew_jobs_run(jobs, mesh->vertex_count, 4096, skin_range_job, &d);
+    return SINEW_OK;
 }
 
 /* Index of `node` in the mesh's skin, or -1. */
@@ -540,7 +559,6 @@ static void set_common_uniforms(GLuint program, const mesh_uniforms *u, const fr
 static sinew_result prepare_instance(sinew_renderer *r, const mesh_uniforms *u, const frame_state *fs,
                                      const sinew_instance *inst, sinew_error *error)
 {
-    static const float IDENTITY[16] = {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1};
     const sinew_mesh *mesh = &r->model->meshes[inst->mesh];
     render_mesh *rm = &r->meshes[inst->mesh];
     int32_t heat_node = fs->o->heatmap_joint;
@@ -559,7 +577,7 @@ static sinew_result prepare_instance(sinew_renderer *r, const mesh_uniforms *u, 
     if (fs->o->skinning == SINEW_SKINNING_CPU || !r->skin_on_gpu[mesh->skin]) {
         /* Once a frame: the normals pass and further instances reuse the streamed vertices. */
         if (rm->streamed != r->frame) {
-            sinew_result result = skin_on_cpu(r, mesh, error);
+            sinew_result result = skin_on_cpu(r, mesh, r->palettes, r->dq_palettes, NULL, error);
             if (result != SINEW_OK)
                 return result;
             glBindBuffer(GL_ARRAY_BUFFER, rm->buffers[BUF_STREAM]);
@@ -610,16 +628,23 @@ static bool instance_hidden(const sinew_render_options *o, uint32_t i)
     return o->hidden_instances && o->hidden_instances[i];
 }
 
+/* The mesh program with the frame's uniforms and shading (heat map on or off). */
+static void begin_mesh_pass(sinew_renderer *r, const frame_state *fs, bool heat)
+{
+    const mesh_uniforms *u = &r->mesh_u;
+    set_common_uniforms(r->programs.mesh, u, fs);
+    int mode = shading_mode(fs->o);
+    glUniform1i(u->mode, mode);
+    glUniform1i(u->gouraud, mode == 2);
+    glUniform1i(u->heat, heat);
+}
+
 static sinew_result draw_meshes(sinew_renderer *r, const frame_state *fs, sinew_error *error)
 {
     const sinew_model *m = r->model;
     const sinew_render_options *o = fs->o;
     const mesh_uniforms *u = &r->mesh_u;
-    set_common_uniforms(r->programs.mesh, u, fs);
-    int mode = shading_mode(o);
-    glUniform1i(u->mode, mode);
-    glUniform1i(u->gouraud, mode == 2);
-    glUniform1i(u->heat, o->heatmap_joint >= 0);
+    begin_mesh_pass(r, fs, o->heatmap_joint >= 0);
     static const float WIRE[4] = {0.06f, 0.06f, 0.08f, 1.0f}, NONE[4] = {0, 0, 0, 0};
     for (uint32_t i = 0; i < m->instance_count; i++) {
         if (instance_hidden(o, i))
@@ -673,7 +698,6 @@ static float srgb_to_linear(float c)
 /* Muscles as Gouraud-shaded tubes, each built on the CPU into the scratch sized at create. */
 static sinew_result draw_muscles(sinew_renderer *r, const frame_state *fs, sinew_error *error)
 {
-    static const float IDENTITY[16] = {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1};
     const mesh_uniforms *u = &r->mesh_u;
     set_common_uniforms(r->programs.mesh, u, fs);
     int mode = fs->o->lighting ? 2 : 0;
@@ -916,12 +940,10 @@ static void crowd_records(void *user, uint32_t first, uint32_t count, uint32_t t
 static sinew_result crowd_reserve(sinew_renderer *r, uint32_t count, sinew_error *error)
 {
     size_t bytes = (size_t)count * crowd_stride(r) * sizeof(sinew_mat4);
-    GLint texels = 0;
-    glGetIntegerv(GL_MAX_TEXTURE_BUFFER_SIZE, &texels);
-    if (bytes / 16 > (size_t)texels)
+    if (bytes / 16 > r->max_buffer_texels)
         return sinew_fail(error, SINEW_ERROR_LIMIT,
-                          "%s: a crowd of %u characters needs %zu texels of palettes, GL_MAX_TEXTURE_BUFFER_SIZE is %d",
-                          r->model->source, count, bytes / 16, texels);
+                          "%s: a crowd of %u characters needs %zu texels of palettes, GL_MAX_TEXTURE_BUFFER_SIZE is %u",
+                          r->model->source, count, bytes / 16, r->max_buffer_texels);
     if (count <= r->crowd_capacity)
         return SINEW_OK;
     sinew_mat4 *records = r->allocator.alloc(bytes, r->allocator.user);
@@ -943,18 +965,6 @@ static sinew_result crowd_reserve(sinew_renderer *r, uint32_t count, sinew_error
     return SINEW_OK;
 }
 
-typedef struct crowd_skin {
-    sinew_skin_desc desc;
-} crowd_skin;
-
-static void crowd_skin_range(void *user, uint32_t first, uint32_t count, uint32_t thread)
-{
-    (void)thread;
-    sinew_skin_desc d = ((crowd_skin *)user)->desc;
-    d.first = first, d.count = count;
-    sinew_skin_vertices(&d, NULL);
-}
-
 /* One CPU-skinned mesh of every character: skinned (on the frame's jobs), streamed, drawn. */
 static sinew_result draw_crowd_cpu_mesh(sinew_renderer *r, const frame_state *fs, const sinew_mesh *mesh,
                                         render_mesh *rm, sinew_error *error)
@@ -966,23 +976,10 @@ static sinew_result draw_crowd_cpu_mesh(sinew_renderer *r, const frame_state *fs
     glUniform1i(u->instance_stride, 0);
     glUniform1i(u->rigid_record, -1);
     for (uint32_t c = 0; c < fs->frame->crowd_count; c++) {
-        const sinew_mat4 *block = r->crowd_records + (size_t)c * stride + r->skin_offsets[mesh->skin];
-        crowd_skin job = {{.mesh = mesh,
-                           .palette = block,
-                           .dq_palette = (const sinew_dq_joint *)block,
-                           .method = r->method,
-                           .palette_count = r->model->skins[mesh->skin].joint_count,
-                           .out_positions = r->stream,
-                           .out_normals = r->stream + 3,
-                           .out_stride = 24}};
-        /* the model's joint indices were checked when it was loaded: the ranges cannot fail */
-        if (fs->frame->jobs) {
-            sinew_jobs_run(fs->frame->jobs, mesh->vertex_count, 4096, crowd_skin_range, &job);
-        } else {
-            sinew_result result = sinew_skin_vertices(&job.desc, error);
-            if (result != SINEW_OK)
-                return result;
-        }
+        const sinew_mat4 *block = r->crowd_records + (size_t)c * stride; /* DQS: converted in place */
+        sinew_result result = skin_on_cpu(r, mesh, block, (const sinew_dq_joint *)block, fs->frame->jobs, error);
+        if (result != SINEW_OK)
+            return result;
         glBindBuffer(GL_ARRAY_BUFFER, rm->buffers[BUF_STREAM]);
         glBufferSubData(GL_ARRAY_BUFFER, 0, (GLsizeiptr)mesh->vertex_count * 24, r->stream);
         glDrawElements(GL_TRIANGLES, (GLsizei)mesh->index_count, GL_UNSIGNED_INT, NULL);
@@ -1007,12 +1004,8 @@ static sinew_result draw_crowd(sinew_renderer *r, const frame_state *fs, sinew_e
     glActiveTexture(GL_TEXTURE0);
     glBindTexture(GL_TEXTURE_BUFFER, r->crowd_texture);
     const mesh_uniforms *u = &r->mesh_u;
-    static const float IDENTITY[16] = {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1}, NONE[4] = {0, 0, 0, 0};
-    set_common_uniforms(r->programs.mesh, u, fs);
-    int mode = shading_mode(fs->o);
-    glUniform1i(u->mode, mode);
-    glUniform1i(u->gouraud, mode == 2);
-    glUniform1i(u->heat, 0);
+    static const float NONE[4] = {0, 0, 0, 0};
+    begin_mesh_pass(r, fs, false);
     glUniform1i(u->heat_joint, -1);
     glUniform1f(u->heat_rigid, 0.0f);
     glUniform4fv(u->override, 1, NONE);
@@ -1169,7 +1162,7 @@ bool sinew_renderer_bounds(sinew_renderer *r, const sinew_mat4 *worlds, uint32_t
     for (uint32_t i = 0; i < m->instance_count; i++) {
         const sinew_mesh *mesh = &m->meshes[m->instances[i].mesh];
         if (mesh_is_skinned(mesh)) {
-            if (skin_on_cpu(r, mesh, NULL) != SINEW_OK)
+            if (skin_on_cpu(r, mesh, r->palettes, r->dq_palettes, NULL, NULL) != SINEW_OK)
                 continue;
             for (uint32_t v = 0; v < mesh->vertex_count; v++)
                 grow(min, max, &r->stream[v * 6]);
