@@ -63,18 +63,12 @@ static double now_seconds(void)
 /* The scene's crowd made `count` characters (same spacing), framed. */
 static bool resize_crowd(cli_scene *s, uint32_t count)
 {
-    app_crowd_desc d = {.model = s->model,
-                        .clip = s->crowd.layout_count == 1 && s->model->clip_count > 1 ? s->clip : NULL,
-                        .count = count,
-                        .spacing = s->crowd.spacing,
-                        .jobs = s->jobs};
-    app_crowd_close(&s->crowd);
     sinew_error error = {0};
-    if (app_crowd_open(&s->crowd, &d, &error) != SINEW_OK) {
+    s->crowd.frame_at_least = FRAMED;
+    if (app_crowd_resize(&s->crowd, count, &error) != SINEW_OK) {
         cli_error("%s: %s", s->model->source, error.message);
         return false;
     }
-    s->crowd.frame_at_least = FRAMED;
     return cli_scene_frame_all(s, 0.0, 0.0);
 }
 

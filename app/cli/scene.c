@@ -67,14 +67,10 @@ static int open_crowd(cli_scene *s, const cli_scene_desc *d)
         cli_error("%s", error.message);
         return EXIT_UNAVAILABLE;
     }
-    float lo[3] = {-0.5f, 0.0f, -0.5f}, hi[3] = {0.5f, 1.0f, 0.5f};
-    double duration = s->clip ? s->clip->duration : 0.0;
-    app_scene_bounds(&s->scene, s->renderer, 0.0, duration, FRAMING_SAMPLES, SINEW_WRAP_LOOP, lo, hi);
-    float footprint = fmaxf(hi[0] - lo[0], hi[2] - lo[2]);
     app_crowd_desc cd = {.model = s->model,
                          .clip = d->clip ? s->clip : NULL,
                          .count = d->crowd,
-                         .spacing = fmaxf(footprint * 1.25f, 0.05f),
+                         .spacing = app_crowd_spacing(&s->scene, s->renderer, FRAMING_SAMPLES),
                          .jobs = s->jobs};
     if (app_crowd_open(&s->crowd, &cd, &error) != SINEW_OK) {
         cli_error("%s: %s", s->model->source, error.message);
@@ -147,12 +143,8 @@ bool cli_scene_frame_all(cli_scene *s, double from, double to)
     if (!cli_scene_pose(s, from) || !cli_scene_pose(s, to))
         return false;
     app_scene_bounds(&s->scene, s->renderer, from, to, FRAMING_SAMPLES, s->wrap, lo, hi);
-    if (s->crowd.count) {
-        float one_lo[3], one_hi[3];
-        memcpy(one_lo, lo, sizeof lo);
-        memcpy(one_hi, hi, sizeof hi);
-        app_crowd_bounds(&s->crowd, one_lo, one_hi, lo, hi);
-    }
+    if (s->crowd.count)
+        app_crowd_bounds(&s->crowd, lo, hi);
     sinew_camera keep = s->camera;
     sinew_camera_frame(&s->camera, lo, hi, (float)s->width / (float)s->height);
     if (!s->frame_all) {

@@ -26,6 +26,7 @@ sinew_result app_crowd_open(app_crowd *c, const app_crowd_desc *d, sinew_error *
                           APP_CROWD_MAX, d->count);
     const sinew_model *m = d->model;
     c->model = m;
+    c->clip = d->clip;
     c->count = d->count;
     c->columns = (uint32_t)ceil(sqrt((double)d->count));
     c->spacing = d->spacing > 0.0f ? d->spacing : 1.0f;
@@ -87,7 +88,26 @@ void app_crowd_pose(app_crowd *c, double time)
     sinew_jobs_run(c->jobs, c->count, 16, pose_range, c);
 }
 
-void app_crowd_bounds(const app_crowd *c, const float lo[3], const float hi[3], float out_lo[3], float out_hi[3])
+sinew_result app_crowd_resize(app_crowd *c, uint32_t count, sinew_error *error)
+{
+    app_crowd_desc d = {.model = c->model, .clip = c->clip, .count = count, .spacing = c->spacing, .jobs = c->jobs};
+    uint32_t frame_at_least = c->frame_at_least;
+    app_crowd_close(c);
+    sinew_result result = app_crowd_open(c, &d, error);
+    c->frame_at_least = frame_at_least;
+    return result;
+}
+
+float app_crowd_spacing(app_scene *scene, sinew_renderer *renderer, int samples)
+{
+    float lo[3] = {-0.5f, 0.0f, -0.5f}, hi[3] = {0.5f, 1.0f, 0.5f};
+    double duration = scene->clip ? scene->clip->duration : 0.0;
+    app_scene_bounds(scene, renderer, 0.0, duration, samples, SINEW_WRAP_LOOP, lo, hi);
+    float footprint = fmaxf(hi[0] - lo[0], hi[2] - lo[2]);
+    return fmaxf(footprint * 1.25f, 0.05f);
+}
+
+void app_crowd_bounds(const app_crowd *c, float lo[3], float hi[3])
 {
     uint32_t count = c->count > c->frame_at_least ? c->count : c->frame_at_least;
     uint32_t columns = (uint32_t)ceil(sqrt((double)count));
@@ -95,9 +115,8 @@ void app_crowd_bounds(const app_crowd *c, const float lo[3], const float hi[3], 
     grid_cell(count, columns, c->spacing, 0, &x0, &z0);
     grid_cell(count, columns, c->spacing, count - 1, &x1, &z1);
     float xs = -x0; /* the grid is centred: its first row is the widest */
-    out_lo[0] = lo[0] - xs, out_hi[0] = hi[0] + xs;
-    out_lo[1] = lo[1], out_hi[1] = hi[1];
-    out_lo[2] = lo[2] + z0, out_hi[2] = hi[2] + z1;
+    lo[0] -= xs, hi[0] += xs;
+    lo[2] += z0, hi[2] += z1;
 }
 
 void app_crowd_close(app_crowd *c)

@@ -11,10 +11,12 @@
 #define SINEW_APP_CROWD_H
 
 #include "app.h"
+#include "scene.h"
 #include "sinew/jobs.h"
 
 typedef struct app_crowd {
     const sinew_model *model;
+    const sinew_clip *clip; /* as asked: every character plays it; NULL: the clips in turn */
     uint32_t count, columns;
     float spacing;
     uint32_t layout_count;
@@ -40,10 +42,16 @@ typedef struct app_crowd_desc {
 #define APP_CROWD_MAX 100000u
 
 sinew_result app_crowd_open(app_crowd *crowd, const app_crowd_desc *desc, sinew_error *error);
+/* The same crowd (model, clips, spacing, jobs, framing) with `count` characters. */
+sinew_result app_crowd_resize(app_crowd *crowd, uint32_t count, sinew_error *error);
+
+/* Spacing for a crowd of the scene's model: its footprint on the ground (the wider of x and z)
+ * over its clip, `samples` times, and a quarter more (at least 5 cm). */
+float app_crowd_spacing(app_scene *scene, sinew_renderer *renderer, int samples);
 /* Poses every character at `time` (looping its clip). */
 void app_crowd_pose(app_crowd *crowd, double time);
-/* The grid's box given one character's box (lo, hi) at its origin. */
-void app_crowd_bounds(const app_crowd *crowd, const float lo[3], const float hi[3], float out_lo[3], float out_hi[3]);
+/* Grows one character's box (lo, hi, at its origin) to the grid's. */
+void app_crowd_bounds(const app_crowd *crowd, float lo[3], float hi[3]);
 void app_crowd_close(app_crowd *crowd);
 
 #endif

@@ -260,13 +260,10 @@ static bool crowd_ready(viewer *v)
         view_show_error(v, error.message);
         return false;
     }
-    float lo[3] = {-0.5f, 0.0f, -0.5f}, hi[3] = {0.5f, 1.0f, 0.5f};
-    app_scene_bounds(&v->scene, v->renderer, 0.0, view_duration(v), 5, SINEW_WRAP_LOOP, lo, hi);
-    float footprint = fmaxf(hi[0] - lo[0], hi[2] - lo[2]);
     app_crowd_desc d = {.model = v->scene.model,
                         .clip = v->scene.clip,
                         .count = v->crowd_size,
-                        .spacing = fmaxf(footprint * 1.25f, 0.05f),
+                        .spacing = app_crowd_spacing(&v->scene, v->renderer, 5),
                         .jobs = v->jobs};
     if (app_crowd_open(&v->crowd, &d, &error) != SINEW_OK) {
         view_show_error(v, error.message);
@@ -282,12 +279,8 @@ static void frame_all(viewer *v)
     int w = gtk_widget_get_width(v->area), h = gtk_widget_get_height(v->area);
     if (!v->renderer || !app_scene_bounds(&v->scene, v->renderer, v->time, v->time, 1, SINEW_WRAP_CLAMP, lo, hi))
         return;
-    if (v->crowd_on && crowd_ready(v)) {
-        float one_lo[3], one_hi[3];
-        memcpy(one_lo, lo, sizeof lo);
-        memcpy(one_hi, hi, sizeof hi);
-        app_crowd_bounds(&v->crowd, one_lo, one_hi, lo, hi);
-    }
+    if (v->crowd_on && crowd_ready(v))
+        app_crowd_bounds(&v->crowd, lo, hi);
     sinew_camera_frame(&v->camera, lo, hi, h > 0 ? (float)w / (float)h : 1.0f);
 }
 
