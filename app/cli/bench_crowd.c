@@ -9,10 +9,8 @@
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
-#include <time.h>
 
 #include <cjson/cJSON.h>
-#include <epoxy/gl.h>
 
 #include "cli.h"
 
@@ -53,13 +51,6 @@ typedef struct crowd_run {
  * software renderer the pixels, not the vertices, would set the count). */
 #define FRAMED 256
 
-static double now_seconds(void)
-{
-    struct timespec t;
-    clock_gettime(CLOCK_MONOTONIC, &t);
-    return (double)t.tv_sec + (double)t.tv_nsec * 1e-9;
-}
-
 /* The scene's crowd made `count` characters (same spacing), framed. */
 static bool resize_crowd(cli_scene *s, uint32_t count)
 {
@@ -75,21 +66,14 @@ static bool resize_crowd(cli_scene *s, uint32_t count)
 /* Milliseconds a frame and of it posing, at the crowd's size. */
 static bool time_crowd(cli_scene *s, int frames, double *frame_ms, double *pose_ms)
 {
-    double t = 0.0;
-    for (int i = 0; i < 5; i++, t += 1.0 / 60.0)
-        if (!cli_scene_draw(s, t))
-            return false;
-    glFinish();
-    double start = now_seconds();
-    for (int i = 0; i < frames; i++, t += 1.0 / 60.0)
-        if (!cli_scene_draw(s, t))
-            return false;
-    glFinish();
-    *frame_ms = (now_seconds() - start) / frames * 1e3;
-    start = now_seconds();
+    double seconds = 0.0;
+    if (!cli_scene_time_frames(s, 5, frames, &seconds))
+        return false;
+    *frame_ms = seconds * 1e3;
+    double t = (5 + frames) / 60.0, start = cli_now_seconds();
     for (int i = 0; i < frames; i++, t += 1.0 / 60.0)
         app_crowd_pose(&s->crowd, t);
-    *pose_ms = (now_seconds() - start) / frames * 1e3;
+    *pose_ms = (cli_now_seconds() - start) / frames * 1e3;
     return true;
 }
 

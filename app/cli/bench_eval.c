@@ -6,7 +6,6 @@
  * chunks of characters (crowd) or of vertex ranges (skinning). */
 #include <stdlib.h>
 #include <string.h>
-#include <time.h>
 #include <unistd.h>
 
 #include <cjson/cJSON.h>
@@ -15,13 +14,6 @@
 
 static int batches = 5;         /* --quick: 1 */
 static double unit_scale = 1.0; /* --quick: 0.02 */
-
-static double now_seconds(void)
-{
-    struct timespec t;
-    clock_gettime(CLOCK_MONOTONIC, &t);
-    return (double)t.tv_sec + (double)t.tv_nsec * 1e-9;
-}
 
 /* Best seconds per unit over BATCHES batches of `units` calls of step(context, i). */
 typedef void (*step_fn)(void *context, uint32_t i);
@@ -34,10 +26,10 @@ static double best_per_unit(step_fn step, void *context, uint32_t units)
     for (uint32_t w = 0; w < units / 4 + 1; w++)
         step(context, i++); /* warm caches and cursors */
     for (int b = 0; b < batches; b++) {
-        double start = now_seconds();
+        double start = cli_now_seconds();
         for (uint32_t u = 0; u < units; u++)
             step(context, i++);
-        double per = (now_seconds() - start) / units;
+        double per = (cli_now_seconds() - start) / units;
         if (per < best)
             best = per;
     }
@@ -350,12 +342,12 @@ static bool time_import(const char *path, bool assimp, double *best_ms, sinew_mo
     for (int i = 0; i < (batches > 1 ? 3 : 1); i++) {
         sinew_model *m = NULL;
         sinew_import_desc d = {.path = path, .in_process = true, .assimp = assimp};
-        double start = now_seconds();
+        double start = cli_now_seconds();
         if (sinew_import(&d, &m, &error) != SINEW_OK) {
             cli_error("%s%s", assimp ? "(through Assimp) " : "", error.message);
             return false;
         }
-        double t = (now_seconds() - start) * 1e3;
+        double t = (cli_now_seconds() - start) * 1e3;
         *best_ms = t < *best_ms ? t : *best_ms;
         if (keep && i == 0)
             *keep = m;
@@ -380,12 +372,12 @@ static bool bench_load(const char *collada, const char *converted, load_result *
     }
     for (int i = 0; i < (batches > 1 ? 50 : 2); i++) {
         sinew_model *m = NULL;
-        double start = now_seconds();
+        double start = cli_now_seconds();
         if (sinew_model_load(converted, NULL, &m, &error) != SINEW_OK) {
             cli_error("%s", error.message);
             return false;
         }
-        double t = now_seconds() - start;
+        double t = cli_now_seconds() - start;
         best_sinew = t < best_sinew ? t : best_sinew;
         sinew_model_free(m);
     }

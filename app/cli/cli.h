@@ -37,6 +37,9 @@ bool cli_parse_size(const char *command, const char *text, int *width, int *heig
 /* --threads N at argv[*i] (1..most): the value; advances *i past it. */
 bool cli_threads_arg(int argc, char **argv, int *i, uint32_t most, uint32_t *out);
 
+/* Seconds on the monotonic clock (the benchmarks' timer). */
+double cli_now_seconds(void);
+
 /* True when `arg` is --help or -h. */
 bool cli_is_help(const char *arg);
 
@@ -88,6 +91,9 @@ bool cli_scene_pose(cli_scene *scene, double time);
 bool cli_scene_track(cli_scene *scene, double time);
 /* Poses at `time` and draws (no read-back). */
 bool cli_scene_draw(cli_scene *scene, double time);
+/* Seconds a frame of drawing (cli_scene_draw and glFinish; no read-back) over `frames` frames at
+ * 60 Hz from t = warmup / 60, after `warmup` frames from 0. */
+bool cli_scene_time_frames(cli_scene *scene, int warmup, int frames, double *seconds_per_frame);
 /* Reads the frame into scene->pixels. */
 bool cli_scene_read(cli_scene *scene);
 void cli_scene_close(cli_scene *scene);

@@ -2,10 +2,8 @@
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
-#include <time.h>
 
 #include <cjson/cJSON.h>
-#include <epoxy/gl.h>
 
 #include "cli.h"
 
@@ -33,35 +31,11 @@ static const char bench_usage[] =
     "           (`sinew bench eval --help` says what each figure is)\n"
     "\n" MUSCLE_USAGE;
 
-static double now_seconds(void)
-{
-    struct timespec t;
-    clock_gettime(CLOCK_MONOTONIC, &t);
-    return (double)t.tv_sec + (double)t.tv_nsec * 1e-9;
-}
-
 typedef struct render_bench_args {
     const char *path, *clip, *png;
     int width, height, frames, samples;
     bool json;
 } render_bench_args;
-
-/* Seconds a frame, drawing `frames` frames after a warm-up. */
-static bool time_frames(cli_scene *scene, int frames, double *seconds_per_frame)
-{
-    double t = 0.0;
-    for (int i = 0; i < 10; i++, t += 1.0 / 60.0)
-        if (!cli_scene_draw(scene, t))
-            return false;
-    glFinish();
-    double start = now_seconds();
-    for (int i = 0; i < frames; i++, t += 1.0 / 60.0)
-        if (!cli_scene_draw(scene, t))
-            return false;
-    glFinish();
-    *seconds_per_frame = (now_seconds() - start) / frames;
-    return true;
-}
 
 /* Opens a scene (FILE, or the generated character) and times it with one skinning mode. */
 static int run_render_bench(const render_bench_args *a, int samples, int mode, double *spf, char *source,
@@ -88,7 +62,7 @@ static int run_render_bench(const render_bench_args *a, int samples, int mode, d
     if (code != EXIT_OK)
         return code;
     bool ok = cli_scene_frame_all(&scene, 0.0, scene.clip ? scene.clip->duration : 0.0) &&
-              time_frames(&scene, a->frames, spf);
+              cli_scene_time_frames(&scene, 10, a->frames, spf);
     bool written = true;
     if (ok && a->png && mode == 0)
         ok = cli_scene_read(&scene) && (written = cli_write_image(a->png, scene.pixels, a->width, a->height));
@@ -210,7 +184,7 @@ static int bench_muscle(int argc, char **argv)
     sinew_muscle_profile profile = {m->node_count, m->radii, m->coefficients, m->rest_length};
     double radii[SINEW_MUSCLE_MAX_NODES], drift = 0.0, sink = 0.0;
     const int solves = 2000000;
-    double start = now_seconds();
+    double start = cli_now_seconds();
     for (int i = 0; i < solves; i++) {
         double length = m->rest_length * (0.75 + 0.5 * (double)(i % 1000) / 1000.0);
         sinew_muscle_state st;
@@ -220,13 +194,13 @@ static int bench_muscle(int argc, char **argv)
         if (i < 1000)
             drift = fmax(drift, fabs(st.volume - st.rest_volume) / st.rest_volume);
     }
-    double solve_ns = (now_seconds() - start) / solves * 1e9;
+    double solve_ns = (cli_now_seconds() - start) / solves * 1e9;
     uint32_t nv, ni;
     sinew_muscle_surface_size(m->node_count, m->segments, &nv, &ni);
     float *vertices = malloc((size_t)nv * 24);
     uint32_t *indices = malloc((size_t)ni * 4);
     const int surfaces = 20000;
-    start = now_seconds();
+    start = cli_now_seconds();
     for (int i = 0; vertices && indices && i < surfaces; i++) {
         sinew_muscle_surface_desc d = {.node_count = m->node_count,
                                        .radii = radii,
@@ -240,7 +214,7 @@ static int bench_muscle(int argc, char **argv)
                                        .index_capacity = ni};
         sinew_muscle_surface(&d, NULL);
     }
-    double surface_us = (now_seconds() - start) / surfaces * 1e6;
+    double surface_us = (cli_now_seconds() - start) / surfaces * 1e6;
     free(vertices);
     free(indices);
     if (json)

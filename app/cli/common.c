@@ -5,6 +5,7 @@
 #include <stdarg.h>
 #include <stdlib.h>
 #include <string.h>
+#include <time.h>
 #include <unistd.h>
 
 #include <cjson/cJSON.h>
@@ -46,6 +47,13 @@ bool cli_threads_arg(int argc, char **argv, int *i, uint32_t most, uint32_t *out
         return false;
     *out = (uint32_t)n;
     return true;
+}
+
+double cli_now_seconds(void)
+{
+    struct timespec t;
+    clock_gettime(CLOCK_MONOTONIC, &t);
+    return (double)t.tv_sec + (double)t.tv_nsec * 1e-9;
 }
 
 bool cli_is_help(const char *arg)

@@ -4,6 +4,8 @@
 #include <string.h>
 #include <unistd.h>
 
+#include <epoxy/gl.h>
+
 #include "cli.h"
 
 #define FRAMING_SAMPLES 60
@@ -191,6 +193,22 @@ bool cli_scene_draw(cli_scene *s, double time)
         cli_error("%s: %s", s->model->source, error.message);
         return false;
     }
+    return true;
+}
+
+bool cli_scene_time_frames(cli_scene *s, int warmup, int frames, double *seconds_per_frame)
+{
+    double t = 0.0;
+    for (int i = 0; i < warmup; i++, t += 1.0 / 60.0)
+        if (!cli_scene_draw(s, t))
+            return false;
+    glFinish();
+    double start = cli_now_seconds();
+    for (int i = 0; i < frames; i++, t += 1.0 / 60.0)
+        if (!cli_scene_draw(s, t))
+            return false;
+    glFinish();
+    *seconds_per_frame = (cli_now_seconds() - start) / frames;
     return true;
 }
 
