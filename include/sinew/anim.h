@@ -120,8 +120,8 @@ typedef struct sinew_skin_desc {
  * threads at once. */
 sinew_result sinew_skin_vertices(const sinew_skin_desc *desc, sinew_error *error);
 
-/* The instruction set sinew_skin_vertices() and the player use on this processor:
- * "avx512", "avx2+fma" or "scalar". */
+/* The instruction set sinew_skin_vertices() uses on this processor: "avx512", "avx2+fma" or
+ * "scalar" (the player's path is AVX2+FMA or scalar). */
 const char *sinew_simd_name(void);
 
 /* A rigid mesh at a node: positions and normals transformed by one matrix. */
