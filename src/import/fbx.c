@@ -1494,6 +1494,7 @@ static sinew_result emit_mesh(scene *s, const mesh_source *src, const fbx_object
      * sign(det) * cofactor: right under non-uniform scale and mirrors). */
     dmat place = skin ? dmat_identity() : *geometry;
     dmat inverse = dmat_inverse_affine(&place);
+    bool mirrored = dmat_det3(&place) < 0.0; /* turns the tangents' handedness */
     for (uint32_t v = 0; v < vcount; v++) {
         const corner *c = &verts[v];
         double p[3], q[3];
@@ -1525,7 +1526,7 @@ static sinew_result emit_mesh(scene *s, const mesh_source *src, const fbx_object
             len = len > 0 ? sqrt(len) : 1;
             for (int r = 0; r < 3; r++)
                 mesh->tangents[v * 4 + r] = (float)(t[r] / len);
-            mesh->tangents[v * 4 + 3] = dmat_det3(&place) < 0 ? -c->tangent[3] : c->tangent[3];
+            mesh->tangents[v * 4 + 3] = mirrored ? -c->tangent[3] : c->tangent[3];
         }
     }
     if (skin) {
