@@ -283,7 +283,7 @@ static sinew_result check_meshes(reader *r)
     }
     if (h->mesh_tangents.count && h->mesh_tangents.count != h->meshes.count)
         return corrupt(r, "mesh tangents table");
-    const uint32_t *tangents = h->mesh_tangents.count ? array_at(r, h->mesh_tangents.offset, h->meshes.count) : NULL;
+    const uint32_t *tangents = array_at(r, h->mesh_tangents.offset, h->mesh_tangents.count); /* NULL: none */
     for (uint32_t i = 0; tangents && i < h->meshes.count; i++) {
         uint64_t v = meshes[i].vertex_count;
         if (tangents[i] != BLOB_NONE &&
@@ -450,6 +450,7 @@ static void fill_model(model_block *b, const reader *r, unsigned char *tables)
     m->mesh_count = h->meshes.count;
     sinew_mesh *meshes = take(&cursor, m->mesh_count * sizeof(sinew_mesh));
     const blob_mesh *bmeshes = array_at(r, h->meshes.offset, m->mesh_count);
+    const uint32_t *tangents = array_at(r, h->mesh_tangents.offset, h->mesh_tangents.count); /* NULL: none */
     for (uint32_t i = 0; i < m->mesh_count; i++) {
         const blob_mesh *bm = &bmeshes[i];
         uint64_t k = (uint64_t)bm->vertex_count * bm->influence_count;
@@ -460,10 +461,7 @@ static void fill_model(model_block *b, const reader *r, unsigned char *tables)
             .positions = array_at(r, bm->positions, bm->vertex_count),
             .normals = array_at(r, bm->normals, bm->vertex_count),
             .uvs = array_at(r, bm->uvs, bm->vertex_count),
-            .tangents = h->mesh_tangents.count
-                            ? array_at(r, ((const uint32_t *)array_at(r, h->mesh_tangents.offset, m->mesh_count))[i],
-                                       bm->vertex_count)
-                            : NULL,
+            .tangents = tangents ? array_at(r, tangents[i], bm->vertex_count) : NULL,
             .indices = array_at(r, bm->indices, bm->index_count),
             .influence_count = bm->influence_count,
             .joints = array_at(r, bm->joints, k),
