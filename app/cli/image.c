@@ -3,7 +3,6 @@
 #include <signal.h>
 #include <stdlib.h>
 #include <string.h>
-#include <strings.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -78,11 +77,9 @@ bool cli_video_open(cli_video *video, const char *path, int width, int height, d
         close(fds[1]);
         /* yuv420p (what players expect) needs even sizes: pad odd ones by a pixel. A GIF gets a
          * palette made for its frames instead; MP4 and MOV their index at the front. */
-        bool gif = app_image_format_of(path) == APP_VIDEO && strcasecmp(path + strlen(path) - 4, ".gif") == 0;
-        size_t len = strlen(path);
+        bool gif = app_has_extension(path, "gif");
         bool faststart =
-            len > 4 && (strcasecmp(path + len - 4, ".mp4") == 0 || strcasecmp(path + len - 4, ".mov") == 0 ||
-                        strcasecmp(path + len - 4, ".m4v") == 0);
+            app_has_extension(path, "mp4") || app_has_extension(path, "mov") || app_has_extension(path, "m4v");
         char *args[32] = {program, "-hide_banner", "-loglevel", "error", "-y", "-f", "rawvideo", "-pix_fmt",
                           "rgba",  "-s",           size,        "-r",    rate, "-i", "-"};
         int n = 15;

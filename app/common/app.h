@@ -56,6 +56,8 @@ typedef enum app_image_format {
     APP_VIDEO /* .mp4 .m4v .mov .mkv .webm .gif: through ffmpeg */
 } app_image_format;
 app_image_format app_image_format_of(const char *path);
+/* Whether `path` ends in "." and `ext`, case ignored. */
+bool app_has_extension(const char *path, const char *ext);
 
 /* An RGBA image as RGB PNG, JPEG, BMP or TGA (by the extension; another is refused) through
  * app_output (flip: the rows come bottom first). */

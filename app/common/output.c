@@ -160,7 +160,7 @@ static void image_sink(void *context, void *data, int size)
     app_output_write(context, data, (size_t)size);
 }
 
-static bool has_extension(const char *path, const char *ext)
+bool app_has_extension(const char *path, const char *ext)
 {
     size_t a = strlen(path), b = strlen(ext);
     return a > b && path[a - b - 1] == '.' && strcasecmp(path + a - b, ext) == 0;
@@ -175,7 +175,7 @@ app_image_format app_image_format_of(const char *path)
                  {"tga", APP_IMAGE_TGA}, {"mp4", APP_VIDEO},      {"m4v", APP_VIDEO},       {"mov", APP_VIDEO},
                  {"mkv", APP_VIDEO},     {"webm", APP_VIDEO},     {"gif", APP_VIDEO}};
     for (size_t i = 0; i < sizeof known / sizeof known[0]; i++)
-        if (has_extension(path, known[i].ext))
+        if (app_has_extension(path, known[i].ext))
             return known[i].format;
     const char *base = strrchr(path, '/');
     return strchr(base ? base + 1 : path, '.') ? APP_IMAGE_UNKNOWN : APP_IMAGE_PNG; /* no extension: PNG */
