@@ -171,7 +171,7 @@ static bool open_jobs(uint32_t threads, sinew_jobs **out)
 
 typedef struct skin_result {
     uint32_t vertices;
-    double mverts_1t, mverts_scalar, mverts_posonly, mverts_dqs, mverts_dqs_scalar;
+    double mverts_scalar, mverts_posonly, mverts_dqs, mverts_dqs_scalar;
     double mverts[MAX_BENCH_THREADS + 1]; /* by thread count, 1 .. threads */
 } skin_result;
 
@@ -199,7 +199,7 @@ static bool bench_skinning(uint32_t threads, skin_result *out)
     if (ok) {
         double n = mesh->vertex_count * 1e-6;
         out->vertices = mesh->vertex_count;
-        out->mverts_1t = n / best_per_unit(step_skin, &b, 100);
+        out->mverts[1] = n / best_per_unit(step_skin, &b, 100);
         b.positions_only = true;
         out->mverts_posonly = n / best_per_unit(step_skin, &b, 100);
         b.positions_only = false, b.dqs = true;
@@ -209,7 +209,6 @@ static bool bench_skinning(uint32_t threads, skin_result *out)
         b.dqs = false;
         out->mverts_scalar = n / best_per_unit(step_skin, &b, 20);
         b.scalar = false;
-        out->mverts[1] = out->mverts_1t;
         for (uint32_t t = 2; ok && t <= threads; t++) {
             ok = open_jobs(t, &b.jobs);
             if (ok)
@@ -507,7 +506,7 @@ int bench_eval(int argc, char **argv)
         cJSON_AddNumberToObject(o, "reference_sample_world_us_64", s64.reference_forward_us);
         cJSON_AddNumberToObject(o, "reference_seek_us_64", s64.reference_seek_us);
         cJSON_AddNumberToObject(o, "skin_vertices", skin.vertices);
-        cJSON_AddNumberToObject(o, "skin_mverts_1t", skin.mverts_1t);
+        cJSON_AddNumberToObject(o, "skin_mverts_1t", skin.mverts[1]);
         cJSON_AddNumberToObject(o, "skin_mverts_scalar_1t", skin.mverts_scalar);
         cJSON_AddNumberToObject(o, "skin_mverts_1t_posonly", skin.mverts_posonly);
         cJSON_AddNumberToObject(o, "skin_mverts_dqs_1t", skin.mverts_dqs);
@@ -559,7 +558,7 @@ int bench_eval(int argc, char **argv)
            s128.reference_forward_us);
     printf("%-44s %9.3f us %9.3f us\n", "sample + world, 128 joints, random seek", s128.seek_us,
            s128.reference_seek_us);
-    printf("%-44s %6.0f Mv/s %6.0f Mv/s %10s\n", "skinning (pos + normal, 4 infl), 1 thread", skin.mverts_1t,
+    printf("%-44s %6.0f Mv/s %6.0f Mv/s %10s\n", "skinning (pos + normal, 4 infl), 1 thread", skin.mverts[1],
            skin.mverts_scalar, ">= 350");
     printf("%-44s %6.0f Mv/s %12s %10s\n", "skinning, positions only, 1 thread", skin.mverts_posonly, "", ">= 500");
     printf("%-44s %6.0f Mv/s %6.0f Mv/s %10s\n", "skinning, dual quaternions, 1 thread", skin.mverts_dqs,
