@@ -41,8 +41,9 @@ void fuzz_exercise(const sinew_model *m)
     /* embedded images: every byte readable */
     volatile unsigned sum = 0;
     for (uint32_t i = 0; i < m->material_count; i++)
-        for (uint32_t b = 0; b < m->materials[i].diffuse_image_size; b++)
-            sum += m->materials[i].diffuse_image[b];
+        for (int k = 0; k < SINEW_MAP_COUNT; k++)
+            for (uint32_t b = 0; b < m->materials[i].maps[k].image_size; b++)
+                sum += m->materials[i].maps[k].image[b];
     (void)sum;
     for (uint32_t i = 0; i < m->mesh_count; i++) {
         const sinew_mesh *mesh = &m->meshes[i];

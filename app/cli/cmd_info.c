@@ -35,11 +35,17 @@ static uint32_t clips_sharing_keys(const sinew_model *m, uint32_t i)
     return n ? n : 1;
 }
 
+/* Each map's name in text and JSON output. */
+static const char *const MAP_LABELS[SINEW_MAP_COUNT] = {"base colour", "metallic-roughness", "normal", "occlusion",
+                                                        "emissive"};
+static const char *const MAP_KEYS[SINEW_MAP_COUNT] = {"base_color", "metallic_roughness", "normal", "occlusion",
+                                                      "emissive"};
+
 /* What an embedded image is, by its first bytes. */
-static const char *image_kind(const sinew_material *mat)
+static const char *image_kind(const sinew_texture *map)
 {
-    const unsigned char *b = mat->diffuse_image;
-    uint32_t n = mat->diffuse_image_size;
+    const unsigned char *b = map->image;
+    uint32_t n = map->image_size;
     if (n >= 8 && memcmp(b, "\x89PNG\r\n\x1a\n", 8) == 0)
         return "png";
     if (n >= 3 && b[0] == 0xff && b[1] == 0xd8 && b[2] == 0xff)
@@ -135,12 +141,28 @@ static void print_text(const sinew_model *m)
     }
     for (uint32_t i = 0; i < m->material_count; i++) {
         const sinew_material *mat = &m->materials[i];
-        printf("material %u  \"%s\"  colour (%.3g %.3g %.3g %.3g)%s%s", i, mat->name, (double)mat->base_color[0],
-               (double)mat->base_color[1], (double)mat->base_color[2], (double)mat->base_color[3],
-               mat->diffuse_texture ? "  texture " : "", mat->diffuse_texture ? mat->diffuse_texture : "");
-        if (mat->diffuse_image)
-            printf("  texture embedded (%s, %u bytes)", image_kind(mat), mat->diffuse_image_size);
+        printf("material %u  \"%s\"  colour (%.3g %.3g %.3g %.3g)  %s %.3g  roughness %.3g", i, mat->name,
+               (double)mat->base_color[0], (double)mat->base_color[1], (double)mat->base_color[2],
+               (double)mat->base_color[3], mat->metallic_roughness ? "metallic" : "derived: metallic",
+               (double)mat->metallic, (double)mat->roughness);
+        if (mat->emissive[0] > 0.0f || mat->emissive[1] > 0.0f || mat->emissive[2] > 0.0f)
+            printf("  emissive (%.3g %.3g %.3g)", (double)mat->emissive[0], (double)mat->emissive[1],
+                   (double)mat->emissive[2]);
         printf("\n");
+        for (int k = 0; k < SINEW_MAP_COUNT; k++) {
+            const sinew_texture *map = &mat->maps[k];
+            if (map->image)
+                printf("  %s map: embedded (%s, %u bytes)", MAP_LABELS[k], image_kind(map), map->image_size);
+            else if (map->path)
+                printf("  %s map: %s", MAP_LABELS[k], map->path);
+            else
+                continue;
+            if (k == SINEW_MAP_NORMAL)
+                printf("  scale %.3g", (double)mat->normal_scale);
+            if (k == SINEW_MAP_OCCLUSION)
+                printf("  strength %.3g", (double)mat->occlusion_strength);
+            printf("\n");
+        }
     }
     printf("node tree:\n");
     print_tree(m, -1, 0);
@@ -198,16 +220,30 @@ static cJSON *info_json(const sinew_model *m)
         cJSON *colour = cJSON_AddArrayToObject(o, "base_color");
         for (int k = 0; k < 4; k++)
             cJSON_AddItemToArray(colour, cJSON_CreateNumber(cli_json_float(mat->base_color[k])));
-        if (mat->diffuse_texture)
-            cJSON_AddStringToObject(o, "diffuse_texture", mat->diffuse_texture);
-        else
-            cJSON_AddNullToObject(o, "diffuse_texture");
-        if (mat->diffuse_image) {
-            cJSON *image = cJSON_AddObjectToObject(o, "diffuse_image");
-            cJSON_AddStringToObject(image, "type", image_kind(mat));
-            cJSON_AddNumberToObject(image, "bytes", mat->diffuse_image_size);
-        } else {
-            cJSON_AddNullToObject(o, "diffuse_image");
+        cJSON_AddBoolToObject(o, "metallic_roughness", mat->metallic_roughness);
+        cJSON_AddNumberToObject(o, "metallic", cli_json_float(mat->metallic));
+        cJSON_AddNumberToObject(o, "roughness", cli_json_float(mat->roughness));
+        cJSON *emissive = cJSON_AddArrayToObject(o, "emissive");
+        for (int k = 0; k < 3; k++)
+            cJSON_AddItemToArray(emissive, cJSON_CreateNumber(cli_json_float(mat->emissive[k])));
+        cJSON_AddNumberToObject(o, "normal_scale", cli_json_float(mat->normal_scale));
+        cJSON_AddNumberToObject(o, "occlusion_strength", cli_json_float(mat->occlusion_strength));
+        cJSON *maps = cJSON_AddObjectToObject(o, "maps");
+        for (int k = 0; k < SINEW_MAP_COUNT; k++) {
+            const sinew_texture *map = &mat->maps[k];
+            if (!map->path && !map->image) {
+                cJSON_AddNullToObject(maps, MAP_KEYS[k]);
+                continue;
+            }
+            cJSON *entry = cJSON_AddObjectToObject(maps, MAP_KEYS[k]);
+            if (map->path)
+                cJSON_AddStringToObject(entry, "path", map->path);
+            else
+                cJSON_AddNullToObject(entry, "path");
+            if (map->image) {
+                cJSON_AddStringToObject(entry, "embedded", image_kind(map));
+                cJSON_AddNumberToObject(entry, "bytes", map->image_size);
+            }
         }
         cJSON_AddItemToArray(materials, o);
     }

@@ -457,7 +457,7 @@ static void on_open(GtkButton *button, gpointer data);
 
 static void cycle_shading(viewer *v)
 {
-    v->options.shading = (sinew_shading)((v->options.shading + 1) % 3);
+    v->options.shading = (sinew_shading)((v->options.shading + 1) % 4);
 }
 
 static gboolean on_key(GtkEventControllerKey *controller, guint key, guint code, GdkModifierType state, gpointer data)

@@ -198,10 +198,10 @@ static void on_shading(GObject *dropdown, GParamSpec *pspec, gpointer data)
     viewer *v = data;
     if (v->updating)
         return;
-    static const char *const names[] = {"phong", "gouraud", "flat"};
+    static const char *const names[] = {"phong", "gouraud", "flat", "pbr"};
     guint i = gtk_drop_down_get_selected(GTK_DROP_DOWN(dropdown));
     settings_option_changed(v, "shading");
-    if (i < 3)
+    if (i < 4)
         sinew_render_option_set(&v->options, "shading", names[i], NULL);
     view_redraw(v);
 }
@@ -284,7 +284,7 @@ static GtkWidget *display_page(viewer *v)
     char label[64];
     snprintf(label, sizeof label, "Shading   (%s cycles)", gdk_keyval_name(v->keys[ACTION_SHADING].key));
     gtk_box_append(GTK_BOX(box), gtk_label_new(label));
-    static const char *const shadings[] = {"Phong", "Gouraud", "Flat", NULL};
+    static const char *const shadings[] = {"Phong", "Gouraud", "Flat", "Physically based", NULL};
     v->shading_list = gtk_drop_down_new_from_strings(shadings);
     g_signal_connect(v->shading_list, "notify::selected", G_CALLBACK(on_shading), v);
     gtk_box_append(GTK_BOX(box), v->shading_list);

@@ -136,13 +136,38 @@ typedef struct sinew_instance {
     uint32_t node;
 } sinew_instance;
 
+/* The texture maps a material may have. */
+typedef enum sinew_map {
+    SINEW_MAP_BASE_COLOR = 0,         /* sRGB colour (and alpha), multiplied by base_color */
+    SINEW_MAP_METALLIC_ROUGHNESS = 1, /* linear: G roughness, B metallic (glTF's packing), times the factors */
+    SINEW_MAP_NORMAL = 2,             /* linear tangent-space normal: X along the tangent (+u), Y along the
+                                       * bitangent (+v, up the image), Z out of the surface */
+    SINEW_MAP_OCCLUSION = 3,          /* linear: R is ambient occlusion */
+    SINEW_MAP_EMISSIVE = 4,           /* sRGB, multiplied by emissive */
+    SINEW_MAP_COUNT = 5
+} sinew_map;
+
+/* One texture map: a file or the bytes a file embeds (or neither). */
+typedef struct sinew_texture {
+    const char *path;           /* resolved against the model's folder, or NULL */
+    const unsigned char *image; /* the image itself when the file embeds it (a .glb's PNG or JPEG, as
+                                 * stored: encoded), else NULL; maps of one material may share it */
+    uint32_t image_size;        /* bytes */
+} sinew_texture;
+
+/* A material: the colour every renderer shows, and the metallic-roughness parameters of
+ * glTF's physically based model (read from glTF; from other formats, values derived from
+ * what they store: shininess gives roughness, emission gives emissive). */
 typedef struct sinew_material {
     const char *name;
-    float base_color[4];
-    const char *diffuse_texture;        /* path resolved against the model's folder, or NULL */
-    const unsigned char *diffuse_image; /* the image itself when the file embeds it (a .glb's PNG or JPEG,
-                                         * as stored: encoded), else NULL */
-    uint32_t diffuse_image_size;        /* bytes */
+    float base_color[4];      /* linear RGBA */
+    float metallic;           /* 0..1 */
+    float roughness;          /* 0..1 (perceptual, squared for the microfacet distribution) */
+    float emissive[3];        /* linear RGB, may exceed 1 (KHR_materials_emissive_strength) */
+    float normal_scale;       /* the normal map's XY scale */
+    float occlusion_strength; /* 0..1 */
+    bool metallic_roughness;  /* the file gave metallic-roughness parameters (glTF, or Assimp's PBR keys) */
+    sinew_texture maps[SINEW_MAP_COUNT];
 } sinew_material;
 
 typedef struct sinew_model {

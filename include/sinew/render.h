@@ -5,8 +5,9 @@
  * skin's palette in a texture buffer (up to SINEW_MAX_JOINTS joints, up to
  * SINEW_MAX_INFLUENCES influences, no mesh splitting), or on the CPU through the core's
  * sinew_skin_vertices() (same picture). Display switches: materials (base colour and
- * diffuse texture) or clay; lighting (key + fill) or unlit; flat, Gouraud or Phong
- * shading; wireframe overlay; the skeleton drawn over the mesh (bones, joint dots, one
+ * texture maps) or clay; lighting (key + fill) or unlit; flat, Gouraud or Phong shading,
+ * or physically based shading (metallic-roughness, normal, occlusion and emissive maps, a
+ * sky environment, tone mapping); wireframe overlay; the skeleton drawn over the mesh (bones, joint dots, one
  * selected joint highlighted, optional axes and names); a joint's weight heat map; vertex
  * normals; ground grid and world axes; background colour; volume-preserving muscles
  * (sinew/muscle_rig.h) as Gouraud-shaded tubes.
@@ -39,7 +40,10 @@ extern "C" {
 typedef enum sinew_shading {
     SINEW_SHADING_PHONG = 0,   /* lit per pixel (the default) */
     SINEW_SHADING_GOURAUD = 1, /* lit per vertex, colours interpolated */
-    SINEW_SHADING_FLAT = 2     /* one normal a triangle */
+    SINEW_SHADING_FLAT = 2,    /* one normal a triangle */
+    SINEW_SHADING_PBR = 3      /* physically based (glTF metallic-roughness with normal, occlusion and
+                                * emissive maps), lit by the key and fill lights and a sky environment,
+                                * tone mapped */
 } sinew_shading;
 
 typedef enum sinew_skinning {
@@ -75,9 +79,9 @@ sinew_render_options sinew_render_options_default(void);
 /* Display switches by name, for settings files and command lines. Names: materials,
  * lighting, wireframe, meshes, skeleton, joint-axes, joint-names, normals, grid, axes,
  * muscles (booleans: on/off, true/false, yes/no, 1/0; a NULL value means on), shading
- * (phong|gouraud|flat), skinning (gpu|cpu), skinning-method (lbs|dqs), background (RRGGBB, #RRGGBB, or r,g,b in 0..1),
- * normal-length (world units, 0 = automatic). Joint choices are node indices and are set
- * directly. An unknown name or a bad value gives SINEW_ERROR_INVALID_ARGUMENT. */
+ * (phong|gouraud|flat|pbr), skinning (gpu|cpu), skinning-method (lbs|dqs), background (RRGGBB, #RRGGBB, or r,g,b in
+ * 0..1), normal-length (world units, 0 = automatic). Joint choices are node indices and are set directly. An unknown
+ * name or a bad value gives SINEW_ERROR_INVALID_ARGUMENT. */
 sinew_result sinew_render_option_set(sinew_render_options *options, const char *name, const char *value,
                                      sinew_error *error);
 /* The value as sinew_render_option_set() reads it ("on", "phong", "#2a2b30", ...). */

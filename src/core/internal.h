@@ -15,8 +15,8 @@
  * BLOB_NONE marks an absent string or array; arrays may be shared (clips cut from one
  * animation point at the same times and values). Version 3 added blob_clip.start and
  * blob_material.diffuse_image; later minor additions (sections older readers skip): NINH (FBX
- * inherit types), MTAN (mesh tangents). The checksum is CRC-32C (Castagnoli) of the
- * whole blob computed with the checksum field set to 0.
+ * inherit types), MTAN (mesh tangents), MPBR (physically based material parameters). The checksum is CRC-32C
+ * (Castagnoli) of the whole blob computed with the checksum field set to 0.
  */
 #ifndef SINEW_CORE_INTERNAL_H
 #define SINEW_CORE_INTERNAL_H
@@ -76,6 +76,7 @@ typedef struct blob_header {
     blob_span muscles;       /* MUSC blob_muscle */
     blob_span node_inherit;  /* NINH uint8_t sinew_inherit, absent when every node is NORMAL */
     blob_span mesh_tangents; /* MTAN uint32_t a mesh: offset of 4 floats a vertex or BLOB_NONE; absent when none */
+    blob_span materials_pbr; /* MPBR blob_pbr a material; absent in older files */
 } blob_header;
 
 /* One known section: its tag, where its span lives in blob_header, its element size. */
@@ -108,12 +109,23 @@ typedef struct blob_mesh {
     uint32_t weights;
 } blob_mesh;
 
+typedef struct blob_texture {
+    uint32_t path;   /* string, BLOB_NONE when absent */
+    blob_span image; /* bytes of an embedded image (PNG, JPEG, ...), count 0 when none; may be shared */
+} blob_texture;
+
 typedef struct blob_material {
     uint32_t name;
     float base_color[4];
-    uint32_t diffuse_texture; /* BLOB_NONE when absent */
-    blob_span diffuse_image;  /* bytes of an embedded image (PNG, JPEG, ...), count 0 when none */
+    blob_texture base_color_map;
 } blob_material;
+
+/* MPBR, one a material (absent: every material has the defaults of sinew_model_load()). */
+typedef struct blob_pbr {
+    float metallic, roughness, emissive[3], normal_scale, occlusion_strength;
+    uint32_t flags;                         /* 1: the file gave metallic-roughness parameters */
+    blob_texture maps[SINEW_MAP_COUNT - 1]; /* sinew_map 1.. (the base colour map is in MATL) */
+} blob_pbr;
 
 typedef struct blob_muscle {
     double rest_length;                     /* 0: taken from the rest pose */

@@ -34,6 +34,7 @@ const blob_section_kind blob_section_kinds[] = {
     SECTION("MUSC", muscles, blob_muscle),
     SECTION("NINH", node_inherit, uint8_t),
     SECTION("MTAN", mesh_tangents, uint32_t),
+    SECTION("MPBR", materials_pbr, blob_pbr),
 };
 #undef SECTION
 const uint32_t blob_section_kind_count = sizeof blob_section_kinds / sizeof blob_section_kinds[0];
@@ -105,6 +106,12 @@ static const char *string_at(const reader *r, uint32_t offset)
     return (const char *)r->bytes + r->header->strings.offset + offset;
 }
 
+static sinew_texture texture_at(const reader *r, const blob_texture *t)
+{
+    const unsigned char *image = array_at(r, t->image.offset, t->image.count);
+    return (sinew_texture){string_at(r, t->path), image, image ? t->image.count : 0};
+}
+
 static bool string_ok(const reader *r, uint32_t offset, bool optional)
 {
     if (offset == BLOB_NONE)
@@ -118,6 +125,11 @@ static bool floats_finite(const float *values, uint64_t count)
         if (!isfinite(values[i]))
             return false;
     return true;
+}
+
+static bool texture_ok(const reader *r, const blob_texture *t)
+{
+    return string_ok(r, t->path, true) && range_ok(r, t->image.offset, t->image.count, 1);
 }
 
 /* Decodes the directory of a blob whose header was checked into r->header. */
@@ -292,10 +304,19 @@ static sinew_result check_meshes(reader *r)
     }
     const blob_material *materials = array_at(r, h->materials.offset, h->materials.count);
     for (uint32_t i = 0; i < h->materials.count; i++)
-        if (!string_ok(r, materials[i].name, false) || !string_ok(r, materials[i].diffuse_texture, true) ||
-            !floats_finite(materials[i].base_color, 4) ||
-            !range_ok(r, materials[i].diffuse_image.offset, materials[i].diffuse_image.count, 1))
+        if (!string_ok(r, materials[i].name, false) || !floats_finite(materials[i].base_color, 4) ||
+            !texture_ok(r, &materials[i].base_color_map))
             return corrupt(r, "material");
+    if (h->materials_pbr.count && h->materials_pbr.count != h->materials.count)
+        return corrupt(r, "material PBR table");
+    const blob_pbr *pbr = array_at(r, h->materials_pbr.offset, h->materials_pbr.count); /* NULL: none */
+    for (uint32_t i = 0; pbr && i < h->materials.count; i++) {
+        bool maps_ok = true;
+        for (int k = 0; k < SINEW_MAP_COUNT - 1; k++)
+            maps_ok &= texture_ok(r, &pbr[i].maps[k]);
+        if (!maps_ok || !floats_finite(&pbr[i].metallic, 7) || pbr[i].flags > 1)
+            return corrupt(r, "material PBR parameters");
+    }
     const sinew_instance *instances = array_at(r, h->instances.offset, h->instances.count);
     for (uint32_t i = 0; i < h->instances.count; i++)
         if (instances[i].mesh >= h->meshes.count || instances[i].node >= h->node_names.count)
@@ -477,12 +498,26 @@ static void fill_model(model_block *b, const reader *r, unsigned char *tables)
     m->material_count = h->materials.count;
     sinew_material *materials = take(&cursor, m->material_count * sizeof(sinew_material));
     const blob_material *bmats = array_at(r, h->materials.offset, m->material_count);
+    const blob_pbr *pbr = array_at(r, h->materials_pbr.offset, h->materials_pbr.count); /* NULL: none */
     for (uint32_t i = 0; i < m->material_count; i++) {
-        materials[i].name = string_at(r, bmats[i].name);
+        materials[i] = (sinew_material){.name = string_at(r, bmats[i].name),
+                                        .metallic = 0.0f,
+                                        .roughness = 0.5f,
+                                        .normal_scale = 1.0f,
+                                        .occlusion_strength = 1.0f};
         memcpy(materials[i].base_color, bmats[i].base_color, sizeof materials[i].base_color);
-        materials[i].diffuse_texture = string_at(r, bmats[i].diffuse_texture);
-        materials[i].diffuse_image = array_at(r, bmats[i].diffuse_image.offset, bmats[i].diffuse_image.count);
-        materials[i].diffuse_image_size = bmats[i].diffuse_image.count;
+        materials[i].maps[SINEW_MAP_BASE_COLOR] = texture_at(r, &bmats[i].base_color_map);
+        if (!pbr)
+            continue;
+        const blob_pbr *p = &pbr[i];
+        materials[i].metallic = p->metallic;
+        materials[i].roughness = p->roughness;
+        memcpy(materials[i].emissive, p->emissive, sizeof p->emissive);
+        materials[i].normal_scale = p->normal_scale;
+        materials[i].occlusion_strength = p->occlusion_strength;
+        materials[i].metallic_roughness = p->flags & 1;
+        for (int k = 1; k < SINEW_MAP_COUNT; k++)
+            materials[i].maps[k] = texture_at(r, &p->maps[k - 1]);
     }
     m->materials = materials;
 

@@ -232,7 +232,7 @@ static const struct aiTexture *embedded_texture(const struct aiScene *s, const c
 
 /* The material's texture: an image the file embeds (its encoded bytes), else the file it
  * names, found beside the model when the stored path fails. */
-static sinew_result resolve_texture(context *c, const char *texture, raw_material *out)
+static sinew_result resolve_texture(context *c, const char *texture, raw_texture *out)
 {
     const struct aiTexture *t = embedded_texture(c->scene, texture);
     if (t) {
@@ -244,17 +244,17 @@ static sinew_result resolve_texture(context *c, const char *texture, raw_materia
                                   texture, t->mWidth, t->mHeight)
                        ? SINEW_OK
                        : oom(c);
-        if (!(out->diffuse_image = malloc(t->mWidth)))
+        if (!(out->image = malloc(t->mWidth)))
             return oom(c);
-        memcpy(out->diffuse_image, t->pcData, t->mWidth);
-        out->diffuse_image_size = t->mWidth;
+        memcpy(out->image, t->pcData, t->mWidth);
+        out->image_size = t->mWidth;
         return SINEW_OK;
     }
     if (texture[0] == '*')
         return raw_model_warn(c->model, "texture \"%s\" names an embedded image the file does not have", texture)
                    ? SINEW_OK
                    : oom(c);
-    out->diffuse_texture = find_texture(c, texture);
+    out->path = find_texture(c, texture);
     return SINEW_OK;
 }
 
@@ -296,16 +296,41 @@ static sinew_result read_materials(context *c)
         float rgba[4] = {color.r, color.g, color.b, color.a};
         for (int k = 0; k < 4; k++)
             out->base_color[k] = isfinite(rgba[k]) ? rgba[k] : 1.0f;
-        struct aiString texture = {0};
-        if (aiGetMaterialTexture(mat, aiTextureType_DIFFUSE, 0, &texture, NULL, NULL, NULL, NULL, NULL, NULL) ==
-                AI_SUCCESS ||
-            aiGetMaterialTexture(mat, aiTextureType_BASE_COLOR, 0, &texture, NULL, NULL, NULL, NULL, NULL, NULL) ==
-                AI_SUCCESS)
-            if (texture.length) {
-                sinew_result r = resolve_texture(c, texture.data, out);
+        ai_real value = 0;
+        bool metallic = aiGetMaterialFloatArray(mat, AI_MATKEY_METALLIC_FACTOR, &value, NULL) == AI_SUCCESS;
+        out->metallic = metallic ? (float)value : 0.0f;
+        bool roughness = aiGetMaterialFloatArray(mat, AI_MATKEY_ROUGHNESS_FACTOR, &value, NULL) == AI_SUCCESS;
+        if (roughness)
+            out->roughness = (float)value;
+        else if (aiGetMaterialFloatArray(mat, AI_MATKEY_SHININESS, &value, NULL) == AI_SUCCESS)
+            out->roughness = import_roughness_of_shininess(value);
+        out->metallic_roughness = metallic || roughness;
+        struct aiColor4D emissive = {0, 0, 0, 1};
+        if (aiGetMaterialColor(mat, AI_MATKEY_COLOR_EMISSIVE, &emissive) == AI_SUCCESS) {
+            out->emissive[0] = emissive.r, out->emissive[1] = emissive.g, out->emissive[2] = emissive.b;
+        }
+        /* the maps sinew shades with, each from the first texture type that has one */
+        static const enum aiTextureType types[][2] = {
+            [SINEW_MAP_BASE_COLOR] = {aiTextureType_DIFFUSE, aiTextureType_BASE_COLOR},
+            [SINEW_MAP_METALLIC_ROUGHNESS] = {aiTextureType_UNKNOWN, aiTextureType_UNKNOWN}, /* glTF's packing */
+            [SINEW_MAP_NORMAL] = {aiTextureType_NORMALS, aiTextureType_NORMAL_CAMERA},
+            [SINEW_MAP_OCCLUSION] = {aiTextureType_AMBIENT_OCCLUSION, aiTextureType_LIGHTMAP},
+            [SINEW_MAP_EMISSIVE] = {aiTextureType_EMISSIVE, aiTextureType_EMISSION_COLOR}};
+        for (int k = 0; k < SINEW_MAP_COUNT; k++) {
+            if (k == SINEW_MAP_METALLIC_ROUGHNESS && !out->metallic_roughness)
+                continue; /* an "unknown" texture means glTF's packing only beside PBR factors */
+            for (int t = 0; t < 2; t++) {
+                struct aiString texture = {0};
+                if (aiGetMaterialTexture(mat, types[k][t], 0, &texture, NULL, NULL, NULL, NULL, NULL, NULL) !=
+                        AI_SUCCESS ||
+                    !texture.length)
+                    continue;
+                sinew_result r = resolve_texture(c, texture.data, &out->maps[k]);
                 if (r)
                     return r;
+                break;
             }
+        }
     }
     return SINEW_OK;
 }

@@ -181,8 +181,10 @@ void raw_model_free(raw_model *m)
     free(m->instances);
     for (uint32_t i = 0; i < m->material_count; i++) {
         free(m->materials[i].name);
-        free(m->materials[i].diffuse_texture);
-        free(m->materials[i].diffuse_image);
+        for (int k = 0; k < SINEW_MAP_COUNT; k++) {
+            free(m->materials[i].maps[k].path);
+            free(m->materials[i].maps[k].image);
+        }
     }
     free(m->materials);
     for (uint32_t c = 0; c < m->clip_count; c++)
@@ -888,26 +890,65 @@ static blob_span write_skins(writer *w, const raw_model *m)
     return span;
 }
 
-static blob_span write_materials(writer *w, const raw_model *m)
+/* Embedded images already written (maps of one or several materials often share one). */
+typedef struct written_images {
+    const raw_texture **textures;
+    uint32_t *offsets;
+    uint32_t count;
+} written_images;
+
+static blob_texture write_texture(writer *w, const raw_texture *t, written_images *done)
 {
-    blob_material *table = calloc(m->material_count ? m->material_count : 1, sizeof *table);
-    if (!table) {
+    blob_texture out = {writer_string(w, t->path), {BLOB_NONE, 0}};
+    if (!t->image)
+        return out;
+    for (uint32_t i = 0; i < done->count; i++)
+        if (done->textures[i]->image_size == t->image_size &&
+            memcmp(done->textures[i]->image, t->image, t->image_size) == 0)
+            return (blob_texture){out.path, {done->offsets[i], t->image_size}};
+    out.image = (blob_span){writer_put(w, t->image, t->image_size), t->image_size};
+    done->textures[done->count] = t;
+    done->offsets[done->count++] = out.image.offset;
+    return out;
+}
+
+/* MATL (name, colour, base colour map) and MPBR (the rest of each material). */
+static blob_span write_materials(writer *w, const raw_model *m, blob_span *pbr_span)
+{
+    size_t n = m->material_count ? m->material_count : 1;
+    blob_material *table = calloc(n, sizeof *table);
+    blob_pbr *pbr = calloc(n, sizeof *pbr);
+    written_images done = {calloc(n * SINEW_MAP_COUNT, sizeof *done.textures),
+                           calloc(n * SINEW_MAP_COUNT, sizeof *done.offsets), 0};
+    blob_span span = {BLOB_NONE, 0};
+    *pbr_span = (blob_span){0, 0};
+    if (!table || !pbr || !done.textures || !done.offsets) {
         w->failed = true;
-        return (blob_span){BLOB_NONE, 0};
+        goto out;
     }
     for (uint32_t i = 0; i < m->material_count; i++) {
-        table[i].name = writer_string(w, m->materials[i].name);
-        memcpy(table[i].base_color, m->materials[i].base_color, sizeof table[i].base_color);
-        table[i].diffuse_texture = writer_string(w, m->materials[i].diffuse_texture);
-        if (m->materials[i].diffuse_image)
-            table[i].diffuse_image =
-                (blob_span){writer_put(w, m->materials[i].diffuse_image, m->materials[i].diffuse_image_size),
-                            m->materials[i].diffuse_image_size};
-        else
-            table[i].diffuse_image = (blob_span){BLOB_NONE, 0};
+        const raw_material *rm = &m->materials[i];
+        table[i].name = writer_string(w, rm->name);
+        memcpy(table[i].base_color, rm->base_color, sizeof table[i].base_color);
+        table[i].base_color_map = write_texture(w, &rm->maps[SINEW_MAP_BASE_COLOR], &done);
+        blob_pbr *p = &pbr[i];
+        p->metallic = rm->metallic;
+        p->roughness = rm->roughness;
+        memcpy(p->emissive, rm->emissive, sizeof p->emissive);
+        p->normal_scale = rm->normal_scale;
+        p->occlusion_strength = rm->occlusion_strength;
+        p->flags = rm->metallic_roughness ? 1u : 0u;
+        for (int k = 1; k < SINEW_MAP_COUNT; k++)
+            p->maps[k - 1] = write_texture(w, &rm->maps[k], &done);
     }
-    blob_span span = {writer_put(w, table, m->material_count * sizeof *table), m->material_count};
+    span = (blob_span){writer_put(w, table, m->material_count * sizeof *table), m->material_count};
+    if (m->material_count)
+        *pbr_span = (blob_span){writer_put(w, pbr, m->material_count * sizeof *pbr), m->material_count};
+out:
     free(table);
+    free(pbr);
+    free(done.textures);
+    free(done.offsets);
     return span;
 }
 
@@ -1086,7 +1127,7 @@ sinew_result raw_model_write(const raw_model *m, void **bytes, size_t *size, sin
     h.mesh_tangents = write_mesh_tangents(&w, m);
     h.instances =
         (blob_span){writer_put(&w, m->instances, m->instance_count * sizeof(sinew_instance)), m->instance_count};
-    h.materials = write_materials(&w, m);
+    h.materials = write_materials(&w, m, &h.materials_pbr);
     h.clips = write_clips(&w, m);
     h.warnings = writer_strings(&w, m->warnings, m->warning_count);
     h.muscles = write_muscles(&w, m->muscles);
@@ -1120,11 +1161,39 @@ sinew_result raw_model_write(const raw_model *m, void **bytes, size_t *size, sin
     return SINEW_OK;
 }
 
+static float clamp01(float x)
+{
+    return isfinite(x) ? fminf(fmaxf(x, 0.0f), 1.0f) : 0.0f;
+}
+
+/* Material values in range; readers that know no metallic-roughness parameters leave them
+ * zero, which means the defaults (a dielectric of middling roughness, maps at full strength). */
+static void fix_material(raw_material *mat)
+{
+    if (!mat->metallic_roughness) {
+        if (!(mat->roughness > 0.0f))
+            mat->roughness = 0.5f;
+        if (mat->normal_scale == 0.0f)
+            mat->normal_scale = 1.0f;
+        if (mat->occlusion_strength == 0.0f)
+            mat->occlusion_strength = 1.0f;
+    }
+    mat->metallic = clamp01(mat->metallic);
+    mat->roughness = clamp01(mat->roughness);
+    mat->occlusion_strength = clamp01(mat->occlusion_strength);
+    if (!isfinite(mat->normal_scale))
+        mat->normal_scale = 1.0f;
+    for (int c = 0; c < 3; c++)
+        mat->emissive[c] = isfinite(mat->emissive[c]) ? fmaxf(mat->emissive[c], 0.0f) : 0.0f;
+}
+
 sinew_result raw_model_build(raw_model *m, void **bytes, size_t *size, sinew_error *error)
 {
     sinew_result result = check_nodes(m, error);
     if (result)
         return result;
+    for (uint32_t i = 0; i < m->material_count; i++)
+        fix_material(&m->materials[i]);
     for (uint32_t i = 0; i < m->mesh_count; i++)
         if ((result = fix_mesh(m, i, error)))
             return result;

@@ -672,6 +672,20 @@ static sinew_result material_of(collada *c, material_map *map, xmlNode *mat, int
         shading = child(technique, models[i]);
     if (!shading)
         return SINEW_OK;
+    if (!named(shading, "constant")) {
+        xmlNode *emission = child(child(shading, "emission"), "color");
+        double e[4] = {0, 0, 0, 1}, shininess[1] = {20};
+        uint32_t n;
+        sinew_result r;
+        if (emission && (r = parse_numbers(c, emission, e, 4, &n)))
+            return r;
+        for (int k = 0; k < 3; k++)
+            rm->emissive[k] = (float)fmax(e[k], 0.0);
+        xmlNode *shine = child(child(shading, "shininess"), "float");
+        if (shine && (r = parse_numbers(c, shine, shininess, 1, &n)))
+            return r;
+        rm->roughness = named(shading, "lambert") ? 1.0f : import_roughness_of_shininess(shininess[0]);
+    }
     xmlNode *diffuse = child(shading, named(shading, "constant") ? "emission" : "diffuse");
     xmlNode *color = child(diffuse, "color"), *texture = child(diffuse, "texture");
     if (color) {
@@ -688,7 +702,7 @@ static sinew_result material_of(collada *c, material_map *map, xmlNode *mat, int
         attr(texture, "texture", sampler, sizeof sampler);
         xmlNode *image = texture_image(c, profile, sampler);
         if (image) {
-            rm->diffuse_texture = image_path(c, image, rm->name);
+            rm->maps[SINEW_MAP_BASE_COLOR].path = image_path(c, image, rm->name);
             rm->base_color[0] = rm->base_color[1] = rm->base_color[2] = rm->base_color[3] = 1;
         } else if (!raw_model_warn(c->m, "%s: material \"%s\": texture \"%s\" names no image", c->path, rm->name,
                                    sampler)) {

@@ -1393,22 +1393,40 @@ static sinew_result build_materials(scene *s)
         for (int c = 0; c < 3; c++)
             r->base_color[c] = (float)fmin(fmax(color[c] * factor, 0.0), 1.0);
         r->base_color[3] = (float)fmin(fmax(opacity, 0.0), 1.0);
-        for (uint32_t k = 0; k < o->child_count && !r->diffuse_texture; k++) {
+        double emissive[3];
+        prop_vec3(o, prop(o, "EmissiveColor") ? "EmissiveColor" : "Emissive", 0.0, emissive);
+        double emissive_factor = prop_num(o, "EmissiveFactor", 1.0);
+        for (int c = 0; c < 3; c++)
+            r->emissive[c] = (float)fmax(emissive[c] * emissive_factor, 0.0);
+        /* a Lambert material stores no exponent: no highlight, fully rough */
+        bool shiny = prop(o, "ShininessExponent") || prop(o, "Shininess");
+        r->roughness =
+            shiny ? import_roughness_of_shininess(prop_num(o, "ShininessExponent", prop_num(o, "Shininess", 20.0)))
+                  : 1.0f;
+        /* textures by the property they drive (a "Bump" is a height map, which sinew does not read) */
+        static const char *const slots[SINEW_MAP_COUNT] = {[SINEW_MAP_BASE_COLOR] = "DiffuseColor",
+                                                           [SINEW_MAP_NORMAL] = "NormalMap",
+                                                           [SINEW_MAP_EMISSIVE] = "EmissiveColor"};
+        for (uint32_t k = 0; k < o->child_count; k++) {
             const fbx_link *l = child_link(s, o, k);
             const fbx_object *tex = &s->objects[l->child];
-            if (tex->kind != K_TEXTURE || !value_is(l->prop, "DiffuseColor"))
+            int slot = -1;
+            for (int q = 0; q < SINEW_MAP_COUNT && slot < 0 && tex->kind == K_TEXTURE; q++)
+                if (slots[q] && value_is(l->prop, slots[q]))
+                    slot = q;
+            if (slot < 0 || r->maps[slot].path)
                 continue;
             const fbx_object *video = linked(s, tex, K_VIDEO, true, true);
             uint32_t content = 0;
             const fbx_node *c = video ? fbx_child(video->node, "Content") : NULL;
             for (uint32_t v = 0; c && v < c->value_count; v++)
                 content += c->values[v].type == FBX_STRING ? c->values[v].count : 0;
-            r->diffuse_texture = resolve_texture(s, tex);
-            if (!r->diffuse_texture && content)
+            r->maps[slot].path = resolve_texture(s, tex);
+            if (!r->maps[slot].path && content)
                 raw_model_warn(m,
-                               "%s: material \"%s\": its texture is embedded in the file, which sinew does not "
+                               "%s: material \"%s\": its %s texture is embedded in the file, which sinew does not "
                                "carry yet",
-                               s->path, r->name);
+                               s->path, r->name, slots[slot]);
         }
     }
     return SINEW_OK;

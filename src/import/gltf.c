@@ -157,6 +157,17 @@ static sinew_result numbers_at(gltf *g, const cJSON *object, const char *key, co
     return SINEW_OK;
 }
 
+/* A finite number (`fallback` when absent). */
+static sinew_result number_at(gltf *g, const cJSON *object, const char *key, const char *where, double fallback,
+                              float *out)
+{
+    const cJSON *item = cJSON_GetObjectItemCaseSensitive(object, key);
+    if (item && !(cJSON_IsNumber(item) && isfinite(item->valuedouble)))
+        return fail_at(g, "%s.%s: not a finite number", where, key);
+    *out = (float)(item ? item->valuedouble : fallback);
+    return SINEW_OK;
+}
+
 /* An array's elements into a table (none: an empty table); false when out of memory. */
 static bool table_of(const cJSON *array, table *out)
 {
@@ -755,7 +766,7 @@ static sinew_result build_nodes(gltf *g)
 /* An image embedded in the file: a bufferView (GLB) or a base64 data: URI, copied into the
  * material as the encoded bytes (PNG, JPEG, ... as stored) for the renderer to decode. */
 static sinew_result embedded_image(gltf *g, const cJSON *img, int image, const char *uri, const char *material,
-                                   raw_material *out)
+                                   raw_texture *out)
 {
     char where[64];
     snprintf(where, sizeof where, "images[%d]", image);
@@ -792,21 +803,21 @@ static sinew_result embedded_image(gltf *g, const cJSON *img, int image, const c
                    ? SINEW_OK
                    : oom(g);
     }
-    out->diffuse_image = malloc(size ? size : 1);
-    if (!out->diffuse_image) {
+    out->image = malloc(size ? size : 1);
+    if (!out->image) {
         free(decoded.bytes);
         return oom(g);
     }
-    memcpy(out->diffuse_image, bytes, size);
-    out->diffuse_image_size = (uint32_t)size;
+    memcpy(out->image, bytes, size);
+    out->image_size = (uint32_t)size;
     free(decoded.bytes);
     return SINEW_OK;
 }
 
-/* The material's base-colour image: the file an image names, resolved (tried beside the
- * model by name when missing), or the embedded bytes; none (with a warning) when the image
- * is in a format sinew does not read. */
-static sinew_result texture_of(gltf *g, int texture, const char *material, raw_material *out)
+/* A material's image: the file an image names, resolved (tried beside the model by name
+ * when missing), or the embedded bytes; none (with a warning) when the image is in a format
+ * sinew does not read. */
+static sinew_result texture_of(gltf *g, int texture, const char *material, raw_texture *out)
 {
     char where[64];
     snprintf(where, sizeof where, "textures[%d]", texture);
@@ -827,7 +838,64 @@ static sinew_result texture_of(gltf *g, int texture, const char *material, raw_m
         return embedded_image(g, img, image, uri, material, out);
     char name[4096];
     import_uri_decode(uri, name, sizeof name);
-    return import_material_texture(g->m, g->path, material, name, &out->diffuse_texture) ? SINEW_OK : oom(g);
+    return import_material_texture(g->m, g->path, material, name, &out->path) ? SINEW_OK : oom(g);
+}
+
+static const char *const MAP_NAMES[SINEW_MAP_COUNT] = {"baseColorTexture", "metallicRoughnessTexture", "normalTexture",
+                                                       "occlusionTexture", "emissiveTexture"};
+
+/* KHR_texture_transform of a texture info into the material's UV transform (sinew keeps
+ * one UV set a mesh: the base colour map's transform is applied to the UVs). */
+static sinew_result texture_transform(gltf *g, int material, const cJSON *tt, const char *where, long long *set)
+{
+    static const double zero2[2] = {0, 0}, one2[2] = {1, 1};
+    double offset[2], scale[2], rotation = 0;
+    sinew_result r;
+    if ((r = numbers_at(g, tt, "offset", where, 2, zero2, offset)) ||
+        (r = numbers_at(g, tt, "scale", where, 2, one2, scale)) ||
+        (r = int_at(g, tt, "texCoord", where, 0, 255, *set, set)))
+        return r;
+    const cJSON *rot = cJSON_GetObjectItemCaseSensitive(tt, "rotation");
+    if (rot && !(cJSON_IsNumber(rot) && isfinite(rot->valuedouble)))
+        return fail_at(g, "%s: KHR_texture_transform.rotation is not a number", where);
+    rotation = rot ? rot->valuedouble : 0;
+    /* translation * rotation * scale (the extension's definition). */
+    double c = cos(rotation), s = sin(rotation);
+    float *t = g->uv_transform[material];
+    t[0] = (float)(c * scale[0]);
+    t[1] = (float)(s * scale[1]);
+    t[2] = (float)offset[0];
+    t[3] = (float)(-s * scale[0]);
+    t[4] = (float)(c * scale[1]);
+    t[5] = (float)offset[1];
+    g->has_uv_transform[material] = true;
+    return SINEW_OK;
+}
+
+/* One texture info of material `material` (its "index", "texCoord" and transform) into map `slot`. */
+static sinew_result material_map(gltf *g, int material, const cJSON *info, const char *where, raw_material *out,
+                                 int slot)
+{
+    int texture;
+    long long set;
+    sinew_result r;
+    if ((r = index_at(g, info, "index", where, g->textures.count, true, &texture)) ||
+        (r = int_at(g, info, "texCoord", where, 0, 255, 0, &set)))
+        return r;
+    const cJSON *tt =
+        cJSON_GetObjectItemCaseSensitive(cJSON_GetObjectItemCaseSensitive(info, "extensions"), "KHR_texture_transform");
+    if (tt && slot == SINEW_MAP_BASE_COLOR && (r = texture_transform(g, material, tt, where, &set)))
+        return r;
+    if (tt && slot != SINEW_MAP_BASE_COLOR &&
+        !raw_model_warn(g->m,
+                        "%s: material \"%s\": the KHR_texture_transform of its %s is not applied (sinew "
+                        "keeps the base colour map's)",
+                        g->path, out->name, MAP_NAMES[slot]))
+        return oom(g);
+    if (set != 0 && !raw_model_warn(g->m, "%s: material \"%s\" maps its %s with TEXCOORD_%lld; sinew uses TEXCOORD_0",
+                                    g->path, out->name, MAP_NAMES[slot], set))
+        return oom(g);
+    return texture_of(g, texture, out->name, &out->maps[slot]);
 }
 
 static sinew_result build_materials(gltf *g)
@@ -851,52 +919,40 @@ static sinew_result build_materials(gltf *g)
         if (!(out->name = raw_strdup(name && *name ? name : where)))
             return oom(g);
         const cJSON *pbr = cJSON_GetObjectItemCaseSensitive(mat, "pbrMetallicRoughness");
-        static const double white[4] = {1, 1, 1, 1};
-        double color[4];
+        static const double white[4] = {1, 1, 1, 1}, black[3] = {0, 0, 0};
+        double color[4], emissive[3];
         sinew_result r = numbers_at(g, pbr, "baseColorFactor", where, 4, white, color);
         if (r)
             return r;
         for (int c = 0; c < 4; c++)
             out->base_color[c] = (float)fmin(fmax(color[c], 0.0), 1.0);
-        const cJSON *info = cJSON_GetObjectItemCaseSensitive(pbr, "baseColorTexture");
-        if (!info)
-            continue;
-        int texture;
-        long long set;
-        if ((r = index_at(g, info, "index", where, g->textures.count, true, &texture)) ||
-            (r = int_at(g, info, "texCoord", where, 0, 255, 0, &set)))
+        out->metallic_roughness = true;
+        if ((r = number_at(g, pbr, "metallicFactor", where, 1.0, &out->metallic)) ||
+            (r = number_at(g, pbr, "roughnessFactor", where, 1.0, &out->roughness)))
             return r;
-        const cJSON *tt = cJSON_GetObjectItemCaseSensitive(cJSON_GetObjectItemCaseSensitive(info, "extensions"),
-                                                           "KHR_texture_transform");
-        if (tt) {
-            static const double zero2[2] = {0, 0}, one2[2] = {1, 1};
-            double offset[2], scale[2], rotation = 0;
-            if ((r = numbers_at(g, tt, "offset", where, 2, zero2, offset)) ||
-                (r = numbers_at(g, tt, "scale", where, 2, one2, scale)) ||
-                (r = int_at(g, tt, "texCoord", where, 0, 255, set, &set)))
+        if ((r = numbers_at(g, mat, "emissiveFactor", where, 3, black, emissive)))
+            return r;
+        const cJSON *strength = cJSON_GetObjectItemCaseSensitive(
+            cJSON_GetObjectItemCaseSensitive(cJSON_GetObjectItemCaseSensitive(mat, "extensions"),
+                                             "KHR_materials_emissive_strength"),
+            "emissiveStrength");
+        double gain = cJSON_IsNumber(strength) && isfinite(strength->valuedouble) ? strength->valuedouble : 1.0;
+        for (int c = 0; c < 3; c++)
+            out->emissive[c] = (float)(emissive[c] * gain);
+        const cJSON *normal = cJSON_GetObjectItemCaseSensitive(mat, "normalTexture");
+        const cJSON *occlusion = cJSON_GetObjectItemCaseSensitive(mat, "occlusionTexture");
+        if ((r = number_at(g, normal, "scale", where, 1.0, &out->normal_scale)) ||
+            (r = number_at(g, occlusion, "strength", where, 1.0, &out->occlusion_strength)))
+            return r;
+        const cJSON *infos[SINEW_MAP_COUNT] = {
+            [SINEW_MAP_BASE_COLOR] = cJSON_GetObjectItemCaseSensitive(pbr, "baseColorTexture"),
+            [SINEW_MAP_METALLIC_ROUGHNESS] = cJSON_GetObjectItemCaseSensitive(pbr, "metallicRoughnessTexture"),
+            [SINEW_MAP_NORMAL] = normal,
+            [SINEW_MAP_OCCLUSION] = occlusion,
+            [SINEW_MAP_EMISSIVE] = cJSON_GetObjectItemCaseSensitive(mat, "emissiveTexture")};
+        for (int k = 0; k < SINEW_MAP_COUNT; k++)
+            if (infos[k] && (r = material_map(g, i, infos[k], where, out, k)))
                 return r;
-            const cJSON *rot = cJSON_GetObjectItemCaseSensitive(tt, "rotation");
-            if (rot && !(cJSON_IsNumber(rot) && isfinite(rot->valuedouble)))
-                return fail_at(g, "%s: KHR_texture_transform.rotation is not a number", where);
-            rotation = rot ? rot->valuedouble : 0;
-            /* translation * rotation * scale (the extension's definition). */
-            double c = cos(rotation), s = sin(rotation);
-            float *t = g->uv_transform[i];
-            t[0] = (float)(c * scale[0]);
-            t[1] = (float)(s * scale[1]);
-            t[2] = (float)offset[0];
-            t[3] = (float)(-s * scale[0]);
-            t[4] = (float)(c * scale[1]);
-            t[5] = (float)offset[1];
-            g->has_uv_transform[i] = true;
-        }
-        if (set != 0 && !raw_model_warn(m,
-                                        "%s: material \"%s\" maps its texture with TEXCOORD_%lld; sinew uses "
-                                        "TEXCOORD_0",
-                                        g->path, out->name, set))
-            return oom(g);
-        if ((r = texture_of(g, texture, out->name, out)))
-            return r;
     }
     return SINEW_OK;
 }
@@ -1122,9 +1178,11 @@ static sinew_result read_primitive(gltf *g, int mesh, int k, int skin, raw_mesh 
         }
         out->uvs[i * 2 + 1] = 1.0f - v;
     }
-    /* glTF's bitangent (w * normal x tangent) points along its v, down the image; sinew's v is up */
+    /* glTF's bitangent (w * normal x tangent) points up the image, where its normal maps put +Y
+     * (the Khronos sample viewer's and three.js's reading): sinew's +v, so w is kept; only
+     * the sign is: the spec allows any w but uses its sign alone. */
     for (uint32_t i = 0; out->tangents && i < n; i++)
-        out->tangents[i * 4 + 3] = out->tangents[i * 4 + 3] < 0.0f ? 1.0f : -1.0f;
+        out->tangents[i * 4 + 3] = out->tangents[i * 4 + 3] < 0.0f ? -1.0f : 1.0f;
     if (skin >= 0) {
         uint32_t joints = g->m->skins[skin].joint_count;
         if ((r = primitive_influences(g, attrs, where, joints, out)))

@@ -6,6 +6,7 @@
 #include <errno.h>
 #include <libgen.h>
 #include <limits.h>
+#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -184,6 +185,15 @@ bool import_material_texture(raw_model *model, const char *model_path, const cha
         *out = import_find_texture(model_path, reference, true, looked, sizeof looked);
     return *out || raw_model_warn(model, "%s: material \"%s\": texture \"%s\" not found (looked for %s)", model_path,
                                   material, reference, looked);
+}
+
+float import_roughness_of_shininess(double exponent)
+{
+    if (!isfinite(exponent) || exponent < 0.0)
+        return 0.5f;
+    if (exponent < 1.0)
+        exponent *= 128.0;
+    return (float)pow(2.0 / (exponent + 2.0), 0.25);
 }
 
 static void quiet(void *context, const char *format, ...)

@@ -71,12 +71,18 @@ typedef struct raw_mesh {
     float *weights;
 } raw_mesh;
 
+typedef struct raw_texture {
+    char *path;           /* resolved path, or NULL */
+    unsigned char *image; /* the encoded image when the file embeds it, or NULL */
+    uint32_t image_size;
+} raw_texture;
+
 typedef struct raw_material {
     char *name;
     float base_color[4];
-    char *diffuse_texture;        /* resolved path, or NULL */
-    unsigned char *diffuse_image; /* the encoded image when the file embeds it, or NULL */
-    uint32_t diffuse_image_size;
+    float metallic, roughness, emissive[3], normal_scale, occlusion_strength;
+    bool metallic_roughness; /* the file gave the PBR parameters */
+    raw_texture maps[SINEW_MAP_COUNT];
 } raw_material;
 
 typedef struct raw_model {
@@ -240,6 +246,11 @@ char *import_find_texture(const char *model_path, const char *reference, bool by
  * exists. False when out of memory. */
 bool import_material_texture(raw_model *model, const char *model_path, const char *material, const char *reference,
                              char **out);
+
+/* Roughness (glTF's, perceptual) of a Blinn-Phong specular exponent: alpha^2 = 2 / (n + 2),
+ * roughness = sqrt(alpha). Exponents below 1 are read as the 0..1 scale some exporters
+ * write (times 128, OBJ's range). */
+float import_roughness_of_shininess(double exponent);
 
 /* Validates and repairs the raw model (sorting and limiting influences, sorting keys,
  * making consecutive rotation keys take the short way, computing missing normals) and

@@ -146,12 +146,21 @@ static bool raw_model_from_model(const sinew_model *m, raw_model *raw)
     raw->materials = m->material_count ? calloc(m->material_count, sizeof *raw->materials) : NULL;
     raw->material_count = raw->materials ? m->material_count : 0;
     for (uint32_t i = 0; i < raw->material_count; i++) {
-        raw->materials[i].name = copy_string(m->materials[i].name, &ok);
-        memcpy(raw->materials[i].base_color, m->materials[i].base_color, sizeof raw->materials[i].base_color);
-        raw->materials[i].diffuse_texture = copy_string(m->materials[i].diffuse_texture, &ok);
-        raw->materials[i].diffuse_image =
-            copy_array(m->materials[i].diffuse_image, m->materials[i].diffuse_image_size, 1, &ok);
-        raw->materials[i].diffuse_image_size = raw->materials[i].diffuse_image ? m->materials[i].diffuse_image_size : 0;
+        const sinew_material *src = &m->materials[i];
+        raw_material *dst = &raw->materials[i];
+        dst->name = copy_string(src->name, &ok);
+        memcpy(dst->base_color, src->base_color, sizeof dst->base_color);
+        dst->metallic = src->metallic;
+        dst->roughness = src->roughness;
+        memcpy(dst->emissive, src->emissive, sizeof dst->emissive);
+        dst->normal_scale = src->normal_scale;
+        dst->occlusion_strength = src->occlusion_strength;
+        dst->metallic_roughness = src->metallic_roughness;
+        for (int k = 0; k < SINEW_MAP_COUNT; k++) {
+            dst->maps[k].path = copy_string(src->maps[k].path, &ok);
+            dst->maps[k].image = copy_array(src->maps[k].image, src->maps[k].image_size, 1, &ok);
+            dst->maps[k].image_size = dst->maps[k].image ? src->maps[k].image_size : 0;
+        }
     }
     raw->clips = m->clip_count ? calloc(m->clip_count, sizeof *raw->clips) : NULL;
     raw->clip_count = raw->clips ? m->clip_count : 0;

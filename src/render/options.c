@@ -34,7 +34,7 @@ static const char *const NAMES[] = {
     "joint-names", "normals",         "grid",       "axes",          "muscles",  "shading",
     "skinning",    "skinning-method", "background", "normal-length", NULL};
 
-static const char *const SHADINGS[] = {"phong", "gouraud", "flat"};
+static const char *const SHADINGS[] = {"phong", "gouraud", "flat", "pbr"};
 
 const char *const *sinew_render_option_names(void)
 {
@@ -102,11 +102,11 @@ sinew_result sinew_render_option_set(sinew_render_options *o, const char *name, 
     if (!value)
         return sinew_fail(error, SINEW_ERROR_INVALID_ARGUMENT, "%s needs a value", name);
     if (strcmp(name, "shading") == 0) {
-        for (int i = 0; i < 3; i++)
+        for (int i = 0; i < 4; i++)
             if (strcasecmp(value, SHADINGS[i]) == 0)
                 return o->shading = (sinew_shading)i, SINEW_OK;
-        return sinew_fail(error, SINEW_ERROR_INVALID_ARGUMENT, "shading: expected phong, gouraud or flat, not \"%s\"",
-                          value);
+        return sinew_fail(error, SINEW_ERROR_INVALID_ARGUMENT,
+                          "shading: expected phong, gouraud, flat or pbr, not \"%s\"", value);
     }
     if (strcmp(name, "skinning") == 0) {
         if (strcasecmp(value, "gpu") == 0 || strcasecmp(value, "cpu") == 0) {
@@ -151,7 +151,7 @@ sinew_result sinew_render_option_get(const sinew_render_options *o, const char *
     if (s)
         snprintf(out, size, "%s", *(const bool *)((const char *)o + s->offset) ? "on" : "off");
     else if (strcmp(name, "shading") == 0)
-        snprintf(out, size, "%s", SHADINGS[o->shading <= SINEW_SHADING_FLAT ? o->shading : 0]);
+        snprintf(out, size, "%s", SHADINGS[o->shading <= SINEW_SHADING_PBR ? o->shading : 0]);
     else if (strcmp(name, "skinning") == 0)
         snprintf(out, size, "%s", o->skinning == SINEW_SKINNING_CPU ? "cpu" : "gpu");
     else if (strcmp(name, "skinning-method") == 0)

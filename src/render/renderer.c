@@ -18,11 +18,26 @@
 #define WARNING_SIZE 320
 #define ALIGN16(x) (((x) + 15) & ~(size_t)15)
 
-enum { BUF_POSITION, BUF_NORMAL, BUF_UV, BUF_JOINTS0, BUF_JOINTS1, BUF_WEIGHTS0, BUF_WEIGHTS1, BUF_STREAM, BUF_COUNT };
+enum {
+    BUF_POSITION,
+    BUF_NORMAL,
+    BUF_UV,
+    BUF_TANGENT,
+    BUF_JOINTS0,
+    BUF_JOINTS1,
+    BUF_WEIGHTS0,
+    BUF_WEIGHTS1,
+    BUF_STREAM,
+    BUF_COUNT
+};
+
+/* CPU-skinned vertices as streamed: position, normal, tangent (xyz, handedness). */
+#define STREAM_FLOATS 10
+#define STREAM_STRIDE (STREAM_FLOATS * 4)
 
 typedef struct render_mesh {
     GLuint vao_static; /* rest vertices: rigid meshes and GPU skinning */
-    GLuint vao_stream; /* CPU-skinned positions and normals from BUF_STREAM */
+    GLuint vao_stream; /* CPU-skinned positions, normals and tangents from BUF_STREAM */
     GLuint buffers[BUF_COUNT];
     GLuint indices;
     int influence_sets; /* 0 rigid, 1 for up to 4 influences, 2 for up to 8 */
@@ -32,7 +47,8 @@ typedef struct render_mesh {
 typedef struct mesh_uniforms {
     GLint model, view_proj, gpu_sets, dqs, palette_offset, instance_stride, rigid_record, instance_base, palette,
         heat_joint, heat_rigid, gouraud, key_dir, fill_dir, eye, base_color, use_texture, texture, mode, heat, override,
-        normal_length;
+        normal_length, metallic, roughness, emissive, normal_scale, occlusion_strength, maps, map_mr, map_normal,
+        map_occlusion, map_emissive;
 } mesh_uniforms;
 
 struct sinew_renderer {
@@ -42,14 +58,14 @@ struct sinew_renderer {
     mesh_uniforms mesh_u, normals_u;
     GLint overlay_matrix, overlay_point_size, overlay_round;
     render_mesh *meshes;
-    GLuint *textures;       /* a material, 0 when it has none or it could not be read */
-    uint32_t *skin_offsets; /* first palette matrix of each skin */
-    bool *skin_on_gpu;      /* false: this skin is too big for the GPU path */
+    GLuint (*textures)[SINEW_MAP_COUNT]; /* a material's maps, 0 when it has none or it could not be read */
+    uint32_t *skin_offsets;              /* first palette matrix of each skin */
+    bool *skin_on_gpu;                   /* false: this skin is too big for the GPU path */
     uint32_t total_joints;
     sinew_mat4 *palettes;        /* total_joints matrices */
     sinew_dq_joint *dq_palettes; /* the same as dual-quaternion joints, when a frame asks for them */
     sinew_skin_method method;    /* of the last frame drawn (CPU skinning and bounds follow it) */
-    float *stream;               /* largest mesh's vertex count * 6 floats */
+    float *stream;               /* largest mesh's vertex count * STREAM_FLOATS */
     bool *skeleton_nodes;        /* node_count flags */
     overlay_list overlay;        /* world-space geometry, then text quads */
     GLuint palette_buffer, palette_texture;
@@ -122,12 +138,12 @@ static layout plan_layout(const sinew_model *m, uint32_t total_joints, uint32_t 
     l.field = at;                                                                                                      \
     at += ALIGN16(bytes)
     PLACE(meshes, (size_t)m->mesh_count * sizeof(render_mesh));
-    PLACE(textures, (size_t)m->material_count * sizeof(GLuint));
+    PLACE(textures, (size_t)m->material_count * SINEW_MAP_COUNT * sizeof(GLuint));
     PLACE(skin_offsets, (size_t)m->skin_count * sizeof(uint32_t));
     PLACE(skin_on_gpu, (size_t)m->skin_count * sizeof(bool));
     PLACE(palettes, (size_t)total_joints * sizeof(sinew_mat4));
     PLACE(dq_palettes, (size_t)total_joints * sizeof(sinew_dq_joint));
-    PLACE(stream, (size_t)max_vertices * 6 * sizeof(float));
+    PLACE(stream, (size_t)max_vertices * STREAM_FLOATS * sizeof(float));
     PLACE(skeleton, (size_t)m->node_count * sizeof(bool));
     PLACE(overlay, ((size_t)overlay_capacity(m->node_count) + OVERLAY_TEXT_VERTICES) * sizeof(overlay_vertex));
     PLACE(warnings, (size_t)warnings * WARNING_SIZE);
@@ -181,6 +197,8 @@ static void bind_shared_attributes(const render_mesh *rm)
         float_attribute(2, rm->buffers[BUF_UV], 2, 0, 0);
     else
         glVertexAttrib2f(2, 0.0f, 0.0f);
+    if (!rm->buffers[BUF_TANGENT])
+        glVertexAttrib4f(7, 0.0f, 0.0f, 0.0f, 0.0f);
     for (int set = 0; set < 2; set++) {
         if (set < rm->influence_sets) {
             glBindBuffer(GL_ARRAY_BUFFER, rm->buffers[BUF_JOINTS0 + set]);
@@ -203,54 +221,83 @@ static void upload_mesh(render_mesh *rm, const sinew_mesh *mesh, void *scratch)
     rm->buffers[BUF_NORMAL] = make_buffer(GL_ARRAY_BUFFER, n * 12, mesh->normals, GL_STATIC_DRAW);
     if (mesh->uvs)
         rm->buffers[BUF_UV] = make_buffer(GL_ARRAY_BUFFER, n * 8, mesh->uvs, GL_STATIC_DRAW);
+    if (mesh->tangents)
+        rm->buffers[BUF_TANGENT] = make_buffer(GL_ARRAY_BUFFER, n * 16, mesh->tangents, GL_STATIC_DRAW);
     upload_influences(rm, mesh, rm->influence_sets, scratch);
     glGenVertexArrays(1, &rm->vao_static);
     glBindVertexArray(rm->vao_static);
     rm->indices = make_buffer(GL_ELEMENT_ARRAY_BUFFER, (size_t)mesh->index_count * 4, mesh->indices, GL_STATIC_DRAW);
     float_attribute(0, rm->buffers[BUF_POSITION], 3, 0, 0);
     float_attribute(1, rm->buffers[BUF_NORMAL], 3, 0, 0);
+    if (rm->buffers[BUF_TANGENT])
+        float_attribute(7, rm->buffers[BUF_TANGENT], 4, 0, 0);
     bind_shared_attributes(rm);
     if (rm->influence_sets) {
         glGenVertexArrays(1, &rm->vao_stream);
         glBindVertexArray(rm->vao_stream);
-        rm->buffers[BUF_STREAM] = make_buffer(GL_ARRAY_BUFFER, n * 24, NULL, GL_STREAM_DRAW);
-        float_attribute(0, rm->buffers[BUF_STREAM], 3, 24, 0);
-        float_attribute(1, rm->buffers[BUF_STREAM], 3, 24, 12);
+        rm->buffers[BUF_STREAM] = make_buffer(GL_ARRAY_BUFFER, n * STREAM_STRIDE, NULL, GL_STREAM_DRAW);
+        float_attribute(0, rm->buffers[BUF_STREAM], 3, STREAM_STRIDE, 0);
+        float_attribute(1, rm->buffers[BUF_STREAM], 3, STREAM_STRIDE, 12);
+        if (rm->buffers[BUF_TANGENT])
+            float_attribute(7, rm->buffers[BUF_STREAM], 4, STREAM_STRIDE, 24);
         bind_shared_attributes(rm);
     }
     glBindVertexArray(0);
 }
 
-/* Decodes a material's diffuse texture (any stb_image format; the embedded image when the
- * file carries one, else the file it names) into an sRGB texture with mipmaps; rows are
- * flipped because UVs have v up (OpenGL) and images store the top row first. */
-static GLuint load_texture(sinew_renderer *r, const sinew_material *material)
+static const char *const MAP_NAMES[SINEW_MAP_COUNT] = {"base colour", "metallic-roughness", "normal", "occlusion",
+                                                       "emissive"};
+
+/* Decodes one of a material's maps (any stb_image format; the embedded image when the file
+ * carries one, else the file it names) into a texture with mipmaps, sRGB for colours and
+ * linear for data; rows are flipped because UVs have v up (OpenGL) and images store the
+ * top row first. */
+static GLuint load_texture(sinew_renderer *r, const sinew_material *material, int slot)
 {
+    const sinew_texture *map = &material->maps[slot];
     int w = 0, h = 0, channels = 0;
-    unsigned char *pixels =
-        material->diffuse_image
-            ? stbi_load_from_memory(material->diffuse_image, (int)material->diffuse_image_size, &w, &h, &channels, 4)
-            : stbi_load(material->diffuse_texture, &w, &h, &channels, 4);
+    unsigned char *pixels = map->image ? stbi_load_from_memory(map->image, (int)map->image_size, &w, &h, &channels, 4)
+                                       : stbi_load(map->path, &w, &h, &channels, 4);
     if (!pixels) {
-        if (material->diffuse_image)
-            warn(r, "%s: material \"%s\": cannot decode its embedded image (%u bytes: %s); its base colour is shown",
-                 r->model->source, material->name, material->diffuse_image_size, stbi_failure_reason());
+        const char *fallback = slot == SINEW_MAP_BASE_COLOR ? "its base colour is shown" : "it is shaded without it";
+        if (map->image)
+            warn(r, "%s: material \"%s\": cannot decode its embedded %s image (%u bytes: %s); %s", r->model->source,
+                 material->name, MAP_NAMES[slot], map->image_size, stbi_failure_reason(), fallback);
         else
-            warn(r, "%s: material \"%s\": cannot read texture %s (%s); its base colour is shown", r->model->source,
-                 material->name, material->diffuse_texture, stbi_failure_reason());
+            warn(r, "%s: material \"%s\": cannot read %s texture %s (%s); %s", r->model->source, material->name,
+                 MAP_NAMES[slot], map->path, stbi_failure_reason(), fallback);
         return 0;
     }
     render_flip_rows(pixels, (size_t)w * 4, h);
+    bool srgb = slot == SINEW_MAP_BASE_COLOR || slot == SINEW_MAP_EMISSIVE;
     GLuint t = 0;
     glGenTextures(1, &t);
     glBindTexture(GL_TEXTURE_2D, t);
     glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
-    glTexImage2D(GL_TEXTURE_2D, 0, GL_SRGB8_ALPHA8, w, h, 0, GL_RGBA, GL_UNSIGNED_BYTE, pixels);
+    glTexImage2D(GL_TEXTURE_2D, 0, srgb ? GL_SRGB8_ALPHA8 : GL_RGBA8, w, h, 0, GL_RGBA, GL_UNSIGNED_BYTE, pixels);
     glGenerateMipmap(GL_TEXTURE_2D);
     glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_LINEAR_MIPMAP_LINEAR);
     glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
     stbi_image_free(pixels);
     return t;
+}
+
+/* A map shared by materials (or by two maps of one: glTF's occlusion often sits in the
+ * metallic-roughness image) is decoded once when it has the same colour space. */
+static GLuint shared_texture(sinew_renderer *r, uint32_t material, int slot)
+{
+    const sinew_material *mats = r->model->materials;
+    const sinew_texture *map = &mats[material].maps[slot];
+    bool srgb = slot == SINEW_MAP_BASE_COLOR || slot == SINEW_MAP_EMISSIVE;
+    for (uint32_t i = 0; i <= material; i++)
+        for (int k = 0; k < SINEW_MAP_COUNT && (i < material || k < slot); k++) {
+            const sinew_texture *other = &mats[i].maps[k];
+            bool same = map->image ? other->image == map->image
+                                   : other->path && !other->image && map->path && strcmp(other->path, map->path) == 0;
+            if (same && r->textures[i][k] && srgb == (k == SINEW_MAP_BASE_COLOR || k == SINEW_MAP_EMISSIVE))
+                return r->textures[i][k];
+        }
+    return 0;
 }
 
 static void lookup_mesh_uniforms(GLuint program, mesh_uniforms *u)
@@ -259,7 +306,8 @@ static void lookup_mesh_uniforms(GLuint program, mesh_uniforms *u)
     U(model), U(view_proj), U(gpu_sets), U(dqs), U(palette_offset), U(instance_stride), U(rigid_record),
         U(instance_base), U(palette), U(heat_joint), U(heat_rigid), U(gouraud);
     U(key_dir), U(fill_dir), U(eye), U(base_color), U(use_texture), U(texture), U(mode), U(heat), U(override);
-    U(normal_length);
+    U(normal_length), U(metallic), U(roughness), U(emissive), U(normal_scale), U(occlusion_strength), U(maps);
+    U(map_mr), U(map_normal), U(map_occlusion), U(map_emissive);
 #undef U
 }
 
@@ -306,8 +354,13 @@ static sinew_result create_gl_objects(sinew_renderer *r, uint32_t max_vertices, 
         upload_mesh(&r->meshes[i], &m->meshes[i], scratch);
     free(scratch);
     for (uint32_t i = 0; i < m->material_count; i++)
-        r->textures[i] =
-            m->materials[i].diffuse_texture || m->materials[i].diffuse_image ? load_texture(r, &m->materials[i]) : 0;
+        for (int k = 0; k < SINEW_MAP_COUNT; k++) {
+            const sinew_texture *map = &m->materials[i].maps[k];
+            if (map->path || map->image) {
+                GLuint shared = shared_texture(r, i, k);
+                r->textures[i][k] = shared ? shared : load_texture(r, &m->materials[i], k);
+            }
+        }
 
     r->palette_buffer =
         make_buffer(GL_TEXTURE_BUFFER, (size_t)(r->total_joints ? r->total_joints : 1) * 64, NULL, GL_STREAM_DRAW);
@@ -326,6 +379,7 @@ static sinew_result create_gl_objects(sinew_renderer *r, uint32_t max_vertices, 
         glVertexAttribI4ui(4, 0, 0, 0, 0);
         glVertexAttrib4f(5, 0.0f, 0.0f, 0.0f, 0.0f);
         glVertexAttrib4f(6, 0.0f, 0.0f, 0.0f, 0.0f);
+        glVertexAttrib4f(7, 0.0f, 0.0f, 0.0f, 0.0f);
         r->muscle_indices =
             make_buffer(GL_ELEMENT_ARRAY_BUFFER, (size_t)r->muscle_index_capacity * 4, NULL, GL_STREAM_DRAW);
     }
@@ -392,7 +446,7 @@ sinew_result sinew_renderer_create(const sinew_renderer_desc *desc, sinew_render
     r->model = m;
     r->allocator = alloc;
     r->meshes = (render_mesh *)(block + l.meshes);
-    r->textures = (GLuint *)(block + l.textures);
+    r->textures = (GLuint(*)[SINEW_MAP_COUNT])(block + l.textures);
     r->skin_offsets = (uint32_t *)(block + l.skin_offsets);
     r->skin_on_gpu = (bool *)(block + l.skin_on_gpu);
     r->palettes = (sinew_mat4 *)(block + l.palettes);
@@ -437,7 +491,8 @@ void sinew_renderer_destroy(sinew_renderer *r)
         glDeleteBuffers(BUF_COUNT, rm->buffers);
         glDeleteBuffers(1, &rm->indices);
     }
-    glDeleteTextures((GLsizei)r->model->material_count, r->textures);
+    /* shared maps repeat a name: GL ignores names already deleted */
+    glDeleteTextures((GLsizei)(r->model->material_count * SINEW_MAP_COUNT), &r->textures[0][0]);
     glDeleteTextures(1, &r->palette_texture);
     glDeleteBuffers(1, &r->palette_buffer);
     glDeleteTextures(1, &r->crowd_texture);
@@ -499,7 +554,7 @@ static void skin_range_job(void *user, uint32_t first, uint32_t count, uint32_t 
     sinew_skin_vertices(&d, NULL);
 }
 
-/* Skins a mesh on the CPU into r->stream (position, normal interleaved) from a palette of
+/* Skins a mesh on the CPU into r->stream (position, normal, tangent interleaved) from a palette of
  * total_joints records (matrices, and for DQS the dual-quaternion joints: r->palettes and
  * r->dq_palettes, or both one crowd character's block), over `jobs` when given (the ranges
  * cannot fail: the model's joint indices were checked when it was loaded). */
@@ -514,7 +569,8 @@ static sinew_result skin_on_cpu(sinew_renderer *r, const sinew_mesh *mesh, const
                          .dq_palette = dq_palettes + r->skin_offsets[mesh->skin],
                          .out_positions = r->stream,
                          .out_normals = r->stream + 3,
-                         .out_stride = 24};
+                         .out_tangents = mesh->tangents ? r->stream + 6 : NULL,
+                         .out_stride = STREAM_STRIDE};
     if (!jobs)
         return sinew_skin_vertices(&d, error);
     sinew_jobs_run(jobs, mesh->vertex_count, 4096, skin_range_job, &d);
@@ -549,6 +605,10 @@ static void set_common_uniforms(GLuint program, const mesh_uniforms *u, const fr
     glUniform3fv(u->fill_dir, 1, fs->fill);
     glUniform1i(u->palette, 0);
     glUniform1i(u->texture, 1);
+    glUniform1i(u->map_mr, 2);
+    glUniform1i(u->map_normal, 3);
+    glUniform1i(u->map_occlusion, 4);
+    glUniform1i(u->map_emissive, 5);
     glUniform1i(u->instance_stride, 0);
     glUniform1i(u->rigid_record, -1);
     glUniform1i(u->instance_base, 0);
@@ -581,7 +641,7 @@ static sinew_result prepare_instance(sinew_renderer *r, const mesh_uniforms *u, 
             if (result != SINEW_OK)
                 return result;
             glBindBuffer(GL_ARRAY_BUFFER, rm->buffers[BUF_STREAM]);
-            glBufferSubData(GL_ARRAY_BUFFER, 0, (GLsizeiptr)mesh->vertex_count * 24, r->stream);
+            glBufferSubData(GL_ARRAY_BUFFER, 0, (GLsizeiptr)mesh->vertex_count * STREAM_STRIDE, r->stream);
             rm->streamed = r->frame;
         }
         glBindVertexArray(rm->vao_stream);
@@ -599,20 +659,38 @@ static void set_material(sinew_renderer *r, const frame_state *fs, const sinew_m
 {
     static const float CLAY[4] = {0.50f, 0.48f, 0.45f, 1.0f};
     static const float NO_MATERIAL[4] = {0.70f, 0.70f, 0.70f, 1.0f};
+    static const float BLACK[3] = {0.0f, 0.0f, 0.0f};
+    static const GLuint NO_MAPS[SINEW_MAP_COUNT] = {0};
     const mesh_uniforms *u = &r->mesh_u;
-    const float *color = CLAY;
-    GLuint texture = 0;
+    const float *color = CLAY, *emissive = BLACK;
+    float metallic = 0.0f, roughness = 0.5f, normal_scale = 1.0f, occlusion = 1.0f;
+    const GLuint *maps = NO_MAPS;
     if (fs->o->materials) {
         color = NO_MATERIAL;
         if (mesh->material >= 0) {
-            color = r->model->materials[mesh->material].base_color;
-            texture = r->textures[mesh->material];
+            const sinew_material *mat = &r->model->materials[mesh->material];
+            color = mat->base_color;
+            emissive = mat->emissive;
+            metallic = mat->metallic, roughness = mat->roughness;
+            normal_scale = mat->normal_scale, occlusion = mat->occlusion_strength;
+            maps = r->textures[mesh->material];
         }
     }
     glUniform4fv(u->base_color, 1, color);
-    glUniform1i(u->use_texture, texture != 0);
-    glActiveTexture(GL_TEXTURE1);
-    glBindTexture(GL_TEXTURE_2D, texture);
+    glUniform1i(u->use_texture, maps[SINEW_MAP_BASE_COLOR] != 0);
+    glUniform1f(u->metallic, metallic);
+    glUniform1f(u->roughness, roughness);
+    glUniform3fv(u->emissive, 1, emissive);
+    glUniform1f(u->normal_scale, normal_scale);
+    glUniform1f(u->occlusion_strength, occlusion);
+    /* normal maps need UVs to find their frame */
+    bool normal_map = maps[SINEW_MAP_NORMAL] && mesh->uvs;
+    glUniform4i(u->maps, maps[SINEW_MAP_METALLIC_ROUGHNESS] != 0, normal_map, maps[SINEW_MAP_OCCLUSION] != 0,
+                maps[SINEW_MAP_EMISSIVE] != 0);
+    for (int k = 0; k < SINEW_MAP_COUNT; k++) {
+        glActiveTexture(GL_TEXTURE1 + k);
+        glBindTexture(GL_TEXTURE_2D, maps[k]);
+    }
     glActiveTexture(GL_TEXTURE0);
 }
 
@@ -620,7 +698,10 @@ static int shading_mode(const sinew_render_options *o)
 {
     if (!o->lighting)
         return 0;
-    return o->shading == SINEW_SHADING_GOURAUD ? 2 : o->shading == SINEW_SHADING_FLAT ? 3 : 1;
+    return o->shading == SINEW_SHADING_GOURAUD ? 2
+           : o->shading == SINEW_SHADING_FLAT  ? 3
+           : o->shading == SINEW_SHADING_PBR   ? 4
+                                               : 1;
 }
 
 static bool instance_hidden(const sinew_render_options *o, uint32_t i)
@@ -981,7 +1062,7 @@ static sinew_result draw_crowd_cpu_mesh(sinew_renderer *r, const frame_state *fs
         if (result != SINEW_OK)
             return result;
         glBindBuffer(GL_ARRAY_BUFFER, rm->buffers[BUF_STREAM]);
-        glBufferSubData(GL_ARRAY_BUFFER, 0, (GLsizeiptr)mesh->vertex_count * 24, r->stream);
+        glBufferSubData(GL_ARRAY_BUFFER, 0, (GLsizeiptr)mesh->vertex_count * STREAM_STRIDE, r->stream);
         glDrawElements(GL_TRIANGLES, (GLsizei)mesh->index_count, GL_UNSIGNED_INT, NULL);
     }
     return SINEW_OK;
@@ -1165,7 +1246,7 @@ bool sinew_renderer_bounds(sinew_renderer *r, const sinew_mat4 *worlds, uint32_t
             if (skin_on_cpu(r, mesh, r->palettes, r->dq_palettes, NULL, NULL) != SINEW_OK)
                 continue;
             for (uint32_t v = 0; v < mesh->vertex_count; v++)
-                grow(min, max, &r->stream[v * 6]);
+                grow(min, max, &r->stream[v * STREAM_FLOATS]);
         } else {
             const float *w = worlds[m->instances[i].node].m;
             for (uint32_t v = 0; v < mesh->vertex_count; v++) {

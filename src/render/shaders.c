@@ -1,7 +1,8 @@
 /* GLSL 3.30 sources of the renderer and the helpers that compile and link them.
  *
- * Index: mesh vertex stage (skinning, normals through the cofactor, heat weight, Gouraud
- * lighting) - mesh fragment stage (materials, heat map, flat/Gouraud/Phong, sRGB out) -
+ * Index: mesh vertex stage (skinning, normals and tangents through the cofactor, heat
+ * weight, Gouraud lighting) - physically based shading - mesh fragment stage (materials,
+ * heat map, flat/Gouraud/Phong/PBR, sRGB out) -
  * normals geometry stage (a line per vertex) - overlay stages (coloured lines, points,
  * triangles, text) - compile/link.
  */
@@ -36,6 +37,7 @@ static const char *const MESH_VS_HEAD =
     "layout(location = 4) in uvec4 a_joints1;\n"
     "layout(location = 5) in vec4 a_weights0;\n"
     "layout(location = 6) in vec4 a_weights1;\n"
+    "layout(location = 7) in vec4 a_tangent;       // xyz, handedness; 0 when the mesh has none\n"
     "uniform mat4 u_model;          // rigid or CPU-skinned: vertices to world\n"
     "uniform mat4 u_view_proj;\n"
     "uniform int u_gpu_sets;        // 0: no GPU skinning; 1: 4 influences; 2: 8\n"
@@ -50,6 +52,7 @@ static const char *const MESH_VS_HEAD =
     "uniform bool u_gouraud;\n"
     "out vec3 v_world;\n"
     "out vec3 v_normal;\n"
+    "out vec4 v_tangent;\n"
     "out vec2 v_uv;\n"
     "out float v_heat;\n"
     "out vec3 v_diffuse;\n"
@@ -132,20 +135,121 @@ static const char *const MESH_VS =
     "    vec3 n = side * (cof * a_normal);\n"
     "    float len = length(n);\n"
     "    v_normal = len > 0.0 ? n / len : vec3(0.0, 1.0, 0.0);\n"
+    "    v_tangent = vec4(a * a_tangent.xyz, side * a_tangent.w);\n"
     "    finish(world.xyz);\n"
     "}\n";
 
+/* Physically based shading as glTF defines it (metallic-roughness, Cook-Torrance with GGX,
+ * Smith-GGX visibility and Schlick Fresnel): the key and fill lights plus an environment of
+ * a sky over a ground, its diffuse part the hemisphere's irradiance and its specular part
+ * the split-sum approximation (the sky sampled along the reflection, blurred towards the
+ * irradiance with roughness; Karis's analytic environment BRDF), then Khronos PBR Neutral
+ * tone mapping. */
+/* The mesh fragment stage's inputs, before PBR and MESH_FS, which read them. */
+static const char *const MESH_FS_INPUTS = "in vec3 v_world;\n"
+                                          "in vec3 v_normal;\n"
+                                          "in vec4 v_tangent;\n"
+                                          "in vec2 v_uv;\n"
+                                          "in float v_heat;\n"
+                                          "in vec3 v_diffuse;\n"
+                                          "in vec3 v_specular;\n";
+
+static const char *const PBR =
+    "uniform float u_metallic;\n"
+    "uniform float u_roughness;\n"
+    "uniform vec3 u_emissive;\n"
+    "uniform float u_normal_scale;\n"
+    "uniform float u_occlusion_strength;\n"
+    "uniform bvec4 u_maps;          // metallic-roughness, normal, occlusion, emissive present\n"
+    "uniform sampler2D u_map_mr;\n"
+    "uniform sampler2D u_map_normal;\n"
+    "uniform sampler2D u_map_occlusion;\n"
+    "uniform sampler2D u_map_emissive;\n"
+    "const float PI = 3.14159265;\n"
+    "vec3 sky(vec3 d) {\n"
+    "    vec3 horizon = vec3(0.75, 0.75, 0.76), zenith = vec3(0.46, 0.5, 0.58), ground = vec3(0.2, 0.19, 0.18);\n"
+    "    return d.y >= 0.0 ? mix(horizon, zenith, sqrt(d.y)) : mix(horizon * 0.6, ground, sqrt(-d.y));\n"
+    "}\n"
+    "vec3 irradiance(vec3 n) {  // cosine-weighted sky over ground, divided by pi\n"
+    "    return mix(vec3(0.24, 0.23, 0.22), vec3(0.56, 0.58, 0.63), 0.5 + 0.5 * n.y);\n"
+    "}\n"
+    "vec2 env_brdf(float nv, float rough) {\n"
+    "    vec4 r = rough * vec4(-1.0, -0.0275, -0.572, 0.022) + vec4(1.0, 0.0425, 1.04, -0.04);\n"
+    "    float a = min(r.x * r.x, exp2(-9.28 * nv)) * r.x + r.y;\n"
+    "    return vec2(-1.04, 1.04) * a + r.zw;\n"
+    "}\n"
+    "vec3 direct(vec3 n, vec3 v, vec3 l, vec3 radiance, vec3 albedo, vec3 f0, float alpha) {\n"
+    "    float nl = max(dot(n, l), 0.0);\n"
+    "    if (nl <= 0.0) return vec3(0.0);\n"
+    "    vec3 h = normalize(l + v);\n"
+    "    float nv = max(dot(n, v), 1e-4), nh = max(dot(n, h), 0.0), vh = max(dot(v, h), 0.0);\n"
+    "    float a2 = alpha * alpha;\n"
+    "    float d = a2 / (PI * pow(nh * nh * (a2 - 1.0) + 1.0, 2.0));\n"
+    "    float vis = 0.5 / (nl * sqrt(nv * nv * (1.0 - a2) + a2) + nv * sqrt(nl * nl * (1.0 - a2) + a2));\n"
+    "    vec3 f = f0 + (1.0 - f0) * pow(1.0 - vh, 5.0);\n"
+    "    return ((1.0 - f) * albedo / PI + f * d * vis) * radiance * nl;\n"
+    "}\n"
+    "vec3 tone_map(vec3 c) {  // Khronos PBR Neutral\n"
+    "    float x = min(c.r, min(c.g, c.b));\n"
+    "    float offset = x < 0.08 ? x - 6.25 * x * x : 0.04;\n"
+    "    c -= offset;\n"
+    "    float peak = max(c.r, max(c.g, c.b));\n"
+    "    if (peak < 0.76) return c;\n"
+    "    float d = 0.24, np = 1.0 - d * d / (peak + d - 0.76);\n"
+    "    c *= np / peak;\n"
+    "    float g = 1.0 - 1.0 / (0.15 * (peak - np) + 1.0);\n"
+    "    return mix(c, vec3(np), g);\n"
+    "}\n"
+    "mat3 tangent_frame(vec3 n, vec3 p, vec2 uv) {\n"
+    "    if (dot(v_tangent.xyz, v_tangent.xyz) > 1e-12) {\n"
+    "        vec3 t = normalize(v_tangent.xyz - n * dot(n, v_tangent.xyz));\n"
+    "        return mat3(t, (v_tangent.w < 0.0 ? -1.0 : 1.0) * cross(n, t), n);\n"
+    "    }\n"
+    "    // none in the mesh: the cotangent frame of the UVs' screen-space derivatives\n"
+    "    vec3 dp1 = dFdx(p), dp2 = dFdy(p);\n"
+    "    vec2 duv1 = dFdx(uv), duv2 = dFdy(uv);\n"
+    "    vec3 dp2perp = cross(dp2, n), dp1perp = cross(n, dp1);\n"
+    "    vec3 t = dp2perp * duv1.x + dp1perp * duv2.x, b = dp2perp * duv1.y + dp1perp * duv2.y;\n"
+    "    float m = max(dot(t, t), dot(b, b));\n"
+    "    return m > 0.0 ? mat3(t * inversesqrt(m), b * inversesqrt(m), n) : mat3(vec3(0.0), vec3(0.0), n);\n"
+    "}\n"
+    "vec3 shade_pbr(vec3 albedo_in, vec3 n) {\n"
+    "    float metallic = u_metallic, rough = u_roughness;\n"
+    "    if (u_maps.x) {\n"
+    "        vec4 mr = texture(u_map_mr, v_uv);\n"
+    "        rough *= mr.g;\n"
+    "        metallic *= mr.b;\n"
+    "    }\n"
+    "    rough = clamp(rough, 0.03, 1.0);\n"
+    "    metallic = clamp(metallic, 0.0, 1.0);\n"
+    "    if (u_maps.y) {\n"
+    "        vec3 t = texture(u_map_normal, v_uv).rgb * 2.0 - 1.0;\n"
+    "        t.xy *= u_normal_scale;\n"
+    "        vec3 mapped = tangent_frame(n, v_world, v_uv) * t;\n"
+    "        if (dot(mapped, mapped) > 1e-12) n = normalize(mapped);\n"
+    "    }\n"
+    "    vec3 v = normalize(u_eye - v_world);\n"
+    "    float nv = max(dot(n, v), 1e-4);\n"
+    "    vec3 albedo = albedo_in * (1.0 - metallic);\n"
+    "    vec3 f0 = mix(vec3(0.04), albedo_in, metallic);\n"
+    "    float alpha = rough * rough;\n"
+    "    vec3 color = direct(n, v, u_key_dir, vec3(2.6, 2.5, 2.35), albedo, f0, alpha)\n"
+    "               + direct(n, v, u_fill_dir, vec3(0.75, 0.85, 1.0), albedo, f0, alpha);\n"
+    "    float ao = u_maps.z ? 1.0 + u_occlusion_strength * (texture(u_map_occlusion, v_uv).r - 1.0) : 1.0;\n"
+    "    vec3 r = reflect(-v, n);\n"
+    "    vec3 prefiltered = mix(sky(r), irradiance(r), rough * rough);\n"
+    "    vec2 ab = env_brdf(nv, rough);\n"
+    "    color += ao * (albedo * irradiance(n) + prefiltered * (f0 * ab.x + ab.y));\n"
+    "    vec3 e = u_emissive;\n"
+    "    if (u_maps.w) e *= texture(u_map_emissive, v_uv).rgb;\n"
+    "    return tone_map(color + e);\n"
+    "}\n";
+
 static const char *const MESH_FS =
-    "in vec3 v_world;\n"
-    "in vec3 v_normal;\n"
-    "in vec2 v_uv;\n"
-    "in float v_heat;\n"
-    "in vec3 v_diffuse;\n"
-    "in vec3 v_specular;\n"
     "uniform vec4 u_base_color;     // linear RGB\n"
     "uniform bool u_use_texture;\n"
     "uniform sampler2D u_texture;   // sRGB texture, decoded to linear by GL\n"
-    "uniform int u_mode;            // 0 unlit, 1 Phong, 2 Gouraud, 3 flat\n"
+    "uniform int u_mode;            // 0 unlit, 1 Phong, 2 Gouraud, 3 flat, 4 physically based\n"
     "uniform bool u_heat;\n"
     "uniform vec4 u_override;       // a > 0: draw this sRGB colour (wireframe)\n"
     "out vec4 o_color;\n"
@@ -177,8 +281,12 @@ static const char *const MESH_FS =
     "        color = albedo * v_diffuse + v_specular;\n"
     "    } else if (u_mode != 0) {\n"
     "        vec3 n = u_mode == 3 ? normalize(cross(dFdx(v_world), dFdy(v_world))) : normalize(v_normal);\n"
-    "        if (u_mode == 1 && !gl_FrontFacing)\n"
+    "        if (u_mode != 3 && !gl_FrontFacing)\n"
     "            n = -n;\n"
+    "        if (u_mode == 4) {\n"
+    "            o_color = vec4(to_srgb(shade_pbr(albedo, n)), 1.0);\n"
+    "            return;\n"
+    "        }\n"
     "        vec3 diffuse, specular;\n"
     "        light_terms(n, v_world, diffuse, specular);\n"
     "        color = albedo * diffuse + specular;\n"
@@ -264,18 +372,19 @@ static GLuint compile(GLenum stage, const char *const *parts, int part_count, co
 }
 
 /* Links a program from a vertex, an optional geometry and a fragment stage, each made of
- * the version line, `lighting` when asked, and the stage's body (the vertex stage's in two parts). */
-static GLuint link_program(const char *vs_head, const char *vs, const char *gs, const char *fs, bool lighting,
-                           const char *what, sinew_error *error)
+ * the version line, `lighting` when asked, and the stage's body (the vertex stage's in two
+ * parts; the fragment stage's head, when given, followed by the PBR functions). */
+static GLuint link_program(const char *vs_head, const char *vs, const char *gs, const char *fs_head, const char *fs,
+                           bool lighting, const char *what, sinew_error *error)
 {
     static const char *const VERSION = "#version 330 core\n";
     const char *vs_parts[] = {VERSION, lighting ? LIGHTING : "", vs_head ? vs_head : "", vs};
     const char *gs_parts[] = {VERSION, gs ? gs : ""};
-    const char *fs_parts[] = {VERSION, lighting ? LIGHTING : "", fs};
+    const char *fs_parts[] = {VERSION, lighting ? LIGHTING : "", fs_head ? fs_head : "", fs_head ? PBR : "", fs};
     GLuint stages[3] = {0}, program = 0;
     stages[0] = compile(GL_VERTEX_SHADER, vs_parts, 4, what, error);
     stages[1] = gs ? compile(GL_GEOMETRY_SHADER, gs_parts, 2, what, error) : 0;
-    stages[2] = compile(GL_FRAGMENT_SHADER, fs_parts, 3, what, error);
+    stages[2] = compile(GL_FRAGMENT_SHADER, fs_parts, 5, what, error);
     if (!stages[0] || (gs && !stages[1]) || !stages[2])
         goto out_delete_stages;
     program = glCreateProgram();
@@ -296,13 +405,13 @@ out_delete_stages:
 
 sinew_result render_programs_create(render_programs *programs, sinew_error *error)
 {
-    programs->mesh = link_program(MESH_VS_HEAD, MESH_VS, NULL, MESH_FS, true, "mesh", error);
+    programs->mesh = link_program(MESH_VS_HEAD, MESH_VS, NULL, MESH_FS_INPUTS, MESH_FS, true, "mesh", error);
     if (!programs->mesh)
         goto fail;
-    programs->normals = link_program(MESH_VS_HEAD, MESH_VS, NORMALS_GS, NORMALS_FS, true, "normals", error);
+    programs->normals = link_program(MESH_VS_HEAD, MESH_VS, NORMALS_GS, NULL, NORMALS_FS, true, "normals", error);
     if (!programs->normals)
         goto fail;
-    programs->overlay = link_program(NULL, OVERLAY_VS, NULL, OVERLAY_FS, false, "overlay", error);
+    programs->overlay = link_program(NULL, OVERLAY_VS, NULL, NULL, OVERLAY_FS, false, "overlay", error);
     if (!programs->overlay)
         goto fail;
     return SINEW_OK;

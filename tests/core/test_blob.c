@@ -115,7 +115,7 @@ static void test_round_trip(void **state)
     assert_near(m->meshes[0].normals[2], 1, 1e-6, "computed normal faces +z");
     assert_near(m->skins[0].inverse_bind[0].m[13], -1, 0, "inverse bind");
     assert_string_equal(m->materials[0].name, "clay");
-    assert_null(m->materials[0].diffuse_texture);
+    assert_null(m->materials[0].maps[SINEW_MAP_BASE_COLOR].path);
     assert_int_equal(m->clip_count, 1);
     assert_string_equal(m->clips[0].name, "turn");
     assert_int_equal(m->clips[0].tracks[0].channels[SINEW_CHANNEL_ROTATION].key_count, 3);

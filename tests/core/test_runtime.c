@@ -409,7 +409,7 @@ static void test_tangents_read_and_skinned(void **state)
     sinew_model *m = load_or_fail(fixture_path("twist_tube.glb", path, sizeof path));
     const sinew_mesh *mesh = &m->meshes[0];
     assert_non_null(mesh->tangents);
-    assert_float_equal(mesh->tangents[3], -1.0f, 0.0f); /* +1 in the file, along glTF's v (down) */
+    assert_float_equal(mesh->tangents[3], 1.0f, 0.0f);  /* +1 in the file: glTF's bitangent is sinew's +v */
     assert_float_equal(mesh->tangents[2], 1.0f, 1e-6f); /* vertex 0 at angle 0: tangent +z */
     tmp_path("twist_tube.sinew", saved, sizeof saved);
     assert_int_equal(sinew_model_save(m, NULL, saved, NULL), SINEW_OK);
@@ -439,7 +439,7 @@ static void test_tangents_read_and_skinned(void **state)
         worst_len = fmax(worst_len, fabs(sqrt(t[0] * t[0] + t[1] * t[1] + t[2] * t[2]) - 1.0));
         for (int e = 0; e < 10; e++)
             worst_ref = fmax(worst_ref, fabs(out[v * 12 + e] - ref[v * 12 + e]));
-        assert_float_equal(t[3], -1.0f, 0.0f);
+        assert_float_equal(t[3], 1.0f, 0.0f);
     }
     /* the top ring turned 170 degrees about y: its first tangent (+z at rest) points near -z */
     const float *top = out + (n - 24) * 12 + 6;

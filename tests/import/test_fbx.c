@@ -351,8 +351,8 @@ static void test_texture_by_name(void **state)
     write_file(tmp_path("skin_diffuse.png", image, sizeof image), "png", 3);
     sinew_model *m = load_or_fail(path);
     assert_int_equal(m->material_count, 1);
-    assert_non_null(m->materials[0].diffuse_texture);
-    const char *found = strrchr(m->materials[0].diffuse_texture, '/');
+    assert_non_null(m->materials[0].maps[SINEW_MAP_BASE_COLOR].path);
+    const char *found = strrchr(m->materials[0].maps[SINEW_MAP_BASE_COLOR].path, '/');
     assert_string_equal(found, "/skin_diffuse.png");
     sinew_model_free(m);
     free(linked);

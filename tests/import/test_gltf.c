@@ -95,7 +95,7 @@ static void test_quantized_sparse_texture_transform(void **state)
     }
     assert_int_equal(m->material_count, 1);
     assert_near(m->materials[0].base_color[1], 0.5, 0, "base colour factor");
-    assert_null(m->materials[0].diffuse_texture);
+    assert_null(m->materials[0].maps[SINEW_MAP_BASE_COLOR].path);
     bool warned = false;
     for (uint32_t i = 0; i < m->warning_count; i++)
         warned |= strstr(m->warnings[i], "missing_atlas.png") != NULL;
@@ -210,10 +210,10 @@ static void test_embedded_images(void **state)
         sinew_model *m = load_or_fail(fixture_path(files[f], path, sizeof path));
         assert_int_equal(m->material_count, 1);
         const sinew_material *mat = &m->materials[0];
-        assert_null(mat->diffuse_texture);
-        assert_non_null(mat->diffuse_image);
-        assert_int_equal(mat->diffuse_image_size, 141); /* the fixture's PNG */
-        assert_memory_equal(mat->diffuse_image, "\x89PNG\r\n\x1a\n", 8);
+        assert_null(mat->maps[SINEW_MAP_BASE_COLOR].path);
+        assert_non_null(mat->maps[SINEW_MAP_BASE_COLOR].image);
+        assert_int_equal(mat->maps[SINEW_MAP_BASE_COLOR].image_size, 141); /* the fixture's PNG */
+        assert_memory_equal(mat->maps[SINEW_MAP_BASE_COLOR].image, "\x89PNG\r\n\x1a\n", 8);
         for (uint32_t w = 0; w < m->warning_count; w++)
             assert_null(strstr(m->warnings[w], "embedded"));
         sinew_model_free(m);
@@ -221,7 +221,7 @@ static void test_embedded_images(void **state)
         sinew_import_desc desc = {.path = path, .assimp = true};
         sinew_error error = {0};
         assert_int_equal(sinew_import(&desc, &m, &error), SINEW_OK);
-        assert_int_equal(m->materials[0].diffuse_image_size, 141);
+        assert_int_equal(m->materials[0].maps[SINEW_MAP_BASE_COLOR].image_size, 141);
         sinew_model_free(m);
     }
     static const edit edits[] = {
@@ -256,6 +256,103 @@ static void test_glb_header(void **state)
     free(bytes);
 }
 
+static void check_pbr_spheres(const sinew_model *m)
+{
+    assert_int_equal(m->material_count, 4);
+    const sinew_material *gold = &m->materials[0], *plastic = &m->materials[1], *bumps = &m->materials[2],
+                         *glow = &m->materials[3];
+    assert_true(gold->metallic_roughness);
+    assert_float_equal(gold->metallic, 1.0f, 0.0f);
+    assert_float_equal(gold->roughness, 0.25f, 0.0f);
+    assert_float_equal(gold->base_color[2], 0.336f, 1e-6f);
+    assert_float_equal(plastic->metallic, 0.0f, 0.0f);
+    assert_float_equal(plastic->roughness, 0.6f, 1e-6f);
+    for (int k = 0; k < SINEW_MAP_COUNT; k++)
+        assert_true(!gold->maps[k].path && !gold->maps[k].image);
+    /* factors default to 1; one image serves as metallic-roughness and occlusion map */
+    assert_float_equal(bumps->metallic, 1.0f, 0.0f);
+    assert_float_equal(bumps->roughness, 1.0f, 0.0f);
+    assert_float_equal(bumps->normal_scale, 1.0f, 0.0f);
+    assert_float_equal(bumps->occlusion_strength, 1.0f, 0.0f);
+    assert_non_null(bumps->maps[SINEW_MAP_NORMAL].image);
+    assert_non_null(bumps->maps[SINEW_MAP_METALLIC_ROUGHNESS].image);
+    assert_int_equal(bumps->maps[SINEW_MAP_OCCLUSION].image_size, bumps->maps[SINEW_MAP_METALLIC_ROUGHNESS].image_size);
+    assert_memory_equal(bumps->maps[SINEW_MAP_OCCLUSION].image, bumps->maps[SINEW_MAP_METALLIC_ROUGHNESS].image,
+                        bumps->maps[SINEW_MAP_OCCLUSION].image_size);
+    assert_null(bumps->maps[SINEW_MAP_BASE_COLOR].image);
+    assert_null(bumps->maps[SINEW_MAP_EMISSIVE].image);
+    /* emissiveFactor (1, 0.5, 0.1) times KHR_materials_emissive_strength 2 */
+    assert_float_equal(glow->emissive[0], 2.0f, 1e-6f);
+    assert_float_equal(glow->emissive[1], 1.0f, 1e-6f);
+    assert_float_equal(glow->emissive[2], 0.2f, 1e-6f);
+    assert_float_equal(glow->normal_scale, 0.5f, 0.0f);
+    assert_non_null(glow->maps[SINEW_MAP_EMISSIVE].image);
+    assert_int_equal(glow->maps[SINEW_MAP_NORMAL].image_size, bumps->maps[SINEW_MAP_NORMAL].image_size);
+}
+
+/* glTF's metallic-roughness materials: factors, the four other maps (embedded), emissive
+ * strength; kept by a .sinew file; the "bumps" sphere's bitangent (w * normal x tangent)
+ * points the way its UVs' v grows (up the image, where normal maps put +Y). */
+static void test_pbr_materials(void **state)
+{
+    (void)state;
+    char path[1024], saved[1024];
+    sinew_model *m = load_or_fail(fixture_path("pbr_spheres.glb", path, sizeof path));
+    check_pbr_spheres(m);
+    assert_int_equal(m->warning_count, 0);
+    const sinew_mesh *mesh = &m->meshes[2];
+    assert_non_null(mesh->tangents);
+    assert_null(m->meshes[3].tangents);
+    uint32_t agree = 0, checked = 0;
+    for (uint32_t t = 0; t < mesh->index_count; t += 3) {
+        const uint32_t *i = &mesh->indices[t];
+        const float *p0 = &mesh->positions[i[0] * 3], *p1 = &mesh->positions[i[1] * 3],
+                    *p2 = &mesh->positions[i[2] * 3];
+        const float *u0 = &mesh->uvs[i[0] * 2], *u1 = &mesh->uvs[i[1] * 2], *u2 = &mesh->uvs[i[2] * 2];
+        double e1[3], e2[3], du1 = u1[0] - u0[0], dv1 = u1[1] - u0[1], du2 = u2[0] - u0[0], dv2 = u2[1] - u0[1];
+        for (int c = 0; c < 3; c++)
+            e1[c] = p1[c] - p0[c], e2[c] = p2[c] - p0[c];
+        double det = du1 * dv2 - du2 * dv1;
+        if (fabs(det) < 1e-12)
+            continue;
+        double dpdv[3]; /* the direction v grows on this triangle */
+        for (int c = 0; c < 3; c++)
+            dpdv[c] = (du1 * e2[c] - du2 * e1[c]) / det;
+        const float *n = &mesh->normals[i[0] * 3], *tg = &mesh->tangents[i[0] * 4];
+        double b[3] = {tg[3] * (n[1] * tg[2] - n[2] * tg[1]), tg[3] * (n[2] * tg[0] - n[0] * tg[2]),
+                       tg[3] * (n[0] * tg[1] - n[1] * tg[0])};
+        double along = b[0] * dpdv[0] + b[1] * dpdv[1] + b[2] * dpdv[2];
+        if (fabs(along) < 1e-6)
+            continue; /* the poles */
+        checked++;
+        agree += along > 0;
+    }
+    print_message("pbr_spheres bumps: bitangent along +v on %u of %u triangles\n", agree, checked);
+    assert_true(checked > 2000);
+    assert_int_equal(agree, checked);
+
+    tmp_path("pbr_spheres.sinew", saved, sizeof saved);
+    assert_int_equal(sinew_model_save(m, NULL, saved, NULL), SINEW_OK);
+    sinew_model *back = load_or_fail(saved);
+    check_pbr_spheres(back);
+    /* one copy of the shared image in the file */
+    assert_ptr_equal(back->materials[2].maps[SINEW_MAP_OCCLUSION].image,
+                     back->materials[2].maps[SINEW_MAP_METALLIC_ROUGHNESS].image);
+    assert_ptr_equal(back->materials[3].maps[SINEW_MAP_NORMAL].image, back->materials[2].maps[SINEW_MAP_NORMAL].image);
+    sinew_model_free(back);
+    sinew_model_free(m);
+
+    /* Assimp's glTF reader gives the factors through its PBR keys */
+    sinew_import_desc desc = {.path = path, .assimp = true};
+    sinew_error error = {0};
+    assert_int_equal(sinew_import(&desc, &m, &error), SINEW_OK);
+    assert_true(m->materials[0].metallic_roughness);
+    assert_float_equal(m->materials[0].metallic, 1.0f, 1e-6f);
+    assert_float_equal(m->materials[0].roughness, 0.25f, 1e-6f);
+    assert_non_null(m->materials[2].maps[SINEW_MAP_NORMAL].image);
+    sinew_model_free(m);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -264,6 +361,7 @@ int main(void)
         cmocka_unit_test(test_quantized_sparse_texture_transform),
         cmocka_unit_test(test_refusals_say_where),
         cmocka_unit_test(test_embedded_images),
+        cmocka_unit_test(test_pbr_materials),
         cmocka_unit_test(test_glb_header),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

@@ -718,7 +718,7 @@ static void test_materials_and_textures(void **state)
         skip();
     uint32_t textured = 0;
     for (uint32_t i = 0; i < m->material_count; i++) {
-        const char *t = m->materials[i].diffuse_texture;
+        const char *t = m->materials[i].maps[SINEW_MAP_BASE_COLOR].path;
         if (!t)
             continue;
         textured++;
@@ -732,7 +732,7 @@ static void test_materials_and_textures(void **state)
     sinew_model_free(m);
     m = load_testdata("assimp/Collada/duck.dae");
     assert_int_equal(m->material_count, 1);
-    assert_null(m->materials[0].diffuse_texture);
+    assert_null(m->materials[0].maps[SINEW_MAP_BASE_COLOR].path);
     assert_int_equal(m->warning_count, 1);
     assert_non_null(strstr(m->warnings[0], "duckCM.tga"));
     sinew_model_free(m);

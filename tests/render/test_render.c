@@ -129,6 +129,23 @@ static void test_golden_fixture(void **state)
     free_image(&im);
 }
 
+/* glTF's metallic-roughness materials on the fixture's four spheres: gold, red plastic, a
+ * normal-mapped metal with occlusion and roughness from one image, a glowing half. */
+static void test_golden_pbr(void **state)
+{
+    (void)state;
+    char path[1024];
+    fixture_path("pbr_spheres.glb", path, sizeof path);
+    image im = RENDER("g-pbr.png", path, "--size", SIZE, "--shading", "pbr", "--camera", "orbit:0,8,10", "--no-grid");
+    compare_with_golden("pbr_spheres-pbr", &im);
+    image phong = RENDER("g-pbr-phong.png", path, "--size", SIZE, "--camera", "orbit:0,8,10", "--no-grid");
+    long differing = 0;
+    assert_false(same_picture(&im, &phong, &differing));
+    printf("pbr vs phong: %ld pixels differ\n", differing);
+    free_image(&im);
+    free_image(&phong);
+}
+
 /* Muscles from the file beside the fixture, Gouraud-shaded over a bending two-bone strip. */
 static void test_golden_muscles(void **state)
 {
@@ -155,6 +172,7 @@ typedef struct golden_case {
 
 static const golden_case GOLDEN[] = {
     {"robot-walk-phong", "raylib/robot.glb", {"--clip", "Robot_Walking", "--time", "0.3"}},
+    {"robot-walk-pbr", "raylib/robot.glb", {"--clip", "Robot_Walking", "--time", "0.3", "--shading", "pbr"}},
     {"robot-wave-heat-gouraud",
      "raylib/robot.glb",
      {"--clip", "Robot_Wave", "--time", "0.6", "--heatmap", "Head", "--skeleton", "--select", "UpperArm.R", "--shading",
@@ -634,6 +652,7 @@ int main(void)
         cmocka_unit_test(test_golden_fixture),
         cmocka_unit_test(test_golden_models),
         cmocka_unit_test(test_golden_muscles),
+        cmocka_unit_test(test_golden_pbr),
         cmocka_unit_test(test_tolerance_catches_a_wrong_pose),
         cmocka_unit_test(test_gpu_and_cpu_skinning_agree),
         cmocka_unit_test(test_dual_quaternion_skinning),

@@ -4,6 +4,7 @@
  * are where the chain stands; GPU and CPU skinning draw the same picture; bad frames are
  * refused with a message. Skips when this machine has no OpenGL 3.3 through EGL. */
 #include <math.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -145,12 +146,105 @@ static void test_bad_frames(void **state)
                      SINEW_ERROR_INVALID_ARGUMENT);
 }
 
+/* Draws `model` physically shaded into `pixels` (W x H), looking at the box lo..hi from the front. */
+static void draw_pbr(sinew_headless *headless, const sinew_model *model, const float lo[3], const float hi[3],
+                     uint8_t *pixels)
+{
+    sinew_error error = {0};
+    sinew_renderer *renderer = NULL;
+    sinew_headless_bind(headless);
+    assert_int_equal(sinew_renderer_create(&(sinew_renderer_desc){.model = model}, &renderer, &error), SINEW_OK);
+    assert_int_equal(sinew_renderer_warning_count(renderer), 0);
+    sinew_mat4 *worlds = pose_worlds(model, NULL, 0.0f);
+    sinew_render_options o = sinew_render_options_default();
+    o.shading = SINEW_SHADING_PBR;
+    o.grid = false;
+    sinew_camera camera = sinew_camera_default();
+    camera.pitch = 0.0f;
+    sinew_camera_frame(&camera, lo, hi, (float)W / (float)H);
+    sinew_frame frame = {
+        .worlds = worlds, .world_count = model->node_count, .camera = &camera, .width = W, .height = H, .options = &o};
+    assert_int_equal(sinew_renderer_draw(renderer, &frame, &error), SINEW_OK);
+    assert_int_equal(sinew_headless_read(headless, pixels, &error), SINEW_OK);
+    free(worlds);
+    sinew_renderer_destroy(renderer);
+}
+
+/* Pixels where some channel differs by more than 24 levels. */
+static int differing(const uint8_t *a, const uint8_t *b)
+{
+    int n = 0;
+    for (int i = 0; i < W * H; i++) {
+        int most = 0;
+        for (int c = 0; c < 3; c++) {
+            int d = abs((int)a[i * 4 + c] - (int)b[i * 4 + c]);
+            most = d > most ? d : most;
+        }
+        n += most > 24;
+    }
+    return n;
+}
+
+/* pbr_spheres.glb's "bumps" sphere carries glTF tangents (w = +1: bitangent up the image,
+ * where normal maps put +Y). Drawn with them, and again with them removed (the shader then
+ * builds the frame from the UVs' derivatives, which cannot get the handedness wrong), the
+ * pictures nearly agree (the derivative frame is coarser at this size); with the handedness
+ * turned, or without the normal map, they clearly do not. */
+static void test_normal_map_frames_agree(void **state)
+{
+    fixture *f = *state;
+    if (!f)
+        skip();
+    char path[1024];
+    sinew_model *model = load_or_fail(fixture_path("pbr_spheres.glb", path, sizeof path));
+    assert_non_null(model->meshes[2].tangents);
+    assert_non_null(model->materials[2].maps[SINEW_MAP_NORMAL].image);
+    static uint8_t with[W * H * 4], derived[W * H * 4], flat[W * H * 4];
+    const float lo[3] = {0.1f, -1.0f, -1.0f}, hi[3] = {2.1f, 1.0f, 1.0f};
+    draw_pbr(f->headless, model, lo, hi, with);
+
+    sinew_mesh meshes[4];
+    sinew_material materials[4];
+    memcpy(meshes, model->meshes, sizeof meshes);
+    memcpy(materials, model->materials, sizeof materials);
+    sinew_model copy = *model;
+    copy.meshes = meshes;
+    copy.materials = materials;
+    meshes[2].tangents = NULL;
+    draw_pbr(f->headless, &copy, lo, hi, derived);
+    meshes[2].tangents = model->meshes[2].tangents;
+    materials[2].maps[SINEW_MAP_NORMAL] = (sinew_texture){0};
+    draw_pbr(f->headless, &copy, lo, hi, flat);
+
+    /* and with the handedness turned (what reading glTF's bitangent as pointing down the image gives) */
+    uint32_t nv = model->meshes[2].vertex_count;
+    float *turned = malloc((size_t)nv * 16);
+    memcpy(turned, model->meshes[2].tangents, (size_t)nv * 16);
+    for (uint32_t v = 0; v < nv; v++)
+        turned[v * 4 + 3] = -turned[v * 4 + 3];
+    meshes[2].tangents = turned;
+    materials[2] = model->materials[2];
+    static uint8_t wrong[W * H * 4];
+    draw_pbr(f->headless, &copy, lo, hi, wrong);
+    free(turned);
+
+    int frames = differing(with, derived), bumps = differing(with, flat), handedness = differing(wrong, derived);
+    printf("normal map (%d pixels differ by > 24 levels): vertex tangents vs derivative frame %d; the same with "
+           "the handedness turned %d; with vs without the map %d\n",
+           W * H, frames, handedness, bumps);
+    assert_true(bumps > 400);
+    assert_true(frames * 3 < bumps);
+    assert_true(frames * 3 < handedness);
+    sinew_model_free(model);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_draw_and_read_back),
         cmocka_unit_test(test_cpu_and_gpu_skinning_agree),
         cmocka_unit_test(test_bad_frames),
+        cmocka_unit_test(test_normal_map_frames_agree),
     };
     return cmocka_run_group_tests(tests, setup, teardown);
 }
