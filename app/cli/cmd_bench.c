@@ -12,11 +12,12 @@
     "  muscle   time to solve the shipped biceps (9 nodes) at a length, and to build its tube surface.\n"
 
 static const char bench_usage[] =
-    "usage: sinew bench render [FILE] [--clip C] [--size WxH] [--samples N] [--frames N] [--png OUT] [--json]\n"
+    "usage: sinew bench render [FILE] [--clip C] [--size WxH] [--samples N] [--frames N] [--shading S] [--png OUT]\n"
+    "                          [--json]\n"
     "\n"
     "  render   frames per second of `sinew render`'s drawing (pose, palette, draw, glFinish; no read-back)\n"
     "           with GPU skinning and with CPU skinning, at 1280x720 by default, with 4x multisampling\n"
-    "           and without (--samples N measures only N).\n"
+    "           and without (--samples N measures only N); --shading phong|gouraud|flat|pbr (default phong).\n"
     "           FILE defaults to a generated 64-joint character of 10,016 vertices, 4 influences each.\n"
     "           The clip plays forward at 60 Hz from 0, looping; N frames (default 300) after 10 warm-up frames.\n"
     "           --png OUT writes the last GPU-skinned frame, to see what was measured.\n"
@@ -32,7 +33,7 @@ static const char bench_usage[] =
     "\n" MUSCLE_USAGE;
 
 typedef struct render_bench_args {
-    const char *path, *clip, *png;
+    const char *path, *clip, *png, *shading;
     int width, height, frames, samples;
     bool json;
 } render_bench_args;
@@ -49,6 +50,8 @@ static int run_render_bench(const render_bench_args *a, int samples, int mode, d
                         .loop = true,
                         .options = sinew_render_options_default()};
     d.options.skinning = mode ? SINEW_SKINNING_CPU : SINEW_SKINNING_GPU;
+    if (a->shading)
+        sinew_render_option_set(&d.options, "shading", a->shading, NULL); /* checked when parsed */
     if (!a->path) {
         sinew_error error = {0};
         sinew_synthetic_desc sd = {.joints = 64, .vertices = 10000, .influences = 4};
@@ -96,6 +99,14 @@ static int bench_render(int argc, char **argv)
             a.png = argv[++i];
         } else if (strcmp(o, "--clip") == 0 && v) {
             a.clip = argv[++i];
+        } else if (strcmp(o, "--shading") == 0 && v) {
+            sinew_render_options check = sinew_render_options_default();
+            sinew_error error = {0};
+            if (sinew_render_option_set(&check, "shading", argv[++i], &error) != SINEW_OK) {
+                cli_error("bench render: %s", error.message);
+                return EXIT_USAGE;
+            }
+            a.shading = argv[i];
         } else if (strcmp(o, "--frames") == 0 && v) {
             long n = 0;
             if (!cli_parse_count("bench render", o, argv[++i], 1, 100000, &n))
@@ -132,6 +143,7 @@ static int bench_render(int argc, char **argv)
         cJSON_AddNumberToObject(o, "width", a.width);
         cJSON_AddNumberToObject(o, "height", a.height);
         cJSON_AddStringToObject(o, "gl", gl_name);
+        cJSON_AddStringToObject(o, "shading", a.shading ? a.shading : "phong");
         cJSON *runs = cJSON_AddArrayToObject(o, "runs");
         for (int k = 0; k < setting_count; k++) {
             cJSON *r = cJSON_CreateObject();
@@ -147,7 +159,7 @@ static int bench_render(int argc, char **argv)
         return EXIT_OK;
     }
     printf("model:   %s (%u vertices, %u joints)\n", source, vertices, joints);
-    printf("target:  %dx%d, %s\n", a.width, a.height, gl_name);
+    printf("target:  %dx%d, %s, %s shading\n", a.width, a.height, gl_name, a.shading ? a.shading : "phong");
     for (int k = 0; k < setting_count; k++) {
         printf("%dx MSAA, GPU skinning: %8.1f fps  %7.3f ms/frame\n", settings[k], 1.0 / spf[k][0], spf[k][0] * 1e3);
         printf("%dx MSAA, CPU skinning: %8.1f fps  %7.3f ms/frame  (GPU/CPU time %.2f)\n", settings[k], 1.0 / spf[k][1],
