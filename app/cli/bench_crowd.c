@@ -250,7 +250,7 @@ int bench_crowd(int argc, char **argv)
                    runs[r].pose_ms);
         if (ok && a.png && r == 0 && runs[r].characters)
             ok = resize_crowd(&s, runs[r].characters) && cli_scene_draw(&s, 1.0) && cli_scene_read(&s) &&
-                 cli_write_image(a.png, s.pixels, a.width, a.height);
+                 cli_write_image(a.png, s.pixels, a.width, a.height, false);
         if (!ok) {
             cli_scene_close(&s);
             return EXIT_BAD_INPUT;

@@ -50,7 +50,7 @@ typedef struct cli_scene_desc {
     const char *muscles; /* NULL: none; "": the file beside the model; else a muscle file */
     double muscle_scale; /* sinew_muscle_rig_set_scale(); 0 = 1 */
     int width, height, samples;
-    bool loop, skeleton_set;
+    bool loop, skeleton_set, orthographic;
     uint32_t gpu_joint_limit;
     sinew_render_options options;
     uint32_t crowd;   /* > 0: that many characters on a grid (app_crowd), each at its own time and clip */
@@ -109,7 +109,7 @@ struct cJSON *cli_muscle_pose_json(const sinew_muscle_pose *pose);
 
 /* An image (PNG, JPEG, BMP or TGA by the extension) through app_write_image() (whole or not at
  * all); prints the error and returns false on failure. */
-bool cli_write_image(const char *path, const uint8_t *rgba, int width, int height);
+bool cli_write_image(const char *path, const uint8_t *rgba, int width, int height, bool alpha);
 
 /* Video output: raw RGBA frames piped into the ffmpeg program. */
 typedef struct cli_video {

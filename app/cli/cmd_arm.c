@@ -195,7 +195,7 @@ int cmd_arm(int argc, char **argv)
                : EXIT_BAD_INPUT;
     if (code == EXIT_OK && scene.scene.muscle_count > 0)
         print_arm(&a, angle, &scene.scene.muscle_poses[0]);
-    if (code == EXIT_OK && !cli_write_image(a.out, scene.pixels, scene.width, scene.height))
+    if (code == EXIT_OK && !cli_write_image(a.out, scene.pixels, scene.width, scene.height, false))
         code = EXIT_OUTPUT;
     cli_scene_close(&scene);
     return code;

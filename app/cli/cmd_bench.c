@@ -68,7 +68,7 @@ static int run_render_bench(const render_bench_args *a, int samples, int mode, d
               cli_scene_time_frames(&scene, 10, a->frames, spf);
     bool written = true;
     if (ok && a->png && mode == 0)
-        ok = cli_scene_read(&scene) && (written = cli_write_image(a->png, scene.pixels, a->width, a->height));
+        ok = cli_scene_read(&scene) && (written = cli_write_image(a->png, scene.pixels, a->width, a->height, false));
     *vertices = app_vertex_count(scene.model);
     *joints = 0;
     for (uint32_t s = 0; s < scene.model->skin_count; s++)

@@ -21,10 +21,13 @@ static const char render_usage[] =
     "  --fps N             frames per second of the sequence (default 30)\n"
     "  --loop              wrap times outside the clip instead of clamping\n"
     "  --track             the camera follows the model (its posed centre) through a sequence\n"
+    "  --turntable [DEG]   the camera turns DEG degrees (default 360) around the model over a sequence\n"
     "  --size WxH          image size in pixels (default 1280x720)\n"
     "  --samples N         multisampling (default 4, 1 = off)\n"
-    "  --camera SPEC       orbit:YAW,PITCH[,DISTANCE] or fly:X,Y,Z,YAW,PITCH, degrees and metres\n"
+    "  --camera SPEC       orbit:YAW,PITCH[,DISTANCE] or fly:X,Y,Z,YAW,PITCH, degrees and metres, or a view\n"
+    "                      along an axis: front, back, left, right (side), top, bottom\n"
     "                      (default orbit:30,15: framed on the posed model over the frames drawn)\n"
+    "  --ortho             orthographic (parallel) projection, framed as the perspective view\n"
     "  -o, --output PATH   OUT.png (.jpg .bmp .tga), a pattern with one %d (frame number), or OUT.mp4\n"
     "                      (.webm .mkv .mov .gif)\n"
     "\n"
@@ -57,8 +60,8 @@ static const char render_usage[] =
 typedef struct render_args {
     const char *path, *clip, *out, *camera, *select, *heatmap, *muscles;
     int width, height, samples;
-    double time, from, to, fps;
-    bool from_set, to_set, fps_set, loop, skeleton_set, track;
+    double time, from, to, fps, turntable;
+    bool from_set, to_set, fps_set, loop, skeleton_set, track, orthographic;
     uint32_t gpu_joint_limit, crowd, threads;
     sinew_render_options options;
 } render_args;
@@ -149,6 +152,20 @@ static int parse_render_args(int argc, char **argv, render_args *a)
             a->loop = true, used = 1;
         if (strcmp(arg, "--track") == 0)
             a->track = true, used = 1;
+        if (strcmp(arg, "--ortho") == 0 || strcmp(arg, "--orthographic") == 0)
+            a->orthographic = true, used = 1;
+        if (strcmp(arg, "--turntable") == 0) {
+            a->turntable = 360.0, used = 1;
+            char *end = NULL;
+            double degrees = i + 1 < argc ? strtod(argv[i + 1], &end) : 0.0;
+            if (end && end != argv[i + 1] && !*end) {
+                if (!isfinite(degrees) || fabs(degrees) > 36000.0) {
+                    cli_error("render: --turntable \"%s\": expected degrees within +-36000", argv[i + 1]);
+                    return EXIT_USAGE;
+                }
+                a->turntable = degrees, used = 2;
+            }
+        }
         if (strcmp(arg, "--muscles") == 0) {
             a->muscles = cli_muscles_arg(argc, argv, &i);
             used = 1;
@@ -243,6 +260,7 @@ int cmd_render(int argc, char **argv)
                            .heatmap = a.heatmap,
                            .loop = a.loop,
                            .skeleton_set = a.skeleton_set,
+                           .orthographic = a.orthographic,
                            .gpu_joint_limit = a.gpu_joint_limit,
                            .muscles = a.muscles,
                            .options = a.options,
@@ -291,8 +309,11 @@ int cmd_render(int argc, char **argv)
         if (!cli_video_open(&video, a.out, a.width, a.height, a.fps))
             code = video.unavailable ? EXIT_UNAVAILABLE : video.write_failed ? EXIT_OUTPUT : EXIT_BAD_INPUT;
     }
+    float yaw0 = scene.camera.yaw;
     for (uint32_t f = 0; f < frames && code == EXIT_OK; f++) {
         double t = from + step * f;
+        if (a.turntable != 0.0) /* a whole turn over the sequence ends where it started: the last frame stops short */
+            scene.camera.yaw = yaw0 + (float)(a.turntable * 3.14159265358979 / 180.0 * f / (frames > 1 ? frames : 1));
         if ((a.track && !scene.crowd.count && !cli_scene_track(&scene, t)) || !cli_scene_draw(&scene, t) ||
             !cli_scene_read(&scene)) {
             code = EXIT_BAD_INPUT;
@@ -311,7 +332,7 @@ int cmd_render(int argc, char **argv)
         if (kind == OUTPUT_PATTERN && app_output_check(path, inputs, 2, &error) != SINEW_OK) {
             cli_error("render: %s", error.message);
             code = EXIT_OUTPUT;
-        } else if (!cli_write_image(path, scene.pixels, a.width, a.height)) {
+        } else if (!cli_write_image(path, scene.pixels, a.width, a.height, a.options.transparent)) {
             code = EXIT_OUTPUT;
         }
     }

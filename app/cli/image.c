@@ -8,10 +8,10 @@
 
 #include "cli.h"
 
-bool cli_write_image(const char *path, const uint8_t *rgba, int width, int height)
+bool cli_write_image(const char *path, const uint8_t *rgba, int width, int height, bool alpha)
 {
     sinew_error error = {0};
-    if (app_write_image(path, rgba, width, height, false, &error) == SINEW_OK)
+    if (app_write_image(path, rgba, width, height, false, alpha, &error) == SINEW_OK)
         return true;
     cli_error("%s", error.message);
     return false;

@@ -93,6 +93,7 @@ int cli_scene_open(cli_scene *s, const cli_scene_desc *d)
     s->camera.pitch = 15.0f * (float)M_PI / 180.0f;
     s->frame_all = true;
     sinew_error error = {0};
+    s->camera.orthographic = d->orthographic;
     if (d->camera && app_camera_parse(d->camera, &s->camera, &s->frame_all, &error) != SINEW_OK) {
         cli_error("%s", error.message);
         if (d->model)
@@ -144,6 +145,7 @@ bool cli_scene_frame_all(cli_scene *s, double from, double to)
     float lo[3], hi[3];
     if (!cli_scene_pose(s, from) || !cli_scene_pose(s, to))
         return false;
+    s->frame_options.grid_height = app_scene_ground(&s->scene, s->renderer, FRAMING_SAMPLES);
     app_scene_bounds(&s->scene, s->renderer, from, to, FRAMING_SAMPLES, s->wrap, lo, hi);
     if (s->crowd.count)
         app_crowd_bounds(&s->crowd, lo, hi);

@@ -61,7 +61,7 @@ bool app_has_extension(const char *path, const char *ext);
 
 /* An RGBA image as RGB PNG, JPEG, BMP or TGA (by the extension; another is refused) through
  * app_output (flip: the rows come bottom first). */
-sinew_result app_write_image(const char *path, const unsigned char *rgba, int width, int height, bool flip,
+sinew_result app_write_image(const char *path, const unsigned char *rgba, int width, int height, bool flip, bool alpha,
                              sinew_error *error);
 
 /* Makes the folders of `path` that are missing (as mkdir -p on its parent). */

@@ -19,6 +19,15 @@ sinew_result app_camera_parse(const char *text, sinew_camera *camera, bool *fram
     if (!text || !camera)
         return sinew_fail(error, SINEW_ERROR_INVALID_ARGUMENT, "app_camera_parse: missing argument");
     double v[5];
+    static const char *const AXES[] = {"front", "back", "right", "left", "top", "bottom", "side"};
+    for (int a = 0; a < 7; a++)
+        if (strcmp(text, AXES[a]) == 0) { /* a view along an axis, framed */
+            camera->mode = SINEW_CAMERA_ORBIT;
+            sinew_camera_look_along(camera, a == 6 ? SINEW_VIEW_RIGHT : (sinew_camera_view_axis)a);
+            if (frame_all)
+                *frame_all = true;
+            return SINEW_OK;
+        }
     if (strncmp(text, "orbit:", 6) == 0) {
         const char *args = text + 6;
         size_t len = strlen(args);
@@ -53,7 +62,9 @@ sinew_result app_camera_parse(const char *text, sinew_camera *camera, bool *fram
         return SINEW_OK;
     }
     return sinew_fail(error, SINEW_ERROR_INVALID_ARGUMENT,
-                      "camera \"%s\": expected orbit:YAW,PITCH[,DISTANCE] or fly:X,Y,Z,YAW,PITCH (degrees)", text);
+                      "camera \"%s\": expected orbit:YAW,PITCH[,DISTANCE], fly:X,Y,Z,YAW,PITCH (degrees) or a view: "
+                      "front, back, left, right (side), top, bottom",
+                      text);
 }
 
 int app_render_option_parse(sinew_render_options *options, int argc, char *const *argv, int i, const char **name_out,

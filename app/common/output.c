@@ -211,28 +211,35 @@ sinew_result app_make_parent_folders(const char *path, sinew_error *error)
     return SINEW_OK;
 }
 
-sinew_result app_write_image(const char *path, const unsigned char *rgba, int width, int height, bool flip,
+sinew_result app_write_image(const char *path, const unsigned char *rgba, int width, int height, bool flip, bool alpha,
                              sinew_error *error)
 {
     app_image_format format = app_image_format_of(path);
     if (format == APP_IMAGE_UNKNOWN || format == APP_VIDEO)
         return sinew_fail(error, SINEW_ERROR_INVALID_ARGUMENT,
                           "%s: an image is written as PNG, JPEG, BMP or TGA (.png, .jpg, .jpeg, .bmp, .tga)", path);
-    /* Alpha is always opaque: RGB keeps the files smaller. */
+    /* RGB unless alpha is asked for (a transparent background) and the format keeps it (PNG, TGA);
+     * an opaque picture is smaller without it */
+    int c = alpha && (format == APP_IMAGE_PNG || format == APP_IMAGE_TGA) ? 4 : 3;
     size_t n = (size_t)width * (size_t)height;
-    unsigned char *rgb = malloc(n * 3 + 1);
+    unsigned char *rgb = malloc(n * (size_t)c + 1);
     if (!rgb)
         return sinew_fail(error, SINEW_ERROR_OUT_OF_MEMORY, "%s: out of memory", path);
-    for (size_t i = 0; i < n; i++)
-        memcpy(&rgb[i * 3], &rgba[i * 4], 3);
+    for (size_t i = 0; i < n; i++) {
+        unsigned char *p = &rgb[i * (size_t)c];
+        memcpy(p, &rgba[i * 4], (size_t)c);
+        if (c == 4 && p[3] > 0 && p[3] < 255) /* edges over a cleared (0, 0, 0, 0) background: un-premultiply */
+            for (int k = 0; k < 3; k++)
+                p[k] = (unsigned char)(p[k] * 255u / p[3] > 255u ? 255u : p[k] * 255u / p[3]);
+    }
     app_output o;
     sinew_result result = app_output_open(&o, path, error);
     if (result == SINEW_OK) {
         stbi_flip_vertically_on_write(flip);
-        int ok = format == APP_IMAGE_PNG    ? stbi_write_png_to_func(image_sink, &o, width, height, 3, rgb, width * 3)
-                 : format == APP_IMAGE_JPEG ? stbi_write_jpg_to_func(image_sink, &o, width, height, 3, rgb, 92)
-                 : format == APP_IMAGE_BMP  ? stbi_write_bmp_to_func(image_sink, &o, width, height, 3, rgb)
-                                            : stbi_write_tga_to_func(image_sink, &o, width, height, 3, rgb);
+        int ok = format == APP_IMAGE_PNG    ? stbi_write_png_to_func(image_sink, &o, width, height, c, rgb, width * c)
+                 : format == APP_IMAGE_JPEG ? stbi_write_jpg_to_func(image_sink, &o, width, height, c, rgb, 92)
+                 : format == APP_IMAGE_BMP  ? stbi_write_bmp_to_func(image_sink, &o, width, height, c, rgb)
+                                            : stbi_write_tga_to_func(image_sink, &o, width, height, c, rgb);
         stbi_flip_vertically_on_write(0);
         if (!ok) {
             app_output_abort(&o);

@@ -407,6 +407,13 @@ bool app_scene_bounds(app_scene *s, sinew_renderer *renderer, double from, doubl
     return false;
 }
 
+float app_scene_ground(app_scene *s, sinew_renderer *renderer, int samples)
+{
+    float lo[3], hi[3];
+    double end = s->clip ? s->clip->duration : 0.0;
+    return app_scene_bounds(s, renderer, 0.0, end, samples, SINEW_WRAP_CLAMP, lo, hi) ? lo[1] : 0.0f;
+}
+
 void app_scene_close(app_scene *s)
 {
     app_player_close(&s->player);

@@ -99,6 +99,9 @@ sinew_frame app_scene_frame(const app_scene *scene, const sinew_camera *camera, 
  * from == to); false when nothing has extent (lo/hi then hold -1..1). Leaves the scene posed at `to`. */
 bool app_scene_bounds(app_scene *scene, sinew_renderer *renderer, double from, double to, int samples, sinew_wrap wrap,
                       float lo[3], float hi[3]);
+/* Where the ground grid goes: the lowest posed point over the whole clip (the rest pose
+ * without one), `samples` times; 0 when nothing has extent. Leaves the scene posed at the clip's end. */
+float app_scene_ground(app_scene *scene, sinew_renderer *renderer, int samples);
 void app_scene_close(app_scene *scene);
 
 /* What the scene holds, for a status line: every mesh instance's vertices (0 for a skeleton

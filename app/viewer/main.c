@@ -277,7 +277,10 @@ static void frame_all(viewer *v)
 {
     float lo[3], hi[3];
     int w = gtk_widget_get_width(v->area), h = gtk_widget_get_height(v->area);
-    if (!v->renderer || !app_scene_bounds(&v->scene, v->renderer, v->time, v->time, 1, SINEW_WRAP_CLAMP, lo, hi))
+    if (!v->renderer)
+        return;
+    v->options.grid_height = app_scene_ground(&v->scene, v->renderer, 60); /* as `sinew render` places it */
+    if (!app_scene_bounds(&v->scene, v->renderer, v->time, v->time, 1, SINEW_WRAP_CLAMP, lo, hi))
         return;
     if (v->crowd_on && crowd_ready(v))
         app_crowd_bounds(&v->crowd, lo, hi);
@@ -307,7 +310,7 @@ static void save_screenshot(viewer *v, int width, int height)
     glPixelStorei(GL_PACK_ALIGNMENT, 1);
     glReadPixels(0, 0, width, height, GL_RGBA, GL_UNSIGNED_BYTE, rgba);
     sinew_error error = {0};
-    if (app_write_image(v->screenshot, rgba, width, height, true, &error) != SINEW_OK) {
+    if (app_write_image(v->screenshot, rgba, width, height, true, false, &error) != SINEW_OK) {
         fprintf(stderr, "sinew-view: cannot write the screenshot: %s\n", error.message);
         v->exit_code = 4; /* as sinew's: an output that cannot be written */
     }

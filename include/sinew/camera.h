@@ -35,7 +35,19 @@ typedef struct sinew_camera {
     float near_plane;   /* 0 means automatic from the distance / scene size */
     float far_plane;    /* 0 means automatic */
     float scene_radius; /* set by frame-all; used for automatic clip planes and speeds */
+    bool orthographic;  /* parallel projection: the view's height is what the perspective view shows
+                         * at the orbit distance (so switching keeps the framing) */
 } sinew_camera;
+
+/* Views along the axes, as Blender's numpad and f3d's keys give them. */
+typedef enum sinew_camera_view_axis {
+    SINEW_VIEW_FRONT = 0, /* from +Z, looking along -Z (a model facing +Z shows its face) */
+    SINEW_VIEW_BACK = 1,  /* from -Z */
+    SINEW_VIEW_RIGHT = 2, /* from +X (the model's left side) */
+    SINEW_VIEW_LEFT = 3,  /* from -X */
+    SINEW_VIEW_TOP = 4,   /* from above (pitch 89°, the limit) */
+    SINEW_VIEW_BOTTOM = 5 /* from below */
+} sinew_camera_view_axis;
 
 /* An orbit camera at yaw 0, pitch 0.3, distance 3 around the origin. */
 sinew_camera sinew_camera_default(void);
@@ -47,6 +59,10 @@ void sinew_camera_basis(const sinew_camera *camera, float forward[3], float righ
 /* Orbit mode: target = box centre, distance so the box's bounding sphere fits the
  * vertical and horizontal field of view at `aspect` (width / height). Keeps yaw/pitch. */
 void sinew_camera_frame(sinew_camera *camera, const float min[3], const float max[3], float aspect);
+
+/* Turns the camera to look along an axis: sets yaw and pitch only (orbit: around the same
+ * target, at the same distance; frame-all afterwards to fit). */
+void sinew_camera_look_along(sinew_camera *camera, sinew_camera_view_axis axis);
 
 /* Switches mode keeping the eye, the direction and the pivot distance. */
 void sinew_camera_set_mode(sinew_camera *camera, sinew_camera_mode mode);

@@ -62,13 +62,16 @@ typedef struct sinew_render_options {
     bool joint_axes;        /* each joint's local X/Y/Z axes (red/green/blue) */
     bool joint_names;       /* joint names next to the dots */
     bool normals;           /* vertex normals as short lines */
-    bool grid;              /* ground grid on y = 0 */
+    bool grid;              /* ground grid, at grid_height */
     bool axes;              /* world X/Y/Z axes at the origin */
     bool muscles;           /* the frame's muscles, Gouraud-shaded in their colours */
     int32_t selected_joint; /* node index to highlight, -1 for none */
     int32_t heatmap_joint;  /* node index whose skin weights colour the mesh, -1 for none */
     float background[3];    /* 0..1 RGB as displayed (sRGB) */
+    bool transparent;       /* the background is cleared to (0, 0, 0, 0): edges come out premultiplied */
     float normal_length;    /* world units; 0 = 3% of the scene radius */
+    float grid_height;      /* world y of the ground grid (0 by default; sinew's apps put it under the
+                             * model's lowest point over the frames they frame) */
     sinew_skinning skinning;
     sinew_skin_method skin_method; /* linear blend (the default) or dual quaternions, GPU and CPU alike */
     const bool *hidden_instances;  /* instance_count flags, true = hidden; NULL = all shown */
@@ -79,9 +82,9 @@ sinew_render_options sinew_render_options_default(void);
 /* Display switches by name, for settings files and command lines. Names: materials,
  * lighting, wireframe, meshes, skeleton, joint-axes, joint-names, normals, grid, axes,
  * muscles (booleans: on/off, true/false, yes/no, 1/0; a NULL value means on), shading
- * (phong|gouraud|flat|pbr), skinning (gpu|cpu), skinning-method (lbs|dqs), background (RRGGBB, #RRGGBB, or r,g,b in
- * 0..1), normal-length (world units, 0 = automatic). Joint choices are node indices and are set directly. An unknown
- * name or a bad value gives SINEW_ERROR_INVALID_ARGUMENT. */
+ * (phong|gouraud|flat|pbr), skinning (gpu|cpu), skinning-method (lbs|dqs), background (RRGGBB, #RRGGBB, r,g,b in
+ * 0..1, or transparent), normal-length (world units, 0 = automatic). Joint choices are node indices and are set
+ * directly. An unknown name or a bad value gives SINEW_ERROR_INVALID_ARGUMENT. */
 sinew_result sinew_render_option_set(sinew_render_options *options, const char *name, const char *value,
                                      sinew_error *error);
 /* The value as sinew_render_option_set() reads it ("on", "phong", "#2a2b30", ...). */

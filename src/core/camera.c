@@ -103,6 +103,16 @@ void sinew_camera_set_mode(sinew_camera *camera, sinew_camera_mode mode)
     camera->mode = mode;
 }
 
+void sinew_camera_look_along(sinew_camera *camera, sinew_camera_view_axis axis)
+{
+    static const float YAW[] = {0.0f, 180.0f, 90.0f, -90.0f, 0.0f, 0.0f},
+                       PITCH[] = {0.0f, 0.0f, 0.0f, 0.0f, 89.0f, -89.0f};
+    if ((unsigned)axis > SINEW_VIEW_BOTTOM)
+        return;
+    camera->yaw = glm_rad(YAW[axis]);
+    camera->pitch = clamp_pitch(glm_rad(PITCH[axis]));
+}
+
 void sinew_camera_rotate(sinew_camera *camera, float delta_yaw, float delta_pitch)
 {
     camera->yaw = fmodf(camera->yaw + delta_yaw, 2.0f * GLM_PIf);
@@ -167,6 +177,15 @@ void sinew_camera_projection(const sinew_camera *camera, float aspect, sinew_mat
     float far_plane = camera->far_plane > 0.0f ? camera->far_plane : reach * 8.0f + radius * 8.0f;
     float near_plane = camera->near_plane > 0.0f ? camera->near_plane : far_plane * 1e-4f;
     mat4 p;
-    glm_perspective(fov_of(camera), aspect > 0.0f ? aspect : 1.0f, near_plane, far_plane, p);
+    aspect = aspect > 0.0f ? aspect : 1.0f;
+    if (camera->orthographic) {
+        /* what the perspective view shows at the pivot distance; planes either side of the eye,
+         * so nothing behind it is cut when the view is parallel */
+        float pivot = camera->distance > 0.0f ? camera->distance : radius;
+        float half = pivot * tanf(0.5f * fov_of(camera));
+        glm_ortho(-half * aspect, half * aspect, -half, half, -far_plane, far_plane, p);
+    } else {
+        glm_perspective(fov_of(camera), aspect, near_plane, far_plane, p);
+    }
     memcpy(projection->m, p, sizeof projection->m);
 }

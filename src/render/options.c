@@ -124,10 +124,12 @@ sinew_result sinew_render_option_set(sinew_render_options *o, const char *name, 
                           "skinning-method: expected lbs (linear blend) or dqs (dual quaternion), not \"%s\"", value);
     }
     if (strcmp(name, "background") == 0) {
+        if (strcasecmp(value, "transparent") == 0 || strcasecmp(value, "none") == 0)
+            return o->transparent = true, SINEW_OK;
         if (parse_color(value, o->background))
-            return SINEW_OK;
+            return o->transparent = false, SINEW_OK;
         return sinew_fail(error, SINEW_ERROR_INVALID_ARGUMENT,
-                          "background: expected RRGGBB, #RRGGBB or r,g,b in 0..1, not \"%s\"", value);
+                          "background: expected RRGGBB, #RRGGBB, r,g,b in 0..1 or transparent, not \"%s\"", value);
     }
     if (strcmp(name, "normal-length") == 0) {
         char *end = NULL;
@@ -156,6 +158,8 @@ sinew_result sinew_render_option_get(const sinew_render_options *o, const char *
         snprintf(out, size, "%s", o->skinning == SINEW_SKINNING_CPU ? "cpu" : "gpu");
     else if (strcmp(name, "skinning-method") == 0)
         snprintf(out, size, "%s", o->skin_method == SINEW_SKIN_DUAL_QUATERNION ? "dqs" : "lbs");
+    else if (strcmp(name, "background") == 0 && o->transparent)
+        snprintf(out, size, "transparent");
     else if (strcmp(name, "background") == 0)
         snprintf(out, size, "#%02x%02x%02x", (unsigned)lroundf(o->background[0] * 255.0f),
                  (unsigned)lroundf(o->background[1] * 255.0f), (unsigned)lroundf(o->background[2] * 255.0f));

@@ -81,9 +81,10 @@ void overlay_add_grid(overlay_list *list, const overlay_frame *frame)
         float x = cx + i * spacing, z = cz + i * spacing;
         const uint8_t *cx_color = fabsf(x) < spacing * 0.5f ? major : minor;
         const uint8_t *cz_color = fabsf(z) < spacing * 0.5f ? major : minor;
-        float a[3] = {x, 0.0f, cz - extent}, b[3] = {x, 0.0f, cz + extent};
+        float y = frame->options->grid_height;
+        float a[3] = {x, y, cz - extent}, b[3] = {x, y, cz + extent};
         push_line(list, a, b, cx_color);
-        float c[3] = {cx - extent, 0.0f, z}, d[3] = {cx + extent, 0.0f, z};
+        float c[3] = {cx - extent, y, z}, d[3] = {cx + extent, y, z};
         push_line(list, c, d, cz_color);
     }
 }

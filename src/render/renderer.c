@@ -1169,7 +1169,10 @@ sinew_result sinew_renderer_draw(sinew_renderer *r, const sinew_frame *frame, si
 
     const float *bg = frame->options->background;
     glViewport(0, 0, frame->width, frame->height);
-    glClearColor(bg[0], bg[1], bg[2], 1.0f);
+    if (frame->options->transparent) /* black: multisampled edges resolve to premultiplied colours */
+        glClearColor(0.0f, 0.0f, 0.0f, 0.0f);
+    else
+        glClearColor(bg[0], bg[1], bg[2], 1.0f);
     glClearDepth(1.0);
     glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
     glEnable(GL_DEPTH_TEST);

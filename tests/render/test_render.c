@@ -554,6 +554,97 @@ static void test_output_formats_and_folders(void **state)
     free(bytes);
 }
 
+/* A transparent background: PNG with alpha, the corners clear and the model opaque. */
+static void test_transparent_background(void **state)
+{
+    (void)state;
+    char fixture[1024], out[1024];
+    fixture_path("pbr_spheres.glb", fixture, sizeof fixture);
+    tmp_path("transparent.png", out, sizeof out);
+    run_result r = RUN("render", fixture, "--size", "160x120", "--background", "transparent", "--no-grid", "--camera",
+                       "front", "-o", out);
+    assert_int_equal(r.code, 0);
+    run_free(&r);
+    int w = 0, h = 0, channels = 0;
+    unsigned char *px = stbi_load(out, &w, &h, &channels, 4);
+    assert_non_null(px);
+    assert_int_equal(channels, 4);
+    assert_int_equal(px[3], 0);                             /* top left */
+    assert_int_equal(px[((h - 1) * w + w - 1) * 4 + 3], 0); /* bottom right */
+    long opaque = 0, clear = 0;
+    for (int i = 0; i < w * h; i++)
+        opaque += px[i * 4 + 3] == 255, clear += px[i * 4 + 3] == 0;
+    printf("transparent background: %ld opaque, %ld clear of %d pixels\n", opaque, clear, w * h);
+    assert_true(opaque > w * h / 20 && clear > w * h / 3);
+    stbi_image_free(px);
+}
+
+/* Views along the axes and the orthographic projection: the front view of the spheres (one
+ * row along X at y = 0) puts them on the middle row; from the top they are still in a row;
+ * a parallel projection draws the outer spheres as large as the inner ones, which the
+ * perspective view does not. A turntable sequence turns the camera: its frames differ. */
+static void test_camera_views_and_turntable(void **state)
+{
+    (void)state;
+    char fixture[1024];
+    fixture_path("pbr_spheres.glb", fixture, sizeof fixture);
+    image front = RENDER("view-front.png", fixture, "--size", "320x120", "--camera", "front", "--no-grid", "--ortho",
+                         "--background", "000000", "--no-lighting", "--materials", "off");
+    /* in the middle row, the runs of lit pixels: four spheres of equal width */
+    int runs[8], run_count = 0, width = 0, y = front.height / 2;
+    for (int x = 0; x <= front.width; x++) {
+        bool lit = x < front.width && front.rgb[(y * front.width + x) * 3] > 40;
+        if (lit)
+            width++;
+        else if (width) {
+            if (run_count < 8)
+                runs[run_count++] = width;
+            width = 0;
+        }
+    }
+    printf("front, orthographic: %d spheres on the middle row, widths %d %d %d %d\n", run_count, runs[0], runs[1],
+           runs[2], runs[3]);
+    assert_int_equal(run_count, 4);
+    assert_true(abs(runs[0] - runs[1]) <= 1 && abs(runs[0] - runs[3]) <= 1);
+    free_image(&front);
+    /* the twist tube stands along +Y: tall from the front, round from the top */
+    char tube[1024];
+    fixture_path("twist_tube.glb", tube, sizeof tube);
+    const char *views[2] = {"front", "top"};
+    int box[2][2];
+    for (int v = 0; v < 2; v++) {
+        image im = RENDER("view-tube.png", tube, "--size", "160x160", "--camera", views[v], "--no-grid", "--background",
+                          "000000", "--no-lighting", "--materials", "off");
+        int x0 = im.width, x1 = -1, y0 = im.height, y1 = -1;
+        for (int row = 0; row < im.height; row++)
+            for (int col = 0; col < im.width; col++)
+                if (im.rgb[(row * im.width + col) * 3] > 40) {
+                    x0 = col < x0 ? col : x0, x1 = col > x1 ? col : x1;
+                    y0 = row < y0 ? row : y0, y1 = row > y1 ? row : y1;
+                }
+        box[v][0] = x1 - x0 + 1, box[v][1] = y1 - y0 + 1;
+        free_image(&im);
+    }
+    printf("twist tube: %dx%d pixels from the front, %dx%d from the top\n", box[0][0], box[0][1], box[1][0], box[1][1]);
+    assert_true(box[0][1] > 3 * box[0][0]);
+    assert_true(abs(box[1][0] - box[1][1]) <= 2);
+    long differing = 0;
+
+    char pattern[1024], first[1100], later[1100];
+    tmp_path("turntable/f%02d.png", pattern, sizeof pattern);
+    run_result r = RUN("render", fixture, "--size", "80x60", "--turntable", "--from", "0", "--to", "0.3", "--fps", "10",
+                       "-o", pattern);
+    assert_int_equal(r.code, 0);
+    run_free(&r);
+    tmp_path("turntable/f00.png", first, sizeof first);
+    tmp_path("turntable/f02.png", later, sizeof later);
+    image a = load_image(first), b = load_image(later);
+    assert_false(same_picture(&a, &b, &differing));
+    printf("turntable: frame 0 vs frame 2 (180 degrees on): %ld pixels differ\n", differing);
+    free_image(&a);
+    free_image(&b);
+}
+
 static void expect_failure(int code, const char *message, const char *const *args)
 {
     run_result r = run_sinew(NULL, args);
@@ -658,6 +749,8 @@ int main(void)
         cmocka_unit_test(test_dual_quaternion_skinning),
         cmocka_unit_test(test_crowd),
         cmocka_unit_test(test_output_formats_and_folders),
+        cmocka_unit_test(test_transparent_background),
+        cmocka_unit_test(test_camera_views_and_turntable),
         cmocka_unit_test(test_gpu_joint_limit_falls_back_to_cpu),
         cmocka_unit_test(test_animated_frames_differ_static_do_not),
         cmocka_unit_test(test_bone_only_file_shows_bones),
