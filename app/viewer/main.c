@@ -164,6 +164,10 @@ void view_show_time(viewer *v)
     gtk_label_set_text(GTK_LABEL(v->time_label), text);
     v->updating = true;
     gtk_range_set_value(GTK_RANGE(v->scale), v->time);
+    if (v->frame_spin) {
+        gtk_spin_button_set_range(GTK_SPIN_BUTTON(v->frame_spin), 0.0, floor(view_duration(v) * rate + 1e-6));
+        gtk_spin_button_set_value(GTK_SPIN_BUTTON(v->frame_spin), floor(v->time * rate + 1e-6));
+    }
     v->updating = false;
 }
 
@@ -196,7 +200,16 @@ static void advance(viewer *v, double dt)
         t = fmod(t, d);
         if (t < 0.0)
             t += d;
-    } else if (v->mode == PLAY_ONCE) {
+    } else if (v->mode == PLAY_ALL_CLIPS && (t >= d || t < 0.0) && v->scene.model->clip_count > 1) {
+        /* the next clip (the previous when reversed), wrapping; the list shows which */
+        uint32_t n = v->scene.model->clip_count;
+        int32_t at = v->scene.clip ? (int32_t)(v->scene.clip - v->scene.model->clips) : 0;
+        int32_t next = (int32_t)(((uint32_t)at + (t >= d ? 1u : n - 1u)) % n);
+        double over = t >= d ? t - d : -t;
+        gtk_drop_down_set_selected(GTK_DROP_DOWN(v->clip_list), (guint)next); /* on_clip plays it from 0 */
+        d = view_duration(v);
+        t = t >= 0.0 ? fmin(over, d) : fmax(d - over, 0.0);
+    } else if (v->mode == PLAY_ONCE || v->mode == PLAY_ALL_CLIPS) {
         if (t >= d || t <= 0.0) {
             t = t >= d ? d : 0.0;
             set_playing(v, false);
@@ -211,6 +224,7 @@ static void advance(viewer *v, double dt)
 }
 
 static void show_status(viewer *v);
+static gboolean on_key(GtkEventControllerKey *controller, guint key, guint code, GdkModifierType state, gpointer data);
 
 static gboolean on_tick(GtkWidget *widget, GdkFrameClock *clock, gpointer data)
 {
@@ -233,6 +247,16 @@ static gboolean on_tick(GtkWidget *widget, GdkFrameClock *clock, gpointer data)
     if (v->status_due) {
         v->status_due = false;
         show_status(v);
+    }
+    if (v->press && !v->load) { /* --press: once the file is open, before the screenshot is drawn */
+        char **names = g_strsplit(v->press, ",", -1);
+        v->press = NULL;
+        for (int i = 0; names[i]; i++) {
+            guint key = gdk_keyval_from_name(g_strstrip(names[i]));
+            if (key == GDK_KEY_VoidSymbol || key == 0 || !on_key(NULL, key, 0, 0, v))
+                fprintf(stderr, "sinew-view: --press: \"%s\" is no key bound to an action\n", names[i]);
+        }
+        g_strfreev(names);
     }
     if (v->playing) {
         if (v->last_frame)
@@ -299,22 +323,103 @@ void view_toggle_crowd(viewer *v, bool on)
     view_redraw(v);
 }
 
+/* Writes the frame to v->screenshot: --screenshot (a failure sets the exit status, 4 as
+ * sinew's) or F12 (the path goes to the log and stdout, a failure to the error bar). */
 static void save_screenshot(viewer *v, int width, int height)
 {
+    bool numbered = v->screenshot == v->shot_path;
     unsigned char *rgba = malloc((size_t)width * height * 4);
-    if (!rgba) {
-        fprintf(stderr, "sinew-view: %s: out of memory for the screenshot\n", v->screenshot);
-        v->exit_code = 4;
-        return;
-    }
-    glPixelStorei(GL_PACK_ALIGNMENT, 1);
-    glReadPixels(0, 0, width, height, GL_RGBA, GL_UNSIGNED_BYTE, rgba);
     sinew_error error = {0};
-    if (app_write_image(v->screenshot, rgba, width, height, true, false, &error) != SINEW_OK) {
+    if (!rgba) {
+        sinew_fail(&error, SINEW_ERROR_OUT_OF_MEMORY, "%s: out of memory for the screenshot", v->screenshot);
+    } else {
+        glPixelStorei(GL_PACK_ALIGNMENT, 1);
+        glReadPixels(0, 0, width, height, GL_RGBA, GL_UNSIGNED_BYTE, rgba);
+        app_write_image(v->screenshot, rgba, width, height, true, false, &error);
+        free(rgba);
+    }
+    if (error.kind == SINEW_OK && numbered) {
+        char line[4200];
+        snprintf(line, sizeof line, "screenshot: %s", v->shot_path);
+        panels_log(v, line);
+        printf("sinew-view: wrote %s\n", v->shot_path);
+        fflush(stdout);
+    } else if (error.kind != SINEW_OK && numbered) {
+        view_show_error(v, error.message);
+    } else if (error.kind != SINEW_OK) {
         fprintf(stderr, "sinew-view: cannot write the screenshot: %s\n", error.message);
         v->exit_code = 4; /* as sinew's: an output that cannot be written */
     }
-    free(rgba);
+}
+
+/* F12: the next free FILE-NNN.png in --screenshot-dir, else the Pictures folder, else home;
+ * written at the next draw. */
+static void take_numbered_screenshot(viewer *v)
+{
+    if (v->screenshot) /* one is waiting for the next draw */
+        return;
+    const char *dir = v->screenshot_dir ? v->screenshot_dir : g_get_user_special_dir(G_USER_DIRECTORY_PICTURES);
+    if (!dir || !g_file_test(dir, G_FILE_TEST_IS_DIR))
+        dir = v->screenshot_dir ? v->screenshot_dir : g_get_home_dir();
+    char *base = v->path ? g_path_get_basename(v->path) : g_strdup("sinew-demo");
+    char *dot = strrchr(base, '.');
+    if (dot && dot != base)
+        *dot = 0;
+    for (int n = 1; n < 100000; n++) {
+        snprintf(v->shot_path, sizeof v->shot_path, "%s/%s-%03d.png", dir, base, n);
+        if (!g_file_test(v->shot_path, G_FILE_TEST_EXISTS))
+            break;
+    }
+    g_free(base);
+    v->screenshot = v->shot_path;
+    view_redraw(v);
+}
+
+/* The key cheat sheet: every action with its key as bound now, and the mouse. */
+static void fill_help(viewer *v)
+{
+    GString *text = g_string_new("<b>Keys</b> (settings.ini [keys] rebinds them; h hides this)\n");
+    int half = (ACTION_COUNT + 1) / 2;
+    for (int a = 0; a < half; a++) {
+        g_string_append_printf(text, "<tt>%-10s %-16s", gdk_keyval_name(v->keys[a].key), v->keys[a].action);
+        if (a + half < ACTION_COUNT)
+            g_string_append_printf(text, "   %-10s %s", gdk_keyval_name(v->keys[a + half].key),
+                                   v->keys[a + half].action);
+        g_string_append(text, "</tt>");
+        g_string_append_c(text, '\n');
+    }
+    g_string_append(text,
+                    "\n<b>Mouse</b>\n<tt>drag      </tt> orbit (fly: look)\n<tt>shift-drag</tt> pan "
+                    "(also middle-drag)\n<tt>wheel     </tt> zoom\n<tt>Ctrl+O    </tt> open a file (or drop one)");
+    gtk_label_set_markup(GTK_LABEL(v->help), text->str);
+    g_string_free(text, TRUE);
+}
+
+/* A view along an axis (keypad 1, 3, 7 as in Blender), or back to the opening view (R). */
+static void look_along(viewer *v, int axis)
+{
+    if (axis < 0) {
+        v->camera.yaw = 30.0f * (float)G_PI / 180.0f;
+        v->camera.pitch = 15.0f * (float)G_PI / 180.0f;
+        v->camera.orthographic = false;
+        sinew_camera_set_mode(&v->camera, SINEW_CAMERA_ORBIT);
+    } else {
+        sinew_camera_look_along(&v->camera, (sinew_camera_view_axis)axis);
+    }
+    if (v->camera.mode == SINEW_CAMERA_ORBIT)
+        frame_all(v);
+    panels_options_changed(v);
+    view_redraw(v);
+}
+
+static void open_neighbour(viewer *v, int step)
+{
+    char *next = v->path ? view_neighbour_file(v->path, step) : NULL;
+    if (next)
+        view_open_file(v, next, NULL);
+    else
+        panels_log(v, v->path ? "no other file sinew reads in this folder" : "no file open (the demo is built in)");
+    g_free(next);
 }
 
 static gboolean close_window(gpointer data)
@@ -374,7 +479,7 @@ static gboolean on_render(GtkGLArea *area, GdkGLContext *context, gpointer data)
                                  leaves its row without an allocation for that frame, so GTK skips
                                  drawing it ("Trying to snapshot GtkBox without a current allocation") */
     }
-    if (v->screenshot && !v->load) { /* of the file asked for, once it is open (or has failed) */
+    if (v->screenshot && !v->load && !v->press) { /* of the file asked for, once open (or failed) and keyed */
         save_screenshot(v, width, height);
         v->screenshot = NULL;
         if (v->quit_after_screenshot) /* not from inside the draw: when GTK is idle */
@@ -435,6 +540,15 @@ static void on_clip(GObject *dropdown, GParamSpec *pspec, gpointer data)
     int32_t clip = index < v->scene.model->clip_count ? (int32_t)index : APP_CLIP_NONE;
     if (index <= v->scene.model->clip_count && view_use_clip(v, clip))
         set_time(v, 0.0);
+}
+
+static void on_frame_entry(GtkSpinButton *spin, gpointer data)
+{
+    viewer *v = data;
+    if (v->updating)
+        return;
+    set_playing(v, false);
+    set_time(v, gtk_spin_button_get_value(spin) / view_frame_rate(v));
 }
 
 static void on_speed(GtkSpinButton *spin, gpointer data)
@@ -536,6 +650,32 @@ static gboolean on_key(GtkEventControllerKey *controller, guint key, guint code,
     }
     case ACTION_CROWD:
         view_toggle_crowd(v, !v->crowd_on);
+        return TRUE;
+    case ACTION_HELP:
+        fill_help(v);
+        gtk_widget_set_visible(v->help, !gtk_widget_get_visible(v->help));
+        return TRUE;
+    case ACTION_SCREENSHOT:
+        take_numbered_screenshot(v);
+        return TRUE;
+    case ACTION_VIEW_FRONT:
+    case ACTION_VIEW_SIDE:
+    case ACTION_VIEW_TOP:
+        look_along(v, action == ACTION_VIEW_FRONT  ? SINEW_VIEW_FRONT
+                      : action == ACTION_VIEW_SIDE ? SINEW_VIEW_RIGHT
+                                                   : SINEW_VIEW_TOP);
+        return TRUE;
+    case ACTION_RESET_VIEW:
+        look_along(v, -1);
+        return TRUE;
+    case ACTION_ORTHOGRAPHIC:
+        v->camera.orthographic = !v->camera.orthographic;
+        panels_options_changed(v);
+        view_redraw(v);
+        return TRUE;
+    case ACTION_PREVIOUS_FILE:
+    case ACTION_NEXT_FILE:
+        open_neighbour(v, action == ACTION_NEXT_FILE ? 1 : -1);
         return TRUE;
     case ACTION_SKIN_METHOD:
         settings_option_changed(v, "skinning-method");
@@ -725,7 +865,11 @@ static void on_activate(GtkApplication *app, gpointer data)
     v->error_bar = gtk_box_new(GTK_ORIENTATION_HORIZONTAL, 6);
     gtk_widget_add_css_class(v->error_bar, "sinew-error");
     GtkCssProvider *css = gtk_css_provider_new();
-    gtk_css_provider_load_from_data(css, ".sinew-error { background: #c01c28; color: white; }", -1);
+    gtk_css_provider_load_from_data(css,
+                                    ".sinew-error { background: #c01c28; color: white; }\n"
+                                    ".sinew-help { background: rgba(20, 22, 26, 0.82); color: #e8e8e8; padding: 10px; "
+                                    "border-radius: 6px; }",
+                                    -1);
     gtk_style_context_add_provider_for_display(gdk_display_get_default(), GTK_STYLE_PROVIDER(css),
                                                GTK_STYLE_PROVIDER_PRIORITY_APPLICATION);
     g_object_unref(css);
@@ -775,8 +919,19 @@ static void on_activate(GtkApplication *app, gpointer data)
     g_signal_connect(keys, "key-pressed", G_CALLBACK(on_key), v);
     g_signal_connect(keys, "key-released", G_CALLBACK(on_key_released), v);
     gtk_widget_add_controller(v->window, keys);
+    GtkWidget *overlay = gtk_overlay_new(); /* the key cheat sheet (H) over the view */
+    gtk_overlay_set_child(GTK_OVERLAY(overlay), v->area);
+    v->help = gtk_label_new("");
+    gtk_widget_add_css_class(v->help, "sinew-help");
+    gtk_widget_set_halign(v->help, GTK_ALIGN_START);
+    gtk_widget_set_valign(v->help, GTK_ALIGN_START);
+    gtk_widget_set_margin_start(v->help, 12);
+    gtk_widget_set_margin_top(v->help, 12);
+    gtk_widget_set_can_target(v->help, FALSE);
+    gtk_widget_set_visible(v->help, FALSE);
+    gtk_overlay_add_overlay(GTK_OVERLAY(overlay), v->help);
     GtkWidget *paned = gtk_paned_new(GTK_ORIENTATION_HORIZONTAL);
-    gtk_paned_set_start_child(GTK_PANED(paned), v->area);
+    gtk_paned_set_start_child(GTK_PANED(paned), overlay);
     GtkWidget *panels = v->panels = panels_create(v);
     gtk_paned_set_end_child(GTK_PANED(paned), panels);
     gtk_paned_set_resize_end_child(GTK_PANED(paned), FALSE);
@@ -799,6 +954,12 @@ static void on_activate(GtkApplication *app, gpointer data)
     gtk_box_append(GTK_BOX(bar), v->scale);
     v->time_label = gtk_label_new("");
     gtk_box_append(GTK_BOX(bar), v->time_label);
+    gtk_box_append(GTK_BOX(bar), gtk_label_new("Frame"));
+    v->frame_spin = gtk_spin_button_new_with_range(0.0, 1.0, 1.0);
+    gtk_spin_button_set_digits(GTK_SPIN_BUTTON(v->frame_spin), 0);
+    gtk_widget_set_tooltip_text(v->frame_spin, "Go to a frame (at the clip's key rate)");
+    g_signal_connect(v->frame_spin, "value-changed", G_CALLBACK(on_frame_entry), v);
+    gtk_box_append(GTK_BOX(bar), v->frame_spin);
     gtk_box_append(GTK_BOX(box), bar);
 
     GtkWidget *controls = gtk_box_new(GTK_ORIENTATION_HORIZONTAL, 6);
@@ -817,7 +978,7 @@ static void on_activate(GtkApplication *app, gpointer data)
     GtkWidget *reverse = gtk_toggle_button_new_with_label("Reverse");
     g_signal_connect(reverse, "toggled", G_CALLBACK(on_reverse), v);
     gtk_box_append(GTK_BOX(controls), reverse);
-    static const char *const modes[] = {"Loop", "Once", "Ping-pong", NULL};
+    static const char *const modes[] = {"Loop", "Once", "Ping-pong", "All clips", NULL};
     GtkWidget *mode = gtk_drop_down_new_from_strings(modes);
     g_signal_connect(mode, "notify::selected", G_CALLBACK(on_mode), v);
     gtk_box_append(GTK_BOX(controls), mode);
@@ -853,7 +1014,7 @@ static void on_activate(GtkApplication *app, gpointer data)
 
 static const char usage[] =
     "usage: sinew-view [FILE] [--clip C] [--time T] [--camera SPEC] [display options] [--size WxH]\n"
-    "                  [--crowd N] [--screenshot OUT.png] [--quit | --quit-after S]\n"
+    "                  [--crowd N] [--watch] [--screenshot OUT.png] [--quit | --quit-after S]\n"
     "\n"
     "Opens FILE (any format sinew reads, or a .sinew; without one, the built-in demo humanoid) and plays its\n"
     "clip. Open… or drop a file on the window to open another; a file that fails shows its error above the\n"
@@ -862,9 +1023,12 @@ static const char usage[] =
     "--clip none);\n"
     "drag rotates, shift-drag or middle-drag pans, the wheel zooms, F frames all; Tab switches to the fly\n"
     "camera (W/A/S/D, Q/E, drag to look) and back. Keys 1-9, 0 and M toggle the display switches (see the\n"
-    "Display panel), K switches linear blend / dual-quaternion skinning, C a crowd of the model. Settings: "
-    "~/.config/sinew/settings.ini ([display], [window], [files], [keys]); the\n"
-    "options below override them for the run.\n"
+    "Display panel), Shift+H hides the meshes, K switches linear blend / dual-quaternion skinning, C a crowd of\n"
+    "the model. H shows every key; F12 saves a numbered screenshot; keypad 1/3/7 look from the front, side and\n"
+    "top, keypad 5 switches to a parallel projection, R resets the view; Page Up/Down open the previous/next\n"
+    "file in the folder; the clip list's play mode \"All clips\" plays them in turn. Settings:\n"
+    "~/.config/sinew/settings.ini ([display], [window], [files], [keys]); the options below override them for\n"
+    "the run.\n"
     "\n"
     "  --clip C, --time T, --camera orbit:YAW,PITCH[,DIST] | fly:X,Y,Z,YAW,PITCH, --select JOINT,\n"
     "  --heatmap JOINT and the display options (--skeleton, --no-grid, --wireframe, --shading flat, ...)\n"
@@ -873,7 +1037,10 @@ static const char usage[] =
     "  --panel NAME          the side panel's page shown first: hierarchy, display or log\n"
     "  --crowd N             shows N characters of the model on a grid, each at its own time (key C\n"
     "                        toggles a crowd of 100, or of N)\n"
+    "  --watch               reloads FILE when it changes on disk (keeping the clip, time and camera)\n"
     "  --screenshot OUT.png  writes the first frame drawn (the drawing area only)\n"
+    "  --screenshot-dir DIR  where F12 writes FILE-001.png, ... (default: the Pictures folder, else home)\n"
+    "  --press KEYS          presses keys (GDK names, comma-separated: h,KP_1,F12) once FILE is open\n"
     "  --quit                leaves after the screenshot\n"
     "  --quit-after S        leaves S seconds after the window opens (playing meanwhile)\n" APP_IMPORT_OPTIONS_HELP
     "exit status (as sinew's): 0 ok, 1 usage error, 2 FILE failed to open (with --screenshot), 3 no OpenGL 3.3,\n"
@@ -918,6 +1085,8 @@ int main(int argc, char **argv)
             return 0;
         } else if (strcmp(argv[i], "--quit") == 0) {
             v.quit_after_screenshot = true;
+        } else if (strcmp(argv[i], "--watch") == 0) {
+            v.watch = true;
         } else if (argv[i][0] == '-' && i + 1 < argc) {
             const char *o = argv[i], *value = argv[++i];
             bool frame = true;
@@ -931,6 +1100,10 @@ int main(int argc, char **argv)
                 }
             } else if (strcmp(o, "--screenshot") == 0) {
                 v.screenshot = value;
+            } else if (strcmp(o, "--screenshot-dir") == 0) {
+                v.screenshot_dir = value;
+            } else if (strcmp(o, "--press") == 0) {
+                v.press = value;
             } else if (strcmp(o, "--quit-after") == 0) {
                 if (!app_parse_number(value, 0.0, 86400.0, &v.quit_after) || !(v.quit_after > 0.0)) {
                     fprintf(stderr, "sinew-view: bad --quit-after \"%s\": expected seconds in (0, 86400]\n", value);
@@ -991,6 +1164,9 @@ int main(int argc, char **argv)
         g_free(v.recent[i]);
     app_crowd_close(&v.crowd);
     sinew_jobs_free(v.jobs);
+    if (v.monitor)
+        g_object_unref(v.monitor);
+    g_free(v.path);
     free(v.key_times);
     app_scene_close(&v.scene);
     g_free(v.settings_path);

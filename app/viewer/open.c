@@ -239,6 +239,96 @@ static void remember_file(viewer *v, const char *path)
     view_recent_changed(v);
 }
 
+/* --watch: a change to the file (written in place, or replaced by rename as editors and
+ * exporters do) reopens it a moment later, keeping the clip, the time and the camera. */
+static gboolean reload_file(gpointer data)
+{
+    viewer *v = data;
+    v->reload_timer = 0;
+    if (!v->path || v->closing)
+        return G_SOURCE_REMOVE;
+    panels_log(v, "the file changed on disk: reopening it");
+    v->start_time = v->time;
+    v->camera_given = true; /* keep the view */
+    view_open_file(v, v->path, v->scene.clip ? v->scene.clip->name : "none");
+    return G_SOURCE_REMOVE;
+}
+
+static void on_file_changed(GFileMonitor *monitor, GFile *file, GFile *other, GFileMonitorEvent event, gpointer data)
+{
+    (void)monitor, (void)file, (void)other;
+    viewer *v = data;
+    if (event != G_FILE_MONITOR_EVENT_CHANGES_DONE_HINT && event != G_FILE_MONITOR_EVENT_CREATED &&
+        event != G_FILE_MONITOR_EVENT_RENAMED && event != G_FILE_MONITOR_EVENT_MOVED_IN)
+        return;
+    if (v->reload_timer)
+        g_source_remove(v->reload_timer);
+    v->reload_timer = g_timeout_add(300, reload_file, v);
+}
+
+static void watch_file(viewer *v)
+{
+    if (v->monitor) {
+        g_file_monitor_cancel(v->monitor);
+        g_object_unref(v->monitor);
+        v->monitor = NULL;
+    }
+    if (!v->watch || !v->path)
+        return;
+    GFile *file = g_file_new_for_path(v->path);
+    v->monitor = g_file_monitor_file(file, G_FILE_MONITOR_WATCH_MOVES, NULL, NULL);
+    g_object_unref(file);
+    if (v->monitor)
+        g_signal_connect(v->monitor, "changed", G_CALLBACK(on_file_changed), v);
+}
+
+static const char *const FILE_EXTENSIONS[] = {".fbx",     ".gltf", ".glb", ".dae", ".sinew", ".bvh",  ".x",   ".smd",
+                                              ".md5mesh", ".iqm",  ".obj", ".3ds", ".ply",   ".ms3d", ".b3d", ".md2",
+                                              ".md3",     ".mdl",  ".lwo", ".ase", ".ac",    ".off",  ".stl", ".blend"};
+
+static bool readable_name(const char *name)
+{
+    for (size_t i = 0; i < sizeof FILE_EXTENSIONS / sizeof FILE_EXTENSIONS[0]; i++)
+        if (app_has_extension(name, FILE_EXTENSIONS[i]))
+            return true;
+    return false;
+}
+
+static int by_name(const void *a, const void *b)
+{
+    return g_utf8_collate(*(char *const *)a, *(char *const *)b);
+}
+
+char *view_neighbour_file(const char *path, int step)
+{
+    char *folder = g_path_get_dirname(path), *base = g_path_get_basename(path), *found = NULL;
+    GDir *dir = g_dir_open(folder, 0, NULL);
+    GPtrArray *names = g_ptr_array_new_with_free_func(g_free);
+    for (const char *name; dir && (name = g_dir_read_name(dir));) {
+        char *full = g_build_filename(folder, name, NULL);
+        if (readable_name(name) && g_file_test(full, G_FILE_TEST_IS_REGULAR))
+            g_ptr_array_add(names, g_strdup(name));
+        g_free(full);
+    }
+    if (dir)
+        g_dir_close(dir);
+    qsort(names->pdata, names->len, sizeof(char *), by_name);
+    guint at = names->len;
+    for (guint i = 0; i < names->len; i++)
+        if (strcmp(names->pdata[i], base) == 0)
+            at = i;
+    if (names->len > 1 || (names->len == 1 && at == names->len)) {
+        guint next = at == names->len
+                         ? (step > 0 ? 0 : names->len - 1)
+                         : (guint)((at + names->len + (guint)(step > 0 ? 1 : names->len - 1)) % names->len);
+        found = g_build_filename(folder, (const char *)names->pdata[next], NULL);
+    }
+    g_ptr_array_unref(names);
+    g_free(folder);
+    g_free(base);
+    return found;
+}
+
 static gboolean load_finished(gpointer data)
 {
     view_load *l = data;
@@ -261,6 +351,11 @@ static gboolean load_finished(gpointer data)
         if (opened) {
             view_show_error(v, NULL);
             remember_file(v, l->path);
+            if (!v->path || strcmp(v->path, l->path) != 0) {
+                g_free(v->path);
+                v->path = g_strdup(l->path);
+                watch_file(v);
+            }
         }
     } else if (l->result != SINEW_ERROR_CANCELLED) {
         view_show_error(v, l->error.message);

@@ -5,7 +5,8 @@
  *   [display]  every display option by its `sinew render` name: grid=on, shading=flat, ...
  *   [window]   width, height
  *   [files]    last-folder (where Open… starts), recent (the last 10 files opened)
- *   [keys]     action=key, keys as GDK names them (space, Left, F1, a, ...)
+ *   [keys]     action=key, keys as GDK names them (space, Left, F1, a, ...): the keys rebound
+ *              (earlier versions wrote every key; meshes=h, H's old default, is read as unset)
  */
 #include <stdio.h>
 #include <stdlib.h>
@@ -32,11 +33,20 @@ static const view_key default_keys[ACTION_COUNT] = {
     [ACTION_JOINT_NAMES] = {"joint-names", "joint-names", "9", 0},
     [ACTION_JOINT_AXES] = {"joint-axes", "joint-axes", "0", 0},
     [ACTION_MUSCLES] = {"muscles", "muscles", "m", 0},
-    [ACTION_MESHES] = {"meshes", "meshes", "h", 0},
+    [ACTION_MESHES] = {"meshes", "meshes", "H", 0},
     [ACTION_SKIN_METHOD] = {"skinning-method", NULL, "k", 0},
     [ACTION_CROWD] = {"crowd", NULL, "c", 0},
     [ACTION_PREVIOUS_KEY] = {"previous-key", NULL, "Down", 0},
     [ACTION_NEXT_KEY] = {"next-key", NULL, "Up", 0},
+    [ACTION_HELP] = {"help", NULL, "h", 0},
+    [ACTION_SCREENSHOT] = {"screenshot", NULL, "F12", 0},
+    [ACTION_VIEW_FRONT] = {"view-front", NULL, "KP_1", 0},
+    [ACTION_VIEW_SIDE] = {"view-side", NULL, "KP_3", 0},
+    [ACTION_VIEW_TOP] = {"view-top", NULL, "KP_7", 0},
+    [ACTION_ORTHOGRAPHIC] = {"orthographic", NULL, "KP_5", 0},
+    [ACTION_RESET_VIEW] = {"reset-view", NULL, "r", 0},
+    [ACTION_PREVIOUS_FILE] = {"previous-file", NULL, "Page_Up", 0},
+    [ACTION_NEXT_FILE] = {"next-file", NULL, "Page_Down", 0},
     [ACTION_FORWARD] = {"fly-forward", NULL, "w", 0},
     [ACTION_BACK] = {"fly-back", NULL, "s", 0},
     [ACTION_LEFT] = {"fly-left", NULL, "a", 0},
@@ -108,6 +118,11 @@ void settings_load(viewer *v)
     }
     for (int a = 0; a < ACTION_COUNT; a++) {
         char *name = g_key_file_get_string(file, "keys", v->keys[a].action, NULL);
+        /* files of earlier versions hold every key; an old default moved since is not the user's choice */
+        if (name && a == ACTION_MESHES && strcmp(name, "h") == 0) {
+            g_free(name);
+            continue;
+        }
         if (!name)
             continue;
         guint key = gdk_keyval_from_name(name);
@@ -142,8 +157,12 @@ bool settings_save(viewer *v)
         recent++;
     if (recent)
         g_key_file_set_string_list(file, "files", "recent", (const char *const *)v->recent, (gsize)recent);
+    /* only the keys the user rebound: the others follow the defaults of later versions */
     for (int a = 0; a < ACTION_COUNT; a++)
-        g_key_file_set_string(file, "keys", v->keys[a].action, gdk_keyval_name(v->keys[a].key));
+        if (v->keys[a].key == gdk_keyval_from_name(default_keys[a].default_key))
+            g_key_file_remove_key(file, "keys", v->keys[a].action, NULL);
+        else
+            g_key_file_set_string(file, "keys", v->keys[a].action, gdk_keyval_name(v->keys[a].key));
     char *dir = g_path_get_dirname(v->settings_path);
     g_mkdir_with_parents(dir, 0700);
     g_free(dir);
@@ -160,8 +179,11 @@ bool settings_save(viewer *v)
 int settings_action_for_key(const viewer *v, guint key)
 {
     guint lower = gdk_keyval_to_lower(key);
+    for (int a = 0; a < ACTION_COUNT; a++) /* as bound first (Shift+H and H differ), then by the lower case */
+        if (v->keys[a].key == key)
+            return a;
     for (int a = 0; a < ACTION_COUNT; a++)
-        if (v->keys[a].key == key || v->keys[a].key == lower)
+        if (v->keys[a].key == lower)
             return a;
     return -1;
 }

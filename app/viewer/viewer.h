@@ -12,7 +12,7 @@
 #define FRAME_RATE 30.0 /* frame numbers and Left/Right steps when the clip's keys show no rate */
 #define MAX_TICKS 400
 
-typedef enum play_mode { PLAY_LOOP, PLAY_ONCE, PLAY_PING_PONG } play_mode;
+typedef enum play_mode { PLAY_LOOP, PLAY_ONCE, PLAY_PING_PONG, PLAY_ALL_CLIPS } play_mode;
 
 /* Actions that have a key (settings file [keys]: action = key name as GDK names it). */
 /* clang-format off */
@@ -20,7 +20,9 @@ typedef enum view_action {
     ACTION_PLAY, ACTION_PREVIOUS_FRAME, ACTION_NEXT_FRAME, ACTION_FIRST, ACTION_LAST, ACTION_FRAME_ALL,
     ACTION_CAMERA_MODE, ACTION_MATERIALS, ACTION_LIGHTING, ACTION_SHADING, ACTION_WIREFRAME, ACTION_SKELETON,
     ACTION_NORMALS, ACTION_GRID, ACTION_AXES, ACTION_JOINT_NAMES, ACTION_JOINT_AXES, ACTION_MUSCLES, ACTION_MESHES,
-    ACTION_SKIN_METHOD, ACTION_CROWD, ACTION_PREVIOUS_KEY, ACTION_NEXT_KEY,
+    ACTION_SKIN_METHOD, ACTION_CROWD, ACTION_PREVIOUS_KEY, ACTION_NEXT_KEY, ACTION_HELP, ACTION_SCREENSHOT,
+    ACTION_VIEW_FRONT, ACTION_VIEW_SIDE, ACTION_VIEW_TOP, ACTION_ORTHOGRAPHIC, ACTION_RESET_VIEW, ACTION_PREVIOUS_FILE,
+    ACTION_NEXT_FILE,
     ACTION_FORWARD, ACTION_BACK, ACTION_LEFT, ACTION_RIGHT, ACTION_DOWN, ACTION_UP, ACTION_COUNT
 } view_action;
 /* clang-format on */
@@ -41,6 +43,15 @@ typedef struct viewer {
     GtkWidget *shading_list;
     GtkWidget *skin_method_list; /* linear blend | dual quaternion */
     const char *screenshot, *select, *heatmap;
+    char shot_path[4096];       /* F12: the numbered file being written (screenshot points here) */
+    const char *screenshot_dir; /* --screenshot-dir: where F12 writes; NULL: Pictures, else home */
+    const char *press;          /* --press: key names pressed once the file is open, comma-separated */
+    GtkWidget *help;            /* the key cheat sheet over the view (H) */
+    GtkWidget *frame_spin;      /* the frame number, typed or stepped */
+    char *path;                 /* the file shown (NULL: the demo): next/previous file, --watch */
+    bool watch;                 /* --watch: reload the file when it changes on disk */
+    GFileMonitor *monitor;
+    guint reload_timer;
     bool quit_after_screenshot, camera_given;
     app_scene scene; /* the model shown, its clip, muscles and pose */
     sinew_renderer *renderer;
@@ -111,6 +122,8 @@ typedef struct view_load view_load;
 void view_open_file(viewer *v, const char *path, const char *clip_name);
 /* Asks the open under way to stop; `wait`: also waits for its thread and drops it (leaving). */
 void view_cancel_open(viewer *v, bool wait);
+/* The file beside the current one (by name, formats sinew reads), `step` +1 or -1, wrapping; NULL when none. */
+char *view_neighbour_file(const char *path, int step);
 
 /* panels.c */
 GtkWidget *panels_create(viewer *v);

@@ -228,7 +228,9 @@ static void test_settings_round_trip(void **state)
     char dae[4096], ini[4096];
     demo_file(dae, sizeof dae);
     settings_file(ini, sizeof ini);
-    const char *text = "[display]\ngrid=off\nshading=flat\n\n[window]\nwidth=900\nheight=620\n\n[keys]\nplay=p\n";
+    /* meshes=h: what earlier versions wrote for every user (h is the key cheat sheet now) */
+    const char *text =
+        "[display]\ngrid=off\nshading=flat\n\n[window]\nwidth=900\nheight=620\n\n[keys]\nplay=p\nmeshes=h\n";
     write_file(ini, text, strlen(text));
     /* the file's settings are used */
     compare_with_render(
@@ -241,7 +243,8 @@ static void test_settings_round_trip(void **state)
     assert_non_null(strstr(saved, "shading=flat"));
     assert_non_null(strstr(saved, "play=p"));
     assert_non_null(strstr(saved, "width=900"));
-    assert_non_null(strstr(saved, "next-frame=Right")); /* every binding written out */
+    assert_null(strstr(saved, "next-frame=")); /* only bindings the user changed are written */
+    assert_null(strstr(saved, "meshes=h"));
     free(saved);
     /* the command line overrides them for its run only */
     compare_with_render((const char *const[]){dae, "--clip", "walk", "--time", "0.5", "--grid", NULL},
@@ -296,6 +299,45 @@ static void test_widgets_drawn_while_playing(void **state)
     free(err);
 }
 
+/* Keys pressed in the window (--press): keypad 1 looks from the front as `sinew render
+ * --camera front`, keypad 5 makes it parallel as --ortho; F12 writes FILE-001.png, then
+ * FILE-002.png, into --screenshot-dir; an unbound key name is reported. */
+static void test_keys(void **state)
+{
+    (void)state;
+    if (!xvfb)
+        skip();
+    char dae[4096];
+    demo_file(dae, sizeof dae);
+    compare_with_render((const char *const[]){dae, "--clip", "walk", "--time", "0.5", "--press", "KP_1", NULL},
+                        (const char *const[]){dae, "--clip", "walk", "--time", "0.5", "--camera", "front", NULL});
+    compare_with_render(
+        (const char *const[]){dae, "--clip", "walk", "--time", "0.5", "--press", "KP_7,KP_5", NULL},
+        (const char *const[]){dae, "--clip", "walk", "--time", "0.5", "--camera", "top", "--ortho", NULL});
+    char dir[4096], first[4200], second[4200];
+    tmp_path("view-shots", dir, sizeof dir);
+    mkdir(dir, 0700);
+    snprintf(first, sizeof first, "%s/humanoid-001.png", dir);
+    snprintf(second, sizeof second, "%s/humanoid-002.png", dir);
+    unlink(first);
+    unlink(second);
+    char *err = NULL;
+    for (int run = 0; run < 2; run++) {
+        assert_int_equal(run_view((const char *const[]){dae, "--screenshot-dir", dir, "--press", "F12,nokey",
+                                                        "--quit-after", "2", NULL},
+                                  &err),
+                         0);
+        assert_non_null(strstr(err, "--press: \"nokey\""));
+        free(err);
+    }
+    int w = 0, h = 0, c = 0;
+    unsigned char *px = stbi_load(first, &w, &h, &c, 3);
+    assert_non_null(px);
+    assert_true(w > 100 && h > 100);
+    stbi_image_free(px);
+    assert_int_equal(access(second, F_OK), 0);
+}
+
 /* --version answers without opening a window. */
 static void test_version(void **state)
 {
@@ -332,7 +374,7 @@ int main(void)
         cmocka_unit_test(test_screenshot_equals_headless_render), cmocka_unit_test(test_version),
         cmocka_unit_test(test_broken_file_keeps_the_demo),        cmocka_unit_test(test_time_past_the_demo_clip),
         cmocka_unit_test(test_hanging_file_keeps_the_demo),       cmocka_unit_test(test_settings_round_trip),
-        cmocka_unit_test(test_widgets_drawn_while_playing),
+        cmocka_unit_test(test_widgets_drawn_while_playing),       cmocka_unit_test(test_keys),
     };
     return cmocka_run_group_tests(tests, start_xvfb, stop_xvfb);
 }
