@@ -28,6 +28,7 @@ static const char render_usage[] =
     "                      along an axis: front, back, left, right (side), top, bottom\n"
     "                      (default orbit:30,15: framed on the posed model over the frames drawn)\n"
     "  --ortho             orthographic (parallel) projection, framed as the perspective view\n"
+    "  --up y|z            which of the file's axes is up (default y; z for files modelled Z up that do not say so)\n"
     "  -o, --output PATH   OUT.png (.jpg .bmp .tga), a pattern with one %d (frame number), or OUT.mp4\n"
     "                      (.webm .mkv .mov .gif)\n"
     "\n"
@@ -58,7 +59,7 @@ static const char render_usage[] =
 #define MAX_FRAMES 100000
 
 typedef struct render_args {
-    const char *path, *clip, *out, *camera, *select, *heatmap, *muscles;
+    const char *path, *clip, *out, *camera, *select, *heatmap, *muscles, *up;
     int width, height, samples;
     double time, from, to, fps, turntable;
     bool from_set, to_set, fps_set, loop, skeleton_set, track, orthographic;
@@ -103,7 +104,13 @@ static int parse_value_option(int argc, char **argv, int i, render_args *a, bool
         a->out = v;
     else if (strcmp(o, "--camera") == 0)
         a->camera = v;
-    else if (strcmp(o, "--select") == 0)
+    else if (strcmp(o, "--up") == 0) {
+        a->up = v;
+        if (strcasecmp(v, "y") != 0 && strcasecmp(v, "z") != 0) {
+            cli_error("render: --up \"%s\": expected y or z", v);
+            *bad = true;
+        }
+    } else if (strcmp(o, "--select") == 0)
         a->select = v;
     else if (strcmp(o, "--heatmap") == 0)
         a->heatmap = v;
@@ -261,6 +268,7 @@ int cmd_render(int argc, char **argv)
                            .loop = a.loop,
                            .skeleton_set = a.skeleton_set,
                            .orthographic = a.orthographic,
+                           .up = a.up,
                            .gpu_joint_limit = a.gpu_joint_limit,
                            .muscles = a.muscles,
                            .options = a.options,

@@ -111,6 +111,8 @@ int cli_scene_open(cli_scene *s, const cli_scene_desc *d)
         cli_scene_close(s);
         return EXIT_BAD_INPUT;
     }
+    if (d->up)
+        app_scene_set_up_axis(&s->scene, d->up); /* checked when parsed */
     /* Nothing to see but a skeleton: show it unless asked not to. */
     if (app_vertex_count(s->model) == 0 && !d->skeleton_set)
         s->frame_options.skeleton = true;

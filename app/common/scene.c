@@ -353,6 +353,20 @@ sinew_result app_scene_use_clip(app_scene *s, int32_t index, sinew_error *error)
     return SINEW_OK;
 }
 
+bool app_scene_set_up_axis(app_scene *s, const char *axis)
+{
+    bool z = axis && (strcmp(axis, "z") == 0 || strcmp(axis, "Z") == 0);
+    if (!z && !(axis && (strcmp(axis, "y") == 0 || strcmp(axis, "Y") == 0)))
+        return false;
+    s->z_up = z;
+    /* Z up to Y up: (x, y, z) -> (x, z, -y), column-major */
+    static const sinew_mat4 Y_UP = {{1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1}};
+    static const sinew_mat4 Z_UP = {{1, 0, 0, 0, 0, 0, -1, 0, 0, 1, 0, 0, 0, 0, 0, 1}};
+    s->root = z ? Z_UP : Y_UP;
+    s->posed_at = NAN;
+    return true;
+}
+
 sinew_result app_scene_pose(app_scene *s, double time, sinew_wrap wrap, sinew_error *error)
 {
     if (time == s->posed_at && wrap == s->posed_wrap)
@@ -361,8 +375,8 @@ sinew_result app_scene_pose(app_scene *s, double time, sinew_wrap wrap, sinew_er
     if (!isfinite(time) || fabs(time) > APP_MAX_SECONDS)
         return sinew_fail(error, SINEW_ERROR_INVALID_ARGUMENT, "time %g s is out of range (at most %g s either way)",
                           time, APP_MAX_SECONDS);
-    sinew_result result =
-        sinew_player_update(s->player.player, (float)time, wrap, NULL, s->worlds, m->node_count, error);
+    sinew_result result = sinew_player_update(s->player.player, (float)time, wrap, s->z_up ? &s->root : NULL, s->worlds,
+                                              m->node_count, error);
     if (result == SINEW_OK && s->muscle_rig)
         result =
             sinew_muscle_rig_update(s->muscle_rig, s->worlds, m->node_count, s->muscle_poses, s->muscle_count, error);

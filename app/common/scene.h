@@ -79,6 +79,8 @@ typedef struct app_scene {
     uint32_t muscle_count;
     char notes[APP_SCENE_NOTES][SINEW_ERROR_MESSAGE_SIZE + 96];
     int note_count;
+    bool z_up;       /* the file's +Z is shown up (app_scene_set_up_axis) */
+    sinew_mat4 root; /* what places the roots: identity, or Z up turned to Y up */
 } app_scene;
 
 /* The model desc asks for: desc->path read (import options from desc), or a built-in one. */
@@ -88,6 +90,10 @@ sinew_result app_load_model(const app_scene_desc *desc, sinew_model **out, sinew
  * Errors: the import's; SINEW_ERROR_DATA for a clip the file lacks ("no clip ..."); the
  * muscle file's with APP_MUSCLES_REQUIRED. On failure the scene is empty (nothing to close). */
 sinew_result app_scene_open(app_scene *scene, const app_scene_desc *desc, sinew_error *error);
+/* Which of the file's axes is shown up: "y" (as sinew reads every file: the importers turn
+ * what the file says to Y up) or "z", for files that say nothing and are modelled Z up (a
+ * turn of -90 degrees about X). False for another name. */
+bool app_scene_set_up_axis(app_scene *scene, const char *axis);
 /* Plays clip `index` (-1: the rest pose) from its start. On failure the clip stays. */
 sinew_result app_scene_use_clip(app_scene *scene, int32_t index, sinew_error *error);
 /* Poses at `time` (world matrices, then the muscles); once per time and wrap. */

@@ -18,6 +18,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <strings.h>
 
 #include <epoxy/gl.h>
 #include <gtk/gtk.h>
@@ -1037,6 +1038,7 @@ static const char usage[] =
     "  --panel NAME          the side panel's page shown first: hierarchy, display or log\n"
     "  --crowd N             shows N characters of the model on a grid, each at its own time (key C\n"
     "                        toggles a crowd of 100, or of N)\n"
+    "  --up y|z              which of the file's axes is up (z: files modelled Z up that do not say so)\n"
     "  --watch               reloads FILE when it changes on disk (keeping the clip, time and camera)\n"
     "  --screenshot OUT.png  writes the first frame drawn (the drawing area only)\n"
     "  --screenshot-dir DIR  where F12 writes FILE-001.png, ... (default: the Pictures folder, else home)\n"
@@ -1104,6 +1106,12 @@ int main(int argc, char **argv)
                 v.screenshot_dir = value;
             } else if (strcmp(o, "--press") == 0) {
                 v.press = value;
+            } else if (strcmp(o, "--up") == 0) {
+                if (strcasecmp(value, "y") != 0 && strcasecmp(value, "z") != 0) {
+                    fprintf(stderr, "sinew-view: bad --up \"%s\": y or z\n", value);
+                    return 1;
+                }
+                v.up = value;
             } else if (strcmp(o, "--quit-after") == 0) {
                 if (!app_parse_number(value, 0.0, 86400.0, &v.quit_after) || !(v.quit_after > 0.0)) {
                     fprintf(stderr, "sinew-view: bad --quit-after \"%s\": expected seconds in (0, 86400]\n", value);

@@ -78,6 +78,8 @@ static bool adopt_scene(viewer *v, app_scene *incoming)
     app_crowd_close(&v->crowd); /* of the old model: remade for the new one when shown */
     app_scene_close(&v->scene);
     v->scene = *incoming;
+    if (v->up)
+        app_scene_set_up_axis(&v->scene, v->up);
     memset(incoming, 0, sizeof *incoming); /* the viewer's now */
     free(v->hidden);
     v->hidden = hidden;

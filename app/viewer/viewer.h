@@ -46,6 +46,7 @@ typedef struct viewer {
     char shot_path[4096];       /* F12: the numbered file being written (screenshot points here) */
     const char *screenshot_dir; /* --screenshot-dir: where F12 writes; NULL: Pictures, else home */
     const char *press;          /* --press: key names pressed once the file is open, comma-separated */
+    const char *up;             /* --up y|z: the axis shown up */
     GtkWidget *help;            /* the key cheat sheet over the view (H) */
     GtkWidget *frame_spin;      /* the frame number, typed or stepped */
     char *path;                 /* the file shown (NULL: the demo): next/previous file, --watch */

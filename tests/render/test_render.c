@@ -610,11 +610,12 @@ static void test_camera_views_and_turntable(void **state)
     /* the twist tube stands along +Y: tall from the front, round from the top */
     char tube[1024];
     fixture_path("twist_tube.glb", tube, sizeof tube);
-    const char *views[2] = {"front", "top"};
-    int box[2][2];
-    for (int v = 0; v < 2; v++) {
-        image im = RENDER("view-tube.png", tube, "--size", "160x160", "--camera", views[v], "--no-grid", "--background",
-                          "000000", "--no-lighting", "--materials", "off");
+    /* and with --up z, the file's Z is up: the tube lies along -Z, round from the front */
+    const char *views[3] = {"front", "top", "front"}, *ups[3] = {"y", "y", "z"};
+    int box[3][2];
+    for (int v = 0; v < 3; v++) {
+        image im = RENDER("view-tube.png", tube, "--size", "160x160", "--camera", views[v], "--up", ups[v], "--no-grid",
+                          "--background", "000000", "--no-lighting", "--materials", "off");
         int x0 = im.width, x1 = -1, y0 = im.height, y1 = -1;
         for (int row = 0; row < im.height; row++)
             for (int col = 0; col < im.width; col++)
@@ -625,9 +626,11 @@ static void test_camera_views_and_turntable(void **state)
         box[v][0] = x1 - x0 + 1, box[v][1] = y1 - y0 + 1;
         free_image(&im);
     }
-    printf("twist tube: %dx%d pixels from the front, %dx%d from the top\n", box[0][0], box[0][1], box[1][0], box[1][1]);
+    printf("twist tube: %dx%d pixels from the front, %dx%d from the top, %dx%d from the front with --up z\n", box[0][0],
+           box[0][1], box[1][0], box[1][1], box[2][0], box[2][1]);
     assert_true(box[0][1] > 3 * box[0][0]);
     assert_true(abs(box[1][0] - box[1][1]) <= 2);
+    assert_true(abs(box[2][0] - box[2][1]) <= 2);
     long differing = 0;
 
     char pattern[1024], first[1100], later[1100];
