@@ -112,16 +112,8 @@ struct cJSON *cli_muscle_pose_json(const sinew_muscle_pose *pose);
  * all); prints the error and returns false on failure. */
 bool cli_write_image(const char *path, const uint8_t *rgba, int width, int height, bool alpha);
 
-/* Video output: raw RGBA frames piped into the ffmpeg program. */
-typedef struct cli_video {
-    const char *path;
-    int fd;
-    int pid;
-    size_t frame_bytes;
-    bool unavailable;  /* open failed because ffmpeg is not installed */
-    bool write_failed; /* the output could not be written (exit EXIT_OUTPUT) */
-    app_output output; /* the temporary file ffmpeg writes */
-} cli_video;
+/* Video output: app_video (raw RGBA frames piped into the ffmpeg program), errors printed. */
+typedef app_video cli_video;
 
 bool cli_video_open(cli_video *video, const char *path, int width, int height, double fps);
 bool cli_video_write(cli_video *video, const uint8_t *rgba);

@@ -61,6 +61,26 @@ bool app_has_extension(const char *path, const char *ext);
 
 /* An RGBA image as RGB PNG, JPEG, BMP or TGA (by the extension; another is refused) through
  * app_output (flip: the rows come bottom first). */
+/* Video: raw RGBA frames piped into the ffmpeg program, which writes a temporary file beside
+ * the target, put in place by app_video_close(). */
+typedef struct app_video {
+    const char *path;
+    int fd;
+    int pid;
+    size_t frame_bytes;
+    bool unavailable;  /* open failed because ffmpeg is not installed */
+    bool write_failed; /* the output could not be written (exit EXIT_OUTPUT) */
+    app_output output; /* the temporary file ffmpeg writes */
+} app_video;
+
+/* Starts ffmpeg for `path` (MP4, WebM, MKV, MOV, GIF by the extension); `flip`: frames come
+ * bottom row first (glReadPixels). SIGPIPE should be ignored: a dead ffmpeg is a write error. */
+sinew_result app_video_open(app_video *video, const char *path, int width, int height, double fps, bool flip,
+                            sinew_error *error);
+sinew_result app_video_write(app_video *video, const uint8_t *rgba, sinew_error *error);
+/* Waits for ffmpeg and puts the video in place when `keep` and ffmpeg succeeded; else removes it. */
+sinew_result app_video_close(app_video *video, bool keep, sinew_error *error);
+
 sinew_result app_write_image(const char *path, const unsigned char *rgba, int width, int height, bool flip, bool alpha,
                              sinew_error *error);
 

@@ -10,7 +10,9 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <signal.h>
 #include <sys/stat.h>
+#include <sys/wait.h>
 #include <unistd.h>
 
 #include <stb_image_write.h>
@@ -250,4 +252,136 @@ sinew_result app_write_image(const char *path, const unsigned char *rgba, int wi
     }
     free(rgb);
     return result;
+}
+
+/* ---- video through ffmpeg ---- */
+
+/* The ffmpeg program on PATH, or false. */
+static bool find_program(const char *name, char *out, size_t size)
+{
+    const char *path = getenv("PATH");
+    if (!path)
+        return false;
+    while (*path) {
+        size_t len = strcspn(path, ":");
+        if (len > 0 && (size_t)snprintf(out, size, "%.*s/%s", (int)len, path, name) < size && access(out, X_OK) == 0)
+            return true;
+        path += len + (path[len] == ':');
+    }
+    return false;
+}
+
+sinew_result app_video_open(app_video *video, const char *path, int width, int height, double fps, bool flip,
+                            sinew_error *error)
+{
+    memset(video, 0, sizeof *video);
+    video->fd = -1;
+    video->path = path;
+    char program[4096];
+    if (!find_program("ffmpeg", program, sizeof program)) {
+        video->unavailable = true;
+        return sinew_fail(error, SINEW_ERROR_IO,
+                          "%s: writing video needs the ffmpeg program, which is not installed (Debian: apt-get "
+                          "install ffmpeg); or write PNG frames with -o DIR/frame%%04d.png",
+                          path);
+    }
+    /* ffmpeg writes a temporary file beside the target, renamed into place when it succeeds */
+    if (app_output_open(&video->output, path, error) != SINEW_OK) {
+        video->write_failed = true;
+        return error ? error->kind : SINEW_ERROR_IO;
+    }
+    app_output_release(&video->output);
+    const char *target = app_output_temp_path(&video->output);
+    int fds[2];
+    if (pipe(fds) != 0) {
+        app_output_abort(&video->output);
+        return sinew_fail(error, SINEW_ERROR_IO, "%s: cannot start ffmpeg: %s", path, strerror(errno));
+    }
+    char size[32], rate[32];
+    snprintf(size, sizeof size, "%dx%d", width, height);
+    snprintf(rate, sizeof rate, "%.6g", fps);
+    pid_t pid = fork();
+    if (pid < 0) {
+        close(fds[0]);
+        close(fds[1]);
+        app_output_abort(&video->output);
+        return sinew_fail(error, SINEW_ERROR_IO, "%s: cannot start ffmpeg: %s", path, strerror(errno));
+    }
+    if (pid == 0) {
+        dup2(fds[0], STDIN_FILENO);
+        close(fds[0]);
+        close(fds[1]);
+        /* yuv420p (what players expect) needs even sizes: pad odd ones by a pixel. A GIF gets a
+         * palette made for its frames instead; MP4 and MOV their index at the front. */
+        bool gif = app_has_extension(path, "gif");
+        bool faststart =
+            app_has_extension(path, "mp4") || app_has_extension(path, "mov") || app_has_extension(path, "m4v");
+        char *args[32] = {program, "-hide_banner", "-loglevel", "error", "-y", "-f", "rawvideo", "-pix_fmt",
+                          "rgba",  "-s",           size,        "-r",    rate, "-i", "-"};
+        int n = 15;
+        if (gif) {
+            args[n++] = "-vf";
+            args[n++] = flip ? "vflip,split[a][b];[a]palettegen[p];[b][p]paletteuse"
+                             : "split[a][b];[a]palettegen[p];[b][p]paletteuse";
+        } else {
+            args[n++] = "-vf";
+            args[n++] = flip ? "vflip,pad=ceil(iw/2)*2:ceil(ih/2)*2" : "pad=ceil(iw/2)*2:ceil(ih/2)*2";
+            args[n++] = "-pix_fmt";
+            args[n++] = "yuv420p";
+        }
+        if (faststart) {
+            args[n++] = "-movflags";
+            args[n++] = "+faststart";
+        }
+        args[n++] = (char *)target;
+        args[n] = NULL;
+        execv(program, args);
+        _exit(127);
+    }
+    close(fds[0]);
+    video->fd = fds[1];
+    video->pid = pid;
+    video->frame_bytes = (size_t)width * (size_t)height * 4;
+    return SINEW_OK;
+}
+
+sinew_result app_video_write(app_video *video, const uint8_t *rgba, sinew_error *error)
+{
+    size_t done = 0;
+    while (done < video->frame_bytes) {
+        ssize_t n = write(video->fd, rgba + done, video->frame_bytes - done);
+        if (n < 0 && errno == EINTR)
+            continue;
+        if (n <= 0)
+            return sinew_fail(error, SINEW_ERROR_IO, "%s: ffmpeg stopped taking frames (%s)", video->path,
+                              strerror(errno));
+        done += (size_t)n;
+    }
+    return SINEW_OK;
+}
+
+sinew_result app_video_close(app_video *video, bool keep, sinew_error *error)
+{
+    if (video->fd > 0)
+        close(video->fd);
+    video->fd = -1;
+    int status = 0;
+    bool done = video->pid > 0 && waitpid(video->pid, &status, 0) == video->pid && WIFEXITED(status) &&
+                WEXITSTATUS(status) == 0;
+    if (!keep) {
+        app_output_abort(&video->output);
+        return SINEW_ERROR_CANCELLED; /* nothing to say: the caller chose not to keep it */
+    }
+    if (!done) {
+        app_output_abort(&video->output);
+        video->write_failed = true;
+        return sinew_fail(error, SINEW_ERROR_IO, "%s: ffmpeg failed (%s %d); nothing was written", video->path,
+                          WIFEXITED(status) ? "exit status" : "signal",
+                          WIFEXITED(status) ? WEXITSTATUS(status) : WTERMSIG(status));
+    }
+    if (app_output_commit(&video->output, error) != SINEW_OK) {
+        video->write_failed = true;
+        return error ? error->kind : SINEW_ERROR_IO;
+    }
+    return SINEW_OK;
 }

@@ -15,6 +15,7 @@
  * panels.c has the side panel (hierarchy, display, log), settings.c the settings file. */
 #include <errno.h>
 #include <math.h>
+#include <signal.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -225,6 +226,7 @@ static void advance(viewer *v, double dt)
 }
 
 static void show_status(viewer *v);
+static void stop_recording(viewer *v, const char *why);
 static gboolean on_key(GtkEventControllerKey *controller, guint key, guint code, GdkModifierType state, gpointer data);
 
 static gboolean on_tick(GtkWidget *widget, GdkFrameClock *clock, gpointer data)
@@ -249,6 +251,22 @@ static gboolean on_tick(GtkWidget *widget, GdkFrameClock *clock, gpointer data)
         v->status_due = false;
         show_status(v);
     }
+    if (v->record_end) {
+        if (v->record_error[0])
+            view_show_error(v, v->record_error);
+        stop_recording(v, v->record_end);
+        v->record_end = NULL;
+        v->record_error[0] = 0;
+    }
+    if (v->title_due) { /* recording: the title says so and where */
+        v->title_due = false;
+        char title[4300];
+        if (v->recording)
+            snprintf(title, sizeof title, "● recording %s (F9 stops) — sinew", v->video_path);
+        else
+            snprintf(title, sizeof title, "%s — sinew", v->scene.model ? v->scene.model->source : "sinew");
+        gtk_window_set_title(GTK_WINDOW(v->window), title);
+    }
     if (v->press && !v->load) { /* --press: once the file is open, before the screenshot is drawn */
         char **names = g_strsplit(v->press, ",", -1);
         v->press = NULL;
@@ -260,7 +278,9 @@ static gboolean on_tick(GtkWidget *widget, GdkFrameClock *clock, gpointer data)
         g_strfreev(names);
     }
     if (v->playing) {
-        if (v->last_frame)
+        if (v->recording) /* the video's clock, not the wall's: every frame 1/RECORD_FPS s on */
+            advance(v, v->speed > 0.0 ? 1.0 / RECORD_FPS / v->speed : 0.0);
+        else if (v->last_frame)
             advance(v, (double)(now - v->last_frame) * 1e-6);
         v->last_frame = now;
         view_show_time(v);
@@ -376,6 +396,87 @@ static void take_numbered_screenshot(viewer *v)
     view_redraw(v);
 }
 
+/* F9 again, one pass of the clip recorded, the window resized or closed: the video is finished
+ * (kept when anything was recorded) and its path logged. */
+static void stop_recording(viewer *v, const char *why)
+{
+    if (!v->recording)
+        return;
+    v->recording = false;
+    sinew_error error = {0};
+    bool kept = app_video_close(&v->video, v->recorded > 0.0, &error) == SINEW_OK;
+    free(v->video_frame);
+    v->video_frame = NULL;
+    char line[4400];
+    if (kept) {
+        snprintf(line, sizeof line, "recorded %.2f s to %s (%s)", v->recorded, v->video_path, why);
+        panels_log(v, line);
+        printf("sinew-view: wrote %s\n", v->video_path);
+        fflush(stdout);
+    } else if (error.kind != SINEW_OK) {
+        view_show_error(v, error.message);
+    }
+    v->title_due = true;
+}
+
+/* F9: records what the view shows, playing the clip at RECORD_FPS frames a second of clip
+ * time (not the wall's: the video runs at the clip's speed however slowly frames are drawn),
+ * into the next free FILE-NNN.mp4 beside F12's screenshots, until F9 again or one pass of a
+ * looping or once-played clip. */
+static void start_recording(viewer *v, int w, int h)
+{
+    v->record_asked = false;
+    const char *dir = v->screenshot_dir ? v->screenshot_dir : g_get_user_special_dir(G_USER_DIRECTORY_VIDEOS);
+    if (!dir || !g_file_test(dir, G_FILE_TEST_IS_DIR))
+        dir = v->screenshot_dir ? v->screenshot_dir : g_get_home_dir();
+    char *base = v->path ? g_path_get_basename(v->path) : g_strdup("sinew-demo");
+    char *dot = strrchr(base, '.');
+    if (dot && dot != base)
+        *dot = 0;
+    for (int n = 1; n < 100000; n++) {
+        snprintf(v->video_path, sizeof v->video_path, "%s/%s-%03d.mp4", dir, base, n);
+        if (!g_file_test(v->video_path, G_FILE_TEST_EXISTS))
+            break;
+    }
+    g_free(base);
+    sinew_error error = {0};
+    signal(SIGPIPE, SIG_IGN); /* a dead ffmpeg is a write error */
+    v->video_frame = malloc((size_t)w * (size_t)h * 4 + 1);
+    if (!v->video_frame || w <= 0 || h <= 0 ||
+        app_video_open(&v->video, v->video_path, w, h, RECORD_FPS, true, &error) != SINEW_OK) {
+        free(v->video_frame);
+        v->video_frame = NULL;
+        view_show_error(v, error.kind != SINEW_OK ? error.message : "out of memory for recording");
+        return;
+    }
+    v->recording = true;
+    v->recorded = 0.0;
+    v->video_width = w, v->video_height = h;
+    v->title_due = true; /* from the next tick: a widget changed during the GL area's draw is left
+                             unallocated for that frame ("Trying to snapshot ... without a current allocation") */
+}
+
+/* After a frame is drawn: it goes into the video. */
+static void record_frame(viewer *v, int width, int height)
+{
+    if (width != v->video_width || height != v->video_height) {
+        v->record_end = "the view was resized"; /* stopped from the next tick, not inside the draw */
+        return;
+    }
+    sinew_error error = {0};
+    glPixelStorei(GL_PACK_ALIGNMENT, 1);
+    glReadPixels(0, 0, width, height, GL_RGBA, GL_UNSIGNED_BYTE, v->video_frame);
+    if (app_video_write(&v->video, v->video_frame, &error) != SINEW_OK) {
+        snprintf(v->record_error, sizeof v->record_error, "%s", error.message);
+        v->record_end = "ffmpeg stopped";
+        return;
+    }
+    v->recorded += v->playing ? v->speed / RECORD_FPS : 0.0;
+    double d = view_duration(v);
+    if ((v->mode == PLAY_LOOP || v->mode == PLAY_ONCE) && (d <= 0.0 || v->recorded >= d - 1e-9))
+        v->record_end = d > 0.0 ? "one pass of the clip" : "the rest pose";
+}
+
 /* The key cheat sheet: every action with its key as bound now, and the mouse. */
 static void fill_help(viewer *v)
 {
@@ -480,6 +581,10 @@ static gboolean on_render(GtkGLArea *area, GdkGLContext *context, gpointer data)
                                  leaves its row without an allocation for that frame, so GTK skips
                                  drawing it ("Trying to snapshot GtkBox without a current allocation") */
     }
+    if (v->recording && !v->record_end)
+        record_frame(v, width, height);
+    if (v->record_asked && !v->load && !v->press) /* the first frame goes in at the next draw */
+        start_recording(v, width, height);
     if (v->screenshot && !v->load && !v->press) { /* of the file asked for, once open (or failed) and keyed */
         save_screenshot(v, width, height);
         v->screenshot = NULL;
@@ -659,6 +764,15 @@ static gboolean on_key(GtkEventControllerKey *controller, guint key, guint code,
     case ACTION_SCREENSHOT:
         take_numbered_screenshot(v);
         return TRUE;
+    case ACTION_RECORD:
+        if (v->recording) {
+            stop_recording(v, "F9");
+        } else {
+            v->record_asked = true; /* at the next draw, which knows the view's size */
+            set_playing(v, true);
+            view_redraw(v);
+        }
+        return TRUE;
     case ACTION_VIEW_FRONT:
     case ACTION_VIEW_SIDE:
     case ACTION_VIEW_TOP:
@@ -820,6 +934,7 @@ static gboolean on_close_request(GtkWindow *window, gpointer data)
     gtk_window_get_default_size(window, &v->width, &v->height);
     /* The widgets go next: their last signals (a list row deselected, a check unset) must not
      * reach the handlers, which would draw into or query widgets half destroyed. */
+    stop_recording(v, "the window closed");
     v->updating = true;
     v->closing = true;
     return FALSE;
@@ -1025,7 +1140,8 @@ static const char usage[] =
     "drag rotates, shift-drag or middle-drag pans, the wheel zooms, F frames all; Tab switches to the fly\n"
     "camera (W/A/S/D, Q/E, drag to look) and back. Keys 1-9, 0 and M toggle the display switches (see the\n"
     "Display panel), Shift+H hides the meshes, K switches linear blend / dual-quaternion skinning, C a crowd of\n"
-    "the model. H shows every key; F12 saves a numbered screenshot; keypad 1/3/7 look from the front, side and\n"
+    "the model. H shows every key; F12 saves a numbered screenshot, F9 records the clip to MP4 (ffmpeg); keypad 1/3/7 "
+    "look from the front, side and\n"
     "top, keypad 5 switches to a parallel projection, R resets the view; Page Up/Down open the previous/next\n"
     "file in the folder; the clip list's play mode \"All clips\" plays them in turn. Settings:\n"
     "~/.config/sinew/settings.ini ([display], [window], [files], [keys]); the options below override them for\n"
@@ -1041,7 +1157,8 @@ static const char usage[] =
     "  --up y|z              which of the file's axes is up (z: files modelled Z up that do not say so)\n"
     "  --watch               reloads FILE when it changes on disk (keeping the clip, time and camera)\n"
     "  --screenshot OUT.png  writes the first frame drawn (the drawing area only)\n"
-    "  --screenshot-dir DIR  where F12 writes FILE-001.png, ... (default: the Pictures folder, else home)\n"
+    "  --screenshot-dir DIR  where F12 writes FILE-001.png, ... and F9 records FILE-001.mp4, ... (default: the\n"
+    "                        Pictures and Videos folders, else home)\n"
     "  --press KEYS          presses keys (GDK names, comma-separated: h,KP_1,F12) once FILE is open\n"
     "  --quit                leaves after the screenshot\n"
     "  --quit-after S        leaves S seconds after the window opens (playing meanwhile)\n" APP_IMPORT_OPTIONS_HELP

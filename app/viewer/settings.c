@@ -47,6 +47,7 @@ static const view_key default_keys[ACTION_COUNT] = {
     [ACTION_RESET_VIEW] = {"reset-view", NULL, "r", 0},
     [ACTION_PREVIOUS_FILE] = {"previous-file", NULL, "Page_Up", 0},
     [ACTION_NEXT_FILE] = {"next-file", NULL, "Page_Down", 0},
+    [ACTION_RECORD] = {"record", NULL, "F9", 0},
     [ACTION_FORWARD] = {"fly-forward", NULL, "w", 0},
     [ACTION_BACK] = {"fly-back", NULL, "s", 0},
     [ACTION_LEFT] = {"fly-left", NULL, "a", 0},

@@ -11,6 +11,7 @@
 
 #define FRAME_RATE 30.0 /* frame numbers and Left/Right steps when the clip's keys show no rate */
 #define MAX_TICKS 400
+#define RECORD_FPS 30.0 /* frames a second of F9's videos */
 
 typedef enum play_mode { PLAY_LOOP, PLAY_ONCE, PLAY_PING_PONG, PLAY_ALL_CLIPS } play_mode;
 
@@ -22,7 +23,7 @@ typedef enum view_action {
     ACTION_NORMALS, ACTION_GRID, ACTION_AXES, ACTION_JOINT_NAMES, ACTION_JOINT_AXES, ACTION_MUSCLES, ACTION_MESHES,
     ACTION_SKIN_METHOD, ACTION_CROWD, ACTION_PREVIOUS_KEY, ACTION_NEXT_KEY, ACTION_HELP, ACTION_SCREENSHOT,
     ACTION_VIEW_FRONT, ACTION_VIEW_SIDE, ACTION_VIEW_TOP, ACTION_ORTHOGRAPHIC, ACTION_RESET_VIEW, ACTION_PREVIOUS_FILE,
-    ACTION_NEXT_FILE,
+    ACTION_NEXT_FILE, ACTION_RECORD,
     ACTION_FORWARD, ACTION_BACK, ACTION_LEFT, ACTION_RIGHT, ACTION_DOWN, ACTION_UP, ACTION_COUNT
 } view_action;
 /* clang-format on */
@@ -47,10 +48,19 @@ typedef struct viewer {
     const char *screenshot_dir; /* --screenshot-dir: where F12 writes; NULL: Pictures, else home */
     const char *press;          /* --press: key names pressed once the file is open, comma-separated */
     const char *up;             /* --up y|z: the axis shown up */
-    GtkWidget *help;            /* the key cheat sheet over the view (H) */
-    GtkWidget *frame_spin;      /* the frame number, typed or stepped */
-    char *path;                 /* the file shown (NULL: the demo): next/previous file, --watch */
-    bool watch;                 /* --watch: reload the file when it changes on disk */
+    /* F9: the clip recorded to FILE-NNN.mp4, a frame every 1/RECORD_FPS s of clip time */
+    app_video video;
+    bool recording, record_asked, title_due;
+    const char *record_end; /* why the recording stops at the next tick, or NULL */
+    char record_error[SINEW_ERROR_MESSAGE_SIZE];
+    char video_path[4096];
+    int video_width, video_height;
+    unsigned char *video_frame;
+    double recorded;       /* seconds of clip time recorded */
+    GtkWidget *help;       /* the key cheat sheet over the view (H) */
+    GtkWidget *frame_spin; /* the frame number, typed or stepped */
+    char *path;            /* the file shown (NULL: the demo): next/previous file, --watch */
+    bool watch;            /* --watch: reload the file when it changes on disk */
     GFileMonitor *monitor;
     guint reload_timer;
     bool quit_after_screenshot, camera_given;

@@ -301,7 +301,7 @@ static void test_widgets_drawn_while_playing(void **state)
 
 /* Keys pressed in the window (--press): keypad 1 looks from the front as `sinew render
  * --camera front`, keypad 5 makes it parallel as --ortho; F12 writes FILE-001.png, then
- * FILE-002.png, into --screenshot-dir; an unbound key name is reported. */
+ * FILE-002.png, into --screenshot-dir; an unbound key name is reported; F9 records an MP4. */
 static void test_keys(void **state)
 {
     (void)state;
@@ -336,6 +336,24 @@ static void test_keys(void **state)
     assert_true(w > 100 && h > 100);
     stbi_image_free(px);
     assert_int_equal(access(second, F_OK), 0);
+    /* F9 records one pass of the clip (the demo's 1 s walk) to humanoid-001.mp4 */
+    if (system("command -v ffmpeg >/dev/null 2>&1") == 0) {
+        char video[4200];
+        snprintf(video, sizeof video, "%s/humanoid-001.mp4", dir);
+        unlink(video);
+        assert_int_equal(run_view((const char *const[]){dae, "--clip", "walk", "--screenshot-dir", dir, "--press", "F9",
+                                                        "--quit-after", "4", NULL},
+                                  &err),
+                         0);
+        if (err && strstr(err, "snapshot"))
+            fail_msg("GTK complained while recording: %s", err);
+        free(err);
+        size_t size = 0;
+        unsigned char *bytes = read_file(video, &size);
+        assert_non_null(bytes);
+        assert_true(size > 1000 && memcmp(bytes + 4, "ftyp", 4) == 0);
+        free(bytes);
+    }
 }
 
 /* --version answers without opening a window. */
