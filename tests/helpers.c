@@ -236,3 +236,32 @@ double bezier_reference(const double p[4][2], double t)
     double s = (lo + hi) / 2, u = 1 - s;
     return u * u * u * p[0][1] + 3 * u * u * s * p[1][1] + 3 * u * s * s * p[2][1] + s * s * s * p[3][1];
 }
+
+uint32_t bitangents_along_v(const sinew_mesh *mesh, uint32_t *checked)
+{
+    uint32_t agree = 0;
+    *checked = 0;
+    for (uint32_t k = 0; mesh->uvs && mesh->tangents && k + 2 < mesh->index_count; k += 3) {
+        const uint32_t *ix = &mesh->indices[k];
+        const float *p0 = &mesh->positions[ix[0] * 3], *p1 = &mesh->positions[ix[1] * 3];
+        const float *p2 = &mesh->positions[ix[2] * 3];
+        const float *u0 = &mesh->uvs[ix[0] * 2], *u1 = &mesh->uvs[ix[1] * 2], *u2 = &mesh->uvs[ix[2] * 2];
+        double e1[3], e2[3], du1 = u1[0] - u0[0], dv1 = u1[1] - u0[1], du2 = u2[0] - u0[0], dv2 = u2[1] - u0[1];
+        for (int c = 0; c < 3; c++)
+            e1[c] = p1[c] - p0[c], e2[c] = p2[c] - p0[c];
+        double r = du1 * dv2 - du2 * dv1;
+        if (fabs(r) < 1e-12)
+            continue;
+        double dpdv[3]; /* the surface's direction of increasing v */
+        for (int c = 0; c < 3; c++)
+            dpdv[c] = (du1 * e2[c] - du2 * e1[c]) / r;
+        const float *t = &mesh->tangents[ix[0] * 4], *n = &mesh->normals[ix[0] * 3];
+        double b[3] = {n[1] * t[2] - n[2] * t[1], n[2] * t[0] - n[0] * t[2], n[0] * t[1] - n[1] * t[0]};
+        double along = t[3] * (b[0] * dpdv[0] + b[1] * dpdv[1] + b[2] * dpdv[2]);
+        if (fabs(along) < 1e-6)
+            continue; /* perpendicular: a sphere's poles */
+        (*checked)++;
+        agree += along > 0.0;
+    }
+    return agree;
+}

@@ -58,6 +58,11 @@ float *posed_vertices(const sinew_model *model, const sinew_mat4 *worlds, uint32
 
 /* Differing pixels of two RGB images of `pixels` pixels; fills `diff` (RGB, may be NULL) with
  * `a` dimmed and the differing pixels red. */
+/* Triangles of a mesh with tangents and UVs whose bitangent (w * normal x tangent, at the
+ * first corner) points the way v grows on the triangle: the count, and in *checked those with a
+ * UV gradient and a bitangent not perpendicular to it (within 1e-6). */
+uint32_t bitangents_along_v(const sinew_mesh *mesh, uint32_t *checked);
+
 long differing_pixels(const unsigned char *a, const unsigned char *b, long pixels, unsigned char *diff);
 
 /* What a run of the sinew command gave: exit code (128 + signal when killed) and both

@@ -373,13 +373,11 @@ static void save_screenshot(viewer *v, int width, int height)
     }
 }
 
-/* F12: the next free FILE-NNN.png in --screenshot-dir, else the Pictures folder, else home;
- * written at the next draw. */
-static void take_numbered_screenshot(viewer *v)
+/* The next free FILE-NNN.EXT (FILE: the model's name without its extension) in
+ * --screenshot-dir, else the user's `kind` folder (Pictures, Videos), else home. */
+static void numbered_path(const viewer *v, GUserDirectory kind, const char *ext, char *out, size_t size)
 {
-    if (v->screenshot) /* one is waiting for the next draw */
-        return;
-    const char *dir = v->screenshot_dir ? v->screenshot_dir : g_get_user_special_dir(G_USER_DIRECTORY_PICTURES);
+    const char *dir = v->screenshot_dir ? v->screenshot_dir : g_get_user_special_dir(kind);
     if (!dir || !g_file_test(dir, G_FILE_TEST_IS_DIR))
         dir = v->screenshot_dir ? v->screenshot_dir : g_get_home_dir();
     char *base = v->path ? g_path_get_basename(v->path) : g_strdup("sinew-demo");
@@ -387,11 +385,20 @@ static void take_numbered_screenshot(viewer *v)
     if (dot && dot != base)
         *dot = 0;
     for (int n = 1; n < 100000; n++) {
-        snprintf(v->shot_path, sizeof v->shot_path, "%s/%s-%03d.png", dir, base, n);
-        if (!g_file_test(v->shot_path, G_FILE_TEST_EXISTS))
+        snprintf(out, size, "%s/%s-%03d.%s", dir, base, n, ext);
+        if (!g_file_test(out, G_FILE_TEST_EXISTS))
             break;
     }
     g_free(base);
+}
+
+/* F12: the next free FILE-NNN.png in --screenshot-dir, else the Pictures folder, else home;
+ * written at the next draw. */
+static void take_numbered_screenshot(viewer *v)
+{
+    if (v->screenshot) /* one is waiting for the next draw */
+        return;
+    numbered_path(v, G_USER_DIRECTORY_PICTURES, "png", v->shot_path, sizeof v->shot_path);
     v->screenshot = v->shot_path;
     view_redraw(v);
 }
@@ -426,19 +433,7 @@ static void stop_recording(viewer *v, const char *why)
 static void start_recording(viewer *v, int w, int h)
 {
     v->record_asked = false;
-    const char *dir = v->screenshot_dir ? v->screenshot_dir : g_get_user_special_dir(G_USER_DIRECTORY_VIDEOS);
-    if (!dir || !g_file_test(dir, G_FILE_TEST_IS_DIR))
-        dir = v->screenshot_dir ? v->screenshot_dir : g_get_home_dir();
-    char *base = v->path ? g_path_get_basename(v->path) : g_strdup("sinew-demo");
-    char *dot = strrchr(base, '.');
-    if (dot && dot != base)
-        *dot = 0;
-    for (int n = 1; n < 100000; n++) {
-        snprintf(v->video_path, sizeof v->video_path, "%s/%s-%03d.mp4", dir, base, n);
-        if (!g_file_test(v->video_path, G_FILE_TEST_EXISTS))
-            break;
-    }
-    g_free(base);
+    numbered_path(v, G_USER_DIRECTORY_VIDEOS, "mp4", v->video_path, sizeof v->video_path);
     sinew_error error = {0};
     signal(SIGPIPE, SIG_IGN); /* a dead ffmpeg is a write error */
     v->video_frame = malloc((size_t)w * (size_t)h * 4 + 1);

@@ -479,26 +479,7 @@ static void test_fbx_tangents(void **state)
                 assert_true(t[3] == 1.0f || t[3] == -1.0f);
             }
             /* the bitangent w * n x t points along +v on every triangle with a UV gradient */
-            uint32_t agree = 0, triangles = 0;
-            for (uint32_t k = 0; mesh->uvs && k + 2 < mesh->index_count; k += 3) {
-                const uint32_t *ix = &mesh->indices[k];
-                const float *p0 = &mesh->positions[ix[0] * 3], *p1 = &mesh->positions[ix[1] * 3];
-                const float *p2 = &mesh->positions[ix[2] * 3];
-                const float *u0 = &mesh->uvs[ix[0] * 2], *u1 = &mesh->uvs[ix[1] * 2], *u2 = &mesh->uvs[ix[2] * 2];
-                double e1[3], e2[3], du1 = u1[0] - u0[0], dv1 = u1[1] - u0[1], du2 = u2[0] - u0[0], dv2 = u2[1] - u0[1];
-                for (int c = 0; c < 3; c++)
-                    e1[c] = p1[c] - p0[c], e2[c] = p2[c] - p0[c];
-                double r = du1 * dv2 - du2 * dv1;
-                if (fabs(r) < 1e-12)
-                    continue;
-                double dpdv[3]; /* the surface's direction of increasing v */
-                for (int c = 0; c < 3; c++)
-                    dpdv[c] = (du1 * e2[c] - du2 * e1[c]) / r;
-                const float *t = &mesh->tangents[ix[0] * 4], *n = &mesh->normals[ix[0] * 3];
-                double b[3] = {n[1] * t[2] - n[2] * t[1], n[2] * t[0] - n[0] * t[2], n[0] * t[1] - n[1] * t[0]};
-                agree += t[3] * (b[0] * dpdv[0] + b[1] * dpdv[1] + b[2] * dpdv[2]) > 0.0;
-                triangles++;
-            }
+            uint32_t triangles = 0, agree = bitangents_along_v(mesh, &triangles);
             print_message("%s mesh %u: %u vertices, |n.t| <= %.1e, | |t| - 1 | <= %.1e, bitangent along +v on %u of "
                           "%u triangles\n",
                           files[f], i, mesh->vertex_count, worst_dot, worst_len, agree, triangles);

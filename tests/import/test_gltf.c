@@ -303,30 +303,7 @@ static void test_pbr_materials(void **state)
     const sinew_mesh *mesh = &m->meshes[2];
     assert_non_null(mesh->tangents);
     assert_null(m->meshes[3].tangents);
-    uint32_t agree = 0, checked = 0;
-    for (uint32_t t = 0; t < mesh->index_count; t += 3) {
-        const uint32_t *i = &mesh->indices[t];
-        const float *p0 = &mesh->positions[i[0] * 3], *p1 = &mesh->positions[i[1] * 3],
-                    *p2 = &mesh->positions[i[2] * 3];
-        const float *u0 = &mesh->uvs[i[0] * 2], *u1 = &mesh->uvs[i[1] * 2], *u2 = &mesh->uvs[i[2] * 2];
-        double e1[3], e2[3], du1 = u1[0] - u0[0], dv1 = u1[1] - u0[1], du2 = u2[0] - u0[0], dv2 = u2[1] - u0[1];
-        for (int c = 0; c < 3; c++)
-            e1[c] = p1[c] - p0[c], e2[c] = p2[c] - p0[c];
-        double det = du1 * dv2 - du2 * dv1;
-        if (fabs(det) < 1e-12)
-            continue;
-        double dpdv[3]; /* the direction v grows on this triangle */
-        for (int c = 0; c < 3; c++)
-            dpdv[c] = (du1 * e2[c] - du2 * e1[c]) / det;
-        const float *n = &mesh->normals[i[0] * 3], *tg = &mesh->tangents[i[0] * 4];
-        double b[3] = {tg[3] * (n[1] * tg[2] - n[2] * tg[1]), tg[3] * (n[2] * tg[0] - n[0] * tg[2]),
-                       tg[3] * (n[0] * tg[1] - n[1] * tg[0])};
-        double along = b[0] * dpdv[0] + b[1] * dpdv[1] + b[2] * dpdv[2];
-        if (fabs(along) < 1e-6)
-            continue; /* the poles */
-        checked++;
-        agree += along > 0;
-    }
+    uint32_t checked = 0, agree = bitangents_along_v(mesh, &checked);
     print_message("pbr_spheres bumps: bitangent along +v on %u of %u triangles\n", agree, checked);
     assert_true(checked > 2000);
     assert_int_equal(agree, checked);
