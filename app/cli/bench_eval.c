@@ -118,6 +118,114 @@ static bool bench_sampling(uint32_t joints, sample_result *out)
     return ok;
 }
 
+/* ---- blending and IK (sinew/blend.h) ---------------------------------------------------------- */
+
+typedef struct blend_bench {
+    const sinew_model *model;
+    sinew_transform *poses[4], *out;
+    sinew_mat4 *worlds;
+    uint32_t layers;
+    uint32_t chain[3], aim_joint;
+} blend_bench;
+
+static void step_blend(void *ctx, uint32_t i)
+{
+    blend_bench *b = ctx;
+    sinew_blend_layer layers[4];
+    for (uint32_t k = 0; k < b->layers; k++)
+        layers[k] = (sinew_blend_layer){b->poses[k], 0.25f + 0.1f * (float)((i + k) & 3), NULL};
+    sinew_blend_desc d = {.model = b->model,
+                          .layers = layers,
+                          .layer_count = b->layers,
+                          .out = b->out,
+                          .out_count = b->model->node_count};
+    sinew_blend(&d, NULL);
+}
+
+/* IK corrects a copy of one pose each time (the copy is part of the cost, 64 x 40 bytes). */
+static void step_two_bone(void *ctx, uint32_t i)
+{
+    blend_bench *b = ctx;
+    memcpy(b->out, b->poses[0], b->model->node_count * sizeof *b->out);
+    const float *s = b->worlds[b->chain[0]].m + 12;
+    sinew_ik_two_bone_desc d = {.model = b->model,
+                                .worlds = b->worlds,
+                                .locals = b->out,
+                                .node_count = b->model->node_count,
+                                .start = b->chain[0],
+                                .middle = b->chain[1],
+                                .end = b->chain[2],
+                                .target = {s[0] + 0.1f * (float)(i & 7), s[1] + 0.2f, s[2] + 0.1f},
+                                .pole = {s[0], s[1], s[2] + 1.0f},
+                                .weight = 1.0f};
+    sinew_ik_two_bone(&d, NULL);
+}
+
+static void step_aim(void *ctx, uint32_t i)
+{
+    blend_bench *b = ctx;
+    memcpy(b->out, b->poses[0], b->model->node_count * sizeof *b->out);
+    const float *p = b->worlds[b->aim_joint].m + 12;
+    sinew_ik_aim_desc d = {.model = b->model,
+                           .worlds = b->worlds,
+                           .locals = b->out,
+                           .node_count = b->model->node_count,
+                           .joint = b->aim_joint,
+                           .forward = {0, 1, 0},
+                           .up = {1, 0, 0},
+                           .target = {p[0] + 1.0f, p[1] + 0.1f * (float)(i & 7), p[2] + 1.0f},
+                           .pole_vector = {0, 1, 0},
+                           .weight = 1.0f};
+    sinew_ik_aim(&d, NULL);
+}
+
+typedef struct blend_result {
+    double blend2_us, blend4_us, two_bone_us, aim_us;
+} blend_result;
+
+/* Microseconds a 64-joint character: blending 2 and 4 poses, two-bone IK, aim. */
+static bool bench_blend(blend_result *out)
+{
+    blend_bench b = {.model = character(64, 256)};
+    if (!b.model)
+        return false;
+    uint32_t n = b.model->node_count;
+    bool ok = true;
+    for (int k = 0; k < 4; k++) {
+        b.poses[k] = malloc(n * sizeof(sinew_transform));
+        sinew_sample_desc d = {.model = b.model,
+                               .clip = &b.model->clips[0],
+                               .time = 0.3f * (float)k,
+                               .wrap = SINEW_WRAP_LOOP,
+                               .locals = b.poses[k],
+                               .local_count = n};
+        ok = ok && b.poses[k] && sinew_sample(&d, NULL) == SINEW_OK;
+    }
+    b.out = malloc(n * sizeof *b.out);
+    b.worlds = malloc(n * sizeof *b.worlds);
+    ok = ok && b.out && b.worlds && sinew_local_to_world(b.model, b.poses[0], n, NULL, b.worlds, n, NULL) == SINEW_OK;
+    /* a chain down the middle of the generated skeleton (joints follow their parents) */
+    uint32_t mid = n / 2;
+    b.chain[2] = mid;
+    b.chain[1] = (uint32_t)b.model->node_parents[mid];
+    b.chain[0] = (uint32_t)b.model->node_parents[b.chain[1]];
+    b.aim_joint = n - 1;
+    if (ok) {
+        b.layers = 2;
+        out->blend2_us = 1e6 * best_per_unit(step_blend, &b, 20000);
+        b.layers = 4;
+        out->blend4_us = 1e6 * best_per_unit(step_blend, &b, 20000);
+        out->two_bone_us = 1e6 * best_per_unit(step_two_bone, &b, 50000);
+        out->aim_us = 1e6 * best_per_unit(step_aim, &b, 50000);
+    }
+    for (int k = 0; k < 4; k++)
+        free(b.poses[k]);
+    free(b.out);
+    free(b.worlds);
+    sinew_model_free((sinew_model *)b.model);
+    return ok;
+}
+
 /* ---- skinning ------------------------------------------------------------------------------- */
 
 typedef struct skin_bench {
@@ -487,9 +595,10 @@ int bench_eval(int argc, char **argv)
     crowd_result crowd = {0};
     load_result load = {0};
     import_result import_times = {0};
-    bool ok = bench_sampling(64, &s64) && bench_sampling(128, &s128) && bench_skinning(threads, &skin) &&
-              bench_crowd_eval(threads, &crowd) && bench_load(collada, converted, &load) &&
-              (!import || bench_import(import, &import_times));
+    blend_result blend = {0};
+    bool ok = bench_sampling(64, &s64) && bench_sampling(128, &s128) && bench_blend(&blend) &&
+              bench_skinning(threads, &skin) && bench_crowd_eval(threads, &crowd) &&
+              bench_load(collada, converted, &load) && (!import || bench_import(import, &import_times));
     cli_remove_tree(dir);
     if (!ok)
         return EXIT_BAD_INPUT;
@@ -505,6 +614,10 @@ int bench_eval(int argc, char **argv)
         cJSON_AddNumberToObject(o, "seek_us_128", s128.seek_us);
         cJSON_AddNumberToObject(o, "reference_sample_world_us_64", s64.reference_forward_us);
         cJSON_AddNumberToObject(o, "reference_seek_us_64", s64.reference_seek_us);
+        cJSON_AddNumberToObject(o, "blend2_us_64", blend.blend2_us);
+        cJSON_AddNumberToObject(o, "blend4_us_64", blend.blend4_us);
+        cJSON_AddNumberToObject(o, "ik_two_bone_us_64", blend.two_bone_us);
+        cJSON_AddNumberToObject(o, "ik_aim_us_64", blend.aim_us);
         cJSON_AddNumberToObject(o, "skin_vertices", skin.vertices);
         cJSON_AddNumberToObject(o, "skin_mverts_1t", skin.mverts[1]);
         cJSON_AddNumberToObject(o, "skin_mverts_scalar_1t", skin.mverts_scalar);
@@ -558,6 +671,9 @@ int bench_eval(int argc, char **argv)
            s128.reference_forward_us);
     printf("%-44s %9.3f us %9.3f us\n", "sample + world, 128 joints, random seek", s128.seek_us,
            s128.reference_seek_us);
+    printf("%-44s %9.3f us %9.3f us\n", "blend 2 | 4 poses, 64 joints", blend.blend2_us, blend.blend4_us);
+    printf("%-44s %9.3f us %9.3f us\n", "IK: two-bone | aim (with a 64-joint pose copy)", blend.two_bone_us,
+           blend.aim_us);
     printf("%-44s %6.0f Mv/s %6.0f Mv/s %10s\n", "skinning (pos + normal, 4 infl), 1 thread", skin.mverts[1],
            skin.mverts_scalar, ">= 350");
     printf("%-44s %6.0f Mv/s %12s %10s\n", "skinning, positions only, 1 thread", skin.mverts_posonly, "", ">= 500");

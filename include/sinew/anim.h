@@ -179,6 +179,11 @@ sinew_result sinew_player_init(void *memory, size_t size, const sinew_clip_layou
 sinew_result sinew_player_update(sinew_player *player, float time, sinew_wrap wrap, const sinew_mat4 *root,
                                  sinew_mat4 *worlds, uint32_t world_count, sinew_error *error);
 
+/* Samples the clip at `time` like sinew_player_update() and writes the local transforms
+ * (rotations normalised) instead of world matrices: the poses sinew/blend.h combines. */
+sinew_result sinew_player_sample(sinew_player *player, float time, sinew_wrap wrap, sinew_transform *locals,
+                                 uint32_t local_count, sinew_error *error);
+
 /* Skins like sinew_skin_vertices() with the plain C reference code, never SIMD: what tests
  * and benchmarks compare the SIMD paths with. */
 sinew_result sinew_skin_vertices_scalar(const sinew_skin_desc *desc, sinew_error *error);

@@ -7,6 +7,7 @@
 
 #include "sinew/anim.h"
 #include "sinew/arm.h"
+#include "sinew/blend.h"
 #include "sinew/camera.h"
 #include "sinew/headless.h"
 #include "sinew/import.h"

@@ -624,6 +624,42 @@ static void sample_groups(sinew_player *p, float t, void (*blend)(float *, const
     }
 }
 
+sinew_result sinew_player_sample(sinew_player *p, float time, sinew_wrap wrap, sinew_transform *locals,
+                                 uint32_t local_count, sinew_error *error)
+{
+    if (!p || !locals)
+        return sinew_fail(error, SINEW_ERROR_INVALID_ARGUMENT, "sinew_player_sample: NULL player or output");
+    const sinew_clip_layout *l = p->layout;
+    if (local_count < l->node_count)
+        return sinew_fail(error, SINEW_ERROR_INVALID_ARGUMENT,
+                          "sinew_player_sample: %u local transforms given, the model has %u nodes", local_count,
+                          l->node_count);
+    if (!isfinite(time))
+        return sinew_fail(error, SINEW_ERROR_INVALID_ARGUMENT, "sinew_player_sample: time is not finite");
+    float t = sinew_clip_time(l->clip, time, wrap) + (l->clip ? l->clip->start : 0.0f);
+#ifdef PLAYER_X86
+    sample_groups(p, t, p->simd ? blend_avx2 : blend_scalar);
+#else
+    sample_groups(p, t, blend_scalar);
+#endif
+    const uint32_t S = l->stride;
+    const float *P = p->pose;
+    for (uint32_t i = 0; i < l->node_count; i++) {
+        sinew_transform *o = &locals[i];
+        for (int k = 0; k < 3; k++) {
+            o->translation[k] = P[(C_TX + k) * S + i];
+            o->scale[k] = P[(C_SX + k) * S + i];
+        }
+        float q[4], n = 0.0f;
+        for (int k = 0; k < 4; k++)
+            q[k] = P[(C_QX + k) * S + i], n += q[k] * q[k];
+        float inv = n > 0.0f ? 1.0f / sqrtf(n) : 0.0f;
+        for (int k = 0; k < 4; k++)
+            o->rotation[k] = n > 0.0f ? q[k] * inv : (k == 3 ? 1.0f : 0.0f);
+    }
+    return SINEW_OK;
+}
+
 sinew_result sinew_player_update(sinew_player *p, float time, sinew_wrap wrap, const sinew_mat4 *root,
                                  sinew_mat4 *worlds, uint32_t world_count, sinew_error *error)
 {
