@@ -11,7 +11,8 @@
 
 static const char pose_usage[] =
     "usage: sinew pose FILE [--clip NAME|INDEX] [--time T[,T...]] [--loop] [--json] [--mesh OUT.obj]\n"
-    "                  [--muscles [FILE.json]]\n"
+    "                  [--muscles [FILE.json]] [--blend C:W,C:W] [--additive C:W] [--crossfade A,B,T]\n"
+    "                  [--ik JOINT:X,Y,Z] [--root-motion]\n"
     "\n"
     "Poses FILE's skeleton and prints every node's world transform (metres, Y up) keyed by name.\n"
     "\n"
@@ -26,7 +27,10 @@ static const char pose_usage[] =
     "  --muscles [M]   muscles attached to the joints (M, or FILE's stem + .muscles.json beside it):\n"
     "                  each frame gives every muscle's length, delta and volume; in JSON a frame's\n"
     "                  \"muscles\": [{\"name\", \"length\", \"delta\", \"volume\", \"rest_volume\", \"in_range\",\n"
-    "                  \"origin\": [x,y,z], \"insertion\": [x,y,z], \"radii\": [...]}]\n";
+    "                  \"origin\": [x,y,z], \"insertion\": [x,y,z], \"radii\": [...]}]\n"
+    "\n"
+    "combining clips (sinew/blend.h; with --root-motion a JSON frame gives \"root_motion\": {\"node\",\n"
+    "\"translation\", \"yaw\"}, what was taken out):\n" APP_POSE_OPTIONS_HELP "";
 
 #define MAX_TIMES 4096
 
@@ -36,6 +40,7 @@ typedef struct pose_options {
     const char *mesh_out;
     const char *muscles; /* NULL: none; "": beside the model */
     bool json, loop;
+    app_pose_spec ops; /* --blend, --additive, --crossfade, --ik, --root-motion */
     uint32_t time_count;
     float times[MAX_TIMES];
 } pose_options;
@@ -77,6 +82,8 @@ static int parse_pose_args(int argc, char **argv, pose_options *o)
             o->muscles = cli_muscles_arg(argc, argv, &i);
         } else if (strcmp(a, "--mesh") == 0 && has_value) {
             o->mesh_out = argv[++i];
+        } else if (app_pose_option_parse(&o->ops, argc, argv, i) > 0) {
+            i += app_pose_option_parse(&o->ops, argc, argv, i) - 1;
         } else if (a[0] == '-' && a[1]) {
             cli_error("pose: unknown option or missing value \"%s\"\n%s", a, pose_usage);
             return EXIT_USAGE;
@@ -250,6 +257,12 @@ int cmd_pose(int argc, char **argv)
     cli_scene_muscles(o.muscles, &desc);
     if (!cli_scene_load(&scene, &desc))
         return EXIT_BAD_INPUT;
+    sinew_error ops_error = {0};
+    if (app_scene_set_pose_ops(&scene, &o.ops, &ops_error) != SINEW_OK) {
+        cli_error("pose: %s", ops_error.message);
+        app_scene_close(&scene);
+        return EXIT_USAGE;
+    }
     const sinew_model *model = scene.model;
     const sinew_clip *clip = scene.clip;
     int32_t clip_index = scene.clip_index;
@@ -290,6 +303,12 @@ int cmd_pose(int argc, char **argv)
         }
         if (o.json) {
             cJSON *frame = frame_json(model, scene.worlds, o.times[i]);
+            if (scene.ops.root_motion) { /* what --root-motion took out at this time */
+                cJSON *motion = cJSON_AddObjectToObject(frame, "root_motion");
+                cJSON_AddStringToObject(motion, "node", model->node_names[scene.ops.motion.node]);
+                cJSON_AddItemToObject(motion, "translation", vector_json(scene.ops.motion_translation, 3));
+                cJSON_AddNumberToObject(motion, "yaw", cli_json_float(scene.ops.motion_yaw));
+            }
             if (rig)
                 cJSON_AddItemToObject(frame, "muscles", muscles_json(scene.muscle_poses, scene.muscle_count));
             cJSON_AddItemToArray(frames, frame);

@@ -29,6 +29,8 @@ static const char render_usage[] =
     "                      (default orbit:30,15: framed on the posed model over the frames drawn)\n"
     "  --ortho             orthographic (parallel) projection, framed as the perspective view\n"
     "  --up y|z            which of the file's axes is up (default y; z for files modelled Z up that do not say so)\n"
+    "  --blend C:W,C:W --additive C:W --crossfade A,B,T --ik JOINT:X,Y,Z --root-motion\n"
+    "                      combine clips, as `sinew pose --help` says\n"
     "  -o, --output PATH   OUT.png (.jpg .bmp .tga), a pattern with one %d (frame number), or OUT.mp4\n"
     "                      (.webm .mkv .mov .gif)\n"
     "\n"
@@ -63,6 +65,7 @@ typedef struct render_args {
     int width, height, samples;
     double time, from, to, fps, turntable;
     bool from_set, to_set, fps_set, loop, skeleton_set, track, orthographic;
+    app_pose_spec ops;
     uint32_t gpu_joint_limit, crowd, threads;
     sinew_render_options options;
 } render_args;
@@ -173,6 +176,10 @@ static int parse_render_args(int argc, char **argv, render_args *a)
                 a->turntable = degrees, used = 2;
             }
         }
+        if (!used && (used = app_pose_option_parse(&a->ops, argc, argv, i)) > 0) {
+            i += used;
+            continue;
+        }
         if (strcmp(arg, "--muscles") == 0) {
             a->muscles = cli_muscles_arg(argc, argv, &i);
             used = 1;
@@ -269,6 +276,7 @@ int cmd_render(int argc, char **argv)
                            .skeleton_set = a.skeleton_set,
                            .orthographic = a.orthographic,
                            .up = a.up,
+                           .ops = &a.ops,
                            .gpu_joint_limit = a.gpu_joint_limit,
                            .muscles = a.muscles,
                            .options = a.options,

@@ -113,6 +113,12 @@ int cli_scene_open(cli_scene *s, const cli_scene_desc *d)
     }
     if (d->up)
         app_scene_set_up_axis(&s->scene, d->up); /* checked when parsed */
+    sinew_error ops_error = {0};
+    if (d->ops && app_scene_set_pose_ops(&s->scene, d->ops, &ops_error) != SINEW_OK) {
+        cli_error("%s", ops_error.message);
+        cli_scene_close(s);
+        return EXIT_USAGE;
+    }
     /* Nothing to see but a skeleton: show it unless asked not to. */
     if (app_vertex_count(s->model) == 0 && !d->skeleton_set)
         s->frame_options.skeleton = true;

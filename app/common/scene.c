@@ -367,6 +367,8 @@ bool app_scene_set_up_axis(app_scene *s, const char *axis)
     return true;
 }
 
+static sinew_result pose_with_ops(app_scene *s, double time, sinew_wrap wrap, sinew_error *error);
+
 sinew_result app_scene_pose(app_scene *s, double time, sinew_wrap wrap, sinew_error *error)
 {
     if (time == s->posed_at && wrap == s->posed_wrap)
@@ -375,8 +377,10 @@ sinew_result app_scene_pose(app_scene *s, double time, sinew_wrap wrap, sinew_er
     if (!isfinite(time) || fabs(time) > APP_MAX_SECONDS)
         return sinew_fail(error, SINEW_ERROR_INVALID_ARGUMENT, "time %g s is out of range (at most %g s either way)",
                           time, APP_MAX_SECONDS);
-    sinew_result result = sinew_player_update(s->player.player, (float)time, wrap, s->z_up ? &s->root : NULL, s->worlds,
-                                              m->node_count, error);
+    sinew_result result = s->ops.active
+                              ? pose_with_ops(s, time, wrap, error)
+                              : sinew_player_update(s->player.player, (float)time, wrap, s->z_up ? &s->root : NULL,
+                                                    s->worlds, m->node_count, error);
     if (result == SINEW_OK && s->muscle_rig)
         result =
             sinew_muscle_rig_update(s->muscle_rig, s->worlds, m->node_count, s->muscle_poses, s->muscle_count, error);
@@ -428,8 +432,253 @@ float app_scene_ground(app_scene *s, sinew_renderer *renderer, int samples)
     return app_scene_bounds(s, renderer, 0.0, end, samples, SINEW_WRAP_CLAMP, lo, hi) ? lo[1] : 0.0f;
 }
 
+/* ---- pose operations: blending, cross-fade, additive, root motion, IK ---------------------- */
+
+int app_pose_option_parse(app_pose_spec *spec, int argc, char *const *argv, int i)
+{
+    const char *o = argv[i];
+    if (strcmp(o, "--root-motion") == 0) {
+        spec->root_motion = true;
+        return 1;
+    }
+    if (i + 1 >= argc)
+        return 0;
+    if (strcmp(o, "--blend") == 0)
+        spec->blend = argv[i + 1];
+    else if (strcmp(o, "--additive") == 0)
+        spec->additive = argv[i + 1];
+    else if (strcmp(o, "--crossfade") == 0)
+        spec->crossfade = argv[i + 1];
+    else if (strcmp(o, "--ik") == 0 && spec->ik_count < APP_MAX_IK)
+        spec->ik[spec->ik_count++] = argv[i + 1];
+    else
+        return 0;
+    return 2;
+}
+
+static void close_layers(app_pose_ops *ops)
+{
+    for (uint32_t i = 0; i < ops->blend_count; i++)
+        app_player_close(&ops->blend[i].player);
+    for (uint32_t i = 0; i < ops->additive_count; i++)
+        app_player_close(&ops->additive[i].player);
+    if (ops->fade_to.player.player)
+        app_player_close(&ops->fade_to.player);
+    free(ops->locals);
+    free(ops->layer_locals);
+    free(ops->reference);
+    memset(ops, 0, sizeof *ops);
+    ops->fade_to.clip = -1;
+}
+
+/* "CLIP:W,CLIP:W" into layers with their players (a clip by name or index; W a weight >= 0). */
+static sinew_result parse_layers(const app_scene *s, const char *option, const char *text, app_layer *out,
+                                 uint32_t *count, sinew_error *error)
+{
+    char buf[1024];
+    snprintf(buf, sizeof buf, "%s", text);
+    *count = 0;
+    for (char *save = NULL, *item = strtok_r(buf, ",", &save); item; item = strtok_r(NULL, ",", &save)) {
+        char *colon = strrchr(item, ':');
+        double w = 1.0;
+        if (colon) {
+            *colon = 0;
+            if (!app_parse_number(colon + 1, 0.0, 1000.0, &w))
+                return sinew_fail(error, SINEW_ERROR_INVALID_ARGUMENT,
+                                  "%s \"%s\": the weight \"%s\" is not a number in 0..1000", option, text, colon + 1);
+        }
+        if (*count >= APP_MAX_LAYERS)
+            return sinew_fail(error, SINEW_ERROR_INVALID_ARGUMENT, "%s: at most %d clips", option, APP_MAX_LAYERS);
+        int32_t clip = app_pick_clip(s->model, item, error);
+        if (clip < 0)
+            return clip == APP_CLIP_NONE
+                       ? sinew_fail(error, SINEW_ERROR_INVALID_ARGUMENT, "%s: \"none\" is not a clip to blend", option)
+                       : SINEW_ERROR_INVALID_ARGUMENT;
+        app_layer *l = &out[(*count)++];
+        l->clip = clip;
+        l->weight = (float)w;
+        sinew_result r = app_player_open(&l->player, s->model, &s->model->clips[clip], error);
+        if (r != SINEW_OK) {
+            (*count)--;
+            return r;
+        }
+    }
+    if (*count == 0)
+        return sinew_fail(error, SINEW_ERROR_INVALID_ARGUMENT, "%s \"%s\": expected CLIP:WEIGHT,...", option, text);
+    return SINEW_OK;
+}
+
+/* "JOINT:X,Y,Z": a joint with a parent and a grandparent, and a world target. */
+static sinew_result parse_ik(const app_scene *s, const char *text, uint32_t *end, float target[3], sinew_error *error)
+{
+    char name[512];
+    const char *colon = strrchr(text, ':');
+    double v[3];
+    if (!colon || colon == text || sscanf(colon + 1, "%lf,%lf,%lf", &v[0], &v[1], &v[2]) != 3 || !isfinite(v[0]) ||
+        !isfinite(v[1]) || !isfinite(v[2]))
+        return sinew_fail(error, SINEW_ERROR_INVALID_ARGUMENT, "--ik \"%s\": expected JOINT:X,Y,Z (world space)", text);
+    snprintf(name, sizeof name, "%.*s", (int)(colon - text), text);
+    int32_t node = sinew_model_find_joint(s->model, name);
+    if (node < 0)
+        return sinew_fail(error, SINEW_ERROR_INVALID_ARGUMENT,
+                          "%s: --ik \"%s\": no node of that name (see `sinew info`)", s->model->source, name);
+    int32_t mid = s->model->node_parents[node], start = mid >= 0 ? s->model->node_parents[mid] : -1;
+    if (start < 0)
+        return sinew_fail(error, SINEW_ERROR_INVALID_ARGUMENT,
+                          "%s: --ik \"%s\": the joint needs a parent and a grandparent to bend", s->model->source,
+                          name);
+    *end = (uint32_t)node;
+    for (int k = 0; k < 3; k++)
+        target[k] = (float)v[k];
+    return SINEW_OK;
+}
+
+sinew_result app_scene_set_pose_ops(app_scene *s, const app_pose_spec *spec, sinew_error *error)
+{
+    close_layers(&s->ops);
+    s->posed_at = NAN;
+    if (!spec || (!spec->blend && !spec->additive && !spec->crossfade && !spec->ik_count && !spec->root_motion))
+        return SINEW_OK;
+    app_pose_ops *ops = &s->ops;
+    uint32_t n = s->model->node_count;
+    ops->locals = malloc((n ? n : 1) * sizeof *ops->locals);
+    ops->layer_locals = malloc((size_t)(n ? n : 1) * (APP_MAX_LAYERS + 1) * sizeof *ops->layer_locals);
+    ops->reference = malloc((size_t)(n ? n : 1) * APP_MAX_LAYERS * sizeof *ops->reference);
+    sinew_result r = ops->locals && ops->layer_locals && ops->reference
+                         ? SINEW_OK
+                         : sinew_fail(error, SINEW_ERROR_OUT_OF_MEMORY, "out of memory for blending");
+    if (r == SINEW_OK && spec->blend)
+        r = parse_layers(s, "--blend", spec->blend, ops->blend, &ops->blend_count, error);
+    if (r == SINEW_OK && spec->additive)
+        r = parse_layers(s, "--additive", spec->additive, ops->additive, &ops->additive_count, error);
+    for (uint32_t i = 0; r == SINEW_OK && i < ops->additive_count; i++) { /* each clip's first frame */
+        sinew_sample_desc d = {.model = s->model,
+                               .clip = &s->model->clips[ops->additive[i].clip],
+                               .time = 0.0f,
+                               .locals = ops->reference + (size_t)i * n,
+                               .local_count = n};
+        r = sinew_sample(&d, error);
+    }
+    if (r == SINEW_OK && spec->crossfade) {
+        char buf[512], *comma1, *comma2;
+        snprintf(buf, sizeof buf, "%s", spec->crossfade);
+        comma2 = strrchr(buf, ',');
+        double seconds = 0.0;
+        if (!comma2 || !app_parse_number(comma2 + 1, 0.0, APP_MAX_SECONDS, &seconds) ||
+            !(comma1 = (*comma2 = 0, strrchr(buf, ',')))) {
+            r = sinew_fail(error, SINEW_ERROR_INVALID_ARGUMENT, "--crossfade \"%s\": expected FROM,TO,SECONDS",
+                           spec->crossfade);
+        } else {
+            *comma1 = 0;
+            int32_t from = app_pick_clip(s->model, buf, error),
+                    to = from >= 0 ? app_pick_clip(s->model, comma1 + 1, error) : APP_CLIP_ERROR;
+            if (from < 0 || to < 0)
+                r = SINEW_ERROR_INVALID_ARGUMENT;
+            else if ((r = app_scene_use_clip(s, from, error)) == SINEW_OK &&
+                     (r = app_player_open(&ops->fade_to.player, s->model, &s->model->clips[to], error)) == SINEW_OK) {
+                ops->fade_to.clip = to;
+                ops->fade_seconds = (float)seconds;
+            }
+        }
+    }
+    for (int i = 0; r == SINEW_OK && i < spec->ik_count; i++)
+        if ((r = parse_ik(s, spec->ik[i], &ops->ik_end[i], ops->ik_target[i], error)) == SINEW_OK)
+            ops->ik_count++;
+    if (r == SINEW_OK && spec->root_motion) {
+        const sinew_clip *clip = ops->blend_count ? &s->model->clips[ops->blend[0].clip] : s->clip;
+        if (!clip)
+            r = sinew_fail(error, SINEW_ERROR_INVALID_ARGUMENT, "%s: --root-motion needs a clip", s->model->source);
+        else if ((r = sinew_root_motion_init(s->model, clip, -1, &ops->motion, error)) == SINEW_OK)
+            ops->root_motion = true;
+    }
+    if (r != SINEW_OK) {
+        close_layers(ops);
+        return r;
+    }
+    ops->active = true;
+    return SINEW_OK;
+}
+
+/* The operations' pose at `time`: layers blended (or the clip alone), faded, added to, the
+ * root motion taken out, the worlds made, then IK on them. */
+static sinew_result pose_with_ops(app_scene *s, double time, sinew_wrap wrap, sinew_error *error)
+{
+    app_pose_ops *ops = &s->ops;
+    const sinew_model *m = s->model;
+    uint32_t n = m->node_count;
+    sinew_result r = SINEW_OK;
+    sinew_blend_layer layers[APP_MAX_LAYERS + 1], adds[APP_MAX_LAYERS];
+    uint32_t count = 0;
+    if (ops->blend_count) {
+        for (uint32_t i = 0; i < ops->blend_count && r == SINEW_OK; i++) {
+            sinew_transform *dst = ops->layer_locals + (size_t)i * n;
+            r = sinew_player_sample(ops->blend[i].player.player, (float)time, wrap, dst, n, error);
+            layers[count++] = (sinew_blend_layer){dst, ops->blend[i].weight, NULL};
+        }
+    } else if (ops->fade_to.clip >= 0 && s->clip) {
+        sinew_crossfade fade = {.from = s->clip,
+                                .to = &m->clips[ops->fade_to.clip],
+                                .duration = ops->fade_seconds,
+                                .sync = wrap == SINEW_WRAP_LOOP};
+        float from_t, to_t, w;
+        sinew_crossfade_at(&fade, (float)time, &from_t, &to_t, &w);
+        r = sinew_player_sample(s->player.player, from_t, wrap, ops->layer_locals, n, error);
+        if (r == SINEW_OK)
+            r = sinew_player_sample(ops->fade_to.player.player, to_t, wrap, ops->layer_locals + n, n, error);
+        layers[count++] = (sinew_blend_layer){ops->layer_locals, 1.0f - w, NULL};
+        layers[count++] = (sinew_blend_layer){ops->layer_locals + n, w, NULL};
+    } else {
+        r = sinew_player_sample(s->player.player, (float)time, wrap, ops->layer_locals, n, error);
+        layers[count++] = (sinew_blend_layer){ops->layer_locals, 1.0f, NULL};
+    }
+    /* additive layers: each clip's motion from its first frame */
+    for (uint32_t i = 0; i < ops->additive_count && r == SINEW_OK; i++) {
+        sinew_transform *dst = ops->layer_locals + (size_t)(APP_MAX_LAYERS - 1 - i) * n;
+        r = sinew_player_sample(ops->additive[i].player.player, (float)time, wrap, dst, n, error);
+        if (r == SINEW_OK)
+            r = sinew_additive_delta(ops->reference + (size_t)i * n, dst, dst, n, error);
+        adds[i] = (sinew_blend_layer){dst, ops->additive[i].weight, NULL};
+    }
+    sinew_blend_desc bd = {.model = m,
+                           .layers = layers,
+                           .layer_count = count,
+                           .additive = adds,
+                           .additive_count = ops->additive_count,
+                           .out = ops->locals,
+                           .out_count = n};
+    if (r == SINEW_OK)
+        r = sinew_blend(&bd, error);
+    if (r == SINEW_OK && ops->root_motion)
+        sinew_root_motion_extract(&ops->motion, ops->locals, ops->motion_translation, &ops->motion_yaw);
+    const sinew_mat4 *root = s->z_up ? &s->root : NULL;
+    if (r == SINEW_OK)
+        r = sinew_local_to_world(m, ops->locals, n, root, s->worlds, n, error);
+    for (uint32_t i = 0; i < ops->ik_count && r == SINEW_OK; i++) {
+        uint32_t end = ops->ik_end[i], mid = (uint32_t)m->node_parents[end], start = (uint32_t)m->node_parents[mid];
+        /* the pole: where the middle joint already bends, away from the start-end line */
+        sinew_ik_two_bone_desc d = {.model = m,
+                                    .worlds = s->worlds,
+                                    .locals = ops->locals,
+                                    .node_count = n,
+                                    .start = start,
+                                    .middle = mid,
+                                    .end = end,
+                                    .weight = 1.0f};
+        for (int k = 0; k < 3; k++) {
+            float line = 0.5f * (s->worlds[start].m[12 + k] + s->worlds[end].m[12 + k]);
+            d.pole[k] = s->worlds[mid].m[12 + k] + 4.0f * (s->worlds[mid].m[12 + k] - line);
+            d.target[k] = ops->ik_target[i][k];
+        }
+        r = sinew_ik_two_bone(&d, error);
+        if (r == SINEW_OK)
+            r = sinew_local_to_world(m, ops->locals, n, root, s->worlds, n, error);
+    }
+    return r;
+}
+
 void app_scene_close(app_scene *s)
 {
+    close_layers(&s->ops);
     app_player_close(&s->player);
     sinew_muscle_rig_free(s->muscle_rig);
     sinew_muscle_set_free(s->owned_muscles);

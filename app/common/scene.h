@@ -63,6 +63,52 @@ typedef struct app_scene_desc {
 } app_scene_desc;
 
 #define APP_SCENE_NOTES 4
+#define APP_MAX_LAYERS 8
+#define APP_MAX_IK 4
+
+/* What the command lines ask of a pose beyond playing one clip (sinew/blend.h), as written:
+ * --blend CLIP:W,CLIP:W,...  --additive CLIP:W  --crossfade A,B,SECONDS  --ik JOINT:X,Y,Z
+ * (repeatable)  --root-motion. */
+typedef struct app_pose_spec {
+    const char *blend, *additive, *crossfade;
+    const char *ik[APP_MAX_IK];
+    int ik_count;
+    bool root_motion;
+} app_pose_spec;
+
+/* Reads one of those options at argv[i]: the arguments used, 0 when it is not one. */
+int app_pose_option_parse(app_pose_spec *spec, int argc, char *const *argv, int i);
+#define APP_POSE_OPTIONS_HELP                                                                                          \
+    "  --blend CLIP:W,CLIP:W  blends clips with weights (the rest pose fills weight under 0.1)\n"                      \
+    "  --additive CLIP:W      adds CLIP's motion from its first frame, times W, on top\n"                              \
+    "  --crossfade A,B,T      fades from clip A to clip B over T seconds from time 0 (phases synced with --loop)\n"    \
+    "  --ik JOINT:X,Y,Z       two-bone IK: JOINT (with its parent and grandparent) reaches X,Y,Z (world), bending\n"   \
+    "                         the way it already bends (repeatable, up to 4)\n"                                        \
+    "  --root-motion          takes the root's horizontal motion and yaw out: the character stays in place\n"
+
+typedef struct app_layer {
+    int32_t clip;
+    float weight;
+    app_player player;
+} app_layer;
+
+/* The pose operations a scene carries out (app_scene_set_pose_ops), resolved against its model. */
+typedef struct app_pose_ops {
+    bool active;
+    app_layer blend[APP_MAX_LAYERS];
+    uint32_t blend_count;
+    app_layer additive[APP_MAX_LAYERS];
+    uint32_t additive_count;
+    app_layer fade_to; /* clip < 0: no cross-fade */
+    float fade_seconds;
+    uint32_t ik_end[APP_MAX_IK];
+    float ik_target[APP_MAX_IK][3];
+    uint32_t ik_count;
+    bool root_motion;
+    sinew_root_motion motion;
+    float motion_translation[3], motion_yaw;            /* what the last pose took out */
+    sinew_transform *locals, *layer_locals, *reference; /* node_count each (reference: per additive layer) */
+} app_pose_ops;
 
 typedef struct app_scene {
     sinew_model *model;
@@ -79,8 +125,9 @@ typedef struct app_scene {
     uint32_t muscle_count;
     char notes[APP_SCENE_NOTES][SINEW_ERROR_MESSAGE_SIZE + 96];
     int note_count;
-    bool z_up;       /* the file's +Z is shown up (app_scene_set_up_axis) */
-    sinew_mat4 root; /* what places the roots: identity, or Z up turned to Y up */
+    bool z_up;        /* the file's +Z is shown up (app_scene_set_up_axis) */
+    app_pose_ops ops; /* blending, IK, root motion (app_scene_set_pose_ops) */
+    sinew_mat4 root;  /* what places the roots: identity, or Z up turned to Y up */
 } app_scene;
 
 /* The model desc asks for: desc->path read (import options from desc), or a built-in one. */
@@ -94,6 +141,9 @@ sinew_result app_scene_open(app_scene *scene, const app_scene_desc *desc, sinew_
  * what the file says to Y up) or "z", for files that say nothing and are modelled Z up (a
  * turn of -90 degrees about X). False for another name. */
 bool app_scene_set_up_axis(app_scene *scene, const char *axis);
+/* Resolves the spec's clips and joints against the scene's model (messages name the option
+ * and list what the model has) and poses with them from now on; the spec all NULL: plain play. */
+sinew_result app_scene_set_pose_ops(app_scene *scene, const app_pose_spec *spec, sinew_error *error);
 /* Plays clip `index` (-1: the rest pose) from its start. On failure the clip stays. */
 sinew_result app_scene_use_clip(app_scene *scene, int32_t index, sinew_error *error);
 /* Poses at `time` (world matrices, then the muscles); once per time and wrap. */

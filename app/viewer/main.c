@@ -1149,6 +1149,8 @@ static const char usage[] =
     "  --panel NAME          the side panel's page shown first: hierarchy, display or log\n"
     "  --crowd N             shows N characters of the model on a grid, each at its own time (key C\n"
     "                        toggles a crowd of 100, or of N)\n"
+    "  --blend C:W,C:W, --additive C:W, --crossfade A,B,T, --ik JOINT:X,Y,Z, --root-motion\n"
+    "                        combine clips as `sinew pose --help` says\n"
     "  --up y|z              which of the file's axes is up (z: files modelled Z up that do not say so)\n"
     "  --watch               reloads FILE when it changes on disk (keeping the clip, time and camera)\n"
     "  --screenshot OUT.png  writes the first frame drawn (the drawing area only)\n"
@@ -1184,7 +1186,10 @@ int main(int argc, char **argv)
             fprintf(stderr, "sinew-view: %s\n", error.message);
             return 1;
         }
-        if (import_used > 0) {
+        int ops_used = used == 0 && import_used == 0 ? app_pose_option_parse(&v.pose_ops, argc, argv, i) : 0;
+        if (ops_used > 0) {
+            i += ops_used - 1;
+        } else if (import_used > 0) {
             i += import_used - 1;
         } else if (used > 0) {
             int index = settings_option_index(option);

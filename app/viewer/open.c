@@ -80,6 +80,9 @@ static bool adopt_scene(viewer *v, app_scene *incoming)
     v->scene = *incoming;
     if (v->up)
         app_scene_set_up_axis(&v->scene, v->up);
+    sinew_error ops_error = {0};
+    if (app_scene_set_pose_ops(&v->scene, &v->pose_ops, &ops_error) != SINEW_OK) /* plain play, and say why */
+        view_show_error(v, ops_error.message);
     memset(incoming, 0, sizeof *incoming); /* the viewer's now */
     free(v->hidden);
     v->hidden = hidden;

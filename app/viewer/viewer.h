@@ -48,6 +48,7 @@ typedef struct viewer {
     const char *screenshot_dir; /* --screenshot-dir: where F12 writes; NULL: Pictures, else home */
     const char *press;          /* --press: key names pressed once the file is open, comma-separated */
     const char *up;             /* --up y|z: the axis shown up */
+    app_pose_spec pose_ops;     /* --blend, --additive, --crossfade, --ik, --root-motion */
     /* F9: the clip recorded to FILE-NNN.mp4, a frame every 1/RECORD_FPS s of clip time */
     app_video video;
     bool recording, record_asked, title_due;

@@ -566,10 +566,20 @@ static void test_bench_eval_json(void **state)
     assert_int_equal(r.code, 0);
     cJSON *o = cJSON_Parse(r.out);
     assert_non_null(o);
-    static const char *const keys[] = {
-        "sample_world_us_64",     "sample_world_us_128",   "seek_us_64", "skin_mverts_1t",
-        "skin_mverts_1t_posonly", "skin_mverts_dqs_1t",    "threads",    "skin_mverts_nt",
-        "crowd1000_speedup_nt",   "load_speedup_vs_assimp"};
+    static const char *const keys[] = {"sample_world_us_64",
+                                       "sample_world_us_128",
+                                       "seek_us_64",
+                                       "skin_mverts_1t",
+                                       "skin_mverts_1t_posonly",
+                                       "skin_mverts_dqs_1t",
+                                       "threads",
+                                       "skin_mverts_nt",
+                                       "crowd1000_speedup_nt",
+                                       "load_speedup_vs_assimp",
+                                       "blend2_us_64",
+                                       "blend4_us_64",
+                                       "ik_two_bone_us_64",
+                                       "ik_aim_us_64"};
     for (size_t i = 0; i < sizeof keys / sizeof keys[0]; i++) {
         cJSON *v = cJSON_GetObjectItem(o, keys[i]);
         if (!cJSON_IsNumber(v) || !(v->valuedouble > 0.0))
@@ -597,6 +607,80 @@ static void test_bench_eval_json(void **state)
     run_free(&r);
 }
 
+/* The node named `name` of a pose's first frame: its world translation. */
+static const cJSON *pose_node(const cJSON *root, const char *name)
+{
+    const cJSON *nodes = cJSON_GetObjectItem(cJSON_GetArrayItem(cJSON_GetObjectItem(root, "frames"), 0), "nodes"), *n;
+    cJSON_ArrayForEach(n, nodes) if (strcmp(cJSON_GetObjectItem(n, "name")->valuestring, name) == 0) return n;
+    fail_msg("no node %s in the pose", name);
+    return NULL;
+}
+
+static double node_component(const cJSON *root, const char *name, const char *what, int k)
+{
+    return cJSON_GetArrayItem(cJSON_GetObjectItem(pose_node(root, name), what), k)->valuedouble;
+}
+
+/* --blend walk:1,wave:0 is the walk; --ik puts the hand on its target; --crossfade at its
+ * start is the first clip and after its end the second; --root-motion keeps the hips in place;
+ * bad specs name the option. */
+static void test_pose_blend_ik_root_motion(void **state)
+{
+    (void)state;
+    cJSON *walk = RUN_JSON("pose", "builtin:demo", "--clip", "walk", "--time", "0.3", "--json");
+    cJSON *blend = RUN_JSON("pose", "builtin:demo", "--blend", "walk:1,wave:0", "--time", "0.3", "--json");
+    double worst = 0.0;
+    static const char *const nodes[] = {"Hips", "LeftHand", "RightFoot", "Head"};
+    for (int i = 0; i < 4; i++)
+        for (int k = 0; k < 3; k++)
+            worst = fmax(worst, fabs(node_component(walk, nodes[i], "translation", k) -
+                                     node_component(blend, nodes[i], "translation", k)));
+    cJSON_Delete(blend);
+    cJSON *wave = RUN_JSON("pose", "builtin:demo", "--clip", "wave", "--time", "1.3", "--json");
+    cJSON *start = RUN_JSON("pose", "builtin:demo", "--crossfade", "walk,wave,1", "--time", "0.3", "--json");
+    cJSON *after = RUN_JSON("pose", "builtin:demo", "--crossfade", "walk,wave,1", "--time", "1.3", "--json");
+    double fade_end = 0.0;
+    for (int k = 0; k < 3; k++)
+        fade_end = fmax(fade_end, fabs(node_component(wave, "LeftHand", "translation", k) -
+                                       node_component(after, "LeftHand", "translation", k)));
+    cJSON *ik =
+        RUN_JSON("pose", "builtin:demo", "--clip", "walk", "--time", "0.3", "--ik", "LeftHand:0.25,1.7,0.35", "--json");
+    double target[3] = {0.25, 1.7, 0.35}, miss = 0.0;
+    for (int k = 0; k < 3; k++)
+        miss = fmax(miss, fabs(node_component(ik, "LeftHand", "translation", k) - target[k]));
+    print_message("pose: --blend walk:1,wave:0 vs --clip walk %.1e; --crossfade walk,wave,1 at 1.3 s vs wave %.1e; "
+                  "--ik LeftHand missed by %.1e\n",
+                  worst, fade_end, miss);
+    assert_true(worst < 1e-5 && fade_end < 1e-5 && miss < 1e-4);
+    /* the start of the fade is mostly the walk: its hand is not the wave's */
+    assert_true(fabs(node_component(start, "LeftHand", "translation", 1) -
+                     node_component(wave, "LeftHand", "translation", 1)) > 0.01);
+    cJSON_Delete(walk);
+    cJSON_Delete(wave);
+    cJSON_Delete(start);
+    cJSON_Delete(after);
+    cJSON_Delete(ik);
+    char bvh[1024];
+    if (testdata_path("assimp/BVH/01_01.bvh", bvh, sizeof bvh)) {
+        cJSON *moved = RUN_JSON("pose", bvh, "--time", "0,3", "--root-motion", "--json");
+        const cJSON *frames = cJSON_GetObjectItem(moved, "frames");
+        const cJSON *motion = cJSON_GetObjectItem(cJSON_GetArrayItem(frames, 1), "root_motion");
+        assert_non_null(motion);
+        double z = cJSON_GetArrayItem(cJSON_GetObjectItem(motion, "translation"), 2)->valuedouble;
+        print_message("01_01.bvh --root-motion: %.1f units taken out by 3 s\n", z);
+        assert_true(fabs(z) > 5.0);
+        cJSON_Delete(moved);
+    }
+    run_result r = RUN("pose", "builtin:demo", "--ik", "Nose:0,1,0");
+    assert_int_equal(r.code, 1);
+    assert_non_null(strstr(r.err, "--ik \"Nose\""));
+    run_free(&r);
+    r = RUN("render", "builtin:demo", "--blend", "walk:x", "-o", "/tmp/never.png");
+    assert_int_equal(r.code, 1);
+    assert_non_null(strstr(r.err, "--blend"));
+    run_free(&r);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -613,6 +697,7 @@ int main(void)
         cmocka_unit_test(test_arm_command),
         cmocka_unit_test(test_demo_convert_and_sinew_files),
         cmocka_unit_test(test_bench_eval_json),
+        cmocka_unit_test(test_pose_blend_ik_root_motion),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
