@@ -51,8 +51,9 @@ typedef struct cli_scene_desc {
     double muscle_scale; /* sinew_muscle_rig_set_scale(); 0 = 1 */
     int width, height, samples;
     bool loop, skeleton_set, orthographic;
-    const char *up;           /* "y" (NULL) or "z": app_scene_set_up_axis() */
-    const app_pose_spec *ops; /* --blend, --additive, --crossfade, --ik, --root-motion; NULL: none */
+    const char *up;              /* "y" (NULL) or "z": app_scene_set_up_axis() */
+    const char *anim, *name_map; /* --anim OTHER (--name-map M.json): app_scene_desc */
+    const app_pose_spec *ops;    /* --blend, --additive, --crossfade, --ik, --root-motion; NULL: none */
     uint32_t gpu_joint_limit;
     sinew_render_options options;
     uint32_t crowd;   /* > 0: that many characters on a grid (app_crowd), each at its own time and clip */

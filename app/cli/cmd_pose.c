@@ -12,7 +12,7 @@
 static const char pose_usage[] =
     "usage: sinew pose FILE [--clip NAME|INDEX] [--time T[,T...]] [--loop] [--json] [--mesh OUT.obj]\n"
     "                  [--muscles [FILE.json]] [--blend C:W,C:W] [--additive C:W] [--crossfade A,B,T]\n"
-    "                  [--ik JOINT:X,Y,Z] [--root-motion]\n"
+    "                  [--ik JOINT:X,Y,Z] [--root-motion] [--anim OTHER [--name-map M.json]]\n"
     "\n"
     "Poses FILE's skeleton and prints every node's world transform (metres, Y up) keyed by name.\n"
     "\n"
@@ -30,7 +30,9 @@ static const char pose_usage[] =
     "                  \"origin\": [x,y,z], \"insertion\": [x,y,z], \"radii\": [...]}]\n"
     "\n"
     "combining clips (sinew/blend.h; with --root-motion a JSON frame gives \"root_motion\": {\"node\",\n"
-    "\"translation\", \"yaw\"}, what was taken out):\n" APP_POSE_OPTIONS_HELP "";
+    "\"translation\", \"yaw\"}, what was taken out):\n" APP_POSE_OPTIONS_HELP
+    "  --anim OTHER          OTHER's clips retargeted onto FILE's skeleton, first in its clip list (joints by\n"
+    "                        name, Mixamo/CMU/Unity humanoid names mapped; --name-map M.json: {\"from\": \"to\"})\n";
 
 #define MAX_TIMES 4096
 
@@ -41,6 +43,7 @@ typedef struct pose_options {
     const char *muscles; /* NULL: none; "": beside the model */
     bool json, loop;
     app_pose_spec ops; /* --blend, --additive, --crossfade, --ik, --root-motion */
+    const char *anim, *name_map;
     uint32_t time_count;
     float times[MAX_TIMES];
 } pose_options;
@@ -82,6 +85,10 @@ static int parse_pose_args(int argc, char **argv, pose_options *o)
             o->muscles = cli_muscles_arg(argc, argv, &i);
         } else if (strcmp(a, "--mesh") == 0 && has_value) {
             o->mesh_out = argv[++i];
+        } else if (strcmp(a, "--anim") == 0 && has_value) {
+            o->anim = argv[++i];
+        } else if (strcmp(a, "--name-map") == 0 && has_value) {
+            o->name_map = argv[++i];
         } else if (app_pose_option_parse(&o->ops, argc, argv, i) > 0) {
             i += app_pose_option_parse(&o->ops, argc, argv, i) - 1;
         } else if (a[0] == '-' && a[1]) {
@@ -253,7 +260,7 @@ int cmd_pose(int argc, char **argv)
         return EXIT_OUTPUT;
     }
     app_scene scene;
-    app_scene_desc desc = {.path = o.path, .clip = o.clip};
+    app_scene_desc desc = {.path = o.path, .clip = o.clip, .anim = o.anim, .name_map = o.name_map};
     cli_scene_muscles(o.muscles, &desc);
     if (!cli_scene_load(&scene, &desc))
         return EXIT_BAD_INPUT;

@@ -29,6 +29,7 @@ static const char render_usage[] =
     "                      (default orbit:30,15: framed on the posed model over the frames drawn)\n"
     "  --ortho             orthographic (parallel) projection, framed as the perspective view\n"
     "  --up y|z            which of the file's axes is up (default y; z for files modelled Z up that do not say so)\n"
+    "  --anim OTHER [--name-map M.json]  OTHER's clips retargeted onto FILE's skeleton (first in its clip list)\n"
     "  --blend C:W,C:W --additive C:W --crossfade A,B,T --ik JOINT:X,Y,Z --root-motion\n"
     "                      combine clips, as `sinew pose --help` says\n"
     "  -o, --output PATH   OUT.png (.jpg .bmp .tga), a pattern with one %d (frame number), or OUT.mp4\n"
@@ -61,7 +62,7 @@ static const char render_usage[] =
 #define MAX_FRAMES 100000
 
 typedef struct render_args {
-    const char *path, *clip, *out, *camera, *select, *heatmap, *muscles, *up;
+    const char *path, *clip, *out, *camera, *select, *heatmap, *muscles, *up, *anim, *name_map;
     int width, height, samples;
     double time, from, to, fps, turntable;
     bool from_set, to_set, fps_set, loop, skeleton_set, track, orthographic;
@@ -107,6 +108,10 @@ static int parse_value_option(int argc, char **argv, int i, render_args *a, bool
         a->out = v;
     else if (strcmp(o, "--camera") == 0)
         a->camera = v;
+    else if (strcmp(o, "--anim") == 0)
+        a->anim = v;
+    else if (strcmp(o, "--name-map") == 0)
+        a->name_map = v;
     else if (strcmp(o, "--up") == 0) {
         a->up = v;
         if (strcasecmp(v, "y") != 0 && strcasecmp(v, "z") != 0) {
@@ -276,6 +281,8 @@ int cmd_render(int argc, char **argv)
                            .skeleton_set = a.skeleton_set,
                            .orthographic = a.orthographic,
                            .up = a.up,
+                           .anim = a.anim,
+                           .name_map = a.name_map,
                            .ops = &a.ops,
                            .gpu_joint_limit = a.gpu_joint_limit,
                            .muscles = a.muscles,

@@ -100,7 +100,12 @@ int cli_scene_open(cli_scene *s, const cli_scene_desc *d)
             sinew_model_free(d->model);
         return EXIT_USAGE;
     }
-    app_scene_desc ad = {.path = d->path, .model = d->model, .clip = d->clip, .muscle_scale = d->muscle_scale};
+    app_scene_desc ad = {.path = d->path,
+                         .model = d->model,
+                         .clip = d->clip,
+                         .muscle_scale = d->muscle_scale,
+                         .anim = d->anim,
+                         .name_map = d->name_map};
     cli_scene_muscles(d->muscles, &ad);
     if (!cli_scene_load(&s->scene, &ad))
         return EXIT_BAD_INPUT;

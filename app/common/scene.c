@@ -321,6 +321,24 @@ sinew_result app_scene_open(app_scene *s, const app_scene_desc *d, sinew_error *
     sinew_result result = s->model ? SINEW_OK : app_load_model(d, &s->model, error);
     if (result != SINEW_OK)
         return result;
+    if (d->anim) { /* the other file's clips on this model's skeleton */
+        app_scene_desc other = *d;
+        other.path = d->anim, other.model = NULL;
+        sinew_model *source = NULL, *combined = NULL;
+        result = app_load_model(&other, &source, error);
+        if (result == SINEW_OK) {
+            sinew_retarget_desc rd = {.target = s->model, .source = source, .name_map = d->name_map};
+            result = sinew_retarget(&rd, &combined, error);
+            sinew_model_free(source);
+        }
+        if (result != SINEW_OK) {
+            sinew_model_free(s->model);
+            s->model = NULL;
+            return result;
+        }
+        sinew_model_free(s->model);
+        s->model = combined;
+    }
     int32_t clip = d->clip ? app_pick_clip(s->model, d->clip, error) : (s->model->clip_count ? 0 : APP_CLIP_NONE);
     s->worlds = malloc(((size_t)s->model->node_count + 1) * sizeof *s->worlds);
     if (clip == APP_CLIP_ERROR)

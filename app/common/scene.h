@@ -48,9 +48,11 @@ typedef enum app_muscle_mode {
 } app_muscle_mode;
 
 typedef struct app_scene_desc {
-    const char *path;   /* a model file, APP_BUILTIN_ARM or APP_BUILTIN_DEMO (NULL: the demo) */
-    sinew_model *model; /* instead of path: a model the scene takes over (freed on failure too) */
-    const char *clip;   /* a clip's name or index; NULL: the first (none: the rest pose) */
+    const char *path;     /* a model file, APP_BUILTIN_ARM or APP_BUILTIN_DEMO (NULL: the demo) */
+    sinew_model *model;   /* instead of path: a model the scene takes over (freed on failure too) */
+    const char *clip;     /* a clip's name or index; NULL: the first (none: the rest pose) */
+    const char *anim;     /* --anim: another file whose clips are retargeted onto the model (first), or NULL */
+    const char *name_map; /* --name-map: JSON {"source joint": "model joint"} for --anim, or NULL */
     app_muscle_mode muscles;
     const char *muscle_path; /* APP_MUSCLES_REQUIRED: this file instead of the model's own */
     double muscle_scale;     /* sinew_muscle_rig_set_scale(); 0: 1 */

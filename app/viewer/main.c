@@ -1151,6 +1151,7 @@ static const char usage[] =
     "                        toggles a crowd of 100, or of N)\n"
     "  --blend C:W,C:W, --additive C:W, --crossfade A,B,T, --ik JOINT:X,Y,Z, --root-motion\n"
     "                        combine clips as `sinew pose --help` says\n"
+    "  --anim OTHER          OTHER's clips retargeted onto each file opened (--name-map M.json: joint names)\n"
     "  --up y|z              which of the file's axes is up (z: files modelled Z up that do not say so)\n"
     "  --watch               reloads FILE when it changes on disk (keeping the clip, time and camera)\n"
     "  --screenshot OUT.png  writes the first frame drawn (the drawing area only)\n"
@@ -1223,6 +1224,10 @@ int main(int argc, char **argv)
                 v.screenshot_dir = value;
             } else if (strcmp(o, "--press") == 0) {
                 v.press = value;
+            } else if (strcmp(o, "--anim") == 0) {
+                v.anim = value;
+            } else if (strcmp(o, "--name-map") == 0) {
+                v.name_map = value;
             } else if (strcmp(o, "--up") == 0) {
                 if (strcasecmp(value, "y") != 0 && strcasecmp(value, "z") != 0) {
                     fprintf(stderr, "sinew-view: bad --up \"%s\": y or z\n", value);

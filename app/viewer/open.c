@@ -147,7 +147,8 @@ bool view_open_now(viewer *v, const char *path, const char *clip_name)
 {
     app_scene scene;
     sinew_error error = {0};
-    app_scene_desc desc = {.path = path, .clip = clip_name, .muscles = APP_MUSCLES_IF_ANY};
+    app_scene_desc desc = {
+        .path = path, .clip = clip_name, .muscles = APP_MUSCLES_IF_ANY, .anim = v->anim, .name_map = v->name_map};
     if (app_scene_open(&scene, &desc, &error) != SINEW_OK) {
         view_show_error(v, error.message);
         return false;
@@ -185,6 +186,8 @@ static gpointer load_thread(gpointer data)
 {
     view_load *l = data;
     app_scene_desc desc = {.path = l->path,
+                           .anim = l->v->anim,
+                           .name_map = l->v->name_map,
                            .clip = l->clip,
                            .muscles = APP_MUSCLES_IF_ANY,
                            .import = l->v->import,

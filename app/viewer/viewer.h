@@ -44,11 +44,12 @@ typedef struct viewer {
     GtkWidget *shading_list;
     GtkWidget *skin_method_list; /* linear blend | dual quaternion */
     const char *screenshot, *select, *heatmap;
-    char shot_path[4096];       /* F12: the numbered file being written (screenshot points here) */
-    const char *screenshot_dir; /* --screenshot-dir: where F12 writes; NULL: Pictures, else home */
-    const char *press;          /* --press: key names pressed once the file is open, comma-separated */
-    const char *up;             /* --up y|z: the axis shown up */
-    app_pose_spec pose_ops;     /* --blend, --additive, --crossfade, --ik, --root-motion */
+    char shot_path[4096];        /* F12: the numbered file being written (screenshot points here) */
+    const char *screenshot_dir;  /* --screenshot-dir: where F12 writes; NULL: Pictures, else home */
+    const char *press;           /* --press: key names pressed once the file is open, comma-separated */
+    const char *up;              /* --up y|z: the axis shown up */
+    const char *anim, *name_map; /* --anim OTHER (--name-map M.json): its clips on every file opened */
+    app_pose_spec pose_ops;      /* --blend, --additive, --crossfade, --ik, --root-motion */
     /* F9: the clip recorded to FILE-NNN.mp4, a frame every 1/RECORD_FPS s of clip time */
     app_video video;
     bool recording, record_asked, title_due;

@@ -115,6 +115,26 @@ sinew_result sinew_demo_humanoid(sinew_model **out, sinew_error *error);
 /* Its muscles as muscle JSON (sinew/muscle_file.h): LeftBiceps and RightBiceps. Static text. */
 const char *sinew_demo_humanoid_muscles(void);
 
+/* Clips of another file on this model (`--anim FILE`): every clip of `source`, retargeted onto
+ * `target`'s skeleton and baked at frame_rate keys a second, in a new model that has them
+ * first and then the target's own clips. Joints match by a name map (JSON {"source name":
+ * "target name"}), else by name with prefixes ("mixamorig:", "Armature|"), case and
+ * separators set aside, else through built-in humanoid namings (Mixamo, CMU's BVH, Unity's
+ * humanoid and the demo's) mapped to one set. Rest poses are compensated: a matched joint
+ * turns in world space as its source turns from the source's rest. The topmost matched joint
+ * (the hips) also moves as its source does, scaled by the legs' length ratio. */
+typedef struct sinew_retarget_desc {
+    const sinew_model *target; /* the character */
+    const sinew_model *source; /* whose clips are applied */
+    const char *name_map;      /* a JSON file, or NULL */
+    float frame_rate;          /* 0: 30 */
+} sinew_retarget_desc;
+
+sinew_result sinew_retarget(const sinew_retarget_desc *desc, sinew_model **out, sinew_error *error);
+/* Which source node each target node takes its motion from (-1: none), by the rules above
+ * without a name map; returns how many match. `match` holds target->node_count entries. */
+uint32_t sinew_retarget_matches(const sinew_model *target, const sinew_model *source, int32_t *match);
+
 /* Writes a model as a COLLADA 1.4.1 file that other COLLADA readers open: nodes with
  * matrices (id = sid = the name with characters other than letters, digits, '_' and '-'
  * made '_'; name = the name: Assimp names nodes by id), meshes (positions, normals, UVs), skins as controllers,

@@ -257,6 +257,10 @@ float import_roughness_of_shininess(double exponent);
  * writes the runtime blob into *bytes (malloc'd). */
 sinew_result raw_model_build(raw_model *model, void **bytes, size_t *size, sinew_error *error);
 
+/* A loaded model back as a raw model (save.c): every array copied; false when out of memory
+ * (what was copied is freed by raw_model_free). */
+bool raw_model_from_model(const sinew_model *model, raw_model *raw);
+
 /* Writes the blob of a raw model that is already valid (one copied from a runtime model)
  * without repairing anything. */
 sinew_result raw_model_write(const raw_model *model, void **bytes, size_t *size, sinew_error *error);

@@ -118,7 +118,7 @@ static void copy_clip(const sinew_model *m, uint32_t index, raw_model *raw, bool
 }
 
 /* A raw copy of a runtime model; false when out of memory (the copy stays freeable). */
-static bool raw_model_from_model(const sinew_model *m, raw_model *raw)
+bool raw_model_from_model(const sinew_model *m, raw_model *raw)
 {
     bool ok = true;
     memset(raw, 0, sizeof *raw);

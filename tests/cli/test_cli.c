@@ -671,7 +671,19 @@ static void test_pose_blend_ik_root_motion(void **state)
         assert_true(fabs(z) > 5.0);
         cJSON_Delete(moved);
     }
-    run_result r = RUN("pose", "builtin:demo", "--ik", "Nose:0,1,0");
+    /* --anim: another file's clips, first in the list */
+    if (testdata_path("assimp/BVH/01_01.bvh", bvh, sizeof bvh)) {
+        cJSON *anim = RUN_JSON("pose", "builtin:demo", "--anim", bvh, "--time", "1", "--json");
+        const cJSON *clip = cJSON_GetObjectItem(anim, "clip");
+        assert_string_equal(cJSON_GetObjectItem(clip, "name")->valuestring, "Motion");
+        assert_true(cJSON_GetObjectItem(clip, "duration")->valuedouble > 5.0);
+        cJSON_Delete(anim);
+    }
+    run_result r = RUN("pose", "builtin:demo", "--anim", "/nonexistent/walk.bvh");
+    assert_int_equal(r.code, 2);
+    assert_non_null(strstr(r.err, "/nonexistent/walk.bvh"));
+    run_free(&r);
+    r = RUN("pose", "builtin:demo", "--ik", "Nose:0,1,0");
     assert_int_equal(r.code, 1);
     assert_non_null(strstr(r.err, "--ik \"Nose\""));
     run_free(&r);
