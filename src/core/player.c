@@ -624,19 +624,30 @@ static void sample_groups(sinew_player *p, float t, void (*blend)(float *, const
     }
 }
 
+/* The checks both entry points make; the clip time to sample, or a failure. */
+static sinew_result player_time(const sinew_player *p, const void *out, uint32_t count, float time, sinew_wrap wrap,
+                                const char *what, float *t, sinew_error *error)
+{
+    if (!p || !out)
+        return sinew_fail(error, SINEW_ERROR_INVALID_ARGUMENT, "%s: NULL player or output", what);
+    const sinew_clip_layout *l = p->layout;
+    if (count < l->node_count)
+        return sinew_fail(error, SINEW_ERROR_INVALID_ARGUMENT, "%s: %u outputs given, the model has %u nodes", what,
+                          count, l->node_count);
+    if (!isfinite(time))
+        return sinew_fail(error, SINEW_ERROR_INVALID_ARGUMENT, "%s: time is not finite", what);
+    *t = sinew_clip_time(l->clip, time, wrap) + (l->clip ? l->clip->start : 0.0f);
+    return SINEW_OK;
+}
+
 sinew_result sinew_player_sample(sinew_player *p, float time, sinew_wrap wrap, sinew_transform *locals,
                                  uint32_t local_count, sinew_error *error)
 {
-    if (!p || !locals)
-        return sinew_fail(error, SINEW_ERROR_INVALID_ARGUMENT, "sinew_player_sample: NULL player or output");
+    float t;
+    sinew_result r = player_time(p, locals, local_count, time, wrap, "sinew_player_sample", &t, error);
+    if (r != SINEW_OK)
+        return r;
     const sinew_clip_layout *l = p->layout;
-    if (local_count < l->node_count)
-        return sinew_fail(error, SINEW_ERROR_INVALID_ARGUMENT,
-                          "sinew_player_sample: %u local transforms given, the model has %u nodes", local_count,
-                          l->node_count);
-    if (!isfinite(time))
-        return sinew_fail(error, SINEW_ERROR_INVALID_ARGUMENT, "sinew_player_sample: time is not finite");
-    float t = sinew_clip_time(l->clip, time, wrap) + (l->clip ? l->clip->start : 0.0f);
 #ifdef PLAYER_X86
     sample_groups(p, t, p->simd ? blend_avx2 : blend_scalar);
 #else
@@ -663,16 +674,10 @@ sinew_result sinew_player_sample(sinew_player *p, float time, sinew_wrap wrap, s
 sinew_result sinew_player_update(sinew_player *p, float time, sinew_wrap wrap, const sinew_mat4 *root,
                                  sinew_mat4 *worlds, uint32_t world_count, sinew_error *error)
 {
-    if (!p || !worlds)
-        return sinew_fail(error, SINEW_ERROR_INVALID_ARGUMENT, "sinew_player_update: NULL player or output");
-    const sinew_clip_layout *l = p->layout;
-    if (world_count < l->node_count)
-        return sinew_fail(error, SINEW_ERROR_INVALID_ARGUMENT,
-                          "sinew_player_update: %u world matrices given, the model has %u nodes", world_count,
-                          l->node_count);
-    if (!isfinite(time))
-        return sinew_fail(error, SINEW_ERROR_INVALID_ARGUMENT, "sinew_player_update: time is not finite");
-    float t = sinew_clip_time(l->clip, time, wrap) + (l->clip ? l->clip->start : 0.0f);
+    float t;
+    sinew_result r = player_time(p, worlds, world_count, time, wrap, "sinew_player_update", &t, error);
+    if (r != SINEW_OK)
+        return r;
 #ifdef PLAYER_X86
     if (p->simd) {
         sample_groups(p, t, blend_avx2);

@@ -45,37 +45,24 @@ static const alias UNITY[] = {{"hips", "hips"},
                               {"leftfoot", "lfoot"},
                               {"lefttoes", "ltoes"},
                               {NULL, NULL}};
-static const alias MIXAMO[] = {{"hips", "hips"},
-                               {"spine", "spine"},
-                               {"spine1", "chest"},
-                               {"spine2", "upperchest"},
-                               {"neck", "neck"},
-                               {"head", "head"},
-                               {"leftshoulder", "lshoulder"},
-                               {"leftarm", "lupperarm"},
-                               {"leftforearm", "llowerarm"},
-                               {"lefthand", "lhand"},
-                               {"leftupleg", "lupperleg"},
-                               {"leftleg", "llowerleg"},
-                               {"leftfoot", "lfoot"},
-                               {"lefttoebase", "ltoes"},
-                               {NULL, NULL}};
+/* Mixamo's and CMU's BVH limbs share their names; their backs differ */
+static const alias MIXAMO_LIMBS[] = {{"hips", "hips"},         {"neck", "neck"},
+                                     {"head", "head"},         {"leftshoulder", "lshoulder"},
+                                     {"leftarm", "lupperarm"}, {"leftforearm", "llowerarm"},
+                                     {"lefthand", "lhand"},    {"leftupleg", "lupperleg"},
+                                     {"leftleg", "llowerleg"}, {"leftfoot", "lfoot"},
+                                     {"lefttoebase", "ltoes"}, {NULL, NULL}};
+static const alias MIXAMO_BACK[] = {{"spine", "spine"}, {"spine1", "chest"}, {"spine2", "upperchest"}, {NULL, NULL}};
 /* CMU's BVH (01_01.bvh): LowerBack, Spine, Spine1 up the back; LHipJoint and friends stay unmatched */
-static const alias CMU[] = {{"hips", "hips"},
-                            {"lowerback", "spine"},
-                            {"spine", "chest"},
-                            {"spine1", "upperchest"},
-                            {"neck", "neck"},
-                            {"head", "head"},
-                            {"leftshoulder", "lshoulder"},
-                            {"leftarm", "lupperarm"},
-                            {"leftforearm", "llowerarm"},
-                            {"lefthand", "lhand"},
-                            {"leftupleg", "lupperleg"},
-                            {"leftleg", "llowerleg"},
-                            {"leftfoot", "lfoot"},
-                            {"lefttoebase", "ltoes"},
-                            {NULL, NULL}};
+static const alias CMU_BACK[] = {{"lowerback", "spine"}, {"spine", "chest"}, {"spine1", "upperchest"}, {NULL, NULL}};
+
+/* A naming: its back, then the rest (NULL for none). */
+typedef struct family {
+    const alias *back, *rest;
+} family;
+
+static const family UNITY_NAMES = {UNITY, NULL}, MIXAMO_NAMES = {MIXAMO_BACK, MIXAMO_LIMBS},
+                    CMU_NAMES = {CMU_BACK, MIXAMO_LIMBS};
 
 /* The name without a namespace prefix ("mixamorig:", "Armature|"), in lower case, without
  * spaces, dots, dashes and underscores. */
@@ -103,34 +90,42 @@ static bool has_name(const sinew_model *m, const char *normalised)
     return false;
 }
 
-static const alias *family_of(const sinew_model *m)
+static const family *family_of(const sinew_model *m)
 {
     if (has_name(m, "lowerback"))
-        return CMU;
+        return &CMU_NAMES;
     if (has_name(m, "leftupleg"))
-        return MIXAMO;
+        return &MIXAMO_NAMES;
     if (has_name(m, "leftupperleg"))
-        return UNITY;
+        return &UNITY_NAMES;
     return NULL;
 }
 
-/* The canonical id of a normalised name in a family ("" when it has none). */
-static void canonical_of(const alias *family, const char *name, char *out)
+/* The canonical id of a normalised name in a table: "left..." names are also read as "right..." */
+static bool canonical_in(const alias *table, const char *name, char *out)
 {
-    out[0] = 0;
-    for (int i = 0; family && family[i].name; i++) {
-        const char *a = family[i].name;
-        bool left = strncmp(a, "left", 4) == 0;
-        if (strcmp(a, name) == 0) {
-            snprintf(out, CANONICAL_LEN, "%s", family[i].canonical);
-            return;
-        }
+    for (int i = 0; table && table[i].name; i++) {
+        const char *a = table[i].name;
         char right[64];
-        if (left && snprintf(right, sizeof right, "right%s", a + 4) > 0 && strcmp(right, name) == 0) {
-            snprintf(out, CANONICAL_LEN, "r%s", family[i].canonical + 1);
-            return;
+        if (strcmp(a, name) == 0) {
+            snprintf(out, CANONICAL_LEN, "%s", table[i].canonical);
+            return true;
+        }
+        if (strncmp(a, "left", 4) == 0 && snprintf(right, sizeof right, "right%s", a + 4) > 0 &&
+            strcmp(right, name) == 0) {
+            snprintf(out, CANONICAL_LEN, "r%s", table[i].canonical + 1);
+            return true;
         }
     }
+    return false;
+}
+
+/* The canonical id of a normalised name in a naming ("" when it has none). */
+static void canonical_of(const family *f, const char *name, char *out)
+{
+    out[0] = 0;
+    if (f && !canonical_in(f->back, name, out))
+        canonical_in(f->rest, name, out);
 }
 
 /* The name map file: {"source name": "target name", ...}; target node -> source node. */
@@ -171,7 +166,7 @@ static sinew_result read_name_map(const char *path, const sinew_model *target, c
 /* match[target node] = source node or -1. */
 static uint32_t match_joints(const sinew_model *target, const sinew_model *source, int32_t *match)
 {
-    const alias *tf = family_of(target), *sf = family_of(source);
+    const family *tf = family_of(target), *sf = family_of(source);
     char tn[256], sn[256], tc[CANONICAL_LEN], sc[CANONICAL_LEN];
     uint32_t matched = 0;
     for (uint32_t t = 0; t < target->node_count; t++) {
@@ -215,7 +210,7 @@ static float distance(const sinew_mat4 *a, const sinew_mat4 *b)
 /* Leg length (upper + lower leg) of a model under its naming, or 0. */
 static float leg_length(const sinew_model *m, const sinew_mat4 *rest)
 {
-    const alias *f = family_of(m);
+    const family *f = family_of(m);
     int32_t at[3] = {-1, -1, -1};
     static const char *const parts[3] = {"lupperleg", "llowerleg", "lfoot"};
     char name[256], canonical[CANONICAL_LEN];
@@ -408,7 +403,7 @@ sinew_result sinew_retarget(const sinew_retarget_desc *d, sinew_model **out, sin
     sinew_local_to_world(s, s->node_rest, s->node_count, NULL, r.source_rest, s->node_count, NULL);
     /* the roots that move: the topmost matched node, and the hips when they are another */
     uint32_t best = UINT32_MAX;
-    const alias *family = family_of(t);
+    const family *naming = family_of(t);
     for (uint32_t j = 0; j < t->node_count; j++) {
         if (match[j] < 0)
             continue;
@@ -419,7 +414,7 @@ sinew_result sinew_retarget(const sinew_retarget_desc *d, sinew_model **out, sin
             best = depth, r.roots[0] = (int32_t)j;
         char name[256], canonical[CANONICAL_LEN];
         normalise(t->node_names[j], name, sizeof name);
-        canonical_of(family, name, canonical);
+        canonical_of(naming, name, canonical);
         if (strcmp(canonical, "hips") == 0)
             r.roots[1] = (int32_t)j;
     }

@@ -679,18 +679,19 @@ static void test_pose_blend_ik_root_motion(void **state)
         assert_true(cJSON_GetObjectItem(clip, "duration")->valuedouble > 5.0);
         cJSON_Delete(anim);
     }
-    run_result r = RUN("pose", "builtin:demo", "--anim", "/nonexistent/walk.bvh");
-    assert_int_equal(r.code, 2);
-    assert_non_null(strstr(r.err, "/nonexistent/walk.bvh"));
-    run_free(&r);
-    r = RUN("pose", "builtin:demo", "--ik", "Nose:0,1,0");
-    assert_int_equal(r.code, 1);
-    assert_non_null(strstr(r.err, "--ik \"Nose\""));
-    run_free(&r);
-    r = RUN("render", "builtin:demo", "--blend", "walk:x", "-o", "/tmp/never.png");
-    assert_int_equal(r.code, 1);
-    assert_non_null(strstr(r.err, "--blend"));
-    run_free(&r);
+    static const struct {
+        int code;
+        const char *says, *args[8];
+    } bad[] = {{2, "/nonexistent/walk.bvh", {"pose", "builtin:demo", "--anim", "/nonexistent/walk.bvh"}},
+               {1, "--ik \"Nose\"", {"pose", "builtin:demo", "--ik", "Nose:0,1,0"}},
+               {1, "--blend", {"render", "builtin:demo", "--blend", "walk:x", "-o", "/tmp/never.png"}}};
+    for (size_t i = 0; i < sizeof bad / sizeof bad[0]; i++) {
+        run_result r = run_sinew(NULL, bad[i].args);
+        if (r.code != bad[i].code || !strstr(r.err, bad[i].says))
+            fail_msg("sinew %s %s %s: exit %d, \"%s\" (expected %d and \"%s\")", bad[i].args[0], bad[i].args[1],
+                     bad[i].args[2], r.code, r.err, bad[i].code, bad[i].says);
+        run_free(&r);
+    }
 }
 
 int main(void)
