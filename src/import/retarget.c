@@ -308,7 +308,8 @@ static sinew_result bake_clips(retarget *r, raw_model *raw, float rate, sinew_er
         free(frame);
         return sinew_fail(error, SINEW_ERROR_OUT_OF_MEMORY, "%s: out of memory retargeting", t->source);
     }
-    memcpy(clips + add, raw->clips, old * sizeof *clips);
+    if (old) /* a skeleton without clips has no array */
+        memcpy(clips + add, raw->clips, old * sizeof *clips);
     free(raw->clips);
     raw->clips = clips;
     raw->clip_count = old + add;
