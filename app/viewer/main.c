@@ -251,6 +251,12 @@ static gboolean on_tick(GtkWidget *widget, GdkFrameClock *clock, gpointer data)
         v->status_due = false;
         show_status(v);
     }
+    if (v->fade_from > 0.0 && v->blend_scale) { /* the Cross-fade button: the weight to 1 over half a second */
+        double w = fmin(1.0, ((double)now * 1e-6 - v->fade_from) / 0.5);
+        if (w >= 1.0)
+            v->fade_from = 0.0;
+        gtk_range_set_value(GTK_RANGE(v->blend_scale), w * w * (3.0 - 2.0 * w));
+    }
     if (v->record_end) {
         if (v->record_error[0])
             view_show_error(v, v->record_error);
@@ -403,7 +409,7 @@ static void take_numbered_screenshot(viewer *v)
     view_redraw(v);
 }
 
-/* F9 again, one pass of the clip recorded, the window resized or closed: the video is finished
+/* F9 again, one pass of the clip recorded, or the window closed: the video is finished
  * (kept when anything was recorded) and its path logged. */
 static void stop_recording(viewer *v, const char *why)
 {
@@ -454,13 +460,19 @@ static void start_recording(viewer *v, int w, int h)
 /* After a frame is drawn: it goes into the video. */
 static void record_frame(viewer *v, int width, int height)
 {
-    if (width != v->video_width || height != v->video_height) {
-        v->record_end = "the view was resized"; /* stopped from the next tick, not inside the draw */
-        return;
-    }
     sinew_error error = {0};
     glPixelStorei(GL_PACK_ALIGNMENT, 1);
-    glReadPixels(0, 0, width, height, GL_RGBA, GL_UNSIGNED_BYTE, v->video_frame);
+    if (width == v->video_width && height == v->video_height) {
+        glReadPixels(0, 0, width, height, GL_RGBA, GL_UNSIGNED_BYTE, v->video_frame);
+    } else { /* the view was resized: the video keeps its size, cropped or padded from the top left */
+        int w = width < v->video_width ? width : v->video_width,
+            h = height < v->video_height ? height : v->video_height;
+        memset(v->video_frame, 0, (size_t)v->video_width * (size_t)v->video_height * 4);
+        glPixelStorei(GL_PACK_ROW_LENGTH, v->video_width);
+        glReadPixels(0, height - h, w, h, GL_RGBA, GL_UNSIGNED_BYTE,
+                     v->video_frame + (size_t)(v->video_height - h) * (size_t)v->video_width * 4);
+        glPixelStorei(GL_PACK_ROW_LENGTH, 0);
+    }
     if (app_video_write(&v->video, v->video_frame, &error) != SINEW_OK) {
         snprintf(v->record_error, sizeof v->record_error, "%s", error.message);
         v->record_end = "ffmpeg stopped";
@@ -470,6 +482,63 @@ static void record_frame(viewer *v, int width, int height)
     double d = view_duration(v);
     if ((v->mode == PLAY_LOOP || v->mode == PLAY_ONCE) && (d <= 0.0 || v->recorded >= d - 1e-9))
         v->record_end = d > 0.0 ? "one pass of the clip" : "the rest pose";
+}
+
+/* The root-motion path: where the root goes over the clip, drawn on the grid. */
+static void root_motion_path(viewer *v)
+{
+    v->path_segments = 0;
+    const app_pose_ops *ops = &v->scene.ops;
+    double d = view_duration(v);
+    if (!ops->root_motion || !(d > 0.0) || !v->scene.model)
+        return;
+    uint32_t steps = (uint32_t)fmin(SINEW_MAX_FRAME_LINES, fmax(8.0, d * 30.0));
+    if (!v->motion_path && !(v->motion_path = malloc(SINEW_MAX_FRAME_LINES * 6 * sizeof *v->motion_path)))
+        return;
+    const float *start = ops->motion.start; /* where the root stays: the path starts there */
+    float previous[3] = {0};
+    for (uint32_t i = 0; i <= steps; i++) {
+        if (app_scene_pose(&v->scene, d * i / steps, SINEW_WRAP_CLAMP, NULL) != SINEW_OK)
+            return;
+        float local[3] = {start[0] + ops->motion_translation[0], 0.0f, start[2] + ops->motion_translation[2]}, p[3];
+        int32_t parent = v->scene.model->node_parents[ops->motion.node];
+        const float *m = parent >= 0 ? v->scene.worlds[parent].m : NULL; /* the path is in the root's parent space */
+        for (int k = 0; k < 3; k++)
+            p[k] = m ? m[k] * local[0] + m[8 + k] * local[2] + m[12 + k] : local[k];
+        if (i > 0) {
+            memcpy(v->motion_path + v->path_segments * 6, previous, sizeof previous);
+            memcpy(v->motion_path + v->path_segments * 6 + 3, p, sizeof p);
+            v->path_segments++;
+        }
+        memcpy(previous, p, sizeof p);
+    }
+    v->scene.posed_at = NAN; /* posed again at the view's time when drawn */
+}
+
+void view_apply_pose_ops(viewer *v)
+{
+    if (!v->scene.model)
+        return;
+    app_pose_spec spec = v->pose_ops; /* the command line's, with the panel's on top */
+    char blend[128], ik[600];
+    if (v->blend_clip >= 0 && v->scene.clip_index >= 0) {
+        snprintf(blend, sizeof blend, "%d:%.4f,%d:%.4f", v->scene.clip_index, 1.0 - v->blend_weight, v->blend_clip,
+                 v->blend_weight);
+        spec.blend = blend;
+    }
+    spec.root_motion = spec.root_motion || v->root_motion;
+    if (v->ik_on && v->ik_joint >= 0 && spec.ik_count < APP_MAX_IK) {
+        snprintf(ik, sizeof ik, "%s:%g,%g,%g", v->scene.model->node_names[v->ik_joint], (double)v->ik_target[0],
+                 (double)v->ik_target[1], (double)v->ik_target[2]);
+        spec.ik[spec.ik_count++] = ik;
+    }
+    sinew_error error = {0};
+    if (app_scene_set_pose_ops(&v->scene, &spec, &error) != SINEW_OK) {
+        view_show_error(v, error.message);
+        v->ik_on = false;
+    }
+    root_motion_path(v);
+    view_redraw(v);
 }
 
 /* The key cheat sheet: every action with its key as bound now, and the mouse. */
@@ -556,6 +625,13 @@ static gboolean on_render(GtkGLArea *area, GdkGLContext *context, gpointer data)
     }
     sinew_error error = {0};
     sinew_frame frame = app_scene_frame(&v->scene, &v->camera, &v->options, width, height);
+    if (v->scene.ops.root_motion && v->path_segments) { /* the root-motion path on the ground */
+        for (uint32_t i = 0; i < v->path_segments * 2; i++)
+            v->motion_path[i * 3 + 1] = v->options.grid_height;
+        frame.lines = v->motion_path;
+        frame.line_count = v->path_segments;
+        frame.line_color[0] = 1.0f, frame.line_color[1] = 0.75f, frame.line_color[2] = 0.2f;
+    }
     if (v->crowd_on && crowd_ready(v)) {
         app_crowd_pose(&v->crowd, v->time);
         frame.crowd_count = v->crowd.count;
@@ -815,10 +891,29 @@ static void on_key_released(GtkEventControllerKey *controller, guint key, guint 
 
 static void on_drag_begin(GtkGestureDrag *gesture, double x, double y, gpointer data)
 {
-    (void)gesture, (void)x, (void)y;
+    (void)x, (void)y;
     viewer *v = data;
     v->drag_x = v->drag_y = 0.0;
     gtk_widget_grab_focus(v->area);
+    GdkModifierType mods = gtk_event_controller_get_current_event_state(GTK_EVENT_CONTROLLER(gesture));
+    v->ik_dragging = (mods & GDK_CONTROL_MASK) && v->selected >= 0 && v->scene.worlds;
+    if (v->ik_dragging && !(v->ik_on && v->ik_joint == v->selected)) { /* a new target, where the joint is */
+        v->ik_joint = v->selected;
+        memcpy(v->ik_target, v->scene.worlds[v->selected].m + 12, sizeof v->ik_target);
+    }
+}
+
+/* Ctrl-drag: the selected joint's IK target moves in the view's plane; a ctrl-click without
+ * moving lets the joint go. */
+static void on_drag_end(GtkGestureDrag *gesture, double dx, double dy, gpointer data)
+{
+    (void)gesture;
+    viewer *v = data;
+    if (v->ik_dragging && fabs(dx) < 2.0 && fabs(dy) < 2.0 && v->ik_on) {
+        v->ik_on = false;
+        view_apply_pose_ops(v);
+    }
+    v->ik_dragging = false;
 }
 
 static void on_drag_update(GtkGestureDrag *gesture, double dx, double dy, gpointer data)
@@ -829,6 +924,21 @@ static void on_drag_update(GtkGestureDrag *gesture, double dx, double dy, gpoint
     double ddx = dx - v->drag_x, ddy = dy - v->drag_y;
     v->drag_x = dx, v->drag_y = dy;
     float h = (float)fmax(1, gtk_widget_get_height(v->area));
+    if (v->ik_dragging) {
+        float right[3], up[3], eye[3];
+        sinew_camera_basis(&v->camera, NULL, right, up);
+        sinew_camera_eye(&v->camera, eye);
+        float fov = v->camera.fov_y > 0.0f ? v->camera.fov_y : 0.785398f;
+        float depth = sqrtf((eye[0] - v->ik_target[0]) * (eye[0] - v->ik_target[0]) +
+                            (eye[1] - v->ik_target[1]) * (eye[1] - v->ik_target[1]) +
+                            (eye[2] - v->ik_target[2]) * (eye[2] - v->ik_target[2]));
+        float per_pixel = 2.0f * depth * tanf(0.5f * fov) / h;
+        for (int k = 0; k < 3; k++)
+            v->ik_target[k] += (float)ddx * per_pixel * right[k] - (float)ddy * per_pixel * up[k];
+        v->ik_on = true;
+        view_apply_pose_ops(v);
+        return;
+    }
     if (v->camera.mode == SINEW_CAMERA_FLY) {
         if (button == GDK_BUTTON_SECONDARY || button == GDK_BUTTON_PRIMARY)
             sinew_camera_rotate(&v->camera, -(float)ddx * 0.005f, -(float)ddy * 0.005f);
@@ -1018,6 +1128,7 @@ static void on_activate(GtkApplication *app, gpointer data)
     gtk_gesture_single_set_button(GTK_GESTURE_SINGLE(drag), 0);
     g_signal_connect(drag, "drag-begin", G_CALLBACK(on_drag_begin), v);
     g_signal_connect(drag, "drag-update", G_CALLBACK(on_drag_update), v);
+    g_signal_connect(drag, "drag-end", G_CALLBACK(on_drag_end), v);
     gtk_widget_add_controller(v->area, GTK_EVENT_CONTROLLER(drag));
     GtkEventController *scroll = gtk_event_controller_scroll_new(GTK_EVENT_CONTROLLER_SCROLL_VERTICAL);
     g_signal_connect(scroll, "scroll", G_CALLBACK(on_scroll), v);
@@ -1296,6 +1407,7 @@ int main(int argc, char **argv)
     sinew_jobs_free(v.jobs);
     if (v.monitor)
         g_object_unref(v.monitor);
+    free(v.motion_path);
     g_free(v.path);
     free(v.key_times);
     app_scene_close(&v.scene);

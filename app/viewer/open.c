@@ -24,7 +24,9 @@ bool view_use_clip(viewer *v, int32_t index)
         view_show_error(v, error.message);
         return false;
     }
-    app_crowd_close(&v->crowd); /* remade for the new clip when shown */
+    app_crowd_close(&v->crowd);                           /* remade for the new clip when shown */
+    if (v->blend_clip >= 0 || v->root_motion || v->ik_on) /* the panel's blending is of the clip shown */
+        view_apply_pose_ops(v);
     if (v->time > view_duration(v))
         v->time = 0.0;
     view_update_timeline(v);
@@ -80,10 +82,11 @@ static bool adopt_scene(viewer *v, app_scene *incoming)
     v->scene = *incoming;
     if (v->up)
         app_scene_set_up_axis(&v->scene, v->up);
-    sinew_error ops_error = {0};
-    if (app_scene_set_pose_ops(&v->scene, &v->pose_ops, &ops_error) != SINEW_OK) /* plain play, and say why */
-        view_show_error(v, ops_error.message);
     memset(incoming, 0, sizeof *incoming); /* the viewer's now */
+    v->blend_clip = -1;                    /* the panel's blending starts over with each model */
+    v->ik_on = false;
+    panels_clips_changed(v);
+    view_apply_pose_ops(v); /* the command line's --blend, ... and the panel's */
     free(v->hidden);
     v->hidden = hidden;
     v->options.hidden_instances = v->hidden;

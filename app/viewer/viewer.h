@@ -49,7 +49,19 @@ typedef struct viewer {
     const char *press;           /* --press: key names pressed once the file is open, comma-separated */
     const char *up;              /* --up y|z: the axis shown up */
     const char *anim, *name_map; /* --anim OTHER (--name-map M.json): its clips on every file opened */
-    app_pose_spec pose_ops;      /* --blend, --additive, --crossfade, --ik, --root-motion */
+    /* the Display panel's blending (issue 15): a second clip and its weight, root motion, an IK target */
+    GtkWidget *blend_list, *blend_scale, *root_motion_check;
+    int32_t blend_clip;  /* -1: none */
+    double blend_weight; /* 0..1 */
+    double fade_from;    /* a cross-fade under way: its start (monotonic seconds), else 0 */
+    bool root_motion;
+    bool ik_on; /* ctrl-drag set an IK target for ik_joint */
+    bool ik_dragging;
+    int32_t ik_joint;
+    float ik_target[3];
+    float *motion_path; /* the root-motion path: path_segments * 6 floats */
+    uint32_t path_segments;
+    app_pose_spec pose_ops; /* --blend, --additive, --crossfade, --ik, --root-motion */
     /* F9: the clip recorded to FILE-NNN.mp4, a frame every 1/RECORD_FPS s of clip time */
     app_video video;
     bool recording, record_asked, title_due;
@@ -145,6 +157,11 @@ void panels_options_changed(viewer *v); /* the display checks follow the options
 void panels_frame_drawn(viewer *v);     /* the selected node's transforms */
 void panels_log(viewer *v, const char *line);
 void panels_select(viewer *v, int32_t node);
+void panels_clips_changed(viewer *v); /* the blend list follows the model's clips */
+
+/* main.c: the Display panel's blending, root motion and IK target onto the scene (with the
+ * command line's --blend, ... as the base); the error shows when the model refuses them. */
+void view_apply_pose_ops(viewer *v);
 
 /* settings.c */
 /* Index of a display option in sinew_render_option_names(), or -1. */

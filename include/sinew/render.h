@@ -9,7 +9,8 @@
  * or physically based shading (metallic-roughness, normal, occlusion and emissive maps, a
  * sky environment, tone mapping); wireframe overlay; the skeleton drawn over the mesh (bones, joint dots, one
  * selected joint highlighted, optional axes and names); a joint's weight heat map; vertex
- * normals; ground grid and world axes; background colour; volume-preserving muscles
+ * normals; ground grid and world axes; the caller's lines (sinew_frame.lines); background colour;
+ * volume-preserving muscles
  * (sinew/muscle_rig.h) as Gouraud-shaded tubes.
  * What not: no windows and no context creation: a GtkGLArea, or sinew/headless.h for
  * an off-screen EGL context, makes the context current first. No input handling.
@@ -137,7 +138,15 @@ typedef struct sinew_frame {
     uint32_t crowd_count;
     const sinew_mat4 *crowd_worlds;
     sinew_jobs *jobs; /* optional: a crowd's palettes and CPU skinning on several threads */
+    /* Lines of the caller's (a root-motion path, a target), drawn with the grid: line_count
+     * segments of two world-space points (6 floats each), at most SINEW_MAX_FRAME_LINES, in
+     * line_color (0..1 sRGB). */
+    const float *lines;
+    uint32_t line_count;
+    float line_color[3];
 } sinew_frame;
+
+#define SINEW_MAX_FRAME_LINES 1024u
 
 /* Clears the bound framebuffer's viewport and draws the frame. */
 sinew_result sinew_renderer_draw(sinew_renderer *renderer, const sinew_frame *frame, sinew_error *error);

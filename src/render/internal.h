@@ -42,11 +42,15 @@ typedef struct overlay_frame {
     const float *view_proj; /* 16 floats */
     int width, height;
     float scene_radius;
+    const float *lines; /* the frame's own segments */
+    uint32_t line_count;
+    const float *line_color;
 } overlay_frame;
 
 /* Fill `list` with world-space geometry; each returns false when the list is full. */
 void overlay_add_grid(overlay_list *list, const overlay_frame *frame);
 void overlay_add_axes(overlay_list *list, const overlay_frame *frame);
+void overlay_add_lines(overlay_list *list, const overlay_frame *frame);
 void overlay_add_bones(overlay_list *list, const overlay_frame *frame);
 void overlay_add_joint_axes(overlay_list *list, const overlay_frame *frame);
 void overlay_add_joints(overlay_list *list, const overlay_frame *frame, bool selected_only);

@@ -24,7 +24,7 @@ static const uint8_t CHILD_OF_SELECTED_COLOR[3] = {255, 200, 120};
 uint32_t overlay_capacity(uint32_t node_count)
 {
     uint32_t grid = (2 * GRID_MAX_HALF_LINES + 1) * 2 * 2;
-    return grid + 6 + node_count * (24 + 6 + 2) + 16;
+    return grid + 6 + node_count * (24 + 6 + 2) + 16 + 2 * SINEW_MAX_FRAME_LINES;
 }
 
 static void push(overlay_list *list, const float p[3], const uint8_t c[3], uint8_t alpha)
@@ -87,6 +87,16 @@ void overlay_add_grid(overlay_list *list, const overlay_frame *frame)
         float c[3] = {cx - extent, y, z}, d[3] = {cx + extent, y, z};
         push_line(list, c, d, cz_color);
     }
+}
+
+void overlay_add_lines(overlay_list *list, const overlay_frame *frame)
+{
+    uint8_t c[3];
+    for (int k = 0; k < 3; k++)
+        c[k] = (uint8_t)fminf(255.0f, fmaxf(0.0f, frame->line_color[k] * 255.0f + 0.5f));
+    uint32_t n = frame->line_count < SINEW_MAX_FRAME_LINES ? frame->line_count : SINEW_MAX_FRAME_LINES;
+    for (uint32_t i = 0; i < n; i++)
+        push_line(list, frame->lines + i * 6, frame->lines + i * 6 + 3, c);
 }
 
 void overlay_add_axes(overlay_list *list, const overlay_frame *frame)

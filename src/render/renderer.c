@@ -869,16 +869,21 @@ static void draw_overlay(sinew_renderer *r, const frame_state *fs, bool before_m
                         .view_proj = fs->view_proj,
                         .width = fs->frame->width,
                         .height = fs->frame->height,
-                        .scene_radius =
-                            fs->frame->camera->scene_radius > 0.0f ? fs->frame->camera->scene_radius : 1.0f};
+                        .scene_radius = fs->frame->camera->scene_radius > 0.0f ? fs->frame->camera->scene_radius : 1.0f,
+                        .lines = fs->frame->lines,
+                        .line_count = fs->frame->lines ? fs->frame->line_count : 0,
+                        .line_color = fs->frame->line_color};
     overlay_list *list = &r->overlay;
     list->count = 0;
-    overlay_range grid = {0}, axes = {0}, bones = {0}, joint_axes = {0}, joints = {0}, selected = {0}, names = {0};
+    overlay_range lines = {0}, grid = {0}, axes = {0}, bones = {0}, joint_axes = {0}, joints = {0}, selected = {0},
+                  names = {0};
     if (before_meshes) {
         if (o->grid)
             grid = add_range(list, &of, overlay_add_grid);
         if (o->axes)
             axes = add_range(list, &of, overlay_add_axes);
+        if (of.line_count)
+            lines = add_range(list, &of, overlay_add_lines);
     } else {
         if (o->skeleton) {
             bones = add_range(list, &of, overlay_add_bones);
@@ -903,6 +908,7 @@ static void draw_overlay(sinew_renderer *r, const frame_state *fs, bool before_m
     if (before_meshes) {
         draw_overlay_range(GL_LINES, grid);
         draw_overlay_range(GL_LINES, axes);
+        draw_overlay_range(GL_LINES, lines);
         return;
     }
     /* The skeleton goes over the mesh: bones depth-tested among themselves only. */
