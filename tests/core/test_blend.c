@@ -365,6 +365,62 @@ static void test_arm_elbow_is_law_of_cosines(void **state)
     sinew_model_free(arm);
 }
 
+/* The foot-on-ground example: through the demo's walk, whenever an ankle is within 4 cm of its
+ * height in the rest pose (the foot flat on the ground) and the leg can reach that height
+ * there, two-bone IK of thigh, shin and foot puts it exactly there, the knee in front; the
+ * legs keep their lengths. (A foot the leg cannot reach would need the hips lowered.) */
+static void test_feet_on_the_ground(void **state)
+{
+    (void)state;
+    sinew_model *m = demo();
+    uint32_t n = m->node_count;
+    static const char *const legs[2][3] = {{"LeftUpperLeg", "LeftLowerLeg", "LeftFoot"},
+                                           {"RightUpperLeg", "RightLowerLeg", "RightFoot"}};
+    sinew_mat4 *worlds = malloc(n * sizeof *worlds);
+    worlds_of(m, m->node_rest, worlds);
+    float ground = worlds[node_named(m, "LeftFoot")].m[13]; /* the ankle's height with the foot down */
+    double worst = 0.0, worst_length = 0.0;
+    int planted = 0;
+    for (float t = 0.0f; t < 1.0f; t += 0.05f) {
+        sinew_transform *locals = sample_clip(m, &m->clips[0], t);
+        worlds_of(m, locals, worlds);
+        for (int l = 0; l < 2; l++) {
+            uint32_t s = (uint32_t)node_named(m, legs[l][0]), k = (uint32_t)node_named(m, legs[l][1]),
+                     f = (uint32_t)node_named(m, legs[l][2]);
+            double thigh = distance(&worlds[s], &worlds[k]), shin = distance(&worlds[k], &worlds[f]);
+            double reach = sqrt(pow(worlds[f].m[12] - worlds[s].m[12], 2) + pow(ground - worlds[s].m[13], 2) +
+                                pow(worlds[f].m[14] - worlds[s].m[14], 2));
+            if (worlds[f].m[13] > ground + 0.04f || reach > thigh + shin - 1e-4)
+                continue;
+            sinew_ik_two_bone_desc d = {.model = m,
+                                        .worlds = worlds,
+                                        .locals = locals,
+                                        .node_count = n,
+                                        .start = s,
+                                        .middle = k,
+                                        .end = f,
+                                        .weight = 1.0f};
+            d.target[0] = worlds[f].m[12], d.target[1] = ground, d.target[2] = worlds[f].m[14];
+            for (int c = 0; c < 3; c++) /* the pole: in front of the knee */
+                d.pole[c] = worlds[k].m[12 + c] + (c == 2 ? 0.5f : 0.0f);
+            assert_int_equal(sinew_ik_two_bone(&d, NULL), SINEW_OK);
+            worlds_of(m, locals, worlds);
+            worst = fmax(worst, fabs(worlds[f].m[13] - ground));
+            worst_length = fmax(worst_length, fmax(fabs(distance(&worlds[s], &worlds[k]) - thigh),
+                                                   fabs(distance(&worlds[k], &worlds[f]) - shin)));
+            planted++;
+        }
+        free(locals);
+    }
+    print_message("feet on the ground: %d planted feet, ankles at the rest height (%.3f m) to %.1e m, legs kept to "
+                  "%.1e\n",
+                  planted, ground, worst, worst_length);
+    assert_true(planted >= 5);
+    assert_true(worst < 1e-5 && worst_length < 1e-6);
+    free(worlds);
+    sinew_model_free(m);
+}
+
 static void test_aim(void **state)
 {
     (void)state;
@@ -445,6 +501,7 @@ int main(void)
         cmocka_unit_test(test_crossfade),
         cmocka_unit_test(test_two_bone_ik),
         cmocka_unit_test(test_arm_elbow_is_law_of_cosines),
+        cmocka_unit_test(test_feet_on_the_ground),
         cmocka_unit_test(test_aim),
         cmocka_unit_test(test_root_motion),
     };
