@@ -607,18 +607,10 @@ static void test_bench_eval_json(void **state)
     run_free(&r);
 }
 
-/* The node named `name` of a pose's first frame: its world translation. */
-static const cJSON *pose_node(const cJSON *root, const char *name)
-{
-    const cJSON *nodes = cJSON_GetObjectItem(cJSON_GetArrayItem(cJSON_GetObjectItem(root, "frames"), 0), "nodes"), *n;
-    cJSON_ArrayForEach(n, nodes) if (strcmp(cJSON_GetObjectItem(n, "name")->valuestring, name) == 0) return n;
-    fail_msg("no node %s in the pose", name);
-    return NULL;
-}
-
+/* Component k of `what` of a node in a pose's first frame (node_named and at, above). */
 static double node_component(const cJSON *root, const char *name, const char *what, int k)
 {
-    return cJSON_GetArrayItem(cJSON_GetObjectItem(pose_node(root, name), what), k)->valuedouble;
+    return at(node_named(cJSON_GetArrayItem(cJSON_GetObjectItem(root, "frames"), 0), name), what, k);
 }
 
 /* --blend walk:1,wave:0 is the walk; --ik puts the hand on its target; --crossfade at its
