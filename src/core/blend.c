@@ -255,32 +255,19 @@ sinew_result sinew_pose_slerp(const sinew_transform *a, const sinew_transform *b
         return sinew_fail(error, SINEW_ERROR_INVALID_ARGUMENT, "sinew_pose_slerp: missing pose or t not finite");
     for (uint32_t n = 0; n < count; n++) {
         double qa[4], qb[4];
+        float fa[4], fb[4];
         for (int k = 0; k < 4; k++)
             qa[k] = a[n].rotation[k], qb[k] = b[n].rotation[k];
         quat_normalize(qa);
         quat_normalize(qb);
-        double c = qa[0] * qb[0] + qa[1] * qb[1] + qa[2] * qb[2] + qa[3] * qb[3];
-        if (c < 0.0) {
-            c = -c;
-            for (int k = 0; k < 4; k++)
-                qb[k] = -qb[k];
-        }
-        double wa = 1.0 - t, wb = t;
-        if (c < 1.0 - 1e-9) {
-            double angle = acos(c), s = sin(angle);
-            wa = sin((1.0 - t) * angle) / s, wb = sin(t * angle) / s;
-        }
-        double q[4];
         for (int k = 0; k < 4; k++)
-            q[k] = wa * qa[k] + wb * qb[k];
-        quat_normalize(q);
+            fa[k] = (float)qa[k], fb[k] = (float)qb[k];
         sinew_transform o;
+        sinew_slerp_shortest(fa, fb, t, o.rotation); /* the sampler's slerp (sample.c) */
         for (int k = 0; k < 3; k++) {
             o.translation[k] = a[n].translation[k] + t * (b[n].translation[k] - a[n].translation[k]);
             o.scale[k] = a[n].scale[k] + t * (b[n].scale[k] - a[n].scale[k]);
         }
-        for (int k = 0; k < 4; k++)
-            o.rotation[k] = (float)q[k];
         out[n] = o;
     }
     return SINEW_OK;
