@@ -560,7 +560,8 @@ sinew_result app_scene_set_pose_ops(app_scene *s, const app_pose_spec *spec, sin
     app_pose_ops *ops = &s->ops;
     uint32_t n = s->model->node_count;
     ops->locals = malloc((n ? n : 1) * sizeof *ops->locals);
-    ops->layer_locals = malloc((size_t)(n ? n : 1) * (APP_MAX_LAYERS + 1) * sizeof *ops->layer_locals);
+    /* the blended layers' poses, then the additive layers' */
+    ops->layer_locals = malloc((size_t)(n ? n : 1) * 2 * APP_MAX_LAYERS * sizeof *ops->layer_locals);
     ops->reference = malloc((size_t)(n ? n : 1) * APP_MAX_LAYERS * sizeof *ops->reference);
     sinew_result r = ops->locals && ops->layer_locals && ops->reference
                          ? SINEW_OK
@@ -651,7 +652,7 @@ static sinew_result pose_with_ops(app_scene *s, double time, sinew_wrap wrap, si
     }
     /* additive layers: each clip's motion from its first frame */
     for (uint32_t i = 0; i < ops->additive_count && r == SINEW_OK; i++) {
-        sinew_transform *dst = ops->layer_locals + (size_t)(APP_MAX_LAYERS - 1 - i) * n;
+        sinew_transform *dst = ops->layer_locals + (size_t)(APP_MAX_LAYERS + i) * n;
         r = sinew_player_sample(ops->additive[i].player.player, (float)time, wrap, dst, n, error);
         if (r == SINEW_OK)
             r = sinew_additive_delta(ops->reference + (size_t)i * n, dst, dst, n, error);
