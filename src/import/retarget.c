@@ -231,7 +231,10 @@ typedef struct retarget {
     const int32_t *match;
     int32_t roots[2]; /* target nodes whose translation moves (the topmost matched, the hips), or -1 */
     float scale;
-    versor *align; /* per target node: its rest bone turned onto the source's rest bone (world) */
+    /* per matched target node, what its world rotation is the source's times:
+     * inv(source rest) * align * target rest, align turning the target's rest bone onto the
+     * source's (world); made once, used every frame */
+    versor *base;
     sinew_mat4 *target_rest, *source_rest, *source_worlds;
     sinew_transform *source_locals;
     versor *target_world;   /* per target node, the frame being made */
@@ -259,14 +262,9 @@ static bool retarget_frame(retarget *r, const sinew_clip *clip, float time, sine
             glm_quat_mul(parent, local, r->target_world[j]);
             continue;
         }
-        versor now, rest_s, rest_t, inv, delta, inv_parent;
+        versor now, inv_parent;
         world_rotation(&r->source_worlds[r->match[j]], now);
-        world_rotation(&r->source_rest[r->match[j]], rest_s);
-        world_rotation(&r->target_rest[j], rest_t);
-        glm_quat_inv(rest_s, inv);
-        glm_quat_mul(now, inv, delta);
-        glm_quat_mul(r->align[j], rest_t, rest_t); /* the rest poses' shapes made alike first (A- vs T-pose) */
-        glm_quat_mul(delta, rest_t, r->target_world[j]);
+        glm_quat_mul(now, r->base[j], r->target_world[j]);
         glm_quat_normalize(r->target_world[j]);
         glm_quat_inv(parent, inv_parent);
         glm_quat_mul(inv_parent, r->target_world[j], local);
@@ -379,12 +377,12 @@ sinew_result sinew_retarget(const sinew_retarget_desc *d, sinew_model **out, sin
     r.source_locals = malloc((s->node_count + 1) * sizeof(sinew_transform));
     r.target_world = malloc((t->node_count + 1) * sizeof(versor));
     r.target_now = malloc((t->node_count + 1) * sizeof(sinew_mat4));
-    r.align = malloc((t->node_count + 1) * sizeof(versor));
+    r.base = malloc((t->node_count + 1) * sizeof(versor));
     raw_model raw = {0};
     bool raw_made = false;
     sinew_result result = SINEW_OK;
     if (!match || !r.target_rest || !r.source_rest || !r.source_worlds || !r.source_locals || !r.target_world ||
-        !r.target_now || !r.align) {
+        !r.target_now || !r.base) {
         result = sinew_fail(error, SINEW_ERROR_OUT_OF_MEMORY, "%s: out of memory retargeting", t->source);
         goto out;
     }
@@ -424,7 +422,7 @@ sinew_result sinew_retarget(const sinew_retarget_desc *d, sinew_model **out, sin
     /* rest shapes made alike: each matched joint's bone (to its first matched child) turned onto
      * the source's bone in the rest poses (an A-pose target under a T-pose source) */
     for (uint32_t j = 0; j < t->node_count; j++) {
-        glm_quat_identity(r.align[j]);
+        versor align = GLM_QUAT_IDENTITY_INIT;
         for (uint32_t c = j + 1; match[j] >= 0 && c < t->node_count; c++) {
             if (t->node_parents[c] != (int32_t)j || match[c] < 0)
                 continue;
@@ -439,11 +437,19 @@ sinew_result sinew_retarget(const sinew_retarget_desc *d, sinew_model **out, sin
                     vec3 axis;
                     glm_vec3_cross(bt, bs, axis);
                     versor q = {axis[0], axis[1], axis[2], 1.0f + c_angle};
-                    glm_quat_normalize_to(q, r.align[j]);
+                    glm_quat_normalize_to(q, align);
                 }
             }
             break;
         }
+        if (match[j] < 0)
+            continue;
+        versor rest_s, rest_t, inv;
+        world_rotation(&r.source_rest[match[j]], rest_s);
+        world_rotation(&r.target_rest[j], rest_t);
+        glm_quat_inv(rest_s, inv);
+        glm_quat_mul(align, rest_t, rest_t);
+        glm_quat_mul(inv, rest_t, r.base[j]);
     }
     float lt = leg_length(t, r.target_rest), ls = leg_length(s, r.source_rest);
     float ht = r.target_rest[r.roots[0]].m[13], hs = r.source_rest[match[r.roots[0]]].m[13];
@@ -472,7 +478,7 @@ out:
     free(r.source_locals);
     free(r.target_world);
     free(r.target_now);
-    free(r.align);
+    free(r.base);
     return result;
 }
 
