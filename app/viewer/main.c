@@ -515,7 +515,9 @@ static void root_motion_path(viewer *v)
     v->scene.posed_at = NAN; /* posed again at the view's time when drawn */
 }
 
-void view_apply_pose_ops(viewer *v)
+/* `path`: the root-motion path is made again (not when only the IK target moved: the root's
+ * motion is taken out before IK, and remaking it poses the whole clip). */
+static void apply_pose_ops(viewer *v, bool path)
 {
     if (!v->scene.model)
         return;
@@ -537,8 +539,14 @@ void view_apply_pose_ops(viewer *v)
         view_show_error(v, error.message);
         v->ik_on = false;
     }
-    root_motion_path(v);
+    if (path)
+        root_motion_path(v);
     view_redraw(v);
+}
+
+void view_apply_pose_ops(viewer *v)
+{
+    apply_pose_ops(v, true);
 }
 
 /* The key cheat sheet: every action with its key as bound now, and the mouse. */
@@ -911,7 +919,7 @@ static void on_drag_end(GtkGestureDrag *gesture, double dx, double dy, gpointer 
     viewer *v = data;
     if (v->ik_dragging && fabs(dx) < 2.0 && fabs(dy) < 2.0 && v->ik_on) {
         v->ik_on = false;
-        view_apply_pose_ops(v);
+        apply_pose_ops(v, false);
     }
     v->ik_dragging = false;
 }
@@ -936,7 +944,7 @@ static void on_drag_update(GtkGestureDrag *gesture, double dx, double dy, gpoint
         for (int k = 0; k < 3; k++)
             v->ik_target[k] += (float)ddx * per_pixel * right[k] - (float)ddy * per_pixel * up[k];
         v->ik_on = true;
-        view_apply_pose_ops(v);
+        apply_pose_ops(v, false);
         return;
     }
     if (v->camera.mode == SINEW_CAMERA_FLY) {
