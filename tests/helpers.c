@@ -88,16 +88,27 @@ void assert_near(double a, double b, double tol, const char *what)
         fail_msg("%s: %.9g differs from %.9g by more than %g", what, a, b, tol);
 }
 
-sinew_mat4 *pose_worlds(const sinew_model *model, const sinew_clip *clip, float t)
+sinew_transform *pose_locals(const sinew_model *model, const sinew_clip *clip, float t, sinew_wrap wrap)
 {
     uint32_t n = model->node_count;
     sinew_transform *locals = malloc((n + 1) * sizeof *locals);
-    sinew_mat4 *worlds = malloc((n + 1) * sizeof *worlds);
     assert_non_null(locals);
+    sinew_error error = {0};
+    sinew_sample_desc desc = {
+        .model = model, .clip = clip, .time = t, .wrap = wrap, .locals = locals, .local_count = n};
+    if (sinew_sample(&desc, &error))
+        fail_msg("sampling %s: %s", model->source, error.message);
+    return locals;
+}
+
+sinew_mat4 *pose_worlds(const sinew_model *model, const sinew_clip *clip, float t)
+{
+    uint32_t n = model->node_count;
+    sinew_transform *locals = pose_locals(model, clip, t, SINEW_WRAP_CLAMP);
+    sinew_mat4 *worlds = malloc((n + 1) * sizeof *worlds);
     assert_non_null(worlds);
     sinew_error error = {0};
-    sinew_sample_desc desc = {.model = model, .clip = clip, .time = t, .locals = locals, .local_count = n};
-    if (sinew_sample(&desc, &error) || sinew_local_to_world(model, locals, n, NULL, worlds, n, &error))
+    if (sinew_local_to_world(model, locals, n, NULL, worlds, n, &error))
         fail_msg("posing %s: %s", model->source, error.message);
     free(locals);
     return worlds;

@@ -33,6 +33,8 @@ void assert_near(double a, double b, double tol, const char *what);
  * t, in doubles (bisection on the parameter): what sinew's Bezier keys are checked against. */
 double bezier_reference(const double p[4][2], double t);
 
+/* The local transforms (malloc'd) of a model posed by a clip at t, wrapped or clamped. */
+sinew_transform *pose_locals(const sinew_model *model, const sinew_clip *clip, float t, sinew_wrap wrap);
 /* World matrices of a model at time t of clip (NULL: rest), malloc'd. */
 sinew_mat4 *pose_worlds(const sinew_model *model, const sinew_clip *clip, float t);
 

@@ -13,15 +13,6 @@
 #include "helpers.h"
 #include "sinew/blend.h"
 
-static sinew_transform *sample_clip(const sinew_model *m, const sinew_clip *clip, float t)
-{
-    sinew_transform *locals = malloc(m->node_count * sizeof *locals);
-    sinew_sample_desc d = {
-        .model = m, .clip = clip, .time = t, .wrap = SINEW_WRAP_LOOP, .locals = locals, .local_count = m->node_count};
-    assert_int_equal(sinew_sample(&d, NULL), SINEW_OK);
-    return locals;
-}
-
 /* Largest difference between two poses (a rotation and its negation are the same). */
 static double pose_difference(const sinew_transform *a, const sinew_transform *b, uint32_t n)
 {
@@ -64,7 +55,8 @@ static void test_blend_weights_masks_rest(void **state)
     (void)state;
     sinew_model *m = demo();
     uint32_t n = m->node_count;
-    sinew_transform *walk = sample_clip(m, &m->clips[0], 0.3f), *wave = sample_clip(m, &m->clips[1], 0.7f);
+    sinew_transform *walk = pose_locals(m, &m->clips[0], 0.3f, SINEW_WRAP_LOOP),
+                    *wave = pose_locals(m, &m->clips[1], 0.7f, SINEW_WRAP_LOOP);
     sinew_transform *out = malloc(n * sizeof *out);
     sinew_blend_layer layers[2] = {{walk, 1.0f, NULL}, {wave, 0.0f, NULL}};
     sinew_blend_desc d = {.model = m, .layers = layers, .layer_count = 2, .out = out, .out_count = n};
@@ -114,9 +106,10 @@ static void test_additive_and_slerp(void **state)
     (void)state;
     sinew_model *m = demo();
     uint32_t n = m->node_count;
-    sinew_transform *ref = sample_clip(m, &m->clips[1], 0.0f), *pose = sample_clip(m, &m->clips[1], 0.9f);
+    sinew_transform *ref = pose_locals(m, &m->clips[1], 0.0f, SINEW_WRAP_LOOP),
+                    *pose = pose_locals(m, &m->clips[1], 0.9f, SINEW_WRAP_LOOP);
     sinew_transform *delta = malloc(n * sizeof *delta), *out = malloc(n * sizeof *out);
-    sinew_transform *base = sample_clip(m, &m->clips[0], 0.4f);
+    sinew_transform *base = pose_locals(m, &m->clips[0], 0.4f, SINEW_WRAP_LOOP);
     /* the reference's own delta adds nothing */
     assert_int_equal(sinew_additive_delta(ref, ref, delta, n, NULL), SINEW_OK);
     sinew_blend_layer layer = {base, 1.0f, NULL}, add = {delta, 1.0f, NULL};
@@ -164,7 +157,7 @@ static void test_player_sample(void **state)
     double worst = 0.0;
     for (float t = 0.0f; t < 4.0f; t += 0.13f) {
         assert_int_equal(sinew_player_sample(player, t, SINEW_WRAP_LOOP, fast, m->node_count, NULL), SINEW_OK);
-        sinew_transform *ref = sample_clip(m, &m->clips[1], t);
+        sinew_transform *ref = pose_locals(m, &m->clips[1], t, SINEW_WRAP_LOOP);
         worst = fmax(worst, pose_difference(fast, ref, m->node_count));
         free(ref);
     }
@@ -226,7 +219,7 @@ static void test_two_bone_ik(void **state)
     uint32_t n = m->node_count;
     uint32_t s = (uint32_t)node_named(m, "LeftUpperArm"), mid = (uint32_t)node_named(m, "LeftLowerArm"),
              e = (uint32_t)node_named(m, "LeftHand");
-    sinew_transform *pose = sample_clip(m, &m->clips[0], 0.2f), *locals = malloc(n * sizeof *locals);
+    sinew_transform *pose = pose_locals(m, &m->clips[0], 0.2f, SINEW_WRAP_LOOP), *locals = malloc(n * sizeof *locals);
     sinew_mat4 *rest = malloc(n * sizeof *rest), *worlds = malloc(n * sizeof *worlds);
     worlds_of(m, pose, rest);
     double a = distance(&rest[s], &rest[mid]), b = distance(&rest[mid], &rest[e]);
@@ -382,7 +375,7 @@ static void test_feet_on_the_ground(void **state)
     double worst = 0.0, worst_length = 0.0;
     int planted = 0;
     for (float t = 0.0f; t < 1.0f; t += 0.05f) {
-        sinew_transform *locals = sample_clip(m, &m->clips[0], t);
+        sinew_transform *locals = pose_locals(m, &m->clips[0], t, SINEW_WRAP_LOOP);
         worlds_of(m, locals, worlds);
         for (int l = 0; l < 2; l++) {
             uint32_t s = (uint32_t)node_named(m, legs[l][0]), k = (uint32_t)node_named(m, legs[l][1]),
@@ -426,7 +419,7 @@ static void test_aim(void **state)
     (void)state;
     sinew_model *m = demo();
     uint32_t n = m->node_count, head = (uint32_t)node_named(m, "Head");
-    sinew_transform *locals = sample_clip(m, &m->clips[0], 0.5f);
+    sinew_transform *locals = pose_locals(m, &m->clips[0], 0.5f, SINEW_WRAP_LOOP);
     sinew_mat4 *worlds = malloc(n * sizeof *worlds);
     worlds_of(m, locals, worlds);
     float target[3] = {worlds[head].m[12] + 1.0f, worlds[head].m[13] + 0.5f, worlds[head].m[14] + 2.0f};
@@ -472,7 +465,7 @@ static void test_root_motion(void **state)
     assert_int_equal(sinew_root_motion_init(m, clip, -1, &rm, NULL), SINEW_OK);
     double moved = 0.0, in_place = 0.0;
     for (float t = 0.0f; t <= clip->duration; t += clip->duration / 20.0f) {
-        sinew_transform *locals = sample_clip(m, clip, t);
+        sinew_transform *locals = pose_locals(m, clip, t, SINEW_WRAP_LOOP);
         sinew_transform before = locals[rm.node];
         float tr[3], yaw;
         sinew_root_motion_extract(&rm, locals, tr, &yaw);

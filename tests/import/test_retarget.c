@@ -9,15 +9,6 @@
 
 #include "helpers.h"
 
-static sinew_transform *sample_at(const sinew_model *m, uint32_t clip, float t)
-{
-    sinew_transform *locals = malloc(m->node_count * sizeof *locals);
-    sinew_sample_desc d = {
-        .model = m, .clip = &m->clips[clip], .time = t, .locals = locals, .local_count = m->node_count};
-    assert_int_equal(sinew_sample(&d, NULL), SINEW_OK);
-    return locals;
-}
-
 static const char *mixamo_name(const char *unity)
 {
     static const char *const map[][2] = {{"Chest", "Spine1"},
@@ -73,7 +64,8 @@ static void test_renamed_reproportioned_copy(void **state)
     double worst = 0.0, worst_hips = 0.0;
     int32_t hips = sinew_model_find_node(demo, "Hips");
     for (float t = 0.0f; t <= 1.0f; t += 0.1f) {
-        sinew_transform *a = sample_at(demo, 0, t), *b = sample_at(out, 0, t);
+        sinew_transform *a = pose_locals(demo, &demo->clips[0], t, SINEW_WRAP_CLAMP),
+                        *b = pose_locals(out, &out->clips[0], t, SINEW_WRAP_CLAMP);
         for (uint32_t i = 0; i < n; i++) {
             if (match[i] < 0)
                 continue;
