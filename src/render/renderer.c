@@ -248,6 +248,12 @@ static void upload_mesh(render_mesh *rm, const sinew_mesh *mesh, void *scratch)
 static const char *const MAP_NAMES[SINEW_MAP_COUNT] = {"base colour", "metallic-roughness", "normal", "occlusion",
                                                        "emissive"};
 
+/* Colour maps are stored sRGB (decoded to linear by GL); data maps are linear. */
+static bool map_is_srgb(int slot)
+{
+    return slot == SINEW_MAP_BASE_COLOR || slot == SINEW_MAP_EMISSIVE;
+}
+
 /* Decodes one of a material's maps (any stb_image format; the embedded image when the file
  * carries one, else the file it names) into a texture with mipmaps, sRGB for colours and
  * linear for data; rows are flipped because UVs have v up (OpenGL) and images store the
@@ -269,7 +275,7 @@ static GLuint load_texture(sinew_renderer *r, const sinew_material *material, in
         return 0;
     }
     render_flip_rows(pixels, (size_t)w * 4, h);
-    bool srgb = slot == SINEW_MAP_BASE_COLOR || slot == SINEW_MAP_EMISSIVE;
+    bool srgb = map_is_srgb(slot);
     GLuint t = 0;
     glGenTextures(1, &t);
     glBindTexture(GL_TEXTURE_2D, t);
@@ -288,13 +294,12 @@ static GLuint shared_texture(sinew_renderer *r, uint32_t material, int slot)
 {
     const sinew_material *mats = r->model->materials;
     const sinew_texture *map = &mats[material].maps[slot];
-    bool srgb = slot == SINEW_MAP_BASE_COLOR || slot == SINEW_MAP_EMISSIVE;
     for (uint32_t i = 0; i <= material; i++)
         for (int k = 0; k < SINEW_MAP_COUNT && (i < material || k < slot); k++) {
             const sinew_texture *other = &mats[i].maps[k];
             bool same = map->image ? other->image == map->image
                                    : other->path && !other->image && map->path && strcmp(other->path, map->path) == 0;
-            if (same && r->textures[i][k] && srgb == (k == SINEW_MAP_BASE_COLOR || k == SINEW_MAP_EMISSIVE))
+            if (same && r->textures[i][k] && map_is_srgb(slot) == map_is_srgb(k))
                 return r->textures[i][k];
         }
     return 0;
