@@ -126,6 +126,13 @@ typedef struct blend_bench {
     sinew_mat4 *worlds;
     uint32_t layers;
     uint32_t chain[3], aim_joint;
+    /* the same poses as structures of arrays (one block: 4 poses, the output, the rest pose) */
+    void *soa_memory;
+    sinew_soa_pose soa[4], soa_out, soa_rest;
+    bool soa_scalar;
+    sinew_mixer *mixer;
+    void *mixer_memory;
+    sinew_clip_layout *layout;
 } blend_bench;
 
 static void step_blend(void *ctx, uint32_t i)
@@ -140,6 +147,25 @@ static void step_blend(void *ctx, uint32_t i)
                           .out = b->out,
                           .out_count = b->model->node_count};
     sinew_blend(&d, NULL);
+}
+
+static void step_blend_soa(void *ctx, uint32_t i)
+{
+    blend_bench *b = ctx;
+    sinew_blend_soa_layer layers[4];
+    for (uint32_t k = 0; k < b->layers; k++)
+        layers[k] = (sinew_blend_soa_layer){&b->soa[k], 0.25f + 0.1f * (float)((i + k) & 3), NULL};
+    sinew_blend_soa_desc d = {
+        .model = b->model, .rest = &b->soa_rest, .layers = layers, .layer_count = b->layers, .out = &b->soa_out};
+    (b->soa_scalar ? sinew_blend_soa_scalar : sinew_blend_soa)(&d, NULL);
+}
+
+/* A mixer in the middle of a long cross-fade: two clips sampled, blended, world matrices. */
+static void step_mixer(void *ctx, uint32_t i)
+{
+    blend_bench *b = ctx;
+    (void)i;
+    sinew_mixer_update(b->mixer, 1.0f / 60.0f, NULL, b->worlds, b->model->node_count, NULL);
 }
 
 /* IK corrects a copy of one pose each time (the copy is part of the cost, 64 x 40 bytes). */
@@ -181,7 +207,38 @@ static void step_aim(void *ctx, uint32_t i)
 
 typedef struct blend_result {
     double blend2_us, blend4_us, two_bone_us, aim_us;
+    double soa2_us, soa4_us, soa2_scalar_us, soa4_scalar_us, mixer_us;
 } blend_result;
+
+/* The structure-of-arrays copies of the bench's poses and a mixer fading clip 0 into itself. */
+static bool soa_setup(blend_bench *b)
+{
+    uint32_t n = b->model->node_count;
+    size_t one = sinew_soa_pose_size(n);
+    b->soa_memory = malloc(6 * one);
+    if (!b->soa_memory)
+        return false;
+    sinew_soa_pose *all[6] = {&b->soa[0], &b->soa[1], &b->soa[2], &b->soa[3], &b->soa_out, &b->soa_rest};
+    bool ok = true;
+    for (int k = 0; k < 6; k++)
+        ok = ok && sinew_soa_pose_init((char *)b->soa_memory + k * one, one, n, all[k], NULL) == SINEW_OK;
+    for (int k = 0; k < 4; k++)
+        ok = ok && sinew_soa_pose_from_locals(b->poses[k], n, &b->soa[k], NULL) == SINEW_OK;
+    ok = ok && sinew_soa_pose_from_locals(b->model->node_rest, n, &b->soa_rest, NULL) == SINEW_OK;
+    ok = ok && sinew_clip_layout_create(&(sinew_clip_layout_desc){.model = b->model, .clip = &b->model->clips[0]},
+                                        &b->layout, NULL) == SINEW_OK;
+    if (!ok)
+        return false;
+    const sinew_clip_layout *clips[2] = {b->layout, b->layout};
+    sinew_mixer_desc md = {.layouts = clips, .layout_count = 2};
+    size_t size = sinew_mixer_size(&md);
+    b->mixer_memory = malloc(size);
+    return b->mixer_memory && sinew_mixer_init(b->mixer_memory, size, &md, &b->mixer, NULL) == SINEW_OK &&
+           sinew_mixer_play(b->mixer, 0, 0.0f, false, NULL) == SINEW_OK &&
+           sinew_mixer_update(b->mixer, 0.4f, NULL, b->worlds, n, NULL) == SINEW_OK &&
+           sinew_mixer_play(b->mixer, 1, 1e6f, false, NULL) == SINEW_OK &&
+           sinew_mixer_update(b->mixer, 1e5f, NULL, b->worlds, n, NULL) == SINEW_OK;
+}
 
 /* Microseconds a 64-joint character: blending 2 and 4 poses, two-bone IK, aim. */
 static bool bench_blend(blend_result *out)
@@ -218,6 +275,20 @@ static bool bench_blend(blend_result *out)
         out->two_bone_us = 1e6 * best_per_unit(step_two_bone, &b, 50000);
         out->aim_us = 1e6 * best_per_unit(step_aim, &b, 50000);
     }
+    ok = ok && soa_setup(&b);
+    if (ok) {
+        for (int scalar = 0; scalar < 2; scalar++) {
+            b.soa_scalar = scalar;
+            b.layers = 2;
+            (scalar ? &out->soa2_scalar_us : &out->soa2_us)[0] = 1e6 * best_per_unit(step_blend_soa, &b, 50000);
+            b.layers = 4;
+            (scalar ? &out->soa4_scalar_us : &out->soa4_us)[0] = 1e6 * best_per_unit(step_blend_soa, &b, 50000);
+        }
+        out->mixer_us = 1e6 * best_per_unit(step_mixer, &b, 20000);
+    }
+    free(b.soa_memory);
+    free(b.mixer_memory);
+    sinew_clip_layout_free(b.layout);
     for (int k = 0; k < 4; k++)
         free(b.poses[k]);
     free(b.out);
@@ -616,6 +687,11 @@ int bench_eval(int argc, char **argv)
         cJSON_AddNumberToObject(o, "reference_seek_us_64", s64.reference_seek_us);
         cJSON_AddNumberToObject(o, "blend2_us_64", blend.blend2_us);
         cJSON_AddNumberToObject(o, "blend4_us_64", blend.blend4_us);
+        cJSON_AddNumberToObject(o, "blend2_soa_us_64", blend.soa2_us);
+        cJSON_AddNumberToObject(o, "blend4_soa_us_64", blend.soa4_us);
+        cJSON_AddNumberToObject(o, "blend2_soa_scalar_us_64", blend.soa2_scalar_us);
+        cJSON_AddNumberToObject(o, "blend4_soa_scalar_us_64", blend.soa4_scalar_us);
+        cJSON_AddNumberToObject(o, "mixer_crossfade_us_64", blend.mixer_us);
         cJSON_AddNumberToObject(o, "ik_two_bone_us_64", blend.two_bone_us);
         cJSON_AddNumberToObject(o, "ik_aim_us_64", blend.aim_us);
         cJSON_AddNumberToObject(o, "skin_vertices", skin.vertices);
@@ -672,6 +748,10 @@ int bench_eval(int argc, char **argv)
     printf("%-44s %9.3f us %9.3f us\n", "sample + world, 128 joints, random seek", s128.seek_us,
            s128.reference_seek_us);
     printf("%-44s %9.3f us %9.3f us\n", "blend 2 | 4 poses, 64 joints", blend.blend2_us, blend.blend4_us);
+    printf("%-44s %9.3f us %9.3f us\n", "blend 2 poses, SoA (player's layout), 64 joints", blend.soa2_us,
+           blend.soa2_scalar_us);
+    printf("%-44s %9.3f us %9.3f us\n", "blend 4 poses, SoA, 64 joints", blend.soa4_us, blend.soa4_scalar_us);
+    printf("%-44s %9.3f us\n", "mixer mid-fade: 2 clips + blend + world", blend.mixer_us);
     printf("%-44s %9.3f us %9.3f us\n", "IK: two-bone | aim (with a 64-joint pose copy)", blend.two_bone_us,
            blend.aim_us);
     printf("%-44s %6.0f Mv/s %6.0f Mv/s %10s\n", "skinning (pos + normal, 4 infl), 1 thread", skin.mverts[1],

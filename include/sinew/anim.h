@@ -184,6 +184,63 @@ sinew_result sinew_player_update(sinew_player *player, float time, sinew_wrap wr
 sinew_result sinew_player_sample(sinew_player *player, float time, sinew_wrap wrap, sinew_transform *locals,
                                  uint32_t local_count, sinew_error *error);
 
+/* ---- structure-of-arrays poses: the player's own layout, which blending works on ----
+ *
+ * A pose of node_count nodes as SINEW_SOA_ROWS rows of `stride` floats (stride: node_count
+ * rounded up to 8), 32-byte aligned: row SINEW_SOA_TX holds every node's translation x, and
+ * so on; node i's component r is data[r * stride + i]. Lanes past node_count are padding
+ * (identity transforms). Rotations need not be unit (the player's are interpolated
+ * component-wise); whatever reads them normalises. sinew_blend_soa() (sinew/blend.h)
+ * combines such poses 8 nodes at a time.
+ *
+ *   sinew_soa_pose walk, run, out;   out: memory of sinew_soa_pose_size(n), sinew_soa_pose_init()
+ *   sinew_player_advance(walk_player, t, SINEW_WRAP_LOOP, &walk, &e);   a view of the player's pose
+ *   sinew_player_advance(run_player, t, SINEW_WRAP_LOOP, &run, &e);
+ *   sinew_blend_soa(&(sinew_blend_soa_desc){.model = m, .layers = ..., .out = &out}, &e);
+ *   sinew_soa_pose_worlds(m, &out, NULL, worlds, n, &e);
+ */
+enum {
+    SINEW_SOA_TX,
+    SINEW_SOA_TY,
+    SINEW_SOA_TZ,
+    SINEW_SOA_QX,
+    SINEW_SOA_QY,
+    SINEW_SOA_QZ,
+    SINEW_SOA_QW,
+    SINEW_SOA_SX,
+    SINEW_SOA_SY,
+    SINEW_SOA_SZ,
+    SINEW_SOA_ROWS
+};
+
+typedef struct sinew_soa_pose {
+    float *data; /* SINEW_SOA_ROWS * stride floats, 32-byte aligned */
+    uint32_t node_count;
+    uint32_t stride; /* node_count rounded up to 8 */
+} sinew_soa_pose;
+
+/* Bytes a pose of node_count nodes needs, with room to align itself. */
+size_t sinew_soa_pose_size(uint32_t node_count);
+/* A pose in `memory` (size >= sinew_soa_pose_size(node_count)), every node at identity. */
+sinew_result sinew_soa_pose_init(void *memory, size_t size, uint32_t node_count, sinew_soa_pose *out,
+                                 sinew_error *error);
+/* pose = locals (count >= pose->node_count), and back (rotations normalised on the way out). */
+sinew_result sinew_soa_pose_from_locals(const sinew_transform *locals, uint32_t count, sinew_soa_pose *pose,
+                                        sinew_error *error);
+sinew_result sinew_soa_pose_to_locals(const sinew_soa_pose *pose, sinew_transform *locals, uint32_t count,
+                                      sinew_error *error);
+/* World matrices of the pose on the model's hierarchy, as sinew_player_update() computes
+ * them (the same code): world[i] = world[parent] * local[i], roots root * local (root NULL:
+ * identity), inherit types honoured. AVX2+FMA where the processor has them. */
+sinew_result sinew_soa_pose_worlds(const sinew_model *model, const sinew_soa_pose *pose, const sinew_mat4 *root,
+                                   sinew_mat4 *worlds, uint32_t world_count, sinew_error *error);
+
+/* Samples the clip at `time` like sinew_player_update() and stops there: *pose becomes a view
+ * of the player's own pose (read-only; valid until the player's next call), for
+ * sinew_blend_soa(). No copy, no conversion. */
+sinew_result sinew_player_advance(sinew_player *player, float time, sinew_wrap wrap, sinew_soa_pose *pose,
+                                  sinew_error *error);
+
 /* Skins like sinew_skin_vertices() with the plain C reference code, never SIMD: what tests
  * and benchmarks compare the SIMD paths with. */
 sinew_result sinew_skin_vertices_scalar(const sinew_skin_desc *desc, sinew_error *error);

@@ -230,9 +230,11 @@ sinew_result sinew_blend(const sinew_blend_desc *d, sinew_error *error)
                 continue;
             const sinew_transform *delta = &d->additive[i].locals[n];
             double dq[4] = {delta->rotation[0], delta->rotation[1], delta->rotation[2], delta->rotation[3]};
-            double part[4], base[4] = {o->rotation[0], o->rotation[1], o->rotation[2], o->rotation[3]};
+            double base[4] = {o->rotation[0], o->rotation[1], o->rotation[2], o->rotation[3]};
             quat_normalize(dq);
-            quat_scale_angle(dq, w, part);
+            double sign = dq[3] < 0.0 ? -w : w; /* nlerp(identity, delta, w), the shorter way */
+            double part[4] = {sign * dq[0], sign * dq[1], sign * dq[2], sign * dq[3] + (1.0 - w)};
+            quat_normalize(part);
             quat_mul(base, part, base);
             quat_normalize(base);
             for (int k = 0; k < 3; k++) {

@@ -195,8 +195,22 @@ void sinew_skin_avx2(const skin_call *call);
 /* *allocator, or aligned_alloc/free (16-byte aligned) when it is NULL (model.c). */
 sinew_allocator sinew_allocator_or_default(const sinew_allocator *allocator);
 
+/* The model and clip (NULL: the rest pose) a layout plays (player.c). */
+const sinew_model *sinew_layout_model(const sinew_clip_layout *layout);
+const sinew_clip *sinew_layout_clip(const sinew_clip_layout *layout);
+
 /* Chooses the player's SIMD path (when the processor has it) or the scalar reference. */
 void sinew_player_set_simd(sinew_player *player, bool simd);
+
+/* Structure-of-arrays poses (soa.c; rows SINEW_SOA_*, `stride` floats each): whether this
+ * processor has the AVX2+FMA paths; identity transforms in lanes [first, stride); rotations
+ * normalised into local transforms; world matrices (simd: the AVX2+FMA path, else the scalar
+ * reference), as sinew_soa_pose_worlds() and the player compute them. */
+bool soa_simd_supported(void);
+void soa_identity(float *pose, uint32_t stride, uint32_t first);
+void soa_to_locals(const float *pose, uint32_t stride, uint32_t node_count, sinew_transform *locals);
+void soa_worlds(const sinew_model *model, const float *pose, uint32_t stride, const sinew_mat4 *root,
+                sinew_mat4 *worlds, bool simd);
 
 /* Width in floats of one key value of a channel kind (translation/scale 3, rotation 4). */
 static inline uint32_t sinew_channel_width(int kind)

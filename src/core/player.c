@@ -32,8 +32,20 @@
 #define PLAYER_X86 1
 #endif
 
-enum { C_TX, C_TY, C_TZ, C_QX, C_QY, C_QZ, C_QW, C_SX, C_SY, C_SZ, C_COUNT };
-enum { M_00, M_01, M_02, M_10, M_11, M_12, M_20, M_21, M_22, M_COUNT }; /* M_cr: column c, row r */
+/* the pose's rows: the player's pose is a sinew_soa_pose */
+enum {
+    C_TX = SINEW_SOA_TX,
+    C_TY = SINEW_SOA_TY,
+    C_TZ = SINEW_SOA_TZ,
+    C_QX = SINEW_SOA_QX,
+    C_QY = SINEW_SOA_QY,
+    C_QZ = SINEW_SOA_QZ,
+    C_QW = SINEW_SOA_QW,
+    C_SX = SINEW_SOA_SX,
+    C_SY = SINEW_SOA_SY,
+    C_SZ = SINEW_SOA_SZ,
+    C_COUNT = SINEW_SOA_ROWS
+};
 
 typedef struct run {
     uint32_t dst;  /* index into the pose */
@@ -75,8 +87,7 @@ struct sinew_clip_layout {
 struct sinew_player {
     const sinew_clip_layout *layout;
     bool simd;
-    float *pose;       /* C_COUNT * stride, 32-byte aligned */
-    float *locals;     /* M_COUNT * stride: rotation * scale, 32-byte aligned */
+    float *pose;       /* C_COUNT * stride, 32-byte aligned: a structure-of-arrays pose */
     uint32_t *cursors; /* group_count key cursors */
 };
 
@@ -325,12 +336,22 @@ void sinew_clip_layout_free(sinew_clip_layout *layout)
 
 /* ---- one character's state ------------------------------------------------------------------ */
 
+const sinew_model *sinew_layout_model(const sinew_clip_layout *layout)
+{
+    return layout->model;
+}
+
+const sinew_clip *sinew_layout_clip(const sinew_clip_layout *layout)
+{
+    return layout->clip;
+}
+
 size_t sinew_player_size(const sinew_clip_layout *layout)
 {
     if (!layout)
         return 0;
     /* 31 bytes of slack: the memory may start anywhere, the pose starts on 32 bytes. */
-    return 31 + ALIGN32(sizeof(sinew_player)) + (size_t)(C_COUNT + M_COUNT) * layout->stride * 4 +
+    return 31 + ALIGN32(sizeof(sinew_player)) + (size_t)C_COUNT * layout->stride * 4 +
            (size_t)layout->group_count * sizeof(uint32_t);
 }
 
@@ -348,8 +369,8 @@ sinew_result sinew_player_init(void *memory, size_t size, const sinew_clip_layou
     sinew_player *p = (sinew_player *)at;
     at += ALIGN32(sizeof *p);
     size_t pose_bytes = (size_t)C_COUNT * layout->stride * 4;
-    *p = (sinew_player){.layout = layout, .pose = (float *)at, .locals = (float *)(at + pose_bytes)};
-    p->cursors = (uint32_t *)(at + pose_bytes + (size_t)M_COUNT * layout->stride * 4);
+    *p = (sinew_player){.layout = layout, .pose = (float *)at};
+    p->cursors = (uint32_t *)(at + pose_bytes);
     memcpy(p->pose, layout->start_pose, pose_bytes);
     memset(p->cursors, 0, layout->group_count * sizeof *p->cursors);
     sinew_player_set_simd(p, true);
@@ -360,7 +381,7 @@ sinew_result sinew_player_init(void *memory, size_t size, const sinew_clip_layou
 void sinew_player_set_simd(sinew_player *player, bool simd)
 {
 #ifdef PLAYER_X86
-    player->simd = simd && __builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma");
+    player->simd = simd && soa_simd_supported();
 #else
     (void)simd;
     player->simd = false;
@@ -452,73 +473,6 @@ static void blend_scalar(float *pose, const group *g, const segment *seg)
     }
 }
 
-/* Local rotation*scale matrices of nodes [0, stride) from the pose. */
-static void locals_scalar(sinew_player *p)
-{
-    const uint32_t S = p->layout->stride;
-    const float *P = p->pose;
-    float *M = p->locals;
-    for (uint32_t i = 0; i < S; i++) {
-        float x = P[C_QX * S + i], y = P[C_QY * S + i], z = P[C_QZ * S + i], w = P[C_QW * S + i];
-        float n = x * x + y * y + z * z + w * w;
-        float s = n > 0.0f ? 2.0f / n : 0.0f;
-        float xx = s * x * x, yy = s * y * y, zz = s * z * z;
-        float xy = s * x * y, xz = s * x * z, yz = s * y * z;
-        float wx = s * w * x, wy = s * w * y, wz = s * w * z;
-        float sx = P[C_SX * S + i], sy = P[C_SY * S + i], sz = P[C_SZ * S + i];
-        M[M_00 * S + i] = (1.0f - yy - zz) * sx;
-        M[M_01 * S + i] = (xy + wz) * sx;
-        M[M_02 * S + i] = (xz - wy) * sx;
-        M[M_10 * S + i] = (xy - wz) * sy;
-        M[M_11 * S + i] = (1.0f - xx - zz) * sy;
-        M[M_12 * S + i] = (yz + wx) * sy;
-        M[M_20 * S + i] = (xz + wy) * sz;
-        M[M_21 * S + i] = (yz - wx) * sz;
-        M[M_22 * S + i] = (1.0f - xx - yy) * sz;
-    }
-}
-
-/* A node whose inherit type is not NORMAL (sinew_inherit): its world from the pose's TRS. */
-static bool world_inherit(const sinew_player *p, uint32_t i, sinew_mat4 *worlds)
-{
-    const sinew_model *m = p->layout->model;
-    if (!m->node_inherit || m->node_inherit[i] == SINEW_INHERIT_NORMAL || m->node_parents[i] < 0)
-        return false;
-    const uint32_t S = p->layout->stride;
-    const float *P = p->pose;
-    float t[3] = {P[C_TX * S + i], P[C_TY * S + i], P[C_TZ * S + i]};
-    float q[4] = {P[C_QX * S + i], P[C_QY * S + i], P[C_QZ * S + i], P[C_QW * S + i]};
-    float s[3] = {P[C_SX * S + i], P[C_SY * S + i], P[C_SZ * S + i]};
-    pose_world_inherit(m, i, t, q, s, (pose_scales){P + C_SX * S, 1, S}, worlds, &worlds[i]);
-    return true;
-}
-
-static void world_scalar(const sinew_player *p, const sinew_mat4 *root, sinew_mat4 *worlds)
-{
-    const uint32_t S = p->layout->stride;
-    const float *M = p->locals, *P = p->pose;
-    const int32_t *parents = p->layout->model->node_parents;
-    for (uint32_t i = 0; i < p->layout->node_count; i++) {
-        if (world_inherit(p, i, worlds))
-            continue;
-        float l[16] = {M[M_00 * S + i], M[M_01 * S + i], M[M_02 * S + i], 0.0f,
-                       M[M_10 * S + i], M[M_11 * S + i], M[M_12 * S + i], 0.0f,
-                       M[M_20 * S + i], M[M_21 * S + i], M[M_22 * S + i], 0.0f,
-                       P[C_TX * S + i], P[C_TY * S + i], P[C_TZ * S + i], 1.0f};
-        int32_t parent = parents[i];
-        const float *b = parent >= 0 ? worlds[parent].m : root ? root->m : NULL;
-        float *o = worlds[i].m;
-        if (!b) {
-            memcpy(o, l, sizeof l);
-            continue;
-        }
-        for (int c = 0; c < 4; c++)
-            for (int r = 0; r < 4; r++)
-                o[c * 4 + r] =
-                    b[r] * l[c * 4] + b[4 + r] * l[c * 4 + 1] + b[8 + r] * l[c * 4 + 2] + b[12 + r] * l[c * 4 + 3];
-    }
-}
-
 #ifdef PLAYER_X86
 __attribute__((target("avx2,fma"))) static void blend_avx2(float *pose, const group *g, const segment *seg)
 {
@@ -543,74 +497,6 @@ __attribute__((target("avx2,fma"))) static void blend_avx2(float *pose, const gr
     }
 }
 
-__attribute__((target("avx2,fma"))) static void locals_avx2(sinew_player *p)
-{
-    const uint32_t S = p->layout->stride;
-    const float *P = p->pose;
-    float *M = p->locals;
-    const __m256 one = _mm256_set1_ps(1.0f), two = _mm256_set1_ps(2.0f), zero = _mm256_setzero_ps();
-    for (uint32_t i = 0; i < S; i += 8) {
-        __m256 x = _mm256_load_ps(P + C_QX * S + i), y = _mm256_load_ps(P + C_QY * S + i);
-        __m256 z = _mm256_load_ps(P + C_QZ * S + i), w = _mm256_load_ps(P + C_QW * S + i);
-        __m256 n = _mm256_fmadd_ps(x, x, _mm256_fmadd_ps(y, y, _mm256_fmadd_ps(z, z, _mm256_mul_ps(w, w))));
-        __m256 s = _mm256_and_ps(_mm256_div_ps(two, n), _mm256_cmp_ps(n, zero, _CMP_GT_OQ));
-        __m256 xs = _mm256_mul_ps(x, s), ys = _mm256_mul_ps(y, s), zs = _mm256_mul_ps(z, s);
-        __m256 xx = _mm256_mul_ps(xs, x), yy = _mm256_mul_ps(ys, y), zz = _mm256_mul_ps(zs, z);
-        __m256 xy = _mm256_mul_ps(xs, y), xz = _mm256_mul_ps(xs, z), yz = _mm256_mul_ps(ys, z);
-        __m256 wx = _mm256_mul_ps(xs, w), wy = _mm256_mul_ps(ys, w), wz = _mm256_mul_ps(zs, w);
-        __m256 sx = _mm256_load_ps(P + C_SX * S + i), sy = _mm256_load_ps(P + C_SY * S + i);
-        __m256 sz = _mm256_load_ps(P + C_SZ * S + i);
-        _mm256_store_ps(M + M_00 * S + i, _mm256_mul_ps(_mm256_sub_ps(_mm256_sub_ps(one, yy), zz), sx));
-        _mm256_store_ps(M + M_01 * S + i, _mm256_mul_ps(_mm256_add_ps(xy, wz), sx));
-        _mm256_store_ps(M + M_02 * S + i, _mm256_mul_ps(_mm256_sub_ps(xz, wy), sx));
-        _mm256_store_ps(M + M_10 * S + i, _mm256_mul_ps(_mm256_sub_ps(xy, wz), sy));
-        _mm256_store_ps(M + M_11 * S + i, _mm256_mul_ps(_mm256_sub_ps(_mm256_sub_ps(one, xx), zz), sy));
-        _mm256_store_ps(M + M_12 * S + i, _mm256_mul_ps(_mm256_add_ps(yz, wx), sy));
-        _mm256_store_ps(M + M_20 * S + i, _mm256_mul_ps(_mm256_add_ps(xz, wy), sz));
-        _mm256_store_ps(M + M_21 * S + i, _mm256_mul_ps(_mm256_sub_ps(yz, wx), sz));
-        _mm256_store_ps(M + M_22 * S + i, _mm256_mul_ps(_mm256_sub_ps(_mm256_sub_ps(one, xx), yy), sz));
-    }
-}
-
-__attribute__((target("avx2,fma"))) static void world_avx2(const sinew_player *p, const sinew_mat4 *root,
-                                                           sinew_mat4 *worlds)
-{
-    const uint32_t S = p->layout->stride;
-    const float *M = p->locals, *P = p->pose;
-    const int32_t *parents = p->layout->model->node_parents;
-    for (uint32_t i = 0; i < p->layout->node_count; i++) {
-        if (world_inherit(p, i, worlds))
-            continue;
-        int32_t parent = parents[i];
-        const float *b = parent >= 0 ? worlds[parent].m : root ? root->m : NULL;
-        float *o = worlds[i].m;
-        if (!b) {
-            const float l[16] = {M[M_00 * S + i], M[M_01 * S + i], M[M_02 * S + i], 0.0f,
-                                 M[M_10 * S + i], M[M_11 * S + i], M[M_12 * S + i], 0.0f,
-                                 M[M_20 * S + i], M[M_21 * S + i], M[M_22 * S + i], 0.0f,
-                                 P[C_TX * S + i], P[C_TY * S + i], P[C_TZ * S + i], 1.0f};
-            memcpy(o, l, sizeof l);
-            continue;
-        }
-        __m128 b0 = _mm_loadu_ps(b), b1 = _mm_loadu_ps(b + 4), b2 = _mm_loadu_ps(b + 8), b3 = _mm_loadu_ps(b + 12);
-        __m128 c0 = _mm_fmadd_ps(
-            b2, _mm_broadcast_ss(M + M_02 * S + i),
-            _mm_fmadd_ps(b1, _mm_broadcast_ss(M + M_01 * S + i), _mm_mul_ps(b0, _mm_broadcast_ss(M + M_00 * S + i))));
-        __m128 c1 = _mm_fmadd_ps(
-            b2, _mm_broadcast_ss(M + M_12 * S + i),
-            _mm_fmadd_ps(b1, _mm_broadcast_ss(M + M_11 * S + i), _mm_mul_ps(b0, _mm_broadcast_ss(M + M_10 * S + i))));
-        __m128 c2 = _mm_fmadd_ps(
-            b2, _mm_broadcast_ss(M + M_22 * S + i),
-            _mm_fmadd_ps(b1, _mm_broadcast_ss(M + M_21 * S + i), _mm_mul_ps(b0, _mm_broadcast_ss(M + M_20 * S + i))));
-        __m128 c3 = _mm_fmadd_ps(b2, _mm_broadcast_ss(P + C_TZ * S + i),
-                                 _mm_fmadd_ps(b1, _mm_broadcast_ss(P + C_TY * S + i),
-                                              _mm_fmadd_ps(b0, _mm_broadcast_ss(P + C_TX * S + i), b3)));
-        _mm_storeu_ps(o, c0);
-        _mm_storeu_ps(o + 4, c1);
-        _mm_storeu_ps(o + 8, c2);
-        _mm_storeu_ps(o + 12, c3);
-    }
-}
 #endif
 
 /* Every group's keys at t into the pose, blended by `blend` (the SIMD or the scalar one). */
@@ -624,7 +510,17 @@ static void sample_groups(sinew_player *p, float t, void (*blend)(float *, const
     }
 }
 
-/* The checks both entry points make; the clip time to sample, or a failure. */
+/* The pose at clip time t, through the SIMD or the scalar blend. */
+static void sample_at(sinew_player *p, float t)
+{
+#ifdef PLAYER_X86
+    sample_groups(p, t, p->simd ? blend_avx2 : blend_scalar);
+#else
+    sample_groups(p, t, blend_scalar);
+#endif
+}
+
+/* The checks the entry points make; the clip time to sample, or a failure. */
 static sinew_result player_time(const sinew_player *p, const void *out, uint32_t count, float time, sinew_wrap wrap,
                                 const char *what, float *t, sinew_error *error)
 {
@@ -648,26 +544,8 @@ sinew_result sinew_player_sample(sinew_player *p, float time, sinew_wrap wrap, s
     if (r != SINEW_OK)
         return r;
     const sinew_clip_layout *l = p->layout;
-#ifdef PLAYER_X86
-    sample_groups(p, t, p->simd ? blend_avx2 : blend_scalar);
-#else
-    sample_groups(p, t, blend_scalar);
-#endif
-    const uint32_t S = l->stride;
-    const float *P = p->pose;
-    for (uint32_t i = 0; i < l->node_count; i++) {
-        sinew_transform *o = &locals[i];
-        for (int k = 0; k < 3; k++) {
-            o->translation[k] = P[(C_TX + k) * S + i];
-            o->scale[k] = P[(C_SX + k) * S + i];
-        }
-        float q[4], n = 0.0f;
-        for (int k = 0; k < 4; k++)
-            q[k] = P[(C_QX + k) * S + i], n += q[k] * q[k];
-        float inv = n > 0.0f ? 1.0f / sqrtf(n) : 0.0f;
-        for (int k = 0; k < 4; k++)
-            o->rotation[k] = n > 0.0f ? q[k] * inv : (k == 3 ? 1.0f : 0.0f);
-    }
+    sample_at(p, t);
+    soa_to_locals(p->pose, l->stride, l->node_count, locals);
     return SINEW_OK;
 }
 
@@ -678,16 +556,19 @@ sinew_result sinew_player_update(sinew_player *p, float time, sinew_wrap wrap, c
     sinew_result r = player_time(p, worlds, world_count, time, wrap, "sinew_player_update", &t, error);
     if (r != SINEW_OK)
         return r;
-#ifdef PLAYER_X86
-    if (p->simd) {
-        sample_groups(p, t, blend_avx2);
-        locals_avx2(p);
-        world_avx2(p, root, worlds);
-        return SINEW_OK;
-    }
-#endif
-    sample_groups(p, t, blend_scalar);
-    locals_scalar(p);
-    world_scalar(p, root, worlds);
+    sample_at(p, t);
+    soa_worlds(p->layout->model, p->pose, p->layout->stride, root, worlds, p->simd);
+    return SINEW_OK;
+}
+
+sinew_result sinew_player_advance(sinew_player *p, float time, sinew_wrap wrap, sinew_soa_pose *pose,
+                                  sinew_error *error)
+{
+    float t;
+    sinew_result r = player_time(p, pose, p ? p->layout->node_count : 0, time, wrap, "sinew_player_advance", &t, error);
+    if (r != SINEW_OK)
+        return r;
+    sample_at(p, t);
+    *pose = (sinew_soa_pose){p->pose, p->layout->node_count, p->layout->stride};
     return SINEW_OK;
 }

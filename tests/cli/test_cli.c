@@ -566,20 +566,12 @@ static void test_bench_eval_json(void **state)
     assert_int_equal(r.code, 0);
     cJSON *o = cJSON_Parse(r.out);
     assert_non_null(o);
-    static const char *const keys[] = {"sample_world_us_64",
-                                       "sample_world_us_128",
-                                       "seek_us_64",
-                                       "skin_mverts_1t",
-                                       "skin_mverts_1t_posonly",
-                                       "skin_mverts_dqs_1t",
-                                       "threads",
-                                       "skin_mverts_nt",
-                                       "crowd1000_speedup_nt",
-                                       "load_speedup_vs_assimp",
-                                       "blend2_us_64",
-                                       "blend4_us_64",
-                                       "ik_two_bone_us_64",
-                                       "ik_aim_us_64"};
+    static const char *const keys[] = {
+        "sample_world_us_64",      "sample_world_us_128",    "seek_us_64",       "skin_mverts_1t",
+        "skin_mverts_1t_posonly",  "skin_mverts_dqs_1t",     "threads",          "skin_mverts_nt",
+        "crowd1000_speedup_nt",    "load_speedup_vs_assimp", "blend2_us_64",     "blend4_us_64",
+        "ik_two_bone_us_64",       "ik_aim_us_64",           "blend2_soa_us_64", "blend4_soa_us_64",
+        "blend2_soa_scalar_us_64", "mixer_crossfade_us_64"};
     for (size_t i = 0; i < sizeof keys / sizeof keys[0]; i++) {
         cJSON *v = cJSON_GetObjectItem(o, keys[i]);
         if (!cJSON_IsNumber(v) || !(v->valuedouble > 0.0))
