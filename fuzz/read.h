@@ -1,4 +1,4 @@
-/* Shared by the importer fuzz targets (fuzz_fbx, fuzz_gltf, fuzz_collada): any bytes either
+/* Shared by the importer fuzz targets (fuzz_fbx, fuzz_gltf, fuzz_collada, fuzz_iqm): any bytes either
  * read (and then build into a runtime model that is exercised like a player would) or are
  * refused with a message that names the file; never a crash, a hang or a sanitizer report. */
 #ifndef SINEW_FUZZ_READ_H

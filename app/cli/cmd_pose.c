@@ -32,7 +32,8 @@ static const char pose_usage[] =
     "combining clips (sinew/blend.h; with --root-motion a JSON frame gives \"root_motion\": {\"node\",\n"
     "\"translation\", \"yaw\"}, what was taken out):\n" APP_POSE_OPTIONS_HELP
     "  --anim OTHER          OTHER's clips retargeted onto FILE's skeleton, first in its clip list (joints by\n"
-    "                        name, Mixamo/CMU/Unity humanoid names mapped; --name-map M.json: {\"from\": \"to\"})\n";
+    "                        name, Mixamo/CMU/Unity humanoid names mapped; --name-map M.json: {\"from\": \"to\"};\n"
+    "                        nameless joints of the same hierarchy, as IQM animation files have, by index)\n";
 
 #define MAX_TIMES 4096
 

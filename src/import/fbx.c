@@ -146,30 +146,6 @@ typedef struct scene {
 
 /* ---- small double-precision math ------------------------------------------------------- */
 
-/* Inverse of an affine matrix (last row 0 0 0 1); identity when singular. */
-static dmat dmat_inverse_affine(const dmat *a)
-{
-    const double *m = a->m;
-    double c00 = m[5] * m[10] - m[9] * m[6], c01 = m[9] * m[2] - m[1] * m[10], c02 = m[1] * m[6] - m[5] * m[2];
-    double det = m[0] * c00 + m[4] * c01 + m[8] * c02;
-    if (det == 0.0 || !isfinite(det))
-        return dmat_identity();
-    double inv = 1.0 / det;
-    dmat r = dmat_identity();
-    r.m[0] = c00 * inv;
-    r.m[1] = c01 * inv;
-    r.m[2] = c02 * inv;
-    r.m[4] = (m[8] * m[6] - m[4] * m[10]) * inv;
-    r.m[5] = (m[0] * m[10] - m[8] * m[2]) * inv;
-    r.m[6] = (m[4] * m[2] - m[0] * m[6]) * inv;
-    r.m[8] = (m[4] * m[9] - m[8] * m[5]) * inv;
-    r.m[9] = (m[8] * m[1] - m[0] * m[9]) * inv;
-    r.m[10] = (m[0] * m[5] - m[4] * m[1]) * inv;
-    for (int row = 0; row < 3; row++)
-        r.m[12 + row] = -(r.m[row] * m[12] + r.m[4 + row] * m[13] + r.m[8 + row] * m[14]);
-    return r;
-}
-
 /* Determinant of the 3x3 part (negative: the matrix mirrors). */
 static double dmat_det3(const dmat *a)
 {

@@ -225,7 +225,7 @@ static bool has_extension(const char *path, const char *ext)
 typedef sinew_result (*file_reader)(const char *path, const unsigned char *bytes, size_t size, raw_model *model,
                                     sinew_error *error);
 
-/* sinew's own readers for the formats it reads itself (FBX, glTF, COLLADA), Assimp for the
+/* sinew's own readers for the formats it reads itself (FBX, glTF, COLLADA, IQM), Assimp for the
  * rest. A file that looks like one of them, or is named so, is never handed to Assimp. A NULL
  * reader with a refusal: the name promises a format the bytes are not. */
 typedef struct reader_choice {
@@ -249,6 +249,10 @@ static reader_choice choose_reader(const char *path, bool assimp)
         return (reader_choice){NULL, NULL, "not a binary glTF file (it does not start with \"glTF\")"};
     if (gltf || has_extension(path, ".gltf"))
         return (reader_choice){raw_model_from_gltf, "sinew's glTF reader", NULL};
+    if (iqm_sniff(head, head_size))
+        return (reader_choice){raw_model_from_iqm, "sinew's IQM reader", NULL};
+    if (has_extension(path, ".iqm"))
+        return (reader_choice){NULL, NULL, "not an IQM file (it does not start with \"INTERQUAKEMODEL\")"};
     if (collada_sniff(head, head_size) || has_extension(path, ".dae"))
         return (reader_choice){raw_model_from_collada, "sinew's COLLADA reader", NULL};
     return (reader_choice){NULL, "Assimp", NULL};

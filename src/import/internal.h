@@ -173,6 +173,10 @@ dmat dmat_mul(const dmat *a, const dmat *b);
 /* A matrix written row by row (COLLADA's <matrix>, <bind_shape_matrix>, inverse binds). */
 dmat dmat_from_rows(const double v[16]);
 void dmat_to_float(const dmat *a, sinew_mat4 *out);
+/* Inverse of an affine matrix (last row 0 0 0 1); identity when singular. */
+dmat dmat_inverse_affine(const dmat *a);
+/* Translation * rotation (x, y, z, w; normalised here) * scale. */
+dmat dmat_from_trs(const double t[3], const double q[4], const double s[3]);
 /* The unit quaternion (x, y, z, w) of the rotation in a's upper 3x3 (orthonormal; the
  * identity when it is degenerate). */
 void dmat_quat(const dmat *a, double q[4]);
@@ -283,6 +287,14 @@ sinew_result raw_model_from_gltf(const char *path, const unsigned char *bytes, s
  * own reader (collada.c): joints bound by SID, samplers kept or baked exactly, clip windows. */
 sinew_result raw_model_from_collada(const char *path, const unsigned char *bytes, size_t size, raw_model *model,
                                     sinew_error *error);
+
+/* Reads an Inter-Quake Model file (version 2, its bytes already in memory) with sinew's own
+ * reader (iqm.c): joints, skinned meshes, animations, and animation-only files of poses. */
+sinew_result raw_model_from_iqm(const char *path, const unsigned char *bytes, size_t size, raw_model *model,
+                                sinew_error *error);
+
+/* True when the bytes start an IQM file ("INTERQUAKEMODEL\0"). */
+bool iqm_sniff(const unsigned char *head, size_t size);
 
 /* True when the first bytes hold a <COLLADA> root (UTF-8 or UTF-16). */
 bool collada_sniff(const unsigned char *head, size_t size);

@@ -163,8 +163,57 @@ static sinew_result read_name_map(const char *path, const sinew_model *target, c
     return r;
 }
 
-/* match[target node] = source node or -1. */
+static bool is_joint(const sinew_model *m, uint32_t node)
+{
+    for (uint32_t k = 0; k < m->skin_count; k++)
+        for (uint32_t j = 0; j < m->skins[k].joint_count; j++)
+            if (m->skins[k].joints[j] == node)
+                return true;
+    return false;
+}
+
+/* The same hierarchy: as many nodes, each with the parent of the same index. */
+static bool same_shape(const sinew_model *target, const sinew_model *source)
+{
+    if (target->node_count != source->node_count)
+        return false;
+    for (uint32_t i = 0; i < target->node_count; i++)
+        if (target->node_parents[i] != source->node_parents[i])
+            return false;
+    return true;
+}
+
+/* True when every node matches the node of the same index in a hierarchy of the same shape:
+ * the source's clips were made for this skeleton and are copied as they are. */
+static bool matched_by_index(const sinew_model *target, const sinew_model *source, const int32_t *match)
+{
+    if (!same_shape(target, source))
+        return false;
+    for (uint32_t i = 0; i < target->node_count; i++)
+        if (match[i] != (int32_t)i)
+            return false;
+    return true;
+}
+
+static uint32_t match_names(const sinew_model *target, const sinew_model *source, int32_t *match);
+
+/* match[target node] = source node or -1: by name, or by index when no joint of the source
+ * matches by name but the hierarchies have the same shape (an animation file whose joints
+ * carry no names, such as IQM's, made for this skeleton: raylib's rule). */
 static uint32_t match_joints(const sinew_model *target, const sinew_model *source, int32_t *match)
+{
+    uint32_t matched = match_names(target, source, match);
+    bool joint_matched = false;
+    for (uint32_t t = 0; t < target->node_count && !joint_matched; t++)
+        joint_matched = match[t] >= 0 && is_joint(source, (uint32_t)match[t]);
+    if (joint_matched || !same_shape(target, source))
+        return matched;
+    for (uint32_t i = 0; i < target->node_count; i++)
+        match[i] = (int32_t)i;
+    return target->node_count;
+}
+
+static uint32_t match_names(const sinew_model *target, const sinew_model *source, int32_t *match)
 {
     const family *tf = family_of(target), *sf = family_of(source);
     char tn[256], sn[256], tc[CANONICAL_LEN], sc[CANONICAL_LEN];
@@ -360,6 +409,45 @@ oom:
     return sinew_fail(error, SINEW_ERROR_OUT_OF_MEMORY, "%s: out of memory retargeting", t->source);
 }
 
+/* The source's clips copied key for key onto a target of the same skeleton (node i to node
+ * i), before the target's own clips. */
+static sinew_result copy_clips(const sinew_model *s, raw_model *raw, sinew_error *error)
+{
+    raw_model src = {0};
+    raw_clip *clips = NULL;
+    raw_key_pool *pools = NULL;
+    if (!raw_model_from_model(s, &src) || !(clips = calloc((size_t)raw->clip_count + src.clip_count, sizeof *clips)) ||
+        !(pools = calloc((size_t)raw->pool_count + src.pool_count + 1, sizeof *pools))) {
+        free(clips);
+        raw_model_free(&src);
+        return sinew_fail(error, SINEW_ERROR_OUT_OF_MEMORY, "%s: out of memory copying clips", s->source);
+    }
+    for (uint32_t c = 0; c < src.clip_count; c++) /* their pools go after the target's */
+        for (uint32_t t = 0; t < src.clips[c].track_count; t++)
+            for (int k = 0; k < SINEW_CHANNEL_COUNT; k++)
+                if (src.clips[c].tracks[t].channels[k].pool)
+                    src.clips[c].tracks[t].channels[k].pool += raw->pool_count;
+    if (src.clip_count)
+        memcpy(clips, src.clips, src.clip_count * sizeof *clips);
+    if (raw->clip_count)
+        memcpy(clips + src.clip_count, raw->clips, raw->clip_count * sizeof *clips);
+    if (raw->pool_count)
+        memcpy(pools, raw->pools, raw->pool_count * sizeof *pools);
+    if (src.pool_count)
+        memcpy(pools + raw->pool_count, src.pools, src.pool_count * sizeof *pools);
+    free(raw->clips);
+    free(raw->pools);
+    raw->clips = clips;
+    raw->clip_count += src.clip_count;
+    raw->pools = pools;
+    raw->pool_count += src.pool_count;
+    free(src.clips);
+    free(src.pools);
+    src.clips = NULL, src.clip_count = 0, src.pools = NULL, src.pool_count = 0;
+    raw_model_free(&src);
+    return SINEW_OK;
+}
+
 sinew_result sinew_retarget(const sinew_retarget_desc *d, sinew_model **out, sinew_error *error)
 {
     if (!d || !d->target || !d->source || !out)
@@ -459,7 +547,7 @@ sinew_result sinew_retarget(const sinew_retarget_desc *d, sinew_model **out, sin
         goto out;
     }
     raw_made = true;
-    if ((result = bake_clips(&r, &raw, rate, error)))
+    if ((result = matched_by_index(t, s, match) ? copy_clips(s, &raw, error) : bake_clips(&r, &raw, rate, error)))
         goto out;
     raw.muscles = t->muscles;
     void *bytes = NULL;

@@ -116,6 +116,12 @@ static void test_every_prefix_of_gltf(void **state)
     check_every_prefix("two_bone_cubic.gltf", "prefix.gltf");
 }
 
+static void test_every_prefix_of_iqm(void **state)
+{
+    (void)state;
+    check_every_prefix("two_bone.iqm", "prefix.iqm");
+}
+
 /* The fixture with one string replaced. */
 static void write_edited(const char *fixture, const char *from, const char *to, const char *name, char *path,
                          size_t size)
@@ -314,6 +320,7 @@ int main(void)
         cmocka_unit_test(test_unknown_format_and_garbage),
         cmocka_unit_test(test_every_prefix_of_collada),
         cmocka_unit_test(test_every_prefix_of_gltf),
+        cmocka_unit_test(test_every_prefix_of_iqm),
         cmocka_unit_test(test_nan_and_inf),
         cmocka_unit_test(test_zero_weights),
         cmocka_unit_test(test_joint_limit),

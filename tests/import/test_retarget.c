@@ -1,7 +1,8 @@
 /* sinew_retarget (`--anim`): the demo's walk on a renamed (Mixamo names with the
  * "mixamorig:" prefix) and re-proportioned (1.3x) copy of itself gives the demo's joint
  * rotations, with the hips' motion scaled by the legs' ratio; CMU's 01_01.bvh drives the demo
- * humanoid with the mocap's posture; name maps are read and checked. */
+ * humanoid with the mocap's posture; ozz's animation-only walk.fbx drives arnaud.fbx by name;
+ * name maps are read and checked. (IQM animation files, matched by index: test_iqm.c.) */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -147,6 +148,55 @@ static void test_cmu_bvh_drives_the_demo(void **state)
     sinew_model_free(bvh);
 }
 
+/* ozz's walk.fbx (animation only: a skeleton and a clip, no mesh) on arnaud.fbx (a character of
+ * the same skeleton family in bind pose), joints by name: the limbs point as the walk's do. */
+static void test_animation_only_fbx(void **state)
+{
+    (void)state;
+    char a[1024], b[1024];
+    if (!testdata_path("ozz/pab/arnaud.fbx", a, sizeof a) || !testdata_path("ozz/pab/walk.fbx", b, sizeof b))
+        skip();
+    sinew_model *arnaud = load_or_fail(a), *walk = load_or_fail(b), *out = NULL;
+    int32_t *match = malloc(arnaud->node_count * sizeof *match);
+    uint32_t matched = sinew_retarget_matches(arnaud, walk, match);
+    sinew_error error = {0};
+    assert_int_equal(sinew_retarget(&(sinew_retarget_desc){.target = arnaud, .source = walk}, &out, &error), SINEW_OK);
+    assert_float_equal(out->clips[0].duration, walk->clips[0].duration, 1e-5f);
+    static const char *const bones[][2] = {{"LeftArm", "LeftForeArm"},
+                                           {"RightForeArm", "RightHand"},
+                                           {"LeftUpLeg", "LeftLeg"},
+                                           {"RightLeg", "RightFoot"},
+                                           {"Spine", "Neck"}};
+    double worst = 0.0, swing = 0.0;
+    double first[3] = {0};
+    for (float t = 0.0f; t <= walk->clips[0].duration; t += walk->clips[0].duration / 8.0f) {
+        sinew_mat4 *x = pose_worlds(out, &out->clips[0], t), *y = pose_worlds(walk, &walk->clips[0], t);
+        for (size_t i = 0; i < sizeof bones / sizeof bones[0]; i++) {
+            double u[3], v[3];
+            direction(out, x, bones[i][0], bones[i][1], u);
+            direction(walk, y, bones[i][0], bones[i][1], v);
+            worst = fmax(worst, acos(fmin(1.0, u[0] * v[0] + u[1] * v[1] + u[2] * v[2])));
+            if (i == 2) { /* the left thigh swings through the walk */
+                if (t == 0.0f)
+                    memcpy(first, u, sizeof first);
+                swing = fmax(swing, acos(fmin(1.0, u[0] * first[0] + u[1] * first[1] + u[2] * first[2])));
+            }
+        }
+        free(x);
+        free(y);
+    }
+    print_message("walk.fbx on arnaud.fbx: %u of %u nodes matched by name; arms, legs and back within %.2f degrees "
+                  "of the walk's; the left thigh swings %.0f degrees\n",
+                  matched, arnaud->node_count, worst * 180.0 / M_PI, swing * 180.0 / M_PI);
+    assert_true(matched >= 50);
+    assert_true(worst * 180.0 / M_PI < 2.0);
+    assert_true(swing * 180.0 / M_PI > 20.0);
+    free(match);
+    sinew_model_free(out);
+    sinew_model_free(walk);
+    sinew_model_free(arnaud);
+}
+
 static void test_name_maps(void **state)
 {
     (void)state;
@@ -180,6 +230,7 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_renamed_reproportioned_copy),
         cmocka_unit_test(test_cmu_bvh_drives_the_demo),
+        cmocka_unit_test(test_animation_only_fbx),
         cmocka_unit_test(test_name_maps),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
