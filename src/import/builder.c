@@ -249,30 +249,37 @@ static sinew_result check_nodes(const raw_model *m, sinew_error *error)
     return SINEW_OK;
 }
 
-/* Area-weighted smooth normals, for meshes that came without any. */
-static void compute_normals(raw_mesh *mesh)
+/* Area-weighted smooth normals, for meshes that came without any; summed in double, so that
+ * positions near float's range (1e30 and more: their areas overflow a float) still give unit
+ * normals. False when out of memory. */
+static bool compute_normals(raw_mesh *mesh)
 {
-    float *n = mesh->normals;
-    memset(n, 0, (size_t)mesh->vertex_count * 3 * sizeof(float));
+    double *sum = calloc((size_t)mesh->vertex_count * 3 + 1, sizeof *sum);
+    if (!sum)
+        return false;
     for (uint32_t t = 0; t + 2 < mesh->index_count; t += 3) {
         const uint32_t *tri = &mesh->indices[t];
         const float *a = &mesh->positions[tri[0] * 3], *b = &mesh->positions[tri[1] * 3],
                     *c = &mesh->positions[tri[2] * 3];
-        float e1[3] = {b[0] - a[0], b[1] - a[1], b[2] - a[2]}, e2[3] = {c[0] - a[0], c[1] - a[1], c[2] - a[2]};
-        float f[3] = {e1[1] * e2[2] - e1[2] * e2[1], e1[2] * e2[0] - e1[0] * e2[2], e1[0] * e2[1] - e1[1] * e2[0]};
+        double e1[3] = {(double)b[0] - a[0], (double)b[1] - a[1], (double)b[2] - a[2]};
+        double e2[3] = {(double)c[0] - a[0], (double)c[1] - a[1], (double)c[2] - a[2]};
+        double f[3] = {e1[1] * e2[2] - e1[2] * e2[1], e1[2] * e2[0] - e1[0] * e2[2], e1[0] * e2[1] - e1[1] * e2[0]};
         for (int k = 0; k < 3; k++)
             for (int i = 0; i < 3; i++)
-                n[tri[k] * 3 + i] += f[i];
+                sum[tri[k] * 3 + i] += f[i];
     }
     for (uint32_t v = 0; v < mesh->vertex_count; v++) {
-        float *p = &n[v * 3];
-        float len = sqrtf(p[0] * p[0] + p[1] * p[1] + p[2] * p[2]);
-        if (len > 0.0f) {
-            p[0] /= len, p[1] /= len, p[2] /= len;
+        const double *p = &sum[v * 3];
+        double len = sqrt(p[0] * p[0] + p[1] * p[1] + p[2] * p[2]);
+        float *n = &mesh->normals[v * 3];
+        if (len > 0.0 && isfinite(len)) {
+            n[0] = (float)(p[0] / len), n[1] = (float)(p[1] / len), n[2] = (float)(p[2] / len);
         } else {
-            p[0] = 0.0f, p[1] = 1.0f, p[2] = 0.0f;
+            n[0] = 0.0f, n[1] = 1.0f, n[2] = 0.0f;
         }
     }
+    free(sum);
+    return true;
 }
 
 typedef struct influence {
@@ -432,8 +439,8 @@ static sinew_result fix_mesh(raw_model *m, uint32_t index, sinew_error *error)
     bool recompute = !mesh->normals || !all_finite(mesh->normals, v * 3);
     if (!mesh->normals && !(mesh->normals = malloc((v ? v : 1) * 3 * sizeof(float))))
         return oom(m, error);
-    if (recompute)
-        compute_normals(mesh);
+    if (recompute && !compute_normals(mesh))
+        return oom(m, error);
     if (mesh->skin >= 0 && (mesh->influence_count == 0 || !mesh->joints || !mesh->weights))
         return sinew_fail(error, SINEW_ERROR_DATA, "%s: mesh \"%s\" has a skin but no influences", m->source,
                           mesh->name);
