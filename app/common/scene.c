@@ -43,7 +43,7 @@ void app_player_close(app_player *p)
 uint32_t app_vertex_count(const sinew_model *model)
 {
     uint32_t n = 0;
-    for (uint32_t i = 0; i < model->instance_count; i++)
+    for (uint32_t i = 0; model && i < model->instance_count; i++)
         n += model->meshes[model->instances[i].mesh].vertex_count;
     return n;
 }
@@ -51,7 +51,7 @@ uint32_t app_vertex_count(const sinew_model *model)
 uint32_t app_joint_count(const sinew_model *model)
 {
     uint32_t n = 0;
-    for (uint32_t i = 0; i < model->node_count; i++)
+    for (uint32_t i = 0; model && i < model->node_count; i++)
         n += sinew_model_node_is_joint(model, i);
     return n;
 }

@@ -1220,9 +1220,9 @@ static void on_activate(GtkApplication *app, gpointer data)
     gtk_box_append(GTK_BOX(box), controls);
     gtk_window_set_child(GTK_WINDOW(v->window), box);
 
-    /* The demo first; a file given opens on a worker thread and replaces it, or its error
-     * shows above the demo. */
-    if (view_open_now(v, APP_BUILTIN_DEMO, s->path ? NULL : s->clip) && !s->path && !isnan(v->start_time)) {
+    /* The demo first (--anim's clips on it only when it is what is shown); a file given opens on
+     * a worker thread and replaces it, or its error shows above the demo. */
+    if (view_open_now(v, APP_BUILTIN_DEMO, s->path ? NULL : s->clip, !s->path) && !s->path && !isnan(v->start_time)) {
         v->time = v->start_time;
         if (v->time > view_duration(v))
             v->time = view_duration(v);

@@ -145,14 +145,25 @@ static bool adopt_scene(viewer *v, app_scene *incoming)
     return true;
 }
 
-/* Opens a built-in model at once (the demo at start); the error shows on failure. */
-bool view_open_now(viewer *v, const char *path, const char *clip_name)
+/* Opens a built-in model at once (the demo at start), with --anim's clips when `anim`; the
+ * error shows on failure, and when the clips are what failed the model opens without them. */
+bool view_open_now(viewer *v, const char *path, const char *clip_name, bool anim)
 {
     app_scene scene;
     sinew_error error = {0};
-    app_scene_desc desc = {
-        .path = path, .clip = clip_name, .muscles = APP_MUSCLES_IF_ANY, .anim = v->anim, .name_map = v->name_map};
-    if (app_scene_open(&scene, &desc, &error) != SINEW_OK) {
+    app_scene_desc desc = {.path = path,
+                           .clip = clip_name,
+                           .muscles = APP_MUSCLES_IF_ANY,
+                           .anim = anim ? v->anim : NULL,
+                           .name_map = v->name_map};
+    sinew_result r = app_scene_open(&scene, &desc, &error);
+    if (r != SINEW_OK && desc.anim) {
+        view_show_error(v, error.message);
+        desc.anim = NULL;
+        desc.clip = NULL;
+        r = app_scene_open(&scene, &desc, &error);
+    }
+    if (r != SINEW_OK) {
         view_show_error(v, error.message);
         return false;
     }

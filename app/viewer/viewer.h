@@ -140,7 +140,7 @@ bool view_use_clip(viewer *v, int32_t index);
  * model; true with *out NULL when there is no context yet. */
 bool view_make_renderer(viewer *v, const app_scene *scene, sinew_renderer **out);
 /* Opens a built-in model (APP_BUILTIN_DEMO) at once; the error shows on failure. */
-bool view_open_now(viewer *v, const char *path, const char *clip_name);
+bool view_open_now(viewer *v, const char *path, const char *clip_name, bool anim);
 /* Opens a file on a worker thread (the scene stays until the new one is ready; a failure
  * shows its error); a newer open supersedes one under way. */
 typedef struct view_load view_load;

@@ -386,13 +386,49 @@ static void test_broken_file_keeps_the_demo(void **state)
     free(err);
 }
 
+/* --anim with a FILE applies to the file, not to the demo shown while it opens (an IQM
+ * animation file fits two_bone.iqm and not the demo: this crashed the viewer); with no FILE an
+ * --anim that does not fit the demo is reported and the demo plays without it. */
+static void test_anim_files(void **state)
+{
+    (void)state;
+    if (!xvfb)
+        skip();
+    char model[4096], anim[4096], shot[4096];
+    fixture_path("two_bone.iqm", model, sizeof model);
+    fixture_path("two_bone_anim.iqm", anim, sizeof anim);
+    tmp_path("view-anim.png", shot, sizeof shot);
+    unlink(shot);
+    char *err = NULL;
+    int code = run_view(
+        (const char *const[]){model, "--anim", anim, "--time", "0.5", "--screenshot", shot, "--quit", NULL}, &err);
+    assert_int_equal(code, 0);
+    struct stat st;
+    assert_int_equal(stat(shot, &st), 0);
+    free(err);
+    unlink(shot);
+    err = NULL;
+    code = run_view((const char *const[]){"--anim", model, "--screenshot", shot, "--quit", NULL}, &err);
+    assert_true(code == 0 || code == 2);
+    assert_non_null(err);
+    assert_non_null(strstr(err, "two_bone.iqm"));
+    assert_int_equal(stat(shot, &st), 0); /* the demo was drawn */
+    assert_true(st.st_size > 10000);
+    free(err);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
-        cmocka_unit_test(test_screenshot_equals_headless_render), cmocka_unit_test(test_version),
-        cmocka_unit_test(test_broken_file_keeps_the_demo),        cmocka_unit_test(test_time_past_the_demo_clip),
-        cmocka_unit_test(test_hanging_file_keeps_the_demo),       cmocka_unit_test(test_settings_round_trip),
-        cmocka_unit_test(test_widgets_drawn_while_playing),       cmocka_unit_test(test_keys),
+        cmocka_unit_test(test_screenshot_equals_headless_render),
+        cmocka_unit_test(test_version),
+        cmocka_unit_test(test_broken_file_keeps_the_demo),
+        cmocka_unit_test(test_time_past_the_demo_clip),
+        cmocka_unit_test(test_hanging_file_keeps_the_demo),
+        cmocka_unit_test(test_settings_round_trip),
+        cmocka_unit_test(test_widgets_drawn_while_playing),
+        cmocka_unit_test(test_keys),
+        cmocka_unit_test(test_anim_files),
     };
     return cmocka_run_group_tests(tests, start_xvfb, stop_xvfb);
 }
