@@ -126,10 +126,10 @@ static sinew_result check_skin(const sinew_skin_desc *desc, skin_call *call, sin
     if (mesh->influence_count == 0 || (mesh->vertex_count && (!mesh->joints || !mesh->weights)))
         return sinew_fail(error, SINEW_ERROR_INVALID_ARGUMENT, "sinew_skin_vertices: mesh \"%s\" is not skinned",
                           mesh->name);
-    if (desc->out_tangents && !mesh->tangents)
+    if (desc->out_tangents && !mesh->tangents && mesh->vertex_count) /* a mesh of no vertices has no arrays */
         return sinew_fail(error, SINEW_ERROR_INVALID_ARGUMENT, "sinew_skin_vertices: mesh \"%s\" has no tangents",
                           mesh->name);
-    if (desc->out_normals && !mesh->normals)
+    if (desc->out_normals && !mesh->normals && mesh->vertex_count)
         return sinew_fail(error, SINEW_ERROR_INVALID_ARGUMENT, "sinew_skin_vertices: mesh \"%s\" has no normals",
                           mesh->name);
     if (desc->first > mesh->vertex_count)

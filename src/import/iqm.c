@@ -523,7 +523,7 @@ static sinew_result build_clip(iqm *q, uint32_t index, const float *values, raw_
     if (first > q->h[H_NUM_FRAMES] || frames > q->h[H_NUM_FRAMES] - first)
         return sinew_fail(q->error, SINEW_ERROR_FORMAT, "%s: IQM animation \"%s\" has frames [%u, +%u), the file %u",
                           q->path, name, first, frames, q->h[H_NUM_FRAMES]);
-    if (!(rate > 0.0f) || !isfinite(rate)) {
+    if (!(rate >= 1e-3f) || !isfinite(rate)) { /* none, or so few that the times overflow */
         if (!raw_model_warn(q->m, "%s: IQM animation \"%s\" gives %g frames a second: played at 30", q->path, name,
                             (double)rate))
             return oom(q);
