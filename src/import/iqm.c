@@ -471,47 +471,46 @@ static sinew_result build_meshes(iqm *q)
 
 /* ---- animations ----------------------------------------------------------------------------- */
 
-/* Every pose's 10 channel values at every frame of the file. */
-static sinew_result decode_frames(iqm *q, float **out)
+/* Where each pose's animated channels are in a frame: slot[j * 10 + c], or -1 for a channel
+ * that keeps its offset. Values are read from the frames as they are needed (a file may
+ * claim billions of frames of nothing). */
+static sinew_result frame_slots(iqm *q, int32_t **out)
 {
-    uint32_t frames = q->h[H_NUM_FRAMES], poses = q->h[H_NUM_POSES];
+    uint32_t poses = q->h[H_NUM_POSES];
     *out = NULL;
-    if (!frames || !poses)
-        return SINEW_OK;
-    float *v = malloc((size_t)frames * poses * 10 * sizeof *v);
-    if (!v)
+    int32_t *slot = malloc(((size_t)poses * 10 + 1) * sizeof *slot);
+    if (!slot)
         return oom(q);
-    uint32_t used = 0;
+    int32_t used = 0;
     for (uint32_t j = 0; j < poses; j++) {
         uint32_t mask = u32(pose_at(q, j) + 4);
-        for (int c = 0; c < 10; c++)
-            used += (mask >> c) & 1u;
+        for (uint32_t c = 0; c < 10; c++)
+            slot[j * 10 + c] = (mask >> c) & 1u ? used++ : -1;
     }
-    if (used != q->h[H_NUM_FRAMECHANNELS]) {
-        free(v);
+    if ((uint32_t)used != q->h[H_NUM_FRAMECHANNELS]) {
+        free(slot);
         return sinew_fail(q->error, SINEW_ERROR_FORMAT,
-                          "%s: the IQM poses animate %u channels, the frames hold %u a frame", q->path, used,
+                          "%s: the IQM poses animate %d channels, the frames hold %u a frame", q->path, used,
                           q->h[H_NUM_FRAMECHANNELS]);
     }
-    const unsigned char *data = q->b + q->h[H_OFS_FRAMES];
-    for (uint32_t f = 0; f < frames; f++)
-        for (uint32_t j = 0; j < poses; j++) {
-            const unsigned char *p = pose_at(q, j);
-            uint32_t mask = u32(p + 4);
-            for (int c = 0; c < 10; c++) {
-                float value = f32(p + 8 + 4 * c);
-                if ((mask >> c) & 1u) {
-                    value += (float)(data[0] | data[1] << 8) * f32(p + 48 + 4 * c);
-                    data += 2;
-                }
-                v[((size_t)f * poses + j) * 10 + (uint32_t)c] = value;
-            }
-        }
-    *out = v;
+    *out = slot;
     return SINEW_OK;
 }
 
-static sinew_result build_clip(iqm *q, uint32_t index, const float *values, raw_clip *clip)
+/* Pose j's channel c at frame f: its offset, plus the frame's value times its scale when animated. */
+static float channel_value(const iqm *q, const int32_t *slot, uint32_t f, uint32_t j, uint32_t c)
+{
+    const unsigned char *p = pose_at(q, j);
+    float value = f32(p + 8 + 4 * c);
+    int32_t s = slot[j * 10 + c];
+    if (s >= 0) {
+        const unsigned char *v = q->b + q->h[H_OFS_FRAMES] + ((size_t)f * q->h[H_NUM_FRAMECHANNELS] + (uint32_t)s) * 2;
+        value += (float)(v[0] | v[1] << 8) * f32(p + 48 + 4 * c);
+    }
+    return value;
+}
+
+static sinew_result build_clip(iqm *q, uint32_t index, const int32_t *slot, raw_clip *clip)
 {
     const unsigned char *p = q->b + q->h[H_OFS_ANIMS] + (size_t)index * ANIM_SIZE;
     sinew_result r = SINEW_OK;
@@ -556,8 +555,8 @@ static sinew_result build_clip(iqm *q, uint32_t index, const float *values, raw_
             for (uint32_t key = 0; key < n; key++) {
                 uint32_t f = first + (key < frames ? key : 0); /* a loop's last key is its first frame */
                 ch->times[key] = (float)key / rate;
-                memcpy(ch->values + key * widths[k], values + ((size_t)f * poses + j) * 10 + firsts[k],
-                       widths[k] * sizeof(float));
+                for (uint32_t c = 0; c < widths[k]; c++)
+                    ch->values[key * widths[k] + c] = channel_value(q, slot, f, j, firsts[k] + c);
             }
         }
     }
@@ -573,19 +572,19 @@ static sinew_result build_clips(iqm *q)
     if (q->h[H_NUM_POSES] != q->joint_count)
         return sinew_fail(q->error, SINEW_ERROR_FORMAT, "%s: IQM animations with %u poses for %u joints", q->path,
                           q->h[H_NUM_POSES], q->joint_count);
-    float *values;
-    sinew_result r = decode_frames(q, &values);
+    int32_t *slot;
+    sinew_result r = frame_slots(q, &slot);
     if (r)
         return r;
     if (!(m->clips = calloc(n, sizeof *m->clips))) {
-        free(values);
+        free(slot);
         return oom(q);
     }
     for (uint32_t i = 0; i < n && !r; i++) {
-        r = build_clip(q, i, values, &m->clips[i]);
+        r = build_clip(q, i, slot, &m->clips[i]);
         m->clip_count = i + 1;
     }
-    free(values);
+    free(slot);
     return r;
 }
 
