@@ -7,7 +7,7 @@ set -euo pipefail
 packages=(
   build-essential cmake pkg-config clang-format
   libassimp-dev libcglm-dev libcjson-dev libcmocka-dev libxml2-dev zlib1g-dev
-  libepoxy-dev libegl-dev libegl-mesa0 libgl1-mesa-dri libstb-dev
+  libepoxy-dev libegl-dev libegl-mesa0 libgl1-mesa-dri libstb-dev libmeshoptimizer-dev
   libgtk-4-dev xvfb xauth
 )
 

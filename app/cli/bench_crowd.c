@@ -16,7 +16,8 @@
 
 static const char crowd_usage[] =
     "usage: sinew bench crowd [FILE] [--clip C] [--count N] [--most N] [--threads N] [--size WxH] [--samples N]\n"
-    "                         [--skinning gpu|cpu] [--fps F] [--frames N] [--png OUT] [--json] [--verbose]\n"
+    "                         [--skinning gpu|cpu] [--lod on|off] [--fps F] [--frames N] [--png OUT] [--json]\n"
+    "                         [--verbose]\n"
     "\n"
     "  Characters of FILE (default: the demo humanoid, builtin:demo) drawn at 60 fps: for GPU skinning\n"
     "  (instanced, one draw a mesh) and CPU skinning, with 4x multisampling and without, the crowd\n"
@@ -26,7 +27,9 @@ static const char crowd_usage[] =
     "  A frame: posing every character (sinew_player, on --threads threads, default: the cores),\n"
     "  palettes, the draw and glFinish; --frames N frames (default 20) after 5 warm-up frames, at --size\n"
     "  (default 1920x1080), the camera framing the grid (of at least 256, so that a small crowd does not\n"
-    "  fill the screen). --samples N or --skinning M measures only those. --png OUT writes the last\n"
+    "  fill the screen). --samples N or --skinning M measures only those. Characters small on the\n"
+    "  screen are drawn with simplified meshes (levels of detail: a quarter, a sixteenth of the\n"
+    "  triangles); --lod off draws every one whole. --png OUT writes the last\n"
     "  GPU-skinned crowd measured. --json prints characters_at_60fps (GPU skinning, no multisampling,\n"
     "  or the one setting asked for), renderer, and every run; --verbose prints each count tried on\n"
     "  stderr.\n";
@@ -36,7 +39,7 @@ typedef struct crowd_args {
     uint32_t count, threads, most;
     int width, height, frames, samples, skinning; /* skinning: -1 both, 0 GPU, 1 CPU */
     double fps;                                   /* the frame rate to hold (default 60) */
-    bool json, verbose;
+    bool json, verbose, no_lod;
 } crowd_args;
 
 typedef struct crowd_run {
@@ -163,6 +166,13 @@ static int parse_crowd_args(int argc, char **argv, crowd_args *a)
                 return EXIT_USAGE;
             }
             a->skinning = m[0] == 'c';
+        } else if (strcmp(o, "--lod") == 0 && v) {
+            const char *m = argv[++i];
+            if (strcmp(m, "on") != 0 && strcmp(m, "off") != 0) {
+                cli_error("bench crowd: --lod \"%s\": expected on or off", m);
+                return EXIT_USAGE;
+            }
+            a->no_lod = strcmp(m, "off") == 0;
         } else if (strcmp(o, "--size") == 0 && v) {
             if (!cli_parse_size("bench crowd", argv[++i], &a->width, &a->height))
                 return EXIT_USAGE;
@@ -190,6 +200,7 @@ static void print_json(const crowd_args *a, const cli_scene *s, const crowd_run 
     cJSON_AddNumberToObject(o, "height", a->height);
     cJSON_AddNumberToObject(o, "threads", sinew_jobs_threads(s->jobs));
     cJSON_AddStringToObject(o, "renderer", s->gl_name);
+    cJSON_AddBoolToObject(o, "lod", !a->no_lod);
     char key[48];
     snprintf(key, sizeof key, "characters_at_%.0ffps", a->fps);
     cJSON_AddNumberToObject(o, key, runs[0].characters);
@@ -239,6 +250,7 @@ int bench_crowd(int argc, char **argv)
                             .crowd = 1,
                             .threads = a.threads};
         d.options.skinning = runs[r].skinning ? SINEW_SKINNING_CPU : SINEW_SKINNING_GPU;
+        d.options.crowd_lod = !a.no_lod;
         cli_scene s;
         code = cli_scene_open(&s, &d);
         if (code != EXIT_OK)

@@ -94,8 +94,8 @@ bool cli_scene_pose(cli_scene *scene, double time);
 bool cli_scene_track(cli_scene *scene, double time);
 /* Poses at `time` and draws (no read-back). */
 bool cli_scene_draw(cli_scene *scene, double time);
-/* Seconds a frame of drawing (cli_scene_draw and glFinish; no read-back) over `frames` frames at
- * 60 Hz from t = warmup / 60, after `warmup` frames from 0. */
+/* Seconds a frame of drawing (cli_scene_draw and glFinish, each frame timed; no read-back): the
+ * median of `frames` frames at 60 Hz from t = warmup / 60, after `warmup` frames from 0. */
 bool cli_scene_time_frames(cli_scene *scene, int warmup, int frames, double *seconds_per_frame);
 /* Reads the frame into scene->pixels. */
 bool cli_scene_read(cli_scene *scene);

@@ -211,6 +211,12 @@ bool cli_scene_draw(cli_scene *s, double time)
     return true;
 }
 
+static int compare_doubles(const void *a, const void *b)
+{
+    double x = *(const double *)a, y = *(const double *)b;
+    return x < y ? -1 : x > y;
+}
+
 bool cli_scene_time_frames(cli_scene *s, int warmup, int frames, double *seconds_per_frame)
 {
     double t = 0.0;
@@ -218,12 +224,24 @@ bool cli_scene_time_frames(cli_scene *s, int warmup, int frames, double *seconds
         if (!cli_scene_draw(s, t))
             return false;
     glFinish();
-    double start = cli_now_seconds();
-    for (int i = 0; i < frames; i++, t += 1.0 / 60.0)
-        if (!cli_scene_draw(s, t))
+    /* each frame finished and timed on its own; the median, since the machines these run on
+     * are shared and another process's burst would otherwise land in the mean */
+    double *each = malloc((size_t)(frames > 0 ? frames : 1) * sizeof *each);
+    if (!each)
+        return false;
+    for (int i = 0; i < frames; i++, t += 1.0 / 60.0) {
+        double start = cli_now_seconds();
+        if (!cli_scene_draw(s, t)) {
+            free(each);
             return false;
-    glFinish();
-    *seconds_per_frame = (cli_now_seconds() - start) / frames;
+        }
+        glFinish();
+        each[i] = cli_now_seconds() - start;
+    }
+    qsort(each, (size_t)frames, sizeof *each, compare_doubles);
+    *seconds_per_frame =
+        frames > 0 ? (frames % 2 ? each[frames / 2] : 0.5 * (each[frames / 2 - 1] + each[frames / 2])) : 0.0;
+    free(each);
     return true;
 }
 

@@ -66,6 +66,7 @@ typedef struct sinew_render_options {
     bool grid;              /* ground grid, at grid_height */
     bool axes;              /* world X/Y/Z axes at the origin */
     bool muscles;           /* the frame's muscles, Gouraud-shaded in their colours */
+    bool crowd_lod;         /* crowds: characters small on screen drawn with simplified meshes (on by default) */
     int32_t selected_joint; /* node index to highlight, -1 for none */
     int32_t heatmap_joint;  /* node index whose skin weights colour the mesh, -1 for none */
     float background[3];    /* 0..1 RGB as displayed (sRGB) */
@@ -82,7 +83,7 @@ sinew_render_options sinew_render_options_default(void);
 
 /* Display switches by name, for settings files and command lines. Names: materials,
  * lighting, wireframe, meshes, skeleton, joint-axes, joint-names, normals, grid, axes,
- * muscles (booleans: on/off, true/false, yes/no, 1/0; a NULL value means on), shading
+ * muscles, lod (booleans: on/off, true/false, yes/no, 1/0; a NULL value means on), shading
  * (phong|gouraud|flat|pbr), skinning (gpu|cpu), skinning-method (lbs|dqs), background (RRGGBB, #RRGGBB, r,g,b in
  * 0..1, or transparent), normal-length (world units, 0 = automatic). Joint choices are node indices and are set
  * directly. An unknown name or a bad value gives SINEW_ERROR_INVALID_ARGUMENT. */
@@ -134,7 +135,12 @@ typedef struct sinew_frame {
      * character's bones and joints (no names, joint axes, normals, muscles or heat map). GPU
      * skinning draws each mesh once for all characters
      * (instancing: the palettes of every character in one texture buffer); CPU skinning skins
-     * and draws character after character. 0: the one character of `worlds`. */
+     * and draws character after character. 0: the one character of `worlds`.
+     * Levels of detail (options->crowd_lod): each character is drawn with all of its meshes'
+     * triangles, or about a quarter, a sixteenth or a sixty-fourth of them (as far as a 2% error
+     * allows), the finest level whose triangles cover two pixels or more each on screen
+     * (meshoptimizer's simplifier; the same skinning, the levels on their own vertices; made
+     * the first time a crowd needs them; meshes under 1,000 triangles keep theirs). */
     uint32_t crowd_count;
     const sinew_mat4 *crowd_worlds;
     sinew_jobs *jobs; /* optional: a crowd's palettes and CPU skinning on several threads */

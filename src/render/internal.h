@@ -16,6 +16,29 @@ typedef struct render_programs {
 sinew_result render_programs_create(render_programs *programs, sinew_error *error);
 void render_programs_destroy(render_programs *programs);
 
+/* Levels of detail (lod.c): index lists of a mesh, full then simplified, over the same
+ * vertices. first/count: where each level's indices start in the list and how many; total:
+ * the whole list's length. */
+#define RENDER_LOD_LEVELS 4
+typedef struct render_lod {
+    uint32_t first[RENDER_LOD_LEVELS], count[RENDER_LOD_LEVELS];
+    uint32_t total;
+} render_lod;
+
+/* The levels of a mesh: *indices gets the whole list (through the allocator; NULL when the
+ * mesh is too small to simplify, every level then the full list). False when out of memory. */
+bool render_lod_build(const sinew_mesh *mesh, const sinew_allocator *allocator, uint32_t **indices, render_lod *lod);
+/* A level on its own vertices: the mesh's vertices its triangles use, in the order they are
+ * first used, every array remapped (positions, normals, UVs, tangents, joints, weights), so
+ * that a renderer which shades every vertex of a draw (Mesa's llvmpipe does) shades only
+ * those. *memory holds the arrays (through the allocator); false when out of memory. */
+bool render_lod_compact(const sinew_mesh *mesh, const uint32_t *indices, uint32_t index_count,
+                        const sinew_allocator *allocator, sinew_mesh *out, void **memory);
+/* The level for a character of `triangles` (its meshes' at full detail) whose bounding
+ * sphere's radius spans this many pixels on screen: the finest whose triangles cover two
+ * pixels or more each. */
+int render_lod_level(float projected_radius, uint32_t triangles);
+
 /* Reverses the order of `rows` rows of `row_bytes` each, in place (images store the top row
  * first, OpenGL the bottom one). */
 void render_flip_rows(unsigned char *pixels, size_t row_bytes, int rows);

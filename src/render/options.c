@@ -26,13 +26,14 @@ static const switch_entry SWITCHES[] = {
     {"grid", offsetof(sinew_render_options, grid)},
     {"axes", offsetof(sinew_render_options, axes)},
     {"muscles", offsetof(sinew_render_options, muscles)},
+    {"lod", offsetof(sinew_render_options, crowd_lod)},
 };
 #define SWITCH_COUNT (sizeof SWITCHES / sizeof SWITCHES[0])
 
-static const char *const NAMES[] = {
-    "materials",   "lighting",        "wireframe",  "meshes",        "skeleton", "joint-axes",
-    "joint-names", "normals",         "grid",       "axes",          "muscles",  "shading",
-    "skinning",    "skinning-method", "background", "normal-length", NULL};
+static const char *const NAMES[] = {"materials",  "lighting",      "wireframe", "meshes",   "skeleton",
+                                    "joint-axes", "joint-names",   "normals",   "grid",     "axes",
+                                    "muscles",    "lod",           "shading",   "skinning", "skinning-method",
+                                    "background", "normal-length", NULL};
 
 static const char *const SHADINGS[] = {"phong", "gouraud", "flat", "pbr"};
 

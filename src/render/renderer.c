@@ -41,7 +41,12 @@ typedef struct render_mesh {
     GLuint buffers[BUF_COUNT];
     GLuint indices;
     int influence_sets; /* 0 rigid, 1 for up to 4 influences, 2 for up to 8 */
-    uint64_t streamed;  /* the frame whose CPU-skinned vertices BUF_STREAM holds (0: none) */
+    /* crowds' levels of detail (made at the first crowd drawn with them): their triangles in
+     * `indices` (CPU skinning), and levels 1.. on their own vertices (GPU skinning), or NULL */
+    render_lod lod;
+    struct render_mesh *lod_meshes;
+    bool lod_built;
+    uint64_t streamed; /* the frame whose CPU-skinned vertices BUF_STREAM holds (0: none) */
 } render_mesh;
 
 typedef struct mesh_uniforms {
@@ -69,9 +74,15 @@ struct sinew_renderer {
     bool *skeleton_nodes;        /* node_count flags */
     overlay_list overlay;        /* world-space geometry, then text quads */
     GLuint palette_buffer, palette_texture;
-    /* a crowd: each character's palettes (total_joints records) then its node worlds */
+    /* a crowd: each character's palettes (total_joints records) then its node worlds, in the
+     * order of their level of detail (crowd_slot[character]: its place) */
     sinew_mat4 *crowd_records;
-    uint32_t crowd_capacity; /* characters crowd_records holds */
+    uint32_t *crowd_slot;
+    uint8_t *crowd_level;
+    uint32_t crowd_capacity;  /* characters crowd_records holds */
+    uint32_t crowd_center;    /* the node whose position stands for a character's (levels of detail) */
+    float crowd_radius;       /* and the radius of the model's rest bounds; < 0: not yet found */
+    uint32_t crowd_triangles; /* of every mesh instance */
     GLuint crowd_buffer, crowd_texture;
     uint32_t max_buffer_texels; /* GL_MAX_TEXTURE_BUFFER_SIZE */
     GLuint muscle_vao, muscle_vertices, muscle_indices;
@@ -107,6 +118,7 @@ sinew_render_options sinew_render_options_default(void)
                                   .meshes = true,
                                   .grid = true,
                                   .muscles = true,
+                                  .crowd_lod = true,
                                   .selected_joint = -1,
                                   .heatmap_joint = -1,
                                   .background = {0.16f, 0.17f, 0.19f}};
@@ -213,7 +225,7 @@ static void bind_shared_attributes(const render_mesh *rm)
     glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, rm->indices);
 }
 
-static void upload_mesh(render_mesh *rm, const sinew_mesh *mesh, void *scratch)
+static void upload_mesh(render_mesh *rm, const sinew_mesh *mesh, void *scratch, bool stream)
 {
     size_t n = mesh->vertex_count;
     rm->influence_sets = mesh->skin >= 0 && mesh->influence_count ? (mesh->influence_count > 4 ? 2 : 1) : 0;
@@ -232,7 +244,7 @@ static void upload_mesh(render_mesh *rm, const sinew_mesh *mesh, void *scratch)
     if (rm->buffers[BUF_TANGENT])
         float_attribute(7, rm->buffers[BUF_TANGENT], 4, 0, 0);
     bind_shared_attributes(rm);
-    if (rm->influence_sets) {
+    if (rm->influence_sets && stream) {
         glGenVertexArrays(1, &rm->vao_stream);
         glBindVertexArray(rm->vao_stream);
         rm->buffers[BUF_STREAM] = make_buffer(GL_ARRAY_BUFFER, n * STREAM_STRIDE, NULL, GL_STREAM_DRAW);
@@ -356,7 +368,7 @@ static sinew_result create_gl_objects(sinew_renderer *r, uint32_t max_vertices, 
     if (!scratch)
         return sinew_fail(error, SINEW_ERROR_OUT_OF_MEMORY, "%s: out of memory uploading meshes", m->source);
     for (uint32_t i = 0; i < m->mesh_count; i++)
-        upload_mesh(&r->meshes[i], &m->meshes[i], scratch);
+        upload_mesh(&r->meshes[i], &m->meshes[i], scratch, true);
     free(scratch);
     for (uint32_t i = 0; i < m->material_count; i++)
         for (int k = 0; k < SINEW_MAP_COUNT; k++) {
@@ -449,6 +461,7 @@ sinew_result sinew_renderer_create(const sinew_renderer_desc *desc, sinew_render
     memset(block, 0, l.total);
     sinew_renderer *r = (sinew_renderer *)block;
     r->model = m;
+    r->crowd_radius = -1.0f;
     r->allocator = alloc;
     r->meshes = (render_mesh *)(block + l.meshes);
     r->textures = (GLuint(*)[SINEW_MAP_COUNT])(block + l.textures);
@@ -491,10 +504,17 @@ void sinew_renderer_destroy(sinew_renderer *r)
         return;
     for (uint32_t i = 0; i < r->model->mesh_count; i++) {
         render_mesh *rm = &r->meshes[i];
-        glDeleteVertexArrays(1, &rm->vao_static);
-        glDeleteVertexArrays(1, &rm->vao_stream);
-        glDeleteBuffers(BUF_COUNT, rm->buffers);
-        glDeleteBuffers(1, &rm->indices);
+        for (int l = 0; l < RENDER_LOD_LEVELS; l++) {
+            render_mesh *level = l == 0 ? rm : rm->lod_meshes ? &rm->lod_meshes[l - 1] : NULL;
+            if (!level)
+                continue;
+            glDeleteVertexArrays(1, &level->vao_static);
+            glDeleteVertexArrays(1, &level->vao_stream);
+            glDeleteBuffers(BUF_COUNT, level->buffers);
+            glDeleteBuffers(1, &level->indices);
+        }
+        if (rm->lod_meshes)
+            r->allocator.free(rm->lod_meshes, r->allocator.user);
     }
     /* shared maps repeat a name: GL ignores names already deleted */
     glDeleteTextures((GLsizei)(r->model->material_count * SINEW_MAP_COUNT), &r->textures[0][0]);
@@ -504,6 +524,8 @@ void sinew_renderer_destroy(sinew_renderer *r)
     glDeleteBuffers(1, &r->crowd_buffer);
     if (r->crowd_records)
         r->allocator.free(r->crowd_records, r->allocator.user);
+    if (r->crowd_slot)
+        r->allocator.free(r->crowd_slot, r->allocator.user);
     glDeleteVertexArrays(1, &r->overlay_vao);
     glDeleteVertexArrays(1, &r->muscle_vao);
     glDeleteBuffers(1, &r->muscle_vertices);
@@ -598,6 +620,7 @@ typedef struct frame_state {
     const sinew_frame *frame;
     const sinew_render_options *o;
     float view_proj[16];
+    float proj11; /* the projection's [1][1]: pixels of a world unit at clip w = 1, over half the height */
     float eye[3], key[3], fill[3];
 } frame_state;
 
@@ -1007,6 +1030,108 @@ typedef struct crowd_work {
     const sinew_mat4 *worlds;
 } crowd_work;
 
+/* The node that stands for a character's position (the one nearest the middle of the rest
+ * pose's bounds) and the bounds' radius, found once. */
+static void crowd_extent(sinew_renderer *r)
+{
+    const sinew_model *m = r->model;
+    r->crowd_center = 0;
+    r->crowd_radius = 0.0f;
+    r->crowd_triangles = 0;
+    for (uint32_t i = 0; i < m->instance_count; i++)
+        r->crowd_triangles += m->meshes[m->instances[i].mesh].index_count / 3;
+    sinew_mat4 *rest = r->allocator.alloc(((size_t)m->node_count + 1) * sizeof *rest, r->allocator.user);
+    float lo[3], hi[3];
+    if (rest && sinew_local_to_world(m, m->node_rest, m->node_count, NULL, rest, m->node_count, NULL) == SINEW_OK &&
+        sinew_renderer_bounds(r, rest, m->node_count, lo, hi)) {
+        float mid[3] = {(lo[0] + hi[0]) * 0.5f, (lo[1] + hi[1]) * 0.5f, (lo[2] + hi[2]) * 0.5f}, best = INFINITY;
+        r->crowd_radius = 0.5f * sqrtf((hi[0] - lo[0]) * (hi[0] - lo[0]) + (hi[1] - lo[1]) * (hi[1] - lo[1]) +
+                                       (hi[2] - lo[2]) * (hi[2] - lo[2]));
+        for (uint32_t i = 0; i < m->node_count; i++) {
+            const float *p = rest[i].m + 12;
+            float d = (p[0] - mid[0]) * (p[0] - mid[0]) + (p[1] - mid[1]) * (p[1] - mid[1]) +
+                      (p[2] - mid[2]) * (p[2] - mid[2]);
+            if (d < best)
+                best = d, r->crowd_center = i;
+        }
+    }
+    if (rest)
+        r->allocator.free(rest, r->allocator.user);
+}
+
+/* Each character's level of detail from its size on screen (all 0 without levels), and its
+ * place among the records: level 0's characters first, then level 1's, ...; start[l] and
+ * count[l] give each level's range. */
+static void crowd_levels(sinew_renderer *r, const frame_state *fs, uint32_t start[RENDER_LOD_LEVELS],
+                         uint32_t count[RENDER_LOD_LEVELS])
+{
+    const sinew_frame *frame = fs->frame;
+    const uint32_t n = r->model->node_count;
+    bool lod = fs->o->crowd_lod;
+    if (lod && r->crowd_radius < 0.0f)
+        crowd_extent(r);
+    for (int l = 0; l < RENDER_LOD_LEVELS; l++)
+        count[l] = 0;
+    for (uint32_t c = 0; c < frame->crowd_count; c++) {
+        int level = 0;
+        if (lod && r->crowd_radius > 0.0f) {
+            const float *p = frame->crowd_worlds[(size_t)c * n + r->crowd_center].m + 12, *vp = fs->view_proj;
+            float w = vp[3] * p[0] + vp[7] * p[1] + vp[11] * p[2] + vp[15];
+            /* the sphere's radius in pixels: radius * proj[1][1] / w, half the viewport high */
+            level = w > 0.0f ? render_lod_level(r->crowd_radius * fs->proj11 / w * 0.5f * (float)frame->height,
+                                                r->crowd_triangles)
+                             : RENDER_LOD_LEVELS - 1;
+        }
+        r->crowd_level[c] = (uint8_t)level;
+        count[level]++;
+    }
+    for (int l = 0, at = 0; l < RENDER_LOD_LEVELS; at += (int)count[l], l++)
+        start[l] = (uint32_t)at;
+    uint32_t next[RENDER_LOD_LEVELS];
+    memcpy(next, start, sizeof next);
+    for (uint32_t c = 0; c < frame->crowd_count; c++)
+        r->crowd_slot[c] = next[r->crowd_level[c]]++;
+}
+
+/* The mesh's levels of detail, made and uploaded the first time a crowd asks for them. */
+static sinew_result crowd_lods(sinew_renderer *r, const sinew_mesh *mesh, render_mesh *rm, sinew_error *error)
+{
+    if (rm->lod_built)
+        return SINEW_OK;
+    uint32_t *indices;
+    if (!render_lod_build(mesh, &r->allocator, &indices, &rm->lod))
+        return sinew_fail(error, SINEW_ERROR_OUT_OF_MEMORY, "%s: out of memory simplifying mesh \"%s\"",
+                          r->model->source, mesh->name);
+    rm->lod_built = true;
+    if (!indices)
+        return SINEW_OK;
+    glBindVertexArray(rm->vao_static); /* the element buffer is the VAOs' state: both share it */
+    glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, rm->indices);
+    glBufferData(GL_ELEMENT_ARRAY_BUFFER, (GLsizeiptr)rm->lod.total * 4, indices, GL_STATIC_DRAW);
+    /* levels 1.. on their own vertices, for the GPU path */
+    rm->lod_meshes = r->allocator.alloc((RENDER_LOD_LEVELS - 1) * sizeof *rm->lod_meshes, r->allocator.user);
+    void *scratch = r->allocator.alloc((size_t)mesh->vertex_count * 24 + 16, r->allocator.user);
+    bool ok = rm->lod_meshes && scratch;
+    if (rm->lod_meshes)
+        memset(rm->lod_meshes, 0, (RENDER_LOD_LEVELS - 1) * sizeof *rm->lod_meshes);
+    for (int l = 1; ok && l < RENDER_LOD_LEVELS; l++) {
+        sinew_mesh level;
+        void *memory;
+        ok = render_lod_compact(mesh, indices + rm->lod.first[l], rm->lod.count[l], &r->allocator, &level, &memory);
+        if (ok) {
+            upload_mesh(&rm->lod_meshes[l - 1], &level, scratch, false);
+            r->allocator.free(memory, r->allocator.user);
+        }
+    }
+    r->allocator.free(indices, r->allocator.user);
+    if (scratch)
+        r->allocator.free(scratch, r->allocator.user);
+    if (!ok)
+        return sinew_fail(error, SINEW_ERROR_OUT_OF_MEMORY, "%s: out of memory for the levels of mesh \"%s\"",
+                          r->model->source, mesh->name);
+    return SINEW_OK;
+}
+
 /* Palettes (as dual-quaternion joints for DQS, converted in place) and node worlds of a
  * range of characters. */
 static void crowd_records(void *user, uint32_t first, uint32_t count, uint32_t thread)
@@ -1017,7 +1142,7 @@ static void crowd_records(void *user, uint32_t first, uint32_t count, uint32_t t
     const sinew_model *m = r->model;
     uint32_t stride = crowd_stride(r);
     for (uint32_t c = first; c < first + count; c++) {
-        sinew_mat4 *block = r->crowd_records + (size_t)c * stride;
+        sinew_mat4 *block = r->crowd_records + (size_t)r->crowd_slot[c] * stride;
         const sinew_mat4 *worlds = w->worlds + (size_t)c * m->node_count;
         for (uint32_t s = 0; s < m->skin_count; s++)
             sinew_skin_palette(&m->skins[s], worlds, m->node_count, block + r->skin_offsets[s], m->skins[s].joint_count,
@@ -1039,12 +1164,22 @@ static sinew_result crowd_reserve(sinew_renderer *r, uint32_t count, sinew_error
     if (count <= r->crowd_capacity)
         return SINEW_OK;
     sinew_mat4 *records = r->allocator.alloc(bytes, r->allocator.user);
-    if (!records)
+    uint32_t *slots = r->allocator.alloc((size_t)count * (sizeof(uint32_t) + 1) + 16, r->allocator.user);
+    if (!records || !slots) {
+        if (records)
+            r->allocator.free(records, r->allocator.user);
+        if (slots)
+            r->allocator.free(slots, r->allocator.user);
         return sinew_fail(error, SINEW_ERROR_OUT_OF_MEMORY, "%s: out of memory for a crowd of %u characters",
                           r->model->source, count);
+    }
     if (r->crowd_records)
         r->allocator.free(r->crowd_records, r->allocator.user);
+    if (r->crowd_slot)
+        r->allocator.free(r->crowd_slot, r->allocator.user);
     r->crowd_records = records;
+    r->crowd_slot = slots;
+    r->crowd_level = (uint8_t *)(slots + count);
     r->crowd_capacity = count;
     if (!r->crowd_buffer) {
         glGenBuffers(1, &r->crowd_buffer);
@@ -1068,13 +1203,16 @@ static sinew_result draw_crowd_cpu_mesh(sinew_renderer *r, const frame_state *fs
     glUniform1i(u->instance_stride, 0);
     glUniform1i(u->rigid_record, -1);
     for (uint32_t c = 0; c < fs->frame->crowd_count; c++) {
-        const sinew_mat4 *block = r->crowd_records + (size_t)c * stride; /* DQS: converted in place */
+        /* DQS: converted in place */
+        const sinew_mat4 *block = r->crowd_records + (size_t)r->crowd_slot[c] * stride;
         sinew_result result = skin_on_cpu(r, mesh, block, (const sinew_dq_joint *)block, fs->frame->jobs, error);
         if (result != SINEW_OK)
             return result;
         glBindBuffer(GL_ARRAY_BUFFER, rm->buffers[BUF_STREAM]);
         glBufferSubData(GL_ARRAY_BUFFER, 0, (GLsizeiptr)mesh->vertex_count * STREAM_STRIDE, r->stream);
-        glDrawElements(GL_TRIANGLES, (GLsizei)mesh->index_count, GL_UNSIGNED_INT, NULL);
+        int level = r->crowd_level[c];
+        glDrawElements(GL_TRIANGLES, (GLsizei)rm->lod.count[level], GL_UNSIGNED_INT,
+                       (const void *)((uintptr_t)rm->lod.first[level] * 4));
     }
     return SINEW_OK;
 }
@@ -1087,6 +1225,18 @@ static sinew_result draw_crowd(sinew_renderer *r, const frame_state *fs, sinew_e
     sinew_result result = crowd_reserve(r, frame->crowd_count, error);
     if (result != SINEW_OK)
         return result;
+    uint32_t level_start[RENDER_LOD_LEVELS], level_count[RENDER_LOD_LEVELS];
+    crowd_levels(r, fs, level_start, level_count);
+    for (uint32_t i = 0; i < m->instance_count; i++) { /* every mesh's levels, once (those without: the full list) */
+        render_mesh *rm = &r->meshes[m->instances[i].mesh];
+        if (fs->o->crowd_lod)
+            result = crowd_lods(r, &m->meshes[m->instances[i].mesh], rm, error);
+        else if (!rm->lod_built)
+            for (int l = 0; l < RENDER_LOD_LEVELS; l++)
+                rm->lod.first[l] = 0, rm->lod.count[l] = m->meshes[m->instances[i].mesh].index_count;
+        if (result != SINEW_OK)
+            return result;
+    }
     crowd_work work = {r, frame->crowd_worlds};
     sinew_jobs_run(frame->jobs, frame->crowd_count, 8, crowd_records, &work);
     uint32_t stride = crowd_stride(r);
@@ -1129,10 +1279,17 @@ static sinew_result draw_crowd(sinew_renderer *r, const frame_state *fs, sinew_e
         /* in batches: Mesa's software renderer shades all of a draw's vertices into one buffer
          * first, which grows past its caches (and costs page faults) with thousands of
          * instances; GPUs do not mind the extra draws */
-        for (uint32_t first = 0; first < frame->crowd_count; first += CROWD_BATCH) {
-            uint32_t n = frame->crowd_count - first < CROWD_BATCH ? frame->crowd_count - first : CROWD_BATCH;
-            glUniform1i(u->instance_base, (GLint)first);
-            glDrawElementsInstanced(GL_TRIANGLES, (GLsizei)mesh->index_count, GL_UNSIGNED_INT, NULL, (GLsizei)n);
+        for (int l = 0; l < RENDER_LOD_LEVELS; l++) { /* each level's characters: a range of the records */
+            /* levels 1.. on their own vertices when there are such; else ranges of the mesh's indices */
+            const render_mesh *level = l && rm->lod_meshes ? &rm->lod_meshes[l - 1] : NULL;
+            glBindVertexArray(level ? level->vao_static : rm->vao_static);
+            uint32_t first = level ? 0 : rm->lod.first[l], count = rm->lod.count[l];
+            for (uint32_t done = 0; done < level_count[l]; done += CROWD_BATCH) {
+                uint32_t n = level_count[l] - done < CROWD_BATCH ? level_count[l] - done : CROWD_BATCH;
+                glUniform1i(u->instance_base, (GLint)(level_start[l] + done));
+                glDrawElementsInstanced(GL_TRIANGLES, (GLsizei)count, GL_UNSIGNED_INT,
+                                        (const void *)((uintptr_t)first * 4), (GLsizei)n);
+            }
         }
     }
     glUniform1i(u->instance_stride, 0);
@@ -1161,6 +1318,7 @@ sinew_result sinew_renderer_draw(sinew_renderer *r, const sinew_frame *frame, si
     sinew_camera_view(frame->camera, &view);
     sinew_camera_projection(frame->camera, (float)frame->width / (float)frame->height, &proj);
     glm_mat4_mul((vec4 *)proj.m, (vec4 *)view.m, (vec4 *)fs.view_proj);
+    fs.proj11 = proj.m[5];
     camera_lights(frame->camera, &fs);
 
     r->method =

@@ -330,6 +330,27 @@ static void test_crowd(void **state)
     free_image(&gpu);
     free_image(&cpu);
     free_image(&dqs);
+    /* levels of detail: the demo humanoid's crowd, small on screen (figures some 15 pixels
+     * high: the coarsest level, limbs a little thinner), drawn with its simplified meshes
+     * covers nearly what the crowd drawn whole covers, by GPU and CPU skinning alike */
+    image lod = RENDER("crowd-lod.png", "builtin:demo", "--crowd", "100", "--time", "0.3", "--size", "640x360",
+                       "--no-grid", "--background", "000000");
+    image whole = RENDER("crowd-whole.png", "builtin:demo", "--crowd", "100", "--time", "0.3", "--size", "640x360",
+                         "--no-grid", "--background", "000000", "--no-lod");
+    image lod_cpu = RENDER("crowd-lod-cpu.png", "builtin:demo", "--crowd", "100", "--time", "0.3", "--size", "640x360",
+                           "--no-grid", "--background", "000000", "--skinning", "cpu");
+    long lod_differing = 0, lod_cpu_differing = 0;
+    same_picture(&lod, &whole, &lod_differing);
+    bool lod_cpu_same = same_picture(&lod, &lod_cpu, &lod_cpu_differing);
+    long lod_covered = lit_pixels(&lod), whole_covered = lit_pixels(&whole);
+    printf("demo crowd of 100 at 640x360: with levels of detail vs whole %ld pixels differ (%ld vs %ld covered); GPU "
+           "vs CPU skinning with levels %ld\n",
+           lod_differing, lod_covered, whole_covered, lod_cpu_differing);
+    assert_true(lod_cpu_same);
+    assert_true(lod_covered > whole_covered * 3 / 4 && lod_covered <= whole_covered * 21 / 20);
+    free_image(&lod);
+    free_image(&whole);
+    free_image(&lod_cpu);
     /* a file without meshes: a crowd of skeletons */
     char bvh[1024];
     if (testdata_path("assimp/BVH/01_01.bvh", bvh, sizeof bvh)) {
