@@ -56,7 +56,8 @@ static const char render_usage[] =
     "crowds:\n"
     "  --crowd N           N characters on a grid, each at its own time and clip (the --clip given, else\n"
     "                      the file's clips in turn); poses on the CPU, skinning on the GPU with instancing\n"
-    "                      (one draw a mesh) or with --skinning cpu on the CPU; meshes and grid only\n"
+    "                      (one draw a mesh) or with --skinning cpu on the CPU; meshes and grid only;\n"
+    "                      characters small on screen drawn with simplified meshes (--no-lod: whole)\n"
     "  --threads N         threads posing (and CPU-skinning) the crowd (default: the cores)\n";
 
 #define MAX_FRAMES 100000
