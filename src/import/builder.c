@@ -602,7 +602,8 @@ static int by_node(const void *a, const void *b)
  * lacks, and the rest are dropped with a warning. */
 static void merge_tracks(raw_model *m, raw_clip *clip)
 {
-    qsort(clip->tracks, clip->track_count, sizeof *clip->tracks, by_node);
+    if (clip->track_count > 1) /* a clip of no tracks may have no array (qsort wants one) */
+        qsort(clip->tracks, clip->track_count, sizeof *clip->tracks, by_node);
     uint32_t out = 0, dropped = 0;
     for (uint32_t t = 0; t < clip->track_count; t++) {
         raw_track *track = &clip->tracks[t];
