@@ -106,6 +106,16 @@ static void direction(const sinew_model *m, const sinew_mat4 *w, const char *a, 
         out[k] /= sqrt(len);
 }
 
+/* The angle (radians) between bone a0 -> a1 of one posed model and b0 -> b1 of another. */
+static double bone_angle(const sinew_model *ma, const sinew_mat4 *wa, const char *a0, const char *a1,
+                         const sinew_model *mb, const sinew_mat4 *wb, const char *b0, const char *b1)
+{
+    double u[3], v[3];
+    direction(ma, wa, a0, a1, u);
+    direction(mb, wb, b0, b1, v);
+    return acos(fmin(1.0, u[0] * v[0] + u[1] * v[1] + u[2] * v[2]));
+}
+
 static void test_cmu_bvh_drives_the_demo(void **state)
 {
     (void)state;
@@ -128,12 +138,8 @@ static void test_cmu_bvh_drives_the_demo(void **state)
     double worst = 0.0;
     for (float t = 0.5f; t < bvh->clips[0].duration; t += 1.0f) {
         sinew_mat4 *a = pose_worlds(out, &out->clips[0], t), *b = pose_worlds(bvh, &bvh->clips[0], t);
-        for (size_t i = 0; i < sizeof bones / sizeof bones[0]; i++) {
-            double u[3], v[3];
-            direction(out, a, bones[i][0], bones[i][1], u);
-            direction(bvh, b, bones[i][2], bones[i][3], v);
-            worst = fmax(worst, acos(fmin(1.0, u[0] * v[0] + u[1] * v[1] + u[2] * v[2])));
-        }
+        for (size_t i = 0; i < sizeof bones / sizeof bones[0]; i++)
+            worst = fmax(worst, bone_angle(out, a, bones[i][0], bones[i][1], bvh, b, bones[i][2], bones[i][3]));
         free(a);
         free(b);
     }
@@ -168,23 +174,19 @@ static void test_animation_only_fbx(void **state)
                                            {"RightLeg", "RightFoot"},
                                            {"Spine", "Neck"}};
     double worst = 0.0, swing = 0.0;
-    double first[3] = {0};
+    sinew_mat4 *first = malloc(out->node_count * sizeof *first);
     for (float t = 0.0f; t <= walk->clips[0].duration; t += walk->clips[0].duration / 8.0f) {
         sinew_mat4 *x = pose_worlds(out, &out->clips[0], t), *y = pose_worlds(walk, &walk->clips[0], t);
-        for (size_t i = 0; i < sizeof bones / sizeof bones[0]; i++) {
-            double u[3], v[3];
-            direction(out, x, bones[i][0], bones[i][1], u);
-            direction(walk, y, bones[i][0], bones[i][1], v);
-            worst = fmax(worst, acos(fmin(1.0, u[0] * v[0] + u[1] * v[1] + u[2] * v[2])));
-            if (i == 2) { /* the left thigh swings through the walk */
-                if (t == 0.0f)
-                    memcpy(first, u, sizeof first);
-                swing = fmax(swing, acos(fmin(1.0, u[0] * first[0] + u[1] * first[1] + u[2] * first[2])));
-            }
-        }
+        for (size_t i = 0; i < sizeof bones / sizeof bones[0]; i++)
+            worst = fmax(worst, bone_angle(out, x, bones[i][0], bones[i][1], walk, y, bones[i][0], bones[i][1]));
+        /* the left thigh swings through the walk */
+        if (t == 0.0f)
+            memcpy(first, x, out->node_count * sizeof *first);
+        swing = fmax(swing, bone_angle(out, x, "LeftUpLeg", "LeftLeg", out, first, "LeftUpLeg", "LeftLeg"));
         free(x);
         free(y);
     }
+    free(first);
     print_message("walk.fbx on arnaud.fbx: %u of %u nodes matched by name; arms, legs and back within %.2f degrees "
                   "of the walk's; the left thigh swings %.0f degrees\n",
                   matched, arnaud->node_count, worst * 180.0 / M_PI, swing * 180.0 / M_PI);
