@@ -15,6 +15,7 @@
  * AVX2+FMA (sinew_skin_avx2): linear blend of positions and normals a vertex at a time, the
  * blended matrix's columns in two 8-float registers (for processors without AVX-512).
  * tests/core/test_runtime.c holds both within 2e-6 of skin.c's reference. */
+#include <math.h>
 #include <string.h>
 
 #include "internal.h"
@@ -59,6 +60,57 @@ AVX512 __m512 blend_vertex(const float *records, const uint16_t *joints, const f
 /* Blends the n <= 16 vertices from `v` and transposes them: e[i] holds element i of the 16
  * vertices' blended records (lanes past n are 0). Pairs of vertices are unpacked as they are
  * blended, so that no more than 16 registers are live between the stages. */
+/* Permute indices that turn 16 xyz triples (3 registers) into x, y, z registers and back. */
+typedef struct triples {
+    __m512i split_a[3], split_b[3]; /* component c: permutex2var(P0, a, P1), then with P2 */
+    __m512i join_a[3], join_b[3];   /* output register o: permutex2var(x, a, y), then with z */
+} triples;
+
+AVX512 triples make_triples(void)
+{
+    int32_t sa[3][16], sb[3][16], ja[3][16], jb[3][16];
+#pragma GCC unroll 16
+    for (int c = 0; c < 3; c++)
+#pragma GCC unroll 16
+        for (int v = 0; v < 16; v++) {
+            int f = 3 * v + c;
+            sa[c][v] = f < 32 ? f : 0;
+            sb[c][v] = f < 32 ? v : 16 + (f - 32);
+        }
+#pragma GCC unroll 16
+    for (int o = 0; o < 3; o++)
+#pragma GCC unroll 16
+        for (int i = 0; i < 16; i++) {
+            int f = 16 * o + i, v = f / 3, c = f % 3;
+            ja[o][i] = c == 0 ? v : c == 1 ? 16 + v : 0;
+            jb[o][i] = c == 2 ? 16 + v : i;
+        }
+    triples t;
+#pragma GCC unroll 16
+    for (int c = 0; c < 3; c++) {
+        t.split_a[c] = _mm512_loadu_si512(sa[c]);
+        t.split_b[c] = _mm512_loadu_si512(sb[c]);
+        t.join_a[c] = _mm512_loadu_si512(ja[c]);
+        t.join_b[c] = _mm512_loadu_si512(jb[c]);
+    }
+    return t;
+}
+
+/* Loads n <= 16 xyz triples from p into x, y, z (lanes past n are 0). */
+AVX512 void load3(const triples *t, const float *p, uint32_t n, __m512 out[3])
+{
+    __m512 r[3];
+#pragma GCC unroll 16
+    for (int i = 0; i < 3; i++) {
+        int valid = (int)(3 * n) - 16 * i;
+        __mmask16 m = valid >= 16 ? 0xffff : valid <= 0 ? 0 : (__mmask16)((1u << valid) - 1);
+        r[i] = _mm512_maskz_loadu_ps(m, p + 16 * i);
+    }
+#pragma GCC unroll 16
+    for (int c = 0; c < 3; c++)
+        out[c] = _mm512_permutex2var_ps(_mm512_permutex2var_ps(r[0], t->split_a[c], r[1]), t->split_b[c], r[2]);
+}
+
 /* Whether all 16 vertices of a block name the same joints (in the same order). */
 AVX512 bool same_joints(const uint16_t *joints, uint32_t k)
 {
@@ -87,10 +139,74 @@ AVX512 __m512 blend_shared(const __m512 *records, const __m512 *signs, const flo
     return k > 1 ? _mm512_add_ps(acc[0], acc[1]) : acc[0];
 }
 
-AVX512 void blend_transposed(const skin_call *c, uint32_t v, uint32_t n, uint32_t k, bool dqs, __m512 e[16])
+/* A block of 16 vertices with the same k <= 4 joints, straight into structure-of-arrays
+ * registers: the weights transposed (influence i's weight of each vertex in one register: a
+ * load for 1 influence, a permute each for 2, load3's split for 3, three permutes each for 4),
+ * then each element of the blended records as sum_i W_i * record_i[element] (the records'
+ * elements broadcast), so neither the per-vertex weight broadcasts nor the 16x16 transpose are
+ * needed. Each lane gets the operations blend_vertex() does, in its order. */
+AVX512 void blend_shared_soa(const skin_call *c, const triples *tr, const uint16_t *joints, const float *weights,
+                             uint32_t k, bool dqs, __m512 e[16])
+{
+    static const int32_t pick4[4][16] = {{0, 4, 8, 12, 16, 20, 24, 28},
+                                         {1, 5, 9, 13, 17, 21, 25, 29},
+                                         {2, 6, 10, 14, 18, 22, 26, 30},
+                                         {3, 7, 11, 15, 19, 23, 27, 31}};
+    static const int32_t pick2[2][16] = {{0, 2, 4, 6, 8, 10, 12, 14, 16, 18, 20, 22, 24, 26, 28, 30},
+                                         {1, 3, 5, 7, 9, 11, 13, 15, 17, 19, 21, 23, 25, 27, 29, 31}};
+    __m512 w[4] = {_mm512_setzero_ps(), _mm512_setzero_ps(), _mm512_setzero_ps(), _mm512_setzero_ps()};
+    if (k == 1) {
+        w[0] = _mm512_loadu_ps(weights);
+    } else if (k == 2) {
+        __m512 l0 = _mm512_loadu_ps(weights), l1 = _mm512_loadu_ps(weights + 16);
+#pragma GCC unroll 2
+        for (int i = 0; i < 2; i++)
+            w[i] = _mm512_permutex2var_ps(l0, _mm512_loadu_si512(pick2[i]), l1);
+    } else if (k == 3) {
+        load3(tr, weights, 16, w);
+    } else {
+        __m512 l[4];
+#pragma GCC unroll 4
+        for (int m = 0; m < 4; m++)
+            l[m] = _mm512_loadu_ps(weights + 16 * m);
+#pragma GCC unroll 4
+        for (int i = 0; i < 4; i++) {
+            __m512i idx = _mm512_loadu_si512(pick4[i]);
+            w[i] = _mm512_shuffle_f32x4(_mm512_permutex2var_ps(l[0], idx, l[1]),
+                                        _mm512_permutex2var_ps(l[2], idx, l[3]), _MM_SHUFFLE(1, 0, 1, 0));
+        }
+    }
+    const float *r[4] = {NULL, NULL, NULL, NULL};
+    bool flip[4] = {false, false, false, false};
+#pragma GCC unroll 4
+    for (uint32_t i = 0; i < k; i++) {
+        r[i] = c->records + (size_t)joints[i] * 16;
+        if (dqs && i > 0) { /* blend_vertex's hemisphere test, in its order of additions */
+            float d = (r[0][0] * r[i][0] + r[0][1] * r[i][1]) + (r[0][2] * r[i][2] + r[0][3] * r[i][3]);
+            flip[i] = signbit(d);
+        }
+    }
+#pragma GCC unroll 16
+    for (int el = 0; el < 16; el++) {
+        __m512 acc[2] = {_mm512_mul_ps(w[0], _mm512_set1_ps(r[0][el])), _mm512_setzero_ps()};
+#pragma GCC unroll 4
+        for (uint32_t i = 1; i < k; i++) {
+            float x = flip[i] && el < 8 ? -r[i][el] : r[i][el];
+            acc[i & 1] = _mm512_fmadd_ps(w[i], _mm512_set1_ps(x), acc[i & 1]);
+        }
+        e[el] = k > 1 ? _mm512_add_ps(acc[0], acc[1]) : acc[0];
+    }
+}
+
+AVX512 void blend_transposed(const skin_call *c, const triples *tr, uint32_t v, uint32_t n, uint32_t k, bool dqs,
+                             __m512 e[16])
 {
     const uint16_t *joints = &c->mesh->joints[(size_t)v * k];
     const float *weights = &c->mesh->weights[(size_t)v * k];
+    if (k <= 4 && n == 16 && same_joints(joints, k)) {
+        blend_shared_soa(c, tr, joints, weights, k, dqs, e);
+        return;
+    }
     __m512 t[16], u[16];
     /* Meshes come in runs of vertices bound to the same joints (the demo humanoid: 93% of its
      * vertices share their predecessor's): such a block loads each joint record once, not
@@ -149,57 +265,6 @@ AVX512 void blend_transposed(const skin_call *c, uint32_t v, uint32_t n, uint32_
         e[8 + j] = _mm512_shuffle_f32x4(v1, v3, _MM_SHUFFLE(2, 0, 2, 0));
         e[12 + j] = _mm512_shuffle_f32x4(v1, v3, _MM_SHUFFLE(3, 1, 3, 1));
     }
-}
-
-/* Permute indices that turn 16 xyz triples (3 registers) into x, y, z registers and back. */
-typedef struct triples {
-    __m512i split_a[3], split_b[3]; /* component c: permutex2var(P0, a, P1), then with P2 */
-    __m512i join_a[3], join_b[3];   /* output register o: permutex2var(x, a, y), then with z */
-} triples;
-
-AVX512 triples make_triples(void)
-{
-    int32_t sa[3][16], sb[3][16], ja[3][16], jb[3][16];
-#pragma GCC unroll 16
-    for (int c = 0; c < 3; c++)
-#pragma GCC unroll 16
-        for (int v = 0; v < 16; v++) {
-            int f = 3 * v + c;
-            sa[c][v] = f < 32 ? f : 0;
-            sb[c][v] = f < 32 ? v : 16 + (f - 32);
-        }
-#pragma GCC unroll 16
-    for (int o = 0; o < 3; o++)
-#pragma GCC unroll 16
-        for (int i = 0; i < 16; i++) {
-            int f = 16 * o + i, v = f / 3, c = f % 3;
-            ja[o][i] = c == 0 ? v : c == 1 ? 16 + v : 0;
-            jb[o][i] = c == 2 ? 16 + v : i;
-        }
-    triples t;
-#pragma GCC unroll 16
-    for (int c = 0; c < 3; c++) {
-        t.split_a[c] = _mm512_loadu_si512(sa[c]);
-        t.split_b[c] = _mm512_loadu_si512(sb[c]);
-        t.join_a[c] = _mm512_loadu_si512(ja[c]);
-        t.join_b[c] = _mm512_loadu_si512(jb[c]);
-    }
-    return t;
-}
-
-/* Loads n <= 16 xyz triples from p into x, y, z (lanes past n are 0). */
-AVX512 void load3(const triples *t, const float *p, uint32_t n, __m512 out[3])
-{
-    __m512 r[3];
-#pragma GCC unroll 16
-    for (int i = 0; i < 3; i++) {
-        int valid = (int)(3 * n) - 16 * i;
-        __mmask16 m = valid >= 16 ? 0xffff : valid <= 0 ? 0 : (__mmask16)((1u << valid) - 1);
-        r[i] = _mm512_maskz_loadu_ps(m, p + 16 * i);
-    }
-#pragma GCC unroll 16
-    for (int c = 0; c < 3; c++)
-        out[c] = _mm512_permutex2var_ps(_mm512_permutex2var_ps(r[0], t->split_a[c], r[1]), t->split_b[c], r[2]);
 }
 
 /* Stores n <= 16 vertices' x, y, z (and w when given) at `base`, `stride` bytes apart. */
@@ -320,7 +385,7 @@ AVX512 void skin_block(const skin_call *c, const triples *tr, uint32_t v, uint32
 {
     const sinew_mesh *mesh = c->mesh;
     __m512 e[16];
-    blend_transposed(c, v, n, k, dqs, e);
+    blend_transposed(c, tr, v, n, k, dqs, e);
     __m512 p[3], t_w = _mm512_setzero_ps();
     __m512 n_in[3] = {_mm512_setzero_ps(), _mm512_setzero_ps(), _mm512_setzero_ps()};
     __m512 t_in[3] = {_mm512_setzero_ps(), _mm512_setzero_ps(), _mm512_setzero_ps()};

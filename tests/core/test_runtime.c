@@ -213,8 +213,10 @@ static double worst_difference(const float *a, const float *b, size_t n, int at,
 
 /* Every SIMD path (AVX-512, AVX2+FMA, as far as the processor has them) equals the scalar
  * reference for linear blend and dual quaternions, positions, normals and tangents, with
- * interleaved and packed outputs and ranges that do not fill a block; a joint index past the
- * palette is refused. */
+ * interleaved and packed outputs and ranges that do not fill a block, on the synthetic mesh
+ * as made (runs of vertices bound to the same joints: AVX-512's shared-joint blocks) and with
+ * its influences dealt out of order (every block mixed); a joint index past the palette is
+ * refused. */
 static void test_skin_simd_matches_scalar(void **state)
 {
     (void)state;
@@ -228,6 +230,15 @@ static void test_skin_simd_matches_scalar(void **state)
         sinew_mesh mesh = m->meshes[0];
         float *tangents = test_tangents(&mesh);
         mesh.tangents = tangents;
+        /* the influences dealt out of order: vertex v takes those of vertex v * 7919 mod n */
+        uint32_t k = mesh.influence_count, count = mesh.vertex_count;
+        uint16_t *mixed_joints = malloc((size_t)count * k * sizeof *mixed_joints);
+        float *mixed_weights = malloc((size_t)count * k * sizeof *mixed_weights);
+        for (uint32_t v = 0; v < count; v++) {
+            uint32_t from = (uint32_t)(((uint64_t)v * 7919u) % count);
+            memcpy(mixed_joints + (size_t)v * k, mesh.joints + (size_t)from * k, k * sizeof *mixed_joints);
+            memcpy(mixed_weights + (size_t)v * k, mesh.weights + (size_t)from * k, k * sizeof *mixed_weights);
+        }
         const sinew_skin *skin = &m->skins[0];
         sinew_mat4 *worlds = pose_worlds(m, &m->clips[0], 0.37f);
         sinew_mat4 *palette = malloc(skin->joint_count * sizeof *palette);
@@ -241,54 +252,62 @@ static void test_skin_simd_matches_scalar(void **state)
         size_t n = mesh.vertex_count;
         float *a = calloc(n * 12, sizeof(float)), *b = calloc(n * 12, sizeof(float));
         float *packed = calloc(n * 3, sizeof(float)), *packed_ref = calloc(n * 3, sizeof(float));
-        for (int method = 0; method < 2; method++)
-            for (sinew_isa isa = SINEW_ISA_AVX512; isa > SINEW_ISA_SCALAR; isa--) {
-                sinew_skin_set_isa_limit(isa);
-                /* interleaved output: position, normal, tangent, 2 floats of padding (stride 48) */
-                memset(a, 0, n * 12 * sizeof(float));
-                memset(b, 0, n * 12 * sizeof(float));
-                sinew_skin_desc sd = {.mesh = &mesh,
-                                      .palette = palette,
-                                      .palette_count = skin->joint_count,
-                                      .method = (sinew_skin_method)method,
-                                      .dq_palette = dq,
-                                      .first = 7,
-                                      .count = (uint32_t)n - 20,
-                                      .out_positions = a,
-                                      .out_normals = a + 3,
-                                      .out_tangents = isa == SINEW_ISA_AVX2 ? NULL : a + 6, /* AVX2 has none */
-                                      .out_stride = 48};
-                assert_int_equal(sinew_skin_vertices(&sd, NULL), SINEW_OK);
-                sd.out_positions = b, sd.out_normals = b + 3, sd.out_tangents = sd.out_tangents ? b + 6 : NULL;
-                assert_int_equal(sinew_skin_vertices_scalar(&sd, NULL), SINEW_OK);
-                double worst_p = worst_difference(a, b, n, 0, 3), worst_n = worst_difference(a, b, n, 3, 3);
-                double worst_t = worst_difference(a, b, n, 6, 4);
-                for (size_t v = 0; v < n; v++)
-                    assert_true(a[v * 12 + 10] == 0.0f && a[v * 12 + 11] == 0.0f); /* padding untouched */
-                assert_true(a[0] == 0.0f && a[(n - 1) * 12] == 0.0f);              /* outside the range untouched */
-                /* packed positions only, a range ending mid-block */
-                sinew_skin_desc pd = {.mesh = &mesh,
-                                      .palette = palette,
-                                      .palette_count = skin->joint_count,
-                                      .method = (sinew_skin_method)method,
-                                      .dq_palette = dq,
-                                      .first = 16,
-                                      .count = (uint32_t)n - 16 - 3,
-                                      .out_positions = packed};
-                assert_int_equal(sinew_skin_vertices(&pd, NULL), SINEW_OK);
-                pd.out_positions = packed_ref;
-                assert_int_equal(sinew_skin_vertices_scalar(&pd, NULL), SINEW_OK);
-                double worst_packed = 0.0;
-                for (size_t i = 0; i < n * 3; i++)
-                    worst_packed = fmax(worst_packed, fabs(packed[i] - packed_ref[i]));
-                print_message("%s, %u influences, %s: SIMD vs scalar %.2e positions, %.2e normals, %.2e tangents, "
-                              "%.2e packed\n",
-                              method ? "DQS" : "LBS", influences, isa == SINEW_ISA_AVX512 ? "avx512" : "avx2", worst_p,
-                              worst_n, worst_t, worst_packed);
-                assert_true(worst_p <= 2e-6 && worst_packed <= 2e-6);
-                assert_true(worst_n <= 2e-6);
-                assert_true(worst_t <= 2e-6);
-            }
+        for (int order = 0; order < 2; order++) {
+            mesh.joints = order ? mixed_joints : m->meshes[0].joints;
+            mesh.weights = order ? mixed_weights : m->meshes[0].weights;
+            for (int method = 0; method < 2; method++)
+                for (sinew_isa isa = SINEW_ISA_AVX512; isa > SINEW_ISA_SCALAR; isa--) {
+                    sinew_skin_set_isa_limit(isa);
+                    /* interleaved output: position, normal, tangent, 2 floats of padding (stride 48) */
+                    memset(a, 0, n * 12 * sizeof(float));
+                    memset(b, 0, n * 12 * sizeof(float));
+                    sinew_skin_desc sd = {.mesh = &mesh,
+                                          .palette = palette,
+                                          .palette_count = skin->joint_count,
+                                          .method = (sinew_skin_method)method,
+                                          .dq_palette = dq,
+                                          .first = 7,
+                                          .count = (uint32_t)n - 20,
+                                          .out_positions = a,
+                                          .out_normals = a + 3,
+                                          .out_tangents = isa == SINEW_ISA_AVX2 ? NULL : a + 6, /* AVX2 has none */
+                                          .out_stride = 48};
+                    assert_int_equal(sinew_skin_vertices(&sd, NULL), SINEW_OK);
+                    sd.out_positions = b, sd.out_normals = b + 3, sd.out_tangents = sd.out_tangents ? b + 6 : NULL;
+                    assert_int_equal(sinew_skin_vertices_scalar(&sd, NULL), SINEW_OK);
+                    double worst_p = worst_difference(a, b, n, 0, 3), worst_n = worst_difference(a, b, n, 3, 3);
+                    double worst_t = worst_difference(a, b, n, 6, 4);
+                    for (size_t v = 0; v < n; v++)
+                        assert_true(a[v * 12 + 10] == 0.0f && a[v * 12 + 11] == 0.0f); /* padding untouched */
+                    assert_true(a[0] == 0.0f && a[(n - 1) * 12] == 0.0f);              /* outside the range untouched */
+                    /* packed positions only, a range ending mid-block */
+                    sinew_skin_desc pd = {.mesh = &mesh,
+                                          .palette = palette,
+                                          .palette_count = skin->joint_count,
+                                          .method = (sinew_skin_method)method,
+                                          .dq_palette = dq,
+                                          .first = 16,
+                                          .count = (uint32_t)n - 16 - 3,
+                                          .out_positions = packed};
+                    assert_int_equal(sinew_skin_vertices(&pd, NULL), SINEW_OK);
+                    pd.out_positions = packed_ref;
+                    assert_int_equal(sinew_skin_vertices_scalar(&pd, NULL), SINEW_OK);
+                    double worst_packed = 0.0;
+                    for (size_t i = 0; i < n * 3; i++)
+                        worst_packed = fmax(worst_packed, fabs(packed[i] - packed_ref[i]));
+                    print_message("%s, %u influences, %s, %s: SIMD vs scalar %.2e positions, %.2e normals, %.2e "
+                                  "tangents, %.2e packed\n",
+                                  method ? "DQS" : "LBS", influences, isa == SINEW_ISA_AVX512 ? "avx512" : "avx2",
+                                  order ? "mixed" : "in runs", worst_p, worst_n, worst_t, worst_packed);
+                    assert_true(worst_p <= 2e-6 && worst_packed <= 2e-6);
+                    assert_true(worst_n <= 2e-6);
+                    assert_true(worst_t <= 2e-6);
+                }
+        }
+        mesh.joints = m->meshes[0].joints;
+        mesh.weights = m->meshes[0].weights;
+        free(mixed_joints);
+        free(mixed_weights);
         sinew_skin_set_isa_limit(SINEW_ISA_AVX512);
         sinew_skin_desc sd = {.mesh = &mesh, .palette = palette, .palette_count = 2, .out_positions = a};
         sinew_error error = {0};
