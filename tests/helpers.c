@@ -88,6 +88,25 @@ void assert_near(double a, double b, double tol, const char *what)
         fail_msg("%s: %.9g differs from %.9g by more than %g", what, a, b, tol);
 }
 
+double pose_difference(const sinew_transform *a, const sinew_transform *b, uint32_t n)
+{
+    double worst = 0.0;
+    for (uint32_t i = 0; i < n; i++) {
+        double dot = 0.0, same = 0.0, flip = 0.0;
+        for (int k = 0; k < 4; k++) {
+            dot += a[i].rotation[k] * b[i].rotation[k];
+            same = fmax(same, fabs(a[i].rotation[k] - b[i].rotation[k]));
+            flip = fmax(flip, fabs(a[i].rotation[k] + b[i].rotation[k]));
+        }
+        worst = fmax(worst, dot >= 0.0 ? same : flip);
+        for (int k = 0; k < 3; k++) {
+            worst = fmax(worst, fabs(a[i].translation[k] - b[i].translation[k]) / fmax(1.0, fabs(b[i].translation[k])));
+            worst = fmax(worst, fabs(a[i].scale[k] - b[i].scale[k]));
+        }
+    }
+    return worst;
+}
+
 sinew_transform *pose_locals(const sinew_model *model, const sinew_clip *clip, float t, sinew_wrap wrap)
 {
     uint32_t n = model->node_count;

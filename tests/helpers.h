@@ -35,6 +35,10 @@ double bezier_reference(const double p[4][2], double t);
 
 /* The local transforms (malloc'd) of a model posed by a clip at t, wrapped or clamped. */
 sinew_transform *pose_locals(const sinew_model *model, const sinew_clip *clip, float t, sinew_wrap wrap);
+/* Largest difference between two poses of n nodes: rotations (a quaternion and its negation
+ * are the same), scales, and translations relative to their size where that is over 1 (float's
+ * precision of a hips translation tens of units out is 2e-6). */
+double pose_difference(const sinew_transform *a, const sinew_transform *b, uint32_t n);
 /* World matrices of a model at time t of clip (NULL: rest), malloc'd. */
 sinew_mat4 *pose_worlds(const sinew_model *model, const sinew_clip *clip, float t);
 

@@ -13,27 +13,6 @@
 #include "helpers.h"
 #include "sinew/blend.h"
 
-/* Largest difference between two poses (a rotation and its negation are the same). */
-static double pose_difference(const sinew_transform *a, const sinew_transform *b, uint32_t n)
-{
-    double worst = 0.0;
-    for (uint32_t i = 0; i < n; i++) {
-        double dot = 0.0, same = 0.0, flip = 0.0;
-        for (int k = 0; k < 4; k++)
-            dot += a[i].rotation[k] * b[i].rotation[k];
-        for (int k = 0; k < 4; k++) {
-            same = fmax(same, fabs(a[i].rotation[k] - b[i].rotation[k]));
-            flip = fmax(flip, fabs(a[i].rotation[k] + b[i].rotation[k]));
-        }
-        worst = fmax(worst, dot >= 0.0 ? same : flip);
-        for (int k = 0; k < 3; k++) {
-            worst = fmax(worst, fabs(a[i].translation[k] - b[i].translation[k]));
-            worst = fmax(worst, fabs(a[i].scale[k] - b[i].scale[k]));
-        }
-    }
-    return worst;
-}
-
 static int32_t node_named(const sinew_model *m, const char *name)
 {
     for (uint32_t i = 0; i < m->node_count; i++)

@@ -26,27 +26,6 @@ static void soa_open(soa_buffer *b, uint32_t node_count)
     assert_int_equal(sinew_soa_pose_init(b->memory, size, node_count, &b->pose, NULL), SINEW_OK);
 }
 
-/* Largest difference between two poses (a rotation and its negation are the same);
- * translations relative to their size where that is over 1 (float's precision). */
-static double pose_difference(const sinew_transform *a, const sinew_transform *b, uint32_t n)
-{
-    double worst = 0.0;
-    for (uint32_t i = 0; i < n; i++) {
-        double dot = 0.0, same = 0.0, flip = 0.0;
-        for (int k = 0; k < 4; k++) {
-            dot += a[i].rotation[k] * b[i].rotation[k];
-            same = fmax(same, fabs(a[i].rotation[k] - b[i].rotation[k]));
-            flip = fmax(flip, fabs(a[i].rotation[k] + b[i].rotation[k]));
-        }
-        worst = fmax(worst, dot >= 0.0 ? same : flip);
-        for (int k = 0; k < 3; k++) {
-            worst = fmax(worst, fabs(a[i].translation[k] - b[i].translation[k]) / fmax(1.0, fabs(b[i].translation[k])));
-            worst = fmax(worst, fabs(a[i].scale[k] - b[i].scale[k]));
-        }
-    }
-    return worst;
-}
-
 static double worlds_difference(const sinew_mat4 *a, const sinew_mat4 *b, uint32_t n)
 {
     double worst = 0.0;
