@@ -776,16 +776,16 @@ int bench_eval(int argc, char **argv)
     printf("%-44s %9.3f us %9.3f us\n", "sample + world, 128 joints, random seek", s128.seek_us,
            s128.reference_seek_us);
     printf("%-44s %9.3f us %9.3f us\n", "blend 2 | 4 poses, 64 joints", blend.blend2_us, blend.blend4_us);
-    printf("%-44s %9.3f us %9.3f us\n", "blend 2 poses, SoA (player's layout), 64 joints", blend.soa2_us,
+    printf("%-44s %9.3f us %9.3f us\n", "blend 2 poses, SoA (player's pose), 64 j.", blend.soa2_us,
            blend.soa2_scalar_us);
     printf("%-44s %9.3f us %9.3f us\n", "blend 4 poses, SoA, 64 joints", blend.soa4_us, blend.soa4_scalar_us);
-    printf("%-44s %9.3f us\n", "mixer mid-fade: 2 clips + blend + world", blend.mixer_us);
+    printf("%-44s %9.3f us\n", "mixer mid-fade: 2 clips, blend, worlds", blend.mixer_us);
     printf("%-44s %9.3f us %9.3f us\n", "IK: two-bone | aim (with a 64-joint pose copy)", blend.two_bone_us,
            blend.aim_us);
     printf("%-44s %6.0f Mv/s %6.0f Mv/s %10s\n", "skinning (pos + normal, 4 infl), 1 thread", skin.mverts[1],
            skin.mverts_scalar, ">= 350");
     printf("%-44s %6.0f Mv/s %12s %10s\n", "skinning, positions only, 1 thread", skin.mverts_posonly, "", ">= 500");
-    printf("%-44s %6.0f Mv/s %6.0f Mv/s\n", "the same, influences out of order: nor.|pos.", skin.mverts_mixed,
+    printf("%-44s %6.0f Mv/s %6.0f Mv/s\n", "influences out of order: pos.+nor. | pos.", skin.mverts_mixed,
            skin.mverts_posonly_mixed);
     printf("%-44s %6.0f Mv/s %6.0f Mv/s %10s\n", "skinning, dual quaternions, 1 thread", skin.mverts_dqs,
            skin.mverts_dqs_scalar, "");
