@@ -28,6 +28,16 @@
 
 /* ---- AVX-512 ---- */
 
+/* DQS's hemisphere test: the sign of the dot of two joints' real parts (the records' first 4
+ * floats), on the first 8 lanes (the dual quaternion), 0 elsewhere: xor it into a weight. */
+AVX512 __m512 hemisphere_sign(__m512 first, __m512 record)
+{
+    __m128 d = _mm_mul_ps(_mm512_castps512_ps128(first), _mm512_castps512_ps128(record)); /* all lanes */
+    d = _mm_add_ps(d, _mm_shuffle_ps(d, d, _MM_SHUFFLE(2, 3, 0, 1)));
+    d = _mm_add_ps(d, _mm_shuffle_ps(d, d, _MM_SHUFFLE(1, 0, 3, 2)));
+    return _mm512_maskz_broadcast_f32x4(0x00ff, _mm_and_ps(d, _mm_set1_ps(-0.0f)));
+}
+
 /* Record blend of one vertex: sum of w_i * record[j_i] over k influences. DQS takes each
  * joint's quaternion (the first 8 floats) in the first joint's hemisphere. */
 AVX512 __m512 blend_vertex(const float *records, const uint16_t *joints, const float *weights, uint32_t k, bool dqs)
@@ -39,18 +49,12 @@ AVX512 __m512 blend_vertex(const float *records, const uint16_t *joints, const f
 #define JOINT(i) ((k >= 4 && (i) < 4) ? (size_t)((packed >> (16 * (i))) & 0xffff) : (size_t)joints[i])
     __m512 first = _mm512_loadu_ps(records + JOINT(0) * 16);
     __m512 acc[2] = {_mm512_mul_ps(_mm512_set1_ps(weights[0]), first), _mm512_setzero_ps()};
-    __m128 real0 = _mm512_castps512_ps128(first);
 #pragma GCC unroll 8
     for (uint32_t i = 1; i < k; i++) {
         __m512 r = _mm512_loadu_ps(records + JOINT(i) * 16);
         __m512 w = _mm512_set1_ps(weights[i]);
-        if (dqs) {
-            __m128 d = _mm_mul_ps(real0, _mm512_castps512_ps128(r)); /* dot of the real parts, all lanes */
-            d = _mm_add_ps(d, _mm_shuffle_ps(d, d, _MM_SHUFFLE(2, 3, 0, 1)));
-            d = _mm_add_ps(d, _mm_shuffle_ps(d, d, _MM_SHUFFLE(1, 0, 3, 2)));
-            __m128 sign = _mm_and_ps(d, _mm_set1_ps(-0.0f));
-            w = _mm512_xor_ps(w, _mm512_maskz_broadcast_f32x4(0x00ff, sign));
-        }
+        if (dqs)
+            w = _mm512_xor_ps(w, hemisphere_sign(first, r));
         acc[i & 1] = _mm512_fmadd_ps(w, r, acc[i & 1]); /* two chains: half the FMA latency a vertex */
     }
     return k > 1 ? _mm512_add_ps(acc[0], acc[1]) : acc[0];
@@ -220,12 +224,8 @@ AVX512 void blend_transposed(const skin_call *c, const triples *tr, uint32_t v, 
         for (uint32_t i = 0; i < k; i++) {
             records[i] = _mm512_loadu_ps(c->records + (size_t)joints[i] * 16);
             signs[i] = _mm512_setzero_ps();
-            if (dqs && i > 0) { /* the sign blend_vertex gives: the real parts' dot with joint 0's */
-                __m128 d = _mm_mul_ps(_mm512_castps512_ps128(records[0]), _mm512_castps512_ps128(records[i]));
-                d = _mm_add_ps(d, _mm_shuffle_ps(d, d, _MM_SHUFFLE(2, 3, 0, 1)));
-                d = _mm_add_ps(d, _mm_shuffle_ps(d, d, _MM_SHUFFLE(1, 0, 3, 2)));
-                signs[i] = _mm512_maskz_broadcast_f32x4(0x00ff, _mm_and_ps(d, _mm_set1_ps(-0.0f)));
-            }
+            if (dqs && i > 0)
+                signs[i] = hemisphere_sign(records[0], records[i]);
         }
 #pragma GCC unroll 16
         for (uint32_t i = 0; i < 16; i += 2) {
