@@ -84,15 +84,23 @@ static sinew_result check_pose(const sinew_soa_pose *pose, const char *what, sin
     return SINEW_OK;
 }
 
+/* The checks of a conversion between a pose and `count` local transforms. */
+static sinew_result check_locals(const sinew_soa_pose *pose, const sinew_transform *locals, uint32_t count,
+                                 const char *what, sinew_error *error)
+{
+    sinew_result r = check_pose(pose, what, error);
+    if (r == SINEW_OK && (count < pose->node_count || (count && !locals)))
+        r = sinew_fail(error, SINEW_ERROR_INVALID_ARGUMENT, "%s: %u transforms for %u nodes", what, locals ? count : 0,
+                       pose->node_count);
+    return r;
+}
+
 sinew_result sinew_soa_pose_from_locals(const sinew_transform *locals, uint32_t count, sinew_soa_pose *pose,
                                         sinew_error *error)
 {
-    sinew_result r = check_pose(pose, "sinew_soa_pose_from_locals", error);
+    sinew_result r = check_locals(pose, locals, count, "sinew_soa_pose_from_locals", error);
     if (r != SINEW_OK)
         return r;
-    if (count < pose->node_count || (count && !locals))
-        return sinew_fail(error, SINEW_ERROR_INVALID_ARGUMENT, "sinew_soa_pose_from_locals: %u transforms for %u nodes",
-                          locals ? count : 0, pose->node_count);
     const uint32_t S = pose->stride;
     float *P = pose->data;
     for (uint32_t i = 0; i < pose->node_count; i++)
@@ -127,12 +135,9 @@ void soa_to_locals(const float *P, uint32_t S, uint32_t node_count, sinew_transf
 sinew_result sinew_soa_pose_to_locals(const sinew_soa_pose *pose, sinew_transform *locals, uint32_t count,
                                       sinew_error *error)
 {
-    sinew_result r = check_pose(pose, "sinew_soa_pose_to_locals", error);
+    sinew_result r = check_locals(pose, locals, count, "sinew_soa_pose_to_locals", error);
     if (r != SINEW_OK)
         return r;
-    if (count < pose->node_count || (count && !locals))
-        return sinew_fail(error, SINEW_ERROR_INVALID_ARGUMENT, "sinew_soa_pose_to_locals: %u transforms for %u nodes",
-                          locals ? count : 0, pose->node_count);
     soa_to_locals(pose->data, pose->stride, pose->node_count, locals);
     return SINEW_OK;
 }
