@@ -88,6 +88,24 @@ void assert_near(double a, double b, double tol, const char *what)
         fail_msg("%s: %.9g differs from %.9g by more than %g", what, a, b, tol);
 }
 
+double worlds_difference(const sinew_mat4 *a, const sinew_mat4 *b, uint32_t n)
+{
+    double worst = 0.0;
+    for (uint32_t i = 0; i < n; i++)
+        for (int k = 0; k < 16; k++)
+            worst = fmax(worst, fabs(a[i].m[k] - b[i].m[k]));
+    return worst;
+}
+
+sinew_model *demo_humanoid(void)
+{
+    sinew_model *m = NULL;
+    sinew_error error = {0};
+    if (sinew_demo_humanoid(&m, &error) != SINEW_OK)
+        fail_msg("the demo humanoid: %s", error.message);
+    return m;
+}
+
 double pose_difference(const sinew_transform *a, const sinew_transform *b, uint32_t n)
 {
     double worst = 0.0;

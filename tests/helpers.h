@@ -39,6 +39,10 @@ sinew_transform *pose_locals(const sinew_model *model, const sinew_clip *clip, f
  * are the same), scales, and translations relative to their size where that is over 1 (float's
  * precision of a hips translation tens of units out is 2e-6). */
 double pose_difference(const sinew_transform *a, const sinew_transform *b, uint32_t n);
+/* Largest difference between two sets of n matrices, element by element. */
+double worlds_difference(const sinew_mat4 *a, const sinew_mat4 *b, uint32_t n);
+/* The demo humanoid (fails the test when it cannot be made). */
+sinew_model *demo_humanoid(void);
 /* World matrices of a model at time t of clip (NULL: rest), malloc'd. */
 sinew_mat4 *pose_worlds(const sinew_model *model, const sinew_clip *clip, float t);
 

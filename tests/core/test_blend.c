@@ -22,17 +22,10 @@ static int32_t node_named(const sinew_model *m, const char *name)
     return -1;
 }
 
-static sinew_model *demo(void)
-{
-    sinew_model *m = NULL;
-    assert_int_equal(sinew_demo_humanoid(&m, NULL), SINEW_OK);
-    return m;
-}
-
 static void test_blend_weights_masks_rest(void **state)
 {
     (void)state;
-    sinew_model *m = demo();
+    sinew_model *m = demo_humanoid();
     uint32_t n = m->node_count;
     sinew_transform *walk = pose_locals(m, &m->clips[0], 0.3f, SINEW_WRAP_LOOP),
                     *wave = pose_locals(m, &m->clips[1], 0.7f, SINEW_WRAP_LOOP);
@@ -83,7 +76,7 @@ static void test_blend_weights_masks_rest(void **state)
 static void test_additive_and_slerp(void **state)
 {
     (void)state;
-    sinew_model *m = demo();
+    sinew_model *m = demo_humanoid();
     uint32_t n = m->node_count;
     sinew_transform *ref = pose_locals(m, &m->clips[1], 0.0f, SINEW_WRAP_LOOP),
                     *pose = pose_locals(m, &m->clips[1], 0.9f, SINEW_WRAP_LOOP);
@@ -129,7 +122,7 @@ static void test_additive_and_slerp(void **state)
 static void test_player_sample(void **state)
 {
     (void)state;
-    sinew_model *m = demo();
+    sinew_model *m = demo_humanoid();
     test_player tp;
     sinew_player *player = test_player_open(&tp, m, &m->clips[1]);
     sinew_transform *fast = malloc(m->node_count * sizeof *fast);
@@ -194,7 +187,7 @@ static double distance_to(const sinew_mat4 *a, const double p[3])
 static void test_two_bone_ik(void **state)
 {
     (void)state;
-    sinew_model *m = demo();
+    sinew_model *m = demo_humanoid();
     uint32_t n = m->node_count;
     uint32_t s = (uint32_t)node_named(m, "LeftUpperArm"), mid = (uint32_t)node_named(m, "LeftLowerArm"),
              e = (uint32_t)node_named(m, "LeftHand");
@@ -344,7 +337,7 @@ static void test_arm_elbow_is_law_of_cosines(void **state)
 static void test_feet_on_the_ground(void **state)
 {
     (void)state;
-    sinew_model *m = demo();
+    sinew_model *m = demo_humanoid();
     uint32_t n = m->node_count;
     static const char *const legs[2][3] = {{"LeftUpperLeg", "LeftLowerLeg", "LeftFoot"},
                                            {"RightUpperLeg", "RightLowerLeg", "RightFoot"}};
@@ -396,7 +389,7 @@ static void test_feet_on_the_ground(void **state)
 static void test_aim(void **state)
 {
     (void)state;
-    sinew_model *m = demo();
+    sinew_model *m = demo_humanoid();
     uint32_t n = m->node_count, head = (uint32_t)node_named(m, "Head");
     sinew_transform *locals = pose_locals(m, &m->clips[0], 0.5f, SINEW_WRAP_LOOP);
     sinew_mat4 *worlds = malloc(n * sizeof *worlds);

@@ -26,26 +26,10 @@ static void soa_open(soa_buffer *b, uint32_t node_count)
     assert_int_equal(sinew_soa_pose_init(b->memory, size, node_count, &b->pose, NULL), SINEW_OK);
 }
 
-static double worlds_difference(const sinew_mat4 *a, const sinew_mat4 *b, uint32_t n)
-{
-    double worst = 0.0;
-    for (uint32_t i = 0; i < n; i++)
-        for (int k = 0; k < 16; k++)
-            worst = fmax(worst, fabs(a[i].m[k] - b[i].m[k]));
-    return worst;
-}
-
-static sinew_model *demo(void)
-{
-    sinew_model *m = NULL;
-    assert_int_equal(sinew_demo_humanoid(&m, NULL), SINEW_OK);
-    return m;
-}
-
 static void test_pose_conversions_and_worlds(void **state)
 {
     (void)state;
-    sinew_model *m = demo();
+    sinew_model *m = demo_humanoid();
     uint32_t n = m->node_count;
     soa_buffer b;
     soa_open(&b, n);
@@ -160,7 +144,7 @@ static void compare_blends(const sinew_model *m, uint32_t rounds, double *simd_v
 static void test_blend_soa_matches(void **state)
 {
     (void)state;
-    sinew_model *m = demo();
+    sinew_model *m = demo_humanoid();
     double simd, aos;
     compare_blends(m, 200, &simd, &aos);
     print_message("SoA blend on the demo (%u nodes, 4 layers + 2 additive, 200 random rounds, %s): SIMD vs scalar "
@@ -182,7 +166,7 @@ static void test_blend_soa_matches(void **state)
 static void test_blend_soa_aliasing_and_errors(void **state)
 {
     (void)state;
-    sinew_model *m = demo();
+    sinew_model *m = demo_humanoid();
     uint32_t n = m->node_count;
     soa_buffer walk, other;
     soa_open(&walk, n);
@@ -278,7 +262,7 @@ static void expected_worlds(const sinew_model *m, const sinew_mixer *mx, uint32_
 static void test_mixer_plays_and_fades(void **state)
 {
     (void)state;
-    sinew_model *m = demo();
+    sinew_model *m = demo_humanoid();
     const uint32_t n = m->node_count;
     test_mixer t;
     sinew_mixer *mx = mixer_open(&t, m, 2);
@@ -342,7 +326,7 @@ static void test_mixer_plays_and_fades(void **state)
 static void test_mixer_sync_and_errors(void **state)
 {
     (void)state;
-    sinew_model *m = demo(); /* walk 1 s, wave 2 s */
+    sinew_model *m = demo_humanoid(); /* walk 1 s, wave 2 s */
     const uint32_t n = m->node_count;
     test_mixer t;
     sinew_mixer *mx = mixer_open(&t, m, 2);
@@ -379,7 +363,7 @@ static void test_mixer_sync_and_errors(void **state)
     assert_int_equal(sinew_mixer_update(mx, NAN, NULL, worlds, n, &error), SINEW_ERROR_INVALID_ARGUMENT);
     assert_int_equal(sinew_mixer_update(mx, 0.1f, NULL, worlds, n - 1, &error), SINEW_ERROR_INVALID_ARGUMENT);
     /* clips of two models do not mix */
-    sinew_model *other = demo();
+    sinew_model *other = demo_humanoid();
     sinew_clip_layout *foreign;
     assert_int_equal(
         sinew_clip_layout_create(&(sinew_clip_layout_desc){.model = other, .clip = &other->clips[0]}, &foreign, NULL),

@@ -88,9 +88,7 @@ static double clip_difference(const sinew_model *a, const sinew_clip *ca, const 
     double worst = 0.0;
     for (float t = 0.0f; t <= ca->duration; t += ca->duration / 16.0f) {
         sinew_mat4 *x = pose_worlds(a, ca, t), *y = pose_worlds(b, cb, t);
-        for (uint32_t n = 0; n < a->node_count; n++)
-            for (int k = 0; k < 16; k++)
-                worst = fmax(worst, fabs(x[n].m[k] - y[n].m[k]));
+        worst = fmax(worst, worlds_difference(x, y, a->node_count));
         free(x);
         free(y);
     }

@@ -35,8 +35,7 @@ static const char *mixamo_name(const char *unity)
 static void test_renamed_reproportioned_copy(void **state)
 {
     (void)state;
-    sinew_model *demo = NULL;
-    assert_int_equal(sinew_demo_humanoid(&demo, NULL), SINEW_OK);
+    sinew_model *demo = demo_humanoid();
     uint32_t n = demo->node_count;
     /* the copy: a skeleton only, every name as Mixamo's with its prefix, every offset 1.3x */
     char(*names)[64] = calloc(n, 64);
@@ -122,8 +121,7 @@ static void test_cmu_bvh_drives_the_demo(void **state)
     char path[1024];
     if (!testdata_path("assimp/BVH/01_01.bvh", path, sizeof path))
         skip();
-    sinew_model *bvh = load_or_fail(path), *demo = NULL, *out = NULL;
-    assert_int_equal(sinew_demo_humanoid(&demo, NULL), SINEW_OK);
+    sinew_model *bvh = load_or_fail(path), *demo = demo_humanoid(), *out = NULL;
     int32_t *match = malloc(demo->node_count * sizeof *match);
     uint32_t matched = sinew_retarget_matches(demo, bvh, match);
     sinew_error error = {0};
@@ -202,8 +200,7 @@ static void test_animation_only_fbx(void **state)
 static void test_name_maps(void **state)
 {
     (void)state;
-    sinew_model *demo = NULL, *out = NULL;
-    assert_int_equal(sinew_demo_humanoid(&demo, NULL), SINEW_OK);
+    sinew_model *demo = demo_humanoid(), *out = NULL;
     char map[1024];
     tmp_path("names.json", map, sizeof map);
     const char *good = "{\"Head\": \"Neck\"}";

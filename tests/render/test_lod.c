@@ -27,8 +27,7 @@ static const sinew_allocator ALLOCATOR = {lod_alloc, lod_free, NULL};
 static void test_levels_of_the_demo(void **state)
 {
     (void)state;
-    sinew_model *m = NULL;
-    assert_int_equal(sinew_demo_humanoid(&m, NULL), SINEW_OK);
+    sinew_model *m = demo_humanoid();
     const sinew_mesh *body = NULL, *staff = NULL;
     for (uint32_t i = 0; i < m->mesh_count; i++)
         if (m->meshes[i].index_count / 3 >= 1000)
