@@ -5,8 +5,11 @@
  *   properties ........ Properties70 lookups with the templates' defaults
  *   transforms ........ a node's local transform (offsets, pivots, pre/post rotation, rotation
  *                       order), its inherit type, its geometric transform
- *   curves ............ AnimationCurve keys: constant, linear, cubic Bezier with weights
- *   animation ......... properties over time: layers (additive, override, weights) per stack
+ *   animation ......... stacks, their layers in order, and the curves that animate each
+ *                       model property in a layer (curves themselves: fbx_curve.c)
+ *   layers ............ a property over time: each layer's value replaces, adds to (by
+ *                       quaternion for rotations, by product for scales) or blends with the
+ *                       layers below, by the layer's weight and its weight curve
  *   nodes ............. the hierarchy under a root that converts axes and unit to Y-up metres
  *   meshes ............ polygons triangulated per material, attributes split where they differ
  *   skins ............. clusters with every influence, inverse binds with geometric transforms
@@ -31,118 +34,17 @@
 
 #include "../core/internal.h"
 #include "fbx_internal.h"
+#include "fbx_scene.h"
 #include "internal.h"
 
-#define FBX_TICKS_PER_SECOND 46186158000.0
 #define FBX_BAKE_TOLERANCE 2e-7
 #define FBX_MAX_NODES (1u << 20)
+/* Key times a curve may add to a node's bake through its extrapolated cycles. */
+#define FBX_MAX_CYCLE_KEYS 100000u
 
-enum {
-    K_OTHER,
-    K_MODEL,
-    K_GEOMETRY,
-    K_SKIN,
-    K_CLUSTER,
-    K_BLEND_SHAPE,
-    K_STACK,
-    K_LAYER,
-    K_CURVE_NODE,
-    K_CURVE,
-    K_MATERIAL,
-    K_TEXTURE,
-    K_VIDEO
-};
-
-typedef struct fbx_object {
-    int64_t id;
-    const fbx_node *node;
-    const char *name;
-    size_t name_len;
-    int kind;
-    const fbx_node *props;                 /* Properties70, or NULL */
-    const fbx_node *defaults;              /* the template's Properties70, or NULL */
-    uint32_t first_parent, parent_count;   /* in scene.up */
-    uint32_t first_child, child_count;     /* in scene.down */
-    uint32_t first_binding, binding_count; /* models: in scene.bindings */
-    uint32_t order;                        /* place in the file's Objects */
-    int32_t raw_node;                      /* models: raw node index */
-    int32_t raw_material;
-} fbx_object;
-
-typedef struct fbx_link {
-    uint32_t child, parent; /* object indices */
-    uint32_t order;         /* in the file */
-    const fbx_value *prop;  /* "OP" connections: the property, else NULL */
-} fbx_link;
-
-typedef struct fbx_curve {
-    uint32_t count;
-    const double *times, *values;
-    const double *flags, *data, *refs; /* KeyAttr arrays */
-    uint32_t attr_count, data_count;
-    uint32_t *attr; /* attribute index of each key */
-} fbx_curve;
-
-/* The properties of a node's transform, in the order node_local() takes them. */
-enum {
-    P_TRANSLATION,
-    P_ROTATION,
-    P_SCALING,
-    P_ROTATION_OFFSET,
-    P_ROTATION_PIVOT,
-    P_SCALING_OFFSET,
-    P_SCALING_PIVOT,
-    P_PRE_ROTATION,
-    P_POST_ROTATION,
-    P_COUNT
-};
-static const char *const transform_props[P_COUNT] = {"Lcl Translation", "Lcl Rotation",  "Lcl Scaling",
-                                                     "RotationOffset",  "RotationPivot", "ScalingOffset",
-                                                     "ScalingPivot",    "PreRotation",   "PostRotation"};
-
-/* One animated transform property of one model in one layer: the curve of each component
- * (an object index, or UINT32_MAX) and the curve node's values for components without one
- * (NaN: the property's own value). */
-typedef struct fbx_binding {
-    uint32_t model, curve_node, layer, order;
-    int32_t stack;
-    int prop; /* P_* */
-    uint32_t curves[3];
-    double defaults[3];
-} fbx_binding;
-
-/* A node's transform properties without animation, read once. */
-typedef struct fbx_static {
-    double value[P_COUNT][3];
-    int order; /* rotation order */
-} fbx_static;
-
-typedef struct fbx_layer_info {
-    int32_t stack;
-    uint32_t order;
-    double weight; /* 0..1 */
-    int mode;      /* 0 additive, 1 override, 2 override passthrough */
-} fbx_layer_info;
-
-typedef struct scene {
-    const char *path;
-    sinew_error *error;
-    raw_model *model;
-    fbx_doc doc;
-    fbx_object *objects;
-    uint32_t object_count;
-    fbx_link *up, *down; /* links sorted by child / by parent */
-    uint32_t link_count;
-    fbx_curve *curves; /* one an object (used for K_CURVE) */
-    fbx_binding *bindings;
-    uint32_t binding_count;
-    fbx_layer_info *layers; /* one an object (used for K_LAYER) */
-    uint32_t *models;       /* model object of each raw node (root: UINT32_MAX) */
-    fbx_static *statics;    /* one an object (used for K_MODEL) */
-    sinew_mat4 convert;     /* file axes and unit -> Y-up metres: the root node */
-    double diagonal;        /* of the rest pose's node positions, file units */
-    uint32_t model_count;
-} scene;
+const char *const fbx_transform_props[P_COUNT] = {"Lcl Translation", "Lcl Rotation",  "Lcl Scaling",
+                                                  "RotationOffset",  "RotationPivot", "ScalingOffset",
+                                                  "ScalingPivot",    "PreRotation",   "PostRotation"};
 
 /* ---- small double-precision math ------------------------------------------------------- */
 
@@ -188,23 +90,95 @@ static dmat euler_matrix(const double degrees[3], int order)
     return m;
 }
 
+/* The Euler angles (degrees, applied in `order`) of the rotation of a unit quaternion
+ * (x, y, z, w); in gimbal lock the first angle is 0. */
+static void quat_euler(const double q[4], int order, double out[3])
+{
+    static const int axes[6][3] = {{0, 1, 2}, {0, 2, 1}, {1, 2, 0}, {1, 0, 2}, {2, 0, 1}, {2, 1, 0}};
+    if (order < 0 || order > 5)
+        order = 0;
+    double r[3][3]; /* r[row][col] */
+    dmat m = dmat_from_trs((double[3]){0, 0, 0}, q, (double[3]){1, 1, 1});
+    for (int row = 0; row < 3; row++)
+        for (int col = 0; col < 3; col++)
+            r[row][col] = m.m[col * 4 + row];
+    /* R = R_k(c) R_j(b) R_i(a), i applied first; e: +1 for an even permutation of XYZ */
+    int i = axes[order][0], j = axes[order][1], k = axes[order][2];
+    double e = (j == (i + 1) % 3) ? 1.0 : -1.0;
+    double sb = -e * r[k][i];
+    double a, b, c;
+    if (fabs(sb) < 0.9999999999) {
+        b = asin(sb);
+        a = atan2(e * r[k][j], r[k][k]);
+        c = atan2(e * r[j][i], r[i][i]);
+    } else {
+        b = sb > 0 ? M_PI / 2 : -M_PI / 2;
+        a = 0;
+        c = atan2(-e * r[i][j], r[j][j]);
+    }
+    double angles[3];
+    angles[i] = a;
+    angles[j] = b;
+    angles[k] = c;
+    for (int n = 0; n < 3; n++)
+        out[n] = angles[n] * (180.0 / M_PI);
+}
+
+static void euler_quat(const double degrees[3], int order, double q[4])
+{
+    dmat m = euler_matrix(degrees, order);
+    dmat_quat(&m, q);
+}
+
+static void quat_mul(const double a[4], const double b[4], double out[4])
+{
+    double r[4] = {
+        a[3] * b[0] + a[0] * b[3] + a[1] * b[2] - a[2] * b[1], a[3] * b[1] - a[0] * b[2] + a[1] * b[3] + a[2] * b[0],
+        a[3] * b[2] + a[0] * b[1] - a[1] * b[0] + a[2] * b[3], a[3] * b[3] - a[0] * b[0] - a[1] * b[1] - a[2] * b[2]};
+    memcpy(out, r, sizeof r);
+}
+
+/* Spherical interpolation from a to b (the shorter way), unit quaternions. */
+static void quat_slerp(const double a[4], const double b[4], double t, double out[4])
+{
+    double d = a[0] * b[0] + a[1] * b[1] + a[2] * b[2] + a[3] * b[3], sign = d < 0 ? -1.0 : 1.0;
+    d = fabs(d);
+    double wa = 1 - t, wb = t;
+    if (d < 0.9999999) {
+        double angle = acos(d), sn = sin(angle);
+        wa = sin((1 - t) * angle) / sn;
+        wb = sin(t * angle) / sn;
+    }
+    double len = 0;
+    for (int c = 0; c < 4; c++) {
+        out[c] = wa * a[c] + sign * wb * b[c];
+        len += out[c] * out[c];
+    }
+    len = len > 0 ? sqrt(len) : 1;
+    for (int c = 0; c < 4; c++)
+        out[c] /= len;
+}
+
 /* ---- objects ------------------------------------------------------------------------- */
 
-static sinew_result fail_data(scene *s, const char *what, const fbx_object *o)
+sinew_result fbx_fail_data(scene *s, const char *what, const fbx_object *o)
 {
-    if (o)
+    if (o && !s->legacy)
         return sinew_fail(s->error, SINEW_ERROR_FORMAT, "%s: %.*s \"%.*s\" (id %lld): %s", s->path,
                           (int)o->node->name_len, o->node->name, (int)o->name_len, o->name, (long long)o->id, what);
+    if (o)
+        return sinew_fail(s->error, SINEW_ERROR_FORMAT, "%s: %.*s \"%.*s\": %s", s->path, (int)o->node->name_len,
+                          o->node->name, (int)o->name_len, o->name, what);
     return sinew_fail(s->error, SINEW_ERROR_FORMAT, "%s: %s", s->path, what);
 }
 
-static sinew_result oom(scene *s)
+sinew_result fbx_oom(scene *s)
 {
     return sinew_fail(s->error, SINEW_ERROR_OUT_OF_MEMORY, "%s: out of memory reading the FBX scene", s->path);
 }
 
 /* "Name\0\1Class" (binary) or "Class::Name" (ASCII): the name part. */
-static void object_name(const fbx_value *v, const char **name, size_t *len)
+void fbx_object_name(const fbx_value *v, const char **name, size_t *len)
 {
     *name = "";
     *len = 0;
@@ -228,7 +202,7 @@ static void object_name(const fbx_value *v, const char **name, size_t *len)
     *len = n;
 }
 
-static bool value_is(const fbx_value *v, const char *text)
+bool fbx_value_is(const fbx_value *v, const char *text)
 {
     size_t n = strlen(text);
     return v && v->type == FBX_STRING && v->count == n && memcmp(v->s, text, n) == 0;
@@ -240,12 +214,12 @@ static int object_kind(const fbx_node *n)
     if (fbx_named(n, "Model"))
         return K_MODEL;
     if (fbx_named(n, "Geometry"))
-        return value_is(sub, "Mesh") ? K_GEOMETRY : K_OTHER;
+        return fbx_value_is(sub, "Mesh") ? K_GEOMETRY : K_OTHER;
     if (fbx_named(n, "Deformer"))
-        return value_is(sub, "Skin")         ? K_SKIN
-               : value_is(sub, "Cluster")    ? K_CLUSTER
-               : value_is(sub, "BlendShape") ? K_BLEND_SHAPE
-                                             : K_OTHER;
+        return fbx_value_is(sub, "Skin")         ? K_SKIN
+               : fbx_value_is(sub, "Cluster")    ? K_CLUSTER
+               : fbx_value_is(sub, "BlendShape") ? K_BLEND_SHAPE
+                                                 : K_OTHER;
     static const struct {
         const char *name;
         int kind;
@@ -314,7 +288,7 @@ static sinew_result index_objects(scene *s)
     uint32_t n = objects ? objects->child_count : 0;
     s->objects = calloc(n ? n : 1, sizeof *s->objects);
     if (!s->objects)
-        return oom(s);
+        return fbx_oom(s);
     for (uint32_t i = 0; i < n; i++) {
         const fbx_node *node = &objects->children[i];
         if (node->value_count < 1 || node->values[0].type != FBX_INT)
@@ -322,25 +296,26 @@ static sinew_result index_objects(scene *s)
         fbx_object *o = &s->objects[s->object_count++];
         o->id = node->values[0].i;
         o->node = node;
-        object_name(node->value_count > 1 ? &node->values[1] : NULL, &o->name, &o->name_len);
+        fbx_object_name(node->value_count > 1 ? &node->values[1] : NULL, &o->name, &o->name_len);
         o->kind = object_kind(node);
         o->props = fbx_child(node, "Properties70");
         o->defaults = template_for(s, node);
         o->order = i;
         o->raw_node = -1;
         o->raw_material = -1;
+        o->curve = -1;
     }
     qsort(s->objects, s->object_count, sizeof *s->objects, compare_objects);
     for (uint32_t i = 1; i < s->object_count; i++)
         if (s->objects[i].id == s->objects[i - 1].id)
-            return fail_data(s, "two objects have this id", &s->objects[i]);
+            return fbx_fail_data(s, "two objects have this id", &s->objects[i]);
 
     const fbx_node *conns = fbx_child(&s->doc.root, "Connections");
     uint32_t m = conns ? conns->child_count : 0;
     s->up = calloc(m ? m : 1, sizeof *s->up);
     s->down = calloc(m ? m : 1, sizeof *s->down);
     if (!s->up || !s->down)
-        return oom(s);
+        return fbx_oom(s);
     for (uint32_t i = 0; i < m; i++) {
         const fbx_node *c = &conns->children[i];
         if (!fbx_named(c, "C") || c->value_count < 3)
@@ -349,15 +324,23 @@ static sinew_result index_objects(scene *s)
         if (child < 0 || parent < 0)
             continue; /* to the scene root (id 0) or to an object the file does not have */
         if (child == parent)
-            return fail_data(s, "is connected to itself", &s->objects[child]);
+            return fbx_fail_data(s, "is connected to itself", &s->objects[child]);
         fbx_link *l = &s->up[s->link_count++];
         *l = (fbx_link){(uint32_t)child, (uint32_t)parent, i, NULL};
         if (fbx_str_is(c, 0, "OP") && c->value_count > 3 && c->values[3].type == FBX_STRING)
             l->prop = &c->values[3];
     }
+    fbx_sort_links(s);
+    return SINEW_OK;
+}
+
+void fbx_sort_links(scene *s)
+{
     memcpy(s->down, s->up, s->link_count * sizeof *s->up);
     qsort(s->up, s->link_count, sizeof *s->up, compare_up);
     qsort(s->down, s->link_count, sizeof *s->down, compare_down);
+    for (uint32_t i = 0; i < s->object_count; i++)
+        s->objects[i].parent_count = s->objects[i].child_count = 0;
     for (uint32_t i = s->link_count; i-- > 0;) {
         fbx_object *c = &s->objects[s->up[i].child], *p = &s->objects[s->down[i].parent];
         c->first_parent = i;
@@ -365,7 +348,6 @@ static sinew_result index_objects(scene *s)
         p->first_child = i;
         p->child_count++;
     }
-    return SINEW_OK;
 }
 
 /* The k-th parent / child link of an object. */
@@ -397,6 +379,8 @@ static fbx_object *linked(const scene *s, const fbx_object *o, int kind, bool ch
 
 /* ---- properties ---------------------------------------------------------------------- */
 
+/* A property of a Properties70 (`P: name, type, label, flags, values...`) or Properties60
+ * (`Property: name, type, flags, values...`) block, or NULL. */
 static const fbx_node *find_p(const fbx_node *props, const char *name)
 {
     for (uint32_t i = 0; props && i < props->child_count; i++) {
@@ -407,6 +391,18 @@ static const fbx_node *find_p(const fbx_node *props, const char *name)
     return NULL;
 }
 
+/* Where a property's values start. */
+static uint32_t p_first_value(const fbx_node *p)
+{
+    return fbx_named(p, "P") ? 4u : 3u;
+}
+
+static double p_num(const fbx_node *p, uint32_t k, double fallback)
+{
+    uint32_t at = p ? p_first_value(p) + k : 0;
+    return p && p->value_count > at ? fbx_num(p, at) : fallback;
+}
+
 static const fbx_node *prop(const fbx_object *o, const char *name)
 {
     const fbx_node *p = find_p(o->props, name);
@@ -415,35 +411,26 @@ static const fbx_node *prop(const fbx_object *o, const char *name)
 
 static double prop_num(const fbx_object *o, const char *name, double fallback)
 {
-    const fbx_node *p = prop(o, name);
-    return p && p->value_count > 4 ? fbx_num(p, 4) : fallback;
+    return p_num(prop(o, name), 0, fallback);
 }
 
 static void prop_vec3(const fbx_object *o, const char *name, double fallback, double out[3])
 {
     const fbx_node *p = prop(o, name);
-    for (int c = 0; c < 3; c++)
-        out[c] = p && p->value_count > 4u + c ? fbx_num(p, 4u + c) : fallback;
+    for (uint32_t c = 0; c < 3; c++)
+        out[c] = p_num(p, c, fallback);
 }
 
 static double global_num(const scene *s, const char *name, double fallback)
 {
-    const fbx_node *g = fbx_child(&s->doc.root, "GlobalSettings");
-    const fbx_node *p = find_p(fbx_child(g, "Properties70"), name);
-    return p && p->value_count > 4 ? fbx_num(p, 4) : fallback;
+    return p_num(find_p(s->global_settings, name), 0, fallback);
 }
 
 /* Whole numbers read from a file's doubles. A cast of a double out of the target's range is
- * undefined, so these check first: an int32 (`fallback` when out of range or NaN), and the
- * bits of a 32-bit field written signed or unsigned (flags, packed weights; 0 when out). */
+ * undefined, so this checks first: an int32, `fallback` when out of range or NaN. */
 static int32_t file_int(double v, int32_t fallback)
 {
     return v >= -2147483648.0 && v <= 2147483647.0 ? (int32_t)v : fallback;
-}
-
-static uint32_t file_bits(double v)
-{
-    return fabs(v) <= 4294967295.0 ? (uint32_t)(int64_t)v : 0u;
 }
 
 static int32_t prop_int(const fbx_object *o, const char *name, int32_t fallback)
@@ -457,182 +444,39 @@ static void read_statics(scene *s, uint32_t model)
     const fbx_object *o = &s->objects[model];
     fbx_static *st = &s->statics[model];
     for (int p = 0; p < P_COUNT; p++)
-        prop_vec3(o, transform_props[p], p == P_SCALING ? 1.0 : 0.0, st->value[p]);
+        prop_vec3(o, fbx_transform_props[p], p == P_SCALING ? 1.0 : 0.0, st->value[p]);
     st->order = prop_int(o, "RotationOrder", 0);
 }
 
-/* ---- curves -------------------------------------------------------------------------- */
-
-static sinew_result load_curve(scene *s, fbx_object *o, fbx_curve *c)
-{
-    uint32_t n_values = 0;
-    c->times = fbx_array(o->node, "KeyTime", &c->count);
-    c->values = fbx_array(o->node, "KeyValueFloat", &n_values);
-    if (n_values != c->count)
-        return fail_data(s, "curve has another number of values than of key times", o);
-    for (uint32_t k = 1; k < c->count; k++)
-        if (!(c->times[k] >= c->times[k - 1]))
-            return fail_data(s, "curve's key times go backwards", o);
-    for (uint32_t k = 0; k < c->count; k++)
-        if (!isfinite(c->values[k]) || !isfinite(c->times[k]))
-            return fail_data(s, "curve has a value that is not finite", o);
-    uint32_t n_refs = 0;
-    c->flags = fbx_array(o->node, "KeyAttrFlags", &c->attr_count);
-    c->data = fbx_array(o->node, "KeyAttrDataFloat", &c->data_count);
-    c->refs = fbx_array(o->node, "KeyAttrRefCount", &n_refs);
-    if (c->attr_count == 0 || c->count == 0)
-        return SINEW_OK;
-    if (c->data_count < 4u * c->attr_count || n_refs < c->attr_count)
-        return fail_data(s, "curve's key attributes are incomplete", o);
-    c->attr = malloc(c->count * sizeof *c->attr);
-    if (!c->attr)
-        return oom(s);
-    uint32_t key = 0;
-    for (uint32_t a = 0; a < c->attr_count && key < c->count; a++) {
-        double r = c->refs[a];
-        for (uint32_t k = 0; k < r && key < c->count; k++)
-            c->attr[key++] = a;
-    }
-    while (key < c->count) /* a file that under-counts: the last attribute goes on */
-        c->attr[key++] = c->attr_count - 1;
-    return SINEW_OK;
-}
-
-/* x(s) = t of a cubic Bezier on [0,1] with handles at wr and 1 - wl: s by Newton's method
- * kept inside a shrinking bracket. */
-static double bezier_parameter(double x, double wr, double wl)
-{
-    double lo = 0, hi = 1, u = x;
-    for (int i = 0; i < 40; i++) {
-        double v = 1 - u;
-        double f = 3 * v * v * u * wr + 3 * v * u * u * (1 - wl) + u * u * u - x;
-        if (fabs(f) < 1e-15)
-            break;
-        if (f > 0)
-            hi = u;
-        else
-            lo = u;
-        double d = 3 * v * v * wr + 6 * v * u * (1 - wl - wr) + 3 * u * u * wl;
-        double next = d > 1e-12 ? u - f / d : (lo + hi) / 2;
-        u = next > lo && next < hi ? next : (lo + hi) / 2;
-    }
-    return u;
-}
-
-/* KeyAttrFlags bits (FbxAnimCurveDef). */
-enum {
-    KEY_CONSTANT = 0x2u,
-    KEY_LINEAR = 0x4u,
-    KEY_CUBIC = 0x8u,
-    KEY_AUTO_OR_NEXT = 0x100u, /* cubic: automatic tangent; constant: hold the next key's value */
-    KEY_CLAMP_PROGRESSIVE = 0x4000u,
-    KEY_WEIGHTED_RIGHT = 0x1000000u,
-    KEY_WEIGHTED_NEXT_LEFT = 0x2000000u
-};
-
-/* The bits of a KeyAttrDataFloat element: binary files store floats; ASCII files write each
- * float's bits as a whole number (-0 is -2147483648). */
-static uint32_t attribute_bits(const scene *s, double v)
-{
-    if (s->doc.binary) {
-        float f = (float)v;
-        uint32_t bits;
-        memcpy(&bits, &f, 4);
-        return bits;
-    }
-    return file_bits(v);
-}
-
-/* A slope of KeyAttrDataFloat (in an ASCII file a whole number is taken as bits). */
-static double attribute_float(const scene *s, double v)
-{
-    if (s->doc.binary || v != floor(v) || fabs(v) > 4294967295.0)
-        return v;
-    uint32_t bits = attribute_bits(s, v);
-    float f;
-    memcpy(&f, &bits, 4);
-    return isfinite(f) ? f : 0.0;
-}
-
-/* The flags of key k (a curve without attributes is linear). */
-static uint32_t key_flags(const fbx_curve *c, uint32_t k)
-{
-    return c->attr ? file_bits(c->flags[c->attr[k]]) : KEY_LINEAR;
-}
-
-/* The slope of an auto-tangent key, which files do not store (keys share one attribute with
- * a zero slope): the secant through its neighbours, zero at the curve's ends; with "clamp
- * progressive" (0x4000) no steeper than keeps the handles between the neighbours' values. */
-static double auto_slope(const fbx_curve *c, uint32_t k, double weight_left, double weight_right)
-{
-    if (k == 0 || k + 1 >= c->count)
-        return 0.0;
-    double tp = c->times[k - 1], t = c->times[k], tn = c->times[k + 1];
-    double vp = c->values[k - 1], v = c->values[k], vn = c->values[k + 1];
-    if (!(tn > tp))
-        return 0.0;
-    double slope = (vn - vp) / (tn - tp);
-    if (key_flags(c, k) & KEY_CLAMP_PROGRESSIVE) {
-        double sign = slope < 0 ? -1.0 : 1.0, limit = fabs(slope);
-        if (t > tp && weight_left > 0)
-            limit = fmin(limit, fmax((v - vp) * sign / (weight_left * (t - tp)), 0.0));
-        if (tn > t && weight_right > 0)
-            limit = fmin(limit, fmax((vn - v) * sign / (weight_right * (tn - t)), 0.0));
-        slope = sign * limit;
-    }
-    return slope;
-}
-
-static double curve_eval(const scene *s, const fbx_curve *c, double t)
-{
-    if (c->count == 0)
-        return 0.0;
-    if (t <= c->times[0])
-        return c->values[0];
-    if (t >= c->times[c->count - 1])
-        return c->values[c->count - 1];
-    uint32_t lo = 0, hi = c->count - 1; /* times[lo] <= t < times[hi] */
-    while (hi - lo > 1) {
-        uint32_t mid = lo + (hi - lo) / 2;
-        if (c->times[mid] <= t)
-            lo = mid;
-        else
-            hi = mid;
-    }
-    double t0 = c->times[lo], t1 = c->times[hi], v0 = c->values[lo], v1 = c->values[hi];
-    double dx = t1 - t0, x = (t - t0) / dx;
-    if (!c->attr)
-        return v0 + (v1 - v0) * x;
-    uint32_t flags = key_flags(c, lo);
-    const double *d = &c->data[4 * c->attr[lo]];
-    if (flags & KEY_CONSTANT)
-        return flags & KEY_AUTO_OR_NEXT ? v1 : v0;
-    if (!(flags & KEY_CUBIC))
-        return v0 + (v1 - v0) * x;
-    uint32_t bits = attribute_bits(s, d[2]);
-    double wr = flags & KEY_WEIGHTED_RIGHT ? (bits & 0xffffu) / 9999.0 : 1.0 / 3.0;
-    double wl = flags & KEY_WEIGHTED_NEXT_LEFT ? ((bits >> 16) & 0xffffu) / 9999.0 : 1.0 / 3.0;
-    wr = fmin(fmax(wr, 0.0), 1.0);
-    wl = fmin(fmax(wl, 0.0), 1.0);
-    /* Stored slopes are per second; times here are ticks. */
-    double right = attribute_float(s, d[0]) / FBX_TICKS_PER_SECOND,
-           left = attribute_float(s, d[1]) / FBX_TICKS_PER_SECOND;
-    if (flags & KEY_AUTO_OR_NEXT)
-        right = auto_slope(c, lo, 1.0 / 3.0, wr);
-    if ((key_flags(c, hi) & (KEY_CUBIC | KEY_AUTO_OR_NEXT)) == (KEY_CUBIC | KEY_AUTO_OR_NEXT))
-        left = auto_slope(c, hi, wl, 1.0 / 3.0);
-    double p1 = v0 + right * wr * dx, p2 = v1 - left * wl * dx;
-    double u = (wr == 1.0 / 3.0 && wl == 1.0 / 3.0) ? x : bezier_parameter(x, wr, wl), v = 1 - u;
-    return v * v * v * v0 + 3 * v * v * u * p1 + 3 * v * u * u * p2 + u * u * u * v1;
-}
-
-/* True when the segment of curve `c` that ends at key k is a constant step. */
-static bool steps_into(const fbx_curve *c, uint32_t k)
-{
-    return k > 0 && (key_flags(c, k - 1) & (KEY_CONSTANT | KEY_AUTO_OR_NEXT)) == KEY_CONSTANT;
-}
-
 /* ---- animation ------------------------------------------------------------------------ */
+
+int32_t fbx_add_curve(scene *s, const fbx_curve *c)
+{
+    if (s->curve_count == s->curve_capacity) {
+        uint32_t cap = s->curve_capacity ? s->curve_capacity * 2 : 16;
+        fbx_curve *grown = realloc(s->curves, cap * sizeof *grown);
+        if (!grown)
+            return -1;
+        s->curves = grown;
+        s->curve_capacity = cap;
+    }
+    s->curves[s->curve_count] = *c;
+    return (int32_t)s->curve_count++;
+}
+
+bool fbx_add_binding(scene *s, const fbx_binding *b)
+{
+    if (s->binding_count == s->binding_capacity) {
+        uint32_t cap = s->binding_capacity ? s->binding_capacity * 2 : 16;
+        fbx_binding *grown = realloc(s->bindings, cap * sizeof *grown);
+        if (!grown)
+            return false;
+        s->bindings = grown;
+        s->binding_capacity = cap;
+    }
+    s->bindings[s->binding_count++] = *b;
+    return true;
+}
 
 static int compare_bindings(const void *a, const void *b)
 {
@@ -641,90 +485,248 @@ static int compare_bindings(const void *a, const void *b)
         return x->model < y->model ? -1 : 1;
     if (x->stack != y->stack)
         return x->stack < y->stack ? -1 : 1;
-    return x->order < y->order ? -1 : x->order > y->order;
+    return x->index < y->index ? -1 : x->index > y->index;
 }
 
-static sinew_result index_animation(scene *s)
+void fbx_sort_bindings(scene *s)
 {
-    s->curves = calloc(s->object_count ? s->object_count : 1, sizeof *s->curves);
-    s->layers = calloc(s->object_count ? s->object_count : 1, sizeof *s->layers);
-    s->bindings = calloc(s->link_count ? s->link_count : 1, sizeof *s->bindings);
-    s->statics = calloc(s->object_count ? s->object_count : 1, sizeof *s->statics);
-    if (!s->curves || !s->layers || !s->bindings || !s->statics)
-        return oom(s);
-    for (uint32_t i = 0; i < s->object_count; i++)
-        if (s->objects[i].kind == K_MODEL)
-            read_statics(s, i);
-    sinew_result result;
-    for (uint32_t i = 0; i < s->object_count; i++) {
-        fbx_object *o = &s->objects[i];
-        if (o->kind == K_CURVE && (result = load_curve(s, o, &s->curves[i])))
-            return result;
-        if (o->kind == K_LAYER) {
-            fbx_layer_info *l = &s->layers[i];
-            l->stack = -1;
-            l->weight = prop_num(o, "Weight", 100.0) / 100.0;
-            l->mode = prop_int(o, "BlendMode", 0);
-            for (uint32_t k = 0; k < o->parent_count; k++) {
-                const fbx_link *up = parent_link(s, o, k);
-                if (s->objects[up->parent].kind == K_STACK) {
-                    l->stack = (int32_t)up->parent;
-                    const fbx_object *stack = &s->objects[up->parent];
-                    for (uint32_t j = 0; j < stack->child_count; j++)
-                        if (child_link(s, stack, j)->child == i)
-                            l->order = j;
-                    break;
-                }
-            }
-        }
-    }
-    /* Curve node -> transform property of a model, in a layer of a stack. */
-    for (uint32_t i = 0; i < s->link_count; i++) {
-        const fbx_link *l = &s->up[i];
-        if (!l->prop || s->objects[l->child].kind != K_CURVE_NODE || s->objects[l->parent].kind != K_MODEL)
-            continue;
-        int prop = -1;
-        for (int p = 0; p < P_COUNT; p++)
-            if (value_is(l->prop, transform_props[p]))
-                prop = p;
-        const fbx_object *cn = &s->objects[l->child];
-        const fbx_object *layer = linked(s, cn, K_LAYER, false, true);
-        if (prop < 0 || !layer || s->layers[layer - s->objects].stack < 0)
-            continue;
-        fbx_binding *b = &s->bindings[s->binding_count++];
-        const fbx_layer_info *li = &s->layers[layer - s->objects];
-        *b = (fbx_binding){.model = l->parent,
-                           .curve_node = l->child,
-                           .layer = (uint32_t)(layer - s->objects),
-                           .order = li->order,
-                           .stack = li->stack,
-                           .prop = prop};
-        static const char *const comps[3] = {"d|X", "d|Y", "d|Z"};
-        for (int c = 0; c < 3; c++) {
-            b->curves[c] = UINT32_MAX;
-            b->defaults[c] = prop_num(cn, comps[c], NAN);
-            for (uint32_t k = 0; k < cn->child_count; k++) {
-                const fbx_link *dl = child_link(s, cn, k);
-                if (dl->prop && value_is(dl->prop, comps[c]) && s->objects[dl->child].kind == K_CURVE &&
-                    s->curves[dl->child].count)
-                    b->curves[c] = dl->child;
-            }
-        }
-    }
-    /* A model's bindings together, its layers in their stack's order. */
+    /* A model's bindings together, its layers in their stack's order (stable within a layer:
+     * the index is unique a layer, and qsort keeps nothing else in order that matters). */
     qsort(s->bindings, s->binding_count, sizeof *s->bindings, compare_bindings);
     for (uint32_t i = s->binding_count; i-- > 0;) {
         fbx_object *m = &s->objects[s->bindings[i].model];
         m->first_binding = i;
         m->binding_count++;
     }
+}
+
+/* The curve of each component of a curve node (-1 for none) and the node's values: d|Y and
+ * d|Z are the second and third, any other (d|X, d|Weight, d|DeformPercent) the first. */
+static void curve_node_curves(const scene *s, const fbx_object *cn, int32_t curves[3], double defaults[3])
+{
+    static const char *const comps[3] = {"d|X", "d|Y", "d|Z"};
+    static const char *const short_comps[3] = {"X", "Y", "Z"};
+    for (int c = 0; c < 3; c++) {
+        curves[c] = -1;
+        defaults[c] = prop_num(cn, comps[c], prop_num(cn, short_comps[c], NAN));
+    }
+    for (uint32_t k = 0; k < cn->child_count; k++) {
+        const fbx_link *dl = child_link(s, cn, k);
+        const fbx_object *co = &s->objects[dl->child];
+        if (!dl->prop || co->kind != K_CURVE || co->curve < 0)
+            continue;
+        int c = fbx_value_is(dl->prop, "d|Y") || fbx_value_is(dl->prop, "Y")   ? 1
+                : fbx_value_is(dl->prop, "d|Z") || fbx_value_is(dl->prop, "Z") ? 2
+                                                                               : 0;
+        if (c == 0 && isnan(defaults[0]) && dl->prop->type == FBX_STRING) {
+            char name[256];
+            snprintf(name, sizeof name, "%.*s", (int)dl->prop->count, dl->prop->s);
+            defaults[0] = prop_num(cn, name, NAN);
+        }
+        if (s->curves[co->curve].count)
+            curves[c] = co->curve;
+    }
+}
+
+/* A layer's blend: BlendMode 0 additive, 1 override, 2 override-passthrough; its weight
+ * (percent), and how rotations and scales accumulate (0: by layer, composed; 1: by channel,
+ * added component by component). */
+static fbx_layer layer_info(const fbx_object *o, uint32_t stack, uint32_t index)
+{
+    fbx_layer l = {.stack = stack, .index = index, .weight_curve = -1};
+    switch (prop_int(o, "BlendMode", 0)) {
+    case 0:
+        l.additive = l.blended = true;
+        break;
+    case 2:
+        l.blended = true;
+        break;
+    default:
+        break;
+    }
+    l.weight = fmin(fmax(prop_num(o, "Weight", 100.0) / 100.0, 0.0), 1.0);
+    if (l.weight > 0.99999)
+        l.weight = 1.0;
+    l.compose_rotation = prop_int(o, "RotationAccumulationMode", 0) == 0;
+    l.compose_scale = prop_int(o, "ScaleAccumulationMode", 0) == 0;
+    return l;
+}
+
+/* A stack's time span: LocalStart..LocalStop, else ReferenceStart..ReferenceStop. */
+static void stack_info(const scene *s, const fbx_object *o, fbx_stack *st)
+{
+    const char *start = "LocalStart", *stop = "LocalStop";
+    if (!prop(o, start) || !prop(o, stop))
+        start = "ReferenceStart", stop = "ReferenceStop";
+    st->name = o->name;
+    st->name_len = o->name_len;
+    st->start = prop_num(o, start, 0) / s->ticks_per_second;
+    st->stop = prop_num(o, stop, 0) / s->ticks_per_second;
+    st->order = o->order;
+}
+
+static int compare_stacks(const void *a, const void *b)
+{
+    const fbx_object *x = *(const fbx_object *const *)a, *y = *(const fbx_object *const *)b;
+    return x->order < y->order ? -1 : x->order > y->order;
+}
+
+/* FBX 7.x: curves, stacks in the file's order with their layers in the order of their
+ * connections, and each curve node that animates a transform property (or a layer's weight). */
+static sinew_result index_animation(scene *s)
+{
+    sinew_result result;
+    fbx_curve_source src = {s->doc.version, s->doc.binary, s->ticks_per_second};
+    uint32_t stack_count = 0;
+    for (uint32_t i = 0; i < s->object_count; i++) {
+        fbx_object *o = &s->objects[i];
+        stack_count += o->kind == K_STACK;
+        if (o->kind != K_CURVE)
+            continue;
+        fbx_curve c;
+        const char *problem = fbx_curve_read(o->node, &src, &c);
+        if (problem)
+            return strcmp(problem, "out of memory") == 0 ? fbx_oom(s) : fbx_fail_data(s, problem, o);
+        if ((o->curve = fbx_add_curve(s, &c)) < 0) {
+            fbx_curve_free(&c);
+            return fbx_oom(s);
+        }
+    }
+    fbx_object **stacks = malloc((stack_count ? stack_count : 1) * sizeof *stacks);
+    uint32_t *layer_of = malloc((s->object_count ? s->object_count : 1) * sizeof *layer_of);
+    s->stacks = calloc(stack_count ? stack_count : 1, sizeof *s->stacks);
+    s->layers = calloc(s->link_count ? s->link_count : 1, sizeof *s->layers);
+    if (!stacks || !layer_of || !s->stacks || !s->layers) {
+        free(stacks);
+        free(layer_of);
+        return fbx_oom(s);
+    }
+    uint32_t n = 0;
+    for (uint32_t i = 0; i < s->object_count; i++) {
+        layer_of[i] = UINT32_MAX;
+        if (s->objects[i].kind == K_STACK)
+            stacks[n++] = &s->objects[i];
+    }
+    qsort(stacks, n, sizeof *stacks, compare_stacks);
+    for (uint32_t k = 0; k < n; k++) {
+        fbx_stack *st = &s->stacks[s->stack_count++];
+        stack_info(s, stacks[k], st);
+        st->first_layer = s->layer_count;
+        for (uint32_t c = 0; c < stacks[k]->child_count; c++) {
+            uint32_t child = child_link(s, stacks[k], c)->child;
+            if (s->objects[child].kind != K_LAYER || layer_of[child] != UINT32_MAX)
+                continue;
+            layer_of[child] = s->layer_count;
+            s->layers[s->layer_count++] = layer_info(&s->objects[child], k, st->layer_count++);
+        }
+    }
+    free(stacks);
+    /* Curve node -> transform property of a model, or -> the weight of its own layer. */
+    result = SINEW_OK;
+    for (uint32_t i = 0; i < s->link_count && !result; i++) {
+        const fbx_link *l = &s->up[i];
+        const fbx_object *cn = &s->objects[l->child], *target = &s->objects[l->parent];
+        if (!l->prop || cn->kind != K_CURVE_NODE)
+            continue;
+        const fbx_object *layer_object = linked(s, cn, K_LAYER, false, true);
+        if (!layer_object || layer_of[layer_object - s->objects] == UINT32_MAX)
+            continue;
+        uint32_t layer = layer_of[layer_object - s->objects];
+        fbx_binding b = {.model = l->parent,
+                         .layer = layer,
+                         .stack = s->layers[layer].stack,
+                         .index = s->layers[layer].index,
+                         .prop = -1};
+        curve_node_curves(s, cn, b.curves, b.defaults);
+        if (target->kind == K_LAYER && target == layer_object && fbx_value_is(l->prop, "Weight")) {
+            s->layers[layer].weight_curve = b.curves[0];
+            continue;
+        }
+        for (int p = 0; p < P_COUNT; p++)
+            if (fbx_value_is(l->prop, fbx_transform_props[p]))
+                b.prop = p;
+        if (b.prop >= 0 && target->kind == K_MODEL && !fbx_add_binding(s, &b))
+            result = fbx_oom(s);
+    }
+    free(layer_of);
+    return result;
+}
+
+/* The statics of every model. */
+static sinew_result index_statics(scene *s)
+{
+    s->statics = calloc(s->object_count ? s->object_count : 1, sizeof *s->statics);
+    if (!s->statics)
+        return fbx_oom(s);
+    for (uint32_t i = 0; i < s->object_count; i++)
+        if (s->objects[i].kind == K_MODEL)
+            read_statics(s, i);
     return SINEW_OK;
 }
 
-/* A model's transform properties at `ticks` in `stack` (or without animation when
- * stack < 0): each layer's curves in the stack's order, added (additive layers after the
- * first) or blended by the layer's weight. */
-static void anim_values(const scene *s, uint32_t model, int32_t stack, double ticks, double v[P_COUNT][3])
+/* |v|^e keeping v's sign (scales composed by a layer's weight). */
+static double pow_signed(double v, double e)
+{
+    if (e <= 0.0)
+        return 1.0;
+    if (e >= 1.0)
+        return v;
+    return v < 0 ? -pow(-v, e) : pow(v, e);
+}
+
+/* A layer's value `v` of property `prop` combined with what the layers below gave (`out`). */
+static void combine_layer(const fbx_layer *l, double weight, int prop, int order, double out[3], const double v[3])
+{
+    bool rotation = prop == P_ROTATION && l->compose_rotation, scale = prop == P_SCALING && l->compose_scale;
+    if (!l->blended) { /* override */
+        memcpy(out, v, 3 * sizeof *out);
+    } else if (l->additive) {
+        if (scale) {
+            for (int c = 0; c < 3; c++)
+                out[c] *= pow_signed(v[c], weight);
+        } else if (rotation) {
+            double a[4], b[4], id[4] = {0, 0, 0, 1};
+            euler_quat(out, order, a);
+            euler_quat(v, order, b);
+            quat_slerp(id, b, weight, b);
+            quat_mul(a, b, a);
+            quat_euler(a, order, out);
+        } else {
+            for (int c = 0; c < 3; c++)
+                out[c] += v[c] * weight;
+        }
+    } else { /* override-passthrough: blend by the weight */
+        if (scale) {
+            for (int c = 0; c < 3; c++)
+                out[c] = pow_signed(out[c], 1.0 - weight) * pow_signed(v[c], weight);
+        } else if (rotation) {
+            double a[4], b[4];
+            euler_quat(out, order, a);
+            euler_quat(v, order, b);
+            quat_slerp(a, b, weight, a);
+            quat_euler(a, order, out);
+        } else {
+            for (int c = 0; c < 3; c++)
+                out[c] = out[c] * (1.0 - weight) + v[c] * weight;
+        }
+    }
+}
+
+/* A layer's weight at time t: its own curve (percent, blended layers only) or its value. */
+static double layer_weight(const scene *s, const fbx_layer *l, double t, double clip_start)
+{
+    if (l->weight_curve < 0 || !l->blended)
+        return l->weight;
+    double w = fbx_curve_eval_at(&s->curves[l->weight_curve], t, clip_start, l->weight * 100.0) / 100.0;
+    return w < 0 ? 0 : w > 0.99999 ? 1 : w;
+}
+
+/* A model's transform properties at time t (seconds) of `stack`, or without animation when
+ * stack < 0: the first layer's curves replace the property, each later layer's combine with
+ * them by its blend mode and weight. Keys are matched as the clip's float times starting at
+ * `clip_start` see them (fbx_curve_eval_at). */
+static void anim_values(const scene *s, uint32_t model, int32_t stack, double t, double clip_start,
+                        double v[P_COUNT][3])
 {
     const fbx_object *o = &s->objects[model];
     memcpy(v, s->statics[model].value, sizeof s->statics[model].value);
@@ -732,16 +734,19 @@ static void anim_values(const scene *s, uint32_t model, int32_t stack, double ti
         return;
     for (uint32_t b = o->first_binding; b < o->first_binding + o->binding_count; b++) {
         const fbx_binding *bind = &s->bindings[b];
-        if (bind->stack != stack)
+        if (bind->stack != (uint32_t)stack)
             continue;
-        const fbx_layer_info *li = &s->layers[bind->layer];
-        double *out = v[bind->prop];
+        double *out = v[bind->prop], x[3];
         for (int c = 0; c < 3; c++) {
-            double x = bind->curves[c] != UINT32_MAX ? curve_eval(s, &s->curves[bind->curves[c]], ticks)
-                       : isnan(bind->defaults[c])    ? out[c]
-                                                     : bind->defaults[c];
-            out[c] = li->mode == 0 && bind->order > 0 ? out[c] + x * li->weight : out[c] + (x - out[c]) * li->weight;
+            double fallback = isnan(bind->defaults[c]) ? out[c] : bind->defaults[c];
+            x[c] = bind->curves[c] >= 0 ? fbx_curve_eval_at(&s->curves[bind->curves[c]], t, clip_start, fallback)
+                                        : fallback;
         }
+        const fbx_layer *l = &s->layers[bind->layer];
+        if (bind->index == 0)
+            memcpy(out, x, sizeof x);
+        else
+            combine_layer(l, layer_weight(s, l, t, clip_start), bind->prop, s->statics[model].order, out, x);
     }
 }
 
@@ -751,13 +756,14 @@ typedef struct local_trs {
     double t[3], q[4], s[3];
 } local_trs;
 
-/* A node's local transform at `ticks` of `stack` (-1: the rest pose):
+/* A node's local transform at time t (seconds) of `stack` (-1: the rest pose):
  * T * Roff * Rp * Rpre * R * Rpost^-1 * Rp^-1 * Soff * Sp * S * Sp^-1, which is exactly a
  * translation, the rotation Rpre * R * Rpost^-1 and the scale S. */
-static void node_local(const scene *s, uint32_t model, int32_t stack, double ticks, local_trs *out)
+static void node_local(const scene *s, uint32_t model, int32_t stack, double t_seconds, double clip_start,
+                       local_trs *out)
 {
     double v[P_COUNT][3];
-    anim_values(s, model, stack, ticks, v);
+    anim_values(s, model, stack, t_seconds, clip_start, v);
     const double *t = v[P_TRANSLATION], *r = v[P_ROTATION], *sc = v[P_SCALING], *roff = v[P_ROTATION_OFFSET];
     const double *rp = v[P_ROTATION_PIVOT], *soff = v[P_SCALING_OFFSET], *sp = v[P_SCALING_PIVOT];
     const double *pre = v[P_PRE_ROTATION], *post = v[P_POST_ROTATION];
@@ -836,13 +842,13 @@ static sinew_result add_node(scene *s, uint32_t object, int32_t parent)
     s->models[i] = object;
     m->node_names[i] = malloc(o->name_len + 1);
     if (!m->node_names[i])
-        return oom(s);
+        return fbx_oom(s);
     memcpy(m->node_names[i], o->name, o->name_len);
     m->node_names[i][o->name_len] = 0;
     m->node_parents[i] = parent;
     m->node_inherit[i] = parent > 0 ? inherit_type(o) : SINEW_INHERIT_NORMAL;
     local_trs l;
-    node_local(s, object, -1, 0, &l);
+    node_local(s, object, -1, 0, 0, &l);
     sinew_transform *r = &m->node_rest[i];
     for (int c = 0; c < 3; c++) {
         r->translation[c] = (float)l.t[c];
@@ -895,7 +901,7 @@ static sinew_result build_nodes(scene *s)
     for (uint32_t i = 0; i < s->object_count; i++)
         s->model_count += s->objects[i].kind == K_MODEL;
     if (s->model_count + 1 > FBX_MAX_NODES)
-        return fail_data(s, "more than a million nodes", NULL);
+        return fbx_fail_data(s, "more than a million nodes", NULL);
     uint32_t n = s->model_count + 1;
     m->node_names = calloc(n, sizeof *m->node_names);
     m->node_parents = calloc(n, sizeof *m->node_parents);
@@ -905,7 +911,7 @@ static sinew_result build_nodes(scene *s)
     uint32_t *stack = malloc(n * sizeof *stack);
     if (!m->node_names || !m->node_parents || !m->node_rest || !m->node_inherit || !s->models || !stack) {
         free(stack);
-        return oom(s);
+        return fbx_oom(s);
     }
     /* Root: the conversion to Y-up metres. */
     m->node_count = 1;
@@ -914,7 +920,7 @@ static sinew_result build_nodes(scene *s)
     m->node_parents[0] = -1;
     if (!m->node_names[0]) {
         free(stack);
-        return oom(s);
+        return fbx_oom(s);
     }
     sinew_mat4_decompose(&s->convert, &m->node_rest[0]);
     /* Depth first from the top-level models in the file's order, children in the order of
@@ -923,7 +929,7 @@ static sinew_result build_nodes(scene *s)
     uint32_t *by_order = malloc((s->object_count ? s->object_count : 1) * sizeof *by_order);
     if (!by_order) {
         free(stack);
-        return oom(s);
+        return fbx_oom(s);
     }
     for (uint32_t i = 0; i < s->object_count; i++)
         by_order[i] = i;
@@ -961,8 +967,8 @@ static sinew_result build_nodes(scene *s)
     if (m->node_count != n) {
         for (uint32_t i = 0; i < s->object_count; i++)
             if (s->objects[i].kind == K_MODEL && s->objects[i].raw_node < 0)
-                return fail_data(s, "is its own ancestor (the connections between models form a cycle)",
-                                 &s->objects[i]);
+                return fbx_fail_data(s, "is its own ancestor (the connections between models form a cycle)",
+                                     &s->objects[i]);
     }
     return SINEW_OK;
 }
@@ -972,7 +978,7 @@ static sinew_result build_nodes(scene *s)
  * types and all. */
 static sinew_result measure(scene *s)
 {
-    return raw_model_rest_diagonal(s->model, &s->diagonal) ? SINEW_OK : oom(s);
+    return raw_model_rest_diagonal(s->model, &s->diagonal) ? SINEW_OK : fbx_oom(s);
 }
 
 /* ---- meshes -------------------------------------------------------------------------- */
@@ -1014,8 +1020,11 @@ static sinew_result layer_element(scene *s, const fbx_object *g, const char *ele
         if (!out->index && fbx_child(e, index_name) == NULL && strcmp(index_name, "NormalsIndex") == 0)
             out->index = fbx_array(e, "NormalIndex", &out->index_count);
     }
-    if (!out->data && out->mapping != MAP_NONE)
-        return fail_data(s, "has a layer element without its data", g);
+    if (!out->data && out->mapping != MAP_NONE) {
+        raw_model_warn(s->model, "%s: mesh \"%.*s\": its %s has no %s; left out", s->path, (int)g->name_len, g->name,
+                       element, data_name);
+        memset(out, 0, sizeof *out);
+    }
     return SINEW_OK;
 }
 
@@ -1115,11 +1124,11 @@ static sinew_result read_polygons(scene *s, const fbx_object *g, mesh_source *sr
     uint32_t n = 0, idx_count = 0;
     src->points = fbx_array(g->node, "Vertices", &n);
     if (n % 3)
-        return fail_data(s, "mesh's vertex array is not a whole number of points", g);
+        return fbx_fail_data(s, "mesh's vertex array is not a whole number of points", g);
     src->point_count = n / 3;
     for (uint32_t i = 0; i < n; i++)
         if (!isfinite(src->points[i]))
-            return fail_data(s, "mesh has a vertex that is not finite", g);
+            return fbx_fail_data(s, "mesh has a vertex that is not finite", g);
     const double *idx = fbx_array(g->node, "PolygonVertexIndex", &idx_count);
     layer_map normals, uvs, materials, tangents, binormals;
     sinew_result result;
@@ -1135,7 +1144,7 @@ static sinew_result read_polygons(scene *s, const fbx_object *g, mesh_source *sr
     src->corners = malloc((idx_count ? idx_count : 1) * sizeof *src->corners);
     src->polygon_start = malloc((idx_count + 1) * sizeof *src->polygon_start);
     if (!src->corners || !src->polygon_start)
-        return oom(s);
+        return fbx_oom(s);
     uint32_t polygon = 0, start = 0;
     bool bad = false;
     for (uint32_t i = 0; i < idx_count; i++) {
@@ -1143,7 +1152,7 @@ static sinew_result read_polygons(scene *s, const fbx_object *g, mesh_source *sr
         bool last = v < 0;
         int64_t point = !(fabs(v) <= UINT32_MAX) ? -1 : last ? -(int64_t)v - 1 : (int64_t)v;
         if (point < 0 || point >= src->point_count)
-            return fail_data(s, "mesh has a polygon corner outside its vertex array", g);
+            return fbx_fail_data(s, "mesh has a polygon corner outside its vertex array", g);
         corner *c = &src->corners[i];
         memset(c, 0, sizeof *c);
         c->point = (uint32_t)point;
@@ -1159,14 +1168,14 @@ static sinew_result read_polygons(scene *s, const fbx_object *g, mesh_source *sr
         e = materials.mapping == MAP_NONE ? -1 : layer_at(&materials, i, c->point, polygon, &bad);
         c->material = e >= 0 ? file_int(materials.data[e], -1) : 0;
         if (bad)
-            return fail_data(s, "mesh has a normal, UV, tangent or material index outside its array", g);
+            return fbx_fail_data(s, "mesh has a normal, UV, tangent or material index outside its array", g);
         if (last) {
             src->polygon_start[polygon++] = start;
             start = i + 1;
         }
     }
     if (start != idx_count)
-        return fail_data(s, "mesh's last polygon is not closed (its last index is not negative)", g);
+        return fbx_fail_data(s, "mesh's last polygon is not closed (its last index is not negative)", g);
     src->polygon_start[polygon] = start;
     src->polygon_count = polygon;
     src->corner_count = idx_count;
@@ -1229,23 +1238,112 @@ static bool read_matrix(const fbx_object *o, const char *name, dmat *out)
     return true;
 }
 
-/* Influences of a skin deformer on a geometry: every cluster's bone and weights. */
-static sinew_result read_skin(scene *s, const fbx_object *skin, uint32_t point_count, skin_source *k)
+/* The world matrix (file units and axes, the root's conversion left out) of every raw node
+ * in the rest pose, made on first use; NULL when out of memory. */
+static const sinew_mat4 *rest_worlds(scene *s)
+{
+    if (s->rest_worlds)
+        return s->rest_worlds;
+    raw_model *m = s->model;
+    sinew_transform *locals = malloc((m->node_count + 1) * sizeof *locals);
+    s->rest_worlds = malloc((m->node_count + 1) * sizeof *s->rest_worlds);
+    if (!locals || !s->rest_worlds) {
+        free(locals);
+        free(s->rest_worlds);
+        return s->rest_worlds = NULL;
+    }
+    memcpy(locals, m->node_rest, m->node_count * sizeof *locals);
+    locals[0] = (sinew_transform){{0, 0, 0}, {0, 0, 0, 1}, {1, 1, 1}};
+    const sinew_model view = {.node_count = m->node_count,
+                              .node_parents = m->node_parents,
+                              .node_rest = m->node_rest,
+                              .node_inherit = m->node_inherit};
+    sinew_local_to_world(&view, locals, m->node_count, NULL, s->rest_worlds, m->node_count, NULL);
+    free(locals);
+    return s->rest_worlds;
+}
+
+/* A model's matrix in the scene's bind pose (Pose "BindPose", its PoseNode naming the model
+ * by id, or by "Model::name" before FBX 7.0); false when no bind pose has it. */
+static bool bind_pose_matrix(const scene *s, const fbx_object *model, dmat *out)
+{
+    const fbx_node *objects = fbx_child(&s->doc.root, "Objects");
+    for (uint32_t i = 0; objects && i < objects->child_count; i++) {
+        const fbx_node *pose = &objects->children[i];
+        if (!fbx_named(pose, "Pose") || !fbx_str_is(fbx_child(pose, "Type"), 0, "BindPose"))
+            continue;
+        for (uint32_t j = 0; j < pose->child_count; j++) {
+            const fbx_node *pn = &pose->children[j], *node = fbx_child(pn, "Node");
+            if (!fbx_named(pn, "PoseNode") || !node || node->value_count == 0)
+                continue;
+            bool same = false;
+            if (node->values[0].type == FBX_STRING) {
+                const char *name;
+                size_t len;
+                fbx_object_name(&node->values[0], &name, &len);
+                same = s->legacy && len == model->name_len && memcmp(name, model->name, len) == 0;
+            } else {
+                same = !s->legacy && fbx_int(node, 0) == model->id;
+            }
+            uint32_t n = 0;
+            const double *m = fbx_array(pn, "Matrix", &n);
+            if (!same || !m || n != 16)
+                continue;
+            for (int k = 0; k < 16; k++)
+                out->m[k] = m[k];
+            return true;
+        }
+    }
+    return false;
+}
+
+/* A cluster's geometry-to-bone matrix: its Transform (the mesh's bind matrix in the bone's
+ * space), else made from the bone's bind matrix (TransformLink, else the bind pose, else the
+ * bone at rest) and the mesh node's world matrix at rest. False when out of memory. */
+static bool cluster_bind(scene *s, const fbx_object *cl, const fbx_object *bone, const fbx_object *mesh_model,
+                         dmat *out)
+{
+    if (read_matrix(cl, "Transform", out))
+        return true;
+    const sinew_mat4 *w = rest_worlds(s);
+    if (!w)
+        return false;
+    dmat bone_world, mesh_world = dmat_identity();
+    if (!read_matrix(cl, "TransformLink", &bone_world) && !bind_pose_matrix(s, bone, &bone_world))
+        for (int k = 0; k < 16; k++)
+            bone_world.m[k] = w[bone->raw_node].m[k];
+    for (int k = 0; k < 16 && mesh_model->raw_node >= 0; k++)
+        mesh_world.m[k] = w[mesh_model->raw_node].m[k];
+    dmat inv = dmat_inverse_affine(&bone_world);
+    *out = dmat_mul(&inv, &mesh_world);
+    return true;
+}
+
+/* Influences of a skin deformer on a geometry of `model`: every cluster's bone and weights.
+ * Points that no cluster weighs (or only with zero) follow the model itself, as the
+ * authoring tools leave them: an extra joint, the model's node. */
+static sinew_result read_skin(scene *s, const fbx_object *skin, const fbx_object *model, uint32_t point_count,
+                              skin_source *k)
 {
     memset(k, 0, sizeof *k);
     uint32_t clusters = 0;
     for (uint32_t c = 0; c < skin->child_count; c++)
         clusters += s->objects[child_link(s, skin, c)->child].kind == K_CLUSTER;
-    k->joints = calloc(clusters ? clusters : 1, sizeof *k->joints);
-    k->geometry_to_bone = calloc(clusters ? clusters : 1, sizeof *k->geometry_to_bone);
+    k->joints = calloc(clusters + 1u, sizeof *k->joints);
+    k->geometry_to_bone = calloc(clusters + 1u, sizeof *k->geometry_to_bone);
     k->first = calloc(point_count + 1u, sizeof *k->first);
-    if (!k->joints || !k->geometry_to_bone || !k->first)
-        return oom(s);
+    double *sum = calloc(point_count + 1u, sizeof *sum);
+    if (!k->joints || !k->geometry_to_bone || !k->first || !sum) {
+        free(sum);
+        return fbx_oom(s);
+    }
     uint64_t total = 0;
+    uint32_t unweighted = 0, extra = UINT32_MAX;
+    sinew_result result = SINEW_OK;
     /* Two passes over the clusters: count a point's influences, then place them. */
-    for (int pass = 0; pass < 2; pass++) {
+    for (int pass = 0; pass < 2 && !result; pass++) {
         uint32_t slot = 0;
-        for (uint32_t c = 0; c < skin->child_count; c++) {
+        for (uint32_t c = 0; c < skin->child_count && !result; c++) {
             const fbx_object *cl = &s->objects[child_link(s, skin, c)->child];
             if (cl->kind != K_CLUSTER)
                 continue;
@@ -1255,24 +1353,28 @@ static sinew_result read_skin(scene *s, const fbx_object *skin, uint32_t point_c
             const double *w = fbx_array(cl->node, "Weights", &nw);
             if (!bone || bone->raw_node < 0)
                 continue;
-            if (ni != nw)
-                return fail_data(s, "cluster has another number of weights than of indices", cl);
+            if (ni != nw) {
+                result = fbx_fail_data(s, "cluster has another number of weights than of indices", cl);
+                break;
+            }
             if (pass == 0) {
-                /* Transform is the geometry's bind matrix in the bone's space (exporters
-                 * write inv(TransformLink) * mesh bind, the bone and mesh world matrices at
-                 * bind time); TransformLink alone is not needed. */
-                if (!read_matrix(cl, "Transform", &k->geometry_to_bone[slot]))
-                    return fail_data(s, "cluster has no valid Transform matrix", cl);
+                if (!cluster_bind(s, cl, bone, model, &k->geometry_to_bone[slot])) {
+                    result = fbx_oom(s);
+                    break;
+                }
                 k->joints[slot] = (uint32_t)bone->raw_node;
             }
             for (uint32_t i = 0; i < ni; i++) {
                 double p = idx[i];
-                if (!(p >= 0 && p < point_count) || !isfinite(w[i]))
-                    return fail_data(s, "cluster has a vertex index outside its mesh or a weight that is not finite",
-                                     cl);
+                if (!(p >= 0 && p < point_count) || !isfinite(w[i])) {
+                    result = fbx_fail_data(
+                        s, "cluster has a vertex index outside its mesh or a weight that is not finite", cl);
+                    break;
+                }
                 uint32_t pt = (uint32_t)p;
                 if (pass == 0) {
                     k->first[pt + 1]++;
+                    sum[pt] += w[i];
                     total++;
                 } else {
                     uint32_t at = k->first[pt]++;
@@ -1282,10 +1384,23 @@ static sinew_result read_skin(scene *s, const fbx_object *skin, uint32_t point_c
             }
             slot++;
         }
-        k->joint_count = slot;
+        if (result)
+            break;
         if (pass == 0) {
-            if (total > UINT32_MAX / 2)
-                return fail_data(s, "skin has too many influences", skin);
+            for (uint32_t p = 0; p < point_count; p++)
+                unweighted += !(sum[p] > 0);
+            if (unweighted && model->raw_node >= 0) {
+                extra = slot;
+                k->joints[slot] = (uint32_t)model->raw_node;
+                k->geometry_to_bone[slot++] = dmat_identity();
+                total += unweighted;
+                for (uint32_t p = 0; p < point_count; p++)
+                    k->first[p + 1] += !(sum[p] > 0);
+            }
+            if (total > UINT32_MAX / 2) {
+                result = fbx_fail_data(s, "skin has too many influences", skin);
+                break;
+            }
             for (uint32_t p = 0; p < point_count; p++) {
                 if (k->first[p + 1] > k->max_influences)
                     k->max_influences = k->first[p + 1];
@@ -1294,9 +1409,20 @@ static sinew_result read_skin(scene *s, const fbx_object *skin, uint32_t point_c
             k->slot = malloc((total ? total : 1) * sizeof *k->slot);
             k->weight = malloc((total ? total : 1) * sizeof *k->weight);
             if (!k->slot || !k->weight)
-                return oom(s);
+                result = fbx_oom(s);
+            k->joint_count = slot;
+        } else if (extra != UINT32_MAX) {
+            for (uint32_t p = 0; p < point_count; p++)
+                if (!(sum[p] > 0)) {
+                    uint32_t at = k->first[p]++;
+                    k->slot[at] = extra;
+                    k->weight[at] = 1.0f;
+                }
         }
     }
+    free(sum);
+    if (result)
+        return result;
     /* The second pass moved each start to the next point's start: shift back. */
     for (uint32_t p = point_count; p > 0; p--)
         k->first[p] = k->first[p - 1];
@@ -1351,7 +1477,7 @@ static sinew_result build_materials(scene *s)
         count += s->objects[i].kind == K_MATERIAL;
     m->materials = calloc(count ? count : 1, sizeof *m->materials);
     if (!m->materials)
-        return oom(s);
+        return fbx_oom(s);
     for (uint32_t i = 0; i < s->object_count; i++) {
         fbx_object *o = &s->objects[i];
         if (o->kind != K_MATERIAL)
@@ -1360,7 +1486,7 @@ static sinew_result build_materials(scene *s)
         o->raw_material = (int32_t)m->material_count++;
         r->name = malloc(o->name_len + 1);
         if (!r->name)
-            return oom(s);
+            return fbx_oom(s);
         memcpy(r->name, o->name, o->name_len);
         r->name[o->name_len] = 0;
         double color[3];
@@ -1388,7 +1514,7 @@ static sinew_result build_materials(scene *s)
             const fbx_object *tex = &s->objects[l->child];
             int slot = -1;
             for (int q = 0; q < SINEW_MAP_COUNT && slot < 0 && tex->kind == K_TEXTURE; q++)
-                if (slots[q] && value_is(l->prop, slots[q]))
+                if (slots[q] && fbx_value_is(l->prop, slots[q]))
                     slot = q;
             if (slot < 0 || r->maps[slot].path)
                 continue;
@@ -1413,7 +1539,7 @@ static sinew_result grow(scene *s, void **array, uint32_t count, size_t elem)
     if ((count & (count - 1)) == 0) { /* powers of two: double */
         void *p = realloc(*array, (count ? count * 2 : 1) * elem);
         if (!p)
-            return oom(s);
+            return fbx_oom(s);
         *array = p;
     }
     return SINEW_OK;
@@ -1433,7 +1559,7 @@ static sinew_result emit_mesh(scene *s, const mesh_source *src, const fbx_object
     mesh->material = material_of(s, model, slot);
     mesh->name = malloc(src->geometry->name_len + model->name_len + 24);
     if (!mesh->name)
-        return oom(s);
+        return fbx_oom(s);
     const fbx_object *g = src->geometry;
     if (g->name_len)
         sprintf(mesh->name, "%.*s", (int)g->name_len, g->name);
@@ -1448,7 +1574,7 @@ static sinew_result emit_mesh(scene *s, const mesh_source *src, const fbx_object
             triangles += n - 2;
     }
     if ((uint64_t)triangles * 3 > UINT32_MAX / 2)
-        return fail_data(s, "mesh has too many triangles", g);
+        return fbx_fail_data(s, "mesh has too many triangles", g);
     corner *verts = malloc((triangles ? triangles * 3 : 1) * sizeof *verts);
     vertex_table table = {0};
     table.capacity = 16;
@@ -1459,7 +1585,7 @@ static sinew_result emit_mesh(scene *s, const mesh_source *src, const fbx_object
     if (!verts || !table.slots || !mesh->indices) {
         free(verts);
         free(table.slots);
-        return oom(s);
+        return fbx_oom(s);
     }
     uint32_t vcount = 0;
     for (uint32_t p = 0; p < src->polygon_count; p++) {
@@ -1481,7 +1607,7 @@ static sinew_result emit_mesh(scene *s, const mesh_source *src, const fbx_object
     if (!mesh->positions || (src->normals && !mesh->normals) || (src->uvs && !mesh->uvs) ||
         (src->tangents && !mesh->tangents)) {
         free(verts);
-        return oom(s);
+        return fbx_oom(s);
     }
     /* Rigid meshes carry the geometric transform in their vertices; skinned ones in their
      * inverse binds. Normals go through the inverse transpose (the direction of the runtime's
@@ -1530,7 +1656,7 @@ static sinew_result emit_mesh(scene *s, const mesh_source *src, const fbx_object
         mesh->weights = calloc((size_t)vcount * k + 1, sizeof *mesh->weights);
         if (!mesh->joints || !mesh->weights) {
             free(verts);
-            return oom(s);
+            return fbx_oom(s);
         }
         for (uint32_t v = 0; v < vcount; v++) {
             uint32_t pt = verts[v].point, at = skin->first[pt], n = skin->first[pt + 1] - at;
@@ -1559,7 +1685,7 @@ static sinew_result add_skin(scene *s, const skin_source *k, const dmat *geometr
     rs->joints = malloc((k->joint_count ? k->joint_count : 1) * sizeof *rs->joints);
     rs->inverse_bind = malloc((k->joint_count ? k->joint_count : 1) * sizeof *rs->inverse_bind);
     if (!rs->joints || !rs->inverse_bind)
-        return oom(s);
+        return fbx_oom(s);
     for (uint32_t j = 0; j < k->joint_count; j++) {
         rs->joints[j] = k->joints[j];
         dmat ib = dmat_mul(&k->geometry_to_bone[j], geometry);
@@ -1612,7 +1738,7 @@ static sinew_result build_model_meshes(scene *s, const fbx_object *model)
             raw_model_warn(s->model, "%s: mesh \"%.*s\" has blend shapes, which sinew does not play yet", s->path,
                            (int)g->name_len, g->name);
         if (!result && deformer)
-            result = read_skin(s, deformer, src.point_count, &skin);
+            result = read_skin(s, deformer, model, src.point_count, &skin);
         int32_t skin_index = -1;
         if (!result && deformer && skin.joint_count)
             result = add_skin(s, &skin, &geometry, &skin_index);
@@ -1621,7 +1747,7 @@ static sinew_result build_model_meshes(scene *s, const fbx_object *model)
         uint32_t slot_count = 0;
         int32_t *slots = result ? NULL : used_slots(&src, &slot_count);
         if (!result && !slots)
-            result = oom(s);
+            result = fbx_oom(s);
         for (uint32_t i = 0; !result && i < slot_count; i++)
             result = emit_mesh(s, &src, model, slots[i], &geometry, skin_index >= 0 ? &skin : NULL, skin_index);
         free(slots);
@@ -1657,7 +1783,7 @@ static void bake_node_eval(const void *context, double t, bake_trs *out)
 {
     const bake_node *n = context;
     local_trs l;
-    node_local(n->s, n->model, n->stack, n->start + t * FBX_TICKS_PER_SECOND, &l);
+    node_local(n->s, n->model, n->stack, n->start + t, n->start, &l);
     memcpy(out->t, l.t, sizeof out->t);
     memcpy(out->q, l.q, sizeof out->q);
     memcpy(out->s, l.s, sizeof out->s);
@@ -1669,51 +1795,75 @@ static int compare_float(const void *a, const void *b)
     return x < y ? -1 : x > y;
 }
 
-/* Key times (seconds in the clip) of every curve that animates a model in a stack, with
- * the instant before each constant step. */
+/* A growing list of clip times (seconds, as the runtime's floats). */
+typedef struct time_list {
+    float *t;
+    uint32_t count, capacity;
+    bool failed;
+    double start;
+    float duration;
+} time_list;
+
+static void time_push(time_list *l, float t)
+{
+    if (l->failed || !(t >= 0.0f && t <= l->duration))
+        return;
+    if (l->count == l->capacity) {
+        uint32_t cap = l->capacity ? l->capacity * 2 : 16;
+        float *grown = realloc(l->t, cap * sizeof *grown);
+        if (!grown) {
+            l->failed = true;
+            return;
+        }
+        l->t = grown;
+        l->capacity = cap;
+    }
+    l->t[l->count++] = t;
+}
+
+/* A key time of a curve (or of its extrapolated cycles): the time, and at a step the instant
+ * on the step's far side, so that the bake keeps the step. */
+static void push_key_time(void *context, double time, const fbx_curve *c, uint32_t key)
+{
+    time_list *l = context;
+    float t = (float)(time - l->start);
+    time_push(l, t);
+    bool after = false;
+    if (fbx_curve_step(c, key, &after) || (key > 0 && fbx_curve_step(c, key - 1, &after))) {
+        time_push(l, nextafterf(t, -INFINITY));
+        time_push(l, nextafterf(t, INFINITY));
+    }
+}
+
+/* Clip times of every key of every curve that animates a model in a stack (their cycles
+ * through extrapolation included), the clip's ends, and the instants beside each step. */
 static sinew_result sample_times(const scene *s, uint32_t model, int32_t stack, double start, float duration,
                                  float **out, uint32_t *count)
 {
-    uint32_t cap = 16, n = 0;
-    float *t = malloc(cap * sizeof *t);
-    if (!t)
-        return SINEW_ERROR_OUT_OF_MEMORY;
-    t[n++] = 0.0f;
-    t[n++] = duration;
+    time_list l = {.start = start, .duration = duration};
+    time_push(&l, 0.0f);
+    time_push(&l, duration);
     const fbx_object *mo = &s->objects[model];
     for (uint32_t b = mo->first_binding; b < mo->first_binding + mo->binding_count; b++) {
         const fbx_binding *bind = &s->bindings[b];
-        if (bind->stack != stack)
+        if (bind->stack != (uint32_t)stack)
             continue;
-        for (int k = 0; k < 3; k++) {
-            if (bind->curves[k] == UINT32_MAX)
-                continue;
-            const fbx_curve *c = &s->curves[bind->curves[k]];
-            for (uint32_t i = 0; i < c->count; i++) {
-                float sec = (float)((c->times[i] - start) / FBX_TICKS_PER_SECOND);
-                if (!(sec > 0.0f && sec < duration))
-                    continue;
-                if (n + 2 > cap) {
-                    float *grown = realloc(t, cap * 2 * sizeof *t);
-                    if (!grown) {
-                        free(t);
-                        return SINEW_ERROR_OUT_OF_MEMORY;
-                    }
-                    t = grown;
-                    cap *= 2;
-                }
-                t[n++] = sec;
-                if (steps_into(c, i))
-                    t[n++] = nextafterf(sec, 0.0f);
-            }
-        }
+        int32_t curves[4] = {bind->curves[0], bind->curves[1], bind->curves[2], s->layers[bind->layer].weight_curve};
+        for (int k = 0; k < 4; k++)
+            if (curves[k] >= 0)
+                fbx_curve_key_times(&s->curves[curves[k]], start, start + duration, FBX_MAX_CYCLE_KEYS, push_key_time,
+                                    &l);
     }
-    qsort(t, n, sizeof *t, compare_float);
+    if (l.failed) {
+        free(l.t);
+        return SINEW_ERROR_OUT_OF_MEMORY;
+    }
+    qsort(l.t, l.count, sizeof *l.t, compare_float);
     uint32_t u = 0;
-    for (uint32_t i = 0; i < n; i++)
-        if (u == 0 || t[i] != t[u - 1])
-            t[u++] = t[i];
-    *out = t;
+    for (uint32_t i = 0; i < l.count; i++)
+        if (u == 0 || l.t[i] != l.t[u - 1])
+            l.t[u++] = l.t[i];
+    *out = l.t;
     *count = u;
     return SINEW_OK;
 }
@@ -1722,30 +1872,30 @@ static bool model_animated(const scene *s, uint32_t model, int32_t stack)
 {
     const fbx_object *o = &s->objects[model];
     for (uint32_t b = o->first_binding; b < o->first_binding + o->binding_count; b++)
-        if (s->bindings[b].stack == stack)
+        if (s->bindings[b].stack == (uint32_t)stack)
             return true;
     return false;
 }
 
-/* The stack's time span: LocalStart..LocalStop, else the span of its keys. */
+/* The stack's time span: its own, else the span of its keys. */
 static void stack_span(const scene *s, uint32_t stack, double *start, double *stop)
 {
-    const fbx_object *o = &s->objects[stack];
-    *start = prop_num(o, "LocalStart", 0);
-    *stop = prop_num(o, "LocalStop", 0);
+    const fbx_stack *st = &s->stacks[stack];
+    *start = st->start;
+    *stop = st->stop;
     if (*stop > *start)
         return;
     double lo = INFINITY, hi = -INFINITY;
     for (uint32_t b = 0; b < s->binding_count; b++) {
-        if (s->bindings[b].stack != (int32_t)stack)
+        if (s->bindings[b].stack != stack)
             continue;
         for (int k = 0; k < 3; k++) {
-            if (s->bindings[b].curves[k] == UINT32_MAX)
+            if (s->bindings[b].curves[k] < 0)
                 continue;
             const fbx_curve *c = &s->curves[s->bindings[b].curves[k]];
             if (c->count) {
-                lo = fmin(lo, c->times[0]);
-                hi = fmax(hi, c->times[c->count - 1]);
+                lo = fmin(lo, c->keys[0].time);
+                hi = fmax(hi, c->keys[c->count - 1].time);
             }
         }
     }
@@ -1756,10 +1906,10 @@ static void stack_span(const scene *s, uint32_t stack, double *start, double *st
 static sinew_result build_clip(scene *s, uint32_t stack)
 {
     raw_model *m = s->model;
-    const fbx_object *so = &s->objects[stack];
+    const fbx_stack *st = &s->stacks[stack];
     double start, stop;
     stack_span(s, stack, &start, &stop);
-    float duration = (float)((stop - start) / FBX_TICKS_PER_SECOND);
+    float duration = (float)(stop - start);
     if (!isfinite(duration) || duration < 0)
         duration = 0;
     sinew_result result;
@@ -1768,12 +1918,12 @@ static sinew_result build_clip(scene *s, uint32_t stack)
     raw_clip *clip = &m->clips[m->clip_count++];
     memset(clip, 0, sizeof *clip);
     clip->duration = duration;
-    clip->name = malloc(so->name_len + 1);
+    clip->name = malloc(st->name_len + 1);
     clip->tracks = calloc(m->node_count, sizeof *clip->tracks);
     if (!clip->name || !clip->tracks)
-        return oom(s);
-    memcpy(clip->name, so->name, so->name_len);
-    clip->name[so->name_len] = 0;
+        return fbx_oom(s);
+    memcpy(clip->name, st->name, st->name_len);
+    clip->name[st->name_len] = 0;
     /* Halving may add at most this many keys to the whole clip (beyond the curves' own). */
     uint64_t budget = 1u << 20;
     for (uint32_t i = 1; i < m->node_count; i++) {
@@ -1783,7 +1933,7 @@ static sinew_result build_clip(scene *s, uint32_t stack)
         float *times = NULL;
         uint32_t n = 0;
         if (sample_times(s, model, (int32_t)stack, start, duration, &times, &n))
-            return oom(s);
+            return fbx_oom(s);
         /* Translation tolerance relative to the rest pose's size in the file's units: the
          * local translation is in the parent's space, which under a scaled parent is not the
          * world's (the check against ufbx bounds the result in world space). */
@@ -1799,7 +1949,7 @@ static sinew_result build_clip(scene *s, uint32_t stack)
         bool ok = bake_track(&desc, times, n, &m->node_rest[i], track);
         free(times);
         if (!ok)
-            return oom(s);
+            return fbx_oom(s);
     }
     if (budget == 0)
         raw_model_warn(m,
@@ -1809,11 +1959,10 @@ static sinew_result build_clip(scene *s, uint32_t stack)
     return SINEW_OK;
 }
 
+/* A clip each stack, in the file's order. */
 static sinew_result build_clips(scene *s)
 {
-    for (uint32_t i = 0; i < s->object_count; i++) {
-        if (s->objects[i].kind != K_STACK)
-            continue;
+    for (uint32_t i = 0; i < s->stack_count; i++) {
         sinew_result result = build_clip(s, i);
         if (result)
             return result;
@@ -1825,9 +1974,10 @@ static sinew_result build_clips(scene *s)
 
 static void scene_free(scene *s)
 {
-    for (uint32_t i = 0; s->curves && i < s->object_count; i++)
-        free(s->curves[i].attr);
+    for (uint32_t i = 0; i < s->curve_count; i++)
+        fbx_curve_free(&s->curves[i]);
     free(s->curves);
+    free(s->stacks);
     free(s->layers);
     free(s->bindings);
     free(s->statics);
@@ -1835,23 +1985,51 @@ static void scene_free(scene *s)
     free(s->up);
     free(s->down);
     free(s->models);
+    free(s->rest_worlds);
     fbx_doc_free(&s->doc);
 }
 
+/* Whether a document without a version in its header is laid out as FBX 7.x (objects with
+ * numeric ids) or as 6.x (objects named "Class::Name"). */
+static bool objects_have_ids(const fbx_doc *doc)
+{
+    const fbx_node *objects = fbx_child(&doc->root, "Objects");
+    for (uint32_t i = 0; objects && i < objects->child_count; i++)
+        if (objects->children[i].value_count > 0)
+            return objects->children[i].values[0].type == FBX_INT;
+    return true;
+}
+
+/* The file's FBX version (refusing those sinew does not read, and 7.x documents without their
+ * sections) and its time unit: ticks a second, 46186158000 unless the header says the file
+ * keeps the old unit (OtherFlags/TCDefinition 0, from header version 1004). */
 static sinew_result check_version(scene *s)
 {
-    if (!fbx_child(&s->doc.root, "Objects") || !fbx_child(&s->doc.root, "Connections"))
-        return sinew_fail(s->error, SINEW_ERROR_FORMAT,
-                          "%s: the FBX document has no %s section (the file may be cut short)", s->path,
-                          fbx_child(&s->doc.root, "Objects") ? "Connections" : "Objects");
+    const fbx_node *root = &s->doc.root, *header = fbx_child(root, "FBXHeaderExtension");
     uint32_t v = s->doc.version;
-    if (v == 0 && !s->doc.binary && fbx_child(&s->doc.root, "Objects") && fbx_child(&s->doc.root, "Connections"))
-        v = 7000; /* ASCII without a header version, in 7.x layout */
-    if (v < 7000 || v >= 8000)
+    if (v == 0)
+        v = !fbx_child(root, "Objects") ? 5000 : objects_have_ids(&s->doc) ? 7000 : 6000;
+    if (v >= 8000)
         return sinew_fail(s->error, SINEW_ERROR_FORMAT,
-                          "%s: FBX version %u.%u is not supported: sinew reads FBX 7.x (FBX 2011 and later); "
-                          "export the file again as FBX 7.x",
+                          "%s: FBX version %u.%u is newer than sinew reads (FBX 5.x to 7.x); export the file "
+                          "again as FBX 7.x",
                           s->path, v / 1000, v % 1000 / 100);
+    s->doc.version = v;
+    s->legacy = v < 7000 && !(fbx_child(root, "Objects") && objects_have_ids(&s->doc));
+    s->ticks_per_second = FBX_TICKS_PER_SECOND;
+    const fbx_node *tc = fbx_child(fbx_child(header, "OtherFlags"), "TCDefinition");
+    if (tc && fbx_int(tc, 0) == 0 && fbx_int(fbx_child(header, "FBXHeaderVersion"), 0) >= 1004)
+        s->ticks_per_second = FBX_OLD_TICKS_PER_SECOND;
+    const fbx_node *settings = fbx_child(root, "GlobalSettings");
+    if (!settings)
+        settings = fbx_child(fbx_child(root, "Objects"), "GlobalSettings");
+    s->global_settings = fbx_child(settings, "Properties70");
+    if (!s->global_settings)
+        s->global_settings = fbx_child(settings, "Properties60");
+    if (!s->legacy && (!fbx_child(root, "Objects") || !fbx_child(root, "Connections")))
+        return sinew_fail(s->error, SINEW_ERROR_FORMAT,
+                          "%s: the FBX %u.%u document has no %s section (the file may be cut short)", s->path, v / 1000,
+                          v % 1000 / 100, fbx_child(root, "Objects") ? "Connections" : "Objects");
     return SINEW_OK;
 }
 
@@ -1866,13 +2044,20 @@ sinew_result raw_model_from_fbx(const char *path, const unsigned char *bytes, si
     model->source = raw_strdup(path);
     model->format = raw_strdup("fbx");
     if (!model->source || !model->format)
-        result = oom(&s);
+        result = fbx_oom(&s);
     if (!result)
         result = check_version(&s);
-    if (!result)
+    if (!result && s.legacy)
+        result = fbx_legacy_index(&s);
+    if (!result && !s.legacy) {
         result = index_objects(&s);
+        if (!result)
+            result = index_animation(&s);
+        if (!result)
+            fbx_sort_bindings(&s);
+    }
     if (!result)
-        result = index_animation(&s);
+        result = index_statics(&s);
     if (!result) {
         conversion(&s);
         result = build_nodes(&s);

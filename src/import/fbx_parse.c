@@ -234,7 +234,7 @@ static sinew_result read_value(parser *ps, size_t end, fbx_value *v)
         } else {
             uint64_t u = read_le(p, n);
             v->type = FBX_INT;
-            v->i = n == 8 ? (int64_t)u : n == 4 ? (int32_t)u : n == 2 ? (int16_t)u : (int64_t)(u != 0);
+            v->i = n == 8 ? (int64_t)u : n == 4 ? (int32_t)u : n == 2 ? (int16_t)u : (int64_t)u;
             v->d = (double)v->i;
         }
         return SINEW_OK;
@@ -488,6 +488,7 @@ static sinew_result ascii_array(parser *ps, fbx_value *v)
         fbx_value n = {0};
         if (!number_value(ps->tok_text, ps->tok_len, &n))
             return bad_line(ps, "array element is not a number");
+        v->reals |= n.type == FBX_REAL;
         if ((result = grow_array(ps, (void **)&v->a, v->count, &capacity, 1, sizeof(double))))
             return result;
         v->a[v->count++] = n.d;
@@ -538,8 +539,13 @@ static sinew_result ascii_node(parser *ps, fbx_node *node)
             break;
         next_token(ps);
     }
-    if (ps->tok != T_OPEN)
-        return node->value_count ? SINEW_OK : bad_line(ps, "a node has neither values nor a '{' block");
+    if (ps->tok != T_OPEN) { /* `Name:` alone is a node without values (`CameraIndexName:`) */
+        if (node->value_count == 0 && ps->tok == T_END)
+            return bad_line(ps, "the file ends after a node's name (it may be cut short)");
+        return ps->tok == T_KEY || ps->tok == T_CLOSE || node->value_count
+                   ? SINEW_OK
+                   : bad_line(ps, "a node has neither values nor a '{' block");
+    }
     if (ps->depth >= FBX_MAX_DEPTH)
         return bad_line(ps, "nodes nested deeper than 64 levels");
     next_token(ps);
@@ -578,11 +584,46 @@ static sinew_result ascii_nodes(parser *ps, fbx_node *parent, bool top)
     }
 }
 
-static uint32_t ascii_version(const fbx_doc *doc)
+/* FBXHeaderExtension's FBXVersion, or 0. */
+static uint32_t header_version(const fbx_doc *doc)
 {
     const fbx_node *h = fbx_child(&doc->root, "FBXHeaderExtension");
     const fbx_node *v = h ? fbx_child(h, "FBXVersion") : NULL;
-    return v ? (uint32_t)fbx_int(v, 0) : 0;
+    int64_t version = v ? fbx_int(v, 0) : 0;
+    return version > 0 && version < 100000 ? (uint32_t)version : 0;
+}
+
+static bool all_numbers(const fbx_node *n)
+{
+    for (uint32_t i = 0; i < n->value_count; i++)
+        if (n->values[i].type != FBX_INT && n->values[i].type != FBX_REAL)
+            return false;
+    return true;
+}
+
+/* Before FBX 7.0 arrays are lists of values: each node of two numbers or more becomes one
+ * array value (fbx_internal.h). */
+static sinew_result collapse_lists(parser *ps, fbx_node *n)
+{
+    if (n->value_count >= 2 && all_numbers(n)) {
+        sinew_result result = SINEW_OK;
+        fbx_value array = {.type = FBX_ARRAY, .count = n->value_count};
+        array.a = take(ps, n->value_count, sizeof(double), &result);
+        if (!array.a)
+            return result;
+        for (uint32_t i = 0; i < n->value_count; i++) {
+            array.a[i] = n->values[i].d;
+            array.reals |= n->values[i].type == FBX_REAL;
+        }
+        n->values[0] = array;
+        n->value_count = 1;
+    }
+    for (uint32_t i = 0; i < n->child_count; i++) {
+        sinew_result result = collapse_lists(ps, &n->children[i]);
+        if (result)
+            return result;
+    }
+    return SINEW_OK;
 }
 
 static sinew_result parse_ascii(parser *ps, fbx_doc *doc)
@@ -594,7 +635,6 @@ static sinew_result parse_ascii(parser *ps, fbx_doc *doc)
         return result;
     if (doc->root.child_count == 0)
         return sinew_fail(ps->error, SINEW_ERROR_FORMAT, "%s: no FBX nodes in the file", ps->path);
-    doc->version = ascii_version(doc);
     return SINEW_OK;
 }
 
@@ -624,6 +664,10 @@ sinew_result fbx_parse(const unsigned char *bytes, size_t size, const char *path
     if (binary && size < FBX_BINARY_HEADER_SIZE)
         return bad(&ps, size, "the file ends inside the binary FBX header");
     sinew_result result = binary ? parse_binary(&ps, doc) : parse_ascii(&ps, doc);
+    if (!result && header_version(doc))
+        doc->version = header_version(doc);
+    if (!result && doc->version && doc->version < 7000)
+        result = collapse_lists(&ps, &doc->root);
     if (result)
         fbx_doc_free(doc);
     return result;
@@ -643,8 +687,19 @@ const fbx_node *fbx_child(const fbx_node *node, const char *name)
     return NULL;
 }
 
+/* A node kept as one array (fbx_internal.h): its element k, else NULL. */
+static const double *list_element(const fbx_node *node, uint32_t k)
+{
+    if (node && node->value_count == 1 && node->values[0].type == FBX_ARRAY && k < node->values[0].count)
+        return &node->values[0].a[k];
+    return NULL;
+}
+
 double fbx_num(const fbx_node *node, uint32_t k)
 {
+    const double *e = list_element(node, k);
+    if (e)
+        return *e;
     if (!node || k >= node->value_count)
         return 0.0;
     const fbx_value *v = &node->values[k];
@@ -653,6 +708,9 @@ double fbx_num(const fbx_node *node, uint32_t k)
 
 int64_t fbx_int(const fbx_node *node, uint32_t k)
 {
+    const double *e = list_element(node, k);
+    if (e)
+        return *e > -9.2e18 && *e < 9.2e18 ? (int64_t)*e : 0;
     if (!node || k >= node->value_count)
         return 0;
     const fbx_value *v = &node->values[k];
@@ -667,12 +725,28 @@ bool fbx_str_is(const fbx_node *node, uint32_t k, const char *text)
     return node->values[k].count == n && memcmp(node->values[k].s, text, n) == 0;
 }
 
-const double *fbx_array(const fbx_node *node, const char *name, uint32_t *count)
+const double *fbx_values(const fbx_node *c, uint32_t *count)
 {
-    const fbx_node *c = fbx_child(node, name);
     *count = 0;
-    if (!c || c->value_count == 0 || c->values[0].type != FBX_ARRAY)
+    if (!c || c->value_count == 0)
+        return NULL;
+    if (c->value_count == 1 && (c->values[0].type == FBX_INT || c->values[0].type == FBX_REAL)) {
+        *count = 1;
+        return &c->values[0].d;
+    }
+    if (c->values[0].type != FBX_ARRAY)
         return NULL;
     *count = c->values[0].count;
     return c->values[0].a;
+}
+
+const double *fbx_array(const fbx_node *node, const char *name, uint32_t *count)
+{
+    return fbx_values(fbx_child(node, name), count);
+}
+
+bool fbx_array_reals(const fbx_node *node, const char *name)
+{
+    const fbx_node *c = fbx_child(node, name);
+    return c && c->value_count == 1 && c->values[0].type == FBX_ARRAY && c->values[0].reals;
 }

@@ -43,9 +43,10 @@ enum {
 };
 
 static const char *const class_names[C_COUNT] = {
-    "all files",           "FBX 5.x",           "FBX 6.x",  "FBX 7.x", "ASCII", "binary", "cubic tangents",
-    "stepped keys",        "extrapolation",     "layers",   "stacks",  "pivots, pre/post rotation",
-    "skinned",             "blend shapes",      "caches",   "dual-quaternion skins",
+    "all files",     "FBX 5.x",      "FBX 6.x",        "FBX 7.x",
+    "ASCII",         "binary",       "cubic tangents", "stepped keys",
+    "extrapolation", "layers",       "stacks",         "pivots, pre/post rotation",
+    "skinned",       "blend shapes", "caches",         "dual-quaternion skins",
 };
 
 typedef struct corpus_file {

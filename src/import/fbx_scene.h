@@ -1,0 +1,160 @@
+/* The FBX scene between the document and the raw model, shared by the reader's files: fbx.c
+ * indexes FBX 7.x documents into it and builds the raw model from it, fbx_legacy.c indexes
+ * FBX 5.x and 6.x documents into the same shape. No promise to library users.
+ *
+ * Objects are the document's nodes that take part (models, geometries, deformers, materials,
+ * ...), each with an id (the file's, or made up for files before 7.0 that name objects
+ * instead), and links between them in the file's order. Animation is stacks (clips), each
+ * with its layers in order, and bindings: the curves that animate one transform property of
+ * one model in one layer.
+ */
+#ifndef SINEW_IMPORT_FBX_SCENE_H
+#define SINEW_IMPORT_FBX_SCENE_H
+
+#include <stdbool.h>
+#include <stddef.h>
+#include <stdint.h>
+
+#include "fbx_curve.h"
+#include "fbx_internal.h"
+#include "internal.h"
+
+#define FBX_TICKS_PER_SECOND 46186158000.0 /* FBX's time unit since 7.0 (FbxTime) */
+#define FBX_OLD_TICKS_PER_SECOND 141120000.0
+
+enum {
+    K_OTHER,
+    K_MODEL,
+    K_GEOMETRY,
+    K_SKIN,
+    K_CLUSTER,
+    K_BLEND_SHAPE,
+    K_STACK,
+    K_LAYER,
+    K_CURVE_NODE,
+    K_CURVE,
+    K_MATERIAL,
+    K_TEXTURE,
+    K_VIDEO
+};
+
+typedef struct fbx_object {
+    int64_t id;
+    const fbx_node *node;
+    const char *name;
+    size_t name_len;
+    int kind;
+    const fbx_node *props;                 /* Properties70 / Properties60, or NULL */
+    const fbx_node *defaults;              /* the template's Properties70, or NULL */
+    uint32_t first_parent, parent_count;   /* in scene.up */
+    uint32_t first_child, child_count;     /* in scene.down */
+    uint32_t first_binding, binding_count; /* models: in scene.bindings */
+    uint32_t order;                        /* place in the file */
+    int32_t raw_node;                      /* models: raw node index */
+    int32_t raw_material;
+    int32_t curve; /* curves: index in scene.curves, else -1 */
+} fbx_object;
+
+typedef struct fbx_link {
+    uint32_t child, parent; /* object indices */
+    uint32_t order;         /* in the file */
+    const fbx_value *prop;  /* "OP" connections: the property, else NULL */
+} fbx_link;
+
+/* The properties of a node's transform, in the order node_local() takes them. */
+enum {
+    P_TRANSLATION,
+    P_ROTATION,
+    P_SCALING,
+    P_ROTATION_OFFSET,
+    P_ROTATION_PIVOT,
+    P_SCALING_OFFSET,
+    P_SCALING_PIVOT,
+    P_PRE_ROTATION,
+    P_POST_ROTATION,
+    P_COUNT
+};
+
+/* A clip: an AnimationStack, or a take of a file before 7.0. */
+typedef struct fbx_stack {
+    const char *name;
+    size_t name_len;
+    double start, stop; /* seconds; stop <= start: the span of its keys */
+    uint32_t order;     /* in the file */
+    uint32_t first_layer, layer_count;
+} fbx_stack;
+
+/* A layer of a stack (stack.first_layer + index). */
+typedef struct fbx_layer {
+    uint32_t stack, index;
+    double weight;        /* 0..1 */
+    int32_t weight_curve; /* the layer's own animated weight (percent), or -1 */
+    bool additive, blended, compose_rotation, compose_scale;
+} fbx_layer;
+
+/* One animated transform property of one model in one layer: the curve of each component
+ * (an index in scene.curves, or -1) and the values of components without one (NaN: the
+ * property's own value). */
+typedef struct fbx_binding {
+    uint32_t model, layer, stack, index; /* index: the layer's place in its stack */
+    int prop;                            /* P_* */
+    int32_t curves[3];
+    double defaults[3];
+} fbx_binding;
+
+/* A node's transform properties without animation, read once. */
+typedef struct fbx_static {
+    double value[P_COUNT][3];
+    int order; /* rotation order */
+} fbx_static;
+
+typedef struct scene {
+    const char *path;
+    sinew_error *error;
+    raw_model *model;
+    fbx_doc doc;
+    bool legacy; /* a document before 7.0 (fbx_legacy.c indexed it) */
+    double ticks_per_second;
+    fbx_object *objects;
+    uint32_t object_count;
+    fbx_link *up, *down; /* links sorted by child / by parent */
+    uint32_t link_count;
+    fbx_curve *curves;
+    uint32_t curve_count, curve_capacity;
+    fbx_stack *stacks;
+    uint32_t stack_count;
+    fbx_layer *layers;
+    uint32_t layer_count;
+    fbx_binding *bindings;
+    uint32_t binding_count, binding_capacity;
+    uint32_t *models;    /* model object of each raw node (root: UINT32_MAX) */
+    fbx_static *statics; /* one an object (used for K_MODEL) */
+    sinew_mat4 convert;  /* file axes and unit -> Y-up metres: the root node */
+    double diagonal;     /* of the rest pose's node positions, file units */
+    uint32_t model_count;
+    const fbx_node *global_settings; /* GlobalSettings' properties, or NULL */
+    sinew_mat4 *rest_worlds;         /* made on first use (fbx.c) */
+} scene;
+
+extern const char *const fbx_transform_props[P_COUNT];
+
+/* fbx.c: errors naming the file (and the object). */
+sinew_result fbx_fail_data(scene *s, const char *what, const fbx_object *o);
+sinew_result fbx_oom(scene *s);
+/* "Name\0\1Class" (binary) or "Class::Name" (ASCII): the name part. */
+void fbx_object_name(const fbx_value *v, const char **name, size_t *len);
+bool fbx_value_is(const fbx_value *v, const char *text);
+/* Sorts links both ways and fills each object's link ranges (the links are in s->up). */
+void fbx_sort_links(scene *s);
+/* Appends a curve to s->curves; its index, or -1 when out of memory. */
+int32_t fbx_add_curve(scene *s, const fbx_curve *c);
+/* Appends a binding (growing the array); false when out of memory. */
+bool fbx_add_binding(scene *s, const fbx_binding *b);
+/* Sorts the bindings by model, stack and layer, and fills each model's range. */
+void fbx_sort_bindings(scene *s);
+
+/* fbx_legacy.c: a document before FBX 7.0 as objects, links, curves, stacks, layers and
+ * bindings (s->doc parsed, s->ticks_per_second set). */
+sinew_result fbx_legacy_index(scene *s);
+
+#endif
