@@ -438,6 +438,30 @@ static int32_t prop_int(const fbx_object *o, const char *name, int32_t fallback)
     return file_int(prop_num(o, name, fallback), fallback);
 }
 
+/* FBX 5.x models have no properties: their transform is the Default of each X, Y, Z channel
+ * of their own Channel "Transform" (T, R, S). */
+static void read_channel_defaults(const fbx_node *model, fbx_static *st)
+{
+    static const char *const trs[3] = {"T", "R", "S"}, *const axes[3] = {"X", "Y", "Z"};
+    const fbx_node *transform = NULL;
+    for (uint32_t k = 0; k < model->child_count && !transform; k++)
+        if (fbx_named(&model->children[k], "Channel") && fbx_str_is(&model->children[k], 0, "Transform"))
+            transform = &model->children[k];
+    for (uint32_t k = 0; transform && k < transform->child_count; k++)
+        for (int p = 0; p < 3; p++) {
+            const fbx_node *ch = &transform->children[k];
+            if (!fbx_named(ch, "Channel") || !fbx_str_is(ch, 0, trs[p]))
+                continue;
+            for (uint32_t j = 0; j < ch->child_count; j++)
+                for (int a = 0; a < 3; a++) {
+                    const fbx_node *def = fbx_child(&ch->children[j], "Default");
+                    if (fbx_named(&ch->children[j], "Channel") && fbx_str_is(&ch->children[j], 0, axes[a]) && def &&
+                        isfinite(fbx_num(def, 0)))
+                        st->value[p][a] = fbx_num(def, 0);
+                }
+        }
+}
+
 /* A model's transform properties without animation, and its rotation order. */
 static void read_statics(scene *s, uint32_t model)
 {
@@ -446,6 +470,8 @@ static void read_statics(scene *s, uint32_t model)
     for (int p = 0; p < P_COUNT; p++)
         prop_vec3(o, fbx_transform_props[p], p == P_SCALING ? 1.0 : 0.0, st->value[p]);
     st->order = prop_int(o, "RotationOrder", 0);
+    if (s->legacy && !o->props)
+        read_channel_defaults(o->node, st);
 }
 
 /* ---- animation ------------------------------------------------------------------------ */
