@@ -356,7 +356,12 @@ static sinew_result parse_binary(parser *ps, fbx_doc *doc)
     }
     if (doc->root.child_count == 0)
         return bad(ps, ps->pos, "the file ends before its first record");
-    return SINEW_OK;
+    /* Every writer ends the top level with a null record: without one the file was cut short
+     * between two records. */
+    return sinew_fail(ps->error, SINEW_ERROR_FORMAT,
+                      "%s: the file ends at byte %zu, between two records, before the end of its top level "
+                      "(it seems cut short)",
+                      ps->path, ps->size);
 }
 
 /* ---- ASCII ------------------------------------------------------------------------- */
