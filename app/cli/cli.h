@@ -17,6 +17,10 @@ enum { EXIT_OK = 0, EXIT_USAGE = 1, EXIT_BAD_INPUT = 2, EXIT_UNAVAILABLE = 3, EX
 
 /* --import-timeout / --import-memory, wherever they are on the command line (main.c). */
 extern app_import_options cli_import;
+/* --quiet (any command): import warnings are not printed. */
+extern bool cli_quiet;
+/* Prints a model's import warnings on stderr ("sinew: warning: ..."), unless --quiet. */
+void cli_print_warnings(const sinew_model *model);
 
 /* Prints "sinew: <message>" to stderr. */
 void cli_error(const char *format, ...) __attribute__((format(printf, 1, 2)));

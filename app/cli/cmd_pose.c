@@ -46,7 +46,7 @@ typedef struct pose_options {
     app_pose_spec ops; /* --blend, --additive, --crossfade, --ik, --root-motion */
     const char *anim, *name_map;
     uint32_t time_count;
-    float times[MAX_TIMES];
+    double times[MAX_TIMES]; /* as given: printed back exactly */
 } pose_options;
 
 static bool parse_times(const char *text, pose_options *o)
@@ -60,7 +60,7 @@ static bool parse_times(const char *text, pose_options *o)
     }
     o->time_count = 0;
     for (int i = 0; i < n; i++)
-        o->times[o->time_count++] = (float)t[i];
+        o->times[o->time_count++] = t[i];
     return true;
 }
 
@@ -115,15 +115,15 @@ static int parse_pose_args(int argc, char **argv, pose_options *o)
 
 static void default_times(const sinew_clip *clip, pose_options *o)
 {
-    float duration = clip ? clip->duration : 0.0f;
-    if (!(duration > 0.0f)) {
-        o->times[0] = 0.0f;
+    double duration = clip ? clip->duration : 0.0;
+    if (!(duration > 0.0)) {
+        o->times[0] = 0.0;
         o->time_count = 1;
         return;
     }
     o->time_count = 10;
     for (uint32_t i = 0; i < 10; i++)
-        o->times[i] = duration * (float)i / 9.0f;
+        o->times[i] = duration * i / 9.0;
 }
 
 static cJSON *vector_json(const float *v, int n)
@@ -134,10 +134,10 @@ static cJSON *vector_json(const float *v, int n)
     return a;
 }
 
-static cJSON *frame_json(const sinew_model *m, const sinew_mat4 *worlds, float time)
+static cJSON *frame_json(const sinew_model *m, const sinew_mat4 *worlds, double time)
 {
     cJSON *frame = cJSON_CreateObject();
-    cJSON_AddNumberToObject(frame, "time", cli_json_float(time));
+    cJSON_AddNumberToObject(frame, "time", time);
     cJSON *nodes = cJSON_AddArrayToObject(frame, "nodes");
     for (uint32_t n = 0; n < m->node_count; n++) {
         sinew_transform t;
@@ -174,9 +174,9 @@ static void print_muscles_text(const sinew_muscle_pose *poses, uint32_t count)
     }
 }
 
-static void print_frame_text(const sinew_model *m, const sinew_mat4 *worlds, float time)
+static void print_frame_text(const sinew_model *m, const sinew_mat4 *worlds, double time)
 {
-    printf("time %.6g s\n", (double)time);
+    printf("time %.9g s\n", time);
     for (uint32_t n = 0; n < m->node_count; n++) {
         sinew_transform t;
         sinew_mat4_decompose(&worlds[n], &t);

@@ -22,6 +22,14 @@ void cli_error(const char *format, ...)
     va_end(args);
 }
 
+bool cli_quiet;
+
+void cli_print_warnings(const sinew_model *model)
+{
+    for (uint32_t i = 0; model && !cli_quiet && i < model->warning_count; i++)
+        fprintf(stderr, "sinew: warning: %s\n", model->warnings[i]);
+}
+
 double cli_json_float(float value)
 {
     if (fabsf(value) < 1e-12f)

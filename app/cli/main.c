@@ -26,7 +26,8 @@ static const char usage[] =
     "  arm [--angle DEG | --length L | --contract F] [--rotate/--move/--scale] [--json] [-o OUT.png]\n"
     "                                the seed's two-rod arm and its biceps (law of cosines), numbers and picture\n"
     "\n"
-    "FILE is an FBX 7.x file (binary or ASCII), a glTF 2.0 file (.gltf/.glb), a COLLADA file (.dae) or an IQM file, "
+    "FILE is an FBX file (5.x to 7.x, binary or ASCII), a glTF 2.0 file (.gltf/.glb), a COLLADA file (.dae) or an IQM "
+    "file, "
     "read by\n"
     "sinew's own readers, any format Assimp reads: BVH, .x, MD5, SMD, 3DS, OBJ, ..., a .sinew file (`sinew convert`; "
     "its "
@@ -40,17 +41,23 @@ static const char usage[] =
     "3 this machine lacks what the command needs (an OpenGL 3.3 context through EGL, ffmpeg),\n"
     "4 an output cannot be written (no space, no permission, it is one of the inputs, it exists: demo).\n"
     "Outputs are written whole or not at all (a temporary file renamed into place).\n"
+    "Import warnings (a texture not found, a part of the file sinew leaves out) are printed on stderr;\n"
+    "--quiet (-q) hides them (`sinew info` lists them in its output).\n"
     "Files are read by a helper process (sinew-import) that is stopped when it takes too long or too much memory;\n"
     "every command that reads a model takes:\n" APP_IMPORT_OPTIONS_HELP;
 
 app_import_options cli_import;
 
-/* Takes the import options out of argv (every command reads models the same way); returns
- * the arguments left, or -1 after printing the error. */
+/* Takes the import options and --quiet out of argv (every command reads models the same way);
+ * returns the arguments left, or -1 after printing the error. */
 static int take_import_options(int argc, char **argv)
 {
     int kept = 0;
     for (int i = 0; i < argc; i++) {
+        if (i > 0 && (strcmp(argv[i], "--quiet") == 0 || strcmp(argv[i], "-q") == 0)) {
+            cli_quiet = true;
+            continue;
+        }
         sinew_error error = {0};
         int used = app_import_option_parse(&cli_import, argc, argv, i, &error);
         if (used < 0) {

@@ -58,6 +58,7 @@ bool cli_scene_load(app_scene *scene, const app_scene_desc *desc)
         cli_error("%s", error.message);
         return false;
     }
+    cli_print_warnings(scene->model);
     return true;
 }
 

@@ -518,7 +518,8 @@ void fbx_sort_bindings(scene *s)
 {
     /* A model's bindings together, its layers in their stack's order (stable within a layer:
      * the index is unique a layer, and qsort keeps nothing else in order that matters). */
-    qsort(s->bindings, s->binding_count, sizeof *s->bindings, compare_bindings);
+    if (s->binding_count)
+        qsort(s->bindings, s->binding_count, sizeof *s->bindings, compare_bindings);
     for (uint32_t i = s->binding_count; i-- > 0;) {
         fbx_object *m = &s->objects[s->bindings[i].model];
         m->first_binding = i;
@@ -633,7 +634,8 @@ static sinew_result index_animation(scene *s)
         if (s->objects[i].kind == K_STACK)
             stacks[n++] = &s->objects[i];
     }
-    qsort(stacks, n, sizeof *stacks, compare_stacks);
+    if (n)
+        qsort(stacks, n, sizeof *stacks, compare_stacks);
     for (uint32_t k = 0; k < n; k++) {
         fbx_stack *st = &s->stacks[s->stack_count++];
         stack_info(s, stacks[k], st);
@@ -1985,13 +1987,42 @@ static sinew_result build_clip(scene *s, uint32_t stack)
     return SINEW_OK;
 }
 
-/* A clip each stack, in the file's order. */
+/* The file's active take: Documents/Document's ActiveAnimStackName (7.x), Takes/Current
+ * (before 7.0); NULL when it names none. */
+static const fbx_value *active_take(const scene *s)
+{
+    const fbx_node *current = fbx_child(fbx_child(&s->doc.root, "Takes"), "Current");
+    if (current && current->value_count && current->values[0].type == FBX_STRING)
+        return &current->values[0];
+    const fbx_node *docs = fbx_child(&s->doc.root, "Documents");
+    for (uint32_t i = 0; docs && i < docs->child_count; i++) {
+        const fbx_node *p = find_p(fbx_child(&docs->children[i], "Properties70"), "ActiveAnimStackName");
+        if (p && p->value_count > 4 && p->values[4].type == FBX_STRING)
+            return &p->values[4];
+    }
+    return NULL;
+}
+
+/* A clip each stack, in the file's order (clip 0 is the first, as ufbx and the tools list
+ * them); a note when the file marks another one active. */
 static sinew_result build_clips(scene *s)
 {
     for (uint32_t i = 0; i < s->stack_count; i++) {
         sinew_result result = build_clip(s, i);
         if (result)
             return result;
+    }
+    const fbx_value *active = active_take(s);
+    for (uint32_t i = 1; active && active->count && i < s->stack_count; i++) {
+        const char *name;
+        size_t len;
+        fbx_object_name(active, &name, &len);
+        if (len == s->stacks[i].name_len && memcmp(name, s->stacks[i].name, len) == 0 &&
+            !raw_model_warn(s->model,
+                            "%s: the file marks clip %u (\"%.*s\") as its active take; clip 0 (\"%.*s\") is the file's "
+                            "first, which sinew plays unless told (--clip)",
+                            s->path, i, (int)len, name, (int)s->stacks[0].name_len, s->stacks[0].name))
+            return fbx_oom(s);
     }
     return SINEW_OK;
 }

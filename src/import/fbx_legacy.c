@@ -205,7 +205,8 @@ static int32_t geometry_of(const scene *s, uint32_t model)
 
 static void sort_names(legacy *l)
 {
-    qsort(l->names, l->name_count, sizeof *l->names, compare_names);
+    if (l->name_count)
+        qsort(l->names, l->name_count, sizeof *l->names, compare_names);
 }
 
 /* ---- FBX 6.x ------------------------------------------------------------------------------ */
