@@ -1,10 +1,11 @@
 /* sinew/model.h — the runtime model: immutable, flat, ready to sample, pose and skin.
  *
  * What: nodes (names, parents before children, rest local transforms), skins (joint node
- * indices and inverse bind matrices), meshes (positions, normals, UVs, triangles, up to
- * SINEW_MAX_INFLUENCES influences per vertex sorted by weight and normalised), materials,
+ * indices, inverse bind matrices, how they blend), meshes (positions, normals, UVs, triangles,
+ * up to SINEW_MAX_INFLUENCES influences per vertex sorted by weight and normalised; morph
+ * targets; a vertex cache), morph channels (the weights that morph targets follow), materials,
  * clips (per-node tracks whose translation, rotation and scale channels each have their own
- * keys and interpolation), and the import warnings.
+ * keys and interpolation, and weight tracks of morph channels), and the import warnings.
  * What not: no editing; the import side (sinew/import.h) builds models, the core only reads them.
  * Memory: a model is one block owned by the sinew_model object; every pointer inside it
  * stays valid until sinew_model_free(). The blob functions read and write the same layout
@@ -56,6 +57,9 @@ typedef enum sinew_interp {
 } sinew_interp;
 
 enum { SINEW_CHANNEL_TRANSLATION = 0, SINEW_CHANNEL_ROTATION = 1, SINEW_CHANNEL_SCALE = 2, SINEW_CHANNEL_COUNT = 3 };
+/* The kind of a morph channel's weight keys (sinew_weight_track): one float a key. Not one of
+ * a node track's SINEW_CHANNEL_COUNT channels. */
+#define SINEW_CHANNEL_WEIGHT 3
 
 /* How a node combines with its parent (FBX's inherit types; ufbx's names). With s the node's
  * local scale and P its parent's world matrix:
@@ -91,6 +95,13 @@ typedef struct sinew_track {
     sinew_channel channels[SINEW_CHANNEL_COUNT];
 } sinew_track;
 
+/* The weight of one morph channel over a clip: keys of one float (SINEW_CHANNEL_WEIGHT) in
+ * the clip's times and values, interpolated like any channel. */
+typedef struct sinew_weight_track {
+    uint32_t channel; /* index into the model's morph_channels */
+    sinew_channel keys;
+} sinew_weight_track;
+
 /* A clip plays [start, start + duration] of its keys' timeline as clip times [0, duration]:
  * clips cut from one longer animation (COLLADA's <animation_clip>s) share its times and
  * values and differ in start and in the keys their channels take. sinew_sample(),
@@ -105,13 +116,49 @@ typedef struct sinew_clip {
     uint32_t value_count;
     const float *times; /* seconds, non-decreasing within a channel */
     const float *values;
+    uint32_t weight_track_count;
+    const sinew_weight_track *weight_tracks; /* sorted by channel, at most one per channel */
+    float timeline; /* seconds on the source file's own timeline where clip time 0 is (an FBX take's
+                     * start; 0 for most files): where vertex caches, which keep the file's times, are read */
 } sinew_clip;
+
+/* How a skin blends its joints by default (sinew_skin_desc.method chooses at run time). */
+typedef enum sinew_skin_blend {
+    SINEW_SKIN_BLEND_LINEAR = 0,          /* linear blend skinning */
+    SINEW_SKIN_BLEND_DUAL_QUATERNION = 1, /* dual-quaternion skinning */
+    SINEW_SKIN_BLEND_MIXED = 2            /* per vertex: linear and dual quaternion mixed by the mesh's dq_weights
+                                           * (FBX's "Blend" skinning type) */
+} sinew_skin_blend;
 
 typedef struct sinew_skin {
     uint32_t joint_count;
     const uint32_t *joints;         /* node indices */
     const sinew_mat4 *inverse_bind; /* one a joint: mesh space -> joint space at bind time */
+    uint32_t blend;                 /* sinew_skin_blend: what the file asked for */
 } sinew_skin;
+
+/* A morph target (blend shape, shape key): offsets of some vertices of one mesh, weighed by one
+ * morph channel. glTF gives each target a channel of its own; FBX's in-between shapes are
+ * several targets of one channel, each whole at its own channel weight (full_weight), between
+ * which the channel's weight moves linearly (sinew_morph_target_weights()). */
+typedef struct sinew_morph_target {
+    const char *name;
+    uint32_t channel;  /* the mesh's channel: model channel instance.morph_first + channel */
+    float full_weight; /* the channel weight at which the target applies whole: 1, or an
+                        * in-between's (never 0; negative for a shape below zero) */
+    uint32_t delta_count;
+    const uint32_t *vertices; /* delta_count vertex indices, ascending */
+    const float *positions;   /* 3 floats a delta: offsets in mesh space */
+    const float *normals;     /* 3 floats a delta, or NULL */
+} sinew_morph_target;
+
+/* Vertex positions recorded frame by frame (an FBX geometry cache: Maya's .mc/.mcx, 3ds Max's
+ * .pc2), which replace the mesh's positions, morphs and skin while a clip is within them. */
+typedef struct sinew_vertex_cache {
+    uint32_t frame_count;
+    const float *times;     /* frame_count seconds on the file's timeline (sinew_clip.timeline), ascending */
+    const float *positions; /* frame_count * vertex_count * 3 floats, mesh space */
+} sinew_vertex_cache;
 
 typedef struct sinew_mesh {
     const char *name;
@@ -127,14 +174,30 @@ typedef struct sinew_mesh {
     const float *weights;     /* influence_count a vertex, sorted descending, summing to 1 */
     int32_t skin;             /* index into skins, -1 for a rigid mesh */
     int32_t material;         /* index into materials, -1 for none */
+    const float *dq_weights;  /* a float a vertex: its share of dual-quaternion skinning under a
+                               * SINEW_SKIN_BLEND_MIXED skin, or NULL */
+    uint32_t target_count;
+    const sinew_morph_target *targets; /* sorted by channel, then full weight */
+    uint32_t morph_channel_count;      /* channels its targets use (largest channel + 1) */
+    const sinew_vertex_cache *cache;   /* or NULL */
 } sinew_mesh;
 
 /* A mesh drawn at a node. Rigid meshes follow the node's world matrix; skinned meshes
- * come out of skinning in world space and ignore the node (as glTF specifies). */
+ * come out of skinning in world space and ignore the node (as glTF specifies). A mesh with
+ * morph targets takes its channel weights from morph_first on (two instances of one mesh may
+ * have weights of their own, as glTF nodes do). */
 typedef struct sinew_instance {
     uint32_t mesh;
     uint32_t node;
+    uint32_t morph_first; /* the model's channel of the mesh's channel 0 */
 } sinew_instance;
+
+/* A morph channel: one weight that clips animate and that the targets of one or more meshes
+ * (the parts of one deformed object) follow. */
+typedef struct sinew_morph_channel {
+    const char *name;
+    float default_weight; /* where no clip animates it */
+} sinew_morph_channel;
 
 /* The texture maps a material may have. */
 typedef enum sinew_map {
@@ -192,6 +255,8 @@ typedef struct sinew_model {
     const sinew_material *materials;
     uint32_t clip_count;
     const sinew_clip *clips;
+    uint32_t morph_channel_count;
+    const sinew_morph_channel *morph_channels;
     uint32_t warning_count;
     const char *const *warnings;
 

@@ -1,6 +1,6 @@
 /* Cross-file internals of src/core (no promise to library users).
  *
- * The model blob, version 3: the .sinew runtime file format, which sinew_model_from_blob()
+ * The model blob, version 4: the .sinew runtime file format, which sinew_model_from_blob()
  * and sinew_model_load() read and the import builder writes. Little-endian throughout.
  *
  *   blob_file_header                 at offset 0 (48 bytes)
@@ -15,8 +15,12 @@
  * BLOB_NONE marks an absent string or array; arrays may be shared (clips cut from one
  * animation point at the same times and values). Version 3 added blob_clip.start and
  * blob_material.diffuse_image; later minor additions (sections older readers skip): NINH (FBX
- * inherit types), MTAN (mesh tangents), MPBR (physically based material parameters). The checksum is CRC-32C
- * (Castagnoli) of the whole blob computed with the checksum field set to 0.
+ * inherit types), MTAN (mesh tangents), MPBR (physically based material parameters). Version 4
+ * added deformers: MCHN (morph channels), MTGT (morph targets), IMRF (each instance's first
+ * channel), WTRK (clips' weight tracks), VCCH (vertex caches), SKBL (skins' blend), MDQW (meshes'
+ * dual-quaternion weights), CTLN (clips' place on the file's timeline); version 3 files are read
+ * (they have none of these) with a warning. The checksum is CRC-32C (Castagnoli) of the whole blob
+ * computed with the checksum field set to 0.
  */
 #ifndef SINEW_CORE_INTERNAL_H
 #define SINEW_CORE_INTERNAL_H
@@ -30,7 +34,8 @@
 #include "sinew/model.h"
 
 #define BLOB_MAGIC "SINEW\r\n\x1a"
-#define BLOB_VERSION 3u
+#define BLOB_VERSION 4u
+#define BLOB_OLDEST_VERSION 3u /* the oldest version read */
 #define BLOB_NONE 0xffffffffu
 #define BLOB_ALIGN 16u
 #define BLOB_MAX_SECTIONS 64u
@@ -63,20 +68,29 @@ typedef struct blob_section {
 /* The sections by name, as the writer fills them and the reader finds them (not on disk). */
 typedef struct blob_header {
     uint32_t source, format;
-    blob_span strings;       /* STRS bytes */
-    blob_span node_names;    /* NNAM uint32_t strings */
-    blob_span node_parents;  /* NPAR int32_t */
-    blob_span node_rest;     /* NRST sinew_transform */
-    blob_span skins;         /* SKIN blob_skin */
-    blob_span meshes;        /* MESH blob_mesh */
-    blob_span instances;     /* INST sinew_instance */
-    blob_span materials;     /* MATL blob_material */
-    blob_span clips;         /* CLIP blob_clip */
-    blob_span warnings;      /* WARN uint32_t strings */
-    blob_span muscles;       /* MUSC blob_muscle */
-    blob_span node_inherit;  /* NINH uint8_t sinew_inherit, absent when every node is NORMAL */
-    blob_span mesh_tangents; /* MTAN uint32_t a mesh: offset of 4 floats a vertex or BLOB_NONE; absent when none */
-    blob_span materials_pbr; /* MPBR blob_pbr a material; absent in older files */
+    uint32_t version;         /* of the file (reader only) */
+    blob_span strings;        /* STRS bytes */
+    blob_span node_names;     /* NNAM uint32_t strings */
+    blob_span node_parents;   /* NPAR int32_t */
+    blob_span node_rest;      /* NRST sinew_transform */
+    blob_span skins;          /* SKIN blob_skin */
+    blob_span meshes;         /* MESH blob_mesh */
+    blob_span instances;      /* INST sinew_instance */
+    blob_span materials;      /* MATL blob_material */
+    blob_span clips;          /* CLIP blob_clip */
+    blob_span warnings;       /* WARN uint32_t strings */
+    blob_span muscles;        /* MUSC blob_muscle */
+    blob_span node_inherit;   /* NINH uint8_t sinew_inherit, absent when every node is NORMAL */
+    blob_span mesh_tangents;  /* MTAN uint32_t a mesh: offset of 4 floats a vertex or BLOB_NONE; absent when none */
+    blob_span materials_pbr;  /* MPBR blob_pbr a material; absent in older files */
+    blob_span morph_channels; /* MCHN blob_morph_channel */
+    blob_span morph_targets;  /* MTGT blob_morph_target, by mesh, then channel and full weight */
+    blob_span instance_morph; /* IMRF uint32_t an instance: its first morph channel; absent: all 0 */
+    blob_span weight_tracks;  /* WTRK blob_weight_track, by clip, then channel */
+    blob_span caches;         /* VCCH blob_cache, at most one a mesh */
+    blob_span skin_blend;     /* SKBL uint32_t a skin: sinew_skin_blend; absent: all linear */
+    blob_span mesh_dq;        /* MDQW uint32_t a mesh: offset of a float a vertex or BLOB_NONE; absent: none */
+    blob_span clip_timeline;  /* CTLN float a clip: sinew_clip.timeline; absent: all 0 */
 } blob_header;
 
 /* One known section: its tag, where its span lives in blob_header, its element size. */
@@ -87,6 +101,8 @@ typedef struct blob_section_kind {
 } blob_section_kind;
 
 extern const blob_section_kind blob_section_kinds[];
+/* The warning the reader adds to a model read from an older version (model.c). */
+extern const char *const sinew_blob_old_version_warning;
 extern const uint32_t blob_section_kind_count;
 
 typedef struct blob_skin {
@@ -108,6 +124,41 @@ typedef struct blob_mesh {
     uint32_t joints; /* BLOB_NONE for a rigid mesh */
     uint32_t weights;
 } blob_mesh;
+
+/* INST, one a mesh instance (sinew_instance without its morph channel, which is in IMRF). */
+typedef struct blob_instance {
+    uint32_t mesh;
+    uint32_t node;
+} blob_instance;
+
+typedef struct blob_morph_channel {
+    uint32_t name; /* string */
+    float default_weight;
+} blob_morph_channel;
+
+typedef struct blob_morph_target {
+    uint32_t mesh;
+    uint32_t name; /* string */
+    uint32_t channel;
+    float full_weight;
+    uint32_t delta_count;
+    uint32_t vertices;  /* offset of delta_count uint32_t */
+    uint32_t positions; /* offset of delta_count * 3 floats */
+    uint32_t normals;   /* the same, or BLOB_NONE */
+} blob_morph_target;
+
+typedef struct blob_weight_track {
+    uint32_t clip;
+    uint32_t channel;
+    sinew_channel keys; /* into the clip's times and values */
+} blob_weight_track;
+
+typedef struct blob_cache {
+    uint32_t mesh;
+    uint32_t frame_count;
+    uint32_t times;     /* offset of frame_count floats */
+    uint32_t positions; /* offset of frame_count * vertex_count * 3 floats */
+} blob_cache;
 
 typedef struct blob_texture {
     uint32_t path;   /* string, BLOB_NONE when absent */
@@ -212,10 +263,11 @@ void soa_to_locals(const float *pose, uint32_t stride, uint32_t node_count, sine
 void soa_worlds(const sinew_model *model, const float *pose, uint32_t stride, const sinew_mat4 *root,
                 sinew_mat4 *worlds, bool simd);
 
-/* Width in floats of one key value of a channel kind (translation/scale 3, rotation 4). */
+/* Width in floats of one key value of a channel kind (translation/scale 3, rotation 4, a
+ * morph channel's weight 1). */
 static inline uint32_t sinew_channel_width(int kind)
 {
-    return kind == SINEW_CHANNEL_ROTATION ? 4u : 3u;
+    return kind == SINEW_CHANNEL_ROTATION ? 4u : kind == SINEW_CHANNEL_WEIGHT ? 1u : 3u;
 }
 
 /* Values a key stores per component: 1, 3 (cubic: in-tangent, value, out-tangent) or 5

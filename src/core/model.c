@@ -27,7 +27,7 @@ const blob_section_kind blob_section_kinds[] = {
     SECTION("NRST", node_rest, sinew_transform),
     SECTION("SKIN", skins, blob_skin),
     SECTION("MESH", meshes, blob_mesh),
-    SECTION("INST", instances, sinew_instance),
+    SECTION("INST", instances, blob_instance),
     SECTION("MATL", materials, blob_material),
     SECTION("CLIP", clips, blob_clip),
     SECTION("WARN", warnings, uint32_t),
@@ -35,9 +35,20 @@ const blob_section_kind blob_section_kinds[] = {
     SECTION("NINH", node_inherit, uint8_t),
     SECTION("MTAN", mesh_tangents, uint32_t),
     SECTION("MPBR", materials_pbr, blob_pbr),
+    SECTION("MCHN", morph_channels, blob_morph_channel),
+    SECTION("MTGT", morph_targets, blob_morph_target),
+    SECTION("IMRF", instance_morph, uint32_t),
+    SECTION("WTRK", weight_tracks, blob_weight_track),
+    SECTION("VCCH", caches, blob_cache),
+    SECTION("SKBL", skin_blend, uint32_t),
+    SECTION("MDQW", mesh_dq, uint32_t),
+    SECTION("CTLN", clip_timeline, float),
 };
 #undef SECTION
 const uint32_t blob_section_kind_count = sizeof blob_section_kinds / sizeof blob_section_kinds[0];
+const char *const sinew_blob_old_version_warning =
+    "the .sinew file was written by an older sinew (format 3), before it kept morph targets, vertex caches and "
+    "skinning methods: convert the source file again for them";
 
 /* The allocation behind a model: this struct, the pointer tables, then the blob copy. */
 typedef struct model_block {
@@ -46,6 +57,7 @@ typedef struct model_block {
     sinew_allocator allocator;
     const unsigned char *blob;
     size_t blob_size;
+    uint32_t version; /* of the blob: an older one adds a warning */
 } model_block;
 
 typedef struct reader {
@@ -138,6 +150,7 @@ static sinew_result read_directory(reader *r, const blob_file_header *f, blob_he
     memset(h, 0, sizeof *h);
     h->source = f->source;
     h->format = f->format;
+    h->version = f->version;
     if (f->section_count > BLOB_MAX_SECTIONS || sizeof *f + (uint64_t)f->section_count * sizeof(blob_section) > r->size)
         return corrupt(r, "section directory");
     bool seen[sizeof blob_section_kinds / sizeof blob_section_kinds[0]] = {false};
@@ -175,10 +188,11 @@ static sinew_result check_header(reader *r, blob_header *h)
     memcpy(&f, r->bytes, sizeof f);
     if (memcmp(f.magic, BLOB_MAGIC, 8) != 0)
         return sinew_fail(r->error, SINEW_ERROR_FORMAT, "%s: not a sinew model (bad magic)", r->name);
-    if (f.version != BLOB_VERSION)
+    if (f.version < BLOB_OLDEST_VERSION || f.version > BLOB_VERSION)
         return sinew_fail(r->error, SINEW_ERROR_FORMAT,
-                          "%s: unsupported sinew model version %u (this build reads %u; convert the source file again)",
-                          r->name, f.version, BLOB_VERSION);
+                          "%s: unsupported sinew model version %u (this build reads %u to %u; convert the source file "
+                          "again)",
+                          r->name, f.version, BLOB_OLDEST_VERSION, BLOB_VERSION);
     if (f.header_size != sizeof f || f.flags != 0)
         return corrupt(r, "header size or flags");
     if (f.size != r->size)
@@ -317,7 +331,7 @@ static sinew_result check_meshes(reader *r)
         if (!maps_ok || !floats_finite(&pbr[i].metallic, 7) || pbr[i].flags > 1)
             return corrupt(r, "material PBR parameters");
     }
-    const sinew_instance *instances = array_at(r, h->instances.offset, h->instances.count);
+    const blob_instance *instances = array_at(r, h->instances.offset, h->instances.count);
     for (uint32_t i = 0; i < h->instances.count; i++)
         if (instances[i].mesh >= h->meshes.count || instances[i].node >= h->node_names.count)
             return corrupt(r, "mesh instance");
@@ -375,6 +389,99 @@ static sinew_result check_clips(reader *r)
     return SINEW_OK;
 }
 
+/* Version 4's deformer sections: morph channels and targets, the instances' channels, clips'
+ * weight tracks, vertex caches, skins' blend and meshes' dual-quaternion weights. */
+static sinew_result check_deformers(reader *r)
+{
+    const blob_header *h = r->header;
+    const blob_mesh *meshes = array_at(r, h->meshes.offset, h->meshes.count);
+    if ((h->skin_blend.count && h->skin_blend.count != h->skins.count) ||
+        (h->mesh_dq.count && h->mesh_dq.count != h->meshes.count) ||
+        (h->instance_morph.count && h->instance_morph.count != h->instances.count) ||
+        (h->clip_timeline.count && h->clip_timeline.count != h->clips.count))
+        return corrupt(r, "deformer table sizes");
+    const uint32_t *blend = array_at(r, h->skin_blend.offset, h->skin_blend.count);
+    for (uint32_t i = 0; blend && i < h->skin_blend.count; i++)
+        if (blend[i] > SINEW_SKIN_BLEND_MIXED)
+            return corrupt(r, "skin blend");
+    const uint32_t *dq = array_at(r, h->mesh_dq.offset, h->mesh_dq.count);
+    for (uint32_t i = 0; dq && i < h->mesh_dq.count; i++) {
+        uint64_t v = meshes[i].vertex_count;
+        if (dq[i] == BLOB_NONE)
+            continue;
+        if (!range_ok(r, dq[i], v, 4))
+            return corrupt(r, "mesh dual-quaternion weights");
+        const float *w = array_at(r, dq[i], v);
+        for (uint64_t k = 0; k < v; k++)
+            if (!(w[k] >= 0.0f && w[k] <= 1.0f))
+                return corrupt(r, "mesh dual-quaternion weights");
+    }
+    const blob_morph_channel *channels = array_at(r, h->morph_channels.offset, h->morph_channels.count);
+    for (uint32_t i = 0; i < h->morph_channels.count; i++)
+        if (!string_ok(r, channels[i].name, false) || !isfinite(channels[i].default_weight))
+            return corrupt(r, "morph channel");
+    const blob_morph_target *targets = array_at(r, h->morph_targets.offset, h->morph_targets.count);
+    for (uint32_t i = 0; i < h->morph_targets.count; i++) {
+        const blob_morph_target *t = &targets[i];
+        if (t->mesh >= h->meshes.count || (i > 0 && t->mesh < targets[i - 1].mesh) || !string_ok(r, t->name, false) ||
+            t->channel >= h->morph_channels.count || !isfinite(t->full_weight) || t->full_weight == 0.0f)
+            return corrupt(r, "morph target");
+        if (i > 0 && t->mesh == targets[i - 1].mesh &&
+            (t->channel < targets[i - 1].channel ||
+             (t->channel == targets[i - 1].channel && !(t->full_weight > targets[i - 1].full_weight))))
+            return corrupt(r, "morph targets out of order");
+        uint64_t n = t->delta_count;
+        if (n > meshes[t->mesh].vertex_count || !range_ok(r, t->vertices, n, 4) || !range_ok(r, t->positions, n, 12) ||
+            (t->normals != BLOB_NONE && !range_ok(r, t->normals, n, 12)))
+            return corrupt(r, "morph target arrays");
+        const uint32_t *v = array_at(r, t->vertices, n);
+        for (uint64_t k = 0; k < n; k++)
+            if (v[k] >= meshes[t->mesh].vertex_count || (k > 0 && v[k] <= v[k - 1]))
+                return corrupt(r, "morph target vertices");
+        if (n && (!floats_finite(array_at(r, t->positions, n), n * 3) ||
+                  (t->normals != BLOB_NONE && !floats_finite(array_at(r, t->normals, n), n * 3))))
+            return corrupt(r, "morph target offsets");
+    }
+    /* every instance's channels lie within the model's */
+    const blob_instance *instances = array_at(r, h->instances.offset, h->instances.count);
+    const uint32_t *first = array_at(r, h->instance_morph.offset, h->instance_morph.count);
+    for (uint32_t i = 0; i < h->morph_targets.count; i++)
+        for (uint32_t k = 0; k < h->instances.count; k++)
+            if (instances[k].mesh == targets[i].mesh &&
+                (uint64_t)(first ? first[k] : 0) + targets[i].channel >= h->morph_channels.count)
+                return corrupt(r, "instance morph channels");
+    const blob_clip *clips = array_at(r, h->clips.offset, h->clips.count);
+    const blob_weight_track *tracks = array_at(r, h->weight_tracks.offset, h->weight_tracks.count);
+    for (uint32_t i = 0; i < h->weight_tracks.count; i++) {
+        const blob_weight_track *t = &tracks[i];
+        if (t->clip >= h->clips.count || t->channel >= h->morph_channels.count ||
+            (i > 0 && (t->clip < tracks[i - 1].clip ||
+                       (t->clip == tracks[i - 1].clip && t->channel <= tracks[i - 1].channel))) ||
+            t->keys.interp == SINEW_INTERP_BEZIER || !channel_ok(r, &clips[t->clip], &t->keys, SINEW_CHANNEL_WEIGHT))
+            return corrupt(r, "weight track");
+    }
+    const blob_cache *caches = array_at(r, h->caches.offset, h->caches.count);
+    for (uint32_t i = 0; i < h->caches.count; i++) {
+        const blob_cache *c = &caches[i];
+        if (c->mesh >= h->meshes.count || (i > 0 && c->mesh <= caches[i - 1].mesh) || c->frame_count == 0)
+            return corrupt(r, "vertex cache");
+        uint64_t values = (uint64_t)c->frame_count * meshes[c->mesh].vertex_count * 3;
+        if (!range_ok(r, c->times, c->frame_count, 4) || !range_ok(r, c->positions, values, 4))
+            return corrupt(r, "vertex cache arrays");
+        const float *times = array_at(r, c->times, c->frame_count);
+        if (!floats_finite(times, c->frame_count) ||
+            (values && !floats_finite(array_at(r, c->positions, values), values)))
+            return corrupt(r, "vertex cache values");
+        for (uint32_t k = 1; k < c->frame_count; k++)
+            if (!(times[k] > times[k - 1]))
+                return corrupt(r, "vertex cache times");
+    }
+    const float *timeline = array_at(r, h->clip_timeline.offset, h->clip_timeline.count);
+    if (timeline && !floats_finite(timeline, h->clip_timeline.count))
+        return corrupt(r, "clip timeline");
+    return SINEW_OK;
+}
+
 static bool numbers_ok(const reader *r, uint32_t offset, uint32_t count, bool positive)
 {
     if (offset % 8u != 0 || !range_ok(r, offset, count, sizeof(double)))
@@ -422,6 +529,12 @@ static size_t tables_size(const blob_header *h)
     size += (size_t)h->materials.count * sizeof(sinew_material);
     size += (size_t)h->clips.count * sizeof(sinew_clip);
     size += (size_t)h->muscles.count * sizeof(sinew_muscle_def);
+    size += sizeof(char *); /* a warning about an older format */
+    size += (size_t)h->instances.count * sizeof(sinew_instance);
+    size += (size_t)h->morph_channels.count * sizeof(sinew_morph_channel);
+    size += (size_t)h->morph_targets.count * sizeof(sinew_morph_target);
+    size += (size_t)h->weight_tracks.count * sizeof(sinew_weight_track);
+    size += (size_t)h->caches.count * sizeof(sinew_vertex_cache);
     return (size + BLOB_ALIGN - 1) & ~(size_t)(BLOB_ALIGN - 1);
 }
 
@@ -431,6 +544,58 @@ static void *take(unsigned char **cursor, size_t bytes)
     void *p = *cursor;
     *cursor += bytes;
     return p;
+}
+
+/* Instances, morph channels, the meshes' targets, dual-quaternion weights and caches. */
+static void fill_deformers(sinew_model *m, const reader *r, sinew_mesh *meshes, unsigned char **cursor)
+{
+    const blob_header *h = r->header;
+    m->instance_count = h->instances.count;
+    sinew_instance *instances = take(cursor, m->instance_count * sizeof(sinew_instance));
+    const blob_instance *binst = array_at(r, h->instances.offset, m->instance_count);
+    const uint32_t *first = array_at(r, h->instance_morph.offset, h->instance_morph.count);
+    for (uint32_t i = 0; i < m->instance_count; i++)
+        instances[i] = (sinew_instance){binst[i].mesh, binst[i].node, first ? first[i] : 0};
+    m->instances = instances;
+
+    m->morph_channel_count = h->morph_channels.count;
+    sinew_morph_channel *channels = take(cursor, m->morph_channel_count * sizeof(sinew_morph_channel));
+    const blob_morph_channel *bch = array_at(r, h->morph_channels.offset, m->morph_channel_count);
+    for (uint32_t i = 0; i < m->morph_channel_count; i++)
+        channels[i] = (sinew_morph_channel){string_at(r, bch[i].name), bch[i].default_weight};
+    m->morph_channels = channels;
+
+    sinew_morph_target *targets = take(cursor, h->morph_targets.count * sizeof(sinew_morph_target));
+    const blob_morph_target *bt = array_at(r, h->morph_targets.offset, h->morph_targets.count);
+    for (uint32_t i = 0; i < h->morph_targets.count; i++) {
+        targets[i] = (sinew_morph_target){
+            .name = string_at(r, bt[i].name),
+            .channel = bt[i].channel,
+            .full_weight = bt[i].full_weight,
+            .delta_count = bt[i].delta_count,
+            .vertices = array_at(r, bt[i].vertices, bt[i].delta_count),
+            .positions = array_at(r, bt[i].positions, bt[i].delta_count),
+            .normals = bt[i].normals == BLOB_NONE ? NULL : array_at(r, bt[i].normals, bt[i].delta_count),
+        };
+        sinew_mesh *mesh = &meshes[bt[i].mesh];
+        if (mesh->target_count++ == 0)
+            mesh->targets = &targets[i];
+        if (bt[i].channel + 1 > mesh->morph_channel_count)
+            mesh->morph_channel_count = bt[i].channel + 1;
+    }
+
+    const uint32_t *dq = array_at(r, h->mesh_dq.offset, h->mesh_dq.count);
+    for (uint32_t i = 0; dq && i < h->mesh_dq.count; i++)
+        meshes[i].dq_weights = dq[i] == BLOB_NONE ? NULL : array_at(r, dq[i], meshes[i].vertex_count);
+
+    sinew_vertex_cache *caches = take(cursor, h->caches.count * sizeof(sinew_vertex_cache));
+    const blob_cache *bc = array_at(r, h->caches.offset, h->caches.count);
+    for (uint32_t i = 0; i < h->caches.count; i++) {
+        uint64_t values = (uint64_t)bc[i].frame_count * meshes[bc[i].mesh].vertex_count * 3;
+        caches[i] = (sinew_vertex_cache){bc[i].frame_count, array_at(r, bc[i].times, bc[i].frame_count),
+                                         array_at(r, bc[i].positions, values)};
+        meshes[bc[i].mesh].cache = &caches[i];
+    }
 }
 
 static void fill_model(model_block *b, const reader *r, unsigned char *tables)
@@ -452,10 +617,12 @@ static void fill_model(model_block *b, const reader *r, unsigned char *tables)
     m->node_inherit = h->node_inherit.count ? array_at(r, h->node_inherit.offset, m->node_count) : NULL;
 
     m->warning_count = h->warnings.count;
-    const char **warnings = take(&cursor, m->warning_count * sizeof(char *));
+    const char **warnings = take(&cursor, (m->warning_count + 1) * sizeof(char *));
     const uint32_t *warning_offsets = array_at(r, h->warnings.offset, m->warning_count);
     for (uint32_t i = 0; i < m->warning_count; i++)
         warnings[i] = string_at(r, warning_offsets[i]);
+    if (h->version < BLOB_VERSION)
+        warnings[m->warning_count++] = sinew_blob_old_version_warning;
     m->warnings = warnings;
 
     m->skin_count = h->skins.count;
@@ -465,6 +632,7 @@ static void fill_model(model_block *b, const reader *r, unsigned char *tables)
         skins[i].joint_count = bskins[i].joints.count;
         skins[i].joints = array_at(r, bskins[i].joints.offset, bskins[i].joints.count);
         skins[i].inverse_bind = array_at(r, bskins[i].inverse_bind.offset, bskins[i].joints.count);
+        skins[i].blend = h->skin_blend.count ? ((const uint32_t *)array_at(r, h->skin_blend.offset, 1))[i] : 0;
     }
     m->skins = skins;
 
@@ -492,8 +660,7 @@ static void fill_model(model_block *b, const reader *r, unsigned char *tables)
         };
     }
     m->meshes = meshes;
-    m->instance_count = h->instances.count;
-    m->instances = array_at(r, h->instances.offset, h->instances.count);
+    fill_deformers(m, r, meshes, &cursor);
 
     m->material_count = h->materials.count;
     sinew_material *materials = take(&cursor, m->material_count * sizeof(sinew_material));
@@ -536,7 +703,16 @@ static void fill_model(model_block *b, const reader *r, unsigned char *tables)
             .value_count = bc->values.count,
             .times = array_at(r, bc->times.offset, bc->times.count),
             .values = array_at(r, bc->values.offset, bc->values.count),
+            .timeline = h->clip_timeline.count ? ((const float *)array_at(r, h->clip_timeline.offset, 1))[i] : 0.0f,
         };
+    }
+    const blob_weight_track *btracks = array_at(r, h->weight_tracks.offset, h->weight_tracks.count);
+    sinew_weight_track *tracks = take(&cursor, h->weight_tracks.count * sizeof(sinew_weight_track));
+    for (uint32_t i = 0; i < h->weight_tracks.count; i++) {
+        tracks[i] = (sinew_weight_track){btracks[i].channel, btracks[i].keys};
+        sinew_clip *c = &clips[btracks[i].clip];
+        if (c->weight_track_count++ == 0)
+            c->weight_tracks = &tracks[i];
     }
     m->clips = clips;
 
@@ -593,7 +769,7 @@ static sinew_result open_blob(const void *bytes, size_t size, const char *name, 
 
     reader r = {.bytes = copy, .size = size, .name = name, .header = &header, .error = error};
     if ((result = check_nodes(&r)) || (result = check_skins(&r)) || (result = check_meshes(&r)) ||
-        (result = check_clips(&r)) || (result = check_muscles(&r))) {
+        (result = check_clips(&r)) || (result = check_deformers(&r)) || (result = check_muscles(&r))) {
         alloc.free(block, alloc.user);
         return result;
     }

@@ -52,7 +52,7 @@ static sinew_result make_rod(raw_model *m, uint32_t index, const char *name, dou
                                    .index_capacity = ni};
     mesh->skin = -1;
     mesh->material = 0;
-    m->instances[index] = (sinew_instance){index, index == 0 ? NODE_UPPER : NODE_LOWER};
+    m->instances[index] = (sinew_instance){index, index == 0 ? NODE_UPPER : NODE_LOWER, 0};
     return sinew_muscle_surface(&d, NULL);
 }
 

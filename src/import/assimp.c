@@ -591,7 +591,7 @@ static sinew_result read_instances(context *c, const uint32_t *mesh_map)
             unsigned src = c->nodes[n]->mMeshes[k];
             if (src >= c->scene->mNumMeshes || mesh_map[src] == UINT32_MAX)
                 continue;
-            m->instances[m->instance_count++] = (sinew_instance){mesh_map[src], n};
+            m->instances[m->instance_count++] = (sinew_instance){mesh_map[src], n, 0};
             used[mesh_map[src]] = true;
         }
     }

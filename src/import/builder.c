@@ -85,6 +85,11 @@ void raw_clip_free(raw_clip *clip)
             free(clip->tracks[t].channels[k].values);
         }
     free(clip->tracks);
+    for (uint32_t t = 0; t < clip->weight_track_count; t++) {
+        free(clip->weight_tracks[t].keys.times);
+        free(clip->weight_tracks[t].keys.values);
+    }
+    free(clip->weight_tracks);
     free(clip->name);
 }
 
@@ -98,6 +103,19 @@ void raw_mesh_free(raw_mesh *mesh)
     free(mesh->indices);
     free(mesh->joints);
     free(mesh->weights);
+    free(mesh->dq_weights);
+    for (uint32_t t = 0; t < mesh->target_count; t++) {
+        free(mesh->targets[t].name);
+        free(mesh->targets[t].vertices);
+        free(mesh->targets[t].positions);
+        free(mesh->targets[t].normals);
+    }
+    free(mesh->targets);
+    if (mesh->cache) {
+        free(mesh->cache->times);
+        free(mesh->cache->positions);
+        free(mesh->cache);
+    }
 }
 
 bool raw_model_moved_nodes(const raw_model *m, const bool *excluded, bool *out)
@@ -190,6 +208,9 @@ void raw_model_free(raw_model *m)
     for (uint32_t c = 0; c < m->clip_count; c++)
         raw_clip_free(&m->clips[c]);
     free(m->clips);
+    for (uint32_t i = 0; i < m->morph_channel_count; i++)
+        free(m->morph_channels[i].name);
+    free(m->morph_channels);
     for (uint32_t i = 0; i < m->pool_count; i++) {
         free(m->pools[i].times);
         free(m->pools[i].values);
@@ -586,9 +607,183 @@ static sinew_result fix_clip(raw_model *m, raw_clip *clip, sinew_error *error)
                                   m->node_names[track->node]);
         }
     }
+    for (uint32_t t = 0; t < clip->weight_track_count; t++) {
+        raw_weight_track *wt = &clip->weight_tracks[t];
+        raw_channel *ch = &wt->keys;
+        if (ch->pool) { /* a .sinew file's shared keys: checked when it was read */
+            if (wt->channel >= m->morph_channel_count || owned)
+                return sinew_fail(error, SINEW_ERROR_DATA, "%s: clip \"%s\": a weight track names a missing channel",
+                                  m->source, clip->name);
+            continue;
+        }
+        if (wt->channel >= m->morph_channel_count || pool ||
+            (t > 0 && wt->channel <= clip->weight_tracks[t - 1].channel))
+            return sinew_fail(error, SINEW_ERROR_DATA,
+                              "%s: clip \"%s\": a weight track names a missing morph channel, comes twice or out of "
+                              "order, or is in a clip that shares its keys",
+                              m->source, clip->name);
+        uint32_t stride = sinew_channel_stride(SINEW_CHANNEL_WEIGHT, ch->interp);
+        if (ch->interp > SINEW_INTERP_CUBIC || !all_finite(ch->times, ch->count) ||
+            !all_finite(ch->values, (size_t)ch->count * stride))
+            return sinew_fail(error, SINEW_ERROR_DATA,
+                              "%s: clip \"%s\": the weight keys of morph channel \"%s\" are not finite or of an "
+                              "unknown interpolation",
+                              m->source, clip->name, m->morph_channels[wt->channel].name);
+        bool was_sorted = true;
+        for (uint32_t k = 1; k < ch->count && was_sorted; k++)
+            was_sorted = ch->times[k] >= ch->times[k - 1];
+        if (!sort_keys(ch, stride))
+            return oom(m, error);
+        unsorted += !was_sorted;
+    }
+    if (!isfinite(clip->timeline))
+        clip->timeline = 0.0f;
     if (unsorted)
         raw_model_warn(m, "clip \"%s\": %u channels had keys out of time order; they were sorted", clip->name,
                        unsorted);
+    return SINEW_OK;
+}
+
+static int by_weight_track(const void *a, const void *b)
+{
+    const raw_weight_track *x = a, *y = b;
+    return x->channel < y->channel ? -1 : (x->channel > y->channel);
+}
+
+/* A delta: its vertex, and where it is in the target's arrays. */
+typedef struct delta_order {
+    uint32_t vertex, index;
+} delta_order;
+
+static int by_vertex(const void *a, const void *b)
+{
+    const delta_order *x = a, *y = b;
+    return x->vertex < y->vertex ? -1 : x->vertex > y->vertex ? 1 : (x->index > y->index) - (x->index < y->index);
+}
+
+static int by_channel_weight(const void *a, const void *b)
+{
+    const raw_morph_target *x = a, *y = b;
+    if (x->channel != y->channel)
+        return x->channel < y->channel ? -1 : 1;
+    return x->full_weight < y->full_weight ? -1 : (x->full_weight > y->full_weight);
+}
+
+/* A target's deltas sorted by vertex, each vertex once (a vertex given twice adds up), zero
+ * offsets dropped. */
+static sinew_result fix_target(raw_model *m, const raw_mesh *mesh, raw_morph_target *t, sinew_error *error)
+{
+    if (!isfinite(t->full_weight) || t->full_weight == 0.0f || !all_finite(t->positions, (size_t)t->delta_count * 3) ||
+        (t->normals && !all_finite(t->normals, (size_t)t->delta_count * 3)))
+        return sinew_fail(error, SINEW_ERROR_DATA,
+                          "%s: mesh \"%s\": morph target \"%s\" has offsets that are not finite or a full weight of 0",
+                          m->source, mesh->name, t->name);
+    delta_order *order = malloc((t->delta_count ? t->delta_count : 1) * sizeof *order);
+    if (!order)
+        return oom(m, error);
+    for (uint32_t k = 0; k < t->delta_count; k++) {
+        if (t->vertices[k] >= mesh->vertex_count) {
+            uint32_t v = t->vertices[k];
+            free(order);
+            return sinew_fail(error, SINEW_ERROR_DATA,
+                              "%s: mesh \"%s\": morph target \"%s\" moves vertex %u of a mesh of %u vertices",
+                              m->source, mesh->name, t->name, v, mesh->vertex_count);
+        }
+        order[k] = (delta_order){t->vertices[k], k};
+    }
+    qsort(order, t->delta_count, sizeof *order, by_vertex);
+    uint32_t *vertices = malloc((t->delta_count ? t->delta_count : 1) * sizeof *vertices);
+    float *positions = malloc((t->delta_count ? t->delta_count : 1) * 3 * sizeof *positions);
+    float *normals = t->normals ? malloc((t->delta_count ? t->delta_count : 1) * 3 * sizeof *normals) : NULL;
+    if (!vertices || !positions || (t->normals && !normals)) {
+        free(order);
+        free(vertices);
+        free(positions);
+        free(normals);
+        return oom(m, error);
+    }
+    uint32_t n = 0;
+    for (uint32_t k = 0; k < t->delta_count; k++) {
+        const float *p = &t->positions[order[k].index * 3], *q = t->normals ? &t->normals[order[k].index * 3] : NULL;
+        if (n > 0 && vertices[n - 1] == order[k].vertex) {
+            for (int c = 0; c < 3; c++) {
+                positions[(n - 1) * 3 + c] += p[c];
+                if (q)
+                    normals[(n - 1) * 3 + c] += q[c];
+            }
+            continue;
+        }
+        vertices[n] = order[k].vertex;
+        memcpy(&positions[n * 3], p, 3 * sizeof *p);
+        if (q)
+            memcpy(&normals[n * 3], q, 3 * sizeof *q);
+        n++;
+    }
+    /* offsets that move nothing go */
+    uint32_t kept = 0;
+    for (uint32_t k = 0; k < n; k++) {
+        bool zero = positions[k * 3] == 0 && positions[k * 3 + 1] == 0 && positions[k * 3 + 2] == 0 &&
+                    (!normals || (normals[k * 3] == 0 && normals[k * 3 + 1] == 0 && normals[k * 3 + 2] == 0));
+        if (zero)
+            continue;
+        vertices[kept] = vertices[k];
+        memmove(&positions[kept * 3], &positions[k * 3], 3 * sizeof *positions);
+        if (normals)
+            memmove(&normals[kept * 3], &normals[k * 3], 3 * sizeof *normals);
+        kept++;
+    }
+    free(order);
+    free(t->vertices);
+    free(t->positions);
+    free(t->normals);
+    t->vertices = vertices;
+    t->positions = positions;
+    t->normals = normals;
+    t->delta_count = kept;
+    return SINEW_OK;
+}
+
+/* A mesh's morph targets (sorted by channel and full weight, each with its deltas in order),
+ * its vertex cache and its dual-quaternion weights. */
+static sinew_result fix_deformers(raw_model *m, uint32_t index, sinew_error *error)
+{
+    raw_mesh *mesh = &m->meshes[index];
+    sinew_result result;
+    for (uint32_t t = 0; t < mesh->target_count; t++)
+        if ((result = fix_target(m, mesh, &mesh->targets[t], error)))
+            return result;
+    if (mesh->target_count)
+        qsort(mesh->targets, mesh->target_count, sizeof *mesh->targets, by_channel_weight);
+    uint32_t channels = 0;
+    for (uint32_t t = 0; t < mesh->target_count; t++) {
+        if (t > 0 && mesh->targets[t].channel == mesh->targets[t - 1].channel &&
+            mesh->targets[t].full_weight == mesh->targets[t - 1].full_weight)
+            return sinew_fail(error, SINEW_ERROR_DATA,
+                              "%s: mesh \"%s\": morph targets \"%s\" and \"%s\" are whole at the same weight of "
+                              "one channel",
+                              m->source, mesh->name, mesh->targets[t - 1].name, mesh->targets[t].name);
+        if (mesh->targets[t].channel + 1 > channels)
+            channels = mesh->targets[t].channel + 1;
+    }
+    for (uint32_t i = 0; channels && i < m->instance_count; i++)
+        if (m->instances[i].mesh == index && (uint64_t)m->instances[i].morph_first + channels > m->morph_channel_count)
+            return sinew_fail(error, SINEW_ERROR_DATA,
+                              "%s: mesh \"%s\": its morph targets name channels the model does not have", m->source,
+                              mesh->name);
+    raw_vertex_cache *c = mesh->cache;
+    if (c) {
+        bool ok = c->frame_count > 0 && all_finite(c->times, c->frame_count) &&
+                  all_finite(c->positions, (size_t)c->frame_count * mesh->vertex_count * 3);
+        for (uint32_t k = 1; ok && k < c->frame_count; k++)
+            ok = c->times[k] > c->times[k - 1];
+        if (!ok)
+            return sinew_fail(error, SINEW_ERROR_DATA,
+                              "%s: mesh \"%s\": its vertex cache has no frames, frames out of order or positions "
+                              "that are not finite",
+                              m->source, mesh->name);
+    }
+    for (uint32_t v = 0; mesh->dq_weights && v < mesh->vertex_count; v++)
+        mesh->dq_weights[v] = isfinite(mesh->dq_weights[v]) ? fminf(fmaxf(mesh->dq_weights[v], 0.0f), 1.0f) : 0.0f;
     return SINEW_OK;
 }
 
@@ -960,8 +1155,29 @@ out:
     return span;
 }
 
+/* Weight tracks of all clips, gathered as the clips are written (WTRK). */
+typedef struct weight_table {
+    blob_weight_track *tracks;
+    uint32_t count, capacity;
+} weight_table;
+
+static bool weight_table_push(weight_table *t, const blob_weight_track *track)
+{
+    if (t->count == t->capacity) {
+        uint32_t cap = t->capacity ? t->capacity * 2 : 16;
+        blob_weight_track *grown = realloc(t->tracks, cap * sizeof *grown);
+        if (!grown)
+            return false;
+        t->tracks = grown;
+        t->capacity = cap;
+    }
+    t->tracks[t->count++] = *track;
+    return true;
+}
+
 /* A clip whose channels play a pool's keys: its tracks point into the pool's spans. */
-static bool write_pooled_clip(writer *w, const raw_clip *clip, const blob_span *pool_spans, blob_clip *out)
+static bool write_pooled_clip(writer *w, const raw_clip *clip, uint32_t index, const blob_span *pool_spans,
+                              blob_clip *out, weight_table *weights)
 {
     sinew_track *tracks = calloc(clip->track_count ? clip->track_count : 1, sizeof *tracks);
     if (!tracks)
@@ -986,7 +1202,14 @@ static bool write_pooled_clip(writer *w, const raw_clip *clip, const blob_span *
         .values = pool_spans[2 * (pool - 1) + 1],
     };
     free(tracks);
-    return true;
+    bool ok = true;
+    for (uint32_t t = 0; ok && t < clip->weight_track_count; t++) {
+        const raw_channel *ch = &clip->weight_tracks[t].keys;
+        blob_weight_track bt = {
+            index, clip->weight_tracks[t].channel, {ch->count, ch->interp, ch->first_key, ch->first_value}};
+        ok = ch->count == 0 || weight_table_push(weights, &bt);
+    }
+    return ok;
 }
 
 static uint32_t clip_pool(const raw_clip *clip)
@@ -995,11 +1218,15 @@ static uint32_t clip_pool(const raw_clip *clip)
         for (int k = 0; k < SINEW_CHANNEL_COUNT; k++)
             if (clip->tracks[t].channels[k].count)
                 return clip->tracks[t].channels[k].pool;
+    for (uint32_t t = 0; t < clip->weight_track_count; t++)
+        if (clip->weight_tracks[t].keys.count)
+            return clip->weight_tracks[t].keys.pool;
     return 0;
 }
 
-/* One clip: every channel's times and values concatenated, tracks pointing into them. */
-static bool write_clip(writer *w, const raw_clip *clip, blob_clip *out)
+/* One clip: every channel's times and values concatenated (its weight tracks' after its
+ * node tracks'), tracks pointing into them. */
+static bool write_clip(writer *w, const raw_clip *clip, uint32_t index, blob_clip *out, weight_table *weights)
 {
     size_t time_count = 0, value_count = 0;
     for (uint32_t t = 0; t < clip->track_count; t++)
@@ -1008,6 +1235,11 @@ static bool write_clip(writer *w, const raw_clip *clip, blob_clip *out)
             time_count += ch->count;
             value_count += (size_t)ch->count * sinew_channel_stride(k, ch->interp);
         }
+    for (uint32_t t = 0; t < clip->weight_track_count; t++) {
+        const raw_channel *ch = &clip->weight_tracks[t].keys;
+        time_count += ch->count;
+        value_count += (size_t)ch->count * sinew_channel_stride(SINEW_CHANNEL_WEIGHT, ch->interp);
+    }
     if (time_count > UINT32_MAX / 4 || value_count > UINT32_MAX / 4)
         return false;
     float *times = malloc((time_count ? time_count : 1) * sizeof(float));
@@ -1030,6 +1262,21 @@ static bool write_clip(writer *w, const raw_clip *clip, blob_clip *out)
             at_value += n_values;
         }
     }
+    for (uint32_t t = 0; ok && t < clip->weight_track_count; t++) {
+        const raw_channel *ch = &clip->weight_tracks[t].keys;
+        size_t n_values = (size_t)ch->count * sinew_channel_stride(SINEW_CHANNEL_WEIGHT, ch->interp);
+        blob_weight_track bt = {
+            index,
+            clip->weight_tracks[t].channel,
+            {ch->count, ch->count ? ch->interp : SINEW_INTERP_LINEAR, (uint32_t)at_time, (uint32_t)at_value}};
+        if (ch->count) {
+            memcpy(times + at_time, ch->times, ch->count * sizeof(float));
+            memcpy(values + at_value, ch->values, n_values * sizeof(float));
+        }
+        at_time += ch->count;
+        at_value += n_values;
+        ok = ch->count == 0 || weight_table_push(weights, &bt);
+    }
     if (ok) {
         *out = (blob_clip){
             .name = writer_string(w, clip->name),
@@ -1046,10 +1293,16 @@ static bool write_clip(writer *w, const raw_clip *clip, blob_clip *out)
     return ok;
 }
 
-static blob_span write_clips(writer *w, const raw_model *m)
+/* CLIP, and WTRK (the clips' weight tracks) and CTLN (their timelines) when any has them. */
+static blob_span write_clips(writer *w, const raw_model *m, blob_span *weight_span, blob_span *timeline_span)
 {
     blob_clip *table = calloc(m->clip_count ? m->clip_count : 1, sizeof *table);
-    if (!table) {
+    float *timeline = calloc(m->clip_count ? m->clip_count : 1, sizeof *timeline);
+    weight_table weights = {0};
+    *weight_span = *timeline_span = (blob_span){0, 0};
+    if (!table || !timeline) {
+        free(table);
+        free(timeline);
         w->failed = true;
         return (blob_span){BLOB_NONE, 0};
     }
@@ -1062,16 +1315,114 @@ static blob_span write_clips(writer *w, const raw_model *m)
         pool_spans[2 * i] = (blob_span){writer_put(w, p->times, p->time_count * sizeof(float)), p->time_count};
         pool_spans[2 * i + 1] = (blob_span){writer_put(w, p->values, p->value_count * sizeof(float)), p->value_count};
     }
+    bool timelines = false;
     for (uint32_t i = 0; i < m->clip_count && !w->failed; i++) {
         uint32_t pool = clip_pool(&m->clips[i]);
-        if (!(pool ? write_pooled_clip(w, &m->clips[i], pool_spans, &table[i])
-                   : write_clip(w, &m->clips[i], &table[i])))
+        if (!(pool ? write_pooled_clip(w, &m->clips[i], i, pool_spans, &table[i], &weights)
+                   : write_clip(w, &m->clips[i], i, &table[i], &weights)))
             w->failed = true;
+        timeline[i] = m->clips[i].timeline;
+        timelines |= timeline[i] != 0.0f;
     }
     blob_span span = {writer_put(w, table, m->clip_count * sizeof *table), m->clip_count};
+    if (weights.count)
+        *weight_span =
+            (blob_span){writer_put(w, weights.tracks, weights.count * sizeof *weights.tracks), weights.count};
+    if (timelines)
+        *timeline_span = (blob_span){writer_put(w, timeline, m->clip_count * sizeof *timeline), m->clip_count};
+    free(weights.tracks);
     free(pool_spans);
     free(table);
+    free(timeline);
     return span;
+}
+
+/* INST and IMRF (each instance's first morph channel, when any is not 0). */
+static blob_span write_instances(writer *w, const raw_model *m, blob_span *morph_span)
+{
+    blob_instance *table = calloc(m->instance_count ? m->instance_count : 1, sizeof *table);
+    uint32_t *first = calloc(m->instance_count ? m->instance_count : 1, sizeof *first);
+    *morph_span = (blob_span){0, 0};
+    blob_span span = {BLOB_NONE, 0};
+    if (!table || !first) {
+        w->failed = true;
+    } else {
+        bool any = false;
+        for (uint32_t i = 0; i < m->instance_count; i++) {
+            table[i] = (blob_instance){m->instances[i].mesh, m->instances[i].node};
+            first[i] = m->instances[i].morph_first;
+            any |= first[i] != 0;
+        }
+        span = (blob_span){writer_put(w, table, m->instance_count * sizeof *table), m->instance_count};
+        if (any)
+            *morph_span = (blob_span){writer_put(w, first, m->instance_count * sizeof *first), m->instance_count};
+    }
+    free(table);
+    free(first);
+    return span;
+}
+
+/* MCHN, MTGT, VCCH, SKBL and MDQW: what deforms meshes besides the skin's joints. */
+static void write_deformers(writer *w, const raw_model *m, blob_header *h)
+{
+    uint32_t targets = 0, caches = 0;
+    bool blends = false, dq = false;
+    for (uint32_t i = 0; i < m->mesh_count; i++) {
+        targets += m->meshes[i].target_count;
+        caches += m->meshes[i].cache != NULL;
+        dq |= m->meshes[i].dq_weights != NULL;
+    }
+    for (uint32_t i = 0; i < m->skin_count; i++)
+        blends |= m->skins[i].blend != SINEW_SKIN_BLEND_LINEAR;
+    blob_morph_channel *ch = calloc(m->morph_channel_count + 1u, sizeof *ch);
+    blob_morph_target *tt = calloc(targets + 1u, sizeof *tt);
+    blob_cache *ct = calloc(caches + 1u, sizeof *ct);
+    uint32_t *bl = calloc(m->skin_count + 1u, sizeof *bl), *dqo = calloc(m->mesh_count + 1u, sizeof *dqo);
+    if (!ch || !tt || !ct || !bl || !dqo) {
+        w->failed = true;
+        goto out;
+    }
+    for (uint32_t i = 0; i < m->morph_channel_count; i++)
+        ch[i] = (blob_morph_channel){writer_string(w, m->morph_channels[i].name), m->morph_channels[i].default_weight};
+    if (m->morph_channel_count)
+        h->morph_channels = (blob_span){writer_put(w, ch, m->morph_channel_count * sizeof *ch), m->morph_channel_count};
+    uint32_t nt = 0, nc = 0;
+    for (uint32_t i = 0; i < m->mesh_count; i++) {
+        const raw_mesh *mesh = &m->meshes[i];
+        for (uint32_t k = 0; k < mesh->target_count; k++) {
+            const raw_morph_target *t = &mesh->targets[k];
+            tt[nt++] = (blob_morph_target){
+                .mesh = i,
+                .name = writer_string(w, t->name),
+                .channel = t->channel,
+                .full_weight = t->full_weight,
+                .delta_count = t->delta_count,
+                .vertices = writer_put(w, t->vertices, (size_t)t->delta_count * 4),
+                .positions = writer_put(w, t->positions, (size_t)t->delta_count * 12),
+                .normals = t->normals ? writer_put(w, t->normals, (size_t)t->delta_count * 12) : BLOB_NONE};
+        }
+        if (mesh->cache)
+            ct[nc++] = (blob_cache){
+                i, mesh->cache->frame_count, writer_put(w, mesh->cache->times, (size_t)mesh->cache->frame_count * 4),
+                writer_put(w, mesh->cache->positions, (size_t)mesh->cache->frame_count * mesh->vertex_count * 12)};
+        dqo[i] = mesh->dq_weights ? writer_put(w, mesh->dq_weights, (size_t)mesh->vertex_count * 4) : BLOB_NONE;
+    }
+    if (nt)
+        h->morph_targets = (blob_span){writer_put(w, tt, nt * sizeof *tt), nt};
+    if (nc)
+        h->caches = (blob_span){writer_put(w, ct, nc * sizeof *ct), nc};
+    for (uint32_t i = 0; blends && i < m->skin_count; i++)
+        bl[i] = m->skins[i].blend;
+    if (blends)
+        h->skin_blend = (blob_span){writer_put(w, bl, m->skin_count * sizeof *bl), m->skin_count};
+    if (dq)
+        h->mesh_dq = (blob_span){writer_put(w, dqo, m->mesh_count * sizeof *dqo), m->mesh_count};
+out:
+    free(ch);
+    free(tt);
+    free(ct);
+    free(bl);
+    free(dqo);
 }
 
 static uint32_t write_numbers(writer *w, const double *values, uint32_t count)
@@ -1133,10 +1484,10 @@ sinew_result raw_model_write(const raw_model *m, void **bytes, size_t *size, sin
     h.skins = write_skins(&w, m);
     h.meshes = write_meshes(&w, m);
     h.mesh_tangents = write_mesh_tangents(&w, m);
-    h.instances =
-        (blob_span){writer_put(&w, m->instances, m->instance_count * sizeof(sinew_instance)), m->instance_count};
+    h.instances = write_instances(&w, m, &h.instance_morph);
+    write_deformers(&w, m, &h);
     h.materials = write_materials(&w, m, &h.materials_pbr);
-    h.clips = write_clips(&w, m);
+    h.clips = write_clips(&w, m, &h.weight_tracks, &h.clip_timeline);
     h.warnings = writer_strings(&w, m->warnings, m->warning_count);
     h.muscles = write_muscles(&w, m->muscles);
     h.strings = (blob_span){writer_put(&w, w.pool, w.pool_size), (uint32_t)w.pool_size};
@@ -1202,10 +1553,19 @@ sinew_result raw_model_build(raw_model *m, void **bytes, size_t *size, sinew_err
         return result;
     for (uint32_t i = 0; i < m->material_count; i++)
         fix_material(&m->materials[i]);
+    for (uint32_t i = 0; i < m->morph_channel_count; i++)
+        if (!isfinite(m->morph_channels[i].default_weight))
+            m->morph_channels[i].default_weight = 0.0f;
     for (uint32_t i = 0; i < m->mesh_count; i++)
-        if ((result = fix_mesh(m, i, error)))
+        if ((result = fix_mesh(m, i, error)) || (result = fix_deformers(m, i, error)))
             return result;
+    for (uint32_t i = 0; i < m->skin_count; i++)
+        if (m->skins[i].blend > SINEW_SKIN_BLEND_MIXED)
+            m->skins[i].blend = SINEW_SKIN_BLEND_LINEAR;
     for (uint32_t i = 0; i < m->clip_count; i++) {
+        if (m->clips[i].weight_track_count)
+            qsort(m->clips[i].weight_tracks, m->clips[i].weight_track_count, sizeof *m->clips[i].weight_tracks,
+                  by_weight_track);
         merge_tracks(m, &m->clips[i]);
         if ((result = fix_clip(m, &m->clips[i], error)))
             return result;

@@ -1247,7 +1247,7 @@ static sinew_result add_mesh(collada *c, prim *p, uint32_t node)
     if (!meshes || !inst)
         return oom(c);
     m->meshes[m->mesh_count] = p->mesh;
-    m->instances[m->instance_count++] = (sinew_instance){m->mesh_count++, node};
+    m->instances[m->instance_count++] = (sinew_instance){m->mesh_count++, node, 0};
     free(p->position_of);
     memset(p, 0, sizeof *p);
     return SINEW_OK;
@@ -1316,7 +1316,7 @@ static sinew_result reuse_geometry(collada *c, const geometry_uses *uses, const 
             return oom(c);
         m->instances = inst;
         for (uint32_t k = 0; k < u->mesh_count; k++)
-            m->instances[m->instance_count++] = (sinew_instance){u->first_mesh + k, node};
+            m->instances[m->instance_count++] = (sinew_instance){u->first_mesh + k, node, 0};
     }
     return SINEW_OK;
 }

@@ -1697,7 +1697,7 @@ static sinew_result emit_mesh(scene *s, const mesh_source *src, const fbx_object
     free(verts);
     if ((result = grow(s, (void **)&m->instances, m->instance_count, sizeof *m->instances)))
         return result;
-    m->instances[m->instance_count++] = (sinew_instance){m->mesh_count - 1, (uint32_t)model->raw_node};
+    m->instances[m->instance_count++] = (sinew_instance){m->mesh_count - 1, (uint32_t)model->raw_node, 0};
     return SINEW_OK;
 }
 

@@ -298,6 +298,10 @@ static sinew_result read_record(parser *ps, size_t limit, fbx_node *out, bool *n
         *null_record = true;
         return SINEW_OK;
     }
+    if (end > ps->size && end < at + (1u << 30))
+        return sinew_fail(ps->error, SINEW_ERROR_FORMAT,
+                          "%s: the file ends at byte %zu inside a record that runs to byte %llu (it seems cut short)",
+                          ps->path, ps->size, (unsigned long long)end);
     if (end > limit || end < at + header + name_len || value_bytes > end - (at + header + name_len))
         return bad(ps, at, "record's end lies outside its parent");
     if (value_count > value_bytes)

@@ -1330,7 +1330,7 @@ static sinew_result build_meshes(gltf *g)
             m->instances = grown;
         }
         for (uint32_t k = 0; k < key->count; k++)
-            m->instances[m->instance_count++] = (sinew_instance){key->first + k, g->node_of[i]};
+            m->instances[m->instance_count++] = (sinew_instance){key->first + k, g->node_of[i], 0};
     }
     return SINEW_OK;
 }

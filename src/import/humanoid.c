@@ -410,8 +410,8 @@ static bool make_humanoid(raw_model *m)
     m->clips = calloc(2, sizeof *m->clips);
     if (!m->meshes || !m->instances || !m->materials || !m->clips)
         return false;
-    m->instances[0] = (sinew_instance){0, 0};
-    m->instances[1] = (sinew_instance){1, staff};
+    m->instances[0] = (sinew_instance){0, 0, 0};
+    m->instances[1] = (sinew_instance){1, staff, 0};
     m->materials[0] = (raw_material){.name = raw_strdup("Mannequin"), .base_color = {0.78f, 0.66f, 0.55f, 1.0f}};
     m->materials[1] = (raw_material){.name = raw_strdup("Wood"), .base_color = {0.45f, 0.28f, 0.13f, 1.0f}};
     return m->materials[0].name && m->materials[1].name && make_body(&m->meshes[0]) && make_staff(&m->meshes[1]) &&

@@ -31,6 +31,12 @@ typedef struct raw_track {
     raw_channel channels[SINEW_CHANNEL_COUNT];
 } raw_track;
 
+/* A morph channel's weight over a clip: keys of one float (SINEW_CHANNEL_WEIGHT), owned. */
+typedef struct raw_weight_track {
+    uint32_t channel; /* the model's morph channel */
+    raw_channel keys;
+} raw_weight_track;
+
 /* A clip plays [start, start + duration] of its keys' timeline (start > 0 for a window cut
  * from a longer animation whose keys it shares through a pool). Either every channel of a
  * clip owns its keys or every one is in the same pool. */
@@ -40,6 +46,9 @@ typedef struct raw_clip {
     float start;
     uint32_t track_count;
     raw_track *tracks;
+    uint32_t weight_track_count;
+    raw_weight_track *weight_tracks; /* not in pooled clips */
+    float timeline;                  /* seconds on the file's timeline at clip time 0 (sinew_clip.timeline) */
 } raw_clip;
 
 /* Keys that clips share: every channel's times, then its values, one after another. */
@@ -53,7 +62,31 @@ typedef struct raw_skin {
     uint32_t joint_count;
     uint32_t *joints; /* node indices */
     sinew_mat4 *inverse_bind;
+    uint32_t blend; /* sinew_skin_blend */
 } raw_skin;
+
+/* A morph target of a mesh (sinew_morph_target): offsets of some vertices, any order (the
+ * builder sorts them and drops zero offsets). */
+typedef struct raw_morph_target {
+    char *name;
+    uint32_t channel; /* the mesh's channel (instance.morph_first + channel is the model's) */
+    float full_weight;
+    uint32_t delta_count;
+    uint32_t *vertices;
+    float *positions; /* 3 a delta */
+    float *normals;   /* 3 a delta, or NULL */
+} raw_morph_target;
+
+typedef struct raw_vertex_cache {
+    uint32_t frame_count;
+    float *times;     /* seconds on the file's timeline, ascending */
+    float *positions; /* frame_count * vertex_count * 3 */
+} raw_vertex_cache;
+
+typedef struct raw_morph_channel {
+    char *name;
+    float default_weight;
+} raw_morph_channel;
 
 typedef struct raw_mesh {
     char *name;
@@ -69,6 +102,10 @@ typedef struct raw_mesh {
     uint32_t influence_count; /* slots a vertex, any number; unused slots have joint UINT32_MAX or weight 0 */
     uint32_t *joints;         /* influence_count a vertex, indices into the skin's joints */
     float *weights;
+    float *dq_weights; /* a vertex: its share of dual-quaternion skinning (SINEW_SKIN_BLEND_MIXED), or NULL */
+    uint32_t target_count;
+    raw_morph_target *targets;
+    raw_vertex_cache *cache; /* or NULL */
 } raw_mesh;
 
 typedef struct raw_texture {
@@ -103,6 +140,8 @@ typedef struct raw_model {
     raw_material *materials;
     uint32_t clip_count;
     raw_clip *clips;
+    uint32_t morph_channel_count;
+    raw_morph_channel *morph_channels;
     uint32_t pool_count;
     raw_key_pool *pools;
     uint32_t warning_count;

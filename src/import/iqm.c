@@ -440,7 +440,7 @@ static sinew_result build_mesh(iqm *q, uint32_t index, bool skinned)
                                    q->path, name, bad))
             return oom(q);
     }
-    m->instances[m->instance_count++] = (sinew_instance){m->mesh_count - 1, 0};
+    m->instances[m->instance_count++] = (sinew_instance){m->mesh_count - 1, 0, 0};
     raw_material *mat = &m->materials[index];
     *mat = (raw_material){.base_color = {1, 1, 1, 1}, .roughness = 1.0f, .normal_scale = 1, .occlusion_strength = 1};
     if (!(mat->name = raw_strdup(material)))

@@ -60,7 +60,38 @@ static void copy_mesh(const sinew_mesh *src, raw_mesh *dst, bool *ok)
         .material = src->material,
         .influence_count = src->influence_count,
         .weights = copy_array(src->weights, k, sizeof(float), ok),
+        .dq_weights = copy_array(src->dq_weights, v, sizeof(float), ok),
     };
+    if (src->target_count) {
+        dst->targets = calloc(src->target_count, sizeof *dst->targets);
+        if (!dst->targets)
+            *ok = false;
+        else
+            dst->target_count = src->target_count;
+    }
+    for (uint32_t t = 0; t < dst->target_count; t++) {
+        const sinew_morph_target *st = &src->targets[t];
+        dst->targets[t] = (raw_morph_target){
+            .name = copy_string(st->name, ok),
+            .channel = st->channel,
+            .full_weight = st->full_weight,
+            .delta_count = st->delta_count,
+            .vertices = copy_array(st->vertices, st->delta_count, sizeof(uint32_t), ok),
+            .positions = copy_array(st->positions, (size_t)st->delta_count * 3, sizeof(float), ok),
+            .normals = copy_array(st->normals, (size_t)st->delta_count * 3, sizeof(float), ok),
+        };
+    }
+    if (src->cache) {
+        dst->cache = calloc(1, sizeof *dst->cache);
+        if (!dst->cache) {
+            *ok = false;
+        } else {
+            dst->cache->frame_count = src->cache->frame_count;
+            dst->cache->times = copy_array(src->cache->times, src->cache->frame_count, sizeof(float), ok);
+            dst->cache->positions =
+                copy_array(src->cache->positions, (size_t)src->cache->frame_count * v * 3, sizeof(float), ok);
+        }
+    }
     if (k) {
         dst->joints = malloc(k * sizeof *dst->joints);
         if (!dst->joints)
@@ -79,6 +110,7 @@ static void copy_clip(const sinew_model *m, uint32_t index, raw_model *raw, bool
     dst->name = copy_string(src->name, ok);
     dst->duration = src->duration;
     dst->start = src->start;
+    dst->timeline = src->timeline;
     uint32_t pool = 0;
     for (uint32_t c = 0; c < index && !pool; c++)
         if (m->clips[c].times == src->times && m->clips[c].values == src->values &&
@@ -115,6 +147,19 @@ static void copy_clip(const sinew_model *m, uint32_t index, raw_model *raw, bool
                                                           .first_value = ch->first_value};
         }
     }
+    dst->weight_tracks = src->weight_track_count ? calloc(src->weight_track_count, sizeof *dst->weight_tracks) : NULL;
+    if (src->weight_track_count && !dst->weight_tracks)
+        *ok = false;
+    for (uint32_t t = 0; dst->weight_tracks && t < src->weight_track_count; t++) {
+        const sinew_weight_track *wt = &src->weight_tracks[t];
+        dst->weight_tracks[t] = (raw_weight_track){wt->channel,
+                                                   {.interp = wt->keys.interp,
+                                                    .count = wt->keys.key_count,
+                                                    .pool = pool,
+                                                    .first_key = wt->keys.first_key,
+                                                    .first_value = wt->keys.first_value}};
+        dst->weight_track_count++;
+    }
 }
 
 /* A raw copy of a runtime model; false when out of memory (the copy stays freeable). */
@@ -136,6 +181,7 @@ bool raw_model_from_model(const sinew_model *m, raw_model *raw)
         raw->skins[i].joint_count = s->joint_count;
         raw->skins[i].joints = copy_array(s->joints, s->joint_count, sizeof(uint32_t), &ok);
         raw->skins[i].inverse_bind = copy_array(s->inverse_bind, s->joint_count, sizeof(sinew_mat4), &ok);
+        raw->skins[i].blend = s->blend;
     }
     raw->meshes = m->mesh_count ? calloc(m->mesh_count, sizeof *raw->meshes) : NULL;
     raw->mesh_count = raw->meshes ? m->mesh_count : 0;
@@ -166,12 +212,22 @@ bool raw_model_from_model(const sinew_model *m, raw_model *raw)
     raw->clip_count = raw->clips ? m->clip_count : 0;
     for (uint32_t i = 0; i < raw->clip_count; i++)
         copy_clip(m, i, raw, &ok);
-    raw->warning_count = m->warning_count;
-    raw->warnings = copy_strings(m->warnings, m->warning_count, &ok);
+    raw->morph_channels = m->morph_channel_count ? calloc(m->morph_channel_count, sizeof *raw->morph_channels) : NULL;
+    raw->morph_channel_count = raw->morph_channels ? m->morph_channel_count : 0;
+    for (uint32_t i = 0; i < raw->morph_channel_count; i++)
+        raw->morph_channels[i] =
+            (raw_morph_channel){copy_string(m->morph_channels[i].name, &ok), m->morph_channels[i].default_weight};
+    /* the reader's own note about an older format is not the model's */
+    uint32_t warnings = m->warning_count;
+    if (warnings && m->warnings[warnings - 1] == sinew_blob_old_version_warning)
+        warnings--;
+    raw->warning_count = warnings;
+    raw->warnings = copy_strings(m->warnings, warnings, &ok);
     if (!raw->warnings)
         raw->warning_count = 0;
     ok = ok && raw->skin_count == m->skin_count && raw->mesh_count == m->mesh_count &&
-         raw->material_count == m->material_count && raw->clip_count == m->clip_count;
+         raw->material_count == m->material_count && raw->clip_count == m->clip_count &&
+         raw->morph_channel_count == m->morph_channel_count;
     return ok;
 }
 

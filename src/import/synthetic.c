@@ -120,7 +120,7 @@ static sinew_result make_mesh(raw_model *m, uint32_t joints, uint32_t vertices, 
         }
     mesh->skin = 0;
     mesh->material = 0;
-    m->instances[0] = (sinew_instance){0, 0};
+    m->instances[0] = (sinew_instance){0, 0, 0};
     return SINEW_OK;
 }
 

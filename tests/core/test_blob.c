@@ -63,7 +63,7 @@ static void make_raw(raw_model *m, uint32_t k)
 
     m->instance_count = 1;
     m->instances = calloc(1, sizeof *m->instances);
-    m->instances[0] = (sinew_instance){0, 0};
+    m->instances[0] = (sinew_instance){0, 0, 0};
     m->material_count = 1;
     m->materials = calloc(1, sizeof *m->materials);
     m->materials[0].name = raw_strdup("clay");
