@@ -518,31 +518,37 @@ static sinew_result check_muscles(reader *r)
     return SINEW_OK;
 }
 
+/* Each table starts on an 8-byte boundary, whatever the size of the one before
+ * (sinew_instance is 12 bytes). */
+static size_t table_bytes(size_t count, size_t elem)
+{
+    return (count * elem + 7) & ~(size_t)7;
+}
+
 /* Bytes of pointer tables that follow the model_block struct. */
 static size_t tables_size(const blob_header *h)
 {
     size_t size = 0;
-    size += (size_t)h->node_names.count * sizeof(char *);
-    size += (size_t)h->warnings.count * sizeof(char *);
-    size += (size_t)h->skins.count * sizeof(sinew_skin);
-    size += (size_t)h->meshes.count * sizeof(sinew_mesh);
-    size += (size_t)h->materials.count * sizeof(sinew_material);
-    size += (size_t)h->clips.count * sizeof(sinew_clip);
-    size += (size_t)h->muscles.count * sizeof(sinew_muscle_def);
-    size += sizeof(char *); /* a warning about an older format */
-    size += (size_t)h->instances.count * sizeof(sinew_instance);
-    size += (size_t)h->morph_channels.count * sizeof(sinew_morph_channel);
-    size += (size_t)h->morph_targets.count * sizeof(sinew_morph_target);
-    size += (size_t)h->weight_tracks.count * sizeof(sinew_weight_track);
-    size += (size_t)h->caches.count * sizeof(sinew_vertex_cache);
+    size += table_bytes(h->node_names.count, sizeof(char *));
+    size += table_bytes((size_t)h->warnings.count + 1, sizeof(char *)); /* + a warning about an older format */
+    size += table_bytes(h->skins.count, sizeof(sinew_skin));
+    size += table_bytes(h->meshes.count, sizeof(sinew_mesh));
+    size += table_bytes(h->materials.count, sizeof(sinew_material));
+    size += table_bytes(h->clips.count, sizeof(sinew_clip));
+    size += table_bytes(h->muscles.count, sizeof(sinew_muscle_def));
+    size += table_bytes(h->instances.count, sizeof(sinew_instance));
+    size += table_bytes(h->morph_channels.count, sizeof(sinew_morph_channel));
+    size += table_bytes(h->morph_targets.count, sizeof(sinew_morph_target));
+    size += table_bytes(h->weight_tracks.count, sizeof(sinew_weight_track));
+    size += table_bytes(h->caches.count, sizeof(sinew_vertex_cache));
     return (size + BLOB_ALIGN - 1) & ~(size_t)(BLOB_ALIGN - 1);
 }
 
-/* Takes `bytes` from a cursor in the table area. */
+/* Takes `bytes` (rounded up to 8) from a cursor in the table area. */
 static void *take(unsigned char **cursor, size_t bytes)
 {
     void *p = *cursor;
-    *cursor += bytes;
+    *cursor += (bytes + 7) & ~(size_t)7;
     return p;
 }
 
