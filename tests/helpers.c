@@ -183,32 +183,44 @@ void test_player_close(test_player *tp)
 
 float *posed_vertices(const sinew_model *model, const sinew_mat4 *worlds, uint32_t *count)
 {
+    return posed_vertices_at(model, worlds, NULL, 0.0f, count);
+}
+
+float *posed_vertices_at(const sinew_model *model, const sinew_mat4 *worlds, const sinew_clip *clip, float time,
+                         uint32_t *count)
+{
     size_t total = 0;
     for (uint32_t i = 0; i < model->instance_count; i++)
         total += model->meshes[model->instances[i].mesh].vertex_count;
     float *out = malloc((total + 1) * 3 * sizeof(float));
-    sinew_mat4 *palette = malloc(SINEW_MAX_JOINTS * sizeof *palette);
+    size_t scratch_size = sinew_deform_scratch_size(model);
+    void *scratch = aligned_alloc(16, (scratch_size + 15) & ~(size_t)15);
+    float *weights = malloc((model->morph_channel_count + 1) * sizeof(float));
     assert_non_null(out);
-    assert_non_null(palette);
-    size_t at = 0;
+    assert_non_null(scratch);
+    assert_non_null(weights);
     sinew_error error = {0};
+    if (sinew_sample_weights(model, clip, time, SINEW_WRAP_CLAMP, weights, model->morph_channel_count, &error))
+        fail_msg("weights of %s: %s", model->source, error.message);
+    float cache_time = clip ? clip->timeline + sinew_clip_time(clip, time, SINEW_WRAP_CLAMP) : 0.0f;
+    size_t at = 0;
     for (uint32_t i = 0; i < model->instance_count; i++) {
-        const sinew_mesh *mesh = &model->meshes[model->instances[i].mesh];
-        if (mesh->skin >= 0) {
-            const sinew_skin *skin = &model->skins[mesh->skin];
-            if (sinew_skin_palette(skin, worlds, model->node_count, palette, SINEW_MAX_JOINTS, &error) ||
-                sinew_skin_vertices(&(sinew_skin_desc){.mesh = mesh,
-                                                       .palette = palette,
-                                                       .palette_count = skin->joint_count,
+        if (sinew_deform_instance(&(sinew_deform_desc){.model = model,
+                                                       .instance = i,
+                                                       .worlds = worlds,
+                                                       .world_count = model->node_count,
+                                                       .weights = weights,
+                                                       .weight_count = model->morph_channel_count,
+                                                       .cache_time = cache_time,
+                                                       .scratch = scratch,
+                                                       .scratch_size = scratch_size,
                                                        .out_positions = out + at * 3},
-                                    &error))
-                fail_msg("skinning %s: %s", model->source, error.message);
-        } else if (sinew_transform_vertices(mesh, &worlds[model->instances[i].node], out + at * 3, NULL, 0, &error)) {
-            fail_msg("placing %s: %s", model->source, error.message);
-        }
-        at += mesh->vertex_count;
+                                  &error))
+            fail_msg("posing %s: %s", model->source, error.message);
+        at += model->meshes[model->instances[i].mesh].vertex_count;
     }
-    free(palette);
+    free(weights);
+    free(scratch);
     *count = (uint32_t)total;
     return out;
 }

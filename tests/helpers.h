@@ -60,6 +60,9 @@ void test_player_close(test_player *tp);
 
 /* All mesh instances skinned/placed at the pose, as one malloc'd xyz array. */
 float *posed_vertices(const sinew_model *model, const sinew_mat4 *worlds, uint32_t *count);
+/* The same with the morph weights and vertex caches of `clip` at `time` (clamped). */
+float *posed_vertices_at(const sinew_model *model, const sinew_mat4 *worlds, const sinew_clip *clip, float time,
+                         uint32_t *count);
 
 /* Comparing pictures: a pixel differs when one channel differs by more than PIXEL_TOLERANCE
  * levels; pictures match when at most IMAGE_TOLERANCE of their pixels differ. */

@@ -231,7 +231,7 @@ outcome compare_with_reference(const sinew_model *m, const cJSON *ref, const sid
                 i++;
             }
             uint32_t count;
-            float *ours = posed_vertices(m, w, &count);
+            float *ours = posed_vertices_at(m, w, clip, t, &count);
             o.verts = fmax(o.verts, point_set_distance(ours, count, rv, (uint32_t)nv) / diag);
             free(ours);
             free(rv);

@@ -73,9 +73,11 @@ sinew_result sinew_skin_palette(const sinew_skin *skin, const sinew_mat4 *worlds
 
 /* How skinning blends a vertex's joints. */
 typedef enum sinew_skin_method {
-    SINEW_SKIN_LINEAR = 0,         /* linear blend skinning: the weighted sum of the joints' matrices */
-    SINEW_SKIN_DUAL_QUATERNION = 1 /* dual quaternions for rotation and translation (no candy wrapper), a
-                                      linearly blended scale/shear matrix before them (Kavan et al. 2008) */
+    SINEW_SKIN_LINEAR = 0,          /* linear blend skinning: the weighted sum of the joints' matrices */
+    SINEW_SKIN_DUAL_QUATERNION = 1, /* dual quaternions for rotation and translation (no candy wrapper), a
+                                       linearly blended scale/shear matrix before them (Kavan et al. 2008) */
+    SINEW_SKIN_MIXED = 2            /* per vertex, the two above mixed by mesh->dq_weights (FBX's "Blend"
+                                       skinning: Maya's weight-blended DQ): needs both palettes */
 } sinew_skin_method;
 
 /* One joint for dual-quaternion skinning, made from its skinning matrix by
@@ -98,8 +100,11 @@ typedef struct sinew_skin_desc {
     const sinew_mesh *mesh;           /* vertex data, joints and weights */
     const sinew_mat4 *palette;        /* skinning matrices of the mesh's skin (SINEW_SKIN_LINEAR) */
     uint32_t palette_count;           /* entries of palette or dq_palette */
-    sinew_skin_method method;         /* 0: linear blend */
-    const sinew_dq_joint *dq_palette; /* SINEW_SKIN_DUAL_QUATERNION: from sinew_skin_dq_palette() */
+    sinew_skin_method method;         /* 0: linear blend (sinew_skin.blend says what the file asked for) */
+    const sinew_dq_joint *dq_palette; /* SINEW_SKIN_DUAL_QUATERNION, MIXED: from sinew_skin_dq_palette() */
+    const float *positions;           /* NULL: mesh->positions; else 3 floats a vertex (a morphed shape) */
+    const float *normals;             /* NULL: mesh->normals; else 3 floats a vertex */
+    const float *tangents;            /* NULL: mesh->tangents; else 4 floats a vertex */
     uint32_t first;                   /* vertex range to skin: [first, first + count) */
     uint32_t count;                   /* 0 means every vertex from first on */
     float *out_positions;             /* indexed by vertex number (not by range), 3 floats at out_stride */
@@ -114,6 +119,8 @@ typedef struct sinew_skin_desc {
  * renormalised, their handedness flipped where it mirrors. Dual quaternion: the blended
  * scale/shear S first (normals through its cofactor), then the blended, normalised dual
  * quaternion (each joint's quaternion taken in the hemisphere of the vertex's first joint).
+ * Mixed: with a = mesh->dq_weights[v] (NULL: 0), (1 - a) * linear + a * dual quaternion,
+ * normals and tangents renormalised (a vertex at 0 or 1 takes one path alone, SIMD included).
  * The SIMD paths (AVX-512: 16 vertices at a time in structure-of-arrays registers; AVX2+FMA:
  * linear blend of positions and normals) are chosen at run time and give the results of
  * sinew_skin_vertices_scalar() within 2e-6. Different ranges may be skinned on different

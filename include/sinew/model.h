@@ -150,6 +150,7 @@ typedef struct sinew_morph_target {
     const uint32_t *vertices; /* delta_count vertex indices, ascending */
     const float *positions;   /* 3 floats a delta: offsets in mesh space */
     const float *normals;     /* 3 floats a delta, or NULL */
+    const float *tangents;    /* 3 floats a delta (the tangent's xyz; its handedness stays), or NULL */
 } sinew_morph_target;
 
 /* Vertex positions recorded frame by frame (an FBX geometry cache: Maya's .mc/.mcx, 3ds Max's

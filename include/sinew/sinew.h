@@ -13,6 +13,7 @@
 #include "sinew/import.h"
 #include "sinew/jobs.h"
 #include "sinew/model.h"
+#include "sinew/morph.h"
 #include "sinew/muscle.h"
 #include "sinew/muscle_file.h"
 #include "sinew/muscle_rig.h"

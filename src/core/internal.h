@@ -145,6 +145,7 @@ typedef struct blob_morph_target {
     uint32_t vertices;  /* offset of delta_count uint32_t */
     uint32_t positions; /* offset of delta_count * 3 floats */
     uint32_t normals;   /* the same, or BLOB_NONE */
+    uint32_t tangents;  /* the same, or BLOB_NONE */
 } blob_morph_target;
 
 typedef struct blob_weight_track {
@@ -223,9 +224,12 @@ void sinew_slerp_shortest(const float *a, const float *b, float s, float *out);
 /* One checked skinning call as the kernels see it (skin.c). records: 16 floats a joint, a
  * column-major matrix (linear blend) or a sinew_dq_joint (dual quaternion). */
 typedef struct skin_call {
-    const sinew_mesh *mesh;
+    const sinew_mesh *mesh; /* &view: the mesh with the desc's input arrays in place of its own */
+    sinew_mesh view;
     const float *records;
     bool dqs;
+    const float *dq_records; /* SINEW_SKIN_MIXED: the DQ records (records are the linear ones) */
+    const float *mix;        /* SINEW_SKIN_MIXED: mesh->dq_weights */
     uint32_t first, count;
     float *out_p, *out_n, *out_t; /* out_n, out_t may be NULL */
     size_t stride;                /* bytes, 12 .. 2^26 */

@@ -432,14 +432,16 @@ static sinew_result check_deformers(reader *r)
             return corrupt(r, "morph targets out of order");
         uint64_t n = t->delta_count;
         if (n > meshes[t->mesh].vertex_count || !range_ok(r, t->vertices, n, 4) || !range_ok(r, t->positions, n, 12) ||
-            (t->normals != BLOB_NONE && !range_ok(r, t->normals, n, 12)))
+            (t->normals != BLOB_NONE && !range_ok(r, t->normals, n, 12)) ||
+            (t->tangents != BLOB_NONE && !range_ok(r, t->tangents, n, 12)))
             return corrupt(r, "morph target arrays");
         const uint32_t *v = array_at(r, t->vertices, n);
         for (uint64_t k = 0; k < n; k++)
             if (v[k] >= meshes[t->mesh].vertex_count || (k > 0 && v[k] <= v[k - 1]))
                 return corrupt(r, "morph target vertices");
         if (n && (!floats_finite(array_at(r, t->positions, n), n * 3) ||
-                  (t->normals != BLOB_NONE && !floats_finite(array_at(r, t->normals, n), n * 3))))
+                  (t->normals != BLOB_NONE && !floats_finite(array_at(r, t->normals, n), n * 3)) ||
+                  (t->tangents != BLOB_NONE && !floats_finite(array_at(r, t->tangents, n), n * 3))))
             return corrupt(r, "morph target offsets");
     }
     /* every instance's channels lie within the model's */
@@ -582,6 +584,7 @@ static void fill_deformers(sinew_model *m, const reader *r, sinew_mesh *meshes, 
             .vertices = array_at(r, bt[i].vertices, bt[i].delta_count),
             .positions = array_at(r, bt[i].positions, bt[i].delta_count),
             .normals = bt[i].normals == BLOB_NONE ? NULL : array_at(r, bt[i].normals, bt[i].delta_count),
+            .tangents = bt[i].tangents == BLOB_NONE ? NULL : array_at(r, bt[i].tangents, bt[i].delta_count),
         };
         sinew_mesh *mesh = &meshes[bt[i].mesh];
         if (mesh->target_count++ == 0)

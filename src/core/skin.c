@@ -115,14 +115,24 @@ static sinew_result check_skin(const sinew_skin_desc *desc, skin_call *call, sin
 {
     if (!desc || !desc->mesh || !desc->out_positions)
         return sinew_fail(error, SINEW_ERROR_INVALID_ARGUMENT, "sinew_skin_vertices: NULL mesh or output");
-    const sinew_mesh *mesh = desc->mesh;
-    bool dqs = desc->method == SINEW_SKIN_DUAL_QUATERNION;
-    if (desc->method != SINEW_SKIN_LINEAR && !dqs)
+    /* the mesh as the kernels see it: the desc's input arrays in place of the mesh's */
+    call->view = *desc->mesh;
+    if (desc->positions)
+        call->view.positions = desc->positions;
+    if (desc->normals)
+        call->view.normals = desc->normals;
+    if (desc->tangents)
+        call->view.tangents = desc->tangents;
+    const sinew_mesh *mesh = &call->view;
+    bool dqs = desc->method == SINEW_SKIN_DUAL_QUATERNION, mixed = desc->method == SINEW_SKIN_MIXED;
+    if (desc->method != SINEW_SKIN_LINEAR && !dqs && !mixed)
         return sinew_fail(error, SINEW_ERROR_INVALID_ARGUMENT, "sinew_skin_vertices: unknown method %d",
                           (int)desc->method);
-    if (dqs ? !desc->dq_palette : !desc->palette)
-        return sinew_fail(error, SINEW_ERROR_INVALID_ARGUMENT, "sinew_skin_vertices: NULL %s",
-                          dqs ? "dq_palette (dual-quaternion skinning)" : "palette");
+    if ((dqs || mixed) && !desc->dq_palette)
+        return sinew_fail(error, SINEW_ERROR_INVALID_ARGUMENT,
+                          "sinew_skin_vertices: NULL dq_palette (dual-quaternion skinning)");
+    if (!dqs && !desc->palette)
+        return sinew_fail(error, SINEW_ERROR_INVALID_ARGUMENT, "sinew_skin_vertices: NULL palette");
     if (mesh->influence_count == 0 || (mesh->vertex_count && (!mesh->joints || !mesh->weights)))
         return sinew_fail(error, SINEW_ERROR_INVALID_ARGUMENT, "sinew_skin_vertices: mesh \"%s\" is not skinned",
                           mesh->name);
@@ -154,15 +164,17 @@ static sinew_result check_skin(const sinew_skin_desc *desc, skin_call *call, sin
                 return sinew_fail(error, SINEW_ERROR_INVALID_ARGUMENT,
                                   "sinew_skin_vertices: vertex %zu uses joint %u, the palette has %u",
                                   desc->first + i / k, joints[i], desc->palette_count);
-    *call = (skin_call){.mesh = mesh,
-                        .records = dqs ? desc->dq_palette[0].real : desc->palette[0].m,
-                        .dqs = dqs,
-                        .first = desc->first,
-                        .count = count,
-                        .out_p = desc->out_positions,
-                        .out_n = desc->out_normals,
-                        .out_t = desc->out_tangents,
-                        .stride = stride};
+    call->mesh = mesh;
+    call->records = dqs ? desc->dq_palette[0].real : desc->palette[0].m;
+    call->dqs = dqs;
+    call->dq_records = mixed ? desc->dq_palette[0].real : NULL;
+    call->mix = mixed ? mesh->dq_weights : NULL;
+    call->first = desc->first;
+    call->count = count;
+    call->out_p = desc->out_positions;
+    call->out_n = desc->out_normals;
+    call->out_t = desc->out_tangents;
+    call->stride = stride;
     return SINEW_OK;
 }
 
@@ -171,18 +183,18 @@ static sinew_result check_skin(const sinew_skin_desc *desc, skin_call *call, sin
 /* Blends a vertex's joint records: weights sorted descending, so the first zero ends it.
  * For DQS the dual quaternion of each joint is taken in the first joint's hemisphere
  * (the scale part is blended as it is). */
-static void blend_records(const skin_call *c, uint32_t v, float out[16])
+static void blend_records(const skin_call *c, const float *records, bool dqs, uint32_t v, float out[16])
 {
     const uint32_t k = c->mesh->influence_count;
     const uint16_t *joints = &c->mesh->joints[(size_t)v * k];
     const float *weights = &c->mesh->weights[(size_t)v * k];
-    const float *first = c->records + (size_t)joints[0] * 16;
+    const float *first = records + (size_t)joints[0] * 16;
     memset(out, 0, 16 * sizeof(float));
     for (uint32_t i = 0; i < k && weights[i] != 0.0f; i++) {
-        const float *r = c->records + (size_t)joints[i] * 16;
+        const float *r = records + (size_t)joints[i] * 16;
         float w = weights[i];
         float wq = w;
-        if (c->dqs && r[0] * first[0] + r[1] * first[1] + r[2] * first[2] + r[3] * first[3] < 0.0f)
+        if (dqs && r[0] * first[0] + r[1] * first[1] + r[2] * first[2] + r[3] * first[3] < 0.0f)
             wq = -w;
         for (int e = 0; e < 16; e++)
             out[e] += (e < 8 ? wq : w) * r[e];
@@ -234,26 +246,62 @@ static void skin_vertex_dqs(const skin_call *c, uint32_t v, const float b[16], f
     }
 }
 
-static void skin_range_scalar(const skin_call *c)
+/* One vertex by one method: the joints' records blended, then applied. */
+static void skin_vertex_scalar(const skin_call *c, const float *records, bool dqs, uint32_t v, float *out_p,
+                               float *out_n, float *out_t)
 {
     const sinew_mesh *mesh = c->mesh;
+    float b[16];
+    blend_records(c, records, dqs, v, b);
+    if (dqs) {
+        skin_vertex_dqs(c, v, b, out_p, out_n, out_t);
+        return;
+    }
+    transform_point(b, &mesh->positions[(size_t)v * 3], out_p);
+    if (out_n || out_t) {
+        float det = transform_normal(b, out_n ? &mesh->normals[(size_t)v * 3] : NULL, out_n);
+        if (out_t)
+            transform_tangent(b, det, &mesh->tangents[(size_t)v * 4], out_t);
+    }
+}
+
+/* SINEW_SKIN_MIXED's share of dual-quaternion skinning for vertex v. */
+static float mix_at(const skin_call *c, uint32_t v)
+{
+    return c->mix ? c->mix[v] : 0.0f;
+}
+
+static void skin_range_scalar(const skin_call *c)
+{
     for (uint32_t v = c->first; v < c->first + c->count; v++) {
-        float b[16];
-        blend_records(c, v, b);
         size_t at = (size_t)v * c->stride;
         float *out_p = (float *)((char *)c->out_p + at);
         float *out_n = c->out_n ? (float *)((char *)c->out_n + at) : NULL;
         float *out_t = c->out_t ? (float *)((char *)c->out_t + at) : NULL;
-        if (c->dqs) {
-            skin_vertex_dqs(c, v, b, out_p, out_n, out_t);
+        float a = c->dq_records ? mix_at(c, v) : 0.0f;
+        if (!c->dq_records || a <= 0.0f) {
+            skin_vertex_scalar(c, c->records, c->dqs, v, out_p, out_n, out_t);
             continue;
         }
-        transform_point(b, &mesh->positions[(size_t)v * 3], out_p);
-        if (out_n || out_t) {
-            float det = transform_normal(b, out_n ? &mesh->normals[(size_t)v * 3] : NULL, out_n);
-            if (out_t)
-                transform_tangent(b, det, &mesh->tangents[(size_t)v * 4], out_t);
+        if (a >= 1.0f) {
+            skin_vertex_scalar(c, c->dq_records, true, v, out_p, out_n, out_t);
+            continue;
         }
+        /* (1 - a) * linear + a * dual quaternion */
+        float p[3], n[3], t[4];
+        skin_vertex_scalar(c, c->records, false, v, out_p, out_n, out_t);
+        skin_vertex_scalar(c, c->dq_records, true, v, p, out_n ? n : NULL, out_t ? t : NULL);
+        for (int e = 0; e < 3; e++) {
+            out_p[e] += a * (p[e] - out_p[e]);
+            if (out_n)
+                out_n[e] += a * (n[e] - out_n[e]);
+            if (out_t)
+                out_t[e] += a * (t[e] - out_t[e]);
+        }
+        if (out_n)
+            normalize3(out_n);
+        if (out_t)
+            normalize3(out_t);
     }
 }
 
@@ -300,24 +348,63 @@ sinew_result sinew_skin_vertices_scalar(const sinew_skin_desc *desc, sinew_error
     return result;
 }
 
+/* A range by one method on the best path this processor has. */
+static void skin_range(const skin_call *call)
+{
+    switch (sinew_skin_isa(call)) {
+#if defined(__x86_64__) && defined(__GNUC__)
+    case SINEW_ISA_AVX512:
+        sinew_skin_avx512(call);
+        break;
+    case SINEW_ISA_AVX2:
+        sinew_skin_avx2(call);
+        break;
+#endif
+    default:
+        skin_range_scalar(call);
+    }
+}
+
+/* SINEW_SKIN_MIXED: runs of vertices all linear or all dual quaternion go to the SIMD paths
+ * as they are; vertices in between mix the two in the reference code. */
+static void skin_range_mixed(const skin_call *call)
+{
+    uint32_t end = call->first + call->count;
+    for (uint32_t v = call->first; v < end;) {
+        float a = mix_at(call, v);
+        int kind = a <= 0.0f ? 0 : a >= 1.0f ? 2 : 1;
+        uint32_t run = v + 1;
+        while (run < end) {
+            float b = mix_at(call, run);
+            if ((b <= 0.0f ? 0 : b >= 1.0f ? 2 : 1) != kind)
+                break;
+            run++;
+        }
+        skin_call part = *call;
+        part.first = v;
+        part.count = run - v;
+        if (kind == 1) {
+            skin_range_scalar(&part);
+        } else {
+            if (kind == 2)
+                part.records = call->dq_records, part.dqs = true;
+            part.dq_records = NULL;
+            skin_range(&part);
+        }
+        v = run;
+    }
+}
+
 sinew_result sinew_skin_vertices(const sinew_skin_desc *desc, sinew_error *error)
 {
     skin_call call;
     sinew_result result = check_skin(desc, &call, error);
     if (result != SINEW_OK || call.count == 0)
         return result;
-    switch (sinew_skin_isa(&call)) {
-#if defined(__x86_64__) && defined(__GNUC__)
-    case SINEW_ISA_AVX512:
-        sinew_skin_avx512(&call);
-        break;
-    case SINEW_ISA_AVX2:
-        sinew_skin_avx2(&call);
-        break;
-#endif
-    default:
-        skin_range_scalar(&call);
-    }
+    if (call.dq_records)
+        skin_range_mixed(&call);
+    else
+        skin_range(&call);
     return SINEW_OK;
 }
 

@@ -109,6 +109,7 @@ void raw_mesh_free(raw_mesh *mesh)
         free(mesh->targets[t].vertices);
         free(mesh->targets[t].positions);
         free(mesh->targets[t].normals);
+        free(mesh->targets[t].tangents);
     }
     free(mesh->targets);
     if (mesh->cache) {
@@ -673,12 +674,16 @@ static int by_channel_weight(const void *a, const void *b)
  * offsets dropped. */
 static sinew_result fix_target(raw_model *m, const raw_mesh *mesh, raw_morph_target *t, sinew_error *error)
 {
-    if (!isfinite(t->full_weight) || t->full_weight == 0.0f || !all_finite(t->positions, (size_t)t->delta_count * 3) ||
-        (t->normals && !all_finite(t->normals, (size_t)t->delta_count * 3)))
+    float **attributes[3] = {&t->positions, &t->normals, &t->tangents};
+    bool finite = isfinite(t->full_weight) && t->full_weight != 0.0f && t->positions;
+    for (int a = 0; a < 3; a++)
+        finite = finite && (!*attributes[a] || all_finite(*attributes[a], (size_t)t->delta_count * 3));
+    if (!finite)
         return sinew_fail(error, SINEW_ERROR_DATA,
                           "%s: mesh \"%s\": morph target \"%s\" has offsets that are not finite or a full weight of 0",
                           m->source, mesh->name, t->name);
-    delta_order *order = malloc((t->delta_count ? t->delta_count : 1) * sizeof *order);
+    size_t room = t->delta_count ? t->delta_count : 1;
+    delta_order *order = malloc(room * sizeof *order);
     if (!order)
         return oom(m, error);
     for (uint32_t k = 0; k < t->delta_count; k++) {
@@ -692,53 +697,55 @@ static sinew_result fix_target(raw_model *m, const raw_mesh *mesh, raw_morph_tar
         order[k] = (delta_order){t->vertices[k], k};
     }
     qsort(order, t->delta_count, sizeof *order, by_vertex);
-    uint32_t *vertices = malloc((t->delta_count ? t->delta_count : 1) * sizeof *vertices);
-    float *positions = malloc((t->delta_count ? t->delta_count : 1) * 3 * sizeof *positions);
-    float *normals = t->normals ? malloc((t->delta_count ? t->delta_count : 1) * 3 * sizeof *normals) : NULL;
-    if (!vertices || !positions || (t->normals && !normals)) {
+    uint32_t *vertices = malloc(room * sizeof *vertices);
+    float *out[3] = {NULL, NULL, NULL};
+    bool ok = vertices != NULL;
+    for (int a = 0; a < 3; a++)
+        if (*attributes[a])
+            ok = ok && (out[a] = malloc(room * 3 * sizeof(float))) != NULL;
+    if (!ok) {
         free(order);
         free(vertices);
-        free(positions);
-        free(normals);
+        for (int a = 0; a < 3; a++)
+            free(out[a]);
         return oom(m, error);
     }
     uint32_t n = 0;
     for (uint32_t k = 0; k < t->delta_count; k++) {
-        const float *p = &t->positions[order[k].index * 3], *q = t->normals ? &t->normals[order[k].index * 3] : NULL;
-        if (n > 0 && vertices[n - 1] == order[k].vertex) {
-            for (int c = 0; c < 3; c++) {
-                positions[(n - 1) * 3 + c] += p[c];
-                if (q)
-                    normals[(n - 1) * 3 + c] += q[c];
-            }
-            continue;
+        bool again = n > 0 && vertices[n - 1] == order[k].vertex;
+        if (!again)
+            vertices[n++] = order[k].vertex;
+        for (int a = 0; a < 3; a++) {
+            if (!out[a])
+                continue;
+            const float *p = &(*attributes[a])[order[k].index * 3];
+            float *q = &out[a][(n - 1) * 3];
+            for (int c = 0; c < 3; c++)
+                q[c] = again ? q[c] + p[c] : p[c];
         }
-        vertices[n] = order[k].vertex;
-        memcpy(&positions[n * 3], p, 3 * sizeof *p);
-        if (q)
-            memcpy(&normals[n * 3], q, 3 * sizeof *q);
-        n++;
     }
     /* offsets that move nothing go */
     uint32_t kept = 0;
     for (uint32_t k = 0; k < n; k++) {
-        bool zero = positions[k * 3] == 0 && positions[k * 3 + 1] == 0 && positions[k * 3 + 2] == 0 &&
-                    (!normals || (normals[k * 3] == 0 && normals[k * 3 + 1] == 0 && normals[k * 3 + 2] == 0));
+        bool zero = true;
+        for (int a = 0; a < 3; a++)
+            for (int c = 0; out[a] && c < 3; c++)
+                zero = zero && out[a][k * 3 + c] == 0;
         if (zero)
             continue;
         vertices[kept] = vertices[k];
-        memmove(&positions[kept * 3], &positions[k * 3], 3 * sizeof *positions);
-        if (normals)
-            memmove(&normals[kept * 3], &normals[k * 3], 3 * sizeof *normals);
+        for (int a = 0; a < 3; a++)
+            if (out[a])
+                memmove(&out[a][kept * 3], &out[a][k * 3], 3 * sizeof(float));
         kept++;
     }
     free(order);
     free(t->vertices);
-    free(t->positions);
-    free(t->normals);
     t->vertices = vertices;
-    t->positions = positions;
-    t->normals = normals;
+    for (int a = 0; a < 3; a++) {
+        free(*attributes[a]);
+        *attributes[a] = out[a];
+    }
     t->delta_count = kept;
     return SINEW_OK;
 }
@@ -1399,7 +1406,8 @@ static void write_deformers(writer *w, const raw_model *m, blob_header *h)
                 .delta_count = t->delta_count,
                 .vertices = writer_put(w, t->vertices, (size_t)t->delta_count * 4),
                 .positions = writer_put(w, t->positions, (size_t)t->delta_count * 12),
-                .normals = t->normals ? writer_put(w, t->normals, (size_t)t->delta_count * 12) : BLOB_NONE};
+                .normals = t->normals ? writer_put(w, t->normals, (size_t)t->delta_count * 12) : BLOB_NONE,
+                .tangents = t->tangents ? writer_put(w, t->tangents, (size_t)t->delta_count * 12) : BLOB_NONE};
         }
         if (mesh->cache)
             ct[nc++] = (blob_cache){

@@ -75,6 +75,7 @@ typedef struct raw_morph_target {
     uint32_t *vertices;
     float *positions; /* 3 a delta */
     float *normals;   /* 3 a delta, or NULL */
+    float *tangents;  /* 3 a delta (xyz), or NULL */
 } raw_morph_target;
 
 typedef struct raw_vertex_cache {

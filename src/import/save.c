@@ -79,6 +79,7 @@ static void copy_mesh(const sinew_mesh *src, raw_mesh *dst, bool *ok)
             .vertices = copy_array(st->vertices, st->delta_count, sizeof(uint32_t), ok),
             .positions = copy_array(st->positions, (size_t)st->delta_count * 3, sizeof(float), ok),
             .normals = copy_array(st->normals, (size_t)st->delta_count * 3, sizeof(float), ok),
+            .tangents = copy_array(st->tangents, (size_t)st->delta_count * 3, sizeof(float), ok),
         };
     }
     if (src->cache) {
