@@ -99,6 +99,30 @@ typedef struct sinew_blend_soa_desc {
 sinew_result sinew_blend_soa(const sinew_blend_soa_desc *desc, sinew_error *error);
 sinew_result sinew_blend_soa_scalar(const sinew_blend_soa_desc *desc, sinew_error *error);
 
+/* ---- morph weights, blended as poses are ----
+ *
+ * The morph channel weights of several poses (sinew_player_weights(), sinew/morph.h) combined
+ * with the weights their poses blend with: out = sum w_i l_i / sum w_i, the channels' default
+ * weights filling a total below the threshold (as the rest pose fills sinew_blend()'s), then
+ * each additive layer's deltas (a clip's weights minus its reference's) times its weight. */
+typedef struct sinew_weight_layer {
+    const float *weights; /* model->morph_channel_count channel weights (additive: deltas) */
+    float weight;         /* >= 0 (additive: any finite) */
+} sinew_weight_layer;
+
+typedef struct sinew_blend_weights_desc {
+    const sinew_model *model;
+    const sinew_weight_layer *layers;
+    uint32_t layer_count;
+    const sinew_weight_layer *additive;
+    uint32_t additive_count;
+    float threshold; /* 0 means 0.1, as sinew_blend_desc's */
+    float *out;      /* may be one of the layers' weights */
+    uint32_t out_count;
+} sinew_blend_weights_desc;
+
+sinew_result sinew_blend_weights(const sinew_blend_weights_desc *desc, sinew_error *error);
+
 /* out = a where t = 0, b where t = 1: translations and scales lerped, rotations slerped (the
  * shorter way). out may be a or b. */
 sinew_result sinew_pose_slerp(const sinew_transform *a, const sinew_transform *b, float t, sinew_transform *out,
@@ -174,6 +198,10 @@ float sinew_mixer_weight(const sinew_mixer *mixer, uint32_t clip);
 float sinew_mixer_time(const sinew_mixer *mixer, uint32_t clip);
 /* The blended pose of the last update (read-only; valid until the next call). */
 const sinew_soa_pose *sinew_mixer_pose(const sinew_mixer *mixer);
+/* The morph channel weights of the last update's blend: each playing clip's weights at its
+ * time, by the clips' weights (normalised); the channels' defaults when nothing plays.
+ * weight_count >= model->morph_channel_count. */
+sinew_result sinew_mixer_weights(const sinew_mixer *mixer, float *weights, uint32_t weight_count, sinew_error *error);
 
 typedef struct sinew_ik_two_bone_desc {
     const sinew_model *model;

@@ -118,8 +118,10 @@ typedef struct sinew_clip {
     const float *values;
     uint32_t weight_track_count;
     const sinew_weight_track *weight_tracks; /* sorted by channel, at most one per channel */
-    float timeline; /* seconds on the source file's own timeline where clip time 0 is (an FBX take's
-                     * start; 0 for most files): where vertex caches, which keep the file's times, are read */
+    float timeline;   /* seconds on the source file's own timeline where clip time 0 is (an FBX take's
+                       * start; 0 for most files): where vertex caches, which keep the file's times, are read */
+    float frame_rate; /* the frames a second the file keeps its animation in (FBX's time mode), or 0 when
+                       * it says none (glTF, COLLADA): for showing frame numbers, and stepping by frames */
 } sinew_clip;
 
 /* How a skin blends its joints by default (sinew_skin_desc.method chooses at run time). */

@@ -40,6 +40,15 @@ extern "C" {
 sinew_result sinew_sample_weights(const sinew_model *model, const sinew_clip *clip, float time, sinew_wrap wrap,
                                   float *weights, uint32_t weight_count, sinew_error *error);
 
+/* sinew_sample_weights() for the clip a player plays (its layout's; the defaults for the rest
+ * pose): a character's morph weights beside sinew_player_update()'s matrices. */
+sinew_result sinew_player_weights(const sinew_player *player, float time, sinew_wrap wrap, float *weights,
+                                  uint32_t weight_count, sinew_error *error);
+
+/* The weight of one channel at `time` of `clip` (sinew_sample_weights() for one channel). */
+float sinew_clip_weight(const sinew_model *model, const sinew_clip *clip, uint32_t channel, float time,
+                        sinew_wrap wrap);
+
 /* The weight of each of the mesh's targets from the weights of its channels (channel_weights[c]
  * for the mesh's channel c: model weights from instance.morph_first on; channel_count >=
  * mesh->morph_channel_count, target_count >= mesh->target_count). A channel with one target of

@@ -634,3 +634,46 @@ void sinew_root_motion_extract(const sinew_root_motion *rm, sinew_transform *loc
     for (int k = 0; k < 4; k++)
         t->rotation[k] = (float)q[k];
 }
+
+/* ---- morph weights ---- */
+
+sinew_result sinew_blend_weights(const sinew_blend_weights_desc *desc, sinew_error *error)
+{
+    if (!desc || !desc->model || (desc->model->morph_channel_count && !desc->out))
+        return sinew_fail(error, SINEW_ERROR_INVALID_ARGUMENT, "sinew_blend_weights: NULL model or output");
+    const sinew_model *m = desc->model;
+    uint32_t n = m->morph_channel_count;
+    if (desc->out_count < n)
+        return sinew_fail(error, SINEW_ERROR_INVALID_ARGUMENT,
+                          "sinew_blend_weights: room for %u weights, the model has %u channels", desc->out_count, n);
+    if ((desc->layer_count && !desc->layers) || (desc->additive_count && !desc->additive))
+        return sinew_fail(error, SINEW_ERROR_INVALID_ARGUMENT, "sinew_blend_weights: NULL layers");
+    float total = 0.0f;
+    for (uint32_t i = 0; i < desc->layer_count; i++) {
+        float w = desc->layers[i].weight;
+        if (!(w >= 0.0f) || !isfinite(w) || (n && !desc->layers[i].weights))
+            return sinew_fail(error, SINEW_ERROR_INVALID_ARGUMENT,
+                              "sinew_blend_weights: layer %u has a weight that is negative or not finite, or no "
+                              "weights",
+                              i);
+        total += w;
+    }
+    for (uint32_t i = 0; i < desc->additive_count; i++)
+        if (!isfinite(desc->additive[i].weight) || (n && !desc->additive[i].weights))
+            return sinew_fail(error, SINEW_ERROR_INVALID_ARGUMENT,
+                              "sinew_blend_weights: additive layer %u has a weight that is not finite, or no deltas",
+                              i);
+    float threshold = desc->threshold > 0.0f ? desc->threshold : 0.1f;
+    float fill = total < threshold ? threshold - total : 0.0f;
+    float norm = 1.0f / (total + fill);
+    for (uint32_t c = 0; c < n; c++) {
+        float sum = fill * m->morph_channels[c].default_weight;
+        for (uint32_t i = 0; i < desc->layer_count; i++)
+            sum += desc->layers[i].weight * desc->layers[i].weights[c];
+        float w = sum * norm;
+        for (uint32_t i = 0; i < desc->additive_count; i++)
+            w += desc->additive[i].weight * desc->additive[i].weights[c];
+        desc->out[c] = w;
+    }
+    return SINEW_OK;
+}

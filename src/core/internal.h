@@ -90,7 +90,7 @@ typedef struct blob_header {
     blob_span caches;         /* VCCH blob_cache, at most one a mesh */
     blob_span skin_blend;     /* SKBL uint32_t a skin: sinew_skin_blend; absent: all linear */
     blob_span mesh_dq;        /* MDQW uint32_t a mesh: offset of a float a vertex or BLOB_NONE; absent: none */
-    blob_span clip_timeline;  /* CTLN float a clip: sinew_clip.timeline; absent: all 0 */
+    blob_span clip_timeline;  /* CTLN two floats a clip: sinew_clip.timeline and frame_rate; absent: all 0 */
 } blob_header;
 
 /* One known section: its tag, where its span lives in blob_header, its element size. */
@@ -253,6 +253,7 @@ sinew_allocator sinew_allocator_or_default(const sinew_allocator *allocator);
 /* The model and clip (NULL: the rest pose) a layout plays (player.c). */
 const sinew_model *sinew_layout_model(const sinew_clip_layout *layout);
 const sinew_clip *sinew_layout_clip(const sinew_clip_layout *layout);
+const sinew_clip_layout *sinew_player_layout(const sinew_player *player);
 
 /* Chooses the player's SIMD path (when the processor has it) or the scalar reference. */
 void sinew_player_set_simd(sinew_player *player, bool simd);

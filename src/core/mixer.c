@@ -12,6 +12,7 @@
 
 #include "internal.h"
 #include "sinew/blend.h"
+#include "sinew/morph.h"
 
 typedef struct track {
     sinew_player *player;
@@ -241,4 +242,33 @@ float sinew_mixer_time(const sinew_mixer *mx, uint32_t clip)
 const sinew_soa_pose *sinew_mixer_pose(const sinew_mixer *mx)
 {
     return mx ? &mx->out : NULL;
+}
+
+sinew_result sinew_mixer_weights(const sinew_mixer *mx, float *weights, uint32_t weight_count, sinew_error *error)
+{
+    if (!mx || (mx->model->morph_channel_count && !weights))
+        return sinew_fail(error, SINEW_ERROR_INVALID_ARGUMENT, "sinew_mixer_weights: NULL mixer or output");
+    const sinew_model *m = mx->model;
+    if (weight_count < m->morph_channel_count)
+        return sinew_fail(error, SINEW_ERROR_INVALID_ARGUMENT,
+                          "sinew_mixer_weights: room for %u weights, the model has %u channels", weight_count,
+                          m->morph_channel_count);
+    float total = 0.0f;
+    for (uint32_t i = 0; i < mx->count; i++)
+        total += mx->tracks[i].weight > 0.0f ? mx->tracks[i].weight : 0.0f;
+    for (uint32_t c = 0; c < m->morph_channel_count; c++) {
+        if (!(total > 0.0f)) {
+            weights[c] = m->morph_channels[c].default_weight;
+            continue;
+        }
+        float sum = 0.0f;
+        for (uint32_t i = 0; i < mx->count; i++) {
+            const track *t = &mx->tracks[i];
+            if (t->weight > 0.0f)
+                sum += t->weight *
+                       sinew_clip_weight(m, sinew_layout_clip(sinew_player_layout(t->player)), c, t->time, mx->wrap);
+        }
+        weights[c] = sum / total;
+    }
+    return SINEW_OK;
 }

@@ -398,7 +398,7 @@ static sinew_result check_deformers(reader *r)
     if ((h->skin_blend.count && h->skin_blend.count != h->skins.count) ||
         (h->mesh_dq.count && h->mesh_dq.count != h->meshes.count) ||
         (h->instance_morph.count && h->instance_morph.count != h->instances.count) ||
-        (h->clip_timeline.count && h->clip_timeline.count != h->clips.count))
+        (h->clip_timeline.count && h->clip_timeline.count != 2 * h->clips.count))
         return corrupt(r, "deformer table sizes");
     const uint32_t *blend = array_at(r, h->skin_blend.offset, h->skin_blend.count);
     for (uint32_t i = 0; blend && i < h->skin_blend.count; i++)
@@ -481,6 +481,9 @@ static sinew_result check_deformers(reader *r)
     const float *timeline = array_at(r, h->clip_timeline.offset, h->clip_timeline.count);
     if (timeline && !floats_finite(timeline, h->clip_timeline.count))
         return corrupt(r, "clip timeline");
+    for (uint32_t i = 1; timeline && i < h->clip_timeline.count; i += 2)
+        if (timeline[i] < 0.0f)
+            return corrupt(r, "clip frame rate");
     return SINEW_OK;
 }
 
@@ -712,7 +715,9 @@ static void fill_model(model_block *b, const reader *r, unsigned char *tables)
             .value_count = bc->values.count,
             .times = array_at(r, bc->times.offset, bc->times.count),
             .values = array_at(r, bc->values.offset, bc->values.count),
-            .timeline = h->clip_timeline.count ? ((const float *)array_at(r, h->clip_timeline.offset, 1))[i] : 0.0f,
+            .timeline = h->clip_timeline.count ? ((const float *)array_at(r, h->clip_timeline.offset, 1))[2 * i] : 0.0f,
+            .frame_rate =
+                h->clip_timeline.count ? ((const float *)array_at(r, h->clip_timeline.offset, 1))[2 * i + 1] : 0.0f,
         };
     }
     const blob_weight_track *btracks = array_at(r, h->weight_tracks.offset, h->weight_tracks.count);

@@ -48,6 +48,38 @@ sinew_result sinew_sample_weights(const sinew_model *model, const sinew_clip *cl
     return SINEW_OK;
 }
 
+float sinew_clip_weight(const sinew_model *model, const sinew_clip *clip, uint32_t channel, float time, sinew_wrap wrap)
+{
+    if (!model || channel >= model->morph_channel_count)
+        return 0.0f;
+    float w = model->morph_channels[channel].default_weight;
+    if (!clip)
+        return w;
+    uint32_t lo = 0, hi = clip->weight_track_count; /* tracks are sorted by channel */
+    while (lo < hi) {
+        uint32_t mid = lo + (hi - lo) / 2;
+        if (clip->weight_tracks[mid].channel < channel)
+            lo = mid + 1;
+        else
+            hi = mid;
+    }
+    if (lo < clip->weight_track_count && clip->weight_tracks[lo].channel == channel &&
+        clip->weight_tracks[lo].keys.key_count)
+        sinew_channel_eval(clip, &clip->weight_tracks[lo].keys, SINEW_CHANNEL_WEIGHT, sinew_clip_time(clip, time, wrap),
+                           NULL, &w);
+    return w;
+}
+
+sinew_result sinew_player_weights(const sinew_player *player, float time, sinew_wrap wrap, float *weights,
+                                  uint32_t weight_count, sinew_error *error)
+{
+    if (!player)
+        return sinew_fail(error, SINEW_ERROR_INVALID_ARGUMENT, "sinew_player_weights: NULL player");
+    const sinew_clip_layout *layout = sinew_player_layout(player);
+    return sinew_sample_weights(sinew_layout_model(layout), sinew_layout_clip(layout), time, wrap, weights,
+                                weight_count, error);
+}
+
 /* The targets [begin, end) of one channel (sorted by full weight) at channel weight w: the
  * base shape is a target of full weight 0 that moves nothing; w falls between two neighbours
  * (or beyond the last two on its side), which share it linearly. */

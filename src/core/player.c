@@ -341,6 +341,11 @@ const sinew_model *sinew_layout_model(const sinew_clip_layout *layout)
     return layout->model;
 }
 
+const sinew_clip_layout *sinew_player_layout(const sinew_player *player)
+{
+    return player->layout;
+}
+
 const sinew_clip *sinew_layout_clip(const sinew_clip_layout *layout)
 {
     return layout->clip;

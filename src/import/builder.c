@@ -639,6 +639,8 @@ static sinew_result fix_clip(raw_model *m, raw_clip *clip, sinew_error *error)
     }
     if (!isfinite(clip->timeline))
         clip->timeline = 0.0f;
+    if (!(clip->frame_rate > 0.0f) || !isfinite(clip->frame_rate))
+        clip->frame_rate = 0.0f;
     if (unsorted)
         raw_model_warn(m, "clip \"%s\": %u channels had keys out of time order; they were sorted", clip->name,
                        unsorted);
@@ -738,6 +740,16 @@ static sinew_result fix_target(raw_model *m, const raw_mesh *mesh, raw_morph_tar
             if (out[a])
                 memmove(&out[a][kept * 3], &out[a][k * 3], 3 * sizeof(float));
         kept++;
+    }
+    /* normal or tangent offsets that are all zero (as exporters write them) are none */
+    for (int a = 1; a < 3; a++) {
+        bool none = true;
+        for (size_t i = 0; out[a] && none && i < (size_t)kept * 3; i++)
+            none = out[a][i] == 0.0f;
+        if (out[a] && none) {
+            free(out[a]);
+            out[a] = NULL;
+        }
     }
     free(order);
     free(t->vertices);
@@ -1304,7 +1316,7 @@ static bool write_clip(writer *w, const raw_clip *clip, uint32_t index, blob_cli
 static blob_span write_clips(writer *w, const raw_model *m, blob_span *weight_span, blob_span *timeline_span)
 {
     blob_clip *table = calloc(m->clip_count ? m->clip_count : 1, sizeof *table);
-    float *timeline = calloc(m->clip_count ? m->clip_count : 1, sizeof *timeline);
+    float *timeline = calloc(m->clip_count ? 2 * m->clip_count : 1, sizeof *timeline);
     weight_table weights = {0};
     *weight_span = *timeline_span = (blob_span){0, 0};
     if (!table || !timeline) {
@@ -1328,15 +1340,16 @@ static blob_span write_clips(writer *w, const raw_model *m, blob_span *weight_sp
         if (!(pool ? write_pooled_clip(w, &m->clips[i], i, pool_spans, &table[i], &weights)
                    : write_clip(w, &m->clips[i], i, &table[i], &weights)))
             w->failed = true;
-        timeline[i] = m->clips[i].timeline;
-        timelines |= timeline[i] != 0.0f;
+        timeline[2 * i] = m->clips[i].timeline;
+        timeline[2 * i + 1] = m->clips[i].frame_rate;
+        timelines |= timeline[2 * i] != 0.0f || timeline[2 * i + 1] != 0.0f;
     }
     blob_span span = {writer_put(w, table, m->clip_count * sizeof *table), m->clip_count};
     if (weights.count)
         *weight_span =
             (blob_span){writer_put(w, weights.tracks, weights.count * sizeof *weights.tracks), weights.count};
     if (timelines)
-        *timeline_span = (blob_span){writer_put(w, timeline, m->clip_count * sizeof *timeline), m->clip_count};
+        *timeline_span = (blob_span){writer_put(w, timeline, 2 * m->clip_count * sizeof *timeline), 2 * m->clip_count};
     free(weights.tracks);
     free(pool_spans);
     free(table);

@@ -49,6 +49,7 @@ typedef struct raw_clip {
     uint32_t weight_track_count;
     raw_weight_track *weight_tracks; /* not in pooled clips */
     float timeline;                  /* seconds on the file's timeline at clip time 0 (sinew_clip.timeline) */
+    float frame_rate;                /* sinew_clip.frame_rate, 0 for none */
 } raw_clip;
 
 /* Keys that clips share: every channel's times, then its values, one after another. */

@@ -112,6 +112,7 @@ static void copy_clip(const sinew_model *m, uint32_t index, raw_model *raw, bool
     dst->duration = src->duration;
     dst->start = src->start;
     dst->timeline = src->timeline;
+    dst->frame_rate = src->frame_rate;
     uint32_t pool = 0;
     for (uint32_t c = 0; c < index && !pool; c++)
         if (m->clips[c].times == src->times && m->clips[c].values == src->values &&
