@@ -69,7 +69,7 @@ static double nearest(const double *sorted, uint32_t n, const double p[3])
 }
 
 /* Largest distance from a point of one set to the nearest of the other, both ways. */
-static double point_set_distance(const float *ours, uint32_t n_ours, const double *ref, uint32_t n_ref)
+double point_set_distance(const float *ours, uint32_t n_ours, const double *ref, uint32_t n_ref)
 {
     double *a = malloc(((size_t)n_ours + 1) * 3 * sizeof *a), *b = malloc(((size_t)n_ref + 1) * 3 * sizeof *b);
     for (size_t i = 0; i < (size_t)n_ours * 3; i++)

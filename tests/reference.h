@@ -31,6 +31,9 @@ typedef struct outcome {
  * COLLADA file's names). */
 outcome compare_with_reference(const sinew_model *m, const cJSON *ref, const sid_names *sids);
 
+/* The largest distance from a point of either set to the nearest of the other. */
+double point_set_distance(const float *ours, uint32_t n_ours, const double *ref, uint32_t n_ref);
+
 /* The diagonal of every node position of every frame of a reference's "frames". */
 double reference_diagonal(const cJSON *frames);
 

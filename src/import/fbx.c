@@ -214,18 +214,20 @@ static int object_kind(const fbx_node *n)
     if (fbx_named(n, "Model"))
         return K_MODEL;
     if (fbx_named(n, "Geometry"))
-        return fbx_value_is(sub, "Mesh") ? K_GEOMETRY : K_OTHER;
+        return fbx_value_is(sub, "Mesh") ? K_GEOMETRY : fbx_value_is(sub, "Shape") ? K_SHAPE : K_OTHER;
     if (fbx_named(n, "Deformer"))
-        return fbx_value_is(sub, "Skin")         ? K_SKIN
-               : fbx_value_is(sub, "Cluster")    ? K_CLUSTER
-               : fbx_value_is(sub, "BlendShape") ? K_BLEND_SHAPE
-                                                 : K_OTHER;
+        return fbx_value_is(sub, "Skin")                  ? K_SKIN
+               : fbx_value_is(sub, "Cluster")             ? K_CLUSTER
+               : fbx_value_is(sub, "BlendShape")          ? K_BLEND_SHAPE
+               : fbx_value_is(sub, "BlendShapeChannel")   ? K_BLEND_CHANNEL
+               : fbx_value_is(sub, "VertexCacheDeformer") ? K_CACHE_DEFORMER
+                                                          : K_OTHER;
     static const struct {
         const char *name;
         int kind;
     } kinds[] = {{"AnimationStack", K_STACK}, {"AnimationLayer", K_LAYER}, {"AnimationCurveNode", K_CURVE_NODE},
                  {"AnimationCurve", K_CURVE}, {"Material", K_MATERIAL},    {"Texture", K_TEXTURE},
-                 {"Video", K_VIDEO}};
+                 {"Video", K_VIDEO},          {"Cache", K_CACHE}};
     for (size_t i = 0; i < sizeof kinds / sizeof kinds[0]; i++)
         if (fbx_named(n, kinds[i].name))
             return kinds[i].kind;
@@ -351,26 +353,26 @@ void fbx_sort_links(scene *s)
 }
 
 /* The k-th parent / child link of an object. */
-static const fbx_link *parent_link(const scene *s, const fbx_object *o, uint32_t k)
+const fbx_link *fbx_parent_link(const scene *s, const fbx_object *o, uint32_t k)
 {
     return &s->up[o->first_parent + k];
 }
 
-static const fbx_link *child_link(const scene *s, const fbx_object *o, uint32_t k)
+const fbx_link *fbx_child_link(const scene *s, const fbx_object *o, uint32_t k)
 {
     return &s->down[o->first_child + k];
 }
 
 /* The first object of `kind` connected to `o` either way (child first), or NULL. */
-static fbx_object *linked(const scene *s, const fbx_object *o, int kind, bool children, bool parents)
+fbx_object *fbx_linked(const scene *s, const fbx_object *o, int kind, bool children, bool parents)
 {
     for (uint32_t k = 0; children && k < o->child_count; k++) {
-        fbx_object *c = &s->objects[child_link(s, o, k)->child];
+        fbx_object *c = &s->objects[fbx_child_link(s, o, k)->child];
         if (c->kind == kind)
             return c;
     }
     for (uint32_t k = 0; parents && k < o->parent_count; k++) {
-        fbx_object *p = &s->objects[parent_link(s, o, k)->parent];
+        fbx_object *p = &s->objects[fbx_parent_link(s, o, k)->parent];
         if (p->kind == kind)
             return p;
     }
@@ -381,7 +383,7 @@ static fbx_object *linked(const scene *s, const fbx_object *o, int kind, bool ch
 
 /* A property of a Properties70 (`P: name, type, label, flags, values...`) or Properties60
  * (`Property: name, type, flags, values...`) block, or NULL. */
-static const fbx_node *find_p(const fbx_node *props, const char *name)
+const fbx_node *fbx_find_p(const fbx_node *props, const char *name)
 {
     for (uint32_t i = 0; props && i < props->child_count; i++) {
         const fbx_node *p = &props->children[i];
@@ -403,27 +405,34 @@ static double p_num(const fbx_node *p, uint32_t k, double fallback)
     return p && p->value_count > at ? fbx_num(p, at) : fallback;
 }
 
-static const fbx_node *prop(const fbx_object *o, const char *name)
+const fbx_node *fbx_prop(const fbx_object *o, const char *name)
 {
-    const fbx_node *p = find_p(o->props, name);
-    return p ? p : find_p(o->defaults, name);
+    const fbx_node *p = fbx_find_p(o->props, name);
+    return p ? p : fbx_find_p(o->defaults, name);
 }
 
-static double prop_num(const fbx_object *o, const char *name, double fallback)
+double fbx_prop_num(const fbx_object *o, const char *name, double fallback)
 {
-    return p_num(prop(o, name), 0, fallback);
+    return p_num(fbx_prop(o, name), 0, fallback);
+}
+
+const fbx_value *fbx_prop_string(const fbx_object *o, const char *name)
+{
+    const fbx_node *p = fbx_prop(o, name);
+    uint32_t at = p ? p_first_value(p) : 0;
+    return p && p->value_count > at && p->values[at].type == FBX_STRING ? &p->values[at] : NULL;
 }
 
 static void prop_vec3(const fbx_object *o, const char *name, double fallback, double out[3])
 {
-    const fbx_node *p = prop(o, name);
+    const fbx_node *p = fbx_prop(o, name);
     for (uint32_t c = 0; c < 3; c++)
         out[c] = p_num(p, c, fallback);
 }
 
 static double global_num(const scene *s, const char *name, double fallback)
 {
-    return p_num(find_p(s->global_settings, name), 0, fallback);
+    return p_num(fbx_find_p(s->global_settings, name), 0, fallback);
 }
 
 /* Whole numbers read from a file's doubles. A cast of a double out of the target's range is
@@ -435,7 +444,7 @@ static int32_t file_int(double v, int32_t fallback)
 
 static int32_t prop_int(const fbx_object *o, const char *name, int32_t fallback)
 {
-    return file_int(prop_num(o, name, fallback), fallback);
+    return file_int(fbx_prop_num(o, name, fallback), fallback);
 }
 
 /* FBX 5.x models have no properties: their transform is the Default of each X, Y, Z channel
@@ -535,10 +544,10 @@ static void curve_node_curves(const scene *s, const fbx_object *cn, int32_t curv
     static const char *const short_comps[3] = {"X", "Y", "Z"};
     for (int c = 0; c < 3; c++) {
         curves[c] = -1;
-        defaults[c] = prop_num(cn, comps[c], prop_num(cn, short_comps[c], NAN));
+        defaults[c] = fbx_prop_num(cn, comps[c], fbx_prop_num(cn, short_comps[c], NAN));
     }
     for (uint32_t k = 0; k < cn->child_count; k++) {
-        const fbx_link *dl = child_link(s, cn, k);
+        const fbx_link *dl = fbx_child_link(s, cn, k);
         const fbx_object *co = &s->objects[dl->child];
         if (!dl->prop || co->kind != K_CURVE || co->curve < 0)
             continue;
@@ -548,7 +557,7 @@ static void curve_node_curves(const scene *s, const fbx_object *cn, int32_t curv
         if (c == 0 && isnan(defaults[0]) && dl->prop->type == FBX_STRING) {
             char name[256];
             snprintf(name, sizeof name, "%.*s", (int)dl->prop->count, dl->prop->s);
-            defaults[0] = prop_num(cn, name, NAN);
+            defaults[0] = fbx_prop_num(cn, name, NAN);
         }
         if (s->curves[co->curve].count)
             curves[c] = co->curve;
@@ -571,7 +580,7 @@ static fbx_layer layer_info(const fbx_object *o, uint32_t stack, uint32_t index)
     default:
         break;
     }
-    l.weight = fmin(fmax(prop_num(o, "Weight", 100.0) / 100.0, 0.0), 1.0);
+    l.weight = fmin(fmax(fbx_prop_num(o, "Weight", 100.0) / 100.0, 0.0), 1.0);
     if (l.weight > 0.99999)
         l.weight = 1.0;
     l.compose_rotation = prop_int(o, "RotationAccumulationMode", 0) == 0;
@@ -583,12 +592,12 @@ static fbx_layer layer_info(const fbx_object *o, uint32_t stack, uint32_t index)
 static void stack_info(const scene *s, const fbx_object *o, fbx_stack *st)
 {
     const char *start = "LocalStart", *stop = "LocalStop";
-    if (!prop(o, start) || !prop(o, stop))
+    if (!fbx_prop(o, start) || !fbx_prop(o, stop))
         start = "ReferenceStart", stop = "ReferenceStop";
     st->name = o->name;
     st->name_len = o->name_len;
-    st->start = prop_num(o, start, 0) / s->ticks_per_second;
-    st->stop = prop_num(o, stop, 0) / s->ticks_per_second;
+    st->start = fbx_prop_num(o, start, 0) / s->ticks_per_second;
+    st->stop = fbx_prop_num(o, stop, 0) / s->ticks_per_second;
     st->order = o->order;
 }
 
@@ -641,7 +650,7 @@ static sinew_result index_animation(scene *s)
         stack_info(s, stacks[k], st);
         st->first_layer = s->layer_count;
         for (uint32_t c = 0; c < stacks[k]->child_count; c++) {
-            uint32_t child = child_link(s, stacks[k], c)->child;
+            uint32_t child = fbx_child_link(s, stacks[k], c)->child;
             if (s->objects[child].kind != K_LAYER || layer_of[child] != UINT32_MAX)
                 continue;
             layer_of[child] = s->layer_count;
@@ -656,7 +665,7 @@ static sinew_result index_animation(scene *s)
         const fbx_object *cn = &s->objects[l->child], *target = &s->objects[l->parent];
         if (!l->prop || cn->kind != K_CURVE_NODE)
             continue;
-        const fbx_object *layer_object = linked(s, cn, K_LAYER, false, true);
+        const fbx_object *layer_object = fbx_linked(s, cn, K_LAYER, false, true);
         if (!layer_object || layer_of[layer_object - s->objects] == UINT32_MAX)
             continue;
         uint32_t layer = layer_of[layer_object - s->objects];
@@ -673,7 +682,10 @@ static sinew_result index_animation(scene *s)
         for (int p = 0; p < P_COUNT; p++)
             if (fbx_value_is(l->prop, fbx_transform_props[p]))
                 b.prop = p;
-        if (b.prop >= 0 && target->kind == K_MODEL && !fbx_add_binding(s, &b))
+        if (target->kind == K_BLEND_CHANNEL && fbx_value_is(l->prop, "DeformPercent"))
+            b.prop = P_DEFORM_PERCENT;
+        bool wanted = (b.prop >= 0 && b.prop < P_COUNT && target->kind == K_MODEL) || b.prop == P_DEFORM_PERCENT;
+        if (wanted && !fbx_add_binding(s, &b))
             result = fbx_oom(s);
     }
     free(layer_of);
@@ -778,6 +790,28 @@ static void anim_values(const scene *s, uint32_t model, int32_t stack, double t,
     }
 }
 
+double fbx_animated_value(const scene *s, uint32_t o, int prop, int32_t stack, double t, double clip_start,
+                          double value)
+{
+    const fbx_object *obj = &s->objects[o];
+    double out[3] = {value, 0, 0};
+    for (uint32_t b = obj->first_binding; stack >= 0 && b < obj->first_binding + obj->binding_count; b++) {
+        const fbx_binding *bind = &s->bindings[b];
+        if (bind->stack != (uint32_t)stack || bind->prop != prop)
+            continue;
+        double fallback = isnan(bind->defaults[0]) ? out[0] : bind->defaults[0];
+        double x[3] = {bind->curves[0] >= 0 ? fbx_curve_eval_at(&s->curves[bind->curves[0]], t, clip_start, fallback)
+                                            : fallback,
+                       0, 0};
+        const fbx_layer *l = &s->layers[bind->layer];
+        if (bind->index == 0)
+            out[0] = x[0];
+        else
+            combine_layer(l, layer_weight(s, l, t, clip_start), prop, 0, out, x);
+    }
+    return out[0];
+}
+
 /* ---- transforms ----------------------------------------------------------------------- */
 
 typedef struct local_trs {
@@ -854,7 +888,7 @@ static uint8_t inherit_type(const fbx_object *o)
 static int32_t model_parent(const scene *s, const fbx_object *o)
 {
     for (uint32_t k = 0; k < o->parent_count; k++) {
-        const fbx_link *l = parent_link(s, o, k);
+        const fbx_link *l = fbx_parent_link(s, o, k);
         if (!l->prop && s->objects[l->parent].kind == K_MODEL)
             return (int32_t)l->parent;
     }
@@ -980,7 +1014,7 @@ static sinew_result build_nodes(scene *s)
                 break;
             const fbx_object *co = &s->objects[cur];
             for (uint32_t k = co->child_count; k-- > 0;) {
-                const fbx_link *l = child_link(s, co, k);
+                const fbx_link *l = fbx_child_link(s, co, k);
                 fbx_object *child = &s->objects[l->child];
                 if (!l->prop && child->kind == K_MODEL && child->raw_node < 0 &&
                     model_parent(s, child) == (int32_t)cur && top < n)
@@ -1356,7 +1390,7 @@ static sinew_result read_skin(scene *s, const fbx_object *skin, const fbx_object
     memset(k, 0, sizeof *k);
     uint32_t clusters = 0;
     for (uint32_t c = 0; c < skin->child_count; c++)
-        clusters += s->objects[child_link(s, skin, c)->child].kind == K_CLUSTER;
+        clusters += s->objects[fbx_child_link(s, skin, c)->child].kind == K_CLUSTER;
     k->joints = calloc(clusters + 1u, sizeof *k->joints);
     k->geometry_to_bone = calloc(clusters + 1u, sizeof *k->geometry_to_bone);
     k->first = calloc(point_count + 1u, sizeof *k->first);
@@ -1372,10 +1406,10 @@ static sinew_result read_skin(scene *s, const fbx_object *skin, const fbx_object
     for (int pass = 0; pass < 2 && !result; pass++) {
         uint32_t slot = 0;
         for (uint32_t c = 0; c < skin->child_count && !result; c++) {
-            const fbx_object *cl = &s->objects[child_link(s, skin, c)->child];
+            const fbx_object *cl = &s->objects[fbx_child_link(s, skin, c)->child];
             if (cl->kind != K_CLUSTER)
                 continue;
-            const fbx_object *bone = linked(s, cl, K_MODEL, true, true);
+            const fbx_object *bone = fbx_linked(s, cl, K_MODEL, true, true);
             uint32_t ni = 0, nw = 0;
             const double *idx = fbx_array(cl->node, "Indexes", &ni);
             const double *w = fbx_array(cl->node, "Weights", &nw);
@@ -1463,7 +1497,7 @@ static int32_t material_of(scene *s, const fbx_object *model, int32_t slot)
 {
     int32_t seen = 0;
     for (uint32_t k = 0; k < model->child_count; k++) {
-        fbx_object *mat = &s->objects[child_link(s, model, k)->child];
+        fbx_object *mat = &s->objects[fbx_child_link(s, model, k)->child];
         if (mat->kind != K_MATERIAL)
             continue;
         if (seen++ != slot)
@@ -1518,27 +1552,27 @@ static sinew_result build_materials(scene *s)
         memcpy(r->name, o->name, o->name_len);
         r->name[o->name_len] = 0;
         double color[3];
-        prop_vec3(o, prop(o, "DiffuseColor") ? "DiffuseColor" : "Diffuse", 0.8, color);
-        double factor = prop_num(o, "DiffuseFactor", 1.0), opacity = prop_num(o, "Opacity", 1.0);
+        prop_vec3(o, fbx_prop(o, "DiffuseColor") ? "DiffuseColor" : "Diffuse", 0.8, color);
+        double factor = fbx_prop_num(o, "DiffuseFactor", 1.0), opacity = fbx_prop_num(o, "Opacity", 1.0);
         for (int c = 0; c < 3; c++)
             r->base_color[c] = (float)fmin(fmax(color[c] * factor, 0.0), 1.0);
         r->base_color[3] = (float)fmin(fmax(opacity, 0.0), 1.0);
         double emissive[3];
-        prop_vec3(o, prop(o, "EmissiveColor") ? "EmissiveColor" : "Emissive", 0.0, emissive);
-        double emissive_factor = prop_num(o, "EmissiveFactor", 1.0);
+        prop_vec3(o, fbx_prop(o, "EmissiveColor") ? "EmissiveColor" : "Emissive", 0.0, emissive);
+        double emissive_factor = fbx_prop_num(o, "EmissiveFactor", 1.0);
         for (int c = 0; c < 3; c++)
             r->emissive[c] = (float)fmax(emissive[c] * emissive_factor, 0.0);
         /* a Lambert material stores no exponent: no highlight, fully rough */
-        bool shiny = prop(o, "ShininessExponent") || prop(o, "Shininess");
-        r->roughness =
-            shiny ? import_roughness_of_shininess(prop_num(o, "ShininessExponent", prop_num(o, "Shininess", 20.0)))
-                  : 1.0f;
+        bool shiny = fbx_prop(o, "ShininessExponent") || fbx_prop(o, "Shininess");
+        r->roughness = shiny ? import_roughness_of_shininess(
+                                   fbx_prop_num(o, "ShininessExponent", fbx_prop_num(o, "Shininess", 20.0)))
+                             : 1.0f;
         /* textures by the property they drive (a "Bump" is a height map, which sinew does not read) */
         static const char *const slots[SINEW_MAP_COUNT] = {[SINEW_MAP_BASE_COLOR] = "DiffuseColor",
                                                            [SINEW_MAP_NORMAL] = "NormalMap",
                                                            [SINEW_MAP_EMISSIVE] = "EmissiveColor"};
         for (uint32_t k = 0; k < o->child_count; k++) {
-            const fbx_link *l = child_link(s, o, k);
+            const fbx_link *l = fbx_child_link(s, o, k);
             const fbx_object *tex = &s->objects[l->child];
             int slot = -1;
             for (int q = 0; q < SINEW_MAP_COUNT && slot < 0 && tex->kind == K_TEXTURE; q++)
@@ -1546,7 +1580,7 @@ static sinew_result build_materials(scene *s)
                     slot = q;
             if (slot < 0 || r->maps[slot].path)
                 continue;
-            const fbx_object *video = linked(s, tex, K_VIDEO, true, true);
+            const fbx_object *video = fbx_linked(s, tex, K_VIDEO, true, true);
             uint32_t content = 0;
             const fbx_node *c = video ? fbx_child(video->node, "Content") : NULL;
             for (uint32_t v = 0; c && v < c->value_count; v++)
@@ -1575,7 +1609,8 @@ static sinew_result grow(scene *s, void **array, uint32_t count, size_t elem)
 
 /* One raw mesh of the polygons of `src` that use material slot `slot`. */
 static sinew_result emit_mesh(scene *s, const mesh_source *src, const fbx_object *model, int32_t slot,
-                              const dmat *geometry, const skin_source *skin, int32_t skin_index)
+                              const dmat *geometry, const skin_source *skin, int32_t skin_index,
+                              const fbx_deform *deform)
 {
     raw_model *m = s->model;
     sinew_result result;
@@ -1694,14 +1729,27 @@ static sinew_result emit_mesh(scene *s, const mesh_source *src, const fbx_object
             }
         }
     }
+    /* blend shapes, DQ weights and the vertex cache, by each vertex's control point */
+    uint32_t *points = malloc((vcount ? vcount : 1) * sizeof *points);
+    if (!points) {
+        free(verts);
+        return fbx_oom(s);
+    }
+    for (uint32_t v = 0; v < vcount; v++)
+        points[v] = verts[v].point;
     free(verts);
+    result = fbx_deform_emit(s, deform, points, &place, mesh);
+    free(points);
+    if (result)
+        return result;
     if ((result = grow(s, (void **)&m->instances, m->instance_count, sizeof *m->instances)))
         return result;
-    m->instances[m->instance_count++] = (sinew_instance){m->mesh_count - 1, (uint32_t)model->raw_node, 0};
+    uint32_t first = deform->first_channel >= 0 ? (uint32_t)deform->first_channel : 0;
+    m->instances[m->instance_count++] = (sinew_instance){m->mesh_count - 1, (uint32_t)model->raw_node, first};
     return SINEW_OK;
 }
 
-static sinew_result add_skin(scene *s, const skin_source *k, const dmat *geometry, int32_t *out)
+static sinew_result add_skin(scene *s, const skin_source *k, const dmat *geometry, uint32_t blend, int32_t *out)
 {
     raw_model *m = s->model;
     sinew_result result;
@@ -1710,6 +1758,7 @@ static sinew_result add_skin(scene *s, const skin_source *k, const dmat *geometr
     raw_skin *rs = &m->skins[m->skin_count++];
     memset(rs, 0, sizeof *rs);
     rs->joint_count = k->joint_count;
+    rs->blend = blend;
     rs->joints = malloc((k->joint_count ? k->joint_count : 1) * sizeof *rs->joints);
     rs->inverse_bind = malloc((k->joint_count ? k->joint_count : 1) * sizeof *rs->inverse_bind);
     if (!rs->joints || !rs->inverse_bind)
@@ -1755,21 +1804,21 @@ static sinew_result build_model_meshes(scene *s, const fbx_object *model)
 {
     dmat geometry = geometric_matrix(model);
     for (uint32_t k = 0; k < model->child_count; k++) {
-        const fbx_object *g = &s->objects[child_link(s, model, k)->child];
+        const fbx_object *g = &s->objects[fbx_child_link(s, model, k)->child];
         if (g->kind != K_GEOMETRY)
             continue;
         mesh_source src;
         skin_source skin = {0};
+        fbx_deform deform = {.first_channel = -1};
         sinew_result result = read_polygons(s, g, &src);
-        const fbx_object *deformer = result ? NULL : linked(s, g, K_SKIN, true, false);
-        if (!result && linked(s, g, K_BLEND_SHAPE, true, false))
-            raw_model_warn(s->model, "%s: mesh \"%.*s\" has blend shapes, which sinew does not play yet", s->path,
-                           (int)g->name_len, g->name);
+        const fbx_object *deformer = result ? NULL : fbx_linked(s, g, K_SKIN, true, false);
         if (!result && deformer)
             result = read_skin(s, deformer, model, src.point_count, &skin);
+        if (!result)
+            result = fbx_deform_read(s, g, deformer, src.point_count, &deform);
         int32_t skin_index = -1;
         if (!result && deformer && skin.joint_count)
-            result = add_skin(s, &skin, &geometry, &skin_index);
+            result = add_skin(s, &skin, &geometry, deform.blend, &skin_index);
         /* The material slots that polygons use, ascending (not 0 to the largest, which a file
          * may give as two billion). */
         uint32_t slot_count = 0;
@@ -1777,10 +1826,12 @@ static sinew_result build_model_meshes(scene *s, const fbx_object *model)
         if (!result && !slots)
             result = fbx_oom(s);
         for (uint32_t i = 0; !result && i < slot_count; i++)
-            result = emit_mesh(s, &src, model, slots[i], &geometry, skin_index >= 0 ? &skin : NULL, skin_index);
+            result =
+                emit_mesh(s, &src, model, slots[i], &geometry, skin_index >= 0 ? &skin : NULL, skin_index, &deform);
         free(slots);
         mesh_source_free(&src);
         skin_source_free(&skin);
+        fbx_deform_free(&deform);
         if (result)
             return result;
     }
@@ -1863,10 +1914,10 @@ static void push_key_time(void *context, double time, const fbx_curve *c, uint32
     }
 }
 
-/* Clip times of every key of every curve that animates a model in a stack (their cycles
+/* Clip times of every key of every curve that animates an object in a stack (their cycles
  * through extrapolation included), the clip's ends, and the instants beside each step. */
-static sinew_result sample_times(const scene *s, uint32_t model, int32_t stack, double start, float duration,
-                                 float **out, uint32_t *count)
+sinew_result fbx_object_key_times(const scene *s, uint32_t model, int32_t stack, double start, float duration,
+                                  float **out, uint32_t *count)
 {
     time_list l = {.start = start, .duration = duration};
     time_push(&l, 0.0f);
@@ -1952,6 +2003,8 @@ static sinew_result build_clip(scene *s, uint32_t stack)
         return fbx_oom(s);
     memcpy(clip->name, st->name, st->name_len);
     clip->name[st->name_len] = 0;
+    clip->timeline = (float)start;
+    clip->frame_rate = (float)s->frame_rate;
     /* Halving may add at most this many keys to the whole clip (beyond the curves' own). */
     uint64_t budget = 1u << 20;
     for (uint32_t i = 1; i < m->node_count; i++) {
@@ -1960,7 +2013,7 @@ static sinew_result build_clip(scene *s, uint32_t stack)
             continue;
         float *times = NULL;
         uint32_t n = 0;
-        if (sample_times(s, model, (int32_t)stack, start, duration, &times, &n))
+        if (fbx_object_key_times(s, model, (int32_t)stack, start, duration, &times, &n))
             return fbx_oom(s);
         /* Translation tolerance relative to the rest pose's size in the file's units: the
          * local translation is in the parent's space, which under a scaled parent is not the
@@ -1984,7 +2037,7 @@ static sinew_result build_clip(scene *s, uint32_t stack)
                        "%s: clip \"%s\" has more curve detail than sinew bakes (a million extra keys); parts "
                        "of it are interpolated more coarsely",
                        s->path, clip->name);
-    return SINEW_OK;
+    return fbx_weight_tracks(s, stack, start, clip);
 }
 
 /* The file's active take: Documents/Document's ActiveAnimStackName (7.x), Takes/Current
@@ -1996,7 +2049,7 @@ static const fbx_value *active_take(const scene *s)
         return &current->values[0];
     const fbx_node *docs = fbx_child(&s->doc.root, "Documents");
     for (uint32_t i = 0; docs && i < docs->child_count; i++) {
-        const fbx_node *p = find_p(fbx_child(&docs->children[i], "Properties70"), "ActiveAnimStackName");
+        const fbx_node *p = fbx_find_p(fbx_child(&docs->children[i], "Properties70"), "ActiveAnimStackName");
         if (p && p->value_count > 4 && p->values[4].type == FBX_STRING)
             return &p->values[4];
     }
@@ -2043,6 +2096,8 @@ static void scene_free(scene *s)
     free(s->down);
     free(s->models);
     free(s->rest_worlds);
+    free(s->geometry_channel);
+    free(s->channel_object);
     fbx_doc_free(&s->doc);
 }
 
@@ -2055,6 +2110,45 @@ static bool objects_have_ids(const fbx_doc *doc)
         if (objects->children[i].value_count > 0)
             return objects->children[i].values[0].type == FBX_INT;
     return true;
+}
+
+/* The exporter that wrote the file is Blender's (its Creator, at the top or in the header). */
+static bool written_by_blender(const fbx_node *root)
+{
+    const fbx_node *c = fbx_child(root, "Creator");
+    if (!c)
+        c = fbx_child(fbx_child(root, "FBXHeaderExtension"), "Creator");
+    return c && c->value_count && c->values[0].type == FBX_STRING && c->values[0].count >= 7 &&
+           memcmp(c->values[0].s, "Blender", 7) == 0;
+}
+
+/* Frames a second of GlobalSettings' TimeMode (FbxTime::EMode), or its CustomFrameRate; files
+ * before 7.0 without them give a FrameRate in Version5/Settings (6.x) or Settings (5.x). */
+static double frame_rate(const scene *s)
+{
+    if (!fbx_find_p(s->global_settings, "TimeMode")) {
+        const fbx_node *root = &s->doc.root, *settings = fbx_child(fbx_child(root, "Version5"), "Settings");
+        if (!settings)
+            settings = fbx_child(root, "Settings");
+        const fbx_node *rate = fbx_child(settings, "FrameRate");
+        double fps = 0;
+        if (rate && rate->value_count && rate->values[0].type == FBX_STRING) {
+            char text[32];
+            snprintf(text, sizeof text, "%.*s", (int)rate->values[0].count, rate->values[0].s);
+            fps = strtod(text, NULL);
+        } else if (rate && rate->value_count) {
+            fps = fbx_num(rate, 0);
+        }
+        if (fps > 0 && fps < 1e6)
+            return fps;
+    }
+    static const double rates[] = {30,          120, 100, 60,   50,     48, 30, 30, 29.97002997,
+                                   29.97002997, 25,  24,  1000, 23.976, 0,  96, 72, 59.94};
+    int32_t mode = file_int(global_num(s, "TimeMode", 0), 0);
+    double custom = global_num(s, "CustomFrameRate", 24);
+    if (mode == 14)
+        return custom > 0 ? custom : 24;
+    return mode >= 0 && mode < (int32_t)(sizeof rates / sizeof rates[0]) && rates[mode] > 0 ? rates[mode] : 30;
 }
 
 /* The file's FBX version (refusing those sinew does not read, and 7.x documents without their
@@ -2083,6 +2177,8 @@ static sinew_result check_version(scene *s)
     s->global_settings = fbx_child(settings, "Properties70");
     if (!s->global_settings)
         s->global_settings = fbx_child(settings, "Properties60");
+    s->blender = written_by_blender(root);
+    s->frame_rate = frame_rate(s);
     if (!s->legacy && (!fbx_child(root, "Objects") || !fbx_child(root, "Connections")))
         return sinew_fail(s->error, SINEW_ERROR_FORMAT,
                           "%s: the FBX %u.%u document has no %s section (the file may be cut short)", s->path, v / 1000,
@@ -2115,6 +2211,13 @@ sinew_result raw_model_from_fbx(const char *path, const unsigned char *bytes, si
     }
     if (!result)
         result = index_statics(&s);
+    if (!result) {
+        s.geometry_channel = malloc((s.object_count ? s.object_count : 1) * sizeof *s.geometry_channel);
+        if (!s.geometry_channel)
+            result = fbx_oom(&s);
+        for (uint32_t i = 0; !result && i < s.object_count; i++)
+            s.geometry_channel[i] = -1;
+    }
     if (!result) {
         conversion(&s);
         result = build_nodes(&s);

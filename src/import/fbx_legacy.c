@@ -169,7 +169,12 @@ static int legacy_kind(const fbx_node *n)
     if (fbx_named(n, "Geometry"))
         return fbx_value_is(sub, "Mesh") ? K_GEOMETRY : K_OTHER;
     if (fbx_named(n, "Deformer"))
-        return fbx_value_is(sub, "Skin") ? K_SKIN : fbx_value_is(sub, "Cluster") ? K_CLUSTER : K_OTHER;
+        return fbx_value_is(sub, "Skin")                  ? K_SKIN
+               : fbx_value_is(sub, "Cluster")             ? K_CLUSTER
+               : fbx_value_is(sub, "VertexCacheDeformer") ? K_CACHE_DEFORMER
+                                                          : K_OTHER;
+    if (fbx_named(n, "Cache"))
+        return K_CACHE;
     if (fbx_named(n, "Material"))
         return K_MATERIAL;
     if (fbx_named(n, "Texture"))
@@ -179,7 +184,9 @@ static int legacy_kind(const fbx_node *n)
     return K_OTHER;
 }
 
-/* A mesh model's geometry: an object on the model's own node, linked under it. */
+/* A mesh model's geometry: an object on the model's own node, linked under it; and a blend
+ * channel for each of its Shape nodes (linked under the geometry, with the model's
+ * properties: a shape's weight is the model's property of the shape's name). */
 static sinew_result add_geometry(legacy *l, uint32_t model)
 {
     const fbx_node *node = l->s->objects[model].node;
@@ -188,9 +195,42 @@ static sinew_result add_geometry(legacy *l, uint32_t model)
     fbx_object *g = add_object(l, node, K_GEOMETRY, NULL, "Geometry");
     if (!g || !add_link(l, (uint32_t)(g - l->s->objects), model, NULL))
         return fbx_oom(l->s);
+    uint32_t gi = (uint32_t)(g - l->s->objects);
     g->name = l->s->objects[model].name; /* named after its model; not found by name */
     g->name_len = l->s->objects[model].name_len;
+    for (uint32_t i = 0; i < node->child_count; i++) {
+        const fbx_node *shape = &node->children[i];
+        if (!fbx_named(shape, "Shape") || !shape->value_count || shape->values[0].type != FBX_STRING)
+            continue;
+        fbx_object *ch = add_object(l, shape, K_BLEND_CHANNEL, &shape->values[0], "SubDeformer");
+        if (!ch || !add_link(l, l->s->object_count - 1, gi, NULL))
+            return fbx_oom(l->s);
+        ch->props = l->s->objects[model].props;
+    }
     return SINEW_OK;
+}
+
+static int32_t geometry_of(const scene *s, uint32_t model);
+
+/* The blend channel a model's take channel `name` animates (a Shape of its geometry named so,
+ * or so with " (Shape)" after it, as FBX 5.x names them), or -1. */
+static int32_t shape_channel(const scene *s, uint32_t model, const fbx_value *name)
+{
+    int32_t g = geometry_of(s, model);
+    if (g < 0 || !name || name->type != FBX_STRING)
+        return -1;
+    const fbx_object *go = &s->objects[g];
+    for (uint32_t k = 0; k < go->child_count; k++) {
+        uint32_t c = fbx_child_link(s, go, k)->child;
+        const fbx_object *ch = &s->objects[c];
+        if (ch->kind != K_BLEND_CHANNEL)
+            continue;
+        size_t n = ch->name_len;
+        if ((name->count == n && !memcmp(name->s, ch->name, n)) ||
+            (name->count == n + 8 && !memcmp(name->s, ch->name, n) && !memcmp(name->s + n, " (Shape)", 8)))
+            return (int32_t)c;
+    }
+    return -1;
 }
 
 /* The geometry object made for a model by add_geometry(), or -1. */
@@ -241,7 +281,8 @@ static sinew_result index_v6(legacy *l)
         if (child < 0 || parent < 0)
             continue; /* to "Model::Scene", the root, or to an object the file does not have */
         /* a deformer connected to a mesh model deforms the model's geometry */
-        if (s->objects[child].kind == K_SKIN && s->objects[parent].kind == K_MODEL) {
+        int kind = s->objects[child].kind;
+        if ((kind == K_SKIN || kind == K_CACHE_DEFORMER) && s->objects[parent].kind == K_MODEL) {
             int32_t g = geometry_of(s, (uint32_t)parent);
             if (g >= 0)
                 parent = g;
@@ -384,6 +425,9 @@ static sinew_result take_model(legacy *l, const fbx_node *node, uint32_t model, 
             for (int p = 0; p < P_COUNT && !result; p++)
                 if (fbx_str_is(ch, 0, fbx_transform_props[p]))
                     result = take_property(l, ch, model, p, layer);
+            int32_t shape = ch->value_count ? shape_channel(l->s, model, &ch->values[0]) : -1;
+            if (shape >= 0 && !result)
+                result = take_property(l, ch, (uint32_t)shape, P_DEFORM_PERCENT, layer);
         }
         if (result)
             return result;
