@@ -10,8 +10,10 @@ static const char info_usage[] =
     "usage: sinew info FILE [--json]\n"
     "\n"
     "Prints what FILE holds as sinew reads it: node, joint, mesh, vertex, triangle, skin, material and\n"
-    "clip counts; each clip with its duration in seconds and its key counts (and, for clips cut from one\n"
-    "animation that share its keys, where on its timeline the clip starts); each mesh; each material\n"
+    "clip counts; each clip with its duration in seconds, its frame rate and key counts, the morph\n"
+    "channels it animates (and, for clips cut from one animation that share its keys, where on its\n"
+    "timeline the clip starts); the morph channels; each mesh with its skinning method, morph targets\n"
+    "(by channel, with in-between shapes' full weights) and vertex cache; each material\n"
     "with its colour and texture (a file's path, or an image embedded in the file); the node tree with\n"
     "joints and meshes marked; and the import warnings (dropped dummy meshes, missing textures, repaired\n"
     "weights, ...).\n"
@@ -20,8 +22,12 @@ static const char info_usage[] =
     "           \"counts\": {...}, \"meshes\": [...],\n"
     "           \"materials\": [{\"name\", \"base_color\", \"diffuse_texture\", \"diffuse_image\": null or\n"
     "           {\"type\": png/jpeg/other, \"bytes\"} (an image embedded in the file)}],\n"
-    "           \"clips\": [{\"index\", \"name\", \"duration\", \"start\", \"clips_sharing_keys\", \"tracks\",\n"
-    "           \"keys\": {...}}], \"nodes\":\n"
+    "           \"clips\": [{\"index\", \"name\", \"duration\", \"start\", \"timeline\", \"frame_rate\",\n"
+    "           \"clips_sharing_keys\", \"tracks\", \"keys\": {...}, \"weight_tracks\": [{\"channel\", \"keys\"}]}],\n"
+    "           \"morph_channels\": [{\"name\", \"default_weight\"}], meshes also give \"skin_method\"\n"
+    "           (linear, dual_quaternion or mixed), \"morph_targets\": [{\"name\", \"channel\", \"full_weight\",\n"
+    "           \"vertices\", \"normals\", \"tangents\"}] and \"cache\": {\"frames\", \"from\", \"to\"} or null,\n"
+    "           \"nodes\":\n"
     "           [{\"name\", \"parent\", \"joint\", \"inherit\"}], \"warnings\": [...]}\n"
     "           (inherit: normal, ignore_parent_scale or componentwise_scale, FBX's inherit types)\n";
 
@@ -81,6 +87,40 @@ static void clip_keys(const sinew_clip *clip, uint32_t keys[SINEW_CHANNEL_COUNT]
             keys[k] += clip->tracks[t].channels[k].key_count;
 }
 
+static const char *const SKIN_METHODS[] = {"linear", "dual_quaternion", "mixed"};
+
+static const char *skin_method(const sinew_model *m, const sinew_mesh *mesh)
+{
+    uint32_t b = mesh->skin >= 0 ? m->skins[mesh->skin].blend : 0;
+    return SKIN_METHODS[b <= 2 ? b : 0];
+}
+
+/* The model channel of a mesh's channel: through its first instance (glTF may give other
+ * instances channels of their own). */
+static const char *channel_name(const sinew_model *m, uint32_t mesh, uint32_t channel)
+{
+    for (uint32_t i = 0; i < m->instance_count; i++)
+        if (m->instances[i].mesh == mesh && m->instances[i].morph_first + channel < m->morph_channel_count)
+            return m->morph_channels[m->instances[i].morph_first + channel].name;
+    return "?";
+}
+
+static void print_morphs(const sinew_model *m, uint32_t index)
+{
+    const sinew_mesh *mesh = &m->meshes[index];
+    for (uint32_t t = 0; t < mesh->target_count; t++) {
+        const sinew_morph_target *tg = &mesh->targets[t];
+        printf("  target %u  \"%s\"  channel \"%s\"", t, tg->name, channel_name(m, index, tg->channel));
+        if (tg->full_weight != 1.0f)
+            printf(" (whole at %.4g)", (double)tg->full_weight);
+        printf("  %u vertices moved%s%s\n", tg->delta_count, tg->normals ? ", normals" : "",
+               tg->tangents ? ", tangents" : "");
+    }
+    if (mesh->cache && mesh->cache->frame_count)
+        printf("  vertex cache: %u frames, %.4f to %.4f s of the file's timeline\n", mesh->cache->frame_count,
+               (double)mesh->cache->times[0], (double)mesh->cache->times[mesh->cache->frame_count - 1]);
+}
+
 static void print_tree(const sinew_model *m, int32_t parent, int depth)
 {
     for (uint32_t n = 0; n < m->node_count; n++) {
@@ -118,19 +158,32 @@ static void print_text(const sinew_model *m)
         clip_keys(&m->clips[i], keys);
         printf("  %u  \"%s\"  %.4f s  %u tracks  keys: %u translation, %u rotation, %u scale", i, m->clips[i].name,
                (double)m->clips[i].duration, m->clips[i].track_count, keys[0], keys[1], keys[2]);
+        if (m->clips[i].weight_track_count)
+            printf(", %u morph channels", m->clips[i].weight_track_count);
+        if (m->clips[i].frame_rate > 0.0f)
+            printf("  %.6g fps", (double)m->clips[i].frame_rate);
+        if (m->clips[i].timeline != 0.0f)
+            printf("  (from %.4f s of the file's timeline)", (double)m->clips[i].timeline);
         uint32_t sharing = clips_sharing_keys(m, i);
         if (sharing > 1)
             printf("  (from %.4f s of keys %u clips share)", (double)m->clips[i].start, sharing);
         printf("\n");
     }
+    if (m->morph_channel_count)
+        printf("morph channels: %u\n", m->morph_channel_count);
+    for (uint32_t k = 0; k < m->morph_channel_count; k++)
+        printf("  %u  \"%s\"  default weight %.4g\n", k, m->morph_channels[k].name,
+               (double)m->morph_channels[k].default_weight);
     for (uint32_t i = 0; i < m->mesh_count; i++) {
         const sinew_mesh *mesh = &m->meshes[i];
         printf("mesh %u  \"%s\"  %u vertices, %u triangles", i, mesh->name, mesh->vertex_count, mesh->index_count / 3);
         if (mesh->skin >= 0)
-            printf(", skinned: %u joints, up to %u influences", m->skins[mesh->skin].joint_count,
-                   mesh->influence_count);
+            printf(", skinned: %u joints, up to %u influences, %s", m->skins[mesh->skin].joint_count,
+                   mesh->influence_count, skin_method(m, mesh));
         else
             printf(", rigid");
+        if (mesh->target_count)
+            printf(", %u morph targets", mesh->target_count);
         if (mesh->uvs)
             printf(", UVs");
         if (mesh->tangents)
@@ -138,6 +191,7 @@ static void print_text(const sinew_model *m)
         if (mesh->material >= 0)
             printf(", material \"%s\"", m->materials[mesh->material].name);
         printf("\n");
+        print_morphs(m, i);
     }
     for (uint32_t i = 0; i < m->material_count; i++) {
         const sinew_material *mat = &m->materials[i];
@@ -193,6 +247,7 @@ static cJSON *info_json(const sinew_model *m)
     cJSON_AddNumberToObject(cn, "materials", m->material_count);
     cJSON_AddNumberToObject(cn, "clips", m->clip_count);
     cJSON_AddNumberToObject(cn, "muscles", m->muscles ? m->muscles->muscle_count : 0);
+    cJSON_AddNumberToObject(cn, "morph_channels", m->morph_channel_count);
 
     cJSON *meshes = cJSON_AddArrayToObject(root, "meshes");
     for (uint32_t i = 0; i < m->mesh_count; i++) {
@@ -210,6 +265,27 @@ static cJSON *info_json(const sinew_model *m)
             cJSON_AddStringToObject(o, "material", m->materials[mesh->material].name);
         else
             cJSON_AddNullToObject(o, "material");
+        cJSON_AddStringToObject(o, "skin_method", skin_method(m, mesh));
+        cJSON *targets = cJSON_AddArrayToObject(o, "morph_targets");
+        for (uint32_t t = 0; t < mesh->target_count; t++) {
+            const sinew_morph_target *tg = &mesh->targets[t];
+            cJSON *to = cJSON_CreateObject();
+            cJSON_AddStringToObject(to, "name", tg->name);
+            cJSON_AddStringToObject(to, "channel", channel_name(m, i, tg->channel));
+            cJSON_AddNumberToObject(to, "full_weight", cli_json_float(tg->full_weight));
+            cJSON_AddNumberToObject(to, "vertices", tg->delta_count);
+            cJSON_AddBoolToObject(to, "normals", tg->normals != NULL);
+            cJSON_AddBoolToObject(to, "tangents", tg->tangents != NULL);
+            cJSON_AddItemToArray(targets, to);
+        }
+        if (mesh->cache && mesh->cache->frame_count) {
+            cJSON *cache = cJSON_AddObjectToObject(o, "cache");
+            cJSON_AddNumberToObject(cache, "frames", mesh->cache->frame_count);
+            cJSON_AddNumberToObject(cache, "from", cli_json_float(mesh->cache->times[0]));
+            cJSON_AddNumberToObject(cache, "to", cli_json_float(mesh->cache->times[mesh->cache->frame_count - 1]));
+        } else {
+            cJSON_AddNullToObject(o, "cache");
+        }
         cJSON_AddItemToArray(meshes, o);
     }
     cJSON *materials = cJSON_AddArrayToObject(root, "materials");
@@ -262,7 +338,27 @@ static cJSON *info_json(const sinew_model *m)
         cJSON_AddNumberToObject(k, "translation", keys[0]);
         cJSON_AddNumberToObject(k, "rotation", keys[1]);
         cJSON_AddNumberToObject(k, "scale", keys[2]);
+        cJSON_AddNumberToObject(o, "timeline", cli_json_float(m->clips[i].timeline));
+        if (m->clips[i].frame_rate > 0.0f)
+            cJSON_AddNumberToObject(o, "frame_rate", cli_json_float(m->clips[i].frame_rate));
+        else
+            cJSON_AddNullToObject(o, "frame_rate");
+        cJSON *wt = cJSON_AddArrayToObject(o, "weight_tracks");
+        for (uint32_t t = 0; t < m->clips[i].weight_track_count; t++) {
+            const sinew_weight_track *tr = &m->clips[i].weight_tracks[t];
+            cJSON *to = cJSON_CreateObject();
+            cJSON_AddStringToObject(to, "channel", m->morph_channels[tr->channel].name);
+            cJSON_AddNumberToObject(to, "keys", tr->keys.key_count);
+            cJSON_AddItemToArray(wt, to);
+        }
         cJSON_AddItemToArray(clips, o);
+    }
+    cJSON *channels = cJSON_AddArrayToObject(root, "morph_channels");
+    for (uint32_t k = 0; k < m->morph_channel_count; k++) {
+        cJSON *o = cJSON_CreateObject();
+        cJSON_AddStringToObject(o, "name", m->morph_channels[k].name);
+        cJSON_AddNumberToObject(o, "default_weight", cli_json_float(m->morph_channels[k].default_weight));
+        cJSON_AddItemToArray(channels, o);
     }
     cJSON *nodes = cJSON_AddArrayToObject(root, "nodes");
     for (uint32_t n = 0; n < m->node_count; n++) {

@@ -156,6 +156,40 @@ static cJSON *frame_json(const sinew_model *m, const sinew_mat4 *worlds, double 
     return frame;
 }
 
+/* Each mesh instance's morph targets at the pose: {"mesh", "node", "targets": [{"name",
+ * "channel", "weight"}]} for the instances of meshes with targets; and the channels' weights. */
+static void weights_json(cJSON *frame, const app_scene *scene)
+{
+    const sinew_model *m = scene->model;
+    if (m->morph_channel_count == 0)
+        return;
+    cJSON *channels = cJSON_AddObjectToObject(frame, "weights");
+    for (uint32_t c = 0; c < m->morph_channel_count; c++)
+        cJSON_AddNumberToObject(channels, m->morph_channels[c].name, cli_json_float(scene->weights[c]));
+    cJSON *meshes = cJSON_AddArrayToObject(frame, "morphs");
+    float tw[256];
+    for (uint32_t i = 0; i < m->instance_count; i++) {
+        const sinew_instance *in = &m->instances[i];
+        const sinew_mesh *mesh = &m->meshes[in->mesh];
+        if (mesh->target_count == 0 || mesh->target_count > 256 ||
+            sinew_morph_target_weights(mesh, scene->weights + in->morph_first, mesh->morph_channel_count, tw, 256,
+                                       NULL) != SINEW_OK)
+            continue;
+        cJSON *o = cJSON_CreateObject();
+        cJSON_AddStringToObject(o, "mesh", mesh->name);
+        cJSON_AddStringToObject(o, "node", m->node_names[in->node]);
+        cJSON *targets = cJSON_AddArrayToObject(o, "targets");
+        for (uint32_t t = 0; t < mesh->target_count; t++) {
+            cJSON *to = cJSON_CreateObject();
+            cJSON_AddStringToObject(to, "name", mesh->targets[t].name);
+            cJSON_AddStringToObject(to, "channel", m->morph_channels[in->morph_first + mesh->targets[t].channel].name);
+            cJSON_AddNumberToObject(to, "weight", cli_json_float(tw[t]));
+            cJSON_AddItemToArray(targets, to);
+        }
+        cJSON_AddItemToArray(meshes, o);
+    }
+}
+
 static cJSON *muscles_json(const sinew_muscle_pose *poses, uint32_t count)
 {
     cJSON *a = cJSON_CreateArray();
@@ -187,10 +221,12 @@ static void print_frame_text(const sinew_model *m, const sinew_mat4 *worlds, dou
     }
 }
 
-/* Writes every mesh instance, skinned or placed at its node, in world space, whole or not at
+/* Writes every mesh instance posed as the file means it (morph targets at the pose's weights,
+ * a vertex cache at its time, skinned or placed at its node), in world space, whole or not at
  * all (cmd_pose has refused an output that is one of the inputs). Returns an exit code. */
-static int write_obj(const sinew_model *m, const sinew_mat4 *worlds, sinew_mat4 *palette, const char *out_path)
+static int write_obj(const app_scene *scene, void *scratch, size_t scratch_size, const char *out_path)
 {
+    const sinew_model *m = scene->model;
     app_output out;
     sinew_error output_error = {0};
     if (app_output_open(&out, out_path, &output_error) != SINEW_OK) {
@@ -207,18 +243,21 @@ static int write_obj(const sinew_model *m, const sinew_mat4 *worlds, sinew_mat4 
         float *nrm = malloc(((size_t)mesh->vertex_count + 1) * 3 * sizeof(float));
         sinew_error error = {0};
         ok = pos && nrm;
-        if (ok && mesh->skin >= 0) {
-            const sinew_skin *skin = &m->skins[mesh->skin];
-            ok = sinew_skin_palette(skin, worlds, m->node_count, palette, SINEW_MAX_JOINTS, &error) == SINEW_OK &&
-                 sinew_skin_vertices(&(sinew_skin_desc){.mesh = mesh,
-                                                        .palette = palette,
-                                                        .palette_count = skin->joint_count,
-                                                        .out_positions = pos,
-                                                        .out_normals = nrm},
-                                     &error) == SINEW_OK;
-        } else if (ok) {
-            ok = sinew_transform_vertices(mesh, &worlds[m->instances[i].node], pos, nrm, 0, &error) == SINEW_OK;
-        }
+        if (ok)
+            ok = sinew_deform_instance(&(sinew_deform_desc){.model = m,
+                                                            .instance = i,
+                                                            .worlds = scene->worlds,
+                                                            .world_count = m->node_count,
+                                                            .weights = scene->weights,
+                                                            .weight_count = m->morph_channel_count,
+                                                            .cache_time = scene->cache_time,
+                                                            .scratch = scratch,
+                                                            .scratch_size = scratch_size,
+                                                            .out_positions = pos,
+                                                            .out_normals = mesh->normals ? nrm : NULL},
+                                       &error) == SINEW_OK;
+        if (ok && !mesh->normals)
+            memset(nrm, 0, (size_t)mesh->vertex_count * 3 * sizeof(float));
         if (ok) {
             fprintf(f, "o %s\n", mesh->name);
             for (uint32_t v = 0; v < mesh->vertex_count; v++)
@@ -275,8 +314,9 @@ int cmd_pose(int argc, char **argv)
     const sinew_clip *clip = scene.clip;
     int32_t clip_index = scene.clip_index;
     sinew_muscle_rig *rig = scene.muscle_rig;
-    sinew_mat4 *palette = o.mesh_out ? malloc(SINEW_MAX_JOINTS * sizeof *palette) : NULL;
-    if (o.mesh_out && !palette) {
+    size_t scratch_size = sinew_deform_scratch_size(model);
+    void *scratch = o.mesh_out ? aligned_alloc(16, (scratch_size + 15) & ~(size_t)15) : NULL;
+    if (o.mesh_out && !scratch) {
         cli_error("out of memory");
         app_scene_close(&scene);
         return EXIT_BAD_INPUT;
@@ -319,6 +359,7 @@ int cmd_pose(int argc, char **argv)
             }
             if (rig)
                 cJSON_AddItemToObject(frame, "muscles", muscles_json(scene.muscle_poses, scene.muscle_count));
+            weights_json(frame, &scene);
             cJSON_AddItemToArray(frames, frame);
         } else {
             print_frame_text(model, scene.worlds, o.times[i]);
@@ -326,7 +367,7 @@ int cmd_pose(int argc, char **argv)
                 print_muscles_text(scene.muscle_poses, scene.muscle_count);
         }
         if (o.mesh_out && code == EXIT_OK)
-            code = write_obj(model, scene.worlds, palette, o.mesh_out);
+            code = write_obj(&scene, scratch, scratch_size, o.mesh_out);
     }
     if (root && code == EXIT_OK) {
         char *text = cJSON_PrintUnformatted(root);
@@ -335,7 +376,7 @@ int cmd_pose(int argc, char **argv)
         free(text);
     }
     cJSON_Delete(root);
-    free(palette);
+    free(scratch);
     app_scene_close(&scene);
     return code;
 }

@@ -341,9 +341,15 @@ sinew_result app_scene_open(app_scene *s, const app_scene_desc *d, sinew_error *
     }
     int32_t clip = d->clip ? app_pick_clip(s->model, d->clip, error) : (s->model->clip_count ? 0 : APP_CLIP_NONE);
     s->worlds = malloc(((size_t)s->model->node_count + 1) * sizeof *s->worlds);
+    size_t channels = (size_t)s->model->morph_channel_count + 1;
+    s->weights = malloc(channels * sizeof *s->weights);
+    s->overrides = malloc(channels * sizeof *s->overrides);
+    s->weight_scratch = malloc(channels * (2 * APP_MAX_LAYERS + 2) * sizeof *s->weight_scratch);
+    for (size_t i = 0; s->overrides && i < channels; i++)
+        s->overrides[i] = NAN;
     if (clip == APP_CLIP_ERROR)
         result = SINEW_ERROR_DATA;
-    else if (!s->worlds)
+    else if (!s->worlds || !s->weights || !s->overrides || !s->weight_scratch)
         result = sinew_fail(error, SINEW_ERROR_OUT_OF_MEMORY, "%s: out of memory", s->model->source);
     if (result == SINEW_OK)
         result = app_scene_use_clip(s, clip, error);
@@ -386,6 +392,33 @@ bool app_scene_set_up_axis(app_scene *s, const char *axis)
 }
 
 static sinew_result pose_with_ops(app_scene *s, double time, sinew_wrap wrap, sinew_error *error);
+static sinew_result weights_with_ops(app_scene *s, double time, sinew_wrap wrap, sinew_error *error);
+
+/* The morph weights of the pose: the clip's (or the pose operations' blend of their clips'),
+ * then the overrides; and where the clip is on the file's timeline, for vertex caches. */
+static sinew_result pose_weights(app_scene *s, double time, sinew_wrap wrap, sinew_error *error)
+{
+    const sinew_model *m = s->model;
+    s->cache_time = s->clip ? s->clip->timeline + sinew_clip_time(s->clip, (float)time, wrap) : 0.0f;
+    if (m->morph_channel_count == 0)
+        return SINEW_OK;
+    sinew_result r = s->ops.active ? weights_with_ops(s, time, wrap, error)
+                                   : sinew_player_weights(s->player.player, (float)time, wrap, s->weights,
+                                                          m->morph_channel_count, error);
+    for (uint32_t c = 0; r == SINEW_OK && c < m->morph_channel_count; c++)
+        if (!isnan(s->overrides[c]))
+            s->weights[c] = s->overrides[c];
+    return r;
+}
+
+bool app_scene_override_weight(app_scene *s, uint32_t channel, float weight)
+{
+    if (channel >= s->model->morph_channel_count)
+        return false;
+    s->overrides[channel] = weight;
+    s->posed_at = NAN;
+    return true;
+}
 
 sinew_result app_scene_pose(app_scene *s, double time, sinew_wrap wrap, sinew_error *error)
 {
@@ -402,6 +435,8 @@ sinew_result app_scene_pose(app_scene *s, double time, sinew_wrap wrap, sinew_er
     if (result == SINEW_OK && s->muscle_rig)
         result =
             sinew_muscle_rig_update(s->muscle_rig, s->worlds, m->node_count, s->muscle_poses, s->muscle_count, error);
+    if (result == SINEW_OK)
+        result = pose_weights(s, time, wrap, error);
     s->posed_at = result == SINEW_OK ? time : NAN;
     s->posed_wrap = wrap;
     return result;
@@ -695,6 +730,61 @@ static sinew_result pose_with_ops(app_scene *s, double time, sinew_wrap wrap, si
     return r;
 }
 
+/* The morph weights of pose_with_ops()'s layers, blended with the same weights. */
+static sinew_result weights_with_ops(app_scene *s, double time, sinew_wrap wrap, sinew_error *error)
+{
+    app_pose_ops *ops = &s->ops;
+    const sinew_model *m = s->model;
+    uint32_t n = m->morph_channel_count;
+    float *scratch = s->weight_scratch;
+    sinew_weight_layer layers[APP_MAX_LAYERS + 1], adds[APP_MAX_LAYERS];
+    uint32_t count = 0;
+    sinew_result r = SINEW_OK;
+    if (ops->blend_count) {
+        for (uint32_t i = 0; i < ops->blend_count && r == SINEW_OK; i++) {
+            float *dst = scratch + (size_t)count * n;
+            r = sinew_player_weights(ops->blend[i].player.player, (float)time, wrap, dst, n, error);
+            layers[count++] = (sinew_weight_layer){dst, ops->blend[i].weight};
+        }
+    } else if (ops->fade_to.clip >= 0 && s->clip) {
+        sinew_crossfade fade = {.from = s->clip,
+                                .to = &m->clips[ops->fade_to.clip],
+                                .duration = ops->fade_seconds,
+                                .sync = wrap == SINEW_WRAP_LOOP};
+        float from_t, to_t, w;
+        sinew_crossfade_at(&fade, (float)time, &from_t, &to_t, &w);
+        r = sinew_player_weights(s->player.player, from_t, wrap, scratch, n, error);
+        if (r == SINEW_OK)
+            r = sinew_player_weights(ops->fade_to.player.player, to_t, wrap, scratch + n, n, error);
+        layers[count++] = (sinew_weight_layer){scratch, 1.0f - w};
+        layers[count++] = (sinew_weight_layer){scratch + n, w};
+    } else {
+        r = sinew_player_weights(s->player.player, (float)time, wrap, scratch, n, error);
+        layers[count++] = (sinew_weight_layer){scratch, 1.0f};
+    }
+    /* additive layers: each clip's weights less those of its first frame */
+    float *first = scratch + (size_t)(2 * APP_MAX_LAYERS + 1) * n;
+    for (uint32_t i = 0; i < ops->additive_count && r == SINEW_OK; i++) {
+        float *dst = scratch + (size_t)(APP_MAX_LAYERS + 1 + i) * n;
+        r = sinew_player_weights(ops->additive[i].player.player, (float)time, wrap, dst, n, error);
+        if (r == SINEW_OK)
+            r = sinew_player_weights(ops->additive[i].player.player, 0.0f, SINEW_WRAP_CLAMP, first, n, error);
+        for (uint32_t c = 0; c < n; c++)
+            dst[c] -= first[c];
+        adds[i] = (sinew_weight_layer){dst, ops->additive[i].weight};
+    }
+    if (r == SINEW_OK)
+        r = sinew_blend_weights(&(sinew_blend_weights_desc){.model = m,
+                                                            .layers = layers,
+                                                            .layer_count = count,
+                                                            .additive = adds,
+                                                            .additive_count = ops->additive_count,
+                                                            .out = s->weights,
+                                                            .out_count = n},
+                                error);
+    return r;
+}
+
 void app_scene_close(app_scene *s)
 {
     close_layers(&s->ops);
@@ -703,9 +793,79 @@ void app_scene_close(app_scene *s)
     sinew_muscle_set_free(s->owned_muscles);
     free(s->muscle_poses);
     free(s->worlds);
+    free(s->weights);
+    free(s->overrides);
+    free(s->weight_scratch);
     if (s->model)
         sinew_model_free(s->model);
     memset(s, 0, sizeof *s);
     s->posed_at = NAN;
     s->clip_index = -1;
+}
+
+/* ---- --morph: a weight by hand -------------------------------------------------------------- */
+
+/* Whether `text` names item `index` called `name`: the name, or the index written in decimal. */
+static bool names(const char *text, size_t len, const char *name, uint32_t index)
+{
+    if (name && strlen(name) == len && strncmp(text, name, len) == 0)
+        return true;
+    char digits[16];
+    int n = snprintf(digits, sizeof digits, "%u", index);
+    return (size_t)n == len && strncmp(text, digits, len) == 0;
+}
+
+/* Overrides every channel that target `target` (of meshes `mesh`, any when NULL) drives; the
+ * number overridden. */
+static uint32_t override_targets(app_scene *s, const char *mesh, size_t mesh_len, const char *target, size_t target_len,
+                                 float w)
+{
+    const sinew_model *m = s->model;
+    uint32_t count = 0;
+    for (uint32_t i = 0; i < m->instance_count; i++) {
+        const sinew_instance *in = &m->instances[i];
+        const sinew_mesh *me = &m->meshes[in->mesh];
+        if (mesh && !names(mesh, mesh_len, me->name, in->mesh))
+            continue;
+        for (uint32_t t = 0; t < me->target_count; t++)
+            if (names(target, target_len, me->targets[t].name, t) &&
+                app_scene_override_weight(s, in->morph_first + me->targets[t].channel, w))
+                count++;
+    }
+    return count;
+}
+
+sinew_result app_scene_parse_morph(app_scene *s, const char *text, sinew_error *error)
+{
+    const sinew_model *m = s->model;
+    const char *eq = strrchr(text, '=');
+    double w = 0.0;
+    if (!eq || eq == text || !app_parse_number(eq + 1, -1e6, 1e6, &w))
+        return sinew_fail(error, SINEW_ERROR_INVALID_ARGUMENT,
+                          "--morph \"%s\": expected MESH:TARGET=WEIGHT, TARGET=WEIGHT or CHANNEL=WEIGHT", text);
+    const char *colon = memchr(text, ':', (size_t)(eq - text));
+    uint32_t count = 0;
+    if (colon) {
+        count = override_targets(s, text, (size_t)(colon - text), colon + 1, (size_t)(eq - colon - 1), (float)w);
+    } else {
+        size_t len = (size_t)(eq - text);
+        for (uint32_t c = 0; c < m->morph_channel_count; c++)
+            if (strlen(m->morph_channels[c].name) == len && strncmp(text, m->morph_channels[c].name, len) == 0)
+                count += app_scene_override_weight(s, c, (float)w);
+        if (!count)
+            count = override_targets(s, NULL, 0, text, len, (float)w);
+        for (uint32_t c = 0; !count && c < m->morph_channel_count; c++)
+            if (names(text, len, NULL, c))
+                count += app_scene_override_weight(s, c, (float)w);
+    }
+    if (count)
+        return SINEW_OK;
+    char list[1024] = "";
+    size_t at = 0;
+    for (uint32_t i = 0; i < m->mesh_count && at + 64 < sizeof list; i++)
+        for (uint32_t t = 0; t < m->meshes[i].target_count && at + 64 < sizeof list; t++)
+            at += (size_t)snprintf(list + at, sizeof list - at, "%s%s:%s", at ? ", " : "", m->meshes[i].name,
+                                   m->meshes[i].targets[t].name);
+    return sinew_fail(error, SINEW_ERROR_INVALID_ARGUMENT, "--morph \"%s\": %s has no such morph target%s%s", text,
+                      m->source, list[0] ? "; it has " : " (it has none)", list);
 }

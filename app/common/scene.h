@@ -130,6 +130,10 @@ typedef struct app_scene {
     bool z_up;        /* the file's +Z is shown up (app_scene_set_up_axis) */
     app_pose_ops ops; /* blending, IK, root motion (app_scene_set_pose_ops) */
     sinew_mat4 root;  /* what places the roots: identity, or Z up turned to Y up */
+    /* morph channels (model->morph_channel_count): the weights of the last pose (the clip's,
+     * blended as the pose is, then the overrides), the overrides (NAN: none) */
+    float *weights, *overrides, *weight_scratch;
+    float cache_time; /* the file's timeline at the last pose, for vertex caches */
 } app_scene;
 
 /* The model desc asks for: desc->path read (import options from desc), or a built-in one. */
@@ -150,6 +154,12 @@ sinew_result app_scene_set_pose_ops(app_scene *scene, const app_pose_spec *spec,
 sinew_result app_scene_use_clip(app_scene *scene, int32_t index, sinew_error *error);
 /* Poses at `time` (world matrices, then the muscles); once per time and wrap. */
 sinew_result app_scene_pose(app_scene *scene, double time, sinew_wrap wrap, sinew_error *error);
+/* Sets channel `channel`'s weight by hand (NAN: back to the clip's); takes effect at the
+ * next pose. False for a channel the model lacks. */
+bool app_scene_override_weight(app_scene *scene, uint32_t channel, float weight);
+/* "MESH:TARGET=W" (or "TARGET=W", or "CHANNEL=W"; a target or channel by name or index) into
+ * an override, as --morph gives it; an error lists what the model has. */
+sinew_result app_scene_parse_morph(app_scene *scene, const char *text, sinew_error *error);
 /* The frame to draw of the last pose. */
 sinew_frame app_scene_frame(const app_scene *scene, const sinew_camera *camera, const sinew_render_options *options,
                             int width, int height);
