@@ -92,19 +92,29 @@ static double vec_at(const cJSON *a, int i)
     return cJSON_GetArrayItem(a, i)->valuedouble;
 }
 
-/* The diagonal of every node position of every frame of the reference. */
-double reference_diagonal(const cJSON *frames)
+/* The diagonal of the points of every frame's `key` ("nodes" or "verts"), 0 for none. */
+static double points_diagonal(const cJSON *frames, const char *key)
 {
     double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
     const cJSON *frame, *node;
     cJSON_ArrayForEach(frame, frames)
-        cJSON_ArrayForEach(node, cJSON_GetObjectItem(frame, "nodes")) for (int c = 0; c < 3; c++)
+        cJSON_ArrayForEach(node, cJSON_GetObjectItem(frame, key)) for (int c = 0; c < 3; c++)
     {
         lo[c] = fmin(lo[c], vec_at(node, c));
         hi[c] = fmax(hi[c], vec_at(node, c));
     }
     double d =
         sqrt((hi[0] - lo[0]) * (hi[0] - lo[0]) + (hi[1] - lo[1]) * (hi[1] - lo[1]) + (hi[2] - lo[2]) * (hi[2] - lo[2]));
+    return isfinite(d) ? d : 0.0;
+}
+
+/* The diagonal of every node position of every frame of the reference; of its vertices when
+ * its nodes do not move apart (a scene of one node, or only made-up ones at the origin). */
+double reference_diagonal(const cJSON *frames)
+{
+    double d = points_diagonal(frames, "nodes");
+    if (!(d > 0))
+        d = points_diagonal(frames, "verts");
     return d > 0 ? d : 1.0;
 }
 
@@ -186,7 +196,7 @@ sid_names read_sids(const char *path)
     return s;
 }
 
-static const char *sid_to_name(const sid_names *s, const char *ref_name)
+const char *sid_to_name(const sid_names *s, const char *ref_name)
 {
     if (!s)
         return ref_name;

@@ -27,6 +27,9 @@ typedef struct outcome {
     uint32_t compared, missing;
 } outcome;
 
+/* The sinew name of a reference's node name (a COLLADA SID, or the name itself). */
+const char *sid_to_name(const sid_names *s, const char *ref_name);
+
 /* The model posed by its first clip at every time of the reference (sids: NULL or a
  * COLLADA file's names). */
 outcome compare_with_reference(const sinew_model *m, const cJSON *ref, const sid_names *sids);

@@ -4,9 +4,12 @@
  * unnamed nodes are "nodes[i]"), every primitive of every mesh, skins with every JOINTS_n /
  * WEIGHTS_n set, materials (base colour factor and texture, KHR_texture_transform applied
  * to the UVs), animations with each sampler's own interpolation (STEP, LINEAR and
- * CUBICSPLINE are the runtime's), KHR_mesh_quantization's integer attributes. Morph targets
- * are read and reported, not played. Every index, count, offset and stride is checked; a
- * bad file is refused with "FILE: where in the document: what is wrong".
+ * CUBICSPLINE are the runtime's), KHR_mesh_quantization's integer attributes; morph targets
+ * (POSITION, NORMAL and TANGENT offsets, sparse or not, named by the mesh's
+ * extras.targetNames), each node drawing such a mesh with channels of its own (its weights,
+ * else the mesh's, else 0) and "weights" animation channels split into one weight track a
+ * target. Every index, count, offset and stride is checked; a bad file is refused with
+ * "FILE: where in the document: what is wrong".
  *
  * Index:
  *   errors and JSON ......... fail_at, member, int_at, number_at, numbers_at
@@ -14,7 +17,8 @@
  *   accessors ............... read_accessor (types, normalisation, strides, sparse)
  *   nodes ................... build_nodes (scene roots first, parents before children)
  *   materials ............... build_materials, texture_path
- *   meshes .................. read_primitive, build_meshes (a mesh per primitive and skin)
+ *   meshes .................. read_primitive, read_targets, build_meshes (a mesh per primitive
+ *                             and skin; morph channels a node), node_channels
  *   clips ................... read_channel, build_clips
  *   raw_model_from_gltf
  */
@@ -71,6 +75,8 @@ typedef struct gltf {
     uint32_t key_count;
     float (*uv_transform)[6]; /* by material: u' = a u + b v + c, v' = d u + e v + f */
     bool *has_uv_transform;
+    int32_t *morph_first;  /* by glTF node: the model channel of its mesh's target 0, or -1 */
+    uint32_t *morph_count; /* by glTF node: its mesh's targets */
 } gltf;
 
 /* ---- errors and JSON ------------------------------------------------------------------ */
@@ -1105,6 +1111,53 @@ static sinew_result primitive_influences(gltf *g, const cJSON *attrs, const char
     return SINEW_OK;
 }
 
+/* A primitive's morph targets: each target's POSITION, NORMAL and TANGENT offsets (VEC3, of
+ * as many elements as the primitive's vertices), named by the mesh's extras.targetNames. */
+static sinew_result read_targets(gltf *g, const cJSON *gm, const cJSON *prim, const char *where, raw_mesh *out)
+{
+    const cJSON *targets = cJSON_GetObjectItemCaseSensitive(prim, "targets");
+    if (!targets)
+        return SINEW_OK;
+    if (!cJSON_IsArray(targets))
+        return fail_at(g, "%s.targets: not an array", where);
+    int n = cJSON_GetArraySize(targets);
+    if (n == 0)
+        return SINEW_OK;
+    if (!(out->targets = calloc((size_t)n, sizeof *out->targets)))
+        return oom(g);
+    const cJSON *names =
+        cJSON_GetObjectItemCaseSensitive(cJSON_GetObjectItemCaseSensitive(gm, "extras"), "targetNames");
+    static const char *const attrs[3] = {"POSITION", "NORMAL", "TANGENT"};
+    static const long long *const types[3] = {POSITION_TYPES, NORMAL_TYPES, TANGENT_TYPES};
+    for (int t = 0; t < n; t++) {
+        raw_morph_target *rt = &out->targets[out->target_count++];
+        const cJSON *target = cJSON_GetArrayItem(targets, t), *name = cJSON_GetArrayItem(names, t);
+        char tw[96], label[32];
+        snprintf(tw, sizeof tw, "%s.targets[%d]", where, t);
+        snprintf(label, sizeof label, "target %d", t);
+        if (!cJSON_IsObject(target))
+            return fail_at(g, "%s: not an object", tw);
+        if (!(rt->name = raw_strdup(cJSON_IsString(name) && *name->valuestring ? name->valuestring : label)))
+            return oom(g);
+        rt->channel = (uint32_t)t;
+        rt->full_weight = 1.0f;
+        float **dst[3] = {&rt->positions, &rt->normals, &rt->tangents};
+        for (int a = 0; a < 3; a++) {
+            sinew_result r = attribute(g, target, attrs[a], tw, 3, types[a], out->vertex_count, dst[a]);
+            if (r)
+                return r;
+        }
+        if (!rt->positions && !(rt->positions = calloc((size_t)out->vertex_count * 3 + 1, sizeof *rt->positions)))
+            return oom(g);
+        if (!(rt->vertices = malloc(((size_t)out->vertex_count + 1) * sizeof *rt->vertices)))
+            return oom(g);
+        for (uint32_t v = 0; v < out->vertex_count; v++)
+            rt->vertices[v] = v;
+        rt->delta_count = out->vertex_count;
+    }
+    return SINEW_OK;
+}
+
 /* One primitive as a raw mesh. Points and lines are left out (*out->vertex_count == 0). */
 static sinew_result read_primitive(gltf *g, int mesh, int k, int skin, raw_mesh *out)
 {
@@ -1166,7 +1219,7 @@ static sinew_result read_primitive(gltf *g, int mesh, int k, int skin, raw_mesh 
     if ((r = attribute(g, attrs, "NORMAL", where, 3, NORMAL_TYPES, n, &out->normals)) ||
         (r = attribute(g, attrs, "TEXCOORD_0", where, 2, UV_TYPES, n, &out->uvs)) ||
         (r = attribute(g, attrs, "TANGENT", where, 4, TANGENT_TYPES, n, &out->tangents)) ||
-        (r = primitive_indices(g, prim, where, mode, n, out)))
+        (r = primitive_indices(g, prim, where, mode, n, out)) || (r = read_targets(g, gm, prim, where, out)))
         return r;
     /* The texture transform in glTF's UV space (v down), then v up as the runtime has it. */
     for (uint32_t i = 0; out->uvs && i < n; i++) {
@@ -1292,15 +1345,49 @@ static sinew_result meshes_for(gltf *g, int mesh, int skin, const mesh_key **out
         }
     }
     key->count = m->mesh_count - key->first;
-    const cJSON *targets = cJSON_GetObjectItemCaseSensitive(cJSON_GetArrayItem(prims, 0), "targets");
-    bool first_use = true;
-    for (uint32_t i = 0; i + 1 < g->key_count; i++)
-        first_use &= g->keys[i].mesh != mesh;
+    /* every primitive has the mesh's targets (the spec's rule: the weights are the mesh's) */
+    for (uint32_t i = key->first + 1; i < key->first + key->count; i++)
+        if (m->meshes[i].target_count != m->meshes[key->first].target_count)
+            return fail_at(g, "meshes[%d]: its primitives have %u and %u morph targets (they must have as many)", mesh,
+                           m->meshes[key->first].target_count, m->meshes[i].target_count);
     *out = key;
-    if (first_use && cJSON_GetArraySize(targets) > 0 &&
-        !raw_model_warn(m, "%s: meshes[%d] \"%s\" has %d morph targets; sinew shows its base shape", g->path, mesh,
-                        string_at(gm, "name") ? string_at(gm, "name") : "", cJSON_GetArraySize(targets)))
+    return SINEW_OK;
+}
+
+/* A node's weights (its "weights", else its mesh's, else 0) as morph channels of its own,
+ * named after the targets; the first of them in g->morph_first. */
+static sinew_result node_channels(gltf *g, int node, int mesh, const mesh_key *key)
+{
+    raw_model *m = g->m;
+    uint32_t n = key->count ? m->meshes[key->first].target_count : 0;
+    if (n == 0)
+        return SINEW_OK;
+    const cJSON *gn = item(&g->nodes, node), *gm = item(&g->meshes, mesh);
+    const cJSON *weights = cJSON_GetObjectItemCaseSensitive(gn, "weights");
+    char where[48];
+    snprintf(where, sizeof where, "nodes[%d].weights", node);
+    if (!weights) {
+        weights = cJSON_GetObjectItemCaseSensitive(gm, "weights");
+        snprintf(where, sizeof where, "meshes[%d].weights", mesh);
+    }
+    if (weights && (!cJSON_IsArray(weights) || cJSON_GetArraySize(weights) != (int)n))
+        return fail_at(g, "%s: not an array of %u numbers, one a morph target", where, n);
+    raw_morph_channel *grown = realloc(m->morph_channels, (m->morph_channel_count + n) * sizeof *grown);
+    if (!grown)
         return oom(g);
+    m->morph_channels = grown;
+    g->morph_first[node] = (int32_t)m->morph_channel_count;
+    g->morph_count[node] = n;
+    for (uint32_t t = 0; t < n; t++) {
+        const cJSON *w = cJSON_GetArrayItem(weights, (int)t);
+        if (weights && (!cJSON_IsNumber(w) || !isfinite(w->valuedouble)))
+            return fail_at(g, "%s[%u]: not a finite number", where, t);
+        raw_morph_channel *c = &m->morph_channels[m->morph_channel_count];
+        c->default_weight = w ? (float)w->valuedouble : 0.0f;
+        if (!(c->name = raw_strdup(m->meshes[key->first].targets[t].name)))
+            return oom(g);
+        m->morph_channel_count++;
+    }
     return SINEW_OK;
 }
 
@@ -1308,6 +1395,12 @@ static sinew_result build_meshes(gltf *g)
 {
     raw_model *m = g->m;
     uint32_t cap = 0;
+    g->morph_first = malloc(((size_t)g->node_count + 1) * sizeof *g->morph_first);
+    g->morph_count = calloc((size_t)g->node_count + 1, sizeof *g->morph_count);
+    if (!g->morph_first || !g->morph_count)
+        return oom(g);
+    for (int i = 0; i < g->node_count; i++)
+        g->morph_first[i] = -1;
     for (int i = 0; i < g->node_count; i++) {
         const cJSON *node = item(&g->nodes, i);
         char where[48];
@@ -1320,7 +1413,7 @@ static sinew_result build_meshes(gltf *g)
         if (mesh < 0 || !g->in_scene[i])
             continue;
         const mesh_key *key = NULL;
-        if ((r = meshes_for(g, mesh, skin, &key)))
+        if ((r = meshes_for(g, mesh, skin, &key)) || (r = node_channels(g, i, mesh, key)))
             return r;
         if (m->instance_count + key->count > cap) {
             cap = (m->instance_count + key->count) * 2;
@@ -1329,8 +1422,9 @@ static sinew_result build_meshes(gltf *g)
                 return oom(g);
             m->instances = grown;
         }
+        uint32_t first = g->morph_first[i] >= 0 ? (uint32_t)g->morph_first[i] : 0;
         for (uint32_t k = 0; k < key->count; k++)
-            m->instances[m->instance_count++] = (sinew_instance){key->first + k, g->node_of[i], 0};
+            m->instances[m->instance_count++] = (sinew_instance){key->first + k, g->node_of[i], first};
     }
     return SINEW_OK;
 }
@@ -1339,9 +1433,98 @@ static sinew_result build_meshes(gltf *g)
 
 static const long long ROTATION_TYPES[] = {5126, 5120, 5121, 5122, 5123, 0};
 
+/* A sampler's interpolation, input times (checked ascending) and output values (`elements`
+ * elements of `comps` components a key, three times that for CUBICSPLINE), malloc'd. */
+static sinew_result read_sampler(gltf *g, const cJSON *s, const char *sw, int comps, uint32_t elements,
+                                 const long long *types, uint32_t *interp, double **times, uint32_t *nt,
+                                 double **values)
+{
+    const char *how = string_at(s, "interpolation");
+    *interp = !how || strcmp(how, "LINEAR") == 0 ? SINEW_INTERP_LINEAR
+              : strcmp(how, "STEP") == 0         ? SINEW_INTERP_STEP
+              : strcmp(how, "CUBICSPLINE") == 0  ? SINEW_INTERP_CUBIC
+                                                 : UINT32_MAX;
+    if (*interp == UINT32_MAX)
+        return fail_at(g, "%s.interpolation: \"%s\" is not LINEAR, STEP or CUBICSPLINE", sw, how);
+    int input, output;
+    sinew_result r;
+    if ((r = index_at(g, s, "input", sw, g->accessors.count, true, &input)) ||
+        (r = index_at(g, s, "output", sw, g->accessors.count, true, &output)))
+        return r;
+    uint32_t nv = 0;
+    char use[96];
+    snprintf(use, sizeof use, "%s input", sw);
+    if ((r = read_accessor(g, input, use, 1, FLOAT_ONLY, times, nt)))
+        return r;
+    snprintf(use, sizeof use, "%s output", sw);
+    if ((r = read_accessor(g, output, use, comps, types, values, &nv))) {
+        free(*times);
+        *times = NULL;
+        return r;
+    }
+    uint32_t per_key = *interp == SINEW_INTERP_CUBIC ? 3 : 1;
+    uint64_t want = (uint64_t)*nt * per_key * elements;
+    for (uint32_t k = 0; k < *nt && !r; k++)
+        if ((*times)[k] < 0 || (k > 0 && (*times)[k] <= (*times)[k - 1]))
+            r = fail_at(g, "%s input: key %u at %g s is negative or not after the key before it", sw, k, (*times)[k]);
+    if (!r && nv != want)
+        r = fail_at(g, "%s: %u output values for %u keys (%s needs %llu a key)", sw, nv, *nt, how ? how : "LINEAR",
+                    (unsigned long long)(want / (*nt ? *nt : 1)));
+    if (r) {
+        free(*times);
+        free(*values);
+        *times = *values = NULL;
+    }
+    return r;
+}
+
+/* A "weights" channel: the node's morph channels, one weight track each (the output holds
+ * every target's weight at each key, CUBICSPLINE: every in-tangent, value, out-tangent). */
+static sinew_result read_weights(gltf *g, int node, const cJSON *s, const char *sw, raw_clip *clip)
+{
+    uint32_t n = g->morph_count[node];
+    if (n == 0)
+        return raw_model_warn(g->m, "%s: %s animates the morph weights of node %d, whose mesh has no morph targets",
+                              g->path, sw, node)
+                   ? SINEW_OK
+                   : oom(g);
+    uint32_t interp, nt;
+    double *times = NULL, *values = NULL;
+    sinew_result r = read_sampler(g, s, sw, 1, n, ROTATION_TYPES, &interp, &times, &nt, &values);
+    if (r)
+        return r;
+    uint32_t per_key = interp == SINEW_INTERP_CUBIC ? 3 : 1;
+    raw_weight_track *grown = realloc(clip->weight_tracks, (clip->weight_track_count + n) * sizeof *grown);
+    if (!grown)
+        r = oom(g);
+    else
+        clip->weight_tracks = grown;
+    for (uint32_t t = 0; t < n && !r; t++) {
+        raw_weight_track *tr = &clip->weight_tracks[clip->weight_track_count++];
+        memset(tr, 0, sizeof *tr);
+        tr->channel = (uint32_t)g->morph_first[node] + t;
+        tr->keys.interp = interp;
+        tr->keys.count = nt;
+        tr->keys.times = malloc(((size_t)nt + 1) * sizeof *tr->keys.times);
+        tr->keys.values = malloc(((size_t)nt * per_key + 1) * sizeof *tr->keys.values);
+        if (!tr->keys.times || !tr->keys.values) {
+            r = oom(g);
+            break;
+        }
+        for (uint32_t k = 0; k < nt; k++) {
+            tr->keys.times[k] = (float)times[k];
+            clip->duration = fmaxf(clip->duration, (float)times[k]);
+            for (uint32_t e = 0; e < per_key; e++) /* key k's in-tangents, values, out-tangents */
+                tr->keys.values[k * per_key + e] = (float)values[((size_t)k * per_key + e) * n + t];
+        }
+    }
+    free(times);
+    free(values);
+    return r;
+}
+
 /* One channel: its sampler's keys as a raw channel of the node's track. */
-static sinew_result read_channel(gltf *g, int a, int c, const cJSON *channel, const table *samplers, raw_clip *clip,
-                                 uint32_t *weights)
+static sinew_result read_channel(gltf *g, int a, int c, const cJSON *channel, const table *samplers, raw_clip *clip)
 {
     char where[80];
     snprintf(where, sizeof where, "animations[%d].channels[%d]", a, c);
@@ -1365,44 +1548,19 @@ static sinew_result read_channel(gltf *g, int a, int c, const cJSON *channel, co
     if (kind == -2)
         return fail_at(g, "%s.target.path: \"%s\" is not translation, rotation, scale or weights", where,
                        path ? path : "(none)");
-    if (kind == -1) {
-        (*weights)++;
-        return SINEW_OK;
-    }
     const cJSON *s = item(samplers, sampler);
     char sw[64];
     snprintf(sw, sizeof sw, "animations[%d].samplers[%d]", a, sampler);
-    const char *how = string_at(s, "interpolation");
-    uint32_t interp = !how || strcmp(how, "LINEAR") == 0 ? SINEW_INTERP_LINEAR
-                      : strcmp(how, "STEP") == 0         ? SINEW_INTERP_STEP
-                      : strcmp(how, "CUBICSPLINE") == 0  ? SINEW_INTERP_CUBIC
-                                                         : UINT32_MAX;
-    if (interp == UINT32_MAX)
-        return fail_at(g, "%s.interpolation: \"%s\" is not LINEAR, STEP or CUBICSPLINE", sw, how);
-    int input, output;
-    if ((r = index_at(g, s, "input", sw, g->accessors.count, true, &input)) ||
-        (r = index_at(g, s, "output", sw, g->accessors.count, true, &output)))
-        return r;
+    if (kind == -1)
+        return read_weights(g, node, s, sw, clip);
     int width = kind == SINEW_CHANNEL_ROTATION ? 4 : 3;
+    uint32_t interp, nt = 0;
     double *times = NULL, *values = NULL;
-    uint32_t nt = 0, nv = 0;
-    char use[96];
-    snprintf(use, sizeof use, "%s input", sw);
-    if ((r = read_accessor(g, input, use, 1, FLOAT_ONLY, &times, &nt)))
+    r = read_sampler(g, s, sw, width, 1, kind == SINEW_CHANNEL_ROTATION ? ROTATION_TYPES : FLOAT_ONLY, &interp, &times,
+                     &nt, &values);
+    if (r)
         return r;
-    snprintf(use, sizeof use, "%s output", sw);
-    if ((r = read_accessor(g, output, use, width, kind == SINEW_CHANNEL_ROTATION ? ROTATION_TYPES : FLOAT_ONLY, &values,
-                           &nv))) {
-        free(times);
-        return r;
-    }
-    uint32_t per_key = interp == SINEW_INTERP_CUBIC ? 3 : 1;
-    for (uint32_t k = 0; k < nt && !r; k++)
-        if (times[k] < 0 || (k > 0 && times[k] <= times[k - 1]))
-            r = fail_at(g, "%s input: key %u at %g s is negative or not after the key before it", sw, k, times[k]);
-    if (!r && nv != nt * per_key)
-        r = fail_at(g, "%s: %u output values for %u keys (%s needs %u a key)", sw, nv, nt, how ? how : "LINEAR",
-                    per_key);
+    uint32_t nv = nt * (interp == SINEW_INTERP_CUBIC ? 3 : 1);
     raw_track *track = NULL;
     uint32_t at = g->node_of[node];
     for (uint32_t t = 0; t < clip->track_count && !r; t++)
@@ -1458,18 +1616,12 @@ static sinew_result build_clips(gltf *g)
         if (!listed || !(clip->name = raw_strdup(name && *name ? name : fallback)) ||
             !(clip->tracks = calloc(count ? (size_t)count : 1, sizeof *clip->tracks)))
             r = oom(g);
-        uint32_t weights = 0;
         for (int c = 0; c < count && !r; c++)
-            r = read_channel(g, a, c, channels.at[c], &samplers, clip, &weights);
+            r = read_channel(g, a, c, channels.at[c], &samplers, clip);
         free(channels.at);
         free(samplers.at);
         if (r)
             return r;
-        if (weights && !raw_model_warn(m,
-                                       "%s: clip \"%s\" animates morph target weights (%u channels); sinew plays "
-                                       "the skeleton only",
-                                       g->path, clip->name, weights))
-            return oom(g);
     }
     return SINEW_OK;
 }
@@ -1525,6 +1677,8 @@ sinew_result raw_model_from_gltf(const char *path, const unsigned char *bytes, s
     free(g.keys);
     free(g.uv_transform);
     free(g.has_uv_transform);
+    free(g.morph_first);
+    free(g.morph_count);
     const table *tables[] = {&g.accessors, &g.views,    &g.nodes,  &g.meshes,       &g.skins,
                              &g.materials, &g.textures, &g.images, &g.buffer_items, &g.animations};
     for (size_t i = 0; i < sizeof tables / sizeof tables[0]; i++)
