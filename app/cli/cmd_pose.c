@@ -22,8 +22,12 @@ static const char pose_usage[] =
     "  --loop          wrap times outside the clip around its duration instead of clamping\n"
     "  --json          print {\"file\", \"clip\": {\"index\", \"name\", \"duration\"} | null, \"frames\": [{\"time\",\n"
     "                  \"nodes\": [{\"name\", \"parent\", \"translation\": [x,y,z], \"rotation\": [x,y,z,w],\n"
-    "                  \"scale\": [x,y,z]}]}]}\n"
-    "  --mesh OUT.obj  write every mesh, skinned and placed in world space, at the (single) time\n"
+    "                  \"scale\": [x,y,z]}], \"weights\": [{\"channel\", \"weight\"}], \"morphs\": [{\"mesh\", "
+    "\"node\",\n"
+    "                  \"targets\": [{\"name\", \"channel\", \"weight\"}]}]}]} (weights and morphs for models with\n"
+    "                  morph targets: each channel's weight, each instance's targets with in-betweens resolved)\n"
+    "  --mesh OUT.obj  write every mesh at the (single) time as the file means it (morph targets at their\n"
+    "                  weights, vertex caches, each skin's method), in world space\n"
     "  --muscles [M]   muscles attached to the joints (M, or FILE's stem + .muscles.json beside it):\n"
     "                  each frame gives every muscle's length, delta and volume; in JSON a frame's\n"
     "                  \"muscles\": [{\"name\", \"length\", \"delta\", \"volume\", \"rest_volume\", \"in_range\",\n"
@@ -163,9 +167,13 @@ static void weights_json(cJSON *frame, const app_scene *scene)
     const sinew_model *m = scene->model;
     if (m->morph_channel_count == 0)
         return;
-    cJSON *channels = cJSON_AddObjectToObject(frame, "weights");
-    for (uint32_t c = 0; c < m->morph_channel_count; c++)
-        cJSON_AddNumberToObject(channels, m->morph_channels[c].name, cli_json_float(scene->weights[c]));
+    cJSON *channels = cJSON_AddArrayToObject(frame, "weights");
+    for (uint32_t c = 0; c < m->morph_channel_count; c++) {
+        cJSON *o = cJSON_CreateObject();
+        cJSON_AddStringToObject(o, "channel", m->morph_channels[c].name);
+        cJSON_AddNumberToObject(o, "weight", cli_json_float(scene->weights[c]));
+        cJSON_AddItemToArray(channels, o);
+    }
     cJSON *meshes = cJSON_AddArrayToObject(frame, "morphs");
     float tw[256];
     for (uint32_t i = 0; i < m->instance_count; i++) {

@@ -504,6 +504,8 @@ int app_pose_option_parse(app_pose_spec *spec, int argc, char *const *argv, int 
         spec->crossfade = argv[i + 1];
     else if (strcmp(o, "--ik") == 0 && spec->ik_count < APP_MAX_IK)
         spec->ik[spec->ik_count++] = argv[i + 1];
+    else if (strcmp(o, "--morph") == 0 && spec->morph_count < APP_MAX_MORPHS)
+        spec->morph[spec->morph_count++] = argv[i + 1];
     else
         return 0;
     return 2;
@@ -590,6 +592,13 @@ sinew_result app_scene_set_pose_ops(app_scene *s, const app_pose_spec *spec, sin
 {
     close_layers(&s->ops);
     s->posed_at = NAN;
+    for (uint32_t c = 0; c < s->model->morph_channel_count; c++)
+        s->overrides[c] = NAN;
+    for (int i = 0; spec && i < spec->morph_count; i++) {
+        sinew_result r = app_scene_parse_morph(s, spec->morph[i], error);
+        if (r != SINEW_OK)
+            return r;
+    }
     if (!spec || (!spec->blend && !spec->additive && !spec->crossfade && !spec->ik_count && !spec->root_motion))
         return SINEW_OK;
     app_pose_ops *ops = &s->ops;

@@ -67,6 +67,7 @@ typedef struct app_scene_desc {
 #define APP_SCENE_NOTES 4
 #define APP_MAX_LAYERS 8
 #define APP_MAX_IK 4
+#define APP_MAX_MORPHS 32
 
 /* What the command lines ask of a pose beyond playing one clip (sinew/blend.h), as written:
  * --blend CLIP:W,CLIP:W,...  --additive CLIP:W  --crossfade A,B,SECONDS  --ik JOINT:X,Y,Z
@@ -76,6 +77,8 @@ typedef struct app_pose_spec {
     const char *ik[APP_MAX_IK];
     int ik_count;
     bool root_motion;
+    const char *morph[APP_MAX_MORPHS]; /* --morph MESH:TARGET=W (repeatable) */
+    int morph_count;
 } app_pose_spec;
 
 /* Reads one of those options at argv[i]: the arguments used, 0 when it is not one. */
@@ -86,7 +89,9 @@ int app_pose_option_parse(app_pose_spec *spec, int argc, char *const *argv, int 
     "  --crossfade A,B,T      fades from clip A to clip B over T seconds from time 0 (phases synced with --loop)\n"    \
     "  --ik JOINT:X,Y,Z       two-bone IK: JOINT (with its parent and grandparent) reaches X,Y,Z (world), bending\n"   \
     "                         the way it already bends (repeatable, up to 4)\n"                                        \
-    "  --root-motion          takes the root's horizontal motion and yaw out: the character stays in place\n"
+    "  --root-motion          takes the root's horizontal motion and yaw out: the character stays in place\n"          \
+    "  --morph MESH:TARGET=W  sets a morph target's weight by hand, over what the clip gives (also TARGET=W or\n"      \
+    "                         CHANNEL=W; names or indices as `sinew info` lists them; repeatable)\n"
 
 typedef struct app_layer {
     int32_t clip;

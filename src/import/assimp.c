@@ -5,7 +5,9 @@
  *   axis_conversion ... FBX files keep their up axis and unit in metadata: turn them into
  *                       a root transform (COLLADA's Assimp already folds them into the root)
  *   read_meshes ....... triangles, normals, UVs, a skin per skinned mesh (bone -> node by name,
- *                       offset matrix = inverse bind with the bind-shape matrix already in it)
+ *                       offset matrix = inverse bind with the bind-shape matrix already in it),
+ *                       anim meshes as morph targets (read_targets: offsets from the base)
+ *   read_morph_keys ... mesh-morph animation channels as weight tracks
  *   read_clips ........ ticks -> seconds (ticks per second 0 falls back to 25), one track per node;
  *                       glTF STEP/CUBICSPLINE samplers are read again by gltf_keys.c, and
  *                       COLLADA <animation_clip>s cut out of Assimp's one clip by collada_clips.c
@@ -48,6 +50,8 @@ typedef struct context {
     const struct aiNode **nodes; /* sinew node index -> Assimp node */
     bool *joints;                /* nodes named by some bone, so far */
     sinew_error *error;
+    uint32_t *mesh_of;    /* Assimp mesh -> raw mesh, UINT32_MAX for none */
+    int32_t *morph_first; /* by raw mesh: its first morph channel, or -1 */
 } context;
 
 static sinew_result oom(context *c)
@@ -575,6 +579,64 @@ static sinew_result read_mesh(context *c, const struct aiMesh *in, uint32_t inde
     return in->mNumBones ? read_skin(c, in, out) : SINEW_OK;
 }
 
+/* A mesh's anim meshes as morph targets: each one's vertices (and normals, tangents) less the
+ * mesh's own, whatever the morphing method (COLLADA's NORMALIZED and RELATIVE blends are
+ * both the base plus the weighted differences); a channel each, of the anim mesh's weight. */
+static sinew_result read_targets(context *c, const struct aiMesh *in, uint32_t index, raw_mesh *out)
+{
+    raw_model *m = c->model;
+    uint32_t n = in->mNumAnimMeshes, v = in->mNumVertices;
+    if (n == 0 || !in->mAnimMeshes)
+        return SINEW_OK;
+    raw_morph_channel *channels = realloc(m->morph_channels, (m->morph_channel_count + n) * sizeof *channels);
+    if (!channels)
+        return oom(c);
+    m->morph_channels = channels;
+    if (!(out->targets = calloc(n, sizeof *out->targets)))
+        return oom(c);
+    c->morph_first[index] = (int32_t)m->morph_channel_count;
+    for (uint32_t t = 0; t < n; t++) {
+        const struct aiAnimMesh *am = in->mAnimMeshes[t];
+        raw_morph_target *rt = &out->targets[out->target_count++];
+        char fallback[32];
+        snprintf(fallback, sizeof fallback, "target %u", t);
+        const char *name = am && am->mName.length ? am->mName.data : fallback;
+        if (!(rt->name = raw_strdup(name)))
+            return oom(c);
+        if (!am || !am->mVertices || am->mNumVertices != v)
+            return sinew_fail(c->error, SINEW_ERROR_DATA,
+                              "%s: mesh \"%s\": morph target \"%s\" has %u vertices, the mesh %u (they must have as "
+                              "many)",
+                              c->path, out->name, name, am ? am->mNumVertices : 0, v);
+        rt->channel = t;
+        rt->full_weight = 1.0f;
+        rt->delta_count = v;
+        rt->vertices = malloc((v ? v : 1) * sizeof *rt->vertices);
+        rt->positions = malloc((v ? v : 1) * 3 * sizeof *rt->positions);
+        bool normals = am->mNormals && in->mNormals, tangents = am->mTangents && in->mTangents;
+        rt->normals = normals ? malloc((v ? v : 1) * 3 * sizeof *rt->normals) : NULL;
+        rt->tangents = tangents ? malloc((v ? v : 1) * 3 * sizeof *rt->tangents) : NULL;
+        if (!rt->vertices || !rt->positions || (normals && !rt->normals) || (tangents && !rt->tangents))
+            return oom(c);
+        for (uint32_t i = 0; i < v; i++) {
+            rt->vertices[i] = i;
+            const float *a = &am->mVertices[i].x, *b = &in->mVertices[i].x;
+            for (int k = 0; k < 3; k++)
+                rt->positions[i * 3 + k] = a[k] - b[k];
+            for (int k = 0; normals && k < 3; k++)
+                rt->normals[i * 3 + k] = (&am->mNormals[i].x)[k] - (&in->mNormals[i].x)[k];
+            for (int k = 0; tangents && k < 3; k++)
+                rt->tangents[i * 3 + k] = (&am->mTangents[i].x)[k] - (&in->mTangents[i].x)[k];
+        }
+        raw_morph_channel *ch = &m->morph_channels[m->morph_channel_count];
+        ch->default_weight = isfinite(am->mWeight) ? am->mWeight : 0.0f;
+        if (!(ch->name = raw_strdup(name)))
+            return oom(c);
+        m->morph_channel_count++;
+    }
+    return SINEW_OK;
+}
+
 static sinew_result read_instances(context *c, const uint32_t *mesh_map)
 {
     raw_model *m = c->model;
@@ -591,7 +653,8 @@ static sinew_result read_instances(context *c, const uint32_t *mesh_map)
             unsigned src = c->nodes[n]->mMeshes[k];
             if (src >= c->scene->mNumMeshes || mesh_map[src] == UINT32_MAX)
                 continue;
-            m->instances[m->instance_count++] = (sinew_instance){mesh_map[src], n, 0};
+            int32_t first = c->morph_first[mesh_map[src]];
+            m->instances[m->instance_count++] = (sinew_instance){mesh_map[src], n, first >= 0 ? (uint32_t)first : 0};
             used[mesh_map[src]] = true;
         }
     }
@@ -608,10 +671,13 @@ static sinew_result read_meshes(context *c)
     const struct aiScene *s = c->scene;
     uint32_t *mesh_map = malloc((s->mNumMeshes ? s->mNumMeshes : 1) * sizeof *mesh_map);
     m->meshes = calloc(s->mNumMeshes ? s->mNumMeshes : 1, sizeof *m->meshes);
-    if (!mesh_map || !m->meshes) {
+    c->morph_first = malloc((s->mNumMeshes ? s->mNumMeshes : 1) * sizeof *c->morph_first);
+    if (!mesh_map || !m->meshes || !c->morph_first) {
         free(mesh_map);
         return oom(c);
     }
+    for (unsigned i = 0; i < s->mNumMeshes; i++)
+        c->morph_first[i] = -1;
     sinew_result result = SINEW_OK;
     for (unsigned i = 0; i < s->mNumMeshes; i++)
         mesh_map[i] = UINT32_MAX;
@@ -636,10 +702,12 @@ static sinew_result read_meshes(context *c)
         }
         mesh_map[i] = m->mesh_count++;
         result = read_mesh(c, in, i, &m->meshes[mesh_map[i]]);
+        if (!result)
+            result = read_targets(c, in, mesh_map[i], &m->meshes[mesh_map[i]]);
     }
     if (!result)
         result = read_instances(c, mesh_map);
-    free(mesh_map);
+    c->mesh_of = mesh_map;
     return result;
 }
 
@@ -679,6 +747,59 @@ static sinew_result read_rotation_keys(context *c, const struct aiQuatKey *keys,
     return SINEW_OK;
 }
 
+/* The raw mesh a mesh-morph channel animates: the one it names, or the one at the node it
+ * names (Assimp names either), with targets; -1 when none. */
+static int32_t morph_mesh(const context *c, const char *name)
+{
+    const raw_model *m = c->model;
+    for (uint32_t i = 0; i < m->mesh_count; i++)
+        if (m->meshes[i].target_count && strcmp(m->meshes[i].name, name) == 0)
+            return (int32_t)i;
+    for (uint32_t i = 0; i < m->instance_count; i++) {
+        const raw_mesh *mesh = &m->meshes[m->instances[i].mesh];
+        if (mesh->target_count && strcmp(m->node_names[m->instances[i].node], name) == 0)
+            return (int32_t)m->instances[i].mesh;
+    }
+    return -1;
+}
+
+/* A mesh-morph channel: at each key, the weights of the targets it lists (0 for the rest),
+ * as one linear weight track a target. */
+static sinew_result read_morph_keys(context *c, const struct aiMeshMorphAnim *ch, double tps, raw_clip *out)
+{
+    raw_model *m = c->model;
+    int32_t mesh = morph_mesh(c, ch->mName.data);
+    if (mesh < 0)
+        return raw_model_warn(m, "clip \"%s\": morph channel \"%s\" names no mesh with morph targets; skipped",
+                              out->name, ch->mName.data)
+                   ? SINEW_OK
+                   : oom(c);
+    uint32_t n = m->meshes[mesh].target_count, keys = ch->mNumKeys;
+    raw_weight_track *grown = realloc(out->weight_tracks, (out->weight_track_count + n) * sizeof *grown);
+    if (!grown)
+        return oom(c);
+    out->weight_tracks = grown;
+    for (uint32_t t = 0; t < n; t++) {
+        raw_weight_track *tr = &out->weight_tracks[out->weight_track_count++];
+        memset(tr, 0, sizeof *tr);
+        tr->channel = (uint32_t)c->morph_first[mesh] + t;
+        tr->keys.interp = SINEW_INTERP_LINEAR;
+        tr->keys.count = keys;
+        tr->keys.times = malloc((keys ? keys : 1) * sizeof(float));
+        tr->keys.values = calloc(keys ? keys : 1, sizeof(float));
+        if (!tr->keys.times || !tr->keys.values)
+            return oom(c);
+        for (uint32_t k = 0; k < keys; k++) {
+            const struct aiMeshMorphKey *key = &ch->mKeys[k];
+            tr->keys.times[k] = (float)(key->mTime / tps);
+            for (unsigned j = 0; j < key->mNumValuesAndWeights; j++)
+                if (key->mValues[j] == t)
+                    tr->keys.values[k] = (float)key->mWeights[j];
+        }
+    }
+    return SINEW_OK;
+}
+
 static sinew_result read_clip(context *c, const struct aiAnimation *anim, uint32_t index, raw_clip *out)
 {
     raw_model *m = c->model;
@@ -693,9 +814,14 @@ static sinew_result read_clip(context *c, const struct aiAnimation *anim, uint32
         tps = FALLBACK_TICKS_PER_SECOND;
     }
     out->duration = (float)(anim->mDuration / tps);
-    if (anim->mNumMeshChannels || anim->mNumMorphMeshChannels)
-        raw_model_warn(m, "clip \"%s\": %u mesh and morph channels are not supported and were skipped", out->name,
-                       anim->mNumMeshChannels + anim->mNumMorphMeshChannels);
+    if (anim->mNumMeshChannels)
+        raw_model_warn(m, "clip \"%s\": %u mesh channels (whole-mesh swaps) are not supported and were skipped",
+                       out->name, anim->mNumMeshChannels);
+    for (unsigned i = 0; i < anim->mNumMorphMeshChannels; i++) {
+        sinew_result r = read_morph_keys(c, anim->mMorphMeshChannels[i], tps, out);
+        if (r)
+            return r;
+    }
     if (!(out->tracks = calloc(anim->mNumChannels ? anim->mNumChannels : 1, sizeof *out->tracks)))
         return oom(c);
     for (unsigned i = 0; i < anim->mNumChannels; i++) {
@@ -843,6 +969,8 @@ sinew_result raw_model_from_assimp(const char *path, raw_model *model, sinew_err
     if (!result && strcmp(model->format, "dae") == 0)
         collada_split_clips(path, model);
     free(c.nodes);
+    free(c.mesh_of);
+    free(c.morph_first);
     free(c.joints);
     aiReleaseImport(scene);
     if (result)
