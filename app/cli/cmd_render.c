@@ -30,7 +30,7 @@ static const char render_usage[] =
     "  --ortho             orthographic (parallel) projection, framed as the perspective view\n"
     "  --up y|z            which of the file's axes is up (default y; z for files modelled Z up that do not say so)\n"
     "  --anim OTHER [--name-map M.json]  OTHER's clips retargeted onto FILE's skeleton (first in its clip list)\n"
-    "  --blend C:W,C:W --additive C:W --crossfade A,B,T --ik JOINT:X,Y,Z --root-motion\n"
+    "  --blend C:W,C:W --additive C:W --crossfade A,B,T --ik JOINT:X,Y,Z --root-motion --morph MESH:TARGET=W\n"
     "                      combine clips, as `sinew pose --help` says\n"
     "  -o, --output PATH   OUT.png (.jpg .bmp .tga), a pattern with one %d (frame number), or OUT.mp4\n"
     "                      (.webm .mkv .mov .gif)\n"
@@ -51,7 +51,11 @@ static const char render_usage[] =
     "  --gpu-joint-limit N                     skin larger skins on the CPU (tests the fallback)\n"
     "  --muscles [M.json]                      attach and draw muscles (M, or FILE's stem + .muscles.json);\n"
     "                                          --no-muscles hides them\n"
-    "  --skinning-method lbs|dqs               linear blend (default) or dual-quaternion skinning\n"
+    "  --skinning-method file|lbs|dqs          each skin as its file asks (default: linear, dual quaternion, or\n"
+    "                                          the two mixed per vertex), or linear blend / dual quaternions\n"
+    "                                          for every skin\n";
+
+static const char render_usage_crowds[] =
     "\n"
     "crowds:\n"
     "  --crowd N           N characters on a grid, each at its own time and clip (the --clip given, else\n"
@@ -161,6 +165,7 @@ static int parse_render_args(int argc, char **argv, render_args *a)
         bool bad = false;
         if (cli_is_help(arg)) {
             fputs(render_usage, stdout);
+            fputs(render_usage_crowds, stdout);
             return EXIT_OK;
         }
         int used = 0;

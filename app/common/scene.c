@@ -452,7 +452,10 @@ sinew_frame app_scene_frame(const app_scene *s, const sinew_camera *camera, cons
                          .height = height,
                          .options = options,
                          .muscles = s->muscle_poses, /* NULL and 0 without muscles */
-                         .muscle_count = s->muscle_count};
+                         .muscle_count = s->muscle_count,
+                         .weights = s->model->morph_channel_count ? s->weights : NULL,
+                         .weight_count = s->model->morph_channel_count,
+                         .cache_time = s->cache_time};
 }
 
 bool app_scene_bounds(app_scene *s, sinew_renderer *renderer, double from, double to, int samples, sinew_wrap wrap,
@@ -465,8 +468,11 @@ bool app_scene_bounds(app_scene *s, sinew_renderer *renderer, double from, doubl
     for (int i = 0; i < samples; i++) {
         double t = samples > 1 ? from + (to - from) * i / (samples - 1) : to;
         float a[3], b[3];
-        if (app_scene_pose(s, t, wrap, NULL) != SINEW_OK ||
-            !sinew_renderer_bounds(renderer, s->worlds, s->model->node_count, a, b))
+        if (app_scene_pose(s, t, wrap, NULL) != SINEW_OK)
+            continue;
+        sinew_render_options o = sinew_render_options_default();
+        sinew_frame frame = app_scene_frame(s, NULL, &o, 1, 1);
+        if (!sinew_renderer_frame_bounds(renderer, &frame, a, b))
             continue;
         for (int k = 0; k < 3; k++)
             lo[k] = fminf(lo[k], a[k]), hi[k] = fmaxf(hi[k], b[k]);

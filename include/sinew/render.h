@@ -4,7 +4,9 @@
  * from sinew_local_to_world) each frame. Skinning runs in the vertex shader with every
  * skin's palette in a texture buffer (up to SINEW_MAX_JOINTS joints, up to
  * SINEW_MAX_INFLUENCES influences, no mesh splitting), or on the CPU through the core's
- * sinew_skin_vertices() (same picture). Display switches: materials (base colour and
+ * sinew_skin_vertices() (same picture); each skin by its file's method (linear, dual quaternion,
+ * mixed) unless the options force one; morph targets and vertex caches at the frame's weights
+ * and time (see sinew_frame). Display switches: materials (base colour and
  * texture maps) or clay; lighting (key + fill) or unlit; flat, Gouraud or Phong shading,
  * or physically based shading (metallic-roughness, normal, occlusion and emissive maps, a
  * sky environment, tone mapping); wireframe overlay; the skeleton drawn over the mesh (bones, joint dots, one
@@ -75,7 +77,9 @@ typedef struct sinew_render_options {
     float grid_height;      /* world y of the ground grid (0 by default; sinew's apps put it under the
                              * model's lowest point over the frames they frame) */
     sinew_skinning skinning;
-    sinew_skin_method skin_method; /* linear blend (the default) or dual quaternions, GPU and CPU alike */
+    bool skin_method_set;          /* false (the default): each skin skins as its file asks (sinew_skin.blend:
+                                    * linear, dual quaternion, or the two mixed per vertex); true: skin_method */
+    sinew_skin_method skin_method; /* with skin_method_set: linear blend or dual quaternions for every skin */
     const bool *hidden_instances;  /* instance_count flags, true = hidden; NULL = all shown */
 } sinew_render_options;
 
@@ -84,7 +88,7 @@ sinew_render_options sinew_render_options_default(void);
 /* Display switches by name, for settings files and command lines. Names: materials,
  * lighting, wireframe, meshes, skeleton, joint-axes, joint-names, normals, grid, axes,
  * muscles, lod (booleans: on/off, true/false, yes/no, 1/0; a NULL value means on), shading
- * (phong|gouraud|flat|pbr), skinning (gpu|cpu), skinning-method (lbs|dqs), background (RRGGBB, #RRGGBB, r,g,b in
+ * (phong|gouraud|flat|pbr), skinning (gpu|cpu), skinning-method (file|lbs|dqs), background (RRGGBB, #RRGGBB, r,g,b in
  * 0..1, or transparent), normal-length (world units, 0 = automatic). Joint choices are node indices and are set
  * directly. An unknown name or a bad value gives SINEW_ERROR_INVALID_ARGUMENT. */
 sinew_result sinew_render_option_set(sinew_render_options *options, const char *name, const char *value,
@@ -150,6 +154,15 @@ typedef struct sinew_frame {
     const float *lines;
     uint32_t line_count;
     float line_color[3];
+    /* Morph targets and vertex caches (sinew/morph.h): the model's morph channel weights
+     * (sinew_sample_weights(); NULL: their defaults), shared by a crowd's characters; where on
+     * the file's timeline vertex caches are read (a clip's time plus its timeline), or none
+     * with no_cache. Up to 16 targets with weight a draw morph on the GPU (the targets' offsets
+     * in a buffer texture, the weights as uniforms); more, or a vertex cache, on the CPU. */
+    const float *weights;
+    uint32_t weight_count;
+    float cache_time;
+    bool no_cache;
 } sinew_frame;
 
 #define SINEW_MAX_FRAME_LINES 1024u
@@ -162,6 +175,9 @@ sinew_result sinew_renderer_draw(sinew_renderer *renderer, const sinew_frame *fr
  * vertex (skeleton-only files). Returns false when the model has nothing with a position. */
 bool sinew_renderer_bounds(sinew_renderer *renderer, const sinew_mat4 *worlds, uint32_t world_count, float min[3],
                            float max[3]);
+/* The same for a whole frame: its worlds with its morph weights, vertex cache time and skin
+ * methods (frame->options; the camera and viewport are not read). */
+bool sinew_renderer_frame_bounds(sinew_renderer *renderer, const sinew_frame *frame, float min[3], float max[3]);
 
 #ifdef __cplusplus
 }

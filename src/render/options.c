@@ -117,12 +117,16 @@ sinew_result sinew_render_option_set(sinew_render_options *o, const char *name, 
         return sinew_fail(error, SINEW_ERROR_INVALID_ARGUMENT, "skinning: expected gpu or cpu, not \"%s\"", value);
     }
     if (strcmp(name, "skinning-method") == 0) {
+        if (strcasecmp(value, "file") == 0 || strcasecmp(value, "auto") == 0)
+            return o->skin_method_set = false, o->skin_method = SINEW_SKIN_LINEAR, SINEW_OK;
         if (strcasecmp(value, "lbs") == 0 || strcasecmp(value, "linear") == 0)
-            return o->skin_method = SINEW_SKIN_LINEAR, SINEW_OK;
+            return o->skin_method_set = true, o->skin_method = SINEW_SKIN_LINEAR, SINEW_OK;
         if (strcasecmp(value, "dqs") == 0 || strcasecmp(value, "dual-quaternion") == 0)
-            return o->skin_method = SINEW_SKIN_DUAL_QUATERNION, SINEW_OK;
+            return o->skin_method_set = true, o->skin_method = SINEW_SKIN_DUAL_QUATERNION, SINEW_OK;
         return sinew_fail(error, SINEW_ERROR_INVALID_ARGUMENT,
-                          "skinning-method: expected lbs (linear blend) or dqs (dual quaternion), not \"%s\"", value);
+                          "skinning-method: expected file (each skin as its file asks), lbs (linear blend) or dqs "
+                          "(dual quaternion), not \"%s\"",
+                          value);
     }
     if (strcmp(name, "background") == 0) {
         if (strcasecmp(value, "transparent") == 0 || strcasecmp(value, "none") == 0)
@@ -158,7 +162,10 @@ sinew_result sinew_render_option_get(const sinew_render_options *o, const char *
     else if (strcmp(name, "skinning") == 0)
         snprintf(out, size, "%s", o->skinning == SINEW_SKINNING_CPU ? "cpu" : "gpu");
     else if (strcmp(name, "skinning-method") == 0)
-        snprintf(out, size, "%s", o->skin_method == SINEW_SKIN_DUAL_QUATERNION ? "dqs" : "lbs");
+        snprintf(out, size, "%s",
+                 !o->skin_method_set                            ? "file"
+                 : o->skin_method == SINEW_SKIN_DUAL_QUATERNION ? "dqs"
+                                                                : "lbs");
     else if (strcmp(name, "background") == 0 && o->transparent)
         snprintf(out, size, "transparent");
     else if (strcmp(name, "background") == 0)

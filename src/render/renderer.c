@@ -14,6 +14,7 @@
 
 #include "internal.h"
 #include "sinew/anim.h"
+#include "sinew/morph.h"
 
 #define WARNING_SIZE 320
 #define ALIGN16(x) (((x) + 15) & ~(size_t)15)
@@ -28,8 +29,16 @@ enum {
     BUF_WEIGHTS0,
     BUF_WEIGHTS1,
     BUF_STREAM,
+    BUF_DQ,
+    BUF_MORPH,
     BUF_COUNT
 };
+
+/* Targets with weight one GPU draw takes (the shader's uniform arrays); a mesh with more
+ * at once is morphed on the CPU that frame. */
+#define GPU_MORPHS 16
+/* The largest buffer of morph offsets put on the GPU (bytes); larger meshes morph on the CPU. */
+#define GPU_MORPH_BYTES ((size_t)256 << 20)
 
 /* CPU-skinned vertices as streamed: position, normal, tangent (xyz, handedness). */
 #define STREAM_FLOATS 10
@@ -46,14 +55,18 @@ typedef struct render_mesh {
     render_lod lod;
     struct render_mesh *lod_meshes;
     bool lod_built;
-    uint64_t streamed; /* the frame whose CPU-skinned vertices BUF_STREAM holds (0: none) */
+    uint64_t streamed;          /* the frame whose CPU-skinned vertices BUF_STREAM holds (0: none) */
+    uint32_t streamed_instance; /* and the instance they are of (instances' weights differ) */
+    GLuint morph_texture;       /* the offsets of BUF_MORPH as a buffer texture, 0 when they stay on the CPU */
+    int morph_texels;           /* texels a vertex of a target: 1 (position), 2 (and normal) */
 } render_mesh;
 
 typedef struct mesh_uniforms {
-    GLint model, view_proj, gpu_sets, dqs, palette_offset, instance_stride, rigid_record, instance_base, palette,
-        heat_joint, heat_rigid, gouraud, key_dir, fill_dir, eye, base_color, use_texture, texture, mode, heat, override,
-        normal_length, metallic, roughness, emissive, normal_scale, occlusion_strength, maps, map_mr, map_normal,
-        map_occlusion, map_emissive;
+    GLint model, view_proj, gpu_sets, dq_mode, dq_offset, palette_offset, instance_stride, rigid_record, instance_base,
+        palette, morph, morph_count, morph_vertices, morph_texels, morph_target, morph_weight, heat_joint, heat_rigid,
+        gouraud, key_dir, fill_dir, eye, base_color, use_texture, texture, mode, heat, override, normal_length,
+        metallic, roughness, emissive, normal_scale, occlusion_strength, maps, map_mr, map_normal, map_occlusion,
+        map_emissive;
 } mesh_uniforms;
 
 struct sinew_renderer {
@@ -68,11 +81,17 @@ struct sinew_renderer {
     bool *skin_on_gpu;                   /* false: this skin is too big for the GPU path */
     uint32_t total_joints;
     sinew_mat4 *palettes;        /* total_joints matrices */
-    sinew_dq_joint *dq_palettes; /* the same as dual-quaternion joints, when a frame asks for them */
-    sinew_skin_method method;    /* of the last frame drawn (CPU skinning and bounds follow it) */
+    sinew_dq_joint *dq_palettes; /* the same as dual-quaternion joints, when a skin needs them */
+    uint8_t *skin_mode;          /* each skin's sinew_skin_method in the last frame drawn */
+    bool any_dq;                 /* some skin needs dual-quaternion joints */
     float *stream;               /* largest mesh's vertex count * STREAM_FLOATS */
-    bool *skeleton_nodes;        /* node_count flags */
-    overlay_list overlay;        /* world-space geometry, then text quads */
+    float *morphed;              /* largest mesh's vertex count * 10: morphed positions, normals, tangents */
+    float *target_weights;       /* the most targets a mesh has */
+    const float *weights;        /* the frame's morph channel weights (NULL: the defaults) */
+    float cache_time;            /* and where vertex caches are read */
+    bool no_cache;
+    bool *skeleton_nodes; /* node_count flags */
+    overlay_list overlay; /* world-space geometry, then text quads */
     GLuint palette_buffer, palette_texture;
     /* a crowd: each character's palettes (total_joints records) then its node worlds, in the
      * order of their level of detail (crowd_slot[character]: its place) */
@@ -137,12 +156,12 @@ static void warn(sinew_renderer *r, const char *format, ...)
 
 /* Sizes every CPU-side array once, so the whole renderer is one allocation. */
 typedef struct layout {
-    size_t meshes, textures, skin_offsets, skin_on_gpu, palettes, dq_palettes, stream, skeleton, overlay, warnings,
-        muscle, muscle_index, total;
+    size_t meshes, textures, skin_offsets, skin_on_gpu, skin_mode, palettes, dq_palettes, stream, morphed,
+        target_weights, skeleton, overlay, warnings, muscle, muscle_index, total;
 } layout;
 
-static layout plan_layout(const sinew_model *m, uint32_t total_joints, uint32_t max_vertices, uint32_t warnings,
-                          uint32_t muscle_vertices, uint32_t muscle_indices)
+static layout plan_layout(const sinew_model *m, uint32_t total_joints, uint32_t max_vertices, uint32_t max_targets,
+                          uint32_t warnings, uint32_t muscle_vertices, uint32_t muscle_indices)
 {
     layout l;
     size_t at = ALIGN16(sizeof(sinew_renderer));
@@ -153,9 +172,12 @@ static layout plan_layout(const sinew_model *m, uint32_t total_joints, uint32_t 
     PLACE(textures, (size_t)m->material_count * SINEW_MAP_COUNT * sizeof(GLuint));
     PLACE(skin_offsets, (size_t)m->skin_count * sizeof(uint32_t));
     PLACE(skin_on_gpu, (size_t)m->skin_count * sizeof(bool));
+    PLACE(skin_mode, (size_t)m->skin_count);
     PLACE(palettes, (size_t)total_joints * sizeof(sinew_mat4));
     PLACE(dq_palettes, (size_t)total_joints * sizeof(sinew_dq_joint));
     PLACE(stream, (size_t)max_vertices * STREAM_FLOATS * sizeof(float));
+    PLACE(morphed, (size_t)max_vertices * 10 * sizeof(float));
+    PLACE(target_weights, (size_t)max_targets * sizeof(float));
     PLACE(skeleton, (size_t)m->node_count * sizeof(bool));
     PLACE(overlay, ((size_t)overlay_capacity(m->node_count) + OVERLAY_TEXT_VERTICES) * sizeof(overlay_vertex));
     PLACE(warnings, (size_t)warnings * WARNING_SIZE);
@@ -211,6 +233,10 @@ static void bind_shared_attributes(const render_mesh *rm)
         glVertexAttrib2f(2, 0.0f, 0.0f);
     if (!rm->buffers[BUF_TANGENT])
         glVertexAttrib4f(7, 0.0f, 0.0f, 0.0f, 0.0f);
+    if (rm->buffers[BUF_DQ])
+        float_attribute(8, rm->buffers[BUF_DQ], 1, 0, 0);
+    else
+        glVertexAttrib1f(8, 0.0f);
     for (int set = 0; set < 2; set++) {
         if (set < rm->influence_sets) {
             glBindBuffer(GL_ARRAY_BUFFER, rm->buffers[BUF_JOINTS0 + set]);
@@ -225,10 +251,47 @@ static void bind_shared_attributes(const render_mesh *rm)
     glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, rm->indices);
 }
 
+/* A mesh's morph targets for the GPU: every target's offsets for every vertex (0 where it moves
+ * none), the normal's beside the position's when some target has them; none when they would
+ * take more than GPU_MORPH_BYTES or the buffer texture's limit (the CPU morphs them then). */
+static void upload_morphs(render_mesh *rm, const sinew_mesh *mesh, uint32_t max_texels)
+{
+    if (mesh->target_count == 0 || mesh->vertex_count == 0)
+        return;
+    int texels = 1;
+    for (uint32_t t = 0; t < mesh->target_count; t++)
+        if (mesh->targets[t].normals)
+            texels = 2;
+    size_t count = (size_t)mesh->target_count * mesh->vertex_count * (size_t)texels;
+    if (count * 16 > GPU_MORPH_BYTES || count > max_texels)
+        return;
+    float *offsets = calloc(count * 4, sizeof *offsets);
+    if (!offsets)
+        return;
+    for (uint32_t t = 0; t < mesh->target_count; t++) {
+        const sinew_morph_target *tg = &mesh->targets[t];
+        for (uint32_t k = 0; k < tg->delta_count; k++) {
+            float *o = &offsets[(((size_t)t * mesh->vertex_count + tg->vertices[k]) * (size_t)texels) * 4];
+            memcpy(o, &tg->positions[(size_t)k * 3], 3 * sizeof(float));
+            if (tg->normals)
+                memcpy(o + 4, &tg->normals[(size_t)k * 3], 3 * sizeof(float));
+        }
+    }
+    rm->buffers[BUF_MORPH] = make_buffer(GL_TEXTURE_BUFFER, count * 16, offsets, GL_STATIC_DRAW);
+    free(offsets);
+    glGenTextures(1, &rm->morph_texture);
+    glBindTexture(GL_TEXTURE_BUFFER, rm->morph_texture);
+    glTexBuffer(GL_TEXTURE_BUFFER, GL_RGBA32F, rm->buffers[BUF_MORPH]);
+    glBindTexture(GL_TEXTURE_BUFFER, 0);
+    rm->morph_texels = texels;
+}
+
 static void upload_mesh(render_mesh *rm, const sinew_mesh *mesh, void *scratch, bool stream)
 {
     size_t n = mesh->vertex_count;
     rm->influence_sets = mesh->skin >= 0 && mesh->influence_count ? (mesh->influence_count > 4 ? 2 : 1) : 0;
+    if (mesh->dq_weights && rm->influence_sets)
+        rm->buffers[BUF_DQ] = make_buffer(GL_ARRAY_BUFFER, n * 4, mesh->dq_weights, GL_STATIC_DRAW);
     rm->buffers[BUF_POSITION] = make_buffer(GL_ARRAY_BUFFER, n * 12, mesh->positions, GL_STATIC_DRAW);
     rm->buffers[BUF_NORMAL] = make_buffer(GL_ARRAY_BUFFER, n * 12, mesh->normals, GL_STATIC_DRAW);
     if (mesh->uvs)
@@ -244,7 +307,8 @@ static void upload_mesh(render_mesh *rm, const sinew_mesh *mesh, void *scratch, 
     if (rm->buffers[BUF_TANGENT])
         float_attribute(7, rm->buffers[BUF_TANGENT], 4, 0, 0);
     bind_shared_attributes(rm);
-    if (rm->influence_sets && stream) {
+    /* streamed vertices: CPU skinning, and morphs or caches the GPU does not take */
+    if ((rm->influence_sets || mesh->target_count || mesh->cache) && stream) {
         glGenVertexArrays(1, &rm->vao_stream);
         glBindVertexArray(rm->vao_stream);
         rm->buffers[BUF_STREAM] = make_buffer(GL_ARRAY_BUFFER, n * STREAM_STRIDE, NULL, GL_STREAM_DRAW);
@@ -320,8 +384,9 @@ static GLuint shared_texture(sinew_renderer *r, uint32_t material, int slot)
 static void lookup_mesh_uniforms(GLuint program, mesh_uniforms *u)
 {
 #define U(name) u->name = glGetUniformLocation(program, "u_" #name)
-    U(model), U(view_proj), U(gpu_sets), U(dqs), U(palette_offset), U(instance_stride), U(rigid_record),
-        U(instance_base), U(palette), U(heat_joint), U(heat_rigid), U(gouraud);
+    U(model), U(view_proj), U(gpu_sets), U(dq_mode), U(dq_offset), U(palette_offset), U(instance_stride),
+        U(rigid_record), U(instance_base), U(palette), U(heat_joint), U(heat_rigid), U(gouraud);
+    U(morph), U(morph_count), U(morph_vertices), U(morph_texels), U(morph_target), U(morph_weight);
     U(key_dir), U(fill_dir), U(eye), U(base_color), U(use_texture), U(texture), U(mode), U(heat), U(override);
     U(normal_length), U(metallic), U(roughness), U(emissive), U(normal_scale), U(occlusion_strength), U(maps);
     U(map_mr), U(map_normal), U(map_occlusion), U(map_emissive);
@@ -367,8 +432,13 @@ static sinew_result create_gl_objects(sinew_renderer *r, uint32_t max_vertices, 
     void *scratch = malloc((size_t)(max_vertices ? max_vertices : 1) * 24);
     if (!scratch)
         return sinew_fail(error, SINEW_ERROR_OUT_OF_MEMORY, "%s: out of memory uploading meshes", m->source);
-    for (uint32_t i = 0; i < m->mesh_count; i++)
+    for (uint32_t i = 0; i < m->mesh_count; i++) {
         upload_mesh(&r->meshes[i], &m->meshes[i], scratch, true);
+        upload_morphs(&r->meshes[i], &m->meshes[i], r->max_buffer_texels);
+        if (m->meshes[i].target_count && !r->meshes[i].morph_texture)
+            warn(r, "%s: mesh \"%s\": its %u morph targets are too big for the GPU; they are morphed on the CPU",
+                 m->source, m->meshes[i].name, m->meshes[i].target_count);
+    }
     free(scratch);
     for (uint32_t i = 0; i < m->material_count; i++)
         for (int k = 0; k < SINEW_MAP_COUNT; k++) {
@@ -379,8 +449,9 @@ static sinew_result create_gl_objects(sinew_renderer *r, uint32_t max_vertices, 
             }
         }
 
+    /* every skin's matrices, then (when some skin needs them) its dual-quaternion joints */
     r->palette_buffer =
-        make_buffer(GL_TEXTURE_BUFFER, (size_t)(r->total_joints ? r->total_joints : 1) * 64, NULL, GL_STREAM_DRAW);
+        make_buffer(GL_TEXTURE_BUFFER, (size_t)(r->total_joints ? r->total_joints : 1) * 128, NULL, GL_STREAM_DRAW);
     glGenTextures(1, &r->palette_texture);
     glBindTexture(GL_TEXTURE_BUFFER, r->palette_texture);
     glTexBuffer(GL_TEXTURE_BUFFER, GL_RGBA32F, r->palette_buffer);
@@ -440,13 +511,16 @@ sinew_result sinew_renderer_create(const sinew_renderer_desc *desc, sinew_render
                           "sinew_renderer_create: allocator without alloc or free");
     sinew_allocator alloc = desc->allocator ? *desc->allocator : (sinew_allocator){default_alloc, default_free, NULL};
 
-    uint32_t total_joints = 0, max_vertices = 0;
+    uint32_t total_joints = 0, max_vertices = 0, max_targets = 0;
     for (uint32_t s = 0; s < m->skin_count; s++)
         total_joints += m->skins[s].joint_count;
-    for (uint32_t i = 0; i < m->mesh_count; i++)
+    for (uint32_t i = 0; i < m->mesh_count; i++) {
         if (m->meshes[i].vertex_count > max_vertices)
             max_vertices = m->meshes[i].vertex_count;
-    uint32_t warnings = m->material_count + m->skin_count + 1;
+        if (m->meshes[i].target_count > max_targets)
+            max_targets = m->meshes[i].target_count;
+    }
+    uint32_t warnings = m->material_count + m->skin_count + m->mesh_count + 1;
     uint32_t muscle_vertices = 0, muscle_indices = 0;
     for (uint32_t i = 0; desc->muscles && i < desc->muscles->muscle_count; i++) {
         uint32_t v, n;
@@ -454,7 +528,7 @@ sinew_result sinew_renderer_create(const sinew_renderer_desc *desc, sinew_render
         muscle_vertices = v > muscle_vertices ? v : muscle_vertices;
         muscle_indices = n > muscle_indices ? n : muscle_indices;
     }
-    layout l = plan_layout(m, total_joints, max_vertices, warnings, muscle_vertices, muscle_indices);
+    layout l = plan_layout(m, total_joints, max_vertices, max_targets, warnings, muscle_vertices, muscle_indices);
     unsigned char *block = alloc.alloc(l.total, alloc.user);
     if (!block)
         return sinew_fail(error, SINEW_ERROR_OUT_OF_MEMORY, "%s: out of memory for the renderer", m->source);
@@ -470,6 +544,9 @@ sinew_result sinew_renderer_create(const sinew_renderer_desc *desc, sinew_render
     r->palettes = (sinew_mat4 *)(block + l.palettes);
     r->dq_palettes = (sinew_dq_joint *)(block + l.dq_palettes);
     r->stream = (float *)(block + l.stream);
+    r->skin_mode = (uint8_t *)(block + l.skin_mode);
+    r->morphed = (float *)(block + l.morphed);
+    r->target_weights = (float *)(block + l.target_weights);
     r->skeleton_nodes = (bool *)(block + l.skeleton);
     r->overlay.vertices = (overlay_vertex *)(block + l.overlay);
     r->overlay.capacity = overlay_capacity(m->node_count) + OVERLAY_TEXT_VERTICES;
@@ -510,6 +587,7 @@ void sinew_renderer_destroy(sinew_renderer *r)
                 continue;
             glDeleteVertexArrays(1, &level->vao_static);
             glDeleteVertexArrays(1, &level->vao_stream);
+            glDeleteTextures(1, &level->morph_texture);
             glDeleteBuffers(BUF_COUNT, level->buffers);
             glDeleteBuffers(1, &level->indices);
         }
@@ -553,6 +631,22 @@ const char *sinew_renderer_gl_name(const sinew_renderer *r)
 
 /* ---- per frame ------------------------------------------------------------------ */
 
+/* How each skin skins this frame: as its file asks (linear, dual quaternion, mixed), or the
+ * one method the options force; and whether any needs dual-quaternion joints. */
+static void choose_skin_modes(sinew_renderer *r, const sinew_render_options *o)
+{
+    const sinew_model *m = r->model;
+    r->any_dq = false;
+    for (uint32_t s = 0; s < m->skin_count; s++) {
+        uint32_t blend = m->skins[s].blend;
+        sinew_skin_method method = !o->skin_method_set ? (sinew_skin_method)(blend <= 2 ? blend : 0)
+                                   : o->skin_method == SINEW_SKIN_DUAL_QUATERNION ? SINEW_SKIN_DUAL_QUATERNION
+                                                                                  : SINEW_SKIN_LINEAR;
+        r->skin_mode[s] = (uint8_t)method;
+        r->any_dq = r->any_dq || method != SINEW_SKIN_LINEAR;
+    }
+}
+
 static sinew_result compute_palettes(sinew_renderer *r, const sinew_mat4 *worlds, uint32_t world_count,
                                      sinew_error *error)
 {
@@ -563,7 +657,7 @@ static sinew_result compute_palettes(sinew_renderer *r, const sinew_mat4 *worlds
         if (result != SINEW_OK)
             return result;
     }
-    if (r->method == SINEW_SKIN_DUAL_QUATERNION)
+    if (r->any_dq)
         return sinew_skin_dq_palette(r->palettes, r->total_joints, r->dq_palettes, error);
     return SINEW_OK;
 }
@@ -581,19 +675,101 @@ static void skin_range_job(void *user, uint32_t first, uint32_t count, uint32_t 
     sinew_skin_vertices(&d, NULL);
 }
 
-/* Skins a mesh on the CPU into r->stream (position, normal, tangent interleaved) from a palette of
- * total_joints records (matrices, and for DQS the dual-quaternion joints: r->palettes and
- * r->dq_palettes, or both one crowd character's block), over `jobs` when given (the ranges
- * cannot fail: the model's joint indices were checked when it was loaded). */
-static sinew_result skin_on_cpu(sinew_renderer *r, const sinew_mesh *mesh, const sinew_mat4 *palettes,
+/* The weight of each of an instance's targets this frame into r->target_weights; how many are
+ * not 0. */
+static uint32_t instance_targets(sinew_renderer *r, const sinew_instance *inst)
+{
+    const sinew_model *m = r->model;
+    const sinew_mesh *mesh = &m->meshes[inst->mesh];
+    if (mesh->target_count == 0)
+        return 0;
+    float defaults[64];
+    const float *channels = r->weights ? r->weights + inst->morph_first : NULL;
+    if (!channels) {
+        if (mesh->morph_channel_count > 64)
+            return 0;
+        for (uint32_t c = 0; c < mesh->morph_channel_count; c++)
+            defaults[c] = m->morph_channels[inst->morph_first + c].default_weight;
+        channels = defaults;
+    }
+    if (sinew_morph_target_weights(mesh, channels, mesh->morph_channel_count, r->target_weights, mesh->target_count,
+                                   NULL) != SINEW_OK)
+        return 0;
+    uint32_t n = 0;
+    for (uint32_t t = 0; t < mesh->target_count; t++)
+        n += r->target_weights[t] != 0.0f;
+    return n;
+}
+
+/* Whether the instance's vertices come from the CPU this frame (r->stream): a vertex cache,
+ * CPU skinning, or morph targets the GPU cannot take (too many at once, or too big). */
+static bool on_cpu(const sinew_renderer *r, const sinew_render_options *o, const sinew_mesh *mesh,
+                   const render_mesh *rm, uint32_t morphs)
+{
+    if (mesh->cache && !r->no_cache)
+        return true;
+    if (morphs && (!rm->morph_texture || morphs > GPU_MORPHS))
+        return true;
+    return mesh_is_skinned(mesh) && (o->skinning == SINEW_SKINNING_CPU || !r->skin_on_gpu[mesh->skin]);
+}
+
+/* Interleaves positions, normals and tangents (any may be NULL but positions) into r->stream. */
+static void interleave(sinew_renderer *r, uint32_t n, const float *p, const float *nrm, const float *t)
+{
+    for (uint32_t v = 0; v < n; v++) {
+        float *o = &r->stream[(size_t)v * STREAM_FLOATS];
+        memcpy(o, &p[(size_t)v * 3], 12);
+        if (nrm)
+            memcpy(o + 3, &nrm[(size_t)v * 3], 12);
+        if (t)
+            memcpy(o + 6, &t[(size_t)v * 4], 16);
+    }
+}
+
+/* Fills r->stream with an instance's vertices as the CPU poses them: a vertex cache's (mesh
+ * space, smooth normals), or the morph targets at r->target_weights (`morphs` of them not 0)
+ * then the skin (world space; mesh space for a rigid mesh), from a palette of total_joints
+ * records (matrices and dual-quaternion joints: r->palettes and r->dq_palettes, or a crowd
+ * character's), over `jobs` when given (the ranges cannot fail: the model's joint indices were
+ * checked when it was loaded). */
+static sinew_result fill_stream(sinew_renderer *r, const sinew_mesh *mesh, uint32_t morphs, const sinew_mat4 *palettes,
                                 const sinew_dq_joint *dq_palettes, sinew_jobs *jobs, sinew_error *error)
 {
+    uint32_t n = mesh->vertex_count;
+    float *p = r->morphed, *nrm = r->morphed + (size_t)n * 3, *t = r->morphed + (size_t)n * 6;
+    if (mesh->cache && !r->no_cache) {
+        sinew_result result = sinew_cache_vertices(mesh, r->cache_time, p, error);
+        if (result == SINEW_OK)
+            result = sinew_smooth_normals(mesh, p, nrm, 0, error);
+        if (result == SINEW_OK)
+            interleave(r, n, p, nrm, mesh->tangents);
+        return result;
+    }
+    bool morphed = morphs > 0;
+    if (morphed) {
+        sinew_result result = sinew_morph_vertices(&(sinew_morph_desc){.mesh = mesh,
+                                                                       .target_weights = r->target_weights,
+                                                                       .out_positions = p,
+                                                                       .out_normals = mesh->normals ? nrm : NULL,
+                                                                       .out_tangents = mesh->tangents ? t : NULL},
+                                                   error);
+        if (result != SINEW_OK)
+            return result;
+    }
+    if (!mesh_is_skinned(mesh)) {
+        interleave(r, n, morphed ? p : mesh->positions, morphed ? nrm : mesh->normals,
+                   morphed && mesh->tangents ? t : mesh->tangents);
+        return SINEW_OK;
+    }
     const sinew_skin *skin = &r->model->skins[mesh->skin];
     sinew_skin_desc d = {.mesh = mesh,
                          .palette = palettes + r->skin_offsets[mesh->skin],
                          .palette_count = skin->joint_count,
-                         .method = r->method,
+                         .method = (sinew_skin_method)r->skin_mode[mesh->skin],
                          .dq_palette = dq_palettes + r->skin_offsets[mesh->skin],
+                         .positions = morphed ? p : NULL,
+                         .normals = morphed && mesh->normals ? nrm : NULL,
+                         .tangents = morphed && mesh->tangents ? t : NULL,
                          .out_positions = r->stream,
                          .out_normals = r->stream + 3,
                          .out_tangents = mesh->tangents ? r->stream + 6 : NULL,
@@ -602,6 +778,28 @@ static sinew_result skin_on_cpu(sinew_renderer *r, const sinew_mesh *mesh, const
         return sinew_skin_vertices(&d, error);
     sinew_jobs_run(jobs, mesh->vertex_count, 4096, skin_range_job, &d);
     return SINEW_OK;
+}
+
+/* The morph uniforms of a GPU draw: the targets with weight (up to GPU_MORPHS), or none. */
+static void set_morph_uniforms(const sinew_renderer *r, const mesh_uniforms *u, const sinew_mesh *mesh,
+                               const render_mesh *rm, uint32_t morphs)
+{
+    int targets[GPU_MORPHS];
+    float weights[GPU_MORPHS];
+    int n = 0;
+    for (uint32_t t = 0; morphs && t < mesh->target_count && n < GPU_MORPHS; t++)
+        if (r->target_weights[t] != 0.0f)
+            targets[n] = (int)t, weights[n++] = r->target_weights[t];
+    glUniform1i(u->morph_count, n);
+    if (!n)
+        return;
+    glActiveTexture(GL_TEXTURE6);
+    glBindTexture(GL_TEXTURE_BUFFER, rm->morph_texture);
+    glActiveTexture(GL_TEXTURE0);
+    glUniform1i(u->morph_vertices, (GLint)mesh->vertex_count);
+    glUniform1i(u->morph_texels, rm->morph_texels);
+    glUniform1iv(u->morph_target, n, targets);
+    glUniform1fv(u->morph_weight, n, weights);
 }
 
 /* Index of `node` in the mesh's skin, or -1. */
@@ -622,6 +820,7 @@ typedef struct frame_state {
     float view_proj[16];
     float proj11; /* the projection's [1][1]: pixels of a world unit at clip w = 1, over half the height */
     float eye[3], key[3], fill[3];
+    uint32_t dq_offset; /* records from a joint's matrix to its dual-quaternion joint */
 } frame_state;
 
 static void set_common_uniforms(GLuint program, const mesh_uniforms *u, const frame_state *fs)
@@ -640,46 +839,51 @@ static void set_common_uniforms(GLuint program, const mesh_uniforms *u, const fr
     glUniform1i(u->instance_stride, 0);
     glUniform1i(u->rigid_record, -1);
     glUniform1i(u->instance_base, 0);
+    glUniform1i(u->morph, 6);
+    glUniform1i(u->morph_count, 0);
+    glUniform1i(u->dq_offset, (GLint)fs->dq_offset);
 }
 
-/* Binds the VAO and sets the skinning uniforms of one instance; streams CPU-skinned
- * vertices first when needed. */
-static sinew_result prepare_instance(sinew_renderer *r, const mesh_uniforms *u, const frame_state *fs,
-                                     const sinew_instance *inst, sinew_error *error)
+/* Binds the VAO and sets the skinning and morph uniforms of one instance; streams vertices
+ * the CPU poses first when needed (once a frame and instance: the normals pass reuses them). */
+static sinew_result prepare_instance(sinew_renderer *r, const mesh_uniforms *u, const frame_state *fs, uint32_t index,
+                                     sinew_error *error)
 {
+    const sinew_instance *inst = &r->model->instances[index];
     const sinew_mesh *mesh = &r->model->meshes[inst->mesh];
     render_mesh *rm = &r->meshes[inst->mesh];
     int32_t heat_node = fs->o->heatmap_joint;
-    if (!mesh_is_skinned(mesh)) {
-        glBindVertexArray(rm->vao_static);
-        glUniformMatrix4fv(u->model, 1, GL_FALSE, fs->frame->worlds[inst->node].m);
-        glUniform1i(u->gpu_sets, 0);
-        glUniform1i(u->heat_joint, -1);
-        glUniform1f(u->heat_rigid, (int32_t)inst->node == heat_node ? 1.0f : 0.0f);
-        return SINEW_OK;
-    }
-    glUniformMatrix4fv(u->model, 1, GL_FALSE, IDENTITY);
-    int32_t heat = skin_joint_of(r->model, mesh, heat_node);
+    uint32_t morphs = instance_targets(r, inst);
+    bool cpu = on_cpu(r, fs->o, mesh, rm, morphs);
+    bool placed = !mesh_is_skinned(mesh) || (mesh->cache && !r->no_cache); /* by its node's matrix */
+    glUniformMatrix4fv(u->model, 1, GL_FALSE, placed ? fs->frame->worlds[inst->node].m : IDENTITY);
+    int32_t heat = placed ? -1 : skin_joint_of(r->model, mesh, heat_node);
     glUniform1i(u->heat_joint, heat);
-    glUniform1f(u->heat_rigid, 0.0f);
-    if (fs->o->skinning == SINEW_SKINNING_CPU || !r->skin_on_gpu[mesh->skin]) {
-        /* Once a frame: the normals pass and further instances reuse the streamed vertices. */
-        if (rm->streamed != r->frame) {
-            sinew_result result = skin_on_cpu(r, mesh, r->palettes, r->dq_palettes, NULL, error);
+    glUniform1f(u->heat_rigid, placed && (int32_t)inst->node == heat_node ? 1.0f : 0.0f);
+    glUniform1i(u->morph_count, 0);
+    if (cpu) {
+        if (rm->streamed != r->frame || rm->streamed_instance != index) {
+            sinew_result result = fill_stream(r, mesh, morphs, r->palettes, r->dq_palettes, NULL, error);
             if (result != SINEW_OK)
                 return result;
             glBindBuffer(GL_ARRAY_BUFFER, rm->buffers[BUF_STREAM]);
             glBufferSubData(GL_ARRAY_BUFFER, 0, (GLsizeiptr)mesh->vertex_count * STREAM_STRIDE, r->stream);
             rm->streamed = r->frame;
+            rm->streamed_instance = index;
         }
         glBindVertexArray(rm->vao_stream);
         glUniform1i(u->gpu_sets, 0);
-    } else {
-        glBindVertexArray(rm->vao_static);
-        glUniform1i(u->gpu_sets, rm->influence_sets);
-        glUniform1i(u->dqs, r->method == SINEW_SKIN_DUAL_QUATERNION);
-        glUniform1i(u->palette_offset, (GLint)r->skin_offsets[mesh->skin]);
+        return SINEW_OK;
     }
+    glBindVertexArray(rm->vao_static);
+    set_morph_uniforms(r, u, mesh, rm, morphs);
+    if (placed) {
+        glUniform1i(u->gpu_sets, 0);
+        return SINEW_OK;
+    }
+    glUniform1i(u->gpu_sets, rm->influence_sets);
+    glUniform1i(u->dq_mode, r->skin_mode[mesh->skin]);
+    glUniform1i(u->palette_offset, (GLint)r->skin_offsets[mesh->skin]);
     return SINEW_OK;
 }
 
@@ -759,7 +963,7 @@ static sinew_result draw_meshes(sinew_renderer *r, const frame_state *fs, sinew_
         if (instance_hidden(o, i))
             continue;
         const sinew_mesh *mesh = &m->meshes[m->instances[i].mesh];
-        sinew_result result = prepare_instance(r, u, fs, &m->instances[i], error);
+        sinew_result result = prepare_instance(r, u, fs, i, error);
         if (result != SINEW_OK)
             return result;
         set_material(r, fs, mesh);
@@ -790,7 +994,7 @@ static sinew_result draw_normals(sinew_renderer *r, const frame_state *fs, float
     for (uint32_t i = 0; i < m->instance_count; i++) {
         if (instance_hidden(fs->o, i))
             continue;
-        sinew_result result = prepare_instance(r, u, fs, &m->instances[i], error);
+        sinew_result result = prepare_instance(r, u, fs, i, error);
         if (result != SINEW_OK)
             return result;
         glDrawArrays(GL_POINTS, 0, (GLsizei)m->meshes[m->instances[i].mesh].vertex_count);
@@ -1019,10 +1223,16 @@ static void camera_lights(const sinew_camera *camera, frame_state *fs)
 /* Characters a crowd draw call holds at most. */
 #define CROWD_BATCH 64u
 
-/* Records a crowd character takes: its palettes, then its node world matrices (rigid meshes). */
+/* Records a crowd character takes: its palettes (matrices, then dual-quaternion joints when a
+ * skin needs them), then its node world matrices (rigid meshes). */
+static uint32_t crowd_palette_records(const sinew_renderer *r)
+{
+    return r->total_joints * (r->any_dq ? 2u : 1u);
+}
+
 static uint32_t crowd_stride(const sinew_renderer *r)
 {
-    return r->total_joints + r->model->node_count;
+    return crowd_palette_records(r) + r->model->node_count;
 }
 
 typedef struct crowd_work {
@@ -1132,8 +1342,8 @@ static sinew_result crowd_lods(sinew_renderer *r, const sinew_mesh *mesh, render
     return SINEW_OK;
 }
 
-/* Palettes (as dual-quaternion joints for DQS, converted in place) and node worlds of a
- * range of characters. */
+/* Palettes (matrices, and dual-quaternion joints after them when a skin needs them) and node
+ * worlds of a range of characters. */
 static void crowd_records(void *user, uint32_t first, uint32_t count, uint32_t thread)
 {
     (void)thread;
@@ -1147,9 +1357,9 @@ static void crowd_records(void *user, uint32_t first, uint32_t count, uint32_t t
         for (uint32_t s = 0; s < m->skin_count; s++)
             sinew_skin_palette(&m->skins[s], worlds, m->node_count, block + r->skin_offsets[s], m->skins[s].joint_count,
                                NULL);
-        if (r->method == SINEW_SKIN_DUAL_QUATERNION)
-            sinew_skin_dq_palette(block, r->total_joints, (sinew_dq_joint *)block, NULL);
-        memcpy(block + r->total_joints, worlds, (size_t)m->node_count * sizeof(sinew_mat4));
+        if (r->any_dq)
+            sinew_skin_dq_palette(block, r->total_joints, (sinew_dq_joint *)(block + r->total_joints), NULL);
+        memcpy(block + crowd_palette_records(r), worlds, (size_t)m->node_count * sizeof(sinew_mat4));
     }
 }
 
@@ -1192,9 +1402,10 @@ static sinew_result crowd_reserve(sinew_renderer *r, uint32_t count, sinew_error
     return SINEW_OK;
 }
 
-/* One CPU-skinned mesh of every character: skinned (on the frame's jobs), streamed, drawn. */
+/* One CPU-skinned mesh of every character: morphed (the frame's weights, shared), skinned
+ * (on the frame's jobs), streamed, drawn. */
 static sinew_result draw_crowd_cpu_mesh(sinew_renderer *r, const frame_state *fs, const sinew_mesh *mesh,
-                                        render_mesh *rm, sinew_error *error)
+                                        render_mesh *rm, uint32_t morphs, sinew_error *error)
 {
     const mesh_uniforms *u = &r->mesh_u;
     uint32_t stride = crowd_stride(r);
@@ -1203,9 +1414,9 @@ static sinew_result draw_crowd_cpu_mesh(sinew_renderer *r, const frame_state *fs
     glUniform1i(u->instance_stride, 0);
     glUniform1i(u->rigid_record, -1);
     for (uint32_t c = 0; c < fs->frame->crowd_count; c++) {
-        /* DQS: converted in place */
         const sinew_mat4 *block = r->crowd_records + (size_t)r->crowd_slot[c] * stride;
-        sinew_result result = skin_on_cpu(r, mesh, block, (const sinew_dq_joint *)block, fs->frame->jobs, error);
+        sinew_result result = fill_stream(r, mesh, morphs, block, (const sinew_dq_joint *)(block + r->total_joints),
+                                          fs->frame->jobs, error);
         if (result != SINEW_OK)
             return result;
         glBindBuffer(GL_ARRAY_BUFFER, rm->buffers[BUF_STREAM]);
@@ -1259,30 +1470,43 @@ static sinew_result draw_crowd(sinew_renderer *r, const frame_state *fs, sinew_e
         const sinew_mesh *mesh = &m->meshes[inst->mesh];
         render_mesh *rm = &r->meshes[inst->mesh];
         set_material(r, fs, mesh);
-        if (mesh_is_skinned(mesh) && (fs->o->skinning == SINEW_SKINNING_CPU || !r->skin_on_gpu[mesh->skin])) {
-            result = draw_crowd_cpu_mesh(r, fs, mesh, rm, error);
+        uint32_t morphs = instance_targets(r, inst);
+        bool cpu = on_cpu(r, fs->o, mesh, rm, morphs);
+        bool placed = !mesh_is_skinned(mesh) || (mesh->cache && !r->no_cache);
+        if (cpu && !placed) {
+            result = draw_crowd_cpu_mesh(r, fs, mesh, rm, morphs, error);
             if (result != SINEW_OK)
                 return result;
             continue;
         }
-        glBindVertexArray(rm->vao_static);
+        glUniform1i(u->morph_count, 0);
+        if (cpu) { /* a placed mesh the CPU morphs or caches: the same vertices for every character */
+            result = fill_stream(r, mesh, morphs, r->palettes, r->dq_palettes, NULL, error);
+            if (result != SINEW_OK)
+                return result;
+            glBindBuffer(GL_ARRAY_BUFFER, rm->buffers[BUF_STREAM]);
+            glBufferSubData(GL_ARRAY_BUFFER, 0, (GLsizeiptr)mesh->vertex_count * STREAM_STRIDE, r->stream);
+            rm->streamed = 0; /* not this frame's single-character vertices */
+        } else {
+            set_morph_uniforms(r, u, mesh, rm, morphs);
+        }
         glUniform1i(u->instance_stride, (GLint)stride);
-        if (mesh_is_skinned(mesh)) {
+        if (!placed) {
             glUniform1i(u->gpu_sets, rm->influence_sets);
-            glUniform1i(u->dqs, r->method == SINEW_SKIN_DUAL_QUATERNION);
+            glUniform1i(u->dq_mode, r->skin_mode[mesh->skin]);
             glUniform1i(u->palette_offset, (GLint)r->skin_offsets[mesh->skin]);
             glUniform1i(u->rigid_record, -1);
         } else {
             glUniform1i(u->gpu_sets, 0);
-            glUniform1i(u->rigid_record, (GLint)(r->total_joints + inst->node));
+            glUniform1i(u->rigid_record, (GLint)(crowd_palette_records(r) + inst->node));
         }
         /* in batches: Mesa's software renderer shades all of a draw's vertices into one buffer
          * first, which grows past its caches (and costs page faults) with thousands of
          * instances; GPUs do not mind the extra draws */
         for (int l = 0; l < RENDER_LOD_LEVELS; l++) { /* each level's characters: a range of the records */
             /* levels 1.. on their own vertices when there are such; else ranges of the mesh's indices */
-            const render_mesh *level = l && rm->lod_meshes ? &rm->lod_meshes[l - 1] : NULL;
-            glBindVertexArray(level ? level->vao_static : rm->vao_static);
+            const render_mesh *level = l && rm->lod_meshes && !cpu && !morphs ? &rm->lod_meshes[l - 1] : NULL;
+            glBindVertexArray(level ? level->vao_static : cpu ? rm->vao_stream : rm->vao_static);
             uint32_t first = level ? 0 : rm->lod.first[l], count = rm->lod.count[l];
             for (uint32_t done = 0; done < level_count[l]; done += CROWD_BATCH) {
                 uint32_t n = level_count[l] - done < CROWD_BATCH ? level_count[l] - done : CROWD_BATCH;
@@ -1312,8 +1536,14 @@ sinew_result sinew_renderer_draw(sinew_renderer *r, const sinew_frame *frame, si
     if (frame->crowd_count && !frame->crowd_worlds)
         return sinew_fail(error, SINEW_ERROR_INVALID_ARGUMENT, "sinew_renderer_draw: a crowd of %u without worlds",
                           frame->crowd_count);
-    frame_state fs = {.frame = frame, .o = frame->options};
+    if (frame->weights && frame->weight_count < m->morph_channel_count)
+        return sinew_fail(error, SINEW_ERROR_INVALID_ARGUMENT, "sinew_renderer_draw: %u weights for %u morph channels",
+                          frame->weight_count, m->morph_channel_count);
+    frame_state fs = {.frame = frame, .o = frame->options, .dq_offset = r->total_joints};
     r->frame++;
+    r->weights = frame->weights;
+    r->cache_time = frame->cache_time;
+    r->no_cache = frame->no_cache;
     sinew_mat4 view, proj;
     sinew_camera_view(frame->camera, &view);
     sinew_camera_projection(frame->camera, (float)frame->width / (float)frame->height, &proj);
@@ -1321,17 +1551,17 @@ sinew_result sinew_renderer_draw(sinew_renderer *r, const sinew_frame *frame, si
     fs.proj11 = proj.m[5];
     camera_lights(frame->camera, &fs);
 
-    r->method =
-        frame->options->skin_method == SINEW_SKIN_DUAL_QUATERNION ? SINEW_SKIN_DUAL_QUATERNION : SINEW_SKIN_LINEAR;
+    choose_skin_modes(r, frame->options);
     sinew_result result = compute_palettes(r, frame->worlds, frame->world_count, error);
     if (result != SINEW_OK)
         return result;
     if (r->total_joints) {
-        /* a sinew_dq_joint is 64 bytes, as a matrix: the shader reads either as 4 texels */
+        /* the matrices, then the dual-quaternion joints (64 bytes, as a matrix: 4 texels each) */
         glBindBuffer(GL_TEXTURE_BUFFER, r->palette_buffer);
-        glBufferSubData(GL_TEXTURE_BUFFER, 0, (GLsizeiptr)r->total_joints * 64,
-                        r->method == SINEW_SKIN_DUAL_QUATERNION ? (const void *)r->dq_palettes
-                                                                : (const void *)r->palettes);
+        glBufferSubData(GL_TEXTURE_BUFFER, 0, (GLsizeiptr)r->total_joints * 64, r->palettes);
+        if (r->any_dq)
+            glBufferSubData(GL_TEXTURE_BUFFER, (GLintptr)r->total_joints * 64, (GLsizeiptr)r->total_joints * 64,
+                            r->dq_palettes);
     }
     glActiveTexture(GL_TEXTURE0);
     glBindTexture(GL_TEXTURE_BUFFER, r->palette_texture);
@@ -1403,31 +1633,36 @@ static void grow(float min[3], float max[3], const float p[3])
     }
 }
 
-bool sinew_renderer_bounds(sinew_renderer *r, const sinew_mat4 *worlds, uint32_t world_count, float min[3],
-                           float max[3])
+bool sinew_renderer_frame_bounds(sinew_renderer *r, const sinew_frame *frame, float min[3], float max[3])
 {
     const sinew_model *m = r->model;
     for (int i = 0; i < 3; i++)
         min[i] = INFINITY, max[i] = -INFINITY;
-    if (world_count < m->node_count || compute_palettes(r, worlds, world_count, NULL) != SINEW_OK)
+    if (!frame || !frame->worlds || frame->world_count < m->node_count || !frame->options ||
+        (frame->weights && frame->weight_count < m->morph_channel_count))
+        return false;
+    const sinew_mat4 *worlds = frame->worlds;
+    r->weights = frame->weights;
+    r->cache_time = frame->cache_time;
+    r->no_cache = frame->no_cache;
+    choose_skin_modes(r, frame->options);
+    if (compute_palettes(r, worlds, frame->world_count, NULL) != SINEW_OK)
         return false;
     bool any = false;
     for (uint32_t i = 0; i < m->instance_count; i++) {
-        const sinew_mesh *mesh = &m->meshes[m->instances[i].mesh];
-        if (mesh_is_skinned(mesh)) {
-            if (skin_on_cpu(r, mesh, r->palettes, r->dq_palettes, NULL, NULL) != SINEW_OK)
-                continue;
-            for (uint32_t v = 0; v < mesh->vertex_count; v++)
-                grow(min, max, &r->stream[v * STREAM_FLOATS]);
-        } else {
-            const float *w = worlds[m->instances[i].node].m;
-            for (uint32_t v = 0; v < mesh->vertex_count; v++) {
-                const float *p = &mesh->positions[v * 3];
-                float q[3];
-                for (int k = 0; k < 3; k++)
-                    q[k] = w[k] * p[0] + w[4 + k] * p[1] + w[8 + k] * p[2] + w[12 + k];
-                grow(min, max, q);
-            }
+        const sinew_instance *inst = &m->instances[i];
+        const sinew_mesh *mesh = &m->meshes[inst->mesh];
+        if (fill_stream(r, mesh, instance_targets(r, inst), r->palettes, r->dq_palettes, NULL, NULL) != SINEW_OK)
+            continue;
+        r->meshes[inst->mesh].streamed = 0; /* r->stream now holds the bounds' vertices */
+        bool placed = !mesh_is_skinned(mesh) || (mesh->cache && !r->no_cache);
+        const float *w = worlds[inst->node].m;
+        for (uint32_t v = 0; v < mesh->vertex_count; v++) {
+            const float *p = &r->stream[(size_t)v * STREAM_FLOATS];
+            float q[3];
+            for (int k = 0; k < 3; k++)
+                q[k] = placed ? w[k] * p[0] + w[4 + k] * p[1] + w[8 + k] * p[2] + w[12 + k] : p[k];
+            grow(min, max, q);
         }
         any = any || mesh->vertex_count > 0;
     }
@@ -1440,4 +1675,12 @@ bool sinew_renderer_bounds(sinew_renderer *r, const sinew_mat4 *worlds, uint32_t
             any = true;
         }
     return any;
+}
+
+bool sinew_renderer_bounds(sinew_renderer *r, const sinew_mat4 *worlds, uint32_t world_count, float min[3],
+                           float max[3])
+{
+    sinew_render_options o = sinew_render_options_default();
+    sinew_frame frame = {.worlds = worlds, .world_count = world_count, .options = &o};
+    return sinew_renderer_frame_bounds(r, &frame, min, max);
 }
