@@ -153,7 +153,10 @@ void view_update_timeline(viewer *v)
     free(v->key_times); /* kept for the key jumps (Up / Down) */
     v->key_times = times;
     v->key_time_count = times ? count : 0;
-    v->frame_rate = clip_frame_rate(v->key_times, v->key_time_count);
+    /* the file's own frame rate (FBX's time mode), else the usual spacing of the clip's keys */
+    v->frame_rate = v->scene.clip && v->scene.clip->frame_rate > 0.0f
+                        ? v->scene.clip->frame_rate
+                        : clip_frame_rate(v->key_times, v->key_time_count);
     v->updating = false;
 }
 
@@ -178,8 +181,10 @@ static void set_time(viewer *v, double t)
     double d = view_duration(v);
     v->time = t < 0.0 ? 0.0 : t > d ? d : t;
     view_show_time(v);
-    if (v->selected >= 0 && view_pose(v))
+    if ((v->selected >= 0 || v->shape_count) && view_pose(v)) {
         panels_frame_drawn(v);
+        panels_weights_changed(v);
+    }
     gtk_gl_area_queue_render(GTK_GL_AREA(v->area));
 }
 
@@ -229,6 +234,29 @@ static void show_status(viewer *v);
 static void stop_recording(viewer *v, const char *why);
 static gboolean on_key(GtkEventControllerKey *controller, guint key, guint code, GdkModifierType state, gpointer data);
 
+static gboolean close_window(gpointer data);
+
+/* The whole window as it shows (the view and the panels) into a PNG: --screenshot-window. */
+static void save_window(viewer *v)
+{
+    int w = gtk_widget_get_width(v->window), h = gtk_widget_get_height(v->window);
+    GdkPaintable *paintable = gtk_widget_paintable_new(v->window);
+    GtkSnapshot *snapshot = gtk_snapshot_new();
+    gdk_paintable_snapshot(paintable, snapshot, w, h);
+    GskRenderNode *node = gtk_snapshot_free_to_node(snapshot);
+    GskRenderer *renderer = gtk_native_get_renderer(GTK_NATIVE(v->window));
+    GdkTexture *texture = node && renderer ? gsk_renderer_render_texture(renderer, node, NULL) : NULL;
+    if (!texture || !gdk_texture_save_to_png(texture, v->window_shot)) {
+        fprintf(stderr, "sinew-view: cannot write the window to %s\n", v->window_shot);
+        v->exit_code = 4;
+    }
+    if (texture)
+        g_object_unref(texture);
+    if (node)
+        gsk_render_node_unref(node);
+    g_object_unref(paintable);
+}
+
 static gboolean on_tick(GtkWidget *widget, GdkFrameClock *clock, gpointer data)
 {
     (void)widget;
@@ -250,6 +278,12 @@ static gboolean on_tick(GtkWidget *widget, GdkFrameClock *clock, gpointer data)
     if (v->status_due) {
         v->status_due = false;
         show_status(v);
+    }
+    if (v->window_shot && !v->load && !v->press && v->frames_drawn > 2) { /* panels laid out by now */
+        save_window(v);
+        v->window_shot = NULL;
+        if (v->quit_after_screenshot && !v->screenshot)
+            g_idle_add(close_window, v);
     }
     if (v->fade_from > 0.0 && v->blend_scale) { /* the Cross-fade button: the weight to 1 over half a second */
         double w = fmin(1.0, ((double)now * 1e-6 - v->fade_from) / 0.5);
@@ -273,6 +307,15 @@ static gboolean on_tick(GtkWidget *widget, GdkFrameClock *clock, gpointer data)
             snprintf(title, sizeof title, "%s — sinew", v->scene.model ? v->scene.model->source : "sinew");
         gtk_window_set_title(GTK_WINDOW(v->window), title);
     }
+    const char *sliders = getenv("SINEW_VIEW_SLIDERS"); /* the test hook: sliders set once the file is open */
+    if (sliders && *sliders && !v->load && v->shape_count) {
+        char **items = g_strsplit(sliders, ",", -1);
+        for (int i = 0; items[i]; i++)
+            if (!panels_set_slider(v, g_strstrip(items[i])))
+                fprintf(stderr, "sinew-view: SINEW_VIEW_SLIDERS: no shape key \"%s\"\n", items[i]);
+        g_strfreev(items);
+        g_unsetenv("SINEW_VIEW_SLIDERS");
+    }
     if (v->press && !v->load) { /* --press: once the file is open, before the screenshot is drawn */
         char **names = g_strsplit(v->press, ",", -1);
         v->press = NULL;
@@ -290,8 +333,10 @@ static gboolean on_tick(GtkWidget *widget, GdkFrameClock *clock, gpointer data)
             advance(v, (double)(now - v->last_frame) * 1e-6);
         v->last_frame = now;
         view_show_time(v);
-        if (v->selected >= 0 && view_pose(v)) /* not from the draw: a label may resize the panel */
+        if ((v->selected >= 0 || v->shape_count) && view_pose(v)) { /* not from the draw: a label may resize */
             panels_frame_drawn(v);
+            panels_weights_changed(v);
+        }
         gtk_gl_area_queue_render(GTK_GL_AREA(v->area));
     }
     return G_SOURCE_CONTINUE;
@@ -647,7 +692,7 @@ static gboolean on_render(GtkGLArea *area, GdkGLContext *context, gpointer data)
         frame.jobs = v->jobs;
     }
     if (app_scene_pose(&v->scene, v->time, SINEW_WRAP_CLAMP, &error) != SINEW_OK ||
-        sinew_renderer_draw(v->renderer, &frame, &error) != SINEW_OK)
+        (frame.cache_time = v->scene.cache_time, sinew_renderer_draw(v->renderer, &frame, &error)) != SINEW_OK)
         view_show_error(v, error.message);
     gint64 now = g_get_monotonic_time();
     if (v->fps_since == 0)
@@ -664,10 +709,12 @@ static gboolean on_render(GtkGLArea *area, GdkGLContext *context, gpointer data)
         record_frame(v, width, height);
     if (v->record_asked && !v->load && !v->press) /* the first frame goes in at the next draw */
         start_recording(v, width, height);
+    if (!v->load && !v->press)
+        v->frames_drawn++;
     if (v->screenshot && !v->load && !v->press) { /* of the file asked for, once open (or failed) and keyed */
         save_screenshot(v, width, height);
         v->screenshot = NULL;
-        if (v->quit_after_screenshot) /* not from inside the draw: when GTK is idle */
+        if (v->quit_after_screenshot && !v->window_shot) /* not from inside the draw: when GTK is idle */
             g_idle_add(close_window, v);
     }
     return TRUE;
@@ -873,8 +920,13 @@ static gboolean on_key(GtkEventControllerKey *controller, guint key, guint code,
         return TRUE;
     case ACTION_SKIN_METHOD:
         settings_option_changed(v, "skinning-method");
-        v->options.skin_method =
-            v->options.skin_method == SINEW_SKIN_DUAL_QUATERNION ? SINEW_SKIN_LINEAR : SINEW_SKIN_DUAL_QUATERNION;
+        /* as the file says -> linear blend -> dual quaternion -> as the file says */
+        if (!v->options.skin_method_set)
+            v->options.skin_method_set = true, v->options.skin_method = SINEW_SKIN_LINEAR;
+        else if (v->options.skin_method == SINEW_SKIN_LINEAR)
+            v->options.skin_method = SINEW_SKIN_DUAL_QUATERNION;
+        else
+            v->options.skin_method_set = false, v->options.skin_method = SINEW_SKIN_LINEAR;
         panels_options_changed(v);
         view_redraw(v);
         return TRUE;
@@ -1253,9 +1305,9 @@ static const char usage[] =
     "--clip none);\n"
     "drag rotates, shift-drag or middle-drag pans, the wheel zooms, F frames all; Tab switches to the fly\n"
     "camera (W/A/S/D, Q/E, drag to look) and back. Keys 1-9, 0 and M toggle the display switches (see the\n"
-    "Display panel), Shift+H hides the meshes, K switches linear blend / dual-quaternion skinning, C a crowd of\n"
-    "the model. H shows every key; F12 saves a numbered screenshot, F9 records the clip to MP4 (ffmpeg); keypad 1/3/7 "
-    "look from the front, side and\n"
+    "Display panel), Shift+H hides the meshes, K cycles the skinning method (as the file says, linear blend,\n"
+    "dual quaternion), C a crowd of the model. H shows every key; F12 saves a numbered screenshot, F9 records\n"
+    "the clip to MP4 (ffmpeg); keypad 1/3/7 look from the front, side and\n"
     "top, keypad 5 switches to a parallel projection, R resets the view; Page Up/Down open the previous/next\n"
     "file in the folder; the clip list's play mode \"All clips\" plays them in turn. Settings:\n"
     "~/.config/sinew/settings.ini ([display], [window], [files], [keys]); the options below override them for\n"
@@ -1265,7 +1317,8 @@ static const char usage[] =
     "  --heatmap JOINT and the display options (--skeleton, --no-grid, --wireframe, --shading flat, ...)\n"
     "                        as `sinew render` takes them (see `sinew render --help`)\n"
     "  --size WxH            the window's size (default: as last closed, else 1200x760)\n"
-    "  --panel NAME          the side panel's page shown first: hierarchy, display or log\n"
+    "  --panel NAME          the side panel's page shown first: hierarchy, display, shape-keys (each morph\n"
+    "                        channel's weight live, a check and slider to set it by hand) or log\n"
     "  --crowd N             shows N characters of the model on a grid, each at its own time (key C\n"
     "                        toggles a crowd of 100, or of N)\n"
     "  --blend C:W,C:W, --additive C:W, --crossfade A,B,T, --ik JOINT:X,Y,Z, --root-motion\n"
@@ -1274,6 +1327,7 @@ static const char usage[] =
     "  --up y|z              which of the file's axes is up (z: files modelled Z up that do not say so)\n"
     "  --watch               reloads FILE when it changes on disk (keeping the clip, time and camera)\n"
     "  --screenshot OUT.png  writes the first frame drawn (the drawing area only)\n"
+    "  --screenshot-window OUT.png  writes the whole window (the view and the side panel) once drawn\n"
     "  --screenshot-dir DIR  where F12 writes FILE-001.png, ... and F9 records FILE-001.mp4, ... (default: the\n"
     "                        Pictures and Videos folders, else home)\n"
     "  --press KEYS          presses keys (GDK names, comma-separated: h,KP_1,F12) once FILE is open\n"
@@ -1337,6 +1391,8 @@ int main(int argc, char **argv)
                             APP_MAX_SECONDS);
                     return 1;
                 }
+            } else if (strcmp(o, "--screenshot-window") == 0) {
+                v.window_shot = value;
             } else if (strcmp(o, "--screenshot") == 0) {
                 v.screenshot = value;
             } else if (strcmp(o, "--screenshot-dir") == 0) {
@@ -1368,13 +1424,13 @@ int main(int argc, char **argv)
                 v.crowd_size = (uint32_t)n;
                 v.crowd_on = true;
             } else if (strcmp(o, "--panel") == 0) {
-                static const char *const pages[] = {"hierarchy", "display", "log"};
+                static const char *const pages[] = {"hierarchy", "display", "shape-keys", "log"};
                 s.panel = -1;
-                for (int p = 0; p < 3; p++)
+                for (int p = 0; p < 4; p++)
                     if (strcmp(value, pages[p]) == 0)
                         s.panel = p;
                 if (s.panel < 0) {
-                    fprintf(stderr, "sinew-view: bad --panel \"%s\": hierarchy, display or log\n", value);
+                    fprintf(stderr, "sinew-view: bad --panel \"%s\": hierarchy, display, shape-keys or log\n", value);
                     return 1;
                 }
             } else if (strcmp(o, "--select") == 0) {

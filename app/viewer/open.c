@@ -129,6 +129,7 @@ static bool adopt_scene(viewer *v, app_scene *incoming)
         view_show_time(v);
         panels_model_changed(v);
         panels_options_changed(v);
+        v->status_due = true; /* the status bar's vertex and joint counts are the new model's */
         /* --select / --heatmap name joints of every model opened; the hierarchy shows the one
          * selected, or else the heat map's joint (its row selected, its transforms shown) */
         int32_t select = v->select ? sinew_model_find_joint(model, v->select) : -1;

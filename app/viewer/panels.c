@@ -4,6 +4,7 @@
  * and the log of the current file's import warnings and of errors. */
 #include <math.h>
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 
 #include <cglm/cglm.h>
@@ -212,9 +213,10 @@ static void on_skin_method(GObject *dropdown, GParamSpec *pspec, gpointer data)
     viewer *v = data;
     if (v->updating)
         return;
+    static const char *const methods[] = {"file", "lbs", "dqs"};
+    guint i = gtk_drop_down_get_selected(GTK_DROP_DOWN(dropdown));
     settings_option_changed(v, "skinning-method");
-    sinew_render_option_set(&v->options, "skinning-method",
-                            gtk_drop_down_get_selected(GTK_DROP_DOWN(dropdown)) ? "dqs" : "lbs", NULL);
+    sinew_render_option_set(&v->options, "skinning-method", methods[i < 3 ? i : 0], NULL);
     view_redraw(v);
 }
 
@@ -257,7 +259,9 @@ void panels_options_changed(viewer *v)
         gtk_drop_down_set_selected(GTK_DROP_DOWN(v->shading_list), (guint)v->options.shading);
     if (v->skin_method_list)
         gtk_drop_down_set_selected(GTK_DROP_DOWN(v->skin_method_list),
-                                   v->options.skin_method == SINEW_SKIN_DUAL_QUATERNION);
+                                   !v->options.skin_method_set                            ? 0
+                                   : v->options.skin_method == SINEW_SKIN_DUAL_QUATERNION ? 2
+                                                                                          : 1);
     if (v->camera_list)
         gtk_drop_down_set_selected(GTK_DROP_DOWN(v->camera_list), v->camera.mode == SINEW_CAMERA_FLY);
     v->updating = false;
@@ -327,7 +331,7 @@ static GtkWidget *display_page(viewer *v)
     gtk_box_append(GTK_BOX(box), v->shading_list);
     snprintf(label, sizeof label, "Skinning   (%s switches)", gdk_keyval_name(v->keys[ACTION_SKIN_METHOD].key));
     gtk_box_append(GTK_BOX(box), gtk_label_new(label));
-    static const char *const methods[] = {"Linear blend", "Dual quaternion", NULL};
+    static const char *const methods[] = {"As the file says", "Linear blend", "Dual quaternion", NULL};
     v->skin_method_list = gtk_drop_down_new_from_strings(methods);
     g_signal_connect(v->skin_method_list, "notify::selected", G_CALLBACK(on_skin_method), v);
     gtk_box_append(GTK_BOX(box), v->skin_method_list);
@@ -383,6 +387,175 @@ void panels_clips_changed(viewer *v)
     v->blend_clip = -1;
 }
 
+/* ---- shape keys ------------------------------------------------------------------------------ */
+
+/* A slider moved by hand: the channel's weight is the slider's from now on (its check on). */
+static void on_shape_scale(GtkRange *range, gpointer data)
+{
+    viewer *v = data;
+    if (v->updating)
+        return;
+    uint32_t c = GPOINTER_TO_UINT(g_object_get_data(G_OBJECT(range), "channel"));
+    v->updating = true;
+    gtk_check_button_set_active(GTK_CHECK_BUTTON(v->shape_checks[c]), TRUE);
+    v->updating = false;
+    app_scene_override_weight(&v->scene, c, (float)gtk_range_get_value(range));
+    if (view_pose(v))
+        panels_weights_changed(v);
+    view_redraw(v);
+}
+
+/* The check: on, the slider's value holds; off, the clip's weight again. */
+static void on_shape_check(GtkCheckButton *check, gpointer data)
+{
+    viewer *v = data;
+    if (v->updating)
+        return;
+    uint32_t c = GPOINTER_TO_UINT(g_object_get_data(G_OBJECT(check), "channel"));
+    bool on = gtk_check_button_get_active(check);
+    app_scene_override_weight(&v->scene, c, on ? (float)gtk_range_get_value(GTK_RANGE(v->shape_scales[c])) : NAN);
+    if (view_pose(v))
+        panels_weights_changed(v);
+    view_redraw(v);
+}
+
+static void on_shape_reset(GtkButton *button, gpointer data)
+{
+    (void)button;
+    viewer *v = data;
+    for (uint32_t c = 0; c < v->shape_count; c++)
+        app_scene_override_weight(&v->scene, c, NAN);
+    if (view_pose(v))
+        panels_weights_changed(v);
+    view_redraw(v);
+}
+
+void panels_weights_changed(viewer *v)
+{
+    if (!v->shape_count || !v->scene.weights)
+        return;
+    v->updating = true;
+    for (uint32_t c = 0; c < v->shape_count; c++) {
+        bool by_hand = !isnan(v->scene.overrides[c]);
+        gtk_check_button_set_active(GTK_CHECK_BUTTON(v->shape_checks[c]), by_hand);
+        if (fabs(gtk_range_get_value(GTK_RANGE(v->shape_scales[c])) - v->scene.weights[c]) > 1e-6)
+            gtk_range_set_value(GTK_RANGE(v->shape_scales[c]), v->scene.weights[c]);
+    }
+    v->updating = false;
+}
+
+bool panels_set_slider(viewer *v, const char *text)
+{
+    const char *eq = strrchr(text, '=');
+    const sinew_model *m = v->scene.model;
+    if (!eq || !m)
+        return false;
+    size_t len = (size_t)(eq - text);
+    double w = atof(eq + 1);
+    for (uint32_t c = 0; c < v->shape_count; c++) {
+        char index[16];
+        snprintf(index, sizeof index, "%u", c);
+        if ((strlen(m->morph_channels[c].name) == len && strncmp(text, m->morph_channels[c].name, len) == 0) ||
+            (strlen(index) == len && strncmp(text, index, len) == 0)) {
+            gtk_range_set_value(GTK_RANGE(v->shape_scales[c]), w); /* through on_shape_scale, as a drag */
+            return true;
+        }
+    }
+    return false;
+}
+
+/* The range a channel's slider covers: 0..1, wider where its default or its clips' keys go
+ * beyond (FBX in-betweens from -100 to 200 percent). */
+static void channel_range(const sinew_model *m, uint32_t c, double *lo, double *hi)
+{
+    *lo = fmin(0.0, m->morph_channels[c].default_weight);
+    *hi = fmax(1.0, m->morph_channels[c].default_weight);
+    for (uint32_t k = 0; k < m->clip_count; k++)
+        for (uint32_t t = 0; t < m->clips[k].weight_track_count; t++) {
+            const sinew_weight_track *tr = &m->clips[k].weight_tracks[t];
+            if (tr->channel != c || tr->keys.interp != SINEW_INTERP_LINEAR)
+                continue;
+            for (uint32_t i = 0; i < tr->keys.key_count; i++) {
+                float w = m->clips[k].values[tr->keys.first_value + i];
+                *lo = fmin(*lo, floor(w)), *hi = fmax(*hi, ceil(w));
+            }
+        }
+}
+
+/* Rows for every morph channel, under the meshes (and nodes) whose targets it drives. */
+static void build_shape_keys(viewer *v)
+{
+    GtkWidget *child;
+    while ((child = gtk_widget_get_first_child(v->shape_box)) != NULL)
+        gtk_box_remove(GTK_BOX(v->shape_box), child);
+    g_free(v->shape_checks);
+    g_free(v->shape_scales);
+    const sinew_model *m = v->scene.model;
+    v->shape_count = m ? m->morph_channel_count : 0;
+    v->shape_checks = g_new0(GtkWidget *, v->shape_count + 1);
+    v->shape_scales = g_new0(GtkWidget *, v->shape_count + 1);
+    if (!v->shape_count) {
+        gtk_box_append(GTK_BOX(v->shape_box), gtk_label_new("This file has no morph targets (shape keys)."));
+        return;
+    }
+    GtkWidget *reset = gtk_button_new_with_label("Reset: every weight from the clip");
+    g_signal_connect(reset, "clicked", G_CALLBACK(on_shape_reset), v);
+    gtk_box_append(GTK_BOX(v->shape_box), reset);
+    for (uint32_t i = 0; i < m->instance_count; i++) {
+        const sinew_instance *in = &m->instances[i];
+        const sinew_mesh *mesh = &m->meshes[in->mesh];
+        if (!mesh->morph_channel_count || v->shape_checks[in->morph_first])
+            continue;
+        char *name = g_markup_escape_text(mesh->name, -1), *node = g_markup_escape_text(m->node_names[in->node], -1);
+        char *title = g_strdup_printf("<b>%s</b>  (%s)", name, node);
+        GtkWidget *header = gtk_label_new(NULL);
+        gtk_label_set_markup(GTK_LABEL(header), title);
+        g_free(title);
+        g_free(name);
+        g_free(node);
+        gtk_label_set_xalign(GTK_LABEL(header), 0.0f);
+        gtk_box_append(GTK_BOX(v->shape_box), header);
+        for (uint32_t k = 0; k < mesh->morph_channel_count; k++) {
+            uint32_t c = in->morph_first + k;
+            if (c >= v->shape_count || v->shape_checks[c])
+                continue;
+            GtkWidget *row = gtk_box_new(GTK_ORIENTATION_HORIZONTAL, 4);
+            GtkWidget *check = gtk_check_button_new_with_label(m->morph_channels[c].name);
+            gtk_widget_set_tooltip_text(check, "On: the slider sets the weight. Off: the clip's weight.");
+            gtk_widget_set_size_request(check, 120, -1);
+            double lo, hi;
+            channel_range(m, c, &lo, &hi);
+            GtkWidget *scale = gtk_scale_new_with_range(GTK_ORIENTATION_HORIZONTAL, lo, hi, 0.01);
+            gtk_scale_set_draw_value(GTK_SCALE(scale), TRUE);
+            gtk_scale_set_digits(GTK_SCALE(scale), 2);
+            gtk_widget_set_hexpand(scale, TRUE);
+            g_object_set_data(G_OBJECT(check), "channel", GUINT_TO_POINTER(c));
+            g_object_set_data(G_OBJECT(scale), "channel", GUINT_TO_POINTER(c));
+            g_signal_connect(check, "toggled", G_CALLBACK(on_shape_check), v);
+            g_signal_connect(scale, "value-changed", G_CALLBACK(on_shape_scale), v);
+            gtk_box_append(GTK_BOX(row), check);
+            gtk_box_append(GTK_BOX(row), scale);
+            gtk_box_append(GTK_BOX(v->shape_box), row);
+            v->shape_checks[c] = check;
+            v->shape_scales[c] = scale;
+        }
+    }
+    /* channels no instance shows (none in a well-formed file): rows all the same */
+    for (uint32_t c = 0; c < v->shape_count; c++)
+        if (!v->shape_checks[c]) {
+            v->shape_checks[c] = gtk_check_button_new_with_label(m->morph_channels[c].name);
+            v->shape_scales[c] = gtk_scale_new_with_range(GTK_ORIENTATION_HORIZONTAL, -1.0, 2.0, 0.01);
+            g_object_set_data(G_OBJECT(v->shape_checks[c]), "channel", GUINT_TO_POINTER(c));
+            g_object_set_data(G_OBJECT(v->shape_scales[c]), "channel", GUINT_TO_POINTER(c));
+            g_signal_connect(v->shape_checks[c], "toggled", G_CALLBACK(on_shape_check), v);
+            g_signal_connect(v->shape_scales[c], "value-changed", G_CALLBACK(on_shape_scale), v);
+            gtk_box_append(GTK_BOX(v->shape_box), v->shape_checks[c]);
+            gtk_box_append(GTK_BOX(v->shape_box), v->shape_scales[c]);
+        }
+    if (view_pose(v))
+        panels_weights_changed(v);
+}
+
 /* ---- log ------------------------------------------------------------------------------------- */
 
 void panels_log(viewer *v, const char *line)
@@ -411,6 +584,11 @@ void panels_model_changed(viewer *v)
     v->updating = false;
     v->selected = -1;
     panels_select(v, -1);
+    if (v->shape_box) {
+        v->updating = true;
+        build_shape_keys(v);
+        v->updating = false;
+    }
     char line[1024];
     snprintf(line, sizeof line, "%s: %u nodes, %u meshes, %u clips, %u warnings", v->scene.model->source,
              v->scene.model->node_count, v->scene.model->mesh_count, v->scene.model->clip_count,
@@ -450,6 +628,14 @@ GtkWidget *panels_create(viewer *v)
     gtk_notebook_append_page(GTK_NOTEBOOK(notebook), tree, gtk_label_new("Hierarchy"));
 
     gtk_notebook_append_page(GTK_NOTEBOOK(notebook), display_page(v), gtk_label_new("Display"));
+
+    v->shape_box = gtk_box_new(GTK_ORIENTATION_VERTICAL, 4);
+    gtk_widget_set_margin_start(v->shape_box, 8);
+    gtk_widget_set_margin_end(v->shape_box, 8);
+    gtk_widget_set_margin_top(v->shape_box, 8);
+    GtkWidget *shape_scroll = gtk_scrolled_window_new();
+    gtk_scrolled_window_set_child(GTK_SCROLLED_WINDOW(shape_scroll), v->shape_box);
+    gtk_notebook_append_page(GTK_NOTEBOOK(notebook), shape_scroll, gtk_label_new("Shape keys"));
 
     v->log_view = gtk_text_view_new();
     gtk_text_view_set_editable(GTK_TEXT_VIEW(v->log_view), FALSE);

@@ -42,8 +42,14 @@ typedef struct viewer {
     bool overridden[32];          /* set on the command line and not changed since: not saved */
     GtkWidget *panels;            /* the side panel's notebook */
     GtkWidget *shading_list;
-    GtkWidget *skin_method_list; /* linear blend | dual quaternion */
+    GtkWidget *skin_method_list; /* as the file says | linear blend | dual quaternion */
+    /* the Shape keys panel: a row a morph channel (a check: set by hand; a slider: its weight) */
+    GtkWidget *shape_box;
+    GtkWidget **shape_checks, **shape_scales;
+    uint32_t shape_count;
     const char *screenshot, *select, *heatmap;
+    const char *window_shot; /* --screenshot-window: the whole window (panels too), once open and drawn */
+    int frames_drawn;
     char shot_path[4096];        /* F12: the numbered file being written (screenshot points here) */
     const char *screenshot_dir;  /* --screenshot-dir: where F12 writes; NULL: Pictures, else home */
     const char *press;           /* --press: key names pressed once the file is open, comma-separated */
@@ -157,7 +163,11 @@ void panels_options_changed(viewer *v); /* the display checks follow the options
 void panels_frame_drawn(viewer *v);     /* the selected node's transforms */
 void panels_log(viewer *v, const char *line);
 void panels_select(viewer *v, int32_t node);
-void panels_clips_changed(viewer *v); /* the blend list follows the model's clips */
+void panels_clips_changed(viewer *v);   /* the blend list follows the model's clips */
+void panels_weights_changed(viewer *v); /* the Shape keys sliders follow the pose's weights */
+/* Sets a Shape keys slider as a hand would (check on, the value): "CHANNEL=W", a channel by name
+ * or index; the SINEW_VIEW_SLIDERS test hook (comma-separated). False when none is named so. */
+bool panels_set_slider(viewer *v, const char *text);
 
 /* main.c: the Display panel's blending, root motion and IK target onto the scene (with the
  * command line's --blend, ... as the base); the error shows when the model refuses them. */

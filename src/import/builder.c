@@ -15,6 +15,9 @@
 #include "internal.h"
 #include "sinew/muscle_file.h"
 
+/* Morph weights beyond this (either way) are kept and warned about. */
+#define WEIGHT_WARN_LIMIT 10.0f
+
 /* ---- raw model helpers ---------------------------------------------------------------- */
 
 char *raw_strdup(const char *text)
@@ -636,6 +639,17 @@ static sinew_result fix_clip(raw_model *m, raw_clip *clip, sinew_error *error)
         if (!sort_keys(ch, stride))
             return oom(m, error);
         unsorted += !was_sorted;
+        /* weights far outside 0..1 are kept, and said: a file scaled in percent, or a broken rig */
+        uint32_t at = ch->interp == SINEW_INTERP_CUBIC ? 1 : 0;
+        float worst = 0.0f;
+        for (uint32_t k = 0; k < ch->count; k++)
+            if (fabsf(ch->values[(size_t)k * stride + at]) > fabsf(worst))
+                worst = ch->values[(size_t)k * stride + at];
+        if (fabsf(worst) > WEIGHT_WARN_LIMIT &&
+            !raw_model_warn(m, "%s: clip \"%s\": morph channel \"%s\" reaches weight %g, outside -%g..%g; kept",
+                            m->source, clip->name, m->morph_channels[wt->channel].name, (double)worst,
+                            WEIGHT_WARN_LIMIT, WEIGHT_WARN_LIMIT))
+            return oom(m, error);
     }
     if (!isfinite(clip->timeline))
         clip->timeline = 0.0f;
@@ -1194,6 +1208,18 @@ static bool weight_table_push(weight_table *t, const blob_weight_track *track)
     return true;
 }
 
+static uint32_t clip_pool(const raw_clip *clip)
+{
+    for (uint32_t t = 0; t < clip->track_count; t++)
+        for (int k = 0; k < SINEW_CHANNEL_COUNT; k++)
+            if (clip->tracks[t].channels[k].count)
+                return clip->tracks[t].channels[k].pool;
+    for (uint32_t t = 0; t < clip->weight_track_count; t++)
+        if (clip->weight_tracks[t].keys.count)
+            return clip->weight_tracks[t].keys.pool;
+    return 0;
+}
+
 /* A clip whose channels play a pool's keys: its tracks point into the pool's spans. */
 static bool write_pooled_clip(writer *w, const raw_clip *clip, uint32_t index, const blob_span *pool_spans,
                               blob_clip *out, weight_table *weights)
@@ -1201,15 +1227,13 @@ static bool write_pooled_clip(writer *w, const raw_clip *clip, uint32_t index, c
     sinew_track *tracks = calloc(clip->track_count ? clip->track_count : 1, sizeof *tracks);
     if (!tracks)
         return false;
-    uint32_t pool = 0;
+    uint32_t pool = clip_pool(clip); /* > 0: the caller found one (a weight track's, when no node track has keys) */
     for (uint32_t t = 0; t < clip->track_count; t++) {
         tracks[t].node = clip->tracks[t].node;
         for (int k = 0; k < SINEW_CHANNEL_COUNT; k++) {
             const raw_channel *ch = &clip->tracks[t].channels[k];
             tracks[t].channels[k] = (sinew_channel){ch->count, ch->count ? ch->interp : SINEW_INTERP_LINEAR,
                                                     ch->count ? ch->first_key : 0, ch->count ? ch->first_value : 0};
-            if (ch->count)
-                pool = ch->pool;
         }
     }
     *out = (blob_clip){
@@ -1231,17 +1255,6 @@ static bool write_pooled_clip(writer *w, const raw_clip *clip, uint32_t index, c
     return ok;
 }
 
-static uint32_t clip_pool(const raw_clip *clip)
-{
-    for (uint32_t t = 0; t < clip->track_count; t++)
-        for (int k = 0; k < SINEW_CHANNEL_COUNT; k++)
-            if (clip->tracks[t].channels[k].count)
-                return clip->tracks[t].channels[k].pool;
-    for (uint32_t t = 0; t < clip->weight_track_count; t++)
-        if (clip->weight_tracks[t].keys.count)
-            return clip->weight_tracks[t].keys.pool;
-    return 0;
-}
 
 /* One clip: every channel's times and values concatenated (its weight tracks' after its
  * node tracks'), tracks pointing into them. */
@@ -1574,9 +1587,15 @@ sinew_result raw_model_build(raw_model *m, void **bytes, size_t *size, sinew_err
         return result;
     for (uint32_t i = 0; i < m->material_count; i++)
         fix_material(&m->materials[i]);
-    for (uint32_t i = 0; i < m->morph_channel_count; i++)
-        if (!isfinite(m->morph_channels[i].default_weight))
+    for (uint32_t i = 0; i < m->morph_channel_count; i++) {
+        float w = m->morph_channels[i].default_weight;
+        if (!isfinite(w))
             m->morph_channels[i].default_weight = 0.0f;
+        else if (fabsf(w) > WEIGHT_WARN_LIMIT &&
+                 !raw_model_warn(m, "%s: morph channel \"%s\" has weight %g, outside -%g..%g; kept", m->source,
+                                 m->morph_channels[i].name, (double)w, WEIGHT_WARN_LIMIT, WEIGHT_WARN_LIMIT))
+            return oom(m, error);
+    }
     for (uint32_t i = 0; i < m->mesh_count; i++)
         if ((result = fix_mesh(m, i, error)) || (result = fix_deformers(m, i, error)))
             return result;

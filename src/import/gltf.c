@@ -990,7 +990,7 @@ static sinew_result attribute(gltf *g, const cJSON *attrs, const char *name, con
         return r;
     if (vertex_count != UINT32_MAX && count != vertex_count) {
         free(v);
-        return fail_at(g, "%s: %s has %u elements, POSITION has %u", where, name, count, vertex_count);
+        return fail_at(g, "%s: %s has %u elements for the primitive's %u vertices", where, name, count, vertex_count);
     }
     float *f = malloc((size_t)count * (size_t)want * sizeof *f);
     if (!f) {
