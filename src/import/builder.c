@@ -1255,7 +1255,6 @@ static bool write_pooled_clip(writer *w, const raw_clip *clip, uint32_t index, c
     return ok;
 }
 
-
 /* One clip: every channel's times and values concatenated (its weight tracks' after its
  * node tracks'), tracks pointing into them. */
 static bool write_clip(writer *w, const raw_clip *clip, uint32_t index, blob_clip *out, weight_table *weights)
