@@ -307,14 +307,14 @@ static gboolean on_tick(GtkWidget *widget, GdkFrameClock *clock, gpointer data)
             snprintf(title, sizeof title, "%s — sinew", v->scene.model ? v->scene.model->source : "sinew");
         gtk_window_set_title(GTK_WINDOW(v->window), title);
     }
-    const char *sliders = getenv("SINEW_VIEW_SLIDERS"); /* the test hook: sliders set once the file is open */
-    if (sliders && *sliders && !v->load && v->shape_count) {
-        char **items = g_strsplit(sliders, ",", -1);
+    if (v->sliders && !v->load && v->scene.model) { /* the test hook: sliders set once the file is open */
+        char **items = g_strsplit(v->sliders, ",", -1);
         for (int i = 0; items[i]; i++)
             if (!panels_set_slider(v, g_strstrip(items[i])))
                 fprintf(stderr, "sinew-view: SINEW_VIEW_SLIDERS: no shape key \"%s\"\n", items[i]);
         g_strfreev(items);
-        g_unsetenv("SINEW_VIEW_SLIDERS");
+        g_free(v->sliders);
+        v->sliders = NULL; /* the camera stays, as it does when a hand moves a slider */
     }
     if (v->press && !v->load) { /* --press: once the file is open, before the screenshot is drawn */
         char **names = g_strsplit(v->press, ",", -1);
@@ -380,7 +380,18 @@ static void frame_all(viewer *v)
         return;
     if (v->crowd_on && crowd_ready(v))
         app_crowd_bounds(&v->crowd, lo, hi);
+    sinew_camera keep = v->camera;
     sinew_camera_frame(&v->camera, lo, hi, h > 0 ? (float)w / (float)h : 1.0f);
+    if (v->keep_now == CAMERA_KEEP_ALL) { /* the grid's spacing follows the new file's size */
+        float radius = v->camera.scene_radius;
+        v->camera = keep;
+        v->camera.scene_radius = radius;
+    } else if (v->keep_now == CAMERA_KEEP_GIVEN && keep.mode == SINEW_CAMERA_FLY) {
+        memcpy(v->camera.position, keep.position, sizeof keep.position);
+    } else if (v->keep_now == CAMERA_KEEP_GIVEN) {
+        v->camera.distance = keep.distance;
+    }
+    v->keep_now = CAMERA_FRAME; /* the next framing (F, a crowd) frames all */
 }
 
 void view_toggle_crowd(viewer *v, bool on)
@@ -709,9 +720,9 @@ static gboolean on_render(GtkGLArea *area, GdkGLContext *context, gpointer data)
         record_frame(v, width, height);
     if (v->record_asked && !v->load && !v->press) /* the first frame goes in at the next draw */
         start_recording(v, width, height);
-    if (!v->load && !v->press)
+    if (!v->load && !v->press && !v->sliders)
         v->frames_drawn++;
-    if (v->screenshot && !v->load && !v->press) { /* of the file asked for, once open (or failed) and keyed */
+    if (v->screenshot && !v->load && !v->press && !v->sliders) { /* of the file asked for, once open and keyed */
         save_screenshot(v, width, height);
         v->screenshot = NULL;
         if (v->quit_after_screenshot && !v->window_shot) /* not from inside the draw: when GTK is idle */
@@ -1273,15 +1284,18 @@ static void on_activate(GtkApplication *app, gpointer data)
     gtk_window_set_child(GTK_WINDOW(v->window), box);
 
     /* The demo first (--anim's clips on it only when it is what is shown); a file given opens on
-     * a worker thread and replaces it, or its error shows above the demo. */
+     * a worker thread and replaces it, or its error shows above the demo. --camera's view is the
+     * file's then (the demo's open used to spend it, and a fly camera was framed away). */
+    int camera_keep = v->camera_keep;
     if (view_open_now(v, APP_BUILTIN_DEMO, s->path ? NULL : s->clip, !s->path) && !s->path && !isnan(v->start_time)) {
         v->time = v->start_time;
         if (v->time > view_duration(v))
             v->time = view_duration(v);
     }
-    if (s->path)
+    if (s->path) {
+        v->camera_keep = camera_keep;
         view_open_file(v, s->path, s->clip);
-    else
+    } else
         v->start_time = NAN;
     view_show_time(v);
     set_playing(v, v->screenshot == NULL);
@@ -1447,7 +1461,7 @@ int main(int argc, char **argv)
                     fprintf(stderr, "sinew-view: %s\n", error.message);
                     return 1;
                 }
-                v.camera_given = !frame;
+                v.camera_keep = frame ? CAMERA_FRAME : CAMERA_KEEP_GIVEN;
             } else {
                 fprintf(stderr, "sinew-view: unknown option %s\n%s", o, usage);
                 return 1;
@@ -1461,6 +1475,9 @@ int main(int argc, char **argv)
     }
     GtkApplication *app = gtk_application_new("org.sinew.View", G_APPLICATION_NON_UNIQUE);
     g_signal_connect(app, "activate", G_CALLBACK(on_activate), &s);
+    const char *sliders = getenv("SINEW_VIEW_SLIDERS");
+    if (sliders && *sliders)
+        v.sliders = g_strdup(sliders);
     int status = g_application_run(G_APPLICATION(app), 1, argv);
     view_cancel_open(&v, true);
     g_object_unref(app);

@@ -109,8 +109,9 @@ static bool adopt_scene(viewer *v, app_scene *incoming)
         if (skeleton >= 0)
             v->overridden[skeleton] = false;
     }
-    v->framed = v->camera_given;
-    v->camera_given = false;
+    v->framed = false; /* with what the camera keeps */
+    v->keep_now = v->camera_keep;
+    v->camera_keep = CAMERA_FRAME;
     if (v->window) {
         char title[600];
         snprintf(title, sizeof title, "%s — sinew", model->source);
@@ -272,7 +273,7 @@ static gboolean reload_file(gpointer data)
         return G_SOURCE_REMOVE;
     panels_log(v, "the file changed on disk: reopening it");
     v->start_time = v->time;
-    v->camera_given = true; /* keep the view */
+    v->camera_keep = CAMERA_KEEP_ALL;
     view_open_file(v, v->path, v->scene.clip ? v->scene.clip->name : "none");
     return G_SOURCE_REMOVE;
 }

@@ -53,6 +53,7 @@ typedef struct viewer {
     char shot_path[4096];        /* F12: the numbered file being written (screenshot points here) */
     const char *screenshot_dir;  /* --screenshot-dir: where F12 writes; NULL: Pictures, else home */
     const char *press;           /* --press: key names pressed once the file is open, comma-separated */
+    char *sliders;               /* $SINEW_VIEW_SLIDERS: Shape keys sliders set once the file is open (tests) */
     const char *up;              /* --up y|z: the axis shown up */
     const char *anim, *name_map; /* --anim OTHER (--name-map M.json): its clips on every file opened */
     /* the Display panel's blending (issue 15): a second clip and its weight, root motion, an IK target */
@@ -83,7 +84,11 @@ typedef struct viewer {
     bool watch;            /* --watch: reload the file when it changes on disk */
     GFileMonitor *monitor;
     guint reload_timer;
-    bool quit_after_screenshot, camera_given;
+    bool quit_after_screenshot;
+    /* How much of the camera the next file's framing keeps: CAMERA_KEEP_GIVEN, what --camera gave
+     * (a fly camera's position, an orbit's distance; as `sinew render`); CAMERA_KEEP_ALL, the
+     * whole view (a reload). camera_keep is for the file being opened, keep_now for the one shown. */
+    enum { CAMERA_FRAME, CAMERA_KEEP_GIVEN, CAMERA_KEEP_ALL } camera_keep, keep_now;
     app_scene scene; /* the model shown, its clip, muscles and pose */
     sinew_renderer *renderer;
     /* the crowd toggle (key C, --crowd N): crowd_size characters of the scene's model */

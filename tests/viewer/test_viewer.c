@@ -417,6 +417,36 @@ static void test_anim_files(void **state)
     free(err);
 }
 
+/* The Shape keys panel: a slider set as a hand sets it (the SINEW_VIEW_SLIDERS hook) draws what
+ * `sinew render --morph` draws with that weight (from one camera: a slider moves no camera); --panel shape-keys opens
+ * on the page, and the whole window can be written. */
+static void test_shape_key_slider(void **state)
+{
+    (void)state;
+    if (!xvfb)
+        skip();
+    char quad[4096], window[4096];
+    fixture_path("morph_quad.gltf", quad, sizeof quad);
+    setenv("SINEW_VIEW_SLIDERS", "1=0.8", 1);
+    compare_with_render(
+        (const char *const[]){quad, "--clip", "none", "--camera", "fly:1,0.5,4,0,-5", "--panel", "shape-keys", NULL},
+        (const char *const[]){quad, "--clip", "none", "--camera", "fly:1,0.5,4,0,-5", "--morph", "1=0.8", NULL});
+    unsetenv("SINEW_VIEW_SLIDERS");
+    tmp_path("view-window.png", window, sizeof window);
+    unlink(window);
+    char *err = NULL;
+    assert_int_equal(
+        run_view((const char *const[]){quad, "--panel", "shape-keys", "--screenshot-window", window, "--quit", NULL},
+                 &err),
+        0);
+    free(err);
+    int w, h, n;
+    unsigned char *pixels = stbi_load(window, &w, &h, &n, 3);
+    assert_non_null(pixels);
+    assert_true(w > 300 && h > 200);
+    stbi_image_free(pixels);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -429,6 +459,7 @@ int main(void)
         cmocka_unit_test(test_widgets_drawn_while_playing),
         cmocka_unit_test(test_keys),
         cmocka_unit_test(test_anim_files),
+        cmocka_unit_test(test_shape_key_slider),
     };
     return cmocka_run_group_tests(tests, start_xvfb, stop_xvfb);
 }
