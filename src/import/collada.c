@@ -11,6 +11,13 @@
  * - Skins: a controller's joints are named by SID, looked up under the instance's <skeleton>
  *   roots (then anywhere, then by id or name, as other readers fall back); the bind-shape
  *   matrix is folded into the inverse binds once; every influence is kept.
+ * - Morphs: a <morph> controller, alone or under a <skin>: each target <geometry> a morph
+ *   target of every primitive (its primitive of the same place when it makes the same
+ *   vertices, else its POSITION source by position index), one model channel a target for
+ *   each instance, MORPH_WEIGHT as the defaults; NORMALIZED and RELATIVE targets are shapes
+ *   (RELATIVE ones nearer zero than the base are offsets). Channels "controller/x(i)" (or of
+ *   the whole weight array) animate them: STEP and LINEAR keys kept, BEZIER and HERMITE cut
+ *   into linear pieces.
  * - Geometry: <triangles>, <polylist>, <polygons>, <trifans>, <tristrips> with shared
  *   multi-index inputs (POSITION through <vertices>, NORMAL, the first TEXCOORD set),
  *   triangulated; a raw mesh per primitive (its material through <bind_material>).
@@ -32,7 +39,8 @@
  *   materials ............... material_of
  *   geometry ................ read_primitive, vertex table
  *   skins ................... resolve_joint, read_skin
- *   animations .............. read_channel, curve_eval, build_clips
+ *   morphs .................. read_morph, target_shape, add_targets
+ *   animations .............. read_channel, curve_eval, build_clips, weight_keys, morph_tracks
  *   raw_model_from_collada
  */
 #define _GNU_SOURCE /* newlocale, strtod_l, qsort_r */
@@ -60,6 +68,7 @@ enum { KEY_STEP, KEY_LINEAR, KEY_BEZIER, KEY_HERMITE };
 typedef struct curve {
     xmlNode *node;  /* the target <node> */
     xmlNode *xform; /* its transform element */
+    xmlNode *morph; /* or a morph <controller>, whose weights first .. first + count - 1 it drives */
     int first, count;
     uint32_t keys;
     double *times;
@@ -81,6 +90,13 @@ typedef struct source {
     uint32_t count, stride;
 } source;
 
+/* A morph <controller> an instance draws: its targets are model channels first .. first +
+ * count - 1 (another instance of it has channels of its own). */
+typedef struct morph_use {
+    xmlNode *controller;
+    uint32_t first, count;
+} morph_use;
+
 typedef struct collada {
     const char *path;
     raw_model *m;
@@ -99,6 +115,8 @@ typedef struct collada {
     uint32_t curve_count, curve_cap;
     double diagonal;
     uint32_t bezier_1d; /* channels whose BEZIER keys give one number a tangent */
+    morph_use *morphs;  /* a morph controller drawn: the model channels of its targets */
+    uint32_t morph_count;
 } collada;
 
 /* ---- errors, numbers, ids ------------------------------------------------------------- */
@@ -1233,9 +1251,208 @@ static sinew_result apply_skin(collada *c, const skin_data *s, prim *p, xmlNode 
     return SINEW_OK;
 }
 
+/* ---- morphs --------------------------------------------------------------------------- */
+
+static bool is_primitive(const xmlNode *k)
+{
+    return k->type == XML_ELEMENT_NODE && !named(k, "source") && !named(k, "vertices") && !named(k, "extra");
+}
+
+/* A <morph>: its target <geometry>s and their weights where no clip animates them. Both
+ * methods read a target as a whole shape (the offset is target - base), as exporters write
+ * them and as Blender, Maya and Assimp read them; a RELATIVE target that lies nearer zero
+ * than the base shape is taken as the offsets the specification's formula adds. */
+typedef struct morph_data {
+    xmlNode *controller, *morph;
+    bool relative;
+    source ids, weights;
+    xmlNode **geometry;    /* a target: its <geometry> */
+    uint32_t count, first; /* targets; the model channel of target 0 */
+} morph_data;
+
+static void morph_data_free(morph_data *d)
+{
+    source_free(&d->ids);
+    source_free(&d->weights);
+    free(d->geometry);
+}
+
+/* Reads `controller`'s <morph> and gives each target a model channel (named as its geometry,
+ * its default weight the MORPH_WEIGHT source's). */
+static sinew_result read_morph(collada *c, xmlNode *controller, morph_data *d)
+{
+    memset(d, 0, sizeof *d);
+    d->controller = controller;
+    d->morph = child(controller, "morph");
+    char method[64] = "NORMALIZED";
+    attr(d->morph, "method", method, sizeof method);
+    if (strcmp(method, "NORMALIZED") && strcmp(method, "RELATIVE"))
+        return fail(c, d->morph, "method \"%s\" is not NORMALIZED or RELATIVE", method);
+    d->relative = strcmp(method, "RELATIVE") == 0;
+    xmlNode *targets = child(d->morph, "targets");
+    sinew_result r = SINEW_OK;
+    for (xmlNode *k = targets ? targets->children : NULL; k && !r; k = k->next) {
+        char semantic[64] = "";
+        if (!named(k, "input") || !attr(k, "semantic", semantic, sizeof semantic))
+            continue;
+        source *into = strcmp(semantic, "MORPH_TARGET") == 0   ? &d->ids
+                       : strcmp(semantic, "MORPH_WEIGHT") == 0 ? &d->weights
+                                                               : NULL;
+        if (into && !into->count && !into->names && !into->v) {
+            xmlNode *src = by_url_attr(c, k, "source");
+            r = src ? read_source(c, src, into) : fail(c, k, "source names nothing in this file");
+        }
+    }
+    if (r)
+        return r;
+    if (!d->ids.names)
+        return fail(c, d->morph, "<targets> has no MORPH_TARGET input of geometry ids");
+    if (d->weights.count && (!d->weights.v || d->weights.count != d->ids.count))
+        return fail(c, d->morph, "%u MORPH_WEIGHT values for %u targets", d->weights.count, d->ids.count);
+    d->count = d->ids.count;
+    if (!(d->geometry = calloc(d->count + 1, sizeof *d->geometry)))
+        return oom(c);
+    for (uint32_t t = 0; t < d->count; t++) {
+        char url[600];
+        snprintf(url, sizeof url, "#%s", d->ids.names[t * d->ids.stride]);
+        d->geometry[t] = by_url(c, url);
+        if (!named(d->geometry[t], "geometry") || !child(d->geometry[t], "mesh"))
+            return fail(c, d->morph, "target \"%s\" names no <geometry> <mesh> of this file", url + 1);
+    }
+    raw_model *m = c->m;
+    raw_morph_channel *grown = realloc(m->morph_channels, (m->morph_channel_count + d->count + 1) * sizeof *grown);
+    morph_use *uses = realloc(c->morphs, (c->morph_count + 1) * sizeof *uses);
+    if (grown)
+        m->morph_channels = grown;
+    if (uses)
+        c->morphs = uses;
+    if (!grown || !uses)
+        return oom(c);
+    d->first = m->morph_channel_count;
+    for (uint32_t t = 0; t < d->count; t++) {
+        char name[512];
+        if (!attr(d->geometry[t], "name", name, sizeof name) || !*name)
+            attr(d->geometry[t], "id", name, sizeof name);
+        raw_morph_channel *ch = &m->morph_channels[m->morph_channel_count];
+        ch->default_weight = d->weights.v ? (float)d->weights.v[(size_t)t * d->weights.stride] : 0.0f;
+        if (!(ch->name = raw_strdup(name)))
+            return oom(c);
+        m->morph_channel_count++;
+    }
+    c->morphs[c->morph_count++] = (morph_use){controller, d->first, d->count};
+    return SINEW_OK;
+}
+
+/* The `ordinal`-th primitive element of a <mesh> (as bound_materials counts them), or NULL. */
+static xmlNode *nth_primitive(xmlNode *mesh, uint32_t ordinal)
+{
+    for (xmlNode *k = mesh ? mesh->children : NULL; k; k = k->next)
+        if (is_primitive(k) && ordinal-- == 0)
+            return k;
+    return NULL;
+}
+
+/* A target's positions (and normals) for the vertices of `p`: from the target's primitive of
+ * the same ordinal when it makes the same vertices from the same positions, else its
+ * POSITION source read by each vertex's position index (a target written as <vertices>
+ * only, or with other normals). *normals is NULL when the target gives none that match. */
+static sinew_result target_shape(collada *c, const morph_data *d, uint32_t t, uint32_t ordinal, const prim *p,
+                                 float **positions, float **normals)
+{
+    *positions = *normals = NULL;
+    xmlNode *mesh = child(d->geometry[t], "mesh"), *el = nth_primitive(mesh, ordinal);
+    const char *id = d->ids.names[t * d->ids.stride];
+    uint32_t n = p->mesh.vertex_count;
+    if (el) {
+        prim tp;
+        bool skip = false;
+        sinew_result r = read_primitive(c, el, id, &tp, &skip);
+        if (r)
+            return r;
+        if (!skip && tp.mesh.vertex_count == n &&
+            memcmp(tp.position_of, p->position_of, n * sizeof *p->position_of) == 0) {
+            *positions = tp.mesh.positions, tp.mesh.positions = NULL;
+            if (p->mesh.normals)
+                *normals = tp.mesh.normals, tp.mesh.normals = NULL;
+        }
+        prim_free(&tp);
+        if (*positions)
+            return SINEW_OK;
+    }
+    xmlNode *vertices = child(mesh, "vertices"), *src = NULL;
+    for (xmlNode *k = vertices ? vertices->children : NULL; k && !src; k = k->next)
+        if (named(k, "input") && node_attr_is(k, "semantic", "POSITION"))
+            src = by_url_attr(c, k, "source");
+    if (!src)
+        return fail(c, d->geometry[t], "morph target \"%s\" has no POSITION source", id);
+    source pos;
+    sinew_result r = read_source(c, src, &pos);
+    if (r)
+        return r;
+    uint32_t need = 0;
+    for (uint32_t v = 0; v < n; v++)
+        need = p->position_of[v] + 1 > need ? p->position_of[v] + 1 : need;
+    if (!pos.v || pos.stride < 3 || pos.count < need) {
+        r = fail(c, src, "morph target \"%s\" has %u positions where its base mesh has %u", id, pos.v ? pos.count : 0,
+                 need);
+    } else if (!(*positions = malloc(((size_t)n * 3 + 1) * sizeof **positions))) {
+        r = oom(c);
+    } else {
+        for (uint32_t v = 0; v < n; v++)
+            for (int k = 0; k < 3; k++)
+                (*positions)[v * 3 + k] = (float)pos.v[(size_t)p->position_of[v] * pos.stride + (size_t)k];
+    }
+    source_free(&pos);
+    return r;
+}
+
+/* The morph's targets as targets of the raw mesh of primitive `ordinal` (one a target; the
+ * mesh's channel t is target t, at model channel d->first + t). */
+static sinew_result add_targets(collada *c, const morph_data *d, uint32_t ordinal, prim *p)
+{
+    raw_mesh *mm = &p->mesh;
+    uint32_t n = mm->vertex_count;
+    if (!(mm->targets = calloc(d->count + 1, sizeof *mm->targets)))
+        return oom(c);
+    sinew_result r = SINEW_OK;
+    for (uint32_t t = 0; t < d->count && !r; t++) {
+        float *shape = NULL, *normals = NULL;
+        if ((r = target_shape(c, d, t, ordinal, p, &shape, &normals)))
+            break;
+        raw_morph_target *tg = &mm->targets[mm->target_count++];
+        tg->channel = t;
+        tg->full_weight = 1.0f;
+        tg->delta_count = n;
+        tg->positions = shape;
+        tg->normals = normals;
+        tg->vertices = malloc(((size_t)n + 1) * sizeof *tg->vertices);
+        char name[512];
+        if (!attr(d->geometry[t], "name", name, sizeof name) || !*name)
+            attr(d->geometry[t], "id", name, sizeof name);
+        if (!tg->vertices || !(tg->name = raw_strdup(name))) {
+            r = oom(c);
+            break;
+        }
+        double to_base = 0, to_zero = 0;
+        for (size_t i = 0; i < (size_t)n * 3; i++) {
+            to_base += ((double)shape[i] - mm->positions[i]) * ((double)shape[i] - mm->positions[i]);
+            to_zero += (double)shape[i] * shape[i];
+        }
+        bool offsets = d->relative && to_zero < to_base; /* the specification's RELATIVE: base + w * target */
+        for (uint32_t v = 0; v < n; v++) {
+            tg->vertices[v] = v;
+            for (int k = 0; k < 3 && !offsets; k++)
+                shape[v * 3 + k] -= mm->positions[v * 3 + k];
+            for (int k = 0; k < 3 && normals; k++)
+                normals[v * 3 + k] -= mm->normals[v * 3 + k];
+        }
+    }
+    return r;
+}
+
 /* ---- instances ------------------------------------------------------------------------ */
 
-static sinew_result add_mesh(collada *c, prim *p, uint32_t node)
+static sinew_result add_mesh(collada *c, prim *p, uint32_t node, uint32_t morph_first)
 {
     raw_model *m = c->m;
     raw_mesh *meshes = realloc(m->meshes, (m->mesh_count + 1) * sizeof *meshes);
@@ -1247,7 +1464,7 @@ static sinew_result add_mesh(collada *c, prim *p, uint32_t node)
     if (!meshes || !inst)
         return oom(c);
     m->meshes[m->mesh_count] = p->mesh;
-    m->instances[m->instance_count++] = (sinew_instance){m->mesh_count++, node, 0};
+    m->instances[m->instance_count++] = (sinew_instance){m->mesh_count++, node, morph_first};
     free(p->position_of);
     memset(p, 0, sizeof *p);
     return SINEW_OK;
@@ -1268,11 +1485,6 @@ typedef struct geometry_uses {
     geometry_use *uses;
     uint32_t count;
 } geometry_uses;
-
-static bool is_primitive(const xmlNode *k)
-{
-    return k->type == XML_ELEMENT_NODE && !named(k, "source") && !named(k, "vertices") && !named(k, "extra");
-}
 
 /* The materials `inst` binds to its mesh's primitives, in order. */
 static sinew_result bound_materials(collada *c, material_map *map, xmlNode *inst, xmlNode *mesh, geometry_use *use)
@@ -1324,21 +1536,15 @@ static sinew_result reuse_geometry(collada *c, const geometry_uses *uses, const 
 static sinew_result read_instance(collada *c, material_map *map, geometry_uses *uses, const pending *pi)
 {
     xmlNode *inst = pi->instance, *target = by_url_attr(c, inst, "url");
-    xmlNode *skin = NULL, *geometry = target;
+    xmlNode *skin = NULL, *geometry = target, *morph = NULL;
     if (named(inst, "instance_controller")) {
         if (!named(target, "controller"))
             return fail(c, inst, "url does not name a <controller> of this file");
         skin = child(target, "skin");
-        xmlNode *morph = child(target, "morph");
-        xmlNode *base = by_url_attr(c, skin ? skin : morph, "source");
-        if (named(base, "controller")) { /* a skin over a morph: the morph's base shape */
-            if (!raw_model_warn(c->m, "%s: controller \"%s\": morph targets are not played; the base shape is shown",
-                                c->path, (const char *)target->name))
-                return oom(c);
-            base = by_url_attr(c, child(base, "morph"), "source");
-        } else if (morph && !raw_model_warn(c->m, "%s: a <morph> controller shows its base shape", c->path)) {
-            return oom(c);
-        }
+        morph = child(target, "morph") ? target : NULL;
+        xmlNode *base = by_url_attr(c, skin ? skin : child(target, "morph"), "source");
+        if (skin && named(base, "controller") && child(base, "morph")) /* a skin over a morph */
+            morph = base, base = by_url_attr(c, child(base, "morph"), "source");
         geometry = base;
     }
     if (!named(geometry, "geometry"))
@@ -1352,23 +1558,27 @@ static sinew_result read_instance(collada *c, material_map *map, geometry_uses *
                               c->path, name)
                    ? SINEW_OK
                    : oom(c);
-    geometry_use use = {.geometry = skin ? target : geometry, .first_mesh = c->m->mesh_count};
+    geometry_use use = {.geometry = skin || morph ? target : geometry, .first_mesh = c->m->mesh_count};
     if (skin)
         use.root_count = skeleton_roots(c, inst, use.roots);
     bool reused = false;
     sinew_result r = bound_materials(c, map, inst, mesh, &use);
-    if (!r)
+    if (!r && !morph) /* a morph drawn again has weights of its own */
         r = reuse_geometry(c, uses, &use, pi->node, &reused);
     if (r || reused) {
         free(use.materials);
         return r;
     }
     skin_data sd = {.skin = -1};
+    morph_data md = {0};
     r = skin ? read_skin(c, use.roots, use.root_count, skin, &sd) : SINEW_OK;
+    if (!r && morph)
+        r = read_morph(c, morph, &md);
     uint32_t lines = 0, index = 0;
     for (xmlNode *k = mesh->children; k && !r; k = k->next) {
         if (!is_primitive(k))
             continue;
+        uint32_t ordinal = index;
         int32_t material = use.materials[index++];
         prim p;
         bool skip = false;
@@ -1381,11 +1591,14 @@ static sinew_result read_instance(collada *c, material_map *map, geometry_uses *
         p.mesh.material = material;
         if (!r && skin)
             r = apply_skin(c, &sd, &p, k);
+        if (!r && morph)
+            r = add_targets(c, &md, ordinal, &p);
         if (!r)
-            r = add_mesh(c, &p, pi->node);
+            r = add_mesh(c, &p, pi->node, morph ? md.first : 0);
         prim_free(&p);
     }
     skin_data_free(&sd);
+    morph_data_free(&md);
     use.mesh_count = c->m->mesh_count - use.first_mesh;
     if (!r) {
         geometry_use *grown = realloc(uses->uses, (uses->count + 1) * sizeof *grown);
@@ -1442,6 +1655,16 @@ static sinew_result parse_target(collada *c, xmlNode *channel, const char *targe
     char url[1100];
     snprintf(url, sizeof url, "#%s", buf);
     xmlNode *node = by_url(c, url);
+    if (named(node, "controller") && child(node, "morph")) { /* "morph/weights(i)": weight i, or all of them */
+        out->morph = node;
+        const char *index = strrchr(slash + 1, '(');
+        int i = -1;
+        if (index && (sscanf(index, "(%d)", &i) != 1 || i < 0))
+            return fail(c, channel, "target \"%s\": no weight %s of a <morph>", target, index);
+        out->first = index ? i : 0;
+        out->count = index ? 1 : 0; /* 0: as many as the sampler's OUTPUT gives a key */
+        return SINEW_OK;
+    }
     /* Ids should be unique; 3ds Max gives a camera and its node the same one. */
     for (uint32_t i = 1; !named(node, "node") && i < c->m->node_count; i++)
         if (node_attr_is(c->node_el[i], "id", buf))
@@ -1493,7 +1716,7 @@ static sinew_result read_channel(collada *c, xmlNode *channel)
     curve k = {0};
     k.channel = channel;
     sinew_result r = parse_target(c, channel, target, &k);
-    if (r || !k.xform)
+    if (r || (!k.xform && !k.morph))
         return r;
     xmlNode *sampler = by_url_attr(c, channel, "source");
     if (!named(sampler, "sampler"))
@@ -1516,6 +1739,8 @@ static sinew_result read_channel(collada *c, xmlNode *channel)
     uint32_t n = in.count;
     if (!r && (!in.v || !out.v))
         r = fail(c, sampler, "needs INPUT and OUTPUT numbers");
+    if (!r && k.morph && k.count == 0)
+        k.count = (int)out.stride;
     if (!r && (out.count != n || out.stride != (uint32_t)k.count))
         r = fail(c, sampler, "%u outputs of %u numbers for %u keys of a target of %d numbers", out.count, out.stride, n,
                  k.count);
@@ -2012,6 +2237,98 @@ typedef struct clip_window {
     uint32_t pool;
 } clip_window;
 
+/* One weight of a morph curve over [start, end] as keys from clip time 0: the curve's own keys
+ * where they are all STEP or all LINEAR (as the file plays them), else linear keys with each
+ * BEZIER or HERMITE segment cut in DAE_WEIGHT_STEPS and each STEP held to just before the
+ * next key. */
+#define DAE_WEIGHT_STEPS 32
+
+static sinew_result weight_keys(collada *c, const curve *k, int comp, double start, double end, raw_channel *out)
+{
+    uint32_t lo = 0, hi = k->keys; /* the keys inside (start, end) */
+    while (lo < k->keys && k->times[lo] <= start)
+        lo++;
+    while (hi > lo && k->times[hi - 1] >= end)
+        hi--;
+    uint32_t from = lo > 0 ? lo - 1 : 0, to = hi < k->keys ? hi : k->keys - 1; /* the segments they span */
+    bool step = true, linear = true;
+    for (uint32_t i = from; i <= to; i++) {
+        step &= k->interp[i] == KEY_STEP || i == k->keys - 1;
+        linear &= k->interp[i] == KEY_LINEAR || i == k->keys - 1;
+    }
+    uint64_t cap = 2 + (uint64_t)(hi - lo + 1) * (step || linear ? 1 : DAE_WEIGHT_STEPS);
+    if (cap > (1u << 24))
+        return fail(c, k->channel, "weight curve of %u keys is too long to cut", k->keys);
+    out->interp = step && !linear ? SINEW_INTERP_STEP : SINEW_INTERP_LINEAR;
+    out->times = malloc((size_t)cap * sizeof *out->times);
+    out->values = malloc((size_t)cap * sizeof *out->values);
+    if (!out->times || !out->values)
+        return oom(c);
+    uint32_t n = 0;
+#define PUT(t_, v_)                                                                                                    \
+    do {                                                                                                               \
+        out->times[n] = (float)((t_)-start);                                                                           \
+        out->values[n++] = (float)(v_);                                                                                \
+    } while (0)
+    double last = start;
+    PUT(start, curve_at(k, comp, start));
+    for (uint32_t i = lo; i <= hi && end > start; i++) { /* the segment from the last point to key i (or end) */
+        double b = i < hi ? k->times[i] : end;
+        if (!(b > last))
+            continue; /* keys at one time */
+        int how = last < k->times[0] || last >= k->times[k->keys - 1] ? KEY_LINEAR : k->interp[i - 1];
+        if (!(step || linear) && how == KEY_STEP) {
+            PUT(b - (b - last) * 1e-6, curve_at(k, comp, last));
+        } else if (!(step || linear) && how >= KEY_BEZIER) {
+            for (int j = 1; j < DAE_WEIGHT_STEPS; j++)
+                PUT(last + (b - last) * j / DAE_WEIGHT_STEPS,
+                    curve_at(k, comp, last + (b - last) * j / DAE_WEIGHT_STEPS));
+        }
+        PUT(b, curve_at(k, comp, b));
+        last = b;
+    }
+#undef PUT
+    out->count = n;
+    return SINEW_OK;
+}
+
+/* The clip just added for window `w`: the weight tracks of the morph curves of its
+ * animations, for every instance of their controllers. */
+static sinew_result morph_tracks(collada *c, const clip_window *w)
+{
+    raw_clip *clip = &c->m->clips[c->m->clip_count - 1];
+    sinew_result r = SINEW_OK;
+    for (uint32_t i = 0; i < c->curve_count && !r; i++) {
+        const curve *k = &c->curves[i];
+        if (!k->morph || !in_clip(k, w->anims, w->anim_count))
+            continue;
+        for (uint32_t u = 0; u < c->morph_count && !r; u++) {
+            const morph_use *use = &c->morphs[u];
+            if (use->controller != k->morph)
+                continue;
+            if ((uint32_t)k->first + (uint32_t)k->count > use->count) {
+                r = raw_model_warn(c->m, "%s: <channel target=\"...(%d)\">: the morph has %u targets; not played",
+                                   c->path, k->first + k->count - 1, use->count)
+                        ? SINEW_OK
+                        : oom(c);
+                break;
+            }
+            raw_weight_track *grown =
+                realloc(clip->weight_tracks, (clip->weight_track_count + (uint32_t)k->count) * sizeof *grown);
+            if (!grown)
+                return oom(c);
+            clip->weight_tracks = grown;
+            for (int comp = 0; comp < k->count && !r; comp++) {
+                raw_weight_track *tr = &clip->weight_tracks[clip->weight_track_count++];
+                memset(tr, 0, sizeof *tr);
+                tr->channel = use->first + (uint32_t)k->first + (uint32_t)comp;
+                r = weight_keys(c, k, comp, w->start, w->end, &tr->keys);
+            }
+        }
+    }
+    return r;
+}
+
 static int by_pointer(const void *a, const void *b)
 {
     uintptr_t x = (uintptr_t) * (xmlNode *const *)a, y = (uintptr_t) * (xmlNode *const *)b;
@@ -2189,6 +2506,8 @@ static sinew_result build_clips(collada *c)
         if (!raw_model_add_window(c->m, &pools[w[i].pool], w[i].name, (float)(w[i].start - pool_start[w[i].pool]),
                                   (float)(w[i].end - w[i].start), NULL))
             r = oom(c);
+        else
+            r = morph_tracks(c, &w[i]);
     for (uint32_t p = 0; pools && p < pool_count; p++)
         raw_clip_free(&pools[p]);
     for (uint32_t i = 0; w && i <= made && i <= count; i++) {
@@ -2306,6 +2625,7 @@ sinew_result raw_model_from_collada(const char *path, const unsigned char *bytes
     for (uint32_t i = 0; i < c.curve_count; i++)
         curve_free(&c.curves[i]);
     free(c.curves);
+    free(c.morphs);
     free(c.pending);
     free(c.node_el);
     if (c.ids)

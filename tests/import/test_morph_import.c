@@ -2,7 +2,8 @@
  * (tests/fixtures/make_gltf.py) imported, its weights sampled with each interpolation, posed,
  * blended, saved as .sinew and read back; `sinew pose --morph`; bad data refused or warned
  * about, naming the file; and, from the shared test data, an FBX whose cache is missing and
- * an FBX blend shape moving a vertex its mesh lacks. */
+ * an FBX blend shape moving a vertex its mesh lacks; the COLLADA fixture morph_skin.dae
+ * (tests/fixtures/make_dae.py): morph controllers, under a skin and alone. */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -318,6 +319,102 @@ static void test_bad_targets(void **state)
     sinew_model_free(m);
 }
 
+/* The COLLADA fixture morph_skin.dae with `from` replaced by `to` (once), imported. */
+static sinew_result import_dae_edited(const char *from, const char *to, sinew_model **out, char *message, size_t size)
+{
+    char path[1024], edited[1024];
+    size_t n;
+    char *text = read_file(fixture_path("morph_skin.dae", path, sizeof path), &n);
+    char *at = strstr(text, from);
+    assert_non_null(at);
+    size_t head = (size_t)(at - text), grown = n - strlen(from) + strlen(to);
+    char *changed = malloc(grown + 1);
+    memcpy(changed, text, head);
+    memcpy(changed + head, to, strlen(to));
+    memcpy(changed + head + strlen(to), at + strlen(from), n - head - strlen(from));
+    write_file(tmp_path("morph_edited.dae", edited, sizeof edited), changed, grown);
+    free(changed);
+    free(text);
+    sinew_error error = {0};
+    sinew_result r = sinew_import(&(sinew_import_desc){.path = edited, .in_process = true}, out, &error);
+    snprintf(message, size, "%s", error.message);
+    return r;
+}
+
+/* COLLADA morph controllers by sinew's reader: a skin over a NORMALIZED morph (a target of
+ * whole triangles, one of <vertices> only) and a RELATIVE morph of its own; the MORPH_WEIGHT
+ * defaults; weights animated LINEAR, STEP and BEZIER; the posed vertices. */
+static void test_collada_morph(void **state)
+{
+    (void)state;
+    char path[1024];
+    sinew_model *m = load_or_fail(fixture_path("morph_skin.dae", path, sizeof path));
+    assert_int_equal(m->mesh_count, 2);
+    assert_int_equal(m->morph_channel_count, 3);
+    assert_string_equal(m->morph_channels[0].name, "quad-up");
+    assert_string_equal(m->morph_channels[1].name, "quad-wide");
+    assert_float_equal(m->morph_channels[0].default_weight, 0.25f, 0.0);
+    assert_float_equal(m->morph_channels[2].default_weight, 0.0f, 0.0);
+    const sinew_mesh *quad = &m->meshes[m->instances[0].mesh];
+    assert_int_equal(quad->target_count, 2);
+    assert_true(quad->skin >= 0);
+    const sinew_morph_target *wide = &quad->targets[1];
+    assert_int_equal(wide->delta_count, 2); /* the right edge */
+    for (uint32_t d = 0; d < 2; d++) {
+        assert_true(wide->vertices[d] == 1 || wide->vertices[d] == 3);
+        assert_float_equal(wide->positions[d * 3], 1.0f, 0.0);
+    }
+    assert_int_equal(m->meshes[m->instances[1].mesh].target_count, 1);
+    assert_int_equal(m->instances[1].morph_first, 2);
+    float w[3];
+    weights_at(m, "clip 0", 0.25f, w);
+    assert_float_equal(w[0], 0.25f, 1e-6);
+    assert_float_equal(w[1], 0.0f, 0.0);
+    assert_float_equal(w[2], 0.15625f, 2e-3); /* the Bezier cut in 32 linear pieces a segment */
+    weights_at(m, "clip 0", 0.5f, w);
+    assert_float_equal(w[0], 0.5f, 1e-6);
+    assert_float_equal(w[1], 1.0f, 0.0);
+    assert_float_equal(w[2], 0.5f, 1e-6);
+    const sinew_clip *clip = &m->clips[0];
+    sinew_mat4 *worlds = pose_worlds(m, clip, 0.5f);
+    uint32_t count;
+    float *v = posed_vertices_at(m, worlds, clip, 0.5f, &count);
+    assert_int_equal(count, 8);
+    static const float want[8][3] = {{0, 0, 0}, {2, 0, 0}, {0, 2.5f, 0}, {2, 2.5f, 0},
+                                     {3, 0, 0}, {4, 0, 0}, {3, 2.5f, 0}, {4, 2.5f, 0}};
+    for (uint32_t i = 0; i < 8; i++)
+        for (int c = 0; c < 3; c++)
+            assert_float_equal(v[i * 3 + c], want[i][c], 1e-5);
+    free(v);
+    free(worlds);
+    sinew_model_free(m);
+}
+
+/* Bad COLLADA morphs: a target with fewer positions than its base is refused, naming the file
+ * and the target; a channel of a weight the morph lacks is warned about and not played. */
+static void test_collada_bad_morph(void **state)
+{
+    (void)state;
+    sinew_model *m = NULL;
+    char message[1024];
+    assert_int_equal(import_dae_edited("count=\"12\">0 0 0 2 0 0 0 2 0 2 2 0</float_array>\n"
+                                       "   <technique_common><accessor source=\"#quad-wide-pos-a\" count=\"4\"",
+                                       "count=\"9\">0 0 0 2 0 0 0 2 0</float_array>\n"
+                                       "   <technique_common><accessor source=\"#quad-wide-pos-a\" count=\"3\"",
+                                       &m, message, sizeof message),
+                     SINEW_ERROR_FORMAT);
+    assert_non_null(strstr(message, "morph_edited.dae"));
+    assert_non_null(strstr(message, "morph target \"quad-wide\" has 3 positions where its base mesh has 4"));
+    assert_int_equal(import_dae_edited("quad-morph/quad-morph-weights(1)", "quad-morph/quad-morph-weights(5)", &m,
+                                       message, sizeof message),
+                     SINEW_OK);
+    bool warned = false;
+    for (uint32_t i = 0; i < m->warning_count; i++)
+        warned |= strstr(m->warnings[i], "the morph has 2 targets") != NULL;
+    assert_true(warned);
+    sinew_model_free(m);
+}
+
 /* An FBX whose vertex cache is not beside it: a warning naming the cache, the mesh at its base
  * shape. An FBX blend shape moving a vertex its mesh lacks: refused, naming the file and the
  * shape. */
@@ -370,6 +467,7 @@ int main(void)
         cmocka_unit_test(test_gltf_posed),       cmocka_unit_test(test_weight_blending),
         cmocka_unit_test(test_sinew_round_trip), cmocka_unit_test(test_cli_morph),
         cmocka_unit_test(test_bad_targets),      cmocka_unit_test(test_fbx_bad_deformers),
+        cmocka_unit_test(test_collada_morph),    cmocka_unit_test(test_collada_bad_morph),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
