@@ -1287,7 +1287,10 @@ static void on_activate(GtkApplication *app, gpointer data)
      * a worker thread and replaces it, or its error shows above the demo. --camera's view is the
      * file's then (the demo's open used to spend it, and a fly camera was framed away). */
     int camera_keep = v->camera_keep;
-    if (view_open_now(v, APP_BUILTIN_DEMO, s->path ? NULL : s->clip, !s->path) && !s->path && !isnan(v->start_time)) {
+    v->placeholder = s->path != NULL;
+    bool demo = view_open_now(v, APP_BUILTIN_DEMO, s->path ? NULL : s->clip, !s->path);
+    v->placeholder = false;
+    if (demo && !s->path && !isnan(v->start_time)) {
         v->time = v->start_time;
         if (v->time > view_duration(v))
             v->time = view_duration(v);

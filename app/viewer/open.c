@@ -86,7 +86,8 @@ static bool adopt_scene(viewer *v, app_scene *incoming)
     v->blend_clip = -1;                    /* the panel's blending starts over with each model */
     v->ik_on = false;
     panels_clips_changed(v);
-    view_apply_pose_ops(v); /* the command line's --blend, ... and the panel's */
+    if (!v->placeholder) /* the command line's --blend, --morph, ... are the file's, not the demo's */
+        view_apply_pose_ops(v);
     free(v->hidden);
     v->hidden = hidden;
     v->options.hidden_instances = v->hidden;

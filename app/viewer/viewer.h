@@ -118,6 +118,7 @@ typedef struct viewer {
     int direction; /* ping-pong: +1 or -1 */
     gint64 last_frame;
     bool playing, framed, updating;
+    bool placeholder;        /* the demo opening as the file's stand-in: the command line's pose options wait */
     bool held[ACTION_COUNT]; /* fly keys held down */
     double drag_x, drag_y;
     gint64 fps_since;
