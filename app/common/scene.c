@@ -199,6 +199,8 @@ sinew_result app_load_model(const app_scene_desc *d, sinew_model **out, sinew_er
     const char *path = d->path ? d->path : APP_BUILTIN_DEMO;
     if (strcmp(path, APP_BUILTIN_DEMO) == 0)
         return sinew_demo_humanoid(out, error);
+    if (strcmp(path, APP_BUILTIN_MORPH) == 0)
+        return sinew_synthetic_model(&(sinew_synthetic_desc){.morph_targets = 50, .morph_animated = 5}, out, error);
     if (strcmp(path, APP_BUILTIN_ARM) == 0) {
         /* The seed's arm at 150 degrees, with a clip that flexes it to 40 degrees and back. */
         app_arm_spec arm = {.angle = 150.0 * M_PI / 180.0,

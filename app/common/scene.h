@@ -14,8 +14,9 @@
 
 #include "app.h"
 
-#define APP_BUILTIN_ARM "builtin:arm"   /* the seed's arm, flexing, with its biceps */
-#define APP_BUILTIN_DEMO "builtin:demo" /* the demo humanoid, with its biceps */
+#define APP_BUILTIN_ARM "builtin:arm"     /* the seed's arm, flexing, with its biceps */
+#define APP_BUILTIN_DEMO "builtin:demo"   /* the demo humanoid, with its biceps */
+#define APP_BUILTIN_MORPH "builtin:morph" /* the synthetic 64-joint tube with 50 bulges, 5 animated */
 
 /* The import helper's limits, as both apps take them on their command lines:
  * --import-timeout SECONDS (0: none) and --import-memory MIB (0: none); absent: the library's

@@ -100,6 +100,12 @@ typedef struct sinew_synthetic_desc {
     float duration;
     float keys_per_second;
     bool keyed_trs; /* key translation and scale on every joint too, as baked exports do */
+    /* Morph targets ("bulge 0", ...): each swells a band of the tube outwards (bands spread
+     * from the bottom to the top, overlapping), default weight 0; the clip animates the
+     * weights of the first `morph_animated` of them (0 to 1 and back, each at its own rate),
+     * as a face rig plays a few shapes at a time. 0: none. */
+    uint32_t morph_targets;
+    uint32_t morph_animated;
 } sinew_synthetic_desc;
 
 sinew_result sinew_synthetic_model(const sinew_synthetic_desc *desc, sinew_model **out, sinew_error *error);

@@ -167,6 +167,58 @@ static sinew_result make_clip(raw_model *m, uint32_t joints, float duration, flo
     return SINEW_OK;
 }
 
+/* Targets that swell bands of rings outwards, and weight tracks for the first `animated`. */
+static sinew_result make_targets(raw_model *m, uint32_t targets, uint32_t animated, float duration,
+                                 float keys_per_second)
+{
+    raw_mesh *mesh = &m->meshes[0];
+    uint32_t rings = mesh->vertex_count / AROUND, half = rings / 8 > 2 ? rings / 8 : 2;
+    mesh->targets = calloc(targets, sizeof *mesh->targets);
+    m->morph_channels = calloc(targets, sizeof *m->morph_channels);
+    if (!mesh->targets || !m->morph_channels)
+        return SINEW_ERROR_OUT_OF_MEMORY;
+    for (uint32_t t = 0; t < targets; t++) {
+        char name[32];
+        snprintf(name, sizeof name, "bulge %u", t);
+        uint32_t centre = (uint32_t)(((uint64_t)t * 2 + 1) * rings / (2 * targets));
+        uint32_t first = centre > half ? centre - half : 0, last = centre + half < rings ? centre + half : rings - 1;
+        raw_morph_target *tg = &mesh->targets[mesh->target_count++];
+        m->morph_channels[m->morph_channel_count++] = (raw_morph_channel){.name = raw_strdup(name)};
+        tg->name = raw_strdup(name);
+        tg->channel = t;
+        tg->full_weight = 1.0f;
+        tg->delta_count = (last - first + 1) * AROUND;
+        tg->vertices = malloc((size_t)tg->delta_count * sizeof *tg->vertices);
+        tg->positions = malloc((size_t)tg->delta_count * 3 * sizeof *tg->positions);
+        if (!tg->name || !m->morph_channels[t].name || !tg->vertices || !tg->positions)
+            return SINEW_ERROR_OUT_OF_MEMORY;
+        for (uint32_t r = first, d = 0; r <= last; r++) {
+            float bump = 0.5f + 0.5f * cosf(3.14159265f * ((float)r - (float)centre) / (float)(half + 1));
+            for (uint32_t a = 0; a < AROUND; a++, d++) {
+                uint32_t v = r * AROUND + a;
+                tg->vertices[d] = v;
+                tg->positions[d * 3 + 0] = 0.6f * bump * mesh->positions[v * 3 + 0];
+                tg->positions[d * 3 + 1] = 0.0f;
+                tg->positions[d * 3 + 2] = 0.6f * bump * mesh->positions[v * 3 + 2];
+            }
+        }
+    }
+    raw_clip *clip = &m->clips[0];
+    uint32_t keys = (uint32_t)ceilf(duration * keys_per_second) + 1;
+    clip->weight_tracks = calloc(animated + 1, sizeof *clip->weight_tracks);
+    if (!clip->weight_tracks)
+        return SINEW_ERROR_OUT_OF_MEMORY;
+    for (uint32_t t = 0; t < animated; t++) {
+        raw_weight_track *tr = &clip->weight_tracks[clip->weight_track_count++];
+        tr->channel = t * (targets / animated); /* spread over the body */
+        if (!raw_channel_even(&tr->keys, SINEW_CHANNEL_WEIGHT, duration, keys))
+            return SINEW_ERROR_OUT_OF_MEMORY;
+        for (uint32_t k = 0; k < keys; k++) /* a whole number of cycles: the clip loops */
+            tr->keys.values[k] = 0.5f - 0.5f * cosf(6.28318531f * (float)(1 + t % 3) * tr->keys.times[k] / duration);
+    }
+    return SINEW_OK;
+}
+
 sinew_result sinew_synthetic_model(const sinew_synthetic_desc *desc, sinew_model **out, sinew_error *error)
 {
     sinew_synthetic_desc d = desc ? *desc : (sinew_synthetic_desc){0};
@@ -180,13 +232,16 @@ sinew_result sinew_synthetic_model(const sinew_synthetic_desc *desc, sinew_model
     d.keys_per_second = d.keys_per_second > 0.0f ? d.keys_per_second : 30.0f;
     if (d.joints < 2 || d.joints > SINEW_MAX_JOINTS || d.influences > SINEW_MAX_INFLUENCES || d.influences > d.joints ||
         d.vertices > 16u * 1024u * 1024u || !isfinite(d.duration) || d.duration > 3600.0f ||
-        d.keys_per_second > 1000.0f)
+        d.keys_per_second > 1000.0f || d.morph_targets > 4096 || d.morph_animated > d.morph_targets)
         return sinew_fail(error, SINEW_ERROR_INVALID_ARGUMENT,
                           "synthetic model: %u joints (2..%d), %u influences (1..8, at most the joints), %u vertices, "
-                          "%g s, %g keys/s are out of range",
-                          d.joints, SINEW_MAX_JOINTS, d.influences, d.vertices, d.duration, d.keys_per_second);
+                          "%g s, %g keys/s, %u morph targets (0..4096), %u animated (at most the targets) are out of "
+                          "range",
+                          d.joints, SINEW_MAX_JOINTS, d.influences, d.vertices, d.duration, d.keys_per_second,
+                          d.morph_targets, d.morph_animated);
     char source[96];
-    snprintf(source, sizeof source, "synthetic:%u-joints-%u-vertices", d.joints, d.vertices);
+    snprintf(source, sizeof source, "synthetic:%u-joints-%u-vertices%s", d.joints, d.vertices,
+             d.morph_targets ? "-morph" : "");
     raw_model raw = {.source = raw_strdup(source), .format = raw_strdup("synthetic")};
     sinew_result result = raw.source && raw.format ? SINEW_OK : SINEW_ERROR_OUT_OF_MEMORY;
     if (result == SINEW_OK)
@@ -195,6 +250,8 @@ sinew_result sinew_synthetic_model(const sinew_synthetic_desc *desc, sinew_model
         result = make_mesh(&raw, d.joints, d.vertices, d.influences);
     if (result == SINEW_OK)
         result = make_clip(&raw, d.joints, d.duration, d.keys_per_second, d.keyed_trs);
+    if (result == SINEW_OK && d.morph_targets)
+        result = make_targets(&raw, d.morph_targets, d.morph_animated, d.duration, d.keys_per_second);
     if (result != SINEW_OK) {
         raw_model_free(&raw);
         return sinew_fail(error, result, "synthetic model: out of memory");

@@ -26,11 +26,12 @@ static const float LOD_SHARE[RENDER_LOD_LEVELS] = {1.0f, 0.25f, 0.0625f, 0.01562
 
 /* One simplified list into out (room for index_count), cache-ordered; its length, 0 when the
  * simplifier could not take away a quarter of what the level above has. */
-static size_t simplify(const sinew_mesh *mesh, float share, size_t above, uint32_t *out, uint32_t *scratch)
+static size_t simplify(const sinew_mesh *mesh, const float *shape, float share, size_t above, uint32_t *out,
+                       uint32_t *scratch)
 {
     size_t target = (size_t)((float)mesh->index_count * share) / 3 * 3;
-    size_t n = meshopt_simplify(scratch, mesh->indices, mesh->index_count, mesh->positions, mesh->vertex_count, 12,
-                                target, LOD_ERROR, 0, NULL);
+    size_t n = meshopt_simplify(scratch, mesh->indices, mesh->index_count, shape, mesh->vertex_count, 12, target,
+                                LOD_ERROR, 0, NULL);
     if (n == 0 || n * 4 > above * 3)
         return 0;
     meshopt_optimizeVertexCache(out, scratch, n, mesh->vertex_count);
@@ -56,9 +57,22 @@ bool render_lod_build(const sinew_mesh *mesh, const sinew_allocator *allocator, 
         return false;
     }
     memcpy(all, mesh->indices, (size_t)mesh->index_count * sizeof *all);
+    /* A mesh with morph targets is simplified on its shape with every target whole (the levels
+     * share its vertices, and the GPU morphs them): vertices that only a target bends out of a
+     * flat or straight stretch are kept for it (a bulge, a smile). */
+    float *shape = NULL;
+    if (mesh->target_count && (shape = allocator->alloc((size_t)mesh->vertex_count * 12 + 16, allocator->user))) {
+        memcpy(shape, mesh->positions, (size_t)mesh->vertex_count * 12);
+        for (uint32_t t = 0; t < mesh->target_count; t++)
+            for (uint32_t d = 0; d < mesh->targets[t].delta_count; d++)
+                for (int k = 0; k < 3; k++)
+                    shape[(size_t)mesh->targets[t].vertices[d] * 3 + (size_t)k] +=
+                        mesh->targets[t].positions[d * 3 + k];
+    }
     size_t used = mesh->index_count;
     for (int l = 1; l < RENDER_LOD_LEVELS; l++) {
-        size_t n = simplify(mesh, LOD_SHARE[l], lod->count[l - 1], all + used, scratch);
+        size_t n =
+            simplify(mesh, shape ? shape : mesh->positions, LOD_SHARE[l], lod->count[l - 1], all + used, scratch);
         if (n == 0 || used + n > room) { /* nothing came of it: the level above stands in */
             lod->first[l] = lod->first[l - 1], lod->count[l] = lod->count[l - 1];
             continue;
@@ -67,6 +81,8 @@ bool render_lod_build(const sinew_mesh *mesh, const sinew_allocator *allocator, 
         used += n;
     }
     allocator->free(scratch, allocator->user);
+    if (shape)
+        allocator->free(shape, allocator->user);
     *indices = all;
     lod->total = (uint32_t)used;
     return true;

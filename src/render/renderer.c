@@ -1242,7 +1242,7 @@ typedef struct crowd_work {
 
 /* The node that stands for a character's position (the one nearest the middle of the rest
  * pose's bounds) and the bounds' radius, found once. */
-static void crowd_extent(sinew_renderer *r)
+static void crowd_extent(sinew_renderer *r, const frame_state *fs)
 {
     const sinew_model *m = r->model;
     r->crowd_center = 0;
@@ -1252,8 +1252,12 @@ static void crowd_extent(sinew_renderer *r)
         r->crowd_triangles += m->meshes[m->instances[i].mesh].index_count / 3;
     sinew_mat4 *rest = r->allocator.alloc(((size_t)m->node_count + 1) * sizeof *rest, r->allocator.user);
     float lo[3], hi[3];
+    /* the frame's own options, weights and cache time: the bounds set them in the renderer, and
+     * the crowd is drawn with them after (the default options' weights were none: no morphs) */
+    sinew_frame frame = *fs->frame;
+    frame.worlds = rest, frame.world_count = m->node_count, frame.crowd_count = 0;
     if (rest && sinew_local_to_world(m, m->node_rest, m->node_count, NULL, rest, m->node_count, NULL) == SINEW_OK &&
-        sinew_renderer_bounds(r, rest, m->node_count, lo, hi)) {
+        sinew_renderer_frame_bounds(r, &frame, lo, hi)) {
         float mid[3] = {(lo[0] + hi[0]) * 0.5f, (lo[1] + hi[1]) * 0.5f, (lo[2] + hi[2]) * 0.5f}, best = INFINITY;
         r->crowd_radius = 0.5f * sqrtf((hi[0] - lo[0]) * (hi[0] - lo[0]) + (hi[1] - lo[1]) * (hi[1] - lo[1]) +
                                        (hi[2] - lo[2]) * (hi[2] - lo[2]));
@@ -1279,7 +1283,7 @@ static void crowd_levels(sinew_renderer *r, const frame_state *fs, uint32_t star
     const uint32_t n = r->model->node_count;
     bool lod = fs->o->crowd_lod;
     if (lod && r->crowd_radius < 0.0f)
-        crowd_extent(r);
+        crowd_extent(r, fs);
     for (int l = 0; l < RENDER_LOD_LEVELS; l++)
         count[l] = 0;
     for (uint32_t c = 0; c < frame->crowd_count; c++) {

@@ -369,6 +369,60 @@ static void test_crowd(void **state)
     run_free(&r);
 }
 
+/* Morph targets drawn by the GPU (offsets in a buffer texture, weights as uniforms) give the
+ * CPU's picture: the glTF fixture, the COLLADA fixture (a skin over a morph), the glTF and FBX
+ * samples (AnimatedMorphCube; Maya's blended dual-quaternion skin); builtin:morph (64 joints,
+ * 50 targets, 5 animated) alone and as a crowd, whose levels of detail morph too (the crowd's
+ * bounds once cleared the frame's weights and every character showed its base shape). */
+static void test_morph_gpu_equals_cpu(void **state)
+{
+    (void)state;
+    char quad[1024], dae[1024], cube[1024], dq[1024];
+    const char *files[4][3] = {
+        {fixture_path("morph_quad.gltf", quad, sizeof quad), "0.5", "m-quad"},
+        {fixture_path("morph_skin.dae", dae, sizeof dae), "0.75", "m-dae"},
+        {testdata_path("gltf-samples/AnimatedMorphCube.glb", cube, sizeof cube), "1.2", "m-cube"},
+        {testdata_path("ufbx/maya_dq_weights_7500_binary.fbx", dq, sizeof dq), "0.5", "m-dq"}};
+    for (int f = 0; f < 4; f++) {
+        if (!files[f][0])
+            continue;
+        char gpu_name[64], cpu_name[64];
+        snprintf(gpu_name, sizeof gpu_name, "%s-gpu.png", files[f][2]);
+        snprintf(cpu_name, sizeof cpu_name, "%s-cpu.png", files[f][2]);
+        image gpu = RENDER(gpu_name, files[f][0], "--time", files[f][1], "--size", SIZE);
+        image cpu = RENDER(cpu_name, files[f][0], "--time", files[f][1], "--size", SIZE, "--skinning", "cpu");
+        long differing = 0;
+        bool same = same_picture(&gpu, &cpu, &differing);
+        printf("%s at %s s: GPU vs CPU %ld pixels differ\n", files[f][0], files[f][1], differing);
+        assert_true(same);
+        free_image(&gpu);
+        free_image(&cpu);
+    }
+    const char *crowd[] = {"--crowd", "9", "--time", "0.4", "--size", "480x320", "--no-grid", "--background", "000000"};
+#define CROWD_ARGS crowd[0], crowd[1], crowd[2], crowd[3], crowd[4], crowd[5], crowd[6], crowd[7], crowd[8]
+    image lod = RENDER("m-crowd.png", "builtin:morph", CROWD_ARGS);
+    image whole = RENDER("m-crowd-whole.png", "builtin:morph", CROWD_ARGS, "--no-lod");
+    image cpu = RENDER("m-crowd-cpu.png", "builtin:morph", CROWD_ARGS, "--no-lod", "--skinning", "cpu");
+    image flat = RENDER("m-crowd-flat.png", "builtin:morph", CROWD_ARGS, "--morph", "0=0", "--morph", "10=0", "--morph",
+                        "20=0", "--morph", "30=0", "--morph", "40=0");
+#undef CROWD_ARGS
+    long lod_differing = 0, cpu_differing = 0, flat_differing = 0;
+    same_picture(&lod, &whole, &lod_differing);
+    bool cpu_same = same_picture(&whole, &cpu, &cpu_differing);
+    same_picture(&lod, &flat, &flat_differing);
+    long covered = lit_pixels(&whole);
+    printf("builtin:morph crowd of 9: levels vs whole %ld pixels differ, GPU vs CPU %ld, morphed vs not %ld (of %ld "
+           "covered)\n",
+           lod_differing, cpu_differing, flat_differing, covered);
+    assert_true(cpu_same);
+    assert_true(lod_differing * 4 < flat_differing); /* the levels keep the bulges */
+    assert_true(flat_differing > covered / 10);
+    free_image(&lod);
+    free_image(&whole);
+    free_image(&cpu);
+    free_image(&flat);
+}
+
 /* Skins over the GPU limit go to the CPU with a warning, and the picture is the same. */
 static void test_gpu_joint_limit_falls_back_to_cpu(void **state)
 {
@@ -772,6 +826,7 @@ int main(void)
         cmocka_unit_test(test_gpu_and_cpu_skinning_agree),
         cmocka_unit_test(test_dual_quaternion_skinning),
         cmocka_unit_test(test_crowd),
+        cmocka_unit_test(test_morph_gpu_equals_cpu),
         cmocka_unit_test(test_output_formats_and_folders),
         cmocka_unit_test(test_transparent_background),
         cmocka_unit_test(test_camera_views_and_turntable),
