@@ -4,6 +4,7 @@
  * best batch is the one least disturbed), per unit (one character update, one vertex).
  * Threads: sinew's job system (sinew/jobs.h) with 1 .. --threads threads; the work splits in
  * chunks of characters (crowd) or of vertex ranges (skinning). */
+#include <math.h>
 #include <stdlib.h>
 #include <string.h>
 #include <unistd.h>
@@ -430,6 +431,132 @@ static bool bench_skinning(uint32_t threads, skin_result *out)
     return ok;
 }
 
+/* ---- morph targets -------------------------------------------------------------------------- */
+
+/* A face-sized morph: MORPH_VERTICES vertices, MORPH_TARGETS targets each moving a run of
+ * MORPH_SPAN consecutive vertices (regions of a face overlap), MORPH_WEIGHTED of them weighted
+ * (as a face rig plays a few shapes at a time). Positions and normals out. */
+#define MORPH_VERTICES 50000
+#define MORPH_TARGETS 50
+#define MORPH_WEIGHTED 5
+#define MORPH_SPAN 10000
+#define MORPH_GRAIN 4096
+
+typedef struct morph_bench {
+    sinew_mesh mesh;
+    sinew_morph_target targets[MORPH_TARGETS];
+    float weights[MORPH_TARGETS];
+    float *positions, *normals;
+    bool scalar;
+    sinew_jobs *jobs;
+    unsigned char *copy_from, *copy_to; /* the bandwidth measure */
+} morph_bench;
+
+static void morph_range(void *ctx, uint32_t first, uint32_t count, uint32_t thread)
+{
+    (void)thread;
+    morph_bench *b = ctx;
+    sinew_morph_desc d = {.mesh = &b->mesh,
+                          .target_weights = b->weights,
+                          .first = first,
+                          .count = count,
+                          .out_positions = b->positions,
+                          .out_normals = b->normals};
+    (b->scalar ? sinew_morph_vertices_scalar : sinew_morph_vertices)(&d, NULL);
+}
+
+static void step_morph(void *ctx, uint32_t i)
+{
+    (void)i;
+    morph_bench *b = ctx;
+    sinew_jobs_run(b->jobs, MORPH_VERTICES, MORPH_GRAIN, morph_range, b);
+}
+
+#define COPY_BYTES (64u << 20) /* far past the caches */
+
+static void step_copy(void *ctx, uint32_t i)
+{
+    morph_bench *b = ctx;
+    memcpy(b->copy_to, b->copy_from, COPY_BYTES);
+    b->copy_to[i % COPY_BYTES] ^= 1;
+}
+
+typedef struct morph_result {
+    double mverts[MAX_BENCH_THREADS + 1]; /* by thread count */
+    double mverts_scalar;
+    double bytes_a_vertex; /* read and written, averaged over the mesh */
+    double copy_gbps;      /* memcpy of 64 MiB: read + write bytes a second */
+} morph_result;
+
+static bool bench_morph(uint32_t threads, morph_result *out)
+{
+    morph_bench b = {.positions = malloc(MORPH_VERTICES * 12u), .normals = malloc(MORPH_VERTICES * 12u)};
+    float *base = malloc(MORPH_VERTICES * 24u), *deltas = malloc((size_t)MORPH_TARGETS * MORPH_SPAN * 24u);
+    uint32_t *indices = malloc((size_t)MORPH_TARGETS * MORPH_SPAN * 4u);
+    b.copy_from = malloc(COPY_BYTES), b.copy_to = malloc(COPY_BYTES);
+    bool ok = b.positions && b.normals && base && deltas && indices && b.copy_from && b.copy_to;
+    for (uint32_t v = 0; ok && v < MORPH_VERTICES; v++) {
+        float a = (float)v * 0.001f;
+        float *p = base + (size_t)v * 3, *n = base + (size_t)MORPH_VERTICES * 3 + (size_t)v * 3;
+        p[0] = cosf(a), p[1] = (float)v * 1e-4f, p[2] = sinf(a);
+        n[0] = cosf(a), n[1] = 0.0f, n[2] = sinf(a);
+    }
+    for (uint32_t t = 0; ok && t < MORPH_TARGETS; t++) {
+        uint32_t start = (uint32_t)(((uint64_t)t * (MORPH_VERTICES - MORPH_SPAN)) / (MORPH_TARGETS - 1));
+        uint32_t *vi = indices + (size_t)t * MORPH_SPAN;
+        float *d = deltas + (size_t)t * MORPH_SPAN * 6;
+        for (uint32_t k = 0; k < MORPH_SPAN; k++) {
+            vi[k] = start + k;
+            for (int c = 0; c < 6; c++)
+                d[(c < 3 ? 0 : (size_t)MORPH_SPAN * 3) + (size_t)k * 3 + (size_t)(c % 3)] =
+                    0.01f * sinf((float)(k * 7 + (uint32_t)c + t));
+        }
+        b.targets[t] = (sinew_morph_target){.name = "shape",
+                                            .channel = t,
+                                            .full_weight = 1.0f,
+                                            .delta_count = MORPH_SPAN,
+                                            .vertices = vi,
+                                            .positions = d,
+                                            .normals = d + (size_t)MORPH_SPAN * 3};
+        b.weights[t] = t % (MORPH_TARGETS / MORPH_WEIGHTED) == 3 ? 0.3f + 0.1f * (float)(t % 4) : 0.0f;
+    }
+    if (ok) {
+        b.mesh = (sinew_mesh){.name = "face",
+                              .vertex_count = MORPH_VERTICES,
+                              .positions = base,
+                              .normals = base + (size_t)MORPH_VERTICES * 3,
+                              .target_count = MORPH_TARGETS,
+                              .targets = b.targets,
+                              .morph_channel_count = MORPH_TARGETS};
+        double n = MORPH_VERTICES * 1e-6;
+        out->mverts[1] = n / best_per_unit(step_morph, &b, 200);
+        b.scalar = true;
+        out->mverts_scalar = n / best_per_unit(step_morph, &b, 100);
+        b.scalar = false;
+        for (uint32_t t = 2; ok && t <= threads; t++) {
+            ok = open_jobs(t, &b.jobs);
+            if (ok)
+                out->mverts[t] = n / best_per_unit(step_morph, &b, 200 * t);
+            sinew_jobs_free(b.jobs);
+            b.jobs = NULL;
+        }
+        /* base positions and normals read, results written (24 + 24 bytes a vertex), and each
+         * weighted target's index and two offsets (28 bytes a delta) read */
+        out->bytes_a_vertex = 48.0 + (double)MORPH_WEIGHTED * MORPH_SPAN * 28.0 / MORPH_VERTICES;
+        memset(b.copy_from, 1, COPY_BYTES);
+        memset(b.copy_to, 0, COPY_BYTES);
+        out->copy_gbps = 2.0 * COPY_BYTES * 1e-9 / best_per_unit(step_copy, &b, 10);
+    }
+    free(b.positions);
+    free(b.normals);
+    free(base);
+    free(deltas);
+    free(indices);
+    free(b.copy_from);
+    free(b.copy_to);
+    return ok;
+}
+
 /* ---- a crowd ------------------------------------------------------------------------------- */
 
 #define CROWD 1000
@@ -631,6 +758,9 @@ static const char eval_usage[] =
     "    (sinew_player; the reference sinew_sample + sinew_local_to_world beside it);\n"
     "  skinning 50,000 vertices of 4 influences, positions and normals: Mvertices/s on one thread (and\n"
     "    the scalar reference), positions only, dual quaternions, and on 1 .. N threads;\n"
+    "  morph targets applied to a 50,000-vertex mesh of 50 targets (each moving 10,000 vertices in a\n"
+    "    run), 5 of them weighted, positions and normals (sinew_morph_vertices; the scalar reference\n"
+    "    beside it) on 1 .. N threads, against what a memcpy of 64 MiB measured here would allow;\n"
     "  1000 characters of 64 joints updated a frame (sampling, world matrices, skinning palettes) on\n"
     "    1 .. N threads: the speed-up and efficiency (speed-up / threads) at each;\n"
     "  loading a .sinew file against Assimp importing the COLLADA file it came from (in this process):\n"
@@ -644,8 +774,9 @@ static const char eval_usage[] =
     "influences out of order: no runs of vertices sharing joints), threads, skin_mverts_nt, crowd1000_speedup_nt,\n"
     "scaling\n"
     "([{threads, crowd_ms, crowd_speedup, crowd_efficiency, skin_mverts, skin_speedup}]), simd,\n"
-    "load_speedup_vs_assimp, machine and the other figures (with 2 threads or more also skin_mverts_2t\n"
-    "and crowd1000_speedup_2t)\n"
+    "morph_mverts_1t, morph_mverts_scalar_1t, morph_mverts_nt, morph_gbps_1t, memcpy_gbps,\n"
+    "morph_mverts_bandwidth_bound, load_speedup_vs_assimp, machine and the other figures (with 2 threads\n"
+    "or more also skin_mverts_2t, morph_mverts_2t and crowd1000_speedup_2t)\n"
     "(with --import also import_ms_sinew, import_ms_assimp and import_file).\n";
 
 int bench_eval(int argc, char **argv)
@@ -693,8 +824,9 @@ int bench_eval(int argc, char **argv)
     load_result load = {0};
     import_result import_times = {0};
     blend_result blend = {0};
+    morph_result morph = {0};
     bool ok = bench_sampling(64, &s64) && bench_sampling(128, &s128) && bench_blend(&blend) &&
-              bench_skinning(threads, &skin) && bench_crowd_eval(threads, &crowd) &&
+              bench_skinning(threads, &skin) && bench_morph(threads, &morph) && bench_crowd_eval(threads, &crowd) &&
               bench_load(collada, converted, &load) && (!import || bench_import(import, &import_times));
     cli_remove_tree(dir);
     if (!ok)
@@ -728,6 +860,18 @@ int bench_eval(int argc, char **argv)
         cJSON_AddNumberToObject(o, "skin_mverts_1t_posonly_mixed", skin.mverts_posonly_mixed);
         cJSON_AddNumberToObject(o, "skin_mverts_dqs_1t", skin.mverts_dqs);
         cJSON_AddNumberToObject(o, "skin_mverts_dqs_scalar_1t", skin.mverts_dqs_scalar);
+        cJSON_AddNumberToObject(o, "morph_vertices", MORPH_VERTICES);
+        cJSON_AddNumberToObject(o, "morph_targets", MORPH_TARGETS);
+        cJSON_AddNumberToObject(o, "morph_weighted", MORPH_WEIGHTED);
+        cJSON_AddNumberToObject(o, "morph_mverts_1t", morph.mverts[1]);
+        cJSON_AddNumberToObject(o, "morph_mverts_scalar_1t", morph.mverts_scalar);
+        cJSON_AddNumberToObject(o, "morph_mverts_nt", morph.mverts[threads]);
+        if (threads >= 2)
+            cJSON_AddNumberToObject(o, "morph_mverts_2t", morph.mverts[2]);
+        cJSON_AddNumberToObject(o, "morph_bytes_a_vertex", morph.bytes_a_vertex);
+        cJSON_AddNumberToObject(o, "morph_gbps_1t", morph.mverts[1] * 1e6 * morph.bytes_a_vertex * 1e-9);
+        cJSON_AddNumberToObject(o, "memcpy_gbps", morph.copy_gbps);
+        cJSON_AddNumberToObject(o, "morph_mverts_bandwidth_bound", morph.copy_gbps * 1e9 / morph.bytes_a_vertex * 1e-6);
         cJSON_AddStringToObject(o, "simd", sinew_simd_name());
         cJSON_AddNumberToObject(o, "threads", threads);
         cJSON_AddNumberToObject(o, "skin_mverts_nt", skin.mverts[threads]);
@@ -789,6 +933,17 @@ int bench_eval(int argc, char **argv)
            skin.mverts_posonly_mixed);
     printf("%-44s %6.0f Mv/s %6.0f Mv/s %10s\n", "skinning, dual quaternions, 1 thread", skin.mverts_dqs,
            skin.mverts_dqs_scalar, "");
+    printf("%-44s %6.0f Mv/s %6.0f Mv/s\n", "morph: 50k verts, 5 of 50 targets, 1 thread", morph.mverts[1],
+           morph.mverts_scalar);
+    for (uint32_t t = 2; t <= threads; t++) {
+        char label[64];
+        snprintf(label, sizeof label, "  morph, %u threads | speed-up", t);
+        printf("%-44s %6.0f Mv/s %11.2fx\n", label, morph.mverts[t], morph.mverts[t] / morph.mverts[1]);
+    }
+    printf("%-44s %6.1f GB/s %6.1f GB/s\n", "  morph traffic, 1 thread | memcpy 64 MiB",
+           morph.mverts[1] * 1e6 * morph.bytes_a_vertex * 1e-9, morph.copy_gbps);
+    printf("%-44s %6.0f Mv/s (%.0f bytes a vertex)\n", "  morph bound by that bandwidth",
+           morph.copy_gbps * 1e9 / morph.bytes_a_vertex * 1e-6, morph.bytes_a_vertex);
     printf("%-44s %9.3f ms %12s %10s\n", "1000 characters a frame, 1 thread", crowd.ms[1], "", "");
     for (uint32_t t = 2; t <= threads; t++) {
         char label[64];
