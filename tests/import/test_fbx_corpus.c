@@ -58,7 +58,7 @@ static const char *const class_names[C_COUNT] = {
 
 typedef struct corpus_file {
     char rel[512];   /* under testdata */
-    char scene[256]; /* the name without its version and encoding: versions of a scene share it */
+    char scene[512]; /* the name without its version and encoding: versions of a scene share it */
     int version;     /* 5000, 6100, 7500 ... (0: unknown) */
     bool classes[C_COUNT];
     bool loaded, agrees, same_pose;
