@@ -282,8 +282,9 @@ static gboolean on_tick(GtkWidget *widget, GdkFrameClock *clock, gpointer data)
     if (v->window_shot && !v->load && !v->press && v->frames_drawn > 2) { /* panels laid out by now */
         save_window(v);
         v->window_shot = NULL;
-        if (v->quit_after_screenshot && !v->screenshot)
-            g_idle_add(close_window, v);
+        if (v->quit_after_screenshot && !v->screenshot) /* at default priority: a playing scene's redraws
+                                                         * (priority 120) starve idle sources on a slow machine */
+            g_idle_add_full(G_PRIORITY_DEFAULT, close_window, v, NULL);
     }
     if (v->fade_from > 0.0 && v->blend_scale) { /* the Cross-fade button: the weight to 1 over half a second */
         double w = fmin(1.0, ((double)now * 1e-6 - v->fade_from) / 0.5);
@@ -726,7 +727,7 @@ static gboolean on_render(GtkGLArea *area, GdkGLContext *context, gpointer data)
         save_screenshot(v, width, height);
         v->screenshot = NULL;
         if (v->quit_after_screenshot && !v->window_shot) /* not from inside the draw: when GTK is idle */
-            g_idle_add(close_window, v);
+            g_idle_add_full(G_PRIORITY_DEFAULT, close_window, v, NULL);
     }
     return TRUE;
 }
