@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # Installs the Debian packages sinew needs to build and test, and nothing when they are all there
-# (GTK 4 for sinew-view, Xvfb to test it without a display).
+# (GTK 4 for sinew-view, Xvfb to test it without a display, ffmpeg for videos and previews,
+# Python 3 with numpy, cffi, pytest and Dask distributed for the binding and `sinew batch`).
 # Uses apt-get directly as root, through sudo otherwise. Safe to run again.
 set -euo pipefail
 
@@ -8,7 +9,8 @@ packages=(
   build-essential cmake pkg-config clang-format
   libassimp-dev libcglm-dev libcjson-dev libcmocka-dev libxml2-dev zlib1g-dev
   libepoxy-dev libegl-dev libegl-mesa0 libgl1-mesa-dri libstb-dev libmeshoptimizer-dev
-  libgtk-4-dev xvfb xauth
+  libgtk-4-dev xvfb xauth ffmpeg
+  python3-numpy python3-cffi python3-pytest python3-distributed
 )
 
 missing=()

@@ -135,6 +135,7 @@ int cmd_muscle(int argc, char **argv);
 int cmd_arm(int argc, char **argv);
 int cmd_convert(int argc, char **argv);
 int cmd_demo(int argc, char **argv);
+int cmd_batch(int argc, char **argv);
 int bench_eval(int argc, char **argv);
 int bench_crowd(int argc, char **argv);
 

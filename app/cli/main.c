@@ -23,6 +23,10 @@ static const char usage[] =
     "  bench eval [--json]           runtime speed: sampling, skinning, crowds, .sinew loading\n"
     "  muscle FILE.json [--name M] [--length L] [--json]\n"
     "                                a volume-preserving muscle at a length: delta, radii, volume, valid range\n"
+    "  batch INPUT... -o OUTDIR [--fps N] [--clips all|NAME] [--retarget SKELETON] [--skin] [--preview]\n"
+    "        [--workers N | --scheduler tcp://HOST:PORT]\n"
+    "                                every model file under the inputs to numpy arrays (.npz per clip) and a\n"
+    "                                manifest, on a Dask cluster (Python 3, numpy, Dask distributed)\n"
     "  arm [--angle DEG | --length L | --contract F] [--rotate/--move/--scale] [--json] [-o OUT.png]\n"
     "                                the seed's two-rod arm and its biceps (law of cosines), numbers and picture\n"
     "\n"
@@ -89,6 +93,8 @@ int main(int argc, char **argv)
         printf("sinew %s\n", sinew_version());
         return EXIT_OK;
     }
+    if (strcmp(command, "batch") == 0) /* its options are its own (Python's argparse) */
+        return cmd_batch(argc - 1, argv + 1);
     if ((argc = take_import_options(argc, argv)) < 0)
         return EXIT_USAGE;
     if (strcmp(command, "info") == 0)

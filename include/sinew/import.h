@@ -1,6 +1,6 @@
 /* sinew/import.h — reading animated characters from files.
  *
- * What: sinew_import() reads FBX 7.x (binary and ASCII), glTF 2.0 (.gltf, .glb) and COLLADA
+ * What: sinew_import() reads FBX 5.x, 6.x and 7.x (binary and ASCII), glTF 2.0 (.gltf, .glb) and COLLADA
  * 1.4/1.5 (.dae) with sinew's own readers and any other format Assimp reads (BVH, .x, MD5,
  * SMD, IQM, 3DS, OBJ, ...), and builds a runtime sinew_model: the skeleton from the node
  * hierarchy, every mesh and skin, materials, every clip in seconds, Y up, metres.
@@ -14,8 +14,7 @@
  * baked to cubic keys that equal the curves at every key and stay within 2e-7 (radians,
  * relative scale, and of the scene's size for translation) in between. A file that looks
  * like FBX, glTF or COLLADA, or is named so, is never handed to Assimp unless desc->assimp
- * asks for it;
- * FBX 6 and older is refused (re-export as FBX 2011 or later).
+ * asks for it.
  * By default the readers run in a helper program, sinew-import (installed beside sinew, see
  * sinew_import_helper_path()), started with posix_spawn, which hands the model back through a
  * pipe as one flat blob: a crash, a hang or a runaway allocation inside Assimp or a reader

@@ -7,6 +7,7 @@
 
 #include "sinew/anim.h"
 #include "sinew/arm.h"
+#include "sinew/arrays.h"
 #include "sinew/blend.h"
 #include "sinew/camera.h"
 #include "sinew/headless.h"
@@ -18,6 +19,7 @@
 #include "sinew/muscle_file.h"
 #include "sinew/muscle_rig.h"
 #include "sinew/render.h"
+#include "sinew/snapshot.h"
 #include "sinew/result.h"
 #include "sinew/version.h"
 

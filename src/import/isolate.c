@@ -92,7 +92,10 @@ sinew_result sinew_import_helper_path(const sinew_import_desc *desc, char *out, 
     if (dladdr(&anchor, &info) && info.dli_fname && strchr(info.dli_fname, '/')) {
         snprintf(folder, sizeof folder, "%s", info.dli_fname);
         strip_name(folder);
-        if (!strstr(looked, folder) && try_in(folder, SINEW_LIB_TO_LIBEXEC, out, size, looked, sizeof looked))
+        /* the installed libexec folder, or the library's own (a build tree, where a program
+         * elsewhere, such as Python, loads it) */
+        if (!strstr(looked, folder) && (try_in(folder, SINEW_LIB_TO_LIBEXEC, out, size, looked, sizeof looked) ||
+                                        try_in(folder, "", out, size, looked, sizeof looked)))
             return SINEW_OK;
     }
     if (try_in(SINEW_INSTALL_LIBEXEC, "", out, size, looked, sizeof looked))

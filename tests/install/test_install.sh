@@ -28,6 +28,15 @@ cd "$work"
 "$prefix/bin/sinew" info "$fixture" | head -n 3
 "$prefix/bin/sinew" render builtin:arm --size 64x48 -o "$work/arm.png"
 
+echo "== the installed Python package, with nothing of the build tree"
+if /usr/bin/python3 -c "import numpy, cffi" 2>/dev/null; then
+    env -u SINEW_LIBRARY PYTHONPATH="$prefix/share/sinew/python" PYTHONDONTWRITEBYTECODE=1 /usr/bin/python3 -c "
+import sinew, sys
+m = sinew.load(sys.argv[1])
+assert sinew.library_path.startswith(sys.argv[2]), sinew.library_path
+print(m, m.world(0, times=[0.0, 0.5]).shape)" "$fixture" "$prefix"
+fi
+
 echo "== exports"
 others=$(nm -D --defined-only "$libdir/libsinew.so" | awk '{print $3}' | grep -v '^sinew_' || true)
 if [ -n "$others" ]; then echo "libsinew.so exports more than sinew_*: $others"; exit 1; fi
