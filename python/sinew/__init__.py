@@ -173,15 +173,14 @@ class Joints:
         self.bind = self.rest_worlds.copy()
         for s in range(m.skin_count - 1, -1, -1):  # the first skin's binding wins
             skin = m.skins[s]
+            if skin.joint_count == 0:
+                continue
             inverse = np.frombuffer(ffi.buffer(skin.inverse_bind, skin.joint_count * 64), np.float32)
-            inverse = inverse.reshape(skin.joint_count, 4, 4).transpose(0, 2, 1)
+            inverse = inverse.reshape(skin.joint_count, 4, 4).transpose(0, 2, 1).astype(np.float64)
             joints = np.frombuffer(ffi.buffer(skin.joints, skin.joint_count * 4), np.uint32)
-            with np.errstate(all="ignore"):
-                for k, node in enumerate(joints):
-                    try:
-                        self.bind[node] = np.linalg.inv(inverse[k].astype(np.float64)).astype(np.float32)
-                    except np.linalg.LinAlgError:
-                        pass
+            invertible = np.abs(np.linalg.det(inverse)) > 1e-20
+            if invertible.any():
+                self.bind[joints[invertible]] = np.linalg.inv(inverse[invertible]).astype(np.float32)
 
     def __len__(self):
         return len(self.names)
@@ -341,6 +340,17 @@ class Model:
         _check(lib.sinew_clip_arrays(desc, error), error, self.path)
         arrays["times"] = t
         return arrays
+
+    def arrays(self, clip: ClipLike = 0, times=None, fps=None, loop=False, *, translations=False, rotations=False,
+               scales=False, worlds=False, weights=False, vertices=False, normals=False) -> dict:
+        """Several of the arrays below from one pass over the clip: a dict with "times" and each
+        one asked for (worlds as (T,J,4,4) with column vectors, the rest as their methods give
+        them)."""
+        a = self._arrays(clip, times, fps, loop, translations=translations, rotations=rotations, scales=scales,
+                         worlds=worlds, weights=weights, vertices=vertices, normals=normals)
+        if worlds:
+            a["worlds"] = np.ascontiguousarray(a["worlds"].reshape(len(a["times"]), -1, 4, 4).transpose(0, 1, 3, 2))
+        return a
 
     def sample(self, clip: ClipLike = 0, times=None, fps=None, loop=False) -> Sample:
         """Local transforms of every node at `times` (default: every frame of the clip at

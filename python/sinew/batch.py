@@ -103,8 +103,8 @@ def atomic_write(path: str, write) -> None:
         os.fchmod(fd, 0o666 & ~_UMASK)
         with os.fdopen(fd, "wb") as f:
             write(f)
-            f.flush()
-            os.fsync(f.fileno())
+        # renamed whole: a killed worker or run leaves a temporary, never half a file (no
+        # fsync: a power cut may lose the newest files, which the rerun then redoes)
         os.replace(tmp, path)
     except BaseException:
         try:
@@ -196,12 +196,12 @@ def process_file(job: dict) -> dict:
                 row["warnings"].append("clip %r has %d frames at %g fps: kept the first %d (--max-frames)" % (
                     clip.name, len(times), opts["fps"] or clip.frame_rate, opts["max_frames"]))
                 times = times[:opts["max_frames"]]
-            sample = model.sample(clip, times=times)
-            worlds = model.world(clip, times=times)
+            a = model.arrays(clip, times=times, translations=True, rotations=True, scales=True, worlds=True,
+                             weights=True, vertices=opts["skin"])
             arrays = {
-                "times": times, "translations": sample.translations, "rotations": sample.rotations,
-                "scales": sample.scales, "worlds": worlds, "positions": np.ascontiguousarray(worlds[:, :, :3, 3]),
-                "weights": sample.weights, "joint_names": np.array(joints.names, dtype=str),
+                "times": times, "translations": a["translations"], "rotations": a["rotations"],
+                "scales": a["scales"], "worlds": a["worlds"], "positions": np.ascontiguousarray(a["worlds"][:, :, :3, 3]),
+                "weights": a["weights"], "joint_names": np.array(joints.names, dtype=str),
                 "parents": joints.parents, "is_skin_joint": joints.is_skin_joint,
                 "rest_translations": joints.rest_translations, "rest_rotations": joints.rest_rotations,
                 "rest_scales": joints.rest_scales, "bind": joints.bind,
@@ -213,11 +213,11 @@ def process_file(job: dict) -> dict:
                 "options": np.array(job["options_key"]), "sinew_version": np.array(sinew.version()),
             }
             if opts["skin"]:
-                arrays["vertices"] = model.skin(clip, times=times)
+                arrays["vertices"] = a["vertices"]
                 arrays["triangles"] = model.triangles()
             name = ("%03d_%s" % (index, safe_name(clip.name))) if clip else "rest"
             target = os.path.join(folder, name + ".npz")
-            atomic_write(target, lambda f: np.savez_compressed(f, **arrays))
+            atomic_write(target, lambda f: (np.savez_compressed if opts["compress"] else np.savez)(f, **arrays))
             row["outputs"].append(os.path.relpath(target, job["outdir"]))
             row["frames"] += len(times)
             if opts["preview"]:
@@ -242,6 +242,11 @@ def process_file(job: dict) -> dict:
         record = os.path.join(job["outdir"], STATE, job["key"] + ".json")
         atomic_write(record, lambda f: f.write(json.dumps({"row": row, "options": job["options_key"]}).encode()))
     return row
+
+
+def process_files(jobs: List[dict]) -> List[dict]:
+    """process_file() for several files in one task (fewer tasks: less scheduling per file)."""
+    return [process_file(job) for job in jobs]
 
 
 # ---- the run -----------------------------------------------------------------------------------
@@ -360,7 +365,7 @@ def run(args) -> int:
                "retarget_sha256": file_hash(args.retarget) if args.retarget else None,
                "name_map": os.path.abspath(args.name_map) if args.name_map else None,
                "skin": args.skin, "preview": args.preview, "preview_size": (width, height),
-               "max_frames": args.max_frames, "timeout": args.timeout, "memory": args.memory * (1 << 20) if args.memory else None}
+               "max_frames": args.max_frames, "compress": args.compress, "timeout": args.timeout, "memory": args.memory * (1 << 20) if args.memory else None}
     options_key = hashlib.sha256(json.dumps([FORMAT_VERSION, sinew.version(), {
         k: v for k, v in options.items() if k not in ("timeout", "memory", "retarget")}], sort_keys=True).encode()).hexdigest()
     jobs, rows = [], {}
@@ -380,22 +385,38 @@ def run(args) -> int:
     try:
         if jobs:
             client, cluster = _client(args)
+            # files go out in groups of a few (each task costs the scheduler about a millisecond, as
+            # much as a small file): about 8 groups a worker, at most 16 files a group; a group whose
+            # worker died is sent again file by file, so that one deadly file fails alone
+            workers = max(1, len(client.scheduler_info().get("workers", {})) or args.workers or 1)
+            size = max(1, min(16, len(jobs) // (workers * 8)))
             futures = {}
-            for job in jobs:
-                future = client.submit(process_file, job, key="sinew-batch-%s-%s" % (job["key"], options_key[:12]),
-                                       pure=False, retries=2)
-                futures[future] = job
-            for future in as_completed(futures):
-                job = futures[future]
+            for start in range(0, len(jobs), size):
+                group = jobs[start:start + size]
+                future = client.submit(process_files, group, key="sinew-batch-%s-%s-%d" % (
+                    group[0]["key"], options_key[:12], len(group)), pure=False, retries=0 if size > 1 else 2)
+                futures[future] = group
+            pending = as_completed(futures)
+            for future in pending:
+                group = futures[future]
                 try:
-                    row = future.result()
-                except Exception as e:  # the file killed its worker every time it was tried
-                    row = {"file": job["path"], "rel": job["rel"], "sha256": job["sha256"], "status": "failed",
-                           "error": "%s: the worker processing it died (%s)" % (job["path"], type(e).__name__),
-                           "kind": "crash", "clips": 0, "frames": 0, "joints": 0, "vertices": 0, "outputs": [],
-                           "warnings": [], "seconds": None}
-                rows[job["order"]] = row
-                progress.update(row)
+                    results = future.result()
+                except Exception as e:
+                    if len(group) > 1:
+                        for job in group:
+                            again = client.submit(process_files, [job], key="sinew-batch-%s-%s-1" % (
+                                job["key"], options_key[:12]), pure=False, retries=2)
+                            futures[again] = [job]
+                            pending.add(again)
+                        continue
+                    job = group[0]  # the file killed its worker every time it was tried
+                    results = [{"file": job["path"], "rel": job["rel"], "sha256": job["sha256"], "status": "failed",
+                                "error": "%s: the worker processing it died (%s)" % (job["path"], type(e).__name__),
+                                "kind": "crash", "clips": 0, "frames": 0, "joints": 0, "vertices": 0,
+                                "outputs": [], "warnings": [], "seconds": None}]
+                for job, row in zip(group, results):
+                    rows[job["order"]] = row
+                    progress.update(row)
     except KeyboardInterrupt:
         interrupted = True
     finally:
@@ -448,6 +469,8 @@ def parser() -> argparse.ArgumentParser:
     p.add_argument("--retarget", metavar="SKELETON_FILE", help="retarget every clip onto this model's skeleton")
     p.add_argument("--name-map", metavar="MAP.json", help="with --retarget: joint names {\"source\": \"target\"}")
     p.add_argument("--skin", action="store_true", help="also store the skinned vertices (T,V,3) and triangles")
+    p.add_argument("--compress", action="store_true",
+                   help="deflate the .npz files (smaller, slower; np.load reads both)")
     p.add_argument("--preview", action="store_true", help="an animated GIF per clip and OUTDIR/contact-sheet.png")
     p.add_argument("--preview-size", default="160x120", metavar="WxH", help="preview size (default 160x120)")
     g = p.add_mutually_exclusive_group()

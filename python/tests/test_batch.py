@@ -297,3 +297,34 @@ def test_usage_errors(tmp_path):
     done = batch(str(tmp_path / "empty"), "-o", str(tmp_path / "file" / "o"))
     assert done.returncode == 4 and "cannot write" in done.stderr
     assert "manifest" in batch("--help").stdout
+
+
+def test_on_a_running_scheduler(testdata, tmp_path):
+    """--scheduler: the set-up the README gives for several machines (`dask scheduler`, `dask
+    worker` with the package on PYTHONPATH), here with both on this machine."""
+    import socket
+    with socket.socket() as s:
+        s.bind(("127.0.0.1", 0))
+        port = s.getsockname()[1]
+    address = "tcp://127.0.0.1:%d" % port
+    env = dict(os.environ, PYTHONPATH=PYTHON_DIR)
+    scheduler = subprocess.Popen([sys.executable, "-m", "distributed.cli.dask_scheduler", "--host", "127.0.0.1",
+                                  "--port", str(port), "--dashboard-address", ":0"], env=env,
+                                 stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+    worker = subprocess.Popen([sys.executable, "-m", "distributed.cli.dask_worker", address, "--nworkers", "1",
+                               "--nthreads", "1", "--dashboard-address", ":0"], env=env,
+                              stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+    try:
+        lib = subset(testdata, str(tmp_path / "lib"), SMALL[:4])
+        out = str(tmp_path / "out")
+        done = batch(lib, "-o", out, "--scheduler", address, timeout=240)
+        assert done.returncode == 0, done.stderr
+        assert [r["status"] for r in manifest(out)] == ["ok"] * 4
+    finally:
+        for p in (worker, scheduler):
+            p.terminate()
+        for p in (worker, scheduler):
+            try:
+                p.wait(timeout=30)
+            except subprocess.TimeoutExpired:
+                p.kill()

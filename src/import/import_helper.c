@@ -3,6 +3,10 @@
  *
  *   sinew-import [--assimp] [--memory-limit BYTES] [--parent PID] -- MODEL
  *
+ * Two builds of it: sinew-import has sinew's own readers only and starts in a few milliseconds;
+ * for a file that needs Assimp it execs sinew-import-assimp (the same program with Assimp linked)
+ * with the same arguments, keeping its pid, limits and pipes.
+ *
  * It dies with the thread that started it (PR_SET_PDEATHSIG, and a check that the parent is
  * still the one named), limits its own address space, imports MODEL and writes the reply
  * (reply_header, then the blob or the error text) to stdout. Anything else that writes to
@@ -87,6 +91,9 @@ int main(int argc, char **argv)
     int reply_fd = dup(STDOUT_FILENO);
     if (reply_fd < 0 || dup2(STDERR_FILENO, STDOUT_FILENO) < 0)
         return 66;
+#ifdef SINEW_LEAN_HELPER
+    import_helper_set_exec(argv, reply_fd);
+#endif
 
     sinew_error error = {0};
     void *bytes = NULL;

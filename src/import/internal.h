@@ -310,8 +310,10 @@ bool raw_model_from_model(const sinew_model *model, raw_model *raw);
  * without repairing anything. */
 sinew_result raw_model_write(const raw_model *model, void **bytes, size_t *size, sinew_error *error);
 
-/* Reads a file through Assimp into a raw model, in this process. */
+/* Reads a file through Assimp into a raw model, in this process (assimp.c); in the lean import
+ * helper (assimp_exec.c), becomes sinew-import-assimp instead, after import_helper_set_exec(). */
 sinew_result raw_model_from_assimp(const char *path, raw_model *model, sinew_error *error);
+void import_helper_set_exec(char **argv, int reply_fd);
 
 /* Reads an FBX 7.x file (binary or ASCII, its bytes already in memory) with sinew's own
  * reader (fbx.c): transforms, skins and curves evaluated as the authoring tools do, clips

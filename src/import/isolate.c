@@ -363,6 +363,7 @@ static void watch(helper_run *run, double deadline)
 static int reap(helper_run *run, double deadline)
 {
     int status = 0;
+    long pause_ns = 50 * 1000; /* the helper closed its pipes and is exiting: look again soon, then less often */
     for (;;) {
         pid_t done = waitpid(run->pid, &status, deadline > 0.0 ? WNOHANG : 0);
         if (done == run->pid)
@@ -374,7 +375,8 @@ static int reap(helper_run *run, double deadline)
             kill(run->pid, SIGKILL);
             deadline = 0.0;
         } else if (done == 0) {
-            nanosleep(&(struct timespec){.tv_nsec = 5 * 1000 * 1000}, NULL);
+            nanosleep(&(struct timespec){.tv_nsec = pause_ns}, NULL);
+            pause_ns = pause_ns * 2 > 5 * 1000 * 1000 ? 5 * 1000 * 1000 : pause_ns * 2;
         }
     }
 }
