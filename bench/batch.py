@@ -2,7 +2,7 @@
 """Files a second turning a motion library into arrays: `sinew batch` on 1 and 2 workers, the
 CLI in a shell loop, and Blender importing each file and writing its frames.
 
-The library is ../shared/testdata's model files repeated (links under distinct folders) to
+The library is ../shared/testdata's model files repeated (copies under distinct folders) to
 about --files files. Every tool writes, for every clip, each joint's world transform at every
 frame (30 a second): sinew batch its .npz files; the CLI loop `sinew pose FILE --json` (one
 clip, ten times: less work than the others); Blender (`blender -b`, one process a file, as
@@ -69,19 +69,44 @@ def parallel_ceiling():
     return 2 * one / two
 
 
+def spawn_loop(program, count=40):
+    for _ in range(count):
+        subprocess.run([program, "--help"], stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+
+
+def spawn_ceiling(program):
+    """The same for starting processes (the import helper's --help), 2 loops against 1."""
+    import threading
+    t = time.perf_counter()
+    spawn_loop(program)
+    one = time.perf_counter() - t
+    threads = [threading.Thread(target=spawn_loop, args=(program,)) for _ in range(2)]
+    t = time.perf_counter()
+    for th in threads:
+        th.start()
+    for th in threads:
+        th.join()
+    return 2 * one / (time.perf_counter() - t)
+
+
 def build_library(testdata, folder, count, files=None):
-    files = files or [f["path"] for f in discover([testdata])]
-    copies = max(1, -(-count // len(files)))
+    """Copies of the test data (whole trees, so that a .gltf keeps its .bin and textures) under
+    folder/copyN until there are about `count` model files, or of `files` alone. Copies, not
+    links: sinew batch takes a file linked twice once."""
     made = []
-    for c in range(copies):
-        for i, path in enumerate(files):
-            if len(made) >= count:
-                break
-            d = os.path.join(folder, "copy%d" % c, "%03d" % i)
-            os.makedirs(d, exist_ok=True)
-            link = os.path.join(d, os.path.basename(path))
-            os.symlink(path, link)
-            made.append(link)
+    c = 0
+    while len(made) < count:
+        target = os.path.join(folder, "copy%d" % c)
+        if files:
+            os.makedirs(target)
+            for i, path in enumerate(files):
+                copy = os.path.join(target, "%03d_%s" % (i, os.path.basename(path)))
+                shutil.copyfile(path, copy)
+                made.append(copy)
+        else:
+            shutil.copytree(testdata, target, ignore=shutil.ignore_patterns("reference", "*.obj", "*.json.gz"))
+            made += [f["path"] for f in discover([target])]
+        c += 1
     return made
 
 
@@ -91,10 +116,10 @@ def timed(cmd, env=None):
     return time.perf_counter() - t, done
 
 
-def batch(python, folder, out, workers, env):
+def batch(python, folder, out, workers, env, extra=()):
     shutil.rmtree(out, ignore_errors=True)
     seconds, done = timed([python, "-m", "sinew", "batch", folder, "-o", out, "--workers", str(workers),
-                           "--fps", "30", "-q"], env)
+                           "--fps", "30", "-q", *extra], env)
     rows = [json.loads(line) for line in open(os.path.join(out, "manifest.jsonl"))]
     return seconds, rows
 
@@ -117,16 +142,19 @@ def main():
         files = build_library(args.testdata, library, args.files)
         result["files"] = len(files)
         result["ceiling"] = parallel_ceiling()
+        result["spawn_ceiling"] = spawn_ceiling(os.path.join(os.path.dirname(os.path.abspath(args.sinew)),
+                                                             "sinew-import"))
         # the CLI, one process a file
         t = time.perf_counter()
         for f in files:
             subprocess.run([args.sinew, "pose", f, "--json", "-q"], stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
         result["cli_loop_s"] = time.perf_counter() - t
-        for workers in (1, 2):
-            seconds, rows = batch(python, library, os.path.join(work, "out%d" % workers), workers, env)
-            result["batch%d_s" % workers] = seconds
-            result["batch%d_failed" % workers] = sum(r["status"] == "failed" for r in rows)
-            result["batch%d_frames" % workers] = sum(r["frames"] for r in rows)
+        for mode, extra in (("", ()), ("_in_process", ("--in-process",))):
+            for workers in (1, 2):
+                seconds, rows = batch(python, library, os.path.join(work, "out%d" % workers), workers, env, extra)
+                result["batch%d%s_s" % (workers, mode)] = seconds
+                result["batch%d%s_failed" % (workers, mode)] = sum(r["status"] == "failed" for r in rows)
+                result["batch%d%s_frames" % (workers, mode)] = sum(r["frames"] for r in rows)
         # Blender against sinew batch on the files Blender reads
         blender = shutil.which("blender")
         if blender:
@@ -171,12 +199,15 @@ def main():
     print("library: %d files (../shared/testdata repeated)" % n)
     print("  sinew pose --json, a process a file: %6.1f files/s  %6.1f ms a file" % (
         n / result["cli_loop_s"], 1000 * result["cli_loop_s"] / n))
-    for w in (1, 2):
-        s = result["batch%d_s" % w]
-        print("  sinew batch --workers %d:             %6.1f files/s  %6.1f ms a file  (%d frames, %d failed)" % (
-            w, n / s, 1000 * s / n, result["batch%d_frames" % w], result["batch%d_failed" % w]))
-    print("  2 workers / 1 worker: %.2fx (this machine gives 2 processes of pure CPU work %.2fx)" % (
-        result["batch1_s"] / result["batch2_s"], result["ceiling"]))
+    for mode, label in (("", ""), ("_in_process", " --in-process")):
+        for w in (1, 2):
+            s = result["batch%d%s_s" % (w, mode)]
+            print("  sinew batch --workers %d%-13s %6.1f files/s  %6.1f ms a file  (%d frames, %d failed)" % (
+                w, label + ":", n / s, 1000 * s / n, result["batch%d%s_frames" % (w, mode)],
+                result["batch%d%s_failed" % (w, mode)]))
+        print("  2 workers / 1 worker%s: %.2fx" % (label, result["batch1%s_s" % mode] / result["batch2%s_s" % mode]))
+    print("  (this machine gives 2 processes of pure CPU work %.2fx, and 2 loops starting processes %.2fx)" % (
+        result["ceiling"], result["spawn_ceiling"]))
     if "blender_s" in result:
         b = result["blender_s"] / result["blender_files"]
         k = result["batch1_blender_set_files"]

@@ -177,15 +177,17 @@ def test_changed_options_and_sources_redo(testdata, tmp_path):
 
 def test_same_results_for_any_worker_count(testdata, tmp_path):
     lib = subset(testdata, str(tmp_path / "lib"), SMALL)
-    one, two = str(tmp_path / "one"), str(tmp_path / "two")
+    one, two, inside = str(tmp_path / "one"), str(tmp_path / "two"), str(tmp_path / "inside")
     batch(lib, "-o", one, "--workers", "1", "--skin", check=0)
     batch(lib, "-o", two, "--workers", "2", "--skin", check=0)
-    a, b = arrays(one, manifest(one)), arrays(two, manifest(two))
-    assert a.keys() == b.keys() and len(a) >= len(SMALL)
+    batch(lib, "-o", inside, "--workers", "2", "--skin", "--in-process", check=0)
+    a, b, c = arrays(one, manifest(one)), arrays(two, manifest(two)), arrays(inside, manifest(inside))
+    assert a.keys() == b.keys() == c.keys() and len(a) >= len(SMALL)
     for rel in a:
-        assert a[rel].keys() == b[rel].keys()
+        assert a[rel].keys() == b[rel].keys() == c[rel].keys()
         for k in a[rel]:
             assert np.array_equal(a[rel][k], b[rel][k]), (rel, k)
+            assert np.array_equal(a[rel][k], c[rel][k]), (rel, k)
     assert "vertices" in a[next(k for k in a if "Fox" in k)]
 
 
@@ -328,3 +330,43 @@ def test_on_a_running_scheduler(testdata, tmp_path):
                 p.wait(timeout=30)
             except subprocess.TimeoutExpired:
                 p.kill()
+
+
+def test_progress_line_on_a_terminal(testdata, tmp_path):
+    """A progress line (files, failed, rate, time left) on a terminal; none when stderr is not one."""
+    import pty
+    lib = subset(testdata, str(tmp_path / "lib"), SMALL[:3])
+    out = str(tmp_path / "out")
+    leader, follower = pty.openpty()
+    env = dict(os.environ, PYTHONPATH=PYTHON_DIR)
+    proc = subprocess.Popen([sys.executable, "-m", "sinew", "batch", lib, "-o", out, "--workers", "1"], env=env,
+                            stdout=subprocess.DEVNULL, stderr=follower)
+    os.close(follower)
+    seen = b""
+    while True:
+        try:
+            chunk = os.read(leader, 4096)
+        except OSError:
+            break
+        if not chunk:
+            break
+        seen += chunk
+    os.close(leader)
+    assert proc.wait(timeout=120) == 0
+    text = seen.decode("utf-8", "replace")
+    assert "3/3 files, 0 failed" in text and "files/s" in text and "left" in text
+    quiet = batch(lib, "-o", out, "--workers", "1", "--force")
+    assert "files/s" not in quiet.stderr and "3 files: 3 done" in quiet.stderr
+
+
+def test_files_of_one_name_do_not_collide(testdata, tmp_path):
+    from sinew.batch import discover
+    a, b = tmp_path / "a", tmp_path / "b"
+    a.mkdir()
+    b.mkdir()
+    data = open(os.path.join(testdata, "assimp/BVH/01_01.bvh"), "rb").read()
+    (a / "walk.bvh").write_bytes(data)
+    (b / "walk.bvh").write_bytes(data.replace(b"MOTION", b"MOTION", 1))
+    found = discover([str(a / "walk.bvh"), str(b / "walk.bvh"), str(a)])
+    assert [f["rel"] for f in found] == ["a/walk.bvh", "b/walk.bvh"]
+    assert discover([str(a / "walk.bvh")])[0]["rel"] == "walk.bvh"
