@@ -64,6 +64,23 @@ typedef struct sinew_import_desc {
 
 sinew_result sinew_import(const sinew_import_desc *desc, sinew_model **out, sinew_error *error);
 
+/* Many files, one helper: a session keeps its helper running between files, so that a library
+ * of small files does not pay for starting a process each (about 6 ms of CPU, and on some
+ * machines process starts do not run in parallel). Each file keeps its own deadline; past it,
+ * or on a crash, the helper is killed and the next file starts a fresh one; one that used more
+ * than half the memory limit is replaced too. Files only Assimp reads, .sinew files and
+ * desc->in_process imports go as sinew_import() sends them. A session is used by one thread at
+ * a time; its helper dies with the thread that started it (the next file then starts another).
+ * `desc` (its path unused) gives every setting, as for sinew_import(). */
+typedef struct sinew_import_session sinew_import_session;
+sinew_result sinew_import_session_create(const sinew_import_desc *desc, sinew_import_session **out, sinew_error *error);
+sinew_result sinew_import_session_load(sinew_import_session *session, const char *path, sinew_model **out,
+                                       sinew_error *error);
+/* Ends the helper (it exits when its requests end) and frees the session. */
+void sinew_import_session_destroy(sinew_import_session *session);
+/* The process id of the session's helper, 0 when none runs (for monitoring and tests). */
+int sinew_import_session_helper_pid(const sinew_import_session *session);
+
 /* The helper program sinew_import() would start: desc->helper, else $SINEW_IMPORT_HELPER, else
  * sinew-import beside the running program, in its ../libexec/sinew/, in the libexec folder
  * beside the shared library, or in the installed libexec folder. SINEW_ERROR_IO lists where

@@ -30,7 +30,7 @@ import numpy as np
 from ._ffi import ffi, lib, library_path
 
 __all__ = [
-    "load", "demo", "synthetic", "retarget", "render", "version",
+    "load", "demo", "synthetic", "retarget", "render", "version", "Importer",
     "Model", "Clip", "Joints", "Mesh", "Sample",
     "Error", "ArgumentError", "FileError", "FormatError", "ImporterError", "DataError",
     "LimitError", "OutOfMemoryError", "GraphicsError", "CancelledError",
@@ -415,6 +415,59 @@ def load(path: Union[str, os.PathLike], *, timeout: Optional[float] = None, memo
     desc.memory_limit = int(memory) if memory else 0
     _check(lib.sinew_import(desc, out, error), error, path)
     return Model(out[0])
+
+
+class Importer:
+    """Loads many files through one running import helper (sinew_import_session): the same
+    isolation as load() — a deadline a file, a memory limit, a crash costs an error — without
+    starting a process for each file. Use from one thread at a time:
+
+        with sinew.Importer(timeout=30) as importer:
+            for path in paths:
+                model = importer.load(path)
+    """
+
+    def __init__(self, *, timeout: Optional[float] = None, memory: Optional[int] = None, in_process: bool = False,
+                 assimp: bool = False):
+        desc = ffi.new("sinew_import_desc *")
+        desc.in_process = in_process
+        desc.assimp = assimp
+        desc.timeout = float(timeout) if timeout else 0.0
+        desc.memory_limit = int(memory) if memory else 0
+        out = ffi.new("sinew_import_session **")
+        error = ffi.new("sinew_error *")
+        _check(lib.sinew_import_session_create(desc, out, error), error)
+        self._raw = out[0]
+        self._session = ffi.gc(out[0], lib.sinew_import_session_destroy)
+
+    def load(self, path: Union[str, os.PathLike]) -> "Model":
+        """Imports one file, as sinew.load() does."""
+        path = os.fspath(path)
+        if self._session is None:
+            raise ArgumentError("the importer is closed")
+        error = ffi.new("sinew_error *")
+        out = ffi.new("sinew_model **")
+        _check(lib.sinew_import_session_load(self._session, os.fsencode(path), out, error), error, path)
+        return Model(out[0])
+
+    @property
+    def helper_pid(self) -> int:
+        """The running helper's process id (0: none)."""
+        return lib.sinew_import_session_helper_pid(self._session) if self._session is not None else 0
+
+    def close(self) -> None:
+        """Ends the helper."""
+        if self._session is not None:
+            ffi.gc(self._session, None)  # no second destroy when it is collected
+            self._session = None
+            lib.sinew_import_session_destroy(self._raw)
+            self._raw = None
+
+    def __enter__(self):
+        return self
+
+    def __exit__(self, *exc):
+        self.close()
 
 
 def demo() -> Model:

@@ -66,6 +66,11 @@ typedef struct sinew_import_desc {
     bool (*progress)(float fraction, void *user); void *progress_user;
 } sinew_import_desc;
 sinew_result sinew_import(const sinew_import_desc *desc, sinew_model **out, sinew_error *error);
+typedef struct sinew_import_session sinew_import_session;
+sinew_result sinew_import_session_create(const sinew_import_desc *desc, sinew_import_session **out, sinew_error *error);
+sinew_result sinew_import_session_load(sinew_import_session *session, const char *path, sinew_model **out, sinew_error *error);
+void sinew_import_session_destroy(sinew_import_session *session);
+int sinew_import_session_helper_pid(const sinew_import_session *session);
 sinew_result sinew_model_save(const sinew_model *model, const void *muscles, const char *path, sinew_error *error);
 typedef struct sinew_synthetic_desc {
     uint32_t joints; uint32_t vertices; uint32_t influences; float duration; float keys_per_second; bool keyed_trs;

@@ -147,6 +147,19 @@ def remove_partials(outdir: str) -> int:
 # ---- one file, on a worker ---------------------------------------------------------------------
 
 _SKELETONS = {}  # a worker's retarget skeletons, by path and hash
+_IMPORTERS = {}  # a worker's import sessions (one running helper), by settings and thread
+
+
+def _importer(opts):
+    """This worker thread's import session: its helper stays between files (a process start a
+    file costs as much as a small file's work, and does not parallelise on every machine)."""
+    import threading
+
+    import sinew
+    key = (opts["timeout"], opts["memory"], threading.get_ident())
+    if key not in _IMPORTERS:
+        _IMPORTERS[key] = sinew.Importer(timeout=opts["timeout"], memory=opts["memory"])
+    return _IMPORTERS[key]
 
 
 def _skeleton(path: str, digest: Optional[str], timeout, memory):
@@ -186,7 +199,10 @@ def process_file(job: dict) -> dict:
            "kind": None, "clips": 0, "frames": 0, "joints": 0, "vertices": 0, "outputs": [], "warnings": []}
     opts = job["options"]
     try:
-        model = sinew.load(job["path"], timeout=opts["timeout"], memory=opts["memory"], in_process=opts["in_process"])
+        if opts["in_process"]:
+            model = sinew.load(job["path"], in_process=True)
+        else:
+            model = _importer(opts).load(job["path"])
         row["warnings"] = model.warnings
         clips = list(range(len(model.clips)))
         if opts["retarget"]:

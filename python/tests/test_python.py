@@ -271,3 +271,27 @@ def test_help_is_useful():
     for name in ("load", "render", "retarget"):
         assert getattr(sinew, name).__doc__
     assert sinew.Model.skin.__doc__ and sinew.Clip.sample.__doc__
+
+
+def test_importer_keeps_one_helper(testdata, tmp_path):
+    import signal
+    paths = [model_path(testdata, rel) for rel in ("gltf-samples/Fox.glb", "ozz/pab/arnaud.fbx", "ozz/pab/walk.dae",
+                                                    "raylib/guy.iqm", "assimp/BVH/01_01.bvh")]
+    with sinew.Importer(timeout=30) as importer:
+        pid = None
+        for path in paths:
+            a, b = sinew.load(path), importer.load(path)
+            assert np.array_equal(a.world(0, times=[0.1]), b.world(0, times=[0.1])) and a.joints.names == b.joints.names
+            pid = pid or importer.helper_pid
+            assert importer.helper_pid == pid > 0  # the BVH went to Assimp's helper, this one stayed
+        from test_batch import hanging_file
+        with pytest.raises(sinew.LimitError):
+            sinew.Importer(timeout=1.0).load(hanging_file(testdata, tmp_path))
+        os.kill(pid, signal.SIGKILL)  # gone while it waited: the next file starts another
+        assert importer.load(paths[0]).joints.names == sinew.load(paths[0]).joints.names
+        assert importer.helper_pid not in (0, pid)
+        with pytest.raises(sinew.FileError):
+            importer.load(str(tmp_path / "missing.glb"))
+    assert importer.helper_pid == 0
+    with pytest.raises(sinew.ArgumentError):
+        importer.load(paths[0])

@@ -300,6 +300,28 @@ sinew_result sinew_import_blob(const char *path, void **bytes, size_t *size, sin
     return sinew_import_blob_desc(&(sinew_import_desc){.path = path}, bytes, size, error);
 }
 
+sinew_result sinew_import_session_load(sinew_import_session *session, const char *path, sinew_model **out,
+                                       sinew_error *error)
+{
+    if (!session || !path || !out)
+        return sinew_fail(error, SINEW_ERROR_INVALID_ARGUMENT,
+                          "sinew_import_session_load: NULL session, path or output");
+    *out = NULL;
+    const sinew_import_desc *d = import_session_desc(session);
+    sinew_import_desc one = *d;
+    one.path = path;
+    /* what the session's helper does not do: .sinew files, in-process imports, Assimp's formats
+     * (the lean helper execs another program for them: one helper for that file) */
+    if (d->in_process || d->assimp || is_sinew_file(path) || strcmp(import_reader_name(path, false), "Assimp") == 0)
+        return sinew_import(&one, out, error);
+    sinew_result result = check_path(path, error);
+    if (result)
+        return result;
+    if (d->progress && !d->progress(-1.0f, d->progress_user))
+        return sinew_fail(error, SINEW_ERROR_CANCELLED, "%s: the import was cancelled", path);
+    return import_in_session(session, path, out, error);
+}
+
 sinew_result sinew_import(const sinew_import_desc *desc, sinew_model **out, sinew_error *error)
 {
     if (!desc || !desc->path || !out)

@@ -266,6 +266,9 @@ typedef struct reply_header {
 /* isolate.c: runs the import in the helper program under the desc's deadline and memory
  * limit; decodes a whole reply (a model, or the helper's error). */
 sinew_result import_in_helper(const sinew_import_desc *desc, sinew_model **out, sinew_error *error);
+/* The same in a session's helper (started, or started again, as needed); the session's desc. */
+const sinew_import_desc *import_session_desc(const sinew_import_session *session);
+sinew_result import_in_session(sinew_import_session *session, const char *path, sinew_model **out, sinew_error *error);
 sinew_result import_reply_decode(const unsigned char *bytes, size_t size, const char *path,
                                  const sinew_allocator *allocator, sinew_model **out, sinew_error *error);
 /* Which reader sinew_import() gives the file ("Assimp", "sinew's FBX reader", ...), for messages. */

@@ -21,6 +21,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/socket.h>
 #include <sys/stat.h>
 #include <sys/wait.h>
 #include <time.h>
@@ -155,20 +156,29 @@ typedef struct helper_run {
     bool killed_for_time, killed_for_memory, cancelled;
     bool (*progress)(float fraction, void *user);
     void *progress_user;
+    bool serving;     /* a session's helper: it stays after a whole reply */
+    bool header_seen; /* the reply's header arrived (reply_cap is then the whole reply's size) */
 } helper_run;
 
-static sinew_result spawn_helper(const sinew_import_desc *desc, const char *helper, helper_run *run, sinew_error *error)
+/* Starts the helper on desc->path, or (request_fd not NULL) serving the paths written to
+ * *request_fd, a socket (sends to a dead helper fail with EPIPE instead of raising SIGPIPE). */
+static sinew_result spawn_helper(const sinew_import_desc *desc, const char *helper, helper_run *run, int *request_fd,
+                                 sinew_error *error)
 {
-    int reply[2] = {-1, -1}, err[2] = {-1, -1};
-    if (pipe2(reply, O_CLOEXEC) != 0 || (desc->stderr_fd == 0 && pipe2(err, O_CLOEXEC) != 0)) {
+    int reply[2] = {-1, -1}, err[2] = {-1, -1}, request[2] = {-1, -1};
+    const char *what = request_fd ? "the import session" : desc->path;
+    if (pipe2(reply, O_CLOEXEC) != 0 || (desc->stderr_fd == 0 && pipe2(err, O_CLOEXEC) != 0) ||
+        (request_fd && socketpair(AF_UNIX, SOCK_STREAM | SOCK_CLOEXEC, 0, request) != 0)) {
         int e = errno;
         for (int i = 0; i < 2; i++) {
             if (reply[i] >= 0)
                 close(reply[i]);
             if (err[i] >= 0)
                 close(err[i]);
+            if (request[i] >= 0)
+                close(request[i]);
         }
-        return sinew_fail(error, SINEW_ERROR_IO, "%s: cannot start the import helper: %s", desc->path, strerror(e));
+        return sinew_fail(error, SINEW_ERROR_IO, "%s: cannot start the import helper: %s", what, strerror(e));
     }
     char limit[32], parent[32];
     snprintf(limit, sizeof limit, "%llu", (unsigned long long)run->memory_limit);
@@ -182,15 +192,22 @@ static sinew_result spawn_helper(const sinew_import_desc *desc, const char *help
     argv[argc++] = limit;
     argv[argc++] = (char *)"--parent";
     argv[argc++] = parent;
-    argv[argc++] = (char *)"--";
-    argv[argc++] = (char *)desc->path;
+    if (request_fd) {
+        argv[argc++] = (char *)"--serve";
+    } else {
+        argv[argc++] = (char *)"--";
+        argv[argc++] = (char *)desc->path;
+    }
     argv[argc] = NULL;
 
     posix_spawn_file_actions_t actions;
     posix_spawnattr_t attr;
     posix_spawn_file_actions_init(&actions);
     posix_spawnattr_init(&attr);
-    posix_spawn_file_actions_addopen(&actions, STDIN_FILENO, "/dev/null", O_RDONLY, 0);
+    if (request_fd)
+        posix_spawn_file_actions_adddup2(&actions, request[1], STDIN_FILENO);
+    else
+        posix_spawn_file_actions_addopen(&actions, STDIN_FILENO, "/dev/null", O_RDONLY, 0);
     posix_spawn_file_actions_adddup2(&actions, reply[1], STDOUT_FILENO);
     posix_spawn_file_actions_adddup2(&actions, err[1] >= 0 ? err[1] : desc->stderr_fd, STDERR_FILENO);
 #if defined(__GLIBC__) && (__GLIBC__ > 2 || (__GLIBC__ == 2 && __GLIBC_MINOR__ >= 34))
@@ -209,15 +226,21 @@ static sinew_result spawn_helper(const sinew_import_desc *desc, const char *help
     close(reply[1]);
     if (err[1] >= 0)
         close(err[1]);
+    if (request[1] >= 0)
+        close(request[1]);
     if (rc != 0) {
         close(reply[0]);
         if (err[0] >= 0)
             close(err[0]);
-        return sinew_fail(error, SINEW_ERROR_IO, "%s: cannot start the import helper %s: %s", desc->path, helper,
+        if (request[0] >= 0)
+            close(request[0]);
+        return sinew_fail(error, SINEW_ERROR_IO, "%s: cannot start the import helper %s: %s", what, helper,
                           strerror(rc));
     }
     run->reply_fd = reply[0];
     run->err_fd = err[0];
+    if (request_fd)
+        *request_fd = request[0];
     return SINEW_OK;
 }
 
@@ -267,6 +290,7 @@ static bool take_reply(helper_run *run, const unsigned char *bytes, size_t n)
         }
         run->reply = whole;
         run->reply_cap = sizeof h + (size_t)h.size;
+        run->header_seen = true;
     }
     return true;
 }
@@ -350,6 +374,8 @@ static void watch(helper_run *run, double deadline)
         }
         if (run->reply_too_big)
             break;
+        if (run->serving && run->header_seen && run->reply_size == run->reply_cap)
+            return; /* a whole reply: the session's helper waits for the next file */
     }
     if (run->reply_fd >= 0 || run->err_fd >= 0)
         kill(run->pid, SIGKILL);
@@ -477,6 +503,8 @@ sinew_result import_reply_decode(const unsigned char *bytes, size_t size, const 
     return sinew_fail(error, (sinew_result)reply.kind, "%s", (const char *)payload);
 }
 
+static sinew_result starved_is_limit(const helper_run *run, sinew_result result, sinew_error *error);
+
 sinew_result import_in_helper(const sinew_import_desc *desc, sinew_model **out, sinew_error *error)
 {
     char helper[PATH_MAX];
@@ -490,7 +518,7 @@ sinew_result import_in_helper(const sinew_import_desc *desc, sinew_model **out, 
                       .progress = desc->progress,
                       .progress_user = desc->progress_user};
     run.reply_limit = run.memory_limit;
-    if ((result = spawn_helper(desc, helper, &run, error)))
+    if ((result = spawn_helper(desc, helper, &run, NULL, error)))
         return result;
     double timeout = timeout_of(desc), deadline = timeout > 0.0 ? now_seconds() + timeout : 0.0;
     watch(&run, deadline);
@@ -500,8 +528,16 @@ sinew_result import_in_helper(const sinew_import_desc *desc, sinew_model **out, 
         result = helper_failed(&run, desc, status, error);
     else
         result = import_reply_decode(run.reply, run.reply_size, desc->path, desc->allocator, out, error);
-    /* A reader in the helper that gave up for want of memory (Assimp's std::bad_alloc), or
-     * came near the limit before failing, failed for the limit. */
+    result = starved_is_limit(&run, result, error);
+    free(run.reply);
+    return result;
+}
+
+/* A reader in the helper that gave up for want of memory (Assimp's std::bad_alloc), or came
+ * near the limit before failing, failed for the limit. */
+static sinew_result starved_is_limit(const helper_run *run_, sinew_result result, sinew_error *error)
+{
+    const helper_run run = *run_;
     reply_header reply = {0};
     if (run.reply_size >= sizeof reply)
         memcpy(&reply, run.reply, sizeof reply);
@@ -513,6 +549,180 @@ sinew_result import_in_helper(const sinew_import_desc *desc, sinew_model **out, 
             snprintf(said, sizeof said, "%s", error->message);
         result = memory_failure(&run, said, error);
     }
+    return result;
+}
+
+/* ---- a session: one helper for many files ----------------------------------------------------- */
+
+struct sinew_import_session {
+    sinew_import_desc desc; /* path unused; helper kept in `helper` */
+    char helper[PATH_MAX];
+    pid_t pid; /* 0: none running */
+    int request_fd, reply_fd, err_fd;
+    uint64_t memory_limit;
+    uint32_t served;
+};
+
+static void session_stop(sinew_import_session *s, bool kill_it)
+{
+    if (!s->pid)
+        return;
+    if (s->request_fd >= 0)
+        close(s->request_fd); /* end of requests: the helper exits */
+    if (kill_it)
+        kill(s->pid, SIGKILL);
+    if (s->reply_fd >= 0)
+        close(s->reply_fd);
+    if (s->err_fd >= 0)
+        close(s->err_fd);
+    helper_run run = {.pid = s->pid};
+    reap(&run, now_seconds() + 2.0);
+    s->pid = 0;
+    s->request_fd = s->reply_fd = s->err_fd = -1;
+}
+
+sinew_result sinew_import_session_create(const sinew_import_desc *desc, sinew_import_session **out, sinew_error *error)
+{
+    if (!out)
+        return sinew_fail(error, SINEW_ERROR_INVALID_ARGUMENT, "sinew_import_session_create: no output");
+    *out = NULL;
+    sinew_import_desc d = desc ? *desc : (sinew_import_desc){0};
+    d.path = NULL;
+    char helper[PATH_MAX] = "";
+    if (!d.in_process) {
+        sinew_result r = sinew_import_helper_path(&d, helper, sizeof helper, error);
+        if (r)
+            return r;
+    }
+    sinew_import_session *s = calloc(1, sizeof *s);
+    if (!s)
+        return sinew_fail(error, SINEW_ERROR_OUT_OF_MEMORY, "out of memory for an import session");
+    s->desc = d;
+    s->desc.helper = s->helper;
+    snprintf(s->helper, sizeof s->helper, "%s", helper);
+    s->memory_limit = memory_limit_of(&d);
+    s->request_fd = s->reply_fd = s->err_fd = -1;
+    *out = s;
+    return SINEW_OK;
+}
+
+void sinew_import_session_destroy(sinew_import_session *session)
+{
+    if (!session)
+        return;
+    session_stop(session, false);
+    free(session);
+}
+
+const sinew_import_desc *import_session_desc(const sinew_import_session *session)
+{
+    return &session->desc;
+}
+
+int sinew_import_session_helper_pid(const sinew_import_session *session)
+{
+    return session ? (int)session->pid : 0;
+}
+
+/* Sends the path; false when the helper is gone (it is then stopped). */
+static bool session_request(sinew_import_session *s, const char *path)
+{
+    size_t n = strlen(path);
+    uint32_t length = (uint32_t)n;
+    unsigned char head[4];
+    memcpy(head, &length, 4);
+    const unsigned char *parts[2] = {head, (const unsigned char *)path};
+    size_t sizes[2] = {4, n};
+    for (int i = 0; i < 2; i++) {
+        size_t done = 0;
+        while (done < sizes[i]) {
+            ssize_t w = send(s->request_fd, parts[i] + done, sizes[i] - done, MSG_NOSIGNAL);
+            if (w < 0 && errno == EINTR)
+                continue;
+            if (w <= 0)
+                return false;
+            done += (size_t)w;
+        }
+    }
+    return true;
+}
+
+static sinew_result session_try(sinew_import_session *s, const char *path, sinew_model **out, bool *stale,
+                                sinew_error *error);
+
+sinew_result import_in_session(sinew_import_session *s, const char *path, sinew_model **out, sinew_error *error)
+{
+    /* a helper killed from outside while it waited (with the thread that started it, or by a
+     * user) is found dead only once the file is sent: that file is tried once more, in a fresh one */
+    bool stale = false;
+    sinew_result r = session_try(s, path, out, &stale, error);
+    if (stale)
+        r = session_try(s, path, out, &stale, error);
+    return r;
+}
+
+static sinew_result session_try(sinew_import_session *s, const char *path, sinew_model **out, bool *stale,
+                                sinew_error *error)
+{
+    sinew_import_desc desc = s->desc;
+    bool waiting = s->pid != 0; /* started before this file */
+    desc.path = path;
+    if (strlen(path) >= PATH_MAX)
+        return sinew_fail(error, SINEW_ERROR_IO, "%.200s...: the path is too long", path);
+    /* a helper that died between files (killed, or with the thread that started it) is replaced */
+    if (s->pid && waitpid(s->pid, NULL, WNOHANG) == s->pid) {
+        s->pid = 0;
+        session_stop(s, false);
+    }
+    for (int attempt = 0;; attempt++) {
+        if (!s->pid) {
+            helper_run start = {.path = path, .reply_fd = -1, .err_fd = -1, .memory_limit = s->memory_limit};
+            sinew_result r = spawn_helper(&desc, s->helper, &start, &s->request_fd, error);
+            if (r)
+                return r;
+            s->pid = start.pid;
+            s->reply_fd = start.reply_fd;
+            s->err_fd = start.err_fd;
+            s->served = 0;
+        }
+        if (session_request(s, path))
+            break;
+        session_stop(s, true);
+        if (attempt > 0)
+            return sinew_fail(error, SINEW_ERROR_IMPORTER, "%s: the import helper does not take requests", path);
+    }
+    helper_run run = {.path = path,
+                      .pid = s->pid,
+                      .reply_fd = s->reply_fd,
+                      .err_fd = s->err_fd,
+                      .memory_limit = s->memory_limit,
+                      .progress = desc.progress,
+                      .progress_user = desc.progress_user,
+                      .serving = true};
+    run.reply_limit = run.memory_limit;
+    double timeout = timeout_of(&desc), deadline = timeout > 0.0 ? now_seconds() + timeout : 0.0;
+    watch(&run, deadline);
+    sinew_result result;
+    if (run.header_seen && run.reply_size == run.reply_cap && !run.reply_too_big && !run.cancelled &&
+        !run.killed_for_time && !run.killed_for_memory) {
+        result = import_reply_decode(run.reply, run.reply_size, path, desc.allocator, out, error);
+        s->served++;
+        /* memory a long-lived process keeps is memory the next file cannot have: past half the
+         * limit, the next file gets a fresh helper */
+        if (run.peak_rss > s->memory_limit / 2)
+            session_stop(s, false);
+    } else {
+        /* watch() killed it and closed its pipes, or it died: the reason, then a fresh helper next time */
+        s->reply_fd = s->err_fd = -1;
+        close(s->request_fd);
+        s->request_fd = -1;
+        int status = reap(&run, now_seconds() + 5.0);
+        s->pid = 0;
+        *stale = !*stale && waiting && run.reply_size == 0 && !run.cancelled && !run.killed_for_time &&
+                 !run.killed_for_memory && WIFSIGNALED(status) && WTERMSIG(status) == SIGKILL;
+        result = helper_failed(&run, &desc, status, error);
+    }
+    result = starved_is_limit(&run, result, error);
     free(run.reply);
     return result;
 }

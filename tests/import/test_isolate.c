@@ -271,6 +271,85 @@ static void test_bad_replies(void **state)
     assert_no_children();
 }
 
+/* ---- sessions: one helper for many files -------------------------------------------------------- */
+
+static void assert_same_model(const sinew_model *a, const sinew_model *b)
+{
+    const void *x, *y;
+    size_t nx, ny;
+    sinew_model_blob(a, &x, &nx);
+    sinew_model_blob(b, &y, &ny);
+    assert_int_equal(nx, ny);
+    assert_memory_equal(x, y, nx);
+}
+
+static void test_session_many_files_one_helper(void **state)
+{
+    (void)state;
+    const char *names[] = {"two_bone.dae", "two_bone_7500.fbx",       "two_bone_cubic.glb",
+                           "two_bone.iqm", "two_bone_6100_ascii.fbx", "no_ticks.x",
+                           "two_bone.dae"};
+    sinew_import_session *session = NULL;
+    sinew_error error = {0};
+    assert_int_equal(sinew_import_session_create(&(sinew_import_desc){.timeout = 30}, &session, &error), SINEW_OK);
+    assert_int_equal(sinew_import_session_helper_pid(session), 0);
+    int pid = 0;
+    for (size_t i = 0; i < sizeof names / sizeof names[0]; i++) {
+        char path[1024];
+        fixture_path(names[i], path, sizeof path);
+        sinew_model *a = NULL, *b = NULL;
+        assert_int_equal(sinew_import(&(sinew_import_desc){.path = path}, &a, &error), SINEW_OK);
+        if (sinew_import_session_load(session, path, &b, &error) != SINEW_OK)
+            fail_msg("%s: %s", names[i], error.message);
+        assert_same_model(a, b);
+        sinew_model_free(a);
+        sinew_model_free(b);
+        /* one helper for sinew's own formats; Assimp's (.x) go to a helper of their own */
+        if (!pid)
+            pid = sinew_import_session_helper_pid(session);
+        assert_true(pid > 0);
+        assert_int_equal(sinew_import_session_helper_pid(session), pid);
+    }
+    sinew_model *m = (sinew_model *)1;
+    assert_int_equal(sinew_import_session_load(session, "/nonexistent/x.fbx", &m, &error), SINEW_ERROR_IO);
+    assert_null(m);
+    sinew_import_session_destroy(session);
+    assert_no_children();
+}
+
+static void test_session_deadline_and_kill(void **state)
+{
+    (void)state;
+    char a[1024], b[1024];
+    fixture_path("two_bone.dae", a, sizeof a);
+    fixture_path("two_bone_7500.fbx", b, sizeof b);
+    sinew_import_session *session = NULL;
+    sinew_error error = {0};
+    assert_int_equal(sinew_import_session_create(&(sinew_import_desc){.timeout = 1.0}, &session, &error), SINEW_OK);
+    sinew_model *m = NULL;
+    assert_int_equal(sinew_import_session_load(session, a, &m, &error), SINEW_OK);
+    sinew_model_free(m);
+    /* a helper that stops answering: the file's deadline, then a fresh helper */
+    int pid = sinew_import_session_helper_pid(session);
+    kill(pid, SIGSTOP);
+    double t = now();
+    expect(sinew_import_session_load(session, b, &m, &error), SINEW_ERROR_LIMIT, &error, b, "deadline");
+    assert_true(now() - t < 10.0);
+    assert_int_equal(sinew_import_session_helper_pid(session), 0);
+    assert_int_equal(sinew_import_session_load(session, b, &m, &error), SINEW_OK);
+    sinew_model_free(m);
+    /* killed while it waited (as when the thread that started it ends): the next file still loads */
+    int second = sinew_import_session_helper_pid(session);
+    assert_true(second > 0 && second != pid);
+    kill(second, SIGKILL);
+    assert_int_equal(sinew_import_session_load(session, a, &m, &error), SINEW_OK);
+    sinew_model_free(m);
+    assert_true(sinew_import_session_helper_pid(session) != second);
+    sinew_import_session_destroy(session);
+    assert_no_children();
+    assert_int_equal(sinew_import_session_load(NULL, a, &m, &error), SINEW_ERROR_INVALID_ARGUMENT);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -280,6 +359,8 @@ int main(void)
         cmocka_unit_test(test_killed_from_outside),
         cmocka_unit_test(test_missing_helper),
         cmocka_unit_test(test_bad_replies),
+        cmocka_unit_test(test_session_many_files_one_helper),
+        cmocka_unit_test(test_session_deadline_and_kill),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
