@@ -21,6 +21,8 @@ extern app_import_options cli_import;
 extern bool cli_quiet;
 /* Prints a model's import warnings on stderr ("sinew: warning: ..."), unless --quiet. */
 void cli_print_warnings(const sinew_model *model);
+/* A note on stderr (not with --quiet) when a time lies outside the clip: what it became. */
+void cli_note_times(const sinew_clip *clip, const double *times, uint32_t count, bool loop);
 
 /* Prints "sinew: <message>" to stderr. */
 void cli_error(const char *format, ...) __attribute__((format(printf, 1, 2)));

@@ -331,6 +331,7 @@ int cmd_pose(int argc, char **argv)
     }
     if (o.time_count == 0)
         default_times(clip, &o);
+    cli_note_times(clip, o.times, o.time_count, o.loop);
     sinew_wrap wrap = o.loop ? SINEW_WRAP_LOOP : SINEW_WRAP_CLAMP;
 
     cJSON *root = NULL, *frames = NULL;

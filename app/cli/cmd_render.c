@@ -331,6 +331,7 @@ int cmd_render(int argc, char **argv)
         }
         frames = (uint32_t)count;
     }
+    cli_note_times(scene.clip, (const double[]){from, to}, from == to ? 1 : 2, a.loop);
     code = cli_scene_frame_all(&scene, from, a.track ? from : to) ? EXIT_OK : EXIT_BAD_INPUT;
     cli_video video = {.fd = -1};
     if (code == EXIT_OK && kind == OUTPUT_VIDEO) {

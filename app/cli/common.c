@@ -30,6 +30,28 @@ void cli_print_warnings(const sinew_model *model)
         fprintf(stderr, "sinew: warning: %s\n", model->warnings[i]);
 }
 
+void cli_note_times(const sinew_clip *clip, const double *times, uint32_t count, bool loop)
+{
+    if (cli_quiet || !clip || !(clip->duration >= 0.0f))
+        return;
+    uint32_t outside = 0, first = 0;
+    for (uint32_t i = 0; i < count; i++)
+        if (times[i] < 0.0 || times[i] > (double)clip->duration + 1e-6) {
+            if (outside++ == 0)
+                first = i;
+        }
+    if (!outside)
+        return;
+    double t = times[first];
+    double to = sinew_clip_time(clip, (float)t, loop ? SINEW_WRAP_LOOP : SINEW_WRAP_CLAMP);
+    char more[48] = "";
+    if (outside > 1)
+        snprintf(more, sizeof more, " (and %u more time%s)", outside - 1, outside > 2 ? "s" : "");
+    fprintf(stderr, "sinew: note: %g s lies outside clip \"%s\" (0 to %g s)%s: %s to %g s%s\n", t,
+            clip->name ? clip->name : "", (double)clip->duration, more, loop ? "wrapped" : "clamped", to,
+            loop ? "" : " (--loop wraps instead)");
+}
+
 double cli_json_float(float value)
 {
     if (fabsf(value) < 1e-12f)

@@ -113,6 +113,18 @@ int main(int argc, char **argv)
         return cmd_convert(argc - 1, argv + 1);
     if (strcmp(command, "arm") == 0)
         return cmd_arm(argc - 1, argv + 1);
-    cli_error("unknown command \"%s\" (try `sinew --help`)", command);
+    static const char *const commands[] = {"info", "pose",    "render", "bench", "muscle",
+                                           "demo", "convert", "arm",    "batch"};
+    const char *nearest = NULL;
+    int best = 3; /* two edits at most: "rendr", "poes" */
+    for (size_t i = 0; i < sizeof commands / sizeof commands[0]; i++) {
+        int d = app_edit_distance(command, commands[i]);
+        if (d < best)
+            best = d, nearest = commands[i];
+    }
+    if (nearest)
+        cli_error("unknown command \"%s\"; did you mean `sinew %s`? (`sinew --help` lists them)", command, nearest);
+    else
+        cli_error("unknown command \"%s\" (try `sinew --help`)", command);
     return EXIT_USAGE;
 }

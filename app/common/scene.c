@@ -66,8 +66,7 @@ static bool contains_nocase(const char *text, const char *part)
     return n == 0;
 }
 
-/* Edits (insert, delete, change; case ignored) from a to b; 99 for names over 63 bytes. */
-static int edit_distance(const char *a, const char *b)
+int app_edit_distance(const char *a, const char *b)
 {
     size_t n = strlen(b);
     if (n > 63 || strlen(a) > 63)
@@ -104,7 +103,8 @@ int32_t app_pick_clip(const sinew_model *model, const char *text, sinew_error *e
     int len = (int)strlen(text), best = (len / 2 > 2 ? len / 2 : 2) + 1; /* a near name: half the text at most */
     for (uint32_t i = 0; i < model->clip_count; i++) {
         const char *name = model->clips[i].name ? model->clips[i].name : "";
-        int d = len >= 3 && contains_nocase(name, text) ? 1 : edit_distance(text, name); /* "walk" in "Robot_Walking" */
+        int d =
+            len >= 3 && contains_nocase(name, text) ? 1 : app_edit_distance(text, name); /* "walk" in "Robot_Walking" */
         if (d < best)
             best = d, nearest = name, tied = false;
         else if (d == best)

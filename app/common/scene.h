@@ -182,6 +182,9 @@ void app_scene_close(app_scene *scene);
  * only), nodes that are joints. */
 uint32_t app_vertex_count(const sinew_model *model);
 uint32_t app_joint_count(const sinew_model *model);
+/* Edits (insert, delete, change; case ignored) from a to b; 99 for names over 63 bytes. */
+int app_edit_distance(const char *a, const char *b);
+
 /* The clip `text` names (sinew_model_pick_clip()); APP_CLIP_NONE for "none" (the rest pose;
  * unless a clip is named so); APP_CLIP_ERROR with "no clip ..." in the error, which lists the
  * clips by index and name and suggests the nearest name to a misspelt one. */

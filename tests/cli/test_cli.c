@@ -66,6 +66,46 @@ static void test_usage_and_help(void **state)
     r = RUN("frobnicate");
     assert_int_equal(r.code, 1);
     assert_non_null(strstr(r.err, "unknown command"));
+    assert_null(strstr(r.err, "did you mean"));
+    run_free(&r);
+    /* a misspelt command gets the nearest one */
+    r = RUN("rendr", "x.fbx");
+    assert_int_equal(r.code, 1);
+    assert_non_null(strstr(r.err, "did you mean `sinew render`"));
+    run_free(&r);
+    r = RUN("poes");
+    assert_non_null(strstr(r.err, "did you mean `sinew pose`"));
+    run_free(&r);
+}
+
+/* Times outside the clip are said to be clamped (or wrapped with --loop), not silently moved;
+ * --quiet hides the note. */
+static void test_time_outside_the_clip(void **state)
+{
+    (void)state;
+    char path[1024], png[1024];
+    fixture_path("two_bone.dae", path, sizeof path);
+    tmp_path("outside.png", png, sizeof png);
+    run_result r = RUN("pose", path, "--time", "0.5,99,120");
+    assert_int_equal(r.code, 0);
+    assert_non_null(strstr(r.err, "99 s lies outside clip"));
+    assert_non_null(strstr(r.err, "(and 1 more time): clamped to"));
+    run_free(&r);
+    r = RUN("pose", path, "--time", "0.5");
+    assert_null(strstr(r.err, "outside"));
+    run_free(&r);
+    r = RUN("render", path, "--time", "99", "--loop", "--size", "32x24", "-o", png);
+    if (r.code == 3) { /* no EGL here */
+        run_free(&r);
+        return;
+    }
+    assert_int_equal(r.code, 0);
+    assert_non_null(strstr(r.err, "99 s lies outside clip"));
+    assert_non_null(strstr(r.err, "wrapped to"));
+    run_free(&r);
+    r = RUN("render", path, "--time", "99", "--size", "32x24", "-o", png, "-q");
+    assert_int_equal(r.code, 0);
+    assert_null(strstr(r.err, "outside"));
     run_free(&r);
 }
 
@@ -695,6 +735,7 @@ int main(void)
         cmocka_unit_test(test_demo_convert_and_sinew_files),
         cmocka_unit_test(test_bench_eval_json),
         cmocka_unit_test(test_pose_blend_ik_root_motion),
+        cmocka_unit_test(test_time_outside_the_clip),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
