@@ -829,11 +829,23 @@ static gboolean on_key(GtkEventControllerKey *controller, guint key, guint code,
         on_open(NULL, v);
         return TRUE;
     }
+    if ((state & GDK_CONTROL_MASK) && (key == GDK_KEY_q || key == GDK_KEY_Q || key == GDK_KEY_w || key == GDK_KEY_W)) {
+        g_idle_add_full(G_PRIORITY_DEFAULT, close_window, v, NULL); /* as f3d and GTK apps quit */
+        return TRUE;
+    }
     if (state & (GDK_CONTROL_MASK | GDK_ALT_MASK))
         return FALSE;
     GtkWidget *focus = gtk_root_get_focus(GTK_ROOT(v->window));
     if (focus && (GTK_IS_TEXT(focus) || GTK_IS_EDITABLE(focus))) /* typing in the search box */
         return FALSE;
+    if (key == GDK_KEY_Escape && v->help && gtk_widget_get_visible(v->help)) { /* first closes the cheat sheet */
+        gtk_widget_set_visible(v->help, false);
+        return TRUE;
+    }
+    if (key == GDK_KEY_Escape && !v->ik_dragging) { /* nothing dragged, no text being edited (above) */
+        g_idle_add_full(G_PRIORITY_DEFAULT, close_window, v, NULL);
+        return TRUE;
+    }
     int action = settings_action_for_key(v, key);
     if (action < 0)
         return FALSE;
@@ -853,7 +865,8 @@ static gboolean on_key(GtkEventControllerKey *controller, guint key, guint code,
     case ACTION_PREVIOUS_FRAME:
     case ACTION_NEXT_FRAME:
         set_playing(v, false);
-        set_time(v, (floor(v->time * view_frame_rate(v) + 0.5) + (action == ACTION_NEXT_FRAME ? 1 : -1)) /
+        /* from the frame the time is in (3.034 s at 24 fps is in frame 72: on to 73, back to 71) */
+        set_time(v, (floor(v->time * view_frame_rate(v) + 1e-6) + (action == ACTION_NEXT_FRAME ? 1 : -1)) /
                         view_frame_rate(v));
         return TRUE;
     case ACTION_FIRST:

@@ -307,9 +307,10 @@ static void watch_file(viewer *v)
         g_signal_connect(v->monitor, "changed", G_CALLBACK(on_file_changed), v);
 }
 
-static const char *const FILE_EXTENSIONS[] = {".fbx",     ".gltf", ".glb", ".dae", ".sinew", ".bvh",  ".x",   ".smd",
-                                              ".md5mesh", ".iqm",  ".obj", ".3ds", ".ply",   ".ms3d", ".b3d", ".md2",
-                                              ".md3",     ".mdl",  ".lwo", ".ase", ".ac",    ".off",  ".stl", ".blend"};
+/* Without dots: app_has_extension() checks the dot itself. */
+static const char *const FILE_EXTENSIONS[] = {"fbx",     "gltf", "glb", "dae", "sinew", "bvh",  "x",   "smd",
+                                              "md5mesh", "iqm",  "obj", "3ds", "ply",   "ms3d", "b3d", "md2",
+                                              "md3",     "mdl",  "lwo", "ase", "ac",    "off",  "stl", "blend"};
 
 static bool readable_name(const char *name)
 {

@@ -4,6 +4,7 @@
  * Xvfb is not installed. Every run has its own $XDG_CONFIG_HOME under the build's scratch. */
 #include <signal.h>
 #include <stdio.h>
+#include <time.h>
 #include <stdlib.h>
 #include <string.h>
 #include <sys/stat.h>
@@ -140,6 +141,50 @@ static void compare_with_render(const char *const *view_args, const char *const 
     assert_true(differ <= (long)(IMAGE_TOLERANCE * count));
     stbi_image_free(a);
     stbi_image_free(b);
+}
+
+static double now_seconds(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return (double)ts.tv_sec + (double)ts.tv_nsec * 1e-9;
+}
+
+/* Habits: Page Down opens the next file of the folder that sinew reads; Right steps from
+ * the frame the time is in (0.52 s at 30 keys a second is in frame 15: on to 16, not 17); Escape
+ * quits (as f3d and GTK apps do). */
+static void test_next_file_frame_step_and_escape(void **state)
+{
+    (void)state;
+    if (!xvfb)
+        skip();
+    char dir[4096], a[4200], b[4200], src[1024];
+    tmp_path("view-folder", dir, sizeof dir);
+    mkdir(dir, 0700);
+    snprintf(a, sizeof a, "%s/a.dae", dir);
+    snprintf(b, sizeof b, "%s/b.glb", dir);
+    size_t n = 0;
+    unsigned char *bytes = read_file(fixture_path("two_bone.dae", src, sizeof src), &n);
+    write_file(a, bytes, n);
+    free(bytes);
+    bytes = read_file(fixture_path("twist_tube.glb", src, sizeof src), &n); /* looks unlike a.dae */
+    write_file(b, bytes, n);
+    free(bytes);
+    compare_with_render((const char *const[]){a, "--time", "0", "--press", "Page_Down", NULL},
+                        (const char *const[]){b, "--time", "0", NULL});
+
+    char dae[4096];
+    demo_file(dae, sizeof dae);
+    compare_with_render((const char *const[]){dae, "--clip", "walk", "--time", "0.52", "--press", "Right", NULL},
+                        (const char *const[]){dae, "--clip", "walk", "--time", "0.533333", NULL});
+    compare_with_render((const char *const[]){dae, "--clip", "walk", "--time", "0.52", "--press", "Left", NULL},
+                        (const char *const[]){dae, "--clip", "walk", "--time", "0.466667", NULL});
+
+    char *err = NULL;
+    double t = now_seconds();
+    assert_int_equal(run_view((const char *const[]){dae, "--press", "Escape", "--quit-after", "60", NULL}, &err), 0);
+    assert_true(now_seconds() - t < 45.0);
+    free(err);
 }
 
 static void test_screenshot_equals_headless_render(void **state)
@@ -461,6 +506,7 @@ int main(void)
         cmocka_unit_test(test_settings_round_trip),
         cmocka_unit_test(test_widgets_drawn_while_playing),
         cmocka_unit_test(test_keys),
+        cmocka_unit_test(test_next_file_frame_step_and_escape),
         cmocka_unit_test(test_anim_files),
         cmocka_unit_test(test_shape_key_slider),
     };
