@@ -40,6 +40,55 @@ void app_player_close(app_player *p)
 
 /* ---- what a model holds ---------------------------------------------------------------------- */
 
+uint32_t app_tree_order(const sinew_model *model, uint32_t *order, uint32_t *depth)
+{
+    uint32_t n = model->node_count, count = 0;
+    int32_t *first = malloc(sizeof(int32_t) * (n ? n : 1)), *next = malloc(sizeof(int32_t) * (n ? n : 1));
+    uint32_t *stack = malloc(sizeof(uint32_t) * (n ? n : 1));
+    if (!first || !next || !stack) {
+        free(first), free(next), free(stack);
+        for (uint32_t i = 0; i < n; i++)
+            order[i] = i, depth[i] = 0;
+        return n;
+    }
+    for (uint32_t i = 0; i < n; i++)
+        first[i] = next[i] = -1;
+    /* children in index order: link them from the last */
+    for (uint32_t i = n; i-- > 0;) {
+        int32_t p = model->node_parents[i];
+        if (p >= 0 && (uint32_t)p < n) {
+            next[i] = first[p];
+            first[p] = (int32_t)i;
+        }
+    }
+    uint32_t *level = depth;
+    for (uint32_t root = 0; root < n; root++) {
+        int32_t p = model->node_parents[root];
+        if (p >= 0 && (uint32_t)p < n)
+            continue;
+        uint32_t top = 0;
+        stack[top++] = root;
+        level[root] = 0;
+        while (top) {
+            uint32_t node = stack[--top];
+            order[count++] = node;
+            /* push children last to first, so that the first comes out next */
+            uint32_t mark = top;
+            for (int32_t c = first[node]; c >= 0; c = next[c]) {
+                stack[top++] = (uint32_t)c;
+                level[c] = level[node] + 1;
+            }
+            for (uint32_t a = mark, b = top; b > a + 1; a++, b--) {
+                uint32_t t = stack[a];
+                stack[a] = stack[b - 1];
+                stack[b - 1] = t;
+            }
+        }
+    }
+    free(first), free(next), free(stack);
+    return count;
+}
+
 uint32_t app_vertex_count(const sinew_model *model)
 {
     uint32_t n = 0;

@@ -182,6 +182,11 @@ void app_scene_close(app_scene *scene);
  * only), nodes that are joints. */
 uint32_t app_vertex_count(const sinew_model *model);
 uint32_t app_joint_count(const sinew_model *model);
+
+/* The nodes in tree order (each node, then its children's subtrees in index order; roots in
+ * index order), as a hierarchy panel lists them: order[0 .. node_count), depth[node] its level
+ * (roots 0). Returns how many were written (node_count). */
+uint32_t app_tree_order(const sinew_model *model, uint32_t *order, uint32_t *depth);
 /* Edits (insert, delete, change; case ignored) from a to b; 99 for names over 63 bytes. */
 int app_edit_distance(const char *a, const char *b);
 

@@ -13,14 +13,6 @@
 
 /* ---- hierarchy ---------------------------------------------------------------------------- */
 
-static int depth_of(const sinew_model *m, uint32_t node)
-{
-    int depth = 0;
-    for (int32_t p = m->node_parents[node]; p >= 0; p = m->node_parents[p])
-        depth++;
-    return depth;
-}
-
 static gboolean filter_row(GtkListBoxRow *row, gpointer data)
 {
     viewer *v = data;
@@ -92,11 +84,11 @@ static void on_heatmap(GtkCheckButton *check, gpointer data)
     panels_select(v, v->selected);
 }
 
-static void add_node_row(viewer *v, uint32_t node)
+static void add_node_row(viewer *v, uint32_t node, uint32_t depth)
 {
     const sinew_model *m = v->scene.model;
     GtkWidget *box = gtk_box_new(GTK_ORIENTATION_HORIZONTAL, 4);
-    gtk_widget_set_margin_start(box, 4 + 12 * depth_of(m, node));
+    gtk_widget_set_margin_start(box, 4 + 12 * (int)depth);
     bool joint = sinew_model_node_is_joint(m, node);
     GtkWidget *icon = gtk_label_new(joint ? "◆" : "○");
     gtk_widget_set_tooltip_text(icon, joint ? "joint" : "node");
@@ -116,7 +108,7 @@ static void add_node_row(viewer *v, uint32_t node)
         GtkWidget *check = gtk_check_button_new_with_label(m->meshes[m->instances[i].mesh].name);
         gtk_check_button_set_active(GTK_CHECK_BUTTON(check), !v->hidden[i]);
         gtk_widget_set_tooltip_text(check, "show this mesh");
-        gtk_widget_set_margin_start(check, 16 + 12 * depth_of(m, node));
+        gtk_widget_set_margin_start(check, 16 + 12 * (int)depth);
         g_object_set_data(G_OBJECT(check), "instance", GINT_TO_POINTER((int)i));
         g_signal_connect(check, "toggled", G_CALLBACK(on_hide_mesh), v);
         gtk_list_box_append(GTK_LIST_BOX(v->node_list), check);
@@ -579,8 +571,15 @@ void panels_model_changed(viewer *v)
     GtkWidget *child;
     while ((child = gtk_widget_get_first_child(v->node_list)) != NULL)
         gtk_list_box_remove(GTK_LIST_BOX(v->node_list), child);
-    for (uint32_t n = 0; n < v->scene.model->node_count; n++)
-        add_node_row(v, n);
+    /* in tree order: a node added after its siblings' subtrees (the demo's Staff, under Hand.R)
+     * sits under its parent, not after the last row */
+    uint32_t count = v->scene.model->node_count;
+    uint32_t *order = g_new(uint32_t, count ? count : 1), *depth = g_new(uint32_t, count ? count : 1);
+    count = app_tree_order(v->scene.model, order, depth);
+    for (uint32_t i = 0; i < count; i++)
+        add_node_row(v, order[i], depth[order[i]]);
+    g_free(order);
+    g_free(depth);
     v->updating = false;
     v->selected = -1;
     panels_select(v, -1);
