@@ -21,6 +21,18 @@ extern app_import_options cli_import;
 extern bool cli_quiet;
 /* Prints a model's import warnings on stderr ("sinew: warning: ..."), unless --quiet. */
 void cli_print_warnings(const sinew_model *model);
+/* A progress line on stderr while long work runs (frames done, rate, time left), only on a
+ * terminal and without --quiet; cleared at the end. */
+typedef struct cli_progress {
+    const char *what;
+    uint32_t total;
+    bool live;
+    double started, shown;
+} cli_progress;
+void cli_progress_start(cli_progress *p, const char *what, uint32_t total);
+void cli_progress_update(cli_progress *p, uint32_t done);
+void cli_progress_end(cli_progress *p);
+
 /* A note on stderr (not with --quiet) when a time lies outside the clip: what it became. */
 void cli_note_times(const sinew_clip *clip, const double *times, uint32_t count, bool loop);
 

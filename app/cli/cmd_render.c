@@ -340,7 +340,10 @@ int cmd_render(int argc, char **argv)
             code = video.unavailable ? EXIT_UNAVAILABLE : video.write_failed ? EXIT_OUTPUT : EXIT_BAD_INPUT;
     }
     float yaw0 = scene.camera.yaw;
+    cli_progress progress;
+    cli_progress_start(&progress, a.out, frames);
     for (uint32_t f = 0; f < frames && code == EXIT_OK; f++) {
+        cli_progress_update(&progress, f);
         double t = from + step * f;
         if (a.turntable != 0.0) /* a whole turn over the sequence ends where it started: the last frame stops short */
             scene.camera.yaw = yaw0 + (float)(a.turntable * 3.14159265358979 / 180.0 * f / (frames > 1 ? frames : 1));
@@ -366,6 +369,7 @@ int cmd_render(int argc, char **argv)
             code = EXIT_OUTPUT;
         }
     }
+    cli_progress_end(&progress);
     if (kind == OUTPUT_VIDEO && video.pid > 0 && !cli_video_close(&video, code == EXIT_OK) && code == EXIT_OK)
         code = EXIT_OUTPUT;
     if (code == EXIT_OK)

@@ -30,6 +30,44 @@ void cli_print_warnings(const sinew_model *model)
         fprintf(stderr, "sinew: warning: %s\n", model->warnings[i]);
 }
 
+void cli_progress_start(cli_progress *p, const char *what, uint32_t total)
+{
+    memset(p, 0, sizeof *p);
+    p->what = what;
+    p->total = total;
+    p->live = total > 1 && !cli_quiet && isatty(STDERR_FILENO);
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    p->started = (double)ts.tv_sec + (double)ts.tv_nsec * 1e-9;
+}
+
+void cli_progress_update(cli_progress *p, uint32_t done)
+{
+    if (!p->live)
+        return;
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    double now = (double)ts.tv_sec + (double)ts.tv_nsec * 1e-9;
+    if (done < p->total && now - p->shown < 0.1)
+        return;
+    p->shown = now;
+    double rate = done / (now - p->started > 1e-6 ? now - p->started : 1e-6);
+    double left = rate > 0.0 ? (p->total - done) / rate : 0.0;
+    if (done == 0)
+        fprintf(stderr, "\r%s: 0/%u frames   ", p->what, p->total);
+    else
+        fprintf(stderr, "\r%s: %u/%u frames, %.1f a second, %d:%02d left   ", p->what, done, p->total, rate,
+                (int)left / 60, (int)left % 60);
+    fflush(stderr);
+}
+
+void cli_progress_end(cli_progress *p)
+{
+    if (p->live && p->shown > 0.0)
+        fputs("\r\033[K", stderr); /* the line goes: the summary follows on stdout */
+    p->live = false;
+}
+
 void cli_note_times(const sinew_clip *clip, const double *times, uint32_t count, bool loop)
 {
     if (cli_quiet || !clip || !(clip->duration >= 0.0f))

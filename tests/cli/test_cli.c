@@ -78,6 +78,36 @@ static void test_usage_and_help(void **state)
     run_free(&r);
 }
 
+/* A render of many frames shows its progress on a terminal (script(1) gives it one), and
+ * nothing of it when stderr is a file. */
+static void test_render_progress_on_a_terminal(void **state)
+{
+    (void)state;
+    char path[1024], out[1024], command[4096];
+    fixture_path("two_bone.dae", path, sizeof path);
+    tmp_path("progress_%03d.png", out, sizeof out);
+    if (system("command -v script >/dev/null 2>&1") != 0)
+        skip();
+    snprintf(command, sizeof command,
+             "script -qec '%s render %s --from 0 --to 2 --fps 30 --size 64x48 -o %s' /dev/null", getenv("SINEW_EXE"),
+             path, out);
+    FILE *f = popen(command, "r");
+    assert_non_null(f);
+    char text[8192] = "";
+    size_t n = fread(text, 1, sizeof text - 1, f);
+    text[n] = '\0';
+    int status = pclose(f);
+    if (strstr(text, "EGL") && status != 0) /* no OpenGL here */
+        skip();
+    assert_int_equal(status, 0);
+    assert_non_null(strstr(text, "/61 frames"));
+    assert_non_null(strstr(text, "61 frames 64x48")); /* the summary after the line is cleared */
+    run_result r = RUN("render", path, "--from", "0", "--to", "2", "--fps", "30", "--size", "64x48", "-o", out);
+    assert_int_equal(r.code, 0);
+    assert_null(strstr(r.err, "/61 frames"));
+    run_free(&r);
+}
+
 /* Times outside the clip are said to be clamped (or wrapped with --loop), not silently moved;
  * --quiet hides the note. */
 static void test_time_outside_the_clip(void **state)
@@ -736,6 +766,7 @@ int main(void)
         cmocka_unit_test(test_bench_eval_json),
         cmocka_unit_test(test_pose_blend_ik_root_motion),
         cmocka_unit_test(test_time_outside_the_clip),
+        cmocka_unit_test(test_render_progress_on_a_terminal),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
