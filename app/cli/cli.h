@@ -74,8 +74,9 @@ typedef struct cli_scene_desc {
     const app_pose_spec *ops;    /* --blend, --additive, --crossfade, --ik, --root-motion; NULL: none */
     uint32_t gpu_joint_limit;
     sinew_render_options options;
-    uint32_t crowd;   /* > 0: that many characters on a grid (app_crowd), each at its own time and clip */
-    uint32_t threads; /* the crowd's job system: 0 = the cores this process may use */
+    uint32_t crowd;                 /* > 0: that many characters on a grid (app_crowd), each at its own time and clip */
+    uint32_t threads;               /* the crowd's job system: 0 = the cores this process may use */
+    app_camera_placement placement; /* --camera-position, --camera-focal-point, --fov */
 } cli_scene_desc;
 
 typedef struct cli_scene {
@@ -86,7 +87,8 @@ typedef struct cli_scene {
     sinew_renderer *renderer;
     sinew_camera camera;
     bool frame_all; /* the camera spec left the distance to framing */
-    bool tracking;  /* track_centre holds the last tracked centre */
+    app_camera_placement placement;
+    bool tracking; /* track_centre holds the last tracked centre */
     float track_centre[3];
     sinew_render_options frame_options;
     sinew_wrap wrap;

@@ -28,6 +28,9 @@ static const char render_usage[] =
     "                      along an axis: front, back, left, right (side), top, bottom\n"
     "                      (default orbit:30,15: framed on the posed model over the frames drawn)\n"
     "  --ortho             orthographic (parallel) projection, framed as the perspective view\n"
+    "  --camera-position X,Y,Z     the eye, in world metres (as f3d's); the camera looks at the focal point\n"
+    "  --camera-focal-point X,Y,Z  the point looked at and orbited (default: the framed centre)\n"
+    "  --fov DEG           vertical field of view (default 45; framing fits the model to it)\n"
     "  --up y|z            which of the file's axes is up (default y; z for files modelled Z up that do not say so)\n"
     "  --anim OTHER [--name-map M.json]  OTHER's clips retargeted onto FILE's skeleton (first in its clip list)\n"
     "  --blend C:W,C:W --additive C:W --crossfade A,B,T --ik JOINT:X,Y,Z --root-motion --morph MESH:TARGET=W\n"
@@ -68,6 +71,7 @@ static const char render_usage_crowds[] =
 
 typedef struct render_args {
     const char *path, *clip, *out, *camera, *select, *heatmap, *muscles, *up, *anim, *name_map;
+    app_camera_placement placement;
     int width, height, samples;
     double time, from, to, fps, turntable;
     bool from_set, to_set, fps_set, loop, skeleton_set, track, orthographic;
@@ -113,7 +117,18 @@ static int parse_value_option(int argc, char **argv, int i, render_args *a, bool
         a->out = v;
     else if (strcmp(o, "--camera") == 0)
         a->camera = v;
-    else if (strcmp(o, "--anim") == 0)
+    else if (strcmp(o, "--camera-position") == 0 || strcmp(o, "--camera-focal-point") == 0 || strcmp(o, "--fov") == 0) {
+        sinew_error error = {0};
+        sinew_result r = strcmp(o, "--fov") == 0               ? app_parse_fov(v, &a->placement.fov, &error)
+                         : strcmp(o, "--camera-position") == 0 ? app_parse_point(o, v, a->placement.position, &error)
+                                                               : app_parse_point(o, v, a->placement.focal, &error);
+        if (r != SINEW_OK) {
+            cli_error("render: %s", error.message);
+            *bad = true;
+        }
+        a->placement.has_position |= strcmp(o, "--camera-position") == 0;
+        a->placement.has_focal |= strcmp(o, "--camera-focal-point") == 0;
+    } else if (strcmp(o, "--anim") == 0)
         a->anim = v;
     else if (strcmp(o, "--name-map") == 0)
         a->name_map = v;
@@ -281,6 +296,7 @@ int cmd_render(int argc, char **argv)
                            .height = a.height,
                            .samples = a.samples,
                            .camera = a.camera,
+                           .placement = a.placement,
                            .select = a.select,
                            .heatmap = a.heatmap,
                            .loop = a.loop,

@@ -95,6 +95,9 @@ int cli_scene_open(cli_scene *s, const cli_scene_desc *d)
     s->frame_all = true;
     sinew_error error = {0};
     s->camera.orthographic = d->orthographic;
+    s->placement = d->placement;
+    if (d->placement.fov > 0.0)
+        s->camera.fov_y = (float)(d->placement.fov * M_PI / 180.0);
     if (d->camera && app_camera_parse(d->camera, &s->camera, &s->frame_all, &error) != SINEW_OK) {
         cli_error("%s", error.message);
         if (d->model)
@@ -171,6 +174,7 @@ bool cli_scene_frame_all(cli_scene *s, double from, double to)
         else
             s->camera.distance = keep.distance;
     }
+    app_camera_place(&s->camera, &s->placement);
     return true;
 }
 

@@ -102,6 +102,20 @@ void app_player_close(app_player *p);
  * angles. A malformed text gives SINEW_ERROR_INVALID_ARGUMENT saying what was expected. */
 sinew_result app_camera_parse(const char *text, sinew_camera *camera, bool *frame_all, sinew_error *error);
 
+/* f3d's camera placement: --camera-position X,Y,Z and --camera-focal-point X,Y,Z (world
+ * metres) and --fov DEGREES (vertical, 1..170). app_camera_place() applies them after framing:
+ * the focal point becomes the orbit target (else the framed centre stays), the position the eye
+ * (else the framed distance and angles stay). */
+typedef struct app_camera_placement {
+    bool has_position, has_focal;
+    float position[3], focal[3];
+    double fov; /* degrees; 0: the camera's own (45) */
+} app_camera_placement;
+/* Parses "X,Y,Z" into out; SINEW_ERROR_INVALID_ARGUMENT naming `option` otherwise. */
+sinew_result app_parse_point(const char *option, const char *text, float out[3], sinew_error *error);
+sinew_result app_parse_fov(const char *text, double *out, sinew_error *error);
+void app_camera_place(sinew_camera *camera, const app_camera_placement *placement);
+
 /* Reads one display option from a command line at argv[i] (what `sinew render` and
  * `sinew-view` accept): --NAME, --no-NAME or --NAME on|off for a switch (--bones is
  * --skeleton), --NAME VALUE for the others (sinew_render_option_set() names). Returns the

@@ -99,3 +99,48 @@ int app_render_option_parse(sinew_render_options *options, int argc, char *const
     }
     return 0;
 }
+
+sinew_result app_parse_point(const char *option, const char *text, float out[3], sinew_error *error)
+{
+    double v[3];
+    if (!text || !parse_numbers(text, v, 3))
+        return sinew_fail(error, SINEW_ERROR_INVALID_ARGUMENT, "%s \"%s\": expected X,Y,Z (metres)", option,
+                          text ? text : "");
+    for (int i = 0; i < 3; i++)
+        out[i] = (float)v[i];
+    return SINEW_OK;
+}
+
+sinew_result app_parse_fov(const char *text, double *out, sinew_error *error)
+{
+    char *end = NULL;
+    double v = text ? strtod(text, &end) : NAN;
+    if (!text || end == text || *end != '\0' || !(v >= 1.0 && v <= 170.0))
+        return sinew_fail(error, SINEW_ERROR_INVALID_ARGUMENT, "--fov \"%s\": expected degrees from 1 to 170",
+                          text ? text : "");
+    *out = v;
+    return SINEW_OK;
+}
+
+void app_camera_place(sinew_camera *camera, const app_camera_placement *p)
+{
+    if (!p || (!p->has_position && !p->has_focal))
+        return;
+    sinew_camera_set_mode(camera, SINEW_CAMERA_ORBIT);
+    if (p->has_focal)
+        memcpy(camera->target, p->focal, sizeof camera->target);
+    if (!p->has_position)
+        return;
+    float d[3] = {camera->target[0] - p->position[0], camera->target[1] - p->position[1],
+                  camera->target[2] - p->position[2]};
+    float length = sqrtf(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
+    if (length < 1e-6f) /* the eye on the focal point: looking along -z from there */
+        d[2] = -1.0f, length = 1.0f;
+    for (int i = 0; i < 3; i++)
+        d[i] /= length;
+    /* forward = (-sin yaw cos pitch, -sin pitch, -cos yaw cos pitch) (sinew/camera.h) */
+    camera->pitch = 0.0f;
+    camera->yaw = atan2f(-d[0], -d[2]);
+    sinew_camera_rotate(camera, 0.0f, asinf(fmaxf(-1.0f, fminf(1.0f, -d[1]))));
+    camera->distance = length;
+}

@@ -392,6 +392,10 @@ static void frame_all(viewer *v)
     } else if (v->keep_now == CAMERA_KEEP_GIVEN) {
         v->camera.distance = keep.distance;
     }
+    if (v->placement_pending && v->keep_now != CAMERA_KEEP_ALL) {
+        app_camera_place(&v->camera, &v->placement);
+        v->placement_pending = false;
+    }
     v->keep_now = CAMERA_FRAME; /* the next framing (F, a crowd) frames all */
 }
 
@@ -1362,6 +1366,9 @@ static const char usage[] =
     "  --screenshot-dir DIR  where F12 writes FILE-001.png, ... and F9 records FILE-001.mp4, ... (default: the\n"
     "                        Pictures and Videos folders, else home)\n"
     "  --press KEYS          presses keys (GDK names, comma-separated: h,KP_1,F12) once FILE is open\n"
+    "  --camera-position X,Y,Z, --camera-focal-point X,Y,Z\n"
+    "                        the eye and the point it looks at and orbits (world metres, as f3d's)\n"
+    "  --fov DEG             vertical field of view (default 45)\n"
     "  --quit                leaves after the screenshot\n"
     "  --quit-after S        leaves S seconds after the window opens (playing meanwhile)\n" APP_IMPORT_OPTIONS_HELP
     "exit status (as sinew's): 0 ok, 1 usage error, 2 FILE failed to open (with --screenshot), 3 no OpenGL 3.3,\n"
@@ -1473,6 +1480,22 @@ int main(int argc, char **argv)
                     fprintf(stderr, "sinew-view: bad --size \"%s\": expected WIDTHxHEIGHT, each 64..16384\n", value);
                     return 1;
                 }
+            } else if (strcmp(o, "--camera-position") == 0 || strcmp(o, "--camera-focal-point") == 0 ||
+                       strcmp(o, "--fov") == 0) {
+                bool position = strcmp(o, "--camera-position") == 0, fov = strcmp(o, "--fov") == 0;
+                sinew_result r = fov        ? app_parse_fov(value, &v.placement.fov, &error)
+                                 : position ? app_parse_point(o, value, v.placement.position, &error)
+                                            : app_parse_point(o, value, v.placement.focal, &error);
+                if (r != SINEW_OK) {
+                    fprintf(stderr, "sinew-view: %s\n", error.message);
+                    return 1;
+                }
+                if (fov)
+                    v.camera.fov_y = (float)(v.placement.fov * M_PI / 180.0);
+                else
+                    v.placement_pending = true;
+                v.placement.has_position |= position;
+                v.placement.has_focal |= !position && !fov;
             } else if (strcmp(o, "--camera") == 0) {
                 if (app_camera_parse(value, &v.camera, &frame, &error) != SINEW_OK) {
                     fprintf(stderr, "sinew-view: %s\n", error.message);

@@ -89,6 +89,8 @@ typedef struct viewer {
      * (a fly camera's position, an orbit's distance; as `sinew render`); CAMERA_KEEP_ALL, the
      * whole view (a reload). camera_keep is for the file being opened, keep_now for the one shown. */
     enum { CAMERA_FRAME, CAMERA_KEEP_GIVEN, CAMERA_KEEP_ALL } camera_keep, keep_now;
+    app_camera_placement placement; /* --camera-position, --camera-focal-point: at the first framing */
+    bool placement_pending;
     app_scene scene; /* the model shown, its clip, muscles and pose */
     sinew_renderer *renderer;
     /* the crowd toggle (key C, --crowd N): crowd_size characters of the scene's model */

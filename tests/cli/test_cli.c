@@ -7,6 +7,7 @@
 #include <unistd.h>
 
 #include <cjson/cJSON.h>
+#include <stb_image.h>
 
 #include "helpers.h"
 
@@ -75,6 +76,63 @@ static void test_usage_and_help(void **state)
     run_free(&r);
     r = RUN("poes");
     assert_non_null(strstr(r.err, "did you mean `sinew pose`"));
+    run_free(&r);
+}
+
+/* f3d's camera placement: --camera-position and --camera-focal-point draw what the fly camera at
+ * that eye, turned to face the point, draws (0 pixels differ); --fov changes the picture; bad
+ * values are usage errors. */
+static void test_camera_position_focal_point_fov(void **state)
+{
+    (void)state;
+    char path[1024], a[1024], b[1024], c[1024];
+    fixture_path("two_bone.dae", path, sizeof path);
+    tmp_path("placed.png", a, sizeof a);
+    tmp_path("fly.png", b, sizeof b);
+    tmp_path("fov.png", c, sizeof c);
+    run_result r = RUN("render", path, "--camera-position", "0.5,1.5,4", "--camera-focal-point", "0,1,0", "--no-grid",
+                       "--size", "160x120", "--samples", "1", "-o", a);
+    if (r.code == 3) { /* no EGL here */
+        run_free(&r);
+        skip();
+    }
+    assert_int_equal(r.code, 0);
+    run_free(&r);
+    /* the eye's yaw and pitch towards the point: atan2(0.5, 4) and asin(0.5 / |(-0.5,-0.5,-4)|) */
+    r = RUN("render", path, "--camera", "fly:0.5,1.5,4,7.125016,7.070555", "--no-grid", "--size", "160x120",
+            "--samples", "1", "-o", b);
+    assert_int_equal(r.code, 0);
+    run_free(&r);
+    r = RUN("render", path, "--camera-position", "0.5,1.5,4", "--camera-focal-point", "0,1,0", "--no-grid", "--fov",
+            "20", "--size", "160x120", "--samples", "1", "-o", c);
+    assert_int_equal(r.code, 0);
+    run_free(&r);
+    int w, h, n;
+    unsigned char *pa = stbi_load(a, &w, &h, &n, 3), *pb = stbi_load(b, &w, &h, &n, 3),
+                  *pc = stbi_load(c, &w, &h, &n, 3);
+    assert_true(pa && pb && pc);
+    long same = 0, changed = 0;
+    for (long i = 0; i < (long)w * h; i++) {
+        int d = 0, e = 0;
+        for (int k = 0; k < 3; k++) {
+            d = abs(pa[i * 3 + k] - pb[i * 3 + k]) > d ? abs(pa[i * 3 + k] - pb[i * 3 + k]) : d;
+            e = abs(pa[i * 3 + k] - pc[i * 3 + k]) > e ? abs(pa[i * 3 + k] - pc[i * 3 + k]) : e;
+        }
+        same += d > 32;
+        changed += e > 32;
+    }
+    assert_true(same <= (long)w * h / 200);
+    assert_true(changed > (long)w * h / 50); /* a narrower view: the model larger */
+    stbi_image_free(pa);
+    stbi_image_free(pb);
+    stbi_image_free(pc);
+    r = RUN("render", path, "--fov", "500", "-o", a);
+    assert_int_equal(r.code, 1);
+    assert_non_null(strstr(r.err, "--fov"));
+    run_free(&r);
+    r = RUN("render", path, "--camera-focal-point", "1,2", "-o", a);
+    assert_int_equal(r.code, 1);
+    assert_non_null(strstr(r.err, "expected X,Y,Z"));
     run_free(&r);
 }
 
@@ -767,6 +825,7 @@ int main(void)
         cmocka_unit_test(test_pose_blend_ik_root_motion),
         cmocka_unit_test(test_time_outside_the_clip),
         cmocka_unit_test(test_render_progress_on_a_terminal),
+        cmocka_unit_test(test_camera_position_focal_point_fov),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

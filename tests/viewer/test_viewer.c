@@ -180,6 +180,13 @@ static void test_next_file_frame_step_and_escape(void **state)
     compare_with_render((const char *const[]){dae, "--clip", "walk", "--time", "0.52", "--press", "Left", NULL},
                         (const char *const[]){dae, "--clip", "walk", "--time", "0.466667", NULL});
 
+    /* f3d's camera placement, as `sinew render` takes it (a model without muscles, which the
+     * viewer would show and render would not) */
+    compare_with_render((const char *const[]){b, "--time", "0.5", "--camera-position", "1,1.5,3",
+                                              "--camera-focal-point", "0,1,0", "--fov", "30", NULL},
+                        (const char *const[]){b, "--time", "0.5", "--camera-position", "1,1.5,3",
+                                              "--camera-focal-point", "0,1,0", "--fov", "30", NULL});
+
     char *err = NULL;
     double t = now_seconds();
     assert_int_equal(run_view((const char *const[]){dae, "--press", "Escape", "--quit-after", "60", NULL}, &err), 0);
