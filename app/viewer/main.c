@@ -1382,6 +1382,7 @@ int main(int argc, char **argv)
                 .direction = 1,
                 .selected = -1,
                 .start_time = NAN,
+                .reload_clip = -2,
                 .crowd_size = 100};
     settings_defaults(&v);
     settings_load(&v);

@@ -194,6 +194,58 @@ static void test_next_file_frame_step_and_escape(void **state)
     free(err);
 }
 
+/* --watch: a new version of the file without the shown clip's name opens at the clip in the same
+ * place (or the first), with a note, instead of being refused. The file changes every 3 s between
+ * a version whose clip is "bend" and one whose clip is "flex", so that a change from the first to
+ * the second happens while the viewer watches, however long it takes to start. */
+static void test_watch_keeps_going_when_the_clip_is_renamed(void **state)
+{
+    (void)state;
+    if (!xvfb)
+        skip();
+    char src[1024], path[4096], next[4200], errfile[4096];
+    size_t n = 0;
+    char *bend = (char *)read_file(fixture_path("two_bone.dae", src, sizeof src), &n);
+    char *flex = malloc(n + 1);
+    memcpy(flex, bend, n);
+    flex[n] = '\0';
+    char *id = strstr(flex, "id=\"bend\"");
+    assert_non_null(id);
+    memcpy(id, "id=\"flex\"", 9);
+    tmp_path("view-watch.dae", path, sizeof path);
+    snprintf(next, sizeof next, "%s.new", path);
+    write_file(path, bend, n);
+    tmp_path("view-watch.err", errfile, sizeof errfile);
+    pid_t pid = fork();
+    if (pid == 0) {
+        setenv("DISPLAY", display, 1);
+        char config[4096];
+        setenv("XDG_CONFIG_HOME", tmp_path("view-config", config, sizeof config), 1);
+        if (gsk_renderer)
+            setenv("GSK_RENDERER", gsk_renderer, 1);
+        setenv("ASAN_OPTIONS", "detect_leaks=0:abort_on_error=1", 1);
+        freopen(errfile, "w", stderr);
+        execl(getenv("SINEW_VIEW"), getenv("SINEW_VIEW"), path, "--watch", "--quit-after", "16", (char *)NULL);
+        _exit(127);
+    }
+    for (int i = 1; i <= 4; i++) {
+        sleep(3);
+        write_file(next, i % 2 ? flex : bend, n); /* replaced by rename, as editors and exporters do */
+        rename(next, path);
+    }
+    int status = 0;
+    waitpid(pid, &status, 0);
+    size_t size = 0;
+    char *err = (char *)read_file(errfile, &size);
+    assert_true(WIFEXITED(status) && WEXITSTATUS(status) == 0);
+    if (!strstr(err, "has no clip \"bend\" now; showing flex"))
+        fail_msg("no note of the renamed clip; stderr: %s", err);
+    assert_null(strstr(err, "the clips:")); /* the refusal's text */
+    free(err);
+    free(flex);
+    free(bend);
+}
+
 static void test_screenshot_equals_headless_render(void **state)
 {
     (void)state;
@@ -514,6 +566,7 @@ int main(void)
         cmocka_unit_test(test_widgets_drawn_while_playing),
         cmocka_unit_test(test_keys),
         cmocka_unit_test(test_next_file_frame_step_and_escape),
+        cmocka_unit_test(test_watch_keeps_going_when_the_clip_is_renamed),
         cmocka_unit_test(test_anim_files),
         cmocka_unit_test(test_shape_key_slider),
     };
