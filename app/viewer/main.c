@@ -76,7 +76,7 @@ void view_recent_changed(viewer *v)
 static void on_open_recent(GSimpleAction *action, GVariant *parameter, gpointer data)
 {
     (void)action;
-    view_open_file(data, g_variant_get_string(parameter, NULL), NULL);
+    view_open_other(data, g_variant_get_string(parameter, NULL));
 }
 
 /* ---- timeline ------------------------------------------------------------------------------ */
@@ -194,6 +194,11 @@ static void set_playing(viewer *v, bool playing)
     v->last_frame = 0;
     gtk_button_set_icon_name(GTK_BUTTON(v->play_button),
                              playing ? "media-playback-pause-symbolic" : "media-playback-start-symbolic");
+}
+
+void view_set_playing(viewer *v, bool playing)
+{
+    set_playing(v, playing);
 }
 
 /* Advances the clock by dt seconds of wall time. */
@@ -651,7 +656,7 @@ static void open_neighbour(viewer *v, int step)
 {
     char *next = v->path ? view_neighbour_file(v->path, step) : NULL;
     if (next)
-        view_open_file(v, next, NULL);
+        view_open_other(v, next);
     else
         panels_log(v, v->path ? "no other file sinew reads in this folder" : "no file open (the demo is built in)");
     g_free(next);
@@ -1058,7 +1063,7 @@ static gboolean on_drop(GtkDropTarget *target, const GValue *value, double x, do
         return FALSE;
     char *path = g_file_get_path(g_value_get_object(value));
     if (path)
-        view_open_file(v, path, NULL);
+        view_open_other(v, path);
     g_free(path);
     return path != NULL;
 }
@@ -1070,7 +1075,7 @@ static void on_open_response(GtkNativeDialog *dialog, int response, gpointer dat
         GFile *file = gtk_file_chooser_get_file(GTK_FILE_CHOOSER(dialog));
         char *path = file ? g_file_get_path(file) : NULL;
         if (path)
-            view_open_file(v, path, NULL);
+            view_open_other(v, path);
         g_free(path);
         if (file)
             g_object_unref(file);

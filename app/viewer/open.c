@@ -416,12 +416,25 @@ static gboolean load_finished(gpointer data)
     if (opened && !isnan(v->start_time)) /* --time: against the file's clip, not the demo's */
         v->time = v->start_time;
     v->start_time = NAN;
+    /* a --screenshot run shows the moment asked for, still */
+    if (opened && v->play_after_open && !v->screenshot && !v->window_shot)
+        view_set_playing(v, true);
+    v->play_after_open = false;
     if (v->time > view_duration(v))
         v->time = view_duration(v);
     view_show_time(v);
     view_redraw(v);
     load_free(l);
     return G_SOURCE_REMOVE;
+}
+
+void view_open_other(viewer *v, const char *path)
+{
+    /* another file, as f3d and Blender open one: from its start, playing, framed on its own */
+    v->start_time = 0.0;
+    v->camera_keep = CAMERA_FRAME;
+    v->play_after_open = true;
+    view_open_file(v, path, NULL);
 }
 
 void view_open_file(viewer *v, const char *path, const char *clip_name)

@@ -91,8 +91,9 @@ typedef struct viewer {
     enum { CAMERA_FRAME, CAMERA_KEEP_GIVEN, CAMERA_KEEP_ALL } camera_keep, keep_now;
     app_camera_placement placement; /* --camera-position, --camera-focal-point: at the first framing */
     bool placement_pending;
-    int32_t reload_clip; /* --watch: the shown clip's index for the reload being started, else -2 */
-    app_scene scene;     /* the model shown, its clip, muscles and pose */
+    int32_t reload_clip;  /* --watch: the shown clip's index for the reload being started, else -2 */
+    bool play_after_open; /* another file opened by hand: it plays once open */
+    app_scene scene;      /* the model shown, its clip, muscles and pose */
     sinew_renderer *renderer;
     /* the crowd toggle (key C, --crowd N): crowd_size characters of the scene's model */
     uint32_t crowd_size;
@@ -156,10 +157,14 @@ bool view_use_clip(viewer *v, int32_t index);
 bool view_make_renderer(viewer *v, const app_scene *scene, sinew_renderer **out);
 /* Opens a built-in model (APP_BUILTIN_DEMO) at once; the error shows on failure. */
 bool view_open_now(viewer *v, const char *path, const char *clip_name, bool anim);
+typedef struct view_load view_load;
 /* Opens a file on a worker thread (the scene stays until the new one is ready; a failure
  * shows its error); a newer open supersedes one under way. */
-typedef struct view_load view_load;
 void view_open_file(viewer *v, const char *path, const char *clip_name);
+/* Opens another file by hand (the dialog, a drop, Page Up/Down, Recent): from time 0, playing,
+ * framed on its own, as f3d and Blender do. */
+void view_open_other(viewer *v, const char *path);
+void view_set_playing(viewer *v, bool playing);
 /* Asks the open under way to stop; `wait`: also waits for its thread and drops it (leaving). */
 void view_cancel_open(viewer *v, bool wait);
 /* The file beside the current one (by name, formats sinew reads), `step` +1 or -1, wrapping; NULL when none. */

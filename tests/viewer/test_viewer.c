@@ -150,7 +150,8 @@ static double now_seconds(void)
     return (double)ts.tv_sec + (double)ts.tv_nsec * 1e-9;
 }
 
-/* Habits: Page Down opens the next file of the folder that sinew reads; Right steps from
+/* Habits: Page Down opens the next file of the folder that sinew reads, at its start and framed on
+ * its own; Right steps from
  * the frame the time is in (0.52 s at 30 keys a second is in frame 15: on to 16, not 17); Escape
  * quits (as f3d and GTK apps do). */
 static void test_next_file_frame_step_and_escape(void **state)
@@ -170,8 +171,10 @@ static void test_next_file_frame_step_and_escape(void **state)
     bytes = read_file(fixture_path("twist_tube.glb", src, sizeof src), &n); /* looks unlike a.dae */
     write_file(b, bytes, n);
     free(bytes);
-    compare_with_render((const char *const[]){a, "--time", "0", "--press", "Page_Down", NULL},
-                        (const char *const[]){b, "--time", "0", NULL});
+    /* ... from its start and framed on its own (not at the old file's paused time and orbit) */
+    compare_with_render(
+        (const char *const[]){a, "--time", "0.7", "--camera", "orbit:60,20,9", "--press", "Page_Down", NULL},
+        (const char *const[]){b, "--time", "0", "--camera", "orbit:60,20", NULL});
 
     char dae[4096];
     demo_file(dae, sizeof dae);
