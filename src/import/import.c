@@ -312,7 +312,8 @@ sinew_result sinew_import_session_load(sinew_import_session *session, const char
     one.path = path;
     /* what the session's helper does not do: .sinew files, in-process imports, Assimp's formats
      * (the lean helper execs another program for them: one helper for that file) */
-    if (d->in_process || d->assimp || is_sinew_file(path) || strcmp(import_reader_name(path, false), "Assimp") == 0)
+    reader_choice choice = choose_reader(path, false);
+    if (d->in_process || d->assimp || is_sinew_file(path) || (!choice.read && !choice.refusal))
         return sinew_import(&one, out, error);
     sinew_result result = check_path(path, error);
     if (result)

@@ -503,7 +503,23 @@ sinew_result import_reply_decode(const unsigned char *bytes, size_t size, const 
     return sinew_fail(error, (sinew_result)reply.kind, "%s", (const char *)payload);
 }
 
-static sinew_result starved_is_limit(const helper_run *run, sinew_result result, sinew_error *error);
+/* A reader in the helper that gave up for want of memory (Assimp's std::bad_alloc), or came
+ * near the limit before failing, failed for the limit. */
+static sinew_result starved_is_limit(const helper_run *run, sinew_result result, sinew_error *error)
+{
+    reply_header reply = {0};
+    if (run->reply_size >= sizeof reply)
+        memcpy(&reply, run->reply, sizeof reply);
+    bool starved = reply.kind == SINEW_ERROR_OUT_OF_MEMORY ||
+                   (reply.kind != SINEW_OK && error && strstr(error->message, "bad_alloc"));
+    if (result != SINEW_OK && result != SINEW_ERROR_LIMIT && !run->cancelled && (starved || near_memory_limit(run))) {
+        char said[SINEW_ERROR_MESSAGE_SIZE] = "";
+        if (error)
+            snprintf(said, sizeof said, "%s", error->message);
+        result = memory_failure(run, said, error);
+    }
+    return result;
+}
 
 sinew_result import_in_helper(const sinew_import_desc *desc, sinew_model **out, sinew_error *error)
 {
@@ -533,25 +549,6 @@ sinew_result import_in_helper(const sinew_import_desc *desc, sinew_model **out, 
     return result;
 }
 
-/* A reader in the helper that gave up for want of memory (Assimp's std::bad_alloc), or came
- * near the limit before failing, failed for the limit. */
-static sinew_result starved_is_limit(const helper_run *run_, sinew_result result, sinew_error *error)
-{
-    const helper_run run = *run_;
-    reply_header reply = {0};
-    if (run.reply_size >= sizeof reply)
-        memcpy(&reply, run.reply, sizeof reply);
-    bool starved = reply.kind == SINEW_ERROR_OUT_OF_MEMORY ||
-                   (reply.kind != SINEW_OK && error && strstr(error->message, "bad_alloc"));
-    if (result != SINEW_OK && result != SINEW_ERROR_LIMIT && !run.cancelled && (starved || near_memory_limit(&run))) {
-        char said[SINEW_ERROR_MESSAGE_SIZE] = "";
-        if (error)
-            snprintf(said, sizeof said, "%s", error->message);
-        result = memory_failure(&run, said, error);
-    }
-    return result;
-}
-
 /* ---- a session: one helper for many files ----------------------------------------------------- */
 
 struct sinew_import_session {
@@ -560,23 +557,26 @@ struct sinew_import_session {
     pid_t pid; /* 0: none running */
     int request_fd, reply_fd, err_fd;
     uint64_t memory_limit;
-    uint32_t served;
 };
 
-static void session_stop(sinew_import_session *s, bool kill_it)
+/* Ends the helper (killed, or told its requests are over) and closes its pipes; `reaped`: it has
+ * ended and been waited for already. */
+static void session_stop(sinew_import_session *s, bool kill_it, bool reaped)
 {
     if (!s->pid)
         return;
     if (s->request_fd >= 0)
         close(s->request_fd); /* end of requests: the helper exits */
-    if (kill_it)
+    if (kill_it && !reaped)
         kill(s->pid, SIGKILL);
     if (s->reply_fd >= 0)
         close(s->reply_fd);
     if (s->err_fd >= 0)
         close(s->err_fd);
-    helper_run run = {.pid = s->pid};
-    reap(&run, now_seconds() + 2.0);
+    if (!reaped) {
+        helper_run run = {.pid = s->pid};
+        reap(&run, now_seconds() + 2.0);
+    }
     s->pid = 0;
     s->request_fd = s->reply_fd = s->err_fd = -1;
 }
@@ -610,7 +610,7 @@ void sinew_import_session_destroy(sinew_import_session *session)
 {
     if (!session)
         return;
-    session_stop(session, false);
+    session_stop(session, false, false);
     free(session);
 }
 
@@ -670,10 +670,8 @@ static sinew_result session_try(sinew_import_session *s, const char *path, sinew
     if (strlen(path) >= PATH_MAX)
         return sinew_fail(error, SINEW_ERROR_IO, "%.200s...: the path is too long", path);
     /* a helper that died between files (killed, or with the thread that started it) is replaced */
-    if (s->pid && waitpid(s->pid, NULL, WNOHANG) == s->pid) {
-        s->pid = 0;
-        session_stop(s, false);
-    }
+    if (s->pid && waitpid(s->pid, NULL, WNOHANG) == s->pid)
+        session_stop(s, false, true);
     for (int attempt = 0;; attempt++) {
         if (!s->pid) {
             helper_run start = {.path = path, .reply_fd = -1, .err_fd = -1, .memory_limit = s->memory_limit};
@@ -683,11 +681,10 @@ static sinew_result session_try(sinew_import_session *s, const char *path, sinew
             s->pid = start.pid;
             s->reply_fd = start.reply_fd;
             s->err_fd = start.err_fd;
-            s->served = 0;
         }
         if (session_request(s, path))
             break;
-        session_stop(s, true);
+        session_stop(s, true, false);
         if (attempt > 0)
             return sinew_fail(error, SINEW_ERROR_IMPORTER, "%s: the import helper does not take requests", path);
     }
@@ -706,18 +703,15 @@ static sinew_result session_try(sinew_import_session *s, const char *path, sinew
     if (run.header_seen && run.reply_size == run.reply_cap && !run.reply_too_big && !run.cancelled &&
         !run.killed_for_time && !run.killed_for_memory) {
         result = import_reply_decode(run.reply, run.reply_size, path, desc.allocator, out, error);
-        s->served++;
         /* memory a long-lived process keeps is memory the next file cannot have: past half the
          * limit, the next file gets a fresh helper */
         if (run.peak_rss > s->memory_limit / 2)
-            session_stop(s, false);
+            session_stop(s, false, false);
     } else {
         /* watch() killed it and closed its pipes, or it died: the reason, then a fresh helper next time */
         s->reply_fd = s->err_fd = -1;
-        close(s->request_fd);
-        s->request_fd = -1;
         int status = reap(&run, now_seconds() + 5.0);
-        s->pid = 0;
+        session_stop(s, false, true);
         *stale = !*stale && waiting && run.reply_size == 0 && !run.cancelled && !run.killed_for_time &&
                  !run.killed_for_memory && WIFSIGNALED(status) && WTERMSIG(status) == SIGKILL;
         result = helper_failed(&run, &desc, status, error);
