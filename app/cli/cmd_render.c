@@ -111,23 +111,19 @@ static int parse_value_option(int argc, char **argv, int i, render_args *a, bool
     if (i + 1 >= argc)
         return 0;
     const char *v = argv[i + 1];
+    sinew_error error = {0};
+    int placed = 0;
     if (strcmp(o, "--clip") == 0)
         a->clip = v;
     else if (strcmp(o, "-o") == 0 || strcmp(o, "--output") == 0)
         a->out = v;
     else if (strcmp(o, "--camera") == 0)
         a->camera = v;
-    else if (strcmp(o, "--camera-position") == 0 || strcmp(o, "--camera-focal-point") == 0 || strcmp(o, "--fov") == 0) {
-        sinew_error error = {0};
-        sinew_result r = strcmp(o, "--fov") == 0               ? app_parse_fov(v, &a->placement.fov, &error)
-                         : strcmp(o, "--camera-position") == 0 ? app_parse_point(o, v, a->placement.position, &error)
-                                                               : app_parse_point(o, v, a->placement.focal, &error);
-        if (r != SINEW_OK) {
+    else if ((placed = app_camera_placement_parse(&a->placement, o, v, &error)) != 0) {
+        if (placed < 0) {
             cli_error("render: %s", error.message);
             *bad = true;
         }
-        a->placement.has_position |= strcmp(o, "--camera-position") == 0;
-        a->placement.has_focal |= strcmp(o, "--camera-focal-point") == 0;
     } else if (strcmp(o, "--anim") == 0)
         a->anim = v;
     else if (strcmp(o, "--name-map") == 0)

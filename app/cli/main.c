@@ -93,34 +93,26 @@ int main(int argc, char **argv)
         printf("sinew %s\n", sinew_version());
         return EXIT_OK;
     }
+    static const struct {
+        const char *name;
+        int (*run)(int argc, char **argv);
+    } commands[] = {{"info", cmd_info},       {"pose", cmd_pose},     {"render", cmd_render},
+                    {"bench", cmd_bench},     {"muscle", cmd_muscle}, {"demo", cmd_demo},
+                    {"convert", cmd_convert}, {"arm", cmd_arm},       {"batch", cmd_batch}};
+    const size_t count = sizeof commands / sizeof commands[0];
     if (strcmp(command, "batch") == 0) /* its options are its own (Python's argparse) */
         return cmd_batch(argc - 1, argv + 1);
     if ((argc = take_import_options(argc, argv)) < 0)
         return EXIT_USAGE;
-    if (strcmp(command, "info") == 0)
-        return cmd_info(argc - 1, argv + 1);
-    if (strcmp(command, "pose") == 0)
-        return cmd_pose(argc - 1, argv + 1);
-    if (strcmp(command, "render") == 0)
-        return cmd_render(argc - 1, argv + 1);
-    if (strcmp(command, "bench") == 0)
-        return cmd_bench(argc - 1, argv + 1);
-    if (strcmp(command, "muscle") == 0)
-        return cmd_muscle(argc - 1, argv + 1);
-    if (strcmp(command, "demo") == 0)
-        return cmd_demo(argc - 1, argv + 1);
-    if (strcmp(command, "convert") == 0)
-        return cmd_convert(argc - 1, argv + 1);
-    if (strcmp(command, "arm") == 0)
-        return cmd_arm(argc - 1, argv + 1);
-    static const char *const commands[] = {"info", "pose",    "render", "bench", "muscle",
-                                           "demo", "convert", "arm",    "batch"};
+    for (size_t i = 0; i < count; i++)
+        if (strcmp(command, commands[i].name) == 0)
+            return commands[i].run(argc - 1, argv + 1);
     const char *nearest = NULL;
     int best = 3; /* two edits at most: "rendr", "poes" */
-    for (size_t i = 0; i < sizeof commands / sizeof commands[0]; i++) {
-        int d = app_edit_distance(command, commands[i]);
+    for (size_t i = 0; i < count; i++) {
+        int d = app_edit_distance(command, commands[i].name);
         if (d < best)
-            best = d, nearest = commands[i];
+            best = d, nearest = commands[i].name;
     }
     if (nearest)
         cli_error("unknown command \"%s\"; did you mean `sinew %s`? (`sinew --help` lists them)", command, nearest);

@@ -111,9 +111,10 @@ typedef struct app_camera_placement {
     float position[3], focal[3];
     double fov; /* degrees; 0: the camera's own (45) */
 } app_camera_placement;
-/* Parses "X,Y,Z" into out; SINEW_ERROR_INVALID_ARGUMENT naming `option` otherwise. */
-sinew_result app_parse_point(const char *option, const char *text, float out[3], sinew_error *error);
-sinew_result app_parse_fov(const char *text, double *out, sinew_error *error);
+/* Takes --camera-position, --camera-focal-point or --fov and its value into `placement`: 1 when
+ * `option` is one of them, 0 when it is not, -1 for a bad value (the error says what was expected). */
+int app_camera_placement_parse(app_camera_placement *placement, const char *option, const char *value,
+                               sinew_error *error);
 void app_camera_place(sinew_camera *camera, const app_camera_placement *placement);
 
 /* Reads one display option from a command line at argv[i] (what `sinew render` and

@@ -100,7 +100,7 @@ int app_render_option_parse(sinew_render_options *options, int argc, char *const
     return 0;
 }
 
-sinew_result app_parse_point(const char *option, const char *text, float out[3], sinew_error *error)
+static sinew_result parse_point(const char *option, const char *text, float out[3], sinew_error *error)
 {
     double v[3];
     if (!text || !parse_numbers(text, v, 3))
@@ -111,7 +111,7 @@ sinew_result app_parse_point(const char *option, const char *text, float out[3],
     return SINEW_OK;
 }
 
-sinew_result app_parse_fov(const char *text, double *out, sinew_error *error)
+static sinew_result parse_fov(const char *text, double *out, sinew_error *error)
 {
     char *end = NULL;
     double v = text ? strtod(text, &end) : NAN;
@@ -120,6 +120,23 @@ sinew_result app_parse_fov(const char *text, double *out, sinew_error *error)
                           text ? text : "");
     *out = v;
     return SINEW_OK;
+}
+
+int app_camera_placement_parse(app_camera_placement *p, const char *option, const char *value, sinew_error *error)
+{
+    sinew_result r;
+    if (strcmp(option, "--fov") == 0) {
+        r = parse_fov(value, &p->fov, error);
+    } else if (strcmp(option, "--camera-position") == 0) {
+        r = parse_point(option, value, p->position, error);
+        p->has_position = r == SINEW_OK;
+    } else if (strcmp(option, "--camera-focal-point") == 0) {
+        r = parse_point(option, value, p->focal, error);
+        p->has_focal = r == SINEW_OK;
+    } else {
+        return 0;
+    }
+    return r == SINEW_OK ? 1 : -1;
 }
 
 void app_camera_place(sinew_camera *camera, const app_camera_placement *p)

@@ -53,35 +53,27 @@ uint32_t app_tree_order(const sinew_model *model, uint32_t *order, uint32_t *dep
     }
     for (uint32_t i = 0; i < n; i++)
         first[i] = next[i] = -1;
-    /* children in index order: link them from the last */
-    for (uint32_t i = n; i-- > 0;) {
+    /* each node's children, last index first: pushed in that order, they come off the stack first first */
+    for (uint32_t i = 0; i < n; i++) {
         int32_t p = model->node_parents[i];
         if (p >= 0 && (uint32_t)p < n) {
             next[i] = first[p];
             first[p] = (int32_t)i;
         }
     }
-    uint32_t *level = depth;
     for (uint32_t root = 0; root < n; root++) {
         int32_t p = model->node_parents[root];
         if (p >= 0 && (uint32_t)p < n)
             continue;
         uint32_t top = 0;
         stack[top++] = root;
-        level[root] = 0;
+        depth[root] = 0;
         while (top) {
             uint32_t node = stack[--top];
             order[count++] = node;
-            /* push children last to first, so that the first comes out next */
-            uint32_t mark = top;
             for (int32_t c = first[node]; c >= 0; c = next[c]) {
                 stack[top++] = (uint32_t)c;
-                level[c] = level[node] + 1;
-            }
-            for (uint32_t a = mark, b = top; b > a + 1; a++, b--) {
-                uint32_t t = stack[a];
-                stack[a] = stack[b - 1];
-                stack[b - 1] = t;
+                depth[c] = depth[node] + 1;
             }
         }
     }

@@ -397,9 +397,9 @@ static void frame_all(viewer *v)
     } else if (v->keep_now == CAMERA_KEEP_GIVEN) {
         v->camera.distance = keep.distance;
     }
-    if (v->placement_pending && v->keep_now != CAMERA_KEEP_ALL) {
+    if (v->keep_now != CAMERA_KEEP_ALL) { /* --camera-position, --camera-focal-point: once */
         app_camera_place(&v->camera, &v->placement);
-        v->placement_pending = false;
+        v->placement.has_position = v->placement.has_focal = false;
     }
     v->keep_now = CAMERA_FRAME; /* the next framing (F, a crowd) frames all */
 }
@@ -1387,7 +1387,7 @@ int main(int argc, char **argv)
                 .direction = 1,
                 .selected = -1,
                 .start_time = NAN,
-                .reload_clip = -2,
+                .reload_clip = -1,
                 .crowd_size = 100};
     settings_defaults(&v);
     settings_load(&v);
@@ -1427,6 +1427,7 @@ int main(int argc, char **argv)
         } else if (argv[i][0] == '-' && i + 1 < argc) {
             const char *o = argv[i], *value = argv[++i];
             bool frame = true;
+            int placed = 0;
             if (strcmp(o, "--clip") == 0) {
                 s.clip = value;
             } else if (strcmp(o, "--time") == 0) {
@@ -1486,22 +1487,13 @@ int main(int argc, char **argv)
                     fprintf(stderr, "sinew-view: bad --size \"%s\": expected WIDTHxHEIGHT, each 64..16384\n", value);
                     return 1;
                 }
-            } else if (strcmp(o, "--camera-position") == 0 || strcmp(o, "--camera-focal-point") == 0 ||
-                       strcmp(o, "--fov") == 0) {
-                bool position = strcmp(o, "--camera-position") == 0, fov = strcmp(o, "--fov") == 0;
-                sinew_result r = fov        ? app_parse_fov(value, &v.placement.fov, &error)
-                                 : position ? app_parse_point(o, value, v.placement.position, &error)
-                                            : app_parse_point(o, value, v.placement.focal, &error);
-                if (r != SINEW_OK) {
+            } else if ((placed = app_camera_placement_parse(&v.placement, o, value, &error)) != 0) {
+                if (placed < 0) {
                     fprintf(stderr, "sinew-view: %s\n", error.message);
                     return 1;
                 }
-                if (fov)
+                if (v.placement.fov > 0.0)
                     v.camera.fov_y = (float)(v.placement.fov * M_PI / 180.0);
-                else
-                    v.placement_pending = true;
-                v.placement.has_position |= position;
-                v.placement.has_focal |= !position && !fov;
             } else if (strcmp(o, "--camera") == 0) {
                 if (app_camera_parse(value, &v.camera, &frame, &error) != SINEW_OK) {
                     fprintf(stderr, "sinew-view: %s\n", error.message);

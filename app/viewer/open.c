@@ -181,7 +181,7 @@ bool view_open_now(viewer *v, const char *path, const char *clip_name, bool anim
 struct view_load {
     viewer *v;
     char *path, *clip;
-    int32_t fallback; /* a reload: the clip index to try when the clip's name is gone (-2: none) */
+    int32_t fallback; /* a reload: the clip index to try when the clip's name is gone (-1: none) */
     char note[512];   /* what the reload did instead, for the log */
     app_scene scene;
     sinew_error error;
@@ -213,18 +213,18 @@ static gpointer load_thread(gpointer data)
                            .progress = load_progress,
                            .progress_user = l};
     l->result = app_scene_open(&l->scene, &desc, &l->error);
-    if (l->result != SINEW_OK && l->result != SINEW_ERROR_CANCELLED && l->fallback > -2 && l->clip) {
+    if (l->result != SINEW_OK && l->result != SINEW_ERROR_CANCELLED && l->fallback >= 0 && l->clip) {
         /* --watch: the new version lacks the clip's name; the same index, else the first clip */
         char index[16];
         snprintf(index, sizeof index, "%d", l->fallback);
-        const char *tries[2] = {l->fallback >= 0 ? index : "none", NULL};
+        const char *tries[2] = {index, NULL};
         for (int i = 0; i < 2 && l->result != SINEW_OK; i++) {
             desc.clip = tries[i];
             sinew_error error = {0};
             if (app_scene_open(&l->scene, &desc, &error) == SINEW_OK) {
                 snprintf(l->note, sizeof l->note, "the file changed: it has no clip \"%s\" now; showing %s (%s)",
                          l->clip, l->scene.clip ? l->scene.clip->name : "the rest pose",
-                         i == 0 && l->fallback >= 0 ? "the clip at the same place in the list" : "the first clip");
+                         i == 0 ? "the clip at the same place in the list" : "the first clip");
                 l->result = SINEW_OK;
             }
         }
@@ -293,7 +293,7 @@ static gboolean reload_file(gpointer data)
     panels_log(v, "the file changed on disk: reopening it");
     v->start_time = v->time;
     v->camera_keep = CAMERA_KEEP_ALL;
-    v->reload_clip = v->scene.clip ? v->scene.clip_index : -1; /* if its name is gone */
+    v->reload_clip = v->scene.clip ? v->scene.clip_index : -1; /* if its name is gone ("none" never is) */
     view_open_file(v, v->path, v->scene.clip ? v->scene.clip->name : "none");
     return G_SOURCE_REMOVE;
 }
@@ -448,7 +448,7 @@ void view_open_file(viewer *v, const char *path, const char *clip_name)
                      .fallback = v->reload_clip,
                      .progress = -1000,
                      .started = g_get_monotonic_time()};
-    v->reload_clip = -2;
+    v->reload_clip = -1;
     v->load = l;
     if (v->load_bar) {
         gtk_widget_set_visible(v->load_bar, TRUE);

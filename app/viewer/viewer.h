@@ -90,10 +90,9 @@ typedef struct viewer {
      * whole view (a reload). camera_keep is for the file being opened, keep_now for the one shown. */
     enum { CAMERA_FRAME, CAMERA_KEEP_GIVEN, CAMERA_KEEP_ALL } camera_keep, keep_now;
     app_camera_placement placement; /* --camera-position, --camera-focal-point: at the first framing */
-    bool placement_pending;
-    int32_t reload_clip;  /* --watch: the shown clip's index for the reload being started, else -2 */
-    bool play_after_open; /* another file opened by hand: it plays once open */
-    app_scene scene;      /* the model shown, its clip, muscles and pose */
+    int32_t reload_clip;            /* --watch: the shown clip's index for the reload being started, else -1 */
+    bool play_after_open;           /* another file opened by hand: it plays once open */
+    app_scene scene;                /* the model shown, its clip, muscles and pose */
     sinew_renderer *renderer;
     /* the crowd toggle (key C, --crowd N): crowd_size characters of the scene's model */
     uint32_t crowd_size;

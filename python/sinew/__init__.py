@@ -27,7 +27,7 @@ from typing import List, Optional, Sequence, Union
 
 import numpy as np
 
-from ._ffi import ffi, lib, library_path
+from ._ffi import ffi, lib, library_path  # noqa: F401  (sinew.library_path: the libsinew loaded)
 
 __all__ = [
     "load", "demo", "synthetic", "retarget", "render", "version", "Importer",
@@ -406,15 +406,21 @@ def load(path: Union[str, os.PathLike], *, timeout: Optional[float] = None, memo
     if path.endswith(".sinew"):
         _check(lib.sinew_model_load(os.fsencode(path), ffi.NULL, out, error), error, path)
         return Model(out[0])
-    desc = ffi.new("sinew_import_desc *")
+    desc = _import_desc(timeout, memory, in_process, assimp)
     encoded = ffi.new("char[]", os.fsencode(path))
     desc.path = encoded
+    _check(lib.sinew_import(desc, out, error), error, path)
+    return Model(out[0])
+
+
+def _import_desc(timeout, memory, in_process, assimp):
+    """A sinew_import_desc with the settings load() and Importer take (path unset)."""
+    desc = ffi.new("sinew_import_desc *")
     desc.in_process = in_process
     desc.assimp = assimp
     desc.timeout = float(timeout) if timeout else 0.0
     desc.memory_limit = int(memory) if memory else 0
-    _check(lib.sinew_import(desc, out, error), error, path)
-    return Model(out[0])
+    return desc
 
 
 class Importer:
@@ -429,11 +435,7 @@ class Importer:
 
     def __init__(self, *, timeout: Optional[float] = None, memory: Optional[int] = None, in_process: bool = False,
                  assimp: bool = False):
-        desc = ffi.new("sinew_import_desc *")
-        desc.in_process = in_process
-        desc.assimp = assimp
-        desc.timeout = float(timeout) if timeout else 0.0
-        desc.memory_limit = int(memory) if memory else 0
+        desc = _import_desc(timeout, memory, in_process, assimp)
         out = ffi.new("sinew_import_session **")
         error = ffi.new("sinew_error *")
         _check(lib.sinew_import_session_create(desc, out, error), error)
@@ -511,7 +513,7 @@ def render(model: Model, clip: ClipLike = 0, *, time: Optional[float] = None, ti
     """Pictures of the model off screen (EGL; Mesa's llvmpipe without a GPU): one (H,W,4)
     uint8 RGBA image at `time`, or (T,H,W,4) at each of `times`. The camera is framed on the
     clip's motion over the times, as `sinew render` frames it. clip=None: the rest pose."""
-    c = model.clip(clip) if (clip is not None or not model.clips) else None
+    c = model.clip(clip)
     single = times is None
     t = np.ascontiguousarray(np.atleast_1d(np.asarray([time or 0.0] if single else times, np.float32)))
     width, height = int(size[0]), int(size[1])

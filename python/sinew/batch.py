@@ -23,10 +23,8 @@ rest. The arrays do not depend on how many workers ran.
 
 import argparse
 import hashlib
-import io
 import json
 import os
-import shutil
 import signal
 import subprocess
 import sys
@@ -171,20 +169,29 @@ def _skeleton(path: str, digest: Optional[str], timeout, memory):
     return _SKELETONS[key]
 
 
+def _encode(pixels, output_args, path: str) -> None:
+    """RGBA pixels (...,H,W,4: frames or one picture) encoded by ffmpeg with `output_args`, written
+    to `path` whole."""
+    h, w = pixels.shape[-3:-1]
+    cmd = ["ffmpeg", "-loglevel", "error", "-f", "rawvideo", "-pix_fmt", "rgba", "-s", "%dx%d" % (w, h), *output_args]
+    done = subprocess.run(cmd, input=pixels.tobytes(), stdout=subprocess.PIPE, stderr=subprocess.PIPE, check=False)
+    if done.returncode != 0:
+        raise RuntimeError("ffmpeg: " + done.stderr.decode("utf-8", "replace").strip()[-300:])
+    atomic_write(path, lambda f: f.write(done.stdout))
+
+
 def _preview(frames, path: str, fps: float) -> None:
     """An animated GIF of RGBA frames (T,H,W,4) through ffmpeg (a palette made for the clip)."""
-    t, h, w, _ = frames.shape
+    _encode(frames, ["-r", "%g" % fps, "-i", "-", "-vf", "split[a][b];[a]palettegen=reserve_transparent=0[p];"
+                     "[b][p]paletteuse", "-loop", "0", "-f", "gif", "-"], path)
 
-    def write(f):
-        cmd = ["ffmpeg", "-loglevel", "error", "-f", "rawvideo", "-pix_fmt", "rgba", "-s", "%dx%d" % (w, h),
-               "-r", "%g" % fps, "-i", "-", "-vf", "split[a][b];[a]palettegen=reserve_transparent=0[p];[b][p]paletteuse",
-               "-loop", "0", "-f", "gif", "-"]
-        done = subprocess.run(cmd, input=frames.tobytes(), stdout=subprocess.PIPE, stderr=subprocess.PIPE, check=False)
-        if done.returncode != 0:
-            raise RuntimeError("ffmpeg: " + done.stderr.decode("utf-8", "replace").strip()[-300:])
-        f.write(done.stdout)
 
-    atomic_write(path, write)
+def _row(job: dict, **fields) -> dict:
+    """A manifest row for the job's file, failed until said otherwise."""
+    row = {"file": job["path"], "rel": job["rel"], "sha256": job["sha256"], "status": "failed", "error": None,
+           "kind": None, "clips": 0, "frames": 0, "joints": 0, "vertices": 0, "outputs": [], "warnings": []}
+    row.update(fields)
+    return row
 
 
 def process_file(job: dict) -> dict:
@@ -195,15 +202,14 @@ def process_file(job: dict) -> dict:
     import sinew
 
     started = time.monotonic()
-    row = {"file": job["path"], "rel": job["rel"], "sha256": job["sha256"], "status": "failed", "error": None,
-           "kind": None, "clips": 0, "frames": 0, "joints": 0, "vertices": 0, "outputs": [], "warnings": []}
+    row = _row(job)
     opts = job["options"]
     try:
         if opts["in_process"]:
             model = sinew.load(job["path"], in_process=True)
         else:
             model = _importer(opts).load(job["path"])
-        row["warnings"] = model.warnings
+        row["warnings"] = list(model.warnings)  # the model's own list stays as the file gave it
         clips = list(range(len(model.clips)))
         if opts["retarget"]:
             source_clips = len(model.clips)
@@ -347,16 +353,7 @@ def contact_sheet(outdir: str, rows: List[dict], path: str) -> Optional[str]:
         if tile.shape[:2] == (h, w):
             sheet[(i // across) * h:(i // across + 1) * h, (i % across) * w:(i % across + 1) * w] = tile
 
-    def write(f):
-        cmd = ["ffmpeg", "-loglevel", "error", "-f", "rawvideo", "-pix_fmt", "rgba", "-s",
-               "%dx%d" % (sheet.shape[1], sheet.shape[0]), "-i", "-", "-frames:v", "1", "-f", "image2",
-               "-c:v", "png", "-"]
-        done = subprocess.run(cmd, input=sheet.tobytes(), stdout=subprocess.PIPE, stderr=subprocess.PIPE, check=False)
-        if done.returncode != 0:
-            raise RuntimeError("ffmpeg: " + done.stderr.decode("utf-8", "replace").strip()[-300:])
-        f.write(done.stdout)
-
-    atomic_write(path, write)
+    _encode(sheet, ["-i", "-", "-frames:v", "1", "-f", "image2", "-c:v", "png", "-"], path)
     return path
 
 
@@ -379,8 +376,6 @@ def _client(args):
 
 
 def run(args) -> int:
-    import numpy as np  # noqa: F401  (fail early without numpy)
-
     from dask.distributed import as_completed
 
     import sinew
@@ -442,10 +437,8 @@ def run(args) -> int:
                             pending.add(again)
                         continue
                     job = group[0]  # the file killed its worker every time it was tried
-                    results = [{"file": job["path"], "rel": job["rel"], "sha256": job["sha256"], "status": "failed",
-                                "error": "%s: the worker processing it died (%s)" % (job["path"], type(e).__name__),
-                                "kind": "crash", "clips": 0, "frames": 0, "joints": 0, "vertices": 0,
-                                "outputs": [], "warnings": [], "seconds": None}]
+                    results = [_row(job, kind="crash", seconds=None, error="%s: the worker processing it died (%s)"
+                                    % (job["path"], type(e).__name__))]
                 for job, row in zip(group, results):
                     rows[job["order"]] = row
                     progress.update(row)

@@ -25,6 +25,7 @@ typedef struct arrays_scratch {
     void *deform;
     size_t deform_size;
     float *positions; /* one mesh's positions when only normals are asked for */
+    float *weights;   /* a frame's morph weights when the caller keeps none but deforms */
 } arrays_scratch;
 
 static void scratch_free(arrays_scratch *s)
@@ -39,6 +40,8 @@ static void scratch_free(arrays_scratch *s)
         s->allocator.free(s->deform, s->allocator.user);
     if (s->positions)
         s->allocator.free(s->positions, s->allocator.user);
+    if (s->weights)
+        s->allocator.free(s->weights, s->allocator.user);
     sinew_clip_layout_free(s->layout);
 }
 
@@ -65,8 +68,11 @@ static sinew_result scratch_init(arrays_scratch *s, const sinew_clip_arrays_desc
             largest = m->meshes[i].vertex_count > largest ? m->meshes[i].vertex_count : largest;
         s->positions = s->allocator.alloc(largest * 3 * sizeof(float), s->allocator.user);
     }
+    bool own_weights = m->morph_channel_count && !d->weights && (d->vertices || d->normals);
+    if (own_weights)
+        s->weights = s->allocator.alloc(m->morph_channel_count * sizeof(float), s->allocator.user);
     if (!s->player_memory || !s->locals || !s->worlds || ((d->vertices || d->normals) && !s->deform) ||
-        (d->normals && !d->vertices && !s->positions))
+        (d->normals && !d->vertices && !s->positions) || (own_weights && !s->weights))
         return sinew_fail(error, SINEW_ERROR_OUT_OF_MEMORY, "%s: out of memory for the arrays' scratch",
                           m->source ? m->source : "model");
     return sinew_player_init(s->player_memory, player_size, s->layout, &s->player, error);
@@ -127,7 +133,6 @@ sinew_result sinew_clip_arrays(const sinew_clip_arrays_desc *d, sinew_error *err
     sinew_result r = scratch_init(&s, d, error);
     const size_t nodes = m->node_count, channels = m->morph_channel_count;
     const size_t verts = sinew_model_vertex_total(m);
-    float default_weights[1] = {0};
     for (uint32_t t = 0; r == SINEW_OK && t < d->time_count; t++) {
         float time = d->times[t];
         r = sinew_player_update(s.player, time, d->wrap, NULL, s.worlds, m->node_count, error);
@@ -144,24 +149,14 @@ sinew_result sinew_clip_arrays(const sinew_clip_arrays_desc *d, sinew_error *err
         }
         if (r == SINEW_OK && d->worlds)
             memcpy(d->worlds + t * nodes * 16, s.worlds, nodes * sizeof(sinew_mat4));
-        float *weights = channels ? (d->weights ? d->weights + t * channels : NULL) : default_weights;
-        bool own_weights = false;
-        if (r == SINEW_OK && channels && !weights && (d->vertices || d->normals)) {
-            weights = s.allocator.alloc(channels * sizeof(float), s.allocator.user);
-            own_weights = true;
-            if (!weights)
-                r = sinew_fail(error, SINEW_ERROR_OUT_OF_MEMORY, "%s: out of memory for morph weights", m->source);
-        }
-        if (r == SINEW_OK && channels && weights)
+        float *weights = !channels ? NULL : d->weights ? d->weights + t * channels : s.weights;
+        if (r == SINEW_OK && weights)
             r = sinew_player_weights(s.player, time, d->wrap, weights, m->morph_channel_count, error);
         if (r == SINEW_OK && (d->vertices || d->normals)) {
             float cache_time = d->clip ? d->clip->timeline + sinew_clip_time(d->clip, time, d->wrap) : 0.0f;
-            r = deform_frame(d, &s, channels ? weights : NULL, cache_time,
-                             d->vertices ? d->vertices + t * verts * 3 : NULL,
+            r = deform_frame(d, &s, weights, cache_time, d->vertices ? d->vertices + t * verts * 3 : NULL,
                              d->normals ? d->normals + t * verts * 3 : NULL, error);
         }
-        if (own_weights && weights)
-            s.allocator.free(weights, s.allocator.user);
     }
     scratch_free(&s);
     return r;

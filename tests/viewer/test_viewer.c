@@ -56,11 +56,11 @@ static int stop_xvfb(void **state)
     return 0;
 }
 
-/* Runs sinew-view with DISPLAY set; returns the exit code, stderr in *err (malloc'd). */
 /* GTK's renderer for the viewer's own widgets: software cairo, or NULL for GTK's choice. */
 static const char *gsk_renderer = "cairo";
 
-static int run_view(const char *const *args, char **err)
+/* Starts sinew-view with DISPLAY set and its stderr to $SINEW_TMP/view.err; finish_view() waits. */
+static pid_t start_view(const char *const *args)
 {
     char errfile[4096];
     tmp_path("view.err", errfile, sizeof errfile);
@@ -80,11 +80,25 @@ static int run_view(const char *const *args, char **err)
         execv(argv[0], (char *const *)argv);
         _exit(127);
     }
+    return pid;
+}
+
+/* Waits for the viewer start_view() started; returns its exit code, stderr in *err (malloc'd). */
+static int finish_view(pid_t pid, char **err)
+{
+    char errfile[4096];
+    tmp_path("view.err", errfile, sizeof errfile);
     int status = 0;
     waitpid(pid, &status, 0);
     size_t size = 0;
     *err = read_file(errfile, &size);
     return WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
+}
+
+/* Runs sinew-view to its end. */
+static int run_view(const char *const *args, char **err)
+{
+    return finish_view(start_view(args), err);
 }
 
 static const char *demo_file(char *dae, size_t size)
@@ -206,7 +220,7 @@ static void test_watch_keeps_going_when_the_clip_is_renamed(void **state)
     (void)state;
     if (!xvfb)
         skip();
-    char src[1024], path[4096], next[4200], errfile[4096];
+    char src[1024], path[4096], next[4200];
     size_t n = 0;
     char *bend = (char *)read_file(fixture_path("two_bone.dae", src, sizeof src), &n);
     char *flex = malloc(n + 1);
@@ -218,29 +232,14 @@ static void test_watch_keeps_going_when_the_clip_is_renamed(void **state)
     tmp_path("view-watch.dae", path, sizeof path);
     snprintf(next, sizeof next, "%s.new", path);
     write_file(path, bend, n);
-    tmp_path("view-watch.err", errfile, sizeof errfile);
-    pid_t pid = fork();
-    if (pid == 0) {
-        setenv("DISPLAY", display, 1);
-        char config[4096];
-        setenv("XDG_CONFIG_HOME", tmp_path("view-config", config, sizeof config), 1);
-        if (gsk_renderer)
-            setenv("GSK_RENDERER", gsk_renderer, 1);
-        setenv("ASAN_OPTIONS", "detect_leaks=0:abort_on_error=1", 1);
-        freopen(errfile, "w", stderr);
-        execl(getenv("SINEW_VIEW"), getenv("SINEW_VIEW"), path, "--watch", "--quit-after", "16", (char *)NULL);
-        _exit(127);
-    }
+    pid_t pid = start_view((const char *const[]){path, "--watch", "--quit-after", "16", NULL});
     for (int i = 1; i <= 4; i++) {
         sleep(3);
         write_file(next, i % 2 ? flex : bend, n); /* replaced by rename, as editors and exporters do */
         rename(next, path);
     }
-    int status = 0;
-    waitpid(pid, &status, 0);
-    size_t size = 0;
-    char *err = (char *)read_file(errfile, &size);
-    assert_true(WIFEXITED(status) && WEXITSTATUS(status) == 0);
+    char *err = NULL;
+    assert_int_equal(finish_view(pid, &err), 0);
     if (!strstr(err, "has no clip \"bend\" now; showing flex"))
         fail_msg("no note of the renamed clip; stderr: %s", err);
     assert_null(strstr(err, "the clips:")); /* the refusal's text */
