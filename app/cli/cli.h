@@ -77,6 +77,7 @@ typedef struct cli_scene_desc {
     uint32_t crowd;                 /* > 0: that many characters on a grid (app_crowd), each at its own time and clip */
     uint32_t threads;               /* the crowd's job system: 0 = the cores this process may use */
     app_camera_placement placement; /* --camera-position, --camera-focal-point, --fov */
+    const char *hdri;               /* --hdri FILE: the environment (sinew_renderer_set_environment) */
 } cli_scene_desc;
 
 typedef struct cli_scene {

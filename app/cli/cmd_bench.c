@@ -12,12 +12,14 @@
     "  muscle   time to solve the shipped biceps (9 nodes) at a length, and to build its tube surface.\n"
 
 static const char bench_usage[] =
-    "usage: sinew bench render [FILE] [--clip C] [--size WxH] [--samples N] [--frames N] [--shading S] [--png OUT]\n"
+    "usage: sinew bench render [FILE] [--clip C] [--size WxH] [--samples N] [--frames N] [display options]\n"
+    "                          [--hdri FILE.hdr] [--png OUT]\n"
     "                          [--json]\n"
     "\n"
     "  render   frames per second of `sinew render`'s drawing (pose, palette, draw, glFinish; no read-back)\n"
     "           with GPU skinning and with CPU skinning, at 1280x720 by default, with 4x multisampling\n"
-    "           and without (--samples N measures only N); --shading phong|gouraud|flat|pbr (default phong).\n"
+    "           and without (--samples N measures only N); display options as `sinew render` takes them\n"
+    "           (--shading pbr, --shadows, --ssao, --outline, --hdri-background, --tone-mapping ...).\n"
     "           FILE defaults to a generated 64-joint character of 10,016 vertices, 4 influences each.\n"
     "           The clip plays forward at 60 Hz from 0, looping; N frames (default 300) after 10 warm-up frames.\n"
     "           --png OUT writes the last GPU-skinned frame, to see what was measured.\n"
@@ -33,7 +35,9 @@ static const char bench_usage[] =
     "\n" MUSCLE_USAGE;
 
 typedef struct render_bench_args {
-    const char *path, *clip, *png, *shading;
+    const char *path, *clip, *png, *hdri;
+    sinew_render_options options;
+    char display[256]; /* the display options given, as typed */
     int width, height, frames, samples;
     bool json;
 } render_bench_args;
@@ -48,10 +52,9 @@ static int run_render_bench(const render_bench_args *a, int samples, int mode, d
                         .height = a->height,
                         .samples = samples,
                         .loop = true,
-                        .options = sinew_render_options_default()};
+                        .hdri = a->hdri,
+                        .options = a->options};
     d.options.skinning = mode ? SINEW_SKINNING_CPU : SINEW_SKINNING_GPU;
-    if (a->shading)
-        sinew_render_option_set(&d.options, "shading", a->shading, NULL); /* checked when parsed */
     if (!a->path) {
         sinew_error error = {0};
         sinew_synthetic_desc sd = {.joints = 64, .vertices = 10000, .influences = 4};
@@ -81,10 +84,24 @@ static int run_render_bench(const render_bench_args *a, int samples, int mode, d
 
 static int bench_render(int argc, char **argv)
 {
-    render_bench_args a = {.width = 1280, .height = 720, .frames = 300};
+    render_bench_args a = {.width = 1280, .height = 720, .frames = 300, .options = sinew_render_options_default()};
     for (int i = 1; i < argc; i++) {
         const char *o = argv[i];
         bool v = i + 1 < argc;
+        sinew_error error = {0};
+        int used = app_render_option_parse(&a.options, argc, argv, i, NULL, &error);
+        if (used < 0) {
+            cli_error("bench render: %s", error.message);
+            return EXIT_USAGE;
+        }
+        if (used > 0) {
+            for (int k = 0; k < used; k++) {
+                size_t n = strlen(a.display);
+                snprintf(a.display + n, sizeof a.display - n, "%s%s", n ? " " : "", argv[i + k]);
+            }
+            i += used - 1;
+            continue;
+        }
         if (cli_is_help(o)) {
             fputs(bench_usage, stdout);
             return EXIT_OK;
@@ -99,14 +116,8 @@ static int bench_render(int argc, char **argv)
             a.png = argv[++i];
         } else if (strcmp(o, "--clip") == 0 && v) {
             a.clip = argv[++i];
-        } else if (strcmp(o, "--shading") == 0 && v) {
-            sinew_render_options check = sinew_render_options_default();
-            sinew_error error = {0};
-            if (sinew_render_option_set(&check, "shading", argv[++i], &error) != SINEW_OK) {
-                cli_error("bench render: %s", error.message);
-                return EXIT_USAGE;
-            }
-            a.shading = argv[i];
+        } else if (strcmp(o, "--hdri") == 0 && v) {
+            a.hdri = argv[++i];
         } else if (strcmp(o, "--frames") == 0 && v) {
             long n = 0;
             if (!cli_parse_count("bench render", o, argv[++i], 1, 100000, &n))
@@ -143,7 +154,8 @@ static int bench_render(int argc, char **argv)
         cJSON_AddNumberToObject(o, "width", a.width);
         cJSON_AddNumberToObject(o, "height", a.height);
         cJSON_AddStringToObject(o, "gl", gl_name);
-        cJSON_AddStringToObject(o, "shading", a.shading ? a.shading : "phong");
+        cJSON_AddStringToObject(o, "display", a.display);
+        cJSON_AddStringToObject(o, "hdri", a.hdri ? a.hdri : "");
         cJSON *runs = cJSON_AddArrayToObject(o, "runs");
         for (int k = 0; k < setting_count; k++) {
             cJSON *r = cJSON_CreateObject();
@@ -159,7 +171,7 @@ static int bench_render(int argc, char **argv)
         return EXIT_OK;
     }
     printf("model:   %s (%u vertices, %u joints)\n", source, vertices, joints);
-    printf("target:  %dx%d, %s, %s shading\n", a.width, a.height, gl_name, a.shading ? a.shading : "phong");
+    printf("target:  %dx%d, %s, display: %s\n", a.width, a.height, gl_name, a.display[0] ? a.display : "defaults");
     for (int k = 0; k < setting_count; k++) {
         printf("%dx MSAA, GPU skinning: %8.1f fps  %7.3f ms/frame\n", settings[k], 1.0 / spf[k][0], spf[k][0] * 1e3);
         printf("%dx MSAA, CPU skinning: %8.1f fps  %7.3f ms/frame  (GPU/CPU time %.2f)\n", settings[k], 1.0 / spf[k][1],

@@ -31,7 +31,8 @@ static const char render_usage[] =
     "  --camera-position X,Y,Z     the eye, in world metres (as f3d's); the camera looks at the focal point\n"
     "  --camera-focal-point X,Y,Z  the point looked at and orbited (default: the framed centre)\n"
     "  --fov DEG           vertical field of view (default 45; framing fits the model to it)\n"
-    "  --up y|z            which of the file's axes is up (default y; z for files modelled Z up that do not say so)\n"
+    "  --up [+|-]X|Y|Z     which of the file's axes is up, as f3d's (default +Y; Z for files modelled Z up that\n"
+    "                      do not say so)\n"
     "  --anim OTHER [--name-map M.json]  OTHER's clips retargeted onto FILE's skeleton (first in its clip list)\n"
     "  --blend C:W,C:W --additive C:W --crossfade A,B,T --ik JOINT:X,Y,Z --root-motion --morph MESH:TARGET=W\n"
     "                      combine clips, as `sinew pose --help` says\n"
@@ -45,7 +46,8 @@ static const char render_usage[] =
     "  --meshes                                on by default; --no-meshes shows the skeleton alone\n"
     "  --shading phong|gouraud|flat|pbr        lit per pixel (default), per vertex, per triangle, or physically\n"
     "                                          based (glTF metallic-roughness, normal/occlusion/emissive maps,\n"
-    "                                          sky light, tone mapped)\n"
+    "                                          image-based lighting, tone mapped)\n"
+
     "  --skinning gpu|cpu                      vertex shader (default) or the library's CPU skinning\n"
     "  --select JOINT                          highlight a joint (name) and show its name\n"
     "  --heatmap JOINT                         colour the mesh by that joint's skin weights\n"
@@ -57,6 +59,17 @@ static const char render_usage[] =
     "  --skinning-method file|lbs|dqs          each skin as its file asks (default: linear, dual quaternion, or\n"
     "                                          the two mixed per vertex), or linear blend / dual quaternions\n"
     "                                          for every skin\n";
+
+static const char render_usage_look[] =
+    "\n"
+    "look (`sinew-view` takes the same; settings keep them):\n"
+    "  --hdri FILE.hdr                         the environment lighting PBR (equirectangular; default: a\n"
+    "                                          built-in neutral studio with key and fill lights)\n"
+    "  --hdri-background                       the environment, blurred, behind the model\n"
+    "  --tone-mapping auto|none|aces|neutral   auto: Khronos PBR Neutral for pbr, none for the others\n"
+    "  --exposure EV                           brighter or darker by EV stops (default 0)\n"
+    "  --shadows --ssao --outline              the key light's shadows (on the model and the ground),\n"
+    "                                          ambient occlusion, dark edges; off by default\n";
 
 static const char render_usage_crowds[] =
     "\n"
@@ -70,7 +83,7 @@ static const char render_usage_crowds[] =
 #define MAX_FRAMES 100000
 
 typedef struct render_args {
-    const char *path, *clip, *out, *camera, *select, *heatmap, *muscles, *up, *anim, *name_map;
+    const char *path, *clip, *out, *camera, *select, *heatmap, *muscles, *up, *anim, *name_map, *hdri;
     app_camera_placement placement;
     int width, height, samples;
     double time, from, to, fps, turntable;
@@ -126,12 +139,14 @@ static int parse_value_option(int argc, char **argv, int i, render_args *a, bool
         }
     } else if (strcmp(o, "--anim") == 0)
         a->anim = v;
+    else if (strcmp(o, "--hdri") == 0)
+        a->hdri = v;
     else if (strcmp(o, "--name-map") == 0)
         a->name_map = v;
     else if (strcmp(o, "--up") == 0) {
         a->up = v;
-        if (strcasecmp(v, "y") != 0 && strcasecmp(v, "z") != 0) {
-            cli_error("render: --up \"%s\": expected y or z", v);
+        if (!app_up_axis(v, NULL)) {
+            cli_error("render: --up \"%s\": expected [+|-]x, y or z", v);
             *bad = true;
         }
     } else if (strcmp(o, "--select") == 0)
@@ -176,6 +191,7 @@ static int parse_render_args(int argc, char **argv, render_args *a)
         bool bad = false;
         if (cli_is_help(arg)) {
             fputs(render_usage, stdout);
+            fputs(render_usage_look, stdout);
             fputs(render_usage_crowds, stdout);
             return EXIT_OK;
         }
@@ -293,6 +309,7 @@ int cmd_render(int argc, char **argv)
                            .samples = a.samples,
                            .camera = a.camera,
                            .placement = a.placement,
+                           .hdri = a.hdri,
                            .select = a.select,
                            .heatmap = a.heatmap,
                            .loop = a.loop,
@@ -308,9 +325,9 @@ int cmd_render(int argc, char **argv)
                            .crowd = a.crowd,
                            .threads = a.threads};
     /* Never over an input: the model, or the muscle file. */
-    const char *inputs[2] = {a.path, a.muscles && *a.muscles ? a.muscles : NULL};
+    const char *inputs[3] = {a.path, a.muscles && *a.muscles ? a.muscles : NULL, a.hdri};
     sinew_error error = {0};
-    if (kind != OUTPUT_PATTERN && app_output_check(a.out, inputs, 2, &error) != SINEW_OK) {
+    if (kind != OUTPUT_PATTERN && app_output_check(a.out, inputs, 3, &error) != SINEW_OK) {
         cli_error("render: %s", error.message);
         return EXIT_OUTPUT;
     }
@@ -374,7 +391,7 @@ int cmd_render(int argc, char **argv)
             snprintf(path, sizeof path, a.out, (int)f);
         else
             snprintf(path, sizeof path, "%s", a.out);
-        if (kind == OUTPUT_PATTERN && app_output_check(path, inputs, 2, &error) != SINEW_OK) {
+        if (kind == OUTPUT_PATTERN && app_output_check(path, inputs, 3, &error) != SINEW_OK) {
             cli_error("render: %s", error.message);
             code = EXIT_OUTPUT;
         } else if (!cli_write_image(path, scene.pixels, a.width, a.height, a.options.transparent)) {

@@ -38,6 +38,10 @@ static int open_graphics(cli_scene *s, const cli_scene_desc *d)
     }
     for (uint32_t i = 0; i < sinew_renderer_warning_count(s->renderer); i++)
         fprintf(stderr, "sinew: warning: %s\n", sinew_renderer_warning(s->renderer, i));
+    if (d->hdri && sinew_renderer_set_environment(s->renderer, d->hdri, &error) != SINEW_OK) {
+        cli_error("%s", error.message);
+        return EXIT_BAD_INPUT;
+    }
     s->gl_name = sinew_renderer_gl_name(s->renderer);
     return EXIT_OK;
 }

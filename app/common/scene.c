@@ -420,16 +420,44 @@ sinew_result app_scene_use_clip(app_scene *s, int32_t index, sinew_error *error)
     return SINEW_OK;
 }
 
+bool app_up_axis(const char *axis, sinew_mat4 *root)
+{
+    /* the rotation taking each axis to +Y (column-major): +X, +Y, +Z, then their negatives */
+    static const struct {
+        char axis;
+        sinew_mat4 root;
+    } TURNS[] = {
+        {'x', {{0, 1, 0, 0, -1, 0, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1}}},
+        {'y', {{1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1}}},
+        {'z', {{1, 0, 0, 0, 0, 0, -1, 0, 0, 1, 0, 0, 0, 0, 0, 1}}},
+        {'X', {{0, -1, 0, 0, 1, 0, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1}}},
+        {'Y', {{1, 0, 0, 0, 0, -1, 0, 0, 0, 0, -1, 0, 0, 0, 0, 1}}},
+        {'Z', {{1, 0, 0, 0, 0, 0, 1, 0, 0, -1, 0, 0, 0, 0, 0, 1}}},
+    };
+    if (!axis)
+        return false;
+    bool negative = axis[0] == '-';
+    const char *name = axis[0] == '-' || axis[0] == '+' ? axis + 1 : axis;
+    if (strlen(name) != 1)
+        return false;
+    char c = (char)tolower((unsigned char)name[0]);
+    for (size_t i = 0; i < 3; i++) {
+        if (TURNS[i].axis != c)
+            continue;
+        if (root)
+            *root = TURNS[negative ? i + 3 : i].root;
+        return true;
+    }
+    return false;
+}
+
 bool app_scene_set_up_axis(app_scene *s, const char *axis)
 {
-    bool z = axis && (strcmp(axis, "z") == 0 || strcmp(axis, "Z") == 0);
-    if (!z && !(axis && (strcmp(axis, "y") == 0 || strcmp(axis, "Y") == 0)))
+    sinew_mat4 root;
+    if (!app_up_axis(axis, &root))
         return false;
-    s->z_up = z;
-    /* Z up to Y up: (x, y, z) -> (x, z, -y), column-major */
-    static const sinew_mat4 Y_UP = {{1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1}};
-    static const sinew_mat4 Z_UP = {{1, 0, 0, 0, 0, 0, -1, 0, 0, 1, 0, 0, 0, 0, 0, 1}};
-    s->root = z ? Z_UP : Y_UP;
+    s->root = root;
+    s->z_up = memcmp(&root, &(sinew_mat4){{1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1}}, sizeof root) != 0;
     s->posed_at = NAN;
     return true;
 }

@@ -133,7 +133,7 @@ typedef struct app_scene {
     uint32_t muscle_count;
     char notes[APP_SCENE_NOTES][SINEW_ERROR_MESSAGE_SIZE + 96];
     int note_count;
-    bool z_up;        /* the file's +Z is shown up (app_scene_set_up_axis) */
+    bool z_up;        /* another of the file's axes than +Y is shown up (app_scene_set_up_axis) */
     app_pose_ops ops; /* blending, IK, root motion (app_scene_set_pose_ops) */
     sinew_mat4 root;  /* what places the roots: identity, or Z up turned to Y up */
     /* morph channels (model->morph_channel_count): the weights of the last pose (the clip's,
@@ -149,9 +149,11 @@ sinew_result app_load_model(const app_scene_desc *desc, sinew_model **out, sinew
  * Errors: the import's; SINEW_ERROR_DATA for a clip the file lacks ("no clip ..."); the
  * muscle file's with APP_MUSCLES_REQUIRED. On failure the scene is empty (nothing to close). */
 sinew_result app_scene_open(app_scene *scene, const app_scene_desc *desc, sinew_error *error);
-/* Which of the file's axes is shown up: "y" (as sinew reads every file: the importers turn
- * what the file says to Y up) or "z", for files that say nothing and are modelled Z up (a
- * turn of -90 degrees about X). False for another name. */
+/* Which of the file's axes is shown up, as f3d's --up: [+|-]x, y or z, case ignored ("y", as
+ * sinew reads every file: the importers turn what the file says to Y up; "z" for files that say
+ * nothing and are modelled Z up: a turn of -90 degrees about X). app_up_axis() checks a name
+ * and gives the turn (root may be NULL). False for another name. */
+bool app_up_axis(const char *axis, sinew_mat4 *root);
 bool app_scene_set_up_axis(app_scene *scene, const char *axis);
 /* Resolves the spec's clips and joints against the scene's model (messages name the option
  * and list what the model has) and poses with them from now on; the spec all NULL: plain play. */

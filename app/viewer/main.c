@@ -326,8 +326,17 @@ static gboolean on_tick(GtkWidget *widget, GdkFrameClock *clock, gpointer data)
         char **names = g_strsplit(v->press, ",", -1);
         v->press = NULL;
         for (int i = 0; names[i]; i++) {
-            guint key = gdk_keyval_from_name(g_strstrip(names[i]));
-            if (key == GDK_KEY_VoidSymbol || key == 0 || !on_key(NULL, key, 0, 0, v))
+            const char *name = g_strstrip(names[i]);
+            GdkModifierType state = 0; /* shift+NAME, ctrl+NAME */
+            for (bool more = true; more;) {
+                more = false;
+                if (g_ascii_strncasecmp(name, "shift+", 6) == 0)
+                    state |= GDK_SHIFT_MASK, name += 6, more = true;
+                else if (g_ascii_strncasecmp(name, "ctrl+", 5) == 0)
+                    state |= GDK_CONTROL_MASK, name += 5, more = true;
+            }
+            guint key = gdk_keyval_from_name(name);
+            if (key == GDK_KEY_VoidSymbol || key == 0 || !on_key(NULL, key, 0, state, v))
                 fprintf(stderr, "sinew-view: --press: \"%s\" is no key bound to an action\n", names[i]);
         }
         g_strfreev(names);
@@ -681,6 +690,69 @@ static void show_status(viewer *v)
     gtk_label_set_text(GTK_LABEL(v->status), text);
 }
 
+static void msaa_release(viewer *v)
+{
+    glDeleteFramebuffers(1, &v->msaa_fbo);
+    glDeleteRenderbuffers(1, &v->msaa_color);
+    glDeleteRenderbuffers(1, &v->msaa_depth);
+    v->msaa_fbo = v->msaa_color = v->msaa_depth = 0;
+    v->msaa_width = v->msaa_height = v->msaa_samples = 0;
+}
+
+/* Binds the multisampled framebuffer the frame is drawn into, made or remade at the view's size
+ * and the samples asked for (within GL_MAX_SAMPLES, which OpenGL 3.3 makes 4 or more); false
+ * when anti-aliasing is off or GL refuses it (the frame then goes straight into the GL area's). */
+static bool msaa_bind(viewer *v, int width, int height)
+{
+    if (v->samples <= 1)
+        return false;
+    if (v->msaa_fbo && v->msaa_width == width && v->msaa_height == height && v->msaa_samples == v->samples) {
+        glBindFramebuffer(GL_FRAMEBUFFER, v->msaa_fbo);
+        return true;
+    }
+    msaa_release(v);
+    GLint most = 0;
+    glGetIntegerv(GL_MAX_SAMPLES, &most);
+    int samples = v->samples < most ? v->samples : most;
+    if (samples <= 1)
+        return false;
+    glGenFramebuffers(1, &v->msaa_fbo);
+    glGenRenderbuffers(1, &v->msaa_color);
+    glGenRenderbuffers(1, &v->msaa_depth);
+    glBindRenderbuffer(GL_RENDERBUFFER, v->msaa_color);
+    glRenderbufferStorageMultisample(GL_RENDERBUFFER, samples, GL_RGBA8, width, height);
+    glBindRenderbuffer(GL_RENDERBUFFER, v->msaa_depth);
+    glRenderbufferStorageMultisample(GL_RENDERBUFFER, samples, GL_DEPTH_COMPONENT24, width, height);
+    glBindRenderbuffer(GL_RENDERBUFFER, 0);
+    glBindFramebuffer(GL_FRAMEBUFFER, v->msaa_fbo);
+    glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_RENDERBUFFER, v->msaa_color);
+    glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER, v->msaa_depth);
+    if (glCheckFramebufferStatus(GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE) {
+        panels_log(v, "anti-aliasing: OpenGL refused a multisampled framebuffer; drawing without it");
+        msaa_release(v);
+        v->samples = 1;
+        return false;
+    }
+    v->msaa_width = width, v->msaa_height = height, v->msaa_samples = v->samples;
+    return true;
+}
+
+/* Resolves the multisampled frame into the GL area's framebuffer, which stays bound (screenshots
+ * and recordings read it). */
+static void msaa_resolve(viewer *v, GLuint target, int width, int height)
+{
+    glBindFramebuffer(GL_READ_FRAMEBUFFER, v->msaa_fbo);
+    glBindFramebuffer(GL_DRAW_FRAMEBUFFER, target);
+    glBlitFramebuffer(0, 0, width, height, 0, 0, width, height, GL_COLOR_BUFFER_BIT, GL_NEAREST);
+    glBindFramebuffer(GL_FRAMEBUFFER, target);
+    if (glGetError() != GL_NO_ERROR) { /* a format the resolve refuses: without anti-aliasing from now on */
+        panels_log(v, "anti-aliasing: OpenGL refused to resolve into the view; drawing without it");
+        msaa_release(v);
+        v->samples = 1;
+        view_redraw(v);
+    }
+}
+
 static gboolean on_render(GtkGLArea *area, GdkGLContext *context, gpointer data)
 {
     (void)context;
@@ -712,9 +784,14 @@ static gboolean on_render(GtkGLArea *area, GdkGLContext *context, gpointer data)
         frame.crowd_worlds = v->crowd.worlds;
         frame.jobs = v->jobs;
     }
+    GLint area_fbo = 0;
+    glGetIntegerv(GL_DRAW_FRAMEBUFFER_BINDING, &area_fbo);
+    bool msaa = msaa_bind(v, width, height);
     if (app_scene_pose(&v->scene, v->time, SINEW_WRAP_CLAMP, &error) != SINEW_OK ||
         (frame.cache_time = v->scene.cache_time, sinew_renderer_draw(v->renderer, &frame, &error)) != SINEW_OK)
         view_show_error(v, error.message);
+    if (msaa)
+        msaa_resolve(v, (GLuint)area_fbo, width, height);
     gint64 now = g_get_monotonic_time();
     if (v->fps_since == 0)
         v->fps_since = now;
@@ -764,6 +841,7 @@ static void on_unrealize(GtkGLArea *area, gpointer data)
     gtk_gl_area_make_current(area);
     sinew_renderer_destroy(v->renderer);
     v->renderer = NULL;
+    msaa_release(v);
 }
 
 /* ---- input ---------------------------------------------------------------------------------- */
@@ -856,6 +934,8 @@ static gboolean on_key(GtkEventControllerKey *controller, guint key, guint code,
         return TRUE;
     }
     int action = settings_action_for_key(v, key);
+    if (v->key_map == KEY_MAP_BLENDER && (state & GDK_SHIFT_MASK) && (key == GDK_KEY_Left || key == GDK_KEY_Right))
+        action = key == GDK_KEY_Left ? ACTION_FIRST : ACTION_LAST; /* Blender's jump to start / end */
     if (action < 0)
         return FALSE;
     if (v->keys[action].option) {
@@ -990,7 +1070,10 @@ static void on_drag_begin(GtkGestureDrag *gesture, double x, double y, gpointer 
     v->drag_x = v->drag_y = 0.0;
     gtk_widget_grab_focus(v->area);
     GdkModifierType mods = gtk_event_controller_get_current_event_state(GTK_EVENT_CONTROLLER(gesture));
-    v->ik_dragging = (mods & GDK_CONTROL_MASK) && v->selected >= 0 && v->scene.worlds;
+    guint button = gtk_gesture_single_get_current_button(GTK_GESTURE_SINGLE(gesture));
+    /* ctrl-drag moves an IK target (Blender's map: ctrl-left; its ctrl-middle zooms) */
+    v->ik_dragging = (mods & GDK_CONTROL_MASK) && v->selected >= 0 && v->scene.worlds &&
+                     (v->key_map != KEY_MAP_BLENDER || button == GDK_BUTTON_PRIMARY);
     if (v->ik_dragging && !(v->ik_on && v->ik_joint == v->selected)) { /* a new target, where the joint is */
         v->ik_joint = v->selected;
         memcpy(v->ik_target, v->scene.worlds[v->selected].m + 12, sizeof v->ik_target);
@@ -1033,10 +1116,15 @@ static void on_drag_update(GtkGestureDrag *gesture, double dx, double dy, gpoint
         apply_pose_ops(v, false);
         return;
     }
+    bool blender = v->key_map == KEY_MAP_BLENDER;
     if (v->camera.mode == SINEW_CAMERA_FLY) {
-        if (button == GDK_BUTTON_SECONDARY || button == GDK_BUTTON_PRIMARY)
+        if (button == GDK_BUTTON_SECONDARY || button == GDK_BUTTON_PRIMARY || (blender && button == GDK_BUTTON_MIDDLE))
             sinew_camera_rotate(&v->camera, -(float)ddx * 0.005f, -(float)ddy * 0.005f);
-    } else if (button == GDK_BUTTON_MIDDLE || (mods & GDK_SHIFT_MASK)) {
+    } else if (blender && button != GDK_BUTTON_MIDDLE) {
+        return; /* Blender: the left button selects, the right opens menus; the middle one moves the view */
+    } else if (blender && (mods & GDK_CONTROL_MASK)) {
+        sinew_camera_zoom(&v->camera, expf((float)ddy * 0.005f));
+    } else if (button == GDK_BUTTON_MIDDLE ? !blender || (mods & GDK_SHIFT_MASK) : (mods & GDK_SHIFT_MASK) != 0) {
         float fov = v->camera.fov_y > 0.0f ? v->camera.fov_y : 0.785398f;
         float per_pixel = 2.0f * v->camera.distance * tanf(0.5f * fov) / h;
         sinew_camera_pan(&v->camera, -(float)ddx * per_pixel, (float)ddy * per_pixel);
@@ -1350,7 +1438,7 @@ static const char usage[] =
     "the clip to MP4 (ffmpeg); keypad 1/3/7 look from the front, side and\n"
     "top, keypad 5 switches to a parallel projection, R resets the view; Page Up/Down open the previous/next\n"
     "file in the folder; the clip list's play mode \"All clips\" plays them in turn. Settings:\n"
-    "~/.config/sinew/settings.ini ([display], [window], [files], [keys]); the options below override them for\n"
+    "~/.config/sinew/settings.ini ([display], [view], [window], [files], [keys]); the options below override them for\n"
     "the run.\n"
     "\n"
     "  --clip C, --time T, --camera orbit:YAW,PITCH[,DIST] | fly:X,Y,Z,YAW,PITCH, --select JOINT,\n"
@@ -1364,7 +1452,12 @@ static const char usage[] =
     "  --blend C:W,C:W, --additive C:W, --crossfade A,B,T, --ik JOINT:X,Y,Z, --root-motion\n"
     "                        combine clips as `sinew pose --help` says\n"
     "  --anim OTHER          OTHER's clips retargeted onto each file opened (--name-map M.json: joint names)\n"
-    "  --up y|z              which of the file's axes is up (z: files modelled Z up that do not say so)\n"
+    "  --up [+|-]X|Y|Z       which of the file's axes is up (z: files modelled Z up that do not say so)\n"
+    "  --hdri FILE.hdr       the environment lighting physically based shading (default: the built-in studio)\n"
+    "  --samples N           anti-aliasing: N samples a pixel (default 4; 1 = off)\n"
+    "  --key-map sinew|blender  Blender's: Home frames all, middle-drag orbits, shift-middle pans,\n"
+    "                        ctrl-middle zooms, Shift+Left/Right first/last frame\n";
+static const char usage_more[] =
     "  --watch               reloads FILE when it changes on disk (keeping the clip, time and camera)\n"
     "  --screenshot OUT.png  writes the first frame drawn (the drawing area only)\n"
     "  --screenshot-window OUT.png  writes the whole window (the view and the side panel) once drawn\n"
@@ -1416,6 +1509,7 @@ int main(int argc, char **argv)
             i += used - 1;
         } else if (strcmp(argv[i], "--help") == 0 || strcmp(argv[i], "-h") == 0) {
             fputs(usage, stdout);
+            fputs(usage_more, stdout);
             return 0;
         } else if (strcmp(argv[i], "--version") == 0) {
             printf("sinew-view %s\n", sinew_version());
@@ -1448,9 +1542,32 @@ int main(int argc, char **argv)
                 v.anim = value;
             } else if (strcmp(o, "--name-map") == 0) {
                 v.name_map = value;
+            } else if (strcmp(o, "--hdri") == 0) {
+                g_free(v.hdri);
+                v.hdri = g_strdup(value);
+                v.hdri_given = true;
+            } else if (strcmp(o, "--samples") == 0) {
+                long n = 0;
+                if (!app_parse_integer(value, 1, 16, &n)) {
+                    fprintf(stderr, "sinew-view: bad --samples \"%s\": expected 1 (off) to 16\n", value);
+                    return 1;
+                }
+                v.samples = (int)n;
+                v.samples_given = true;
+            } else if (strcmp(o, "--key-map") == 0) {
+                int map = -1;
+                for (int m = 0; m < KEY_MAP_COUNT; m++)
+                    if (g_ascii_strcasecmp(value, KEY_MAP_NAMES[m]) == 0)
+                        map = m;
+                if (map < 0) {
+                    fprintf(stderr, "sinew-view: bad --key-map \"%s\": expected sinew or blender\n", value);
+                    return 1;
+                }
+                settings_set_key_map(&v, (view_key_map)map);
+                v.key_map_given = true;
             } else if (strcmp(o, "--up") == 0) {
-                if (strcasecmp(value, "y") != 0 && strcasecmp(value, "z") != 0) {
-                    fprintf(stderr, "sinew-view: bad --up \"%s\": y or z\n", value);
+                if (!app_up_axis(value, NULL)) {
+                    fprintf(stderr, "sinew-view: bad --up \"%s\": expected [+|-]x, y or z\n", value);
                     return 1;
                 }
                 v.up = value;
@@ -1501,11 +1618,11 @@ int main(int argc, char **argv)
                 }
                 v.camera_keep = frame ? CAMERA_FRAME : CAMERA_KEEP_GIVEN;
             } else {
-                fprintf(stderr, "sinew-view: unknown option %s\n%s", o, usage);
+                fprintf(stderr, "sinew-view: unknown option %s\n%s%s", o, usage, usage_more);
                 return 1;
             }
         } else if (argv[i][0] == '-') {
-            fprintf(stderr, "sinew-view: unknown option or missing value %s\n%s", argv[i], usage);
+            fprintf(stderr, "sinew-view: unknown option or missing value %s\n%s%s", argv[i], usage, usage_more);
             return 1;
         } else {
             s.path = argv[i];
@@ -1532,6 +1649,7 @@ int main(int argc, char **argv)
     app_scene_close(&v.scene);
     g_free(v.settings_path);
     g_free(v.last_folder);
+    g_free(v.hdri);
     free(v.hidden);
     return status ? status : v.exit_code;
 }

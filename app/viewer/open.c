@@ -49,6 +49,8 @@ bool view_make_renderer(viewer *v, const app_scene *scene, sinew_renderer **out)
         view_show_error(v, error.message);
         return false;
     }
+    if (v->hdri && sinew_renderer_set_environment(*out, v->hdri, &error) != SINEW_OK)
+        view_show_error(v, error.message); /* the studio lights the model instead */
     return true;
 }
 

@@ -230,6 +230,21 @@ static void on_camera_mode(GObject *dropdown, GParamSpec *pspec, gpointer data)
     view_redraw(v);
 }
 
+static void on_key_map(GObject *dropdown, GParamSpec *pspec, gpointer data)
+{
+    (void)pspec;
+    viewer *v = data;
+    if (v->updating)
+        return;
+    guint i = gtk_drop_down_get_selected(GTK_DROP_DOWN(dropdown));
+    if (i < KEY_MAP_COUNT) {
+        settings_set_key_map(v, (view_key_map)i);
+        v->key_map_given = false; /* chosen in the window: saved */
+        panels_log(v, i == KEY_MAP_BLENDER ? "keys: Blender's (Home frames all, middle-drag orbits, shift-middle pans)"
+                                           : "keys: sinew's (f frames all, drag orbits, shift-drag pans)");
+    }
+}
+
 static const char *key_for_option(const viewer *v, const char *option)
 {
     for (int a = 0; a < ACTION_COUNT; a++)
@@ -339,6 +354,12 @@ static GtkWidget *display_page(viewer *v)
     v->camera_list = gtk_drop_down_new_from_strings(cameras);
     g_signal_connect(v->camera_list, "notify::selected", G_CALLBACK(on_camera_mode), v);
     gtk_box_append(GTK_BOX(box), v->camera_list);
+    gtk_box_append(GTK_BOX(box), gtk_label_new("Keys and mouse"));
+    static const char *const maps[] = {"sinew", "Blender", NULL};
+    v->key_map_list = gtk_drop_down_new_from_strings(maps);
+    gtk_drop_down_set_selected(GTK_DROP_DOWN(v->key_map_list), (guint)v->key_map);
+    g_signal_connect(v->key_map_list, "notify::selected", G_CALLBACK(on_key_map), v);
+    gtk_box_append(GTK_BOX(box), v->key_map_list);
     /* blending: a second clip, its weight, a cross-fade, root motion */
     gtk_box_append(GTK_BOX(box), gtk_label_new("Blend with   (ctrl-drag: IK to the selected joint)"));
     v->blend_list = gtk_drop_down_new(NULL, NULL);

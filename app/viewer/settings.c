@@ -5,6 +5,8 @@
  *   [display]  every display option by its `sinew render` name: grid=on, shading=flat, ...
  *   [window]   width, height
  *   [files]    last-folder (where Open… starts), recent (the last 10 files opened)
+ *   [view]     key-map (sinew or blender), samples (anti-aliasing: 1 off, 2..16; default 4), hdri
+ *              (the environment file for physically based shading; empty: the built-in studio)
  *   [keys]     action=key, keys as GDK names them (space, Left, F1, a, ...): the keys rebound
  *              (earlier versions wrote every key; meshes=h, H's old default, is read as unset)
  */
@@ -56,6 +58,38 @@ static const view_key default_keys[ACTION_COUNT] = {
     [ACTION_UP] = {"fly-up", NULL, "e", 0},
 };
 
+/* Where Blender's habits differ from sinew's keys (the others are the same). */
+static const char *blender_key(int action)
+{
+    switch (action) {
+    case ACTION_FRAME_ALL:
+        return "Home"; /* View All */
+    case ACTION_FIRST:
+        return "KP_Home"; /* and Shift+Left, as Blender's jump to start */
+    case ACTION_LAST:
+        return "KP_End"; /* and Shift+Right */
+    default:
+        return NULL;
+    }
+}
+
+static guint default_key_of(view_key_map map, int action)
+{
+    const char *name =
+        map == KEY_MAP_BLENDER && blender_key(action) ? blender_key(action) : default_keys[action].default_key;
+    return gdk_keyval_from_name(name);
+}
+
+const char *const KEY_MAP_NAMES[KEY_MAP_COUNT] = {"sinew", "blender"};
+
+void settings_set_key_map(viewer *v, view_key_map map)
+{
+    for (int a = 0; a < ACTION_COUNT; a++)
+        if (v->keys[a].key == default_key_of(v->key_map, a))
+            v->keys[a].key = default_key_of(map, a);
+    v->key_map = map;
+}
+
 int settings_option_index(const char *name)
 {
     int i = 0;
@@ -82,6 +116,7 @@ void settings_defaults(viewer *v)
     }
     v->width = 1200;
     v->height = 760;
+    v->samples = 4;
     const char *config = g_get_user_config_dir();
     v->settings_path = g_build_filename(config, "sinew", "settings.ini", NULL);
 }
@@ -117,6 +152,21 @@ void settings_load(viewer *v)
         g_free(v->last_folder);
         v->last_folder = folder;
     }
+    char *map = g_key_file_get_string(file, "view", "key-map", NULL);
+    for (int m = 0; map && m < KEY_MAP_COUNT; m++)
+        if (g_ascii_strcasecmp(map, KEY_MAP_NAMES[m]) == 0)
+            settings_set_key_map(v, (view_key_map)m);
+    g_free(map);
+    GError *samples_error = NULL;
+    int samples = g_key_file_get_integer(file, "view", "samples", &samples_error);
+    if (!samples_error && samples >= 1 && samples <= 16)
+        v->samples = samples;
+    g_clear_error(&samples_error);
+    char *hdri = g_key_file_get_string(file, "view", "hdri", NULL);
+    if (hdri && hdri[0])
+        v->hdri = hdri;
+    else
+        g_free(hdri);
     for (int a = 0; a < ACTION_COUNT; a++) {
         char *name = g_key_file_get_string(file, "keys", v->keys[a].action, NULL);
         /* files of earlier versions hold every key; an old default moved since is not the user's choice */
@@ -158,9 +208,15 @@ bool settings_save(viewer *v)
         recent++;
     if (recent)
         g_key_file_set_string_list(file, "files", "recent", (const char *const *)v->recent, (gsize)recent);
+    if (!v->key_map_given)
+        g_key_file_set_string(file, "view", "key-map", KEY_MAP_NAMES[v->key_map]);
+    if (!v->samples_given)
+        g_key_file_set_integer(file, "view", "samples", v->samples);
+    if (!v->hdri_given)
+        g_key_file_set_string(file, "view", "hdri", v->hdri ? v->hdri : "");
     /* only the keys the user rebound: the others follow the defaults of later versions */
     for (int a = 0; a < ACTION_COUNT; a++)
-        if (v->keys[a].key == gdk_keyval_from_name(default_keys[a].default_key))
+        if (v->keys[a].key == default_key_of(v->key_map, a))
             g_key_file_remove_key(file, "keys", v->keys[a].action, NULL);
         else
             g_key_file_set_string(file, "keys", v->keys[a].action, gdk_keyval_name(v->keys[a].key));

@@ -3,6 +3,7 @@
 #ifndef SINEW_VIEW_H
 #define SINEW_VIEW_H
 
+#include <epoxy/gl.h>
 #include <gtk/gtk.h>
 
 #include "crowd.h"
@@ -35,6 +36,11 @@ typedef struct view_key {
     guint key; /* GDK key value in use */
 } view_key;
 
+/* Key maps (settings [view] key-map, --key-map): sinew's, or Blender's habits (Home frames
+ * all, Shift+Left/Right first/last frame, middle-drag orbits, shift-middle pans, ctrl-middle
+ * zooms; the left button does not move the view). */
+typedef enum view_key_map { KEY_MAP_SINEW, KEY_MAP_BLENDER, KEY_MAP_COUNT } view_key_map;
+
 typedef struct viewer {
     GtkWidget *window, *area, *scale, *time_label, *play_button, *clip_list, *status, *error_bar, *error_label;
     GtkWidget *node_list, *node_search, *transform_label, *heatmap_check, *log_view, *camera_list;
@@ -50,11 +56,20 @@ typedef struct viewer {
     const char *screenshot, *select, *heatmap;
     const char *window_shot; /* --screenshot-window: the whole window (panels too), once open and drawn */
     int frames_drawn;
-    char shot_path[4096];        /* F12: the numbered file being written (screenshot points here) */
-    const char *screenshot_dir;  /* --screenshot-dir: where F12 writes; NULL: Pictures, else home */
-    const char *press;           /* --press: key names pressed once the file is open, comma-separated */
-    char *sliders;               /* $SINEW_VIEW_SLIDERS: Shape keys sliders set once the file is open (tests) */
-    const char *up;              /* --up y|z: the axis shown up */
+    char shot_path[4096];       /* F12: the numbered file being written (screenshot points here) */
+    const char *screenshot_dir; /* --screenshot-dir: where F12 writes; NULL: Pictures, else home */
+    const char *press;          /* --press: key names pressed once the file is open, comma-separated */
+    char *sliders;              /* $SINEW_VIEW_SLIDERS: Shape keys sliders set once the file is open (tests) */
+    const char *up;             /* --up [+|-]x|y|z: the axis shown up */
+    view_key_map key_map;
+    GtkWidget *key_map_list;
+    /* anti-aliasing: the frame is drawn into a multisampled framebuffer of `samples` samples (1:
+     * straight into the GL area's) and resolved into the GL area's (settings [view] samples, --samples) */
+    int samples;
+    GLuint msaa_fbo, msaa_color, msaa_depth;
+    int msaa_width, msaa_height, msaa_samples;
+    char *hdri; /* --hdri, settings [view] hdri: the environment file; NULL: the studio */
+    bool hdri_given, samples_given, key_map_given; /* on the command line: not saved */
     const char *anim, *name_map; /* --anim OTHER (--name-map M.json): its clips on every file opened */
     /* the Display panel's blending (issue 15): a second clip and its weight, root motion, an IK target */
     GtkWidget *blend_list, *blend_scale, *root_motion_check;
@@ -192,6 +207,10 @@ int settings_option_index(const char *name);
 /* The user changed option `name` in the window: it is saved at exit again. */
 void settings_option_changed(viewer *v, const char *name);
 void settings_defaults(viewer *v);
+/* The key maps' names in settings and on the command line. */
+extern const char *const KEY_MAP_NAMES[KEY_MAP_COUNT];
+/* Switches the key map: the keys not rebound by the user follow the new map's defaults. */
+void settings_set_key_map(viewer *v, view_key_map map);
 /* Reads the settings file (missing: defaults); a bad line goes to the log on stderr. */
 void settings_load(viewer *v);
 bool settings_save(viewer *v);

@@ -56,8 +56,10 @@ sinew_camera sinew_camera_default(void);
 void sinew_camera_eye(const sinew_camera *camera, float eye[3]);
 void sinew_camera_basis(const sinew_camera *camera, float forward[3], float right[3], float up[3]);
 
-/* Orbit mode: target = box centre, distance so the box's bounding sphere fits the
- * vertical and horizontal field of view at `aspect` (width / height). Keeps yaw/pitch. */
+/* Orbit mode: target and distance so that the box's corners, seen along the camera's
+ * direction, fill 95% of the view at `aspect` (width / height) on its tighter side, centred
+ * (a long model fills the frame's width; perspective and parallel views alike). Keeps
+ * yaw/pitch; scene_radius becomes the box's bounding sphere's. */
 void sinew_camera_frame(sinew_camera *camera, const float min[3], const float max[3], float aspect);
 
 /* Turns the camera to look along an axis: sets yaw and pitch only (orbit: around the same

@@ -9,8 +9,9 @@
  * and time (see sinew_frame). Display switches: materials (base colour and
  * texture maps) or clay; lighting (key + fill) or unlit; flat, Gouraud or Phong shading,
  * or physically based shading (metallic-roughness, normal, occlusion and emissive maps, a
- * sky environment, tone mapping); wireframe overlay; the skeleton drawn over the mesh (bones, joint dots, one
- * selected joint highlighted, optional axes and names); a joint's weight heat map; vertex
+ * studio or HDR environment (image-based lighting); exposure and tone mapping; shadows from a
+ * shadow map, screen-space ambient occlusion and outlines as switches; wireframe overlay; the skeleton drawn over the
+ * mesh (bones, joint dots, one selected joint highlighted, optional axes and names); a joint's weight heat map; vertex
  * normals; ground grid and world axes; the caller's lines (sinew_frame.lines); background colour;
  * volume-preserving muscles
  * (sinew/muscle_rig.h) as Gouraud-shaded tubes.
@@ -45,9 +46,17 @@ typedef enum sinew_shading {
     SINEW_SHADING_GOURAUD = 1, /* lit per vertex, colours interpolated */
     SINEW_SHADING_FLAT = 2,    /* one normal a triangle */
     SINEW_SHADING_PBR = 3      /* physically based (glTF metallic-roughness with normal, occlusion and
-                                * emissive maps), lit by the key and fill lights and a sky environment,
+                                * emissive maps), lit by the environment (sinew_renderer_set_environment),
                                 * tone mapped */
 } sinew_shading;
+
+/* How linear light becomes a display colour (after the exposure). */
+typedef enum sinew_tone_mapping {
+    SINEW_TONE_MAPPING_AUTO = 0,   /* Khronos PBR Neutral for physically based shading, none for the others */
+    SINEW_TONE_MAPPING_NONE = 1,   /* clipped at 1 */
+    SINEW_TONE_MAPPING_ACES = 2,   /* ACES filmic (Narkowicz's fit), as three.js's ACESFilmic */
+    SINEW_TONE_MAPPING_NEUTRAL = 3 /* Khronos PBR Neutral: base colours kept up to 0.8, highlights rolled off */
+} sinew_tone_mapping;
 
 typedef enum sinew_skinning {
     SINEW_SKINNING_GPU = 0, /* vertex shader, palette in a texture buffer (the default) */
@@ -56,19 +65,28 @@ typedef enum sinew_skinning {
 
 /* Display switches. Start from sinew_render_options_default(): several defaults are "on". */
 typedef struct sinew_render_options {
-    bool materials;         /* base colour + diffuse texture; off = clay */
-    bool lighting;          /* key + fill light; off = unlit colour */
-    sinew_shading shading;  /* used when lighting is on */
-    bool wireframe;         /* triangle edges over the surface */
-    bool meshes;            /* draw the meshes at all */
-    bool skeleton;          /* bones and joint dots over the mesh */
-    bool joint_axes;        /* each joint's local X/Y/Z axes (red/green/blue) */
-    bool joint_names;       /* joint names next to the dots */
-    bool normals;           /* vertex normals as short lines */
-    bool grid;              /* ground grid, at grid_height */
-    bool axes;              /* world X/Y/Z axes at the origin */
-    bool muscles;           /* the frame's muscles, Gouraud-shaded in their colours */
-    bool crowd_lod;         /* crowds: characters small on screen drawn with simplified meshes (on by default) */
+    bool materials;              /* base colour + diffuse texture; off = clay */
+    bool lighting;               /* key + fill light; off = unlit colour */
+    sinew_shading shading;       /* used when lighting is on */
+    bool wireframe;              /* triangle edges over the surface */
+    bool meshes;                 /* draw the meshes at all */
+    bool skeleton;               /* bones and joint dots over the mesh */
+    bool joint_axes;             /* each joint's local X/Y/Z axes (red/green/blue) */
+    bool joint_names;            /* joint names next to the dots */
+    bool normals;                /* vertex normals as short lines */
+    bool grid;                   /* ground grid, at grid_height */
+    bool axes;                   /* world X/Y/Z axes at the origin */
+    bool muscles;                /* the frame's muscles, Gouraud-shaded in their colours */
+    bool crowd_lod;              /* crowds: characters small on screen drawn with simplified meshes (on by default) */
+    bool shadows;                /* the key light's shadows on the model and the ground (a shadow map); with an
+                                  * environment file and PBR, the environment's dominant light casts them */
+    bool ssao;                   /* screen-space ambient occlusion (from a depth pre-pass), on the model and the
+                                  * ground */
+    bool outline;                /* dark lines where depth jumps: silhouettes and creases */
+    bool environment_background; /* the environment (sinew_renderer_set_environment) behind the scene,
+                                  * blurred, instead of the background colour */
+    sinew_tone_mapping tone_mapping;
+    float exposure;         /* stops: the linear colour is scaled by 2^exposure before tone mapping (0 by default) */
     int32_t selected_joint; /* node index to highlight, -1 for none */
     int32_t heatmap_joint;  /* node index whose skin weights colour the mesh, -1 for none */
     float background[3];    /* 0..1 RGB as displayed (sRGB) */
@@ -87,9 +105,11 @@ sinew_render_options sinew_render_options_default(void);
 
 /* Display switches by name, for settings files and command lines. Names: materials,
  * lighting, wireframe, meshes, skeleton, joint-axes, joint-names, normals, grid, axes,
- * muscles, lod (booleans: on/off, true/false, yes/no, 1/0; a NULL value means on), shading
- * (phong|gouraud|flat|pbr), skinning (gpu|cpu), skinning-method (file|lbs|dqs), background (RRGGBB, #RRGGBB, r,g,b in
- * 0..1, or transparent), normal-length (world units, 0 = automatic). Joint choices are node indices and are set
+ * muscles, lod, shadows, ssao, outline, hdri-background (booleans: on/off, true/false, yes/no,
+ * 1/0; a NULL value means on), shading (phong|gouraud|flat|pbr), skinning (gpu|cpu),
+ * skinning-method (file|lbs|dqs), tone-mapping (auto|none|aces|neutral), exposure (stops, -10..10),
+ * background (RRGGBB, #RRGGBB, r,g,b in 0..1, or transparent), normal-length (world units, 0 =
+ * automatic). Joint choices are node indices and are set
  * directly. An unknown name or a bad value gives SINEW_ERROR_INVALID_ARGUMENT. */
 sinew_result sinew_render_option_set(sinew_render_options *options, const char *name, const char *value,
                                      sinew_error *error);
@@ -117,6 +137,15 @@ typedef struct sinew_renderer_desc {
 /* Needs a current OpenGL >= 3.3 core context. */
 sinew_result sinew_renderer_create(const sinew_renderer_desc *desc, sinew_renderer **out, sinew_error *error);
 void sinew_renderer_destroy(sinew_renderer *renderer);
+
+/* Image-based lighting for physically based shading (and the hdri-background option): an
+ * equirectangular environment image (a Radiance .hdr, or any image stb_image reads, taken as
+ * linear when it is HDR), prefiltered on the CPU into a GGX mip chain and 9 spherical-harmonic
+ * coefficients of irradiance (about 0.1 s). NULL: the built-in neutral studio (made at the
+ * first frame that needs it), lit together with the key and fill lights; a file's
+ * environment lights alone. Errors (SINEW_ERROR_IO, SINEW_ERROR_FORMAT naming the file) keep
+ * the environment in use. */
+sinew_result sinew_renderer_set_environment(sinew_renderer *renderer, const char *path, sinew_error *error);
 
 /* Warnings from create (unreadable textures, skins skinned on the CPU). */
 uint32_t sinew_renderer_warning_count(const sinew_renderer *renderer);

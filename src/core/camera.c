@@ -62,26 +62,71 @@ static float fov_of(const sinew_camera *c)
     return c->fov_y > 0.0f ? c->fov_y : glm_rad(45.0f);
 }
 
+/* The orbit distance at which the box's corners fit the view around `target`, given the view's
+ * basis and half-angle tangents (perspective: each corner at its own depth; parallel: the
+ * view's height at the pivot). */
+static float dot3(const float a[3], const float b[3])
+{
+    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+}
+
+static float fit_distance(float corners[8][3], const float target[3], const float f[3], const float right[3],
+                          const float up[3], float tan_h, float tan_v, bool parallel)
+{
+    float d = 0.0f;
+    for (int k = 0; k < 8; k++) {
+        float p[3] = {corners[k][0] - target[0], corners[k][1] - target[1], corners[k][2] - target[2]};
+        float x = fabsf(dot3(p, right)), y = fabsf(dot3(p, up)), z = dot3(p, f);
+        float need = fmaxf(x / tan_h, y / tan_v) - (parallel ? 0.0f : z);
+        d = fmaxf(d, need);
+    }
+    return d;
+}
+
 void sinew_camera_frame(sinew_camera *camera, const float min[3], const float max[3], float aspect)
 {
-    float center[3], radius = 0.0f;
+    float center[3], lo[3], hi[3], radius = 0.0f;
     for (int i = 0; i < 3; i++) {
-        float lo = min[i], hi = max[i];
-        if (!(lo <= hi) || !isfinite(lo) || !isfinite(hi))
-            lo = hi = 0.0f;
-        center[i] = 0.5f * (lo + hi);
-        radius += 0.25f * (hi - lo) * (hi - lo);
+        lo[i] = min[i], hi[i] = max[i];
+        if (!(lo[i] <= hi[i]) || !isfinite(lo[i]) || !isfinite(hi[i]))
+            lo[i] = hi[i] = 0.0f;
+        center[i] = 0.5f * (lo[i] + hi[i]);
+        radius += 0.25f * (hi[i] - lo[i]) * (hi[i] - lo[i]);
     }
     radius = sqrtf(radius);
-    if (radius < 1e-3f)
+    if (radius < 1e-3f) { /* a point: a unit sphere around it */
         radius = 1.0f;
+        for (int i = 0; i < 3; i++)
+            lo[i] = center[i] - 0.57735f, hi[i] = center[i] + 0.57735f;
+    }
+    /* the box's corners fill 95% of the narrower side of the view, seen along the camera's
+     * direction: its projection centred (a few refinements, as perspective is not symmetric) */
     float half_v = 0.5f * fov_of(camera);
-    float half_h = atanf(tanf(half_v) * (aspect > 0.0f ? aspect : 1.0f));
-    float half = half_v < half_h ? half_v : half_h;
+    float tan_v = tanf(half_v) * 0.95f, tan_h = tanf(half_v) * (aspect > 0.0f ? aspect : 1.0f) * 0.95f;
+    float corners[8][3], f[3], right[3], up[3];
+    for (int k = 0; k < 8; k++)
+        for (int i = 0; i < 3; i++)
+            corners[k][i] = (k >> i) & 1 ? hi[i] : lo[i];
+    sinew_camera_basis(camera, f, right, up);
+    float d = fit_distance(corners, center, f, right, up, tan_h, tan_v, camera->orthographic);
+    for (int pass = 0; pass < 4 && !camera->orthographic; pass++) {
+        float x0 = INFINITY, x1 = -INFINITY, y0 = INFINITY, y1 = -INFINITY;
+        for (int k = 0; k < 8; k++) {
+            float p[3] = {corners[k][0] - center[0], corners[k][1] - center[1], corners[k][2] - center[2]};
+            float depth = fmaxf(d + glm_vec3_dot(p, f), 1e-6f);
+            float x = glm_vec3_dot(p, right) / depth, y = glm_vec3_dot(p, up) / depth;
+            x0 = fminf(x0, x), x1 = fmaxf(x1, x), y0 = fminf(y0, y), y1 = fmaxf(y1, y);
+        }
+        /* move the target sideways so that the extents are even, at the target's depth */
+        float sx = 0.5f * (x0 + x1) * d, sy = 0.5f * (y0 + y1) * d;
+        for (int i = 0; i < 3; i++)
+            center[i] += right[i] * sx + up[i] * sy;
+        d = fit_distance(corners, center, f, right, up, tan_h, tan_v, false);
+    }
     sinew_camera_mode mode = camera->mode;
     camera->mode = SINEW_CAMERA_ORBIT;
     glm_vec3_copy(center, camera->target);
-    camera->distance = radius / sinf(half) * 1.05f;
+    camera->distance = fmaxf(d, radius * 0.05f);
     camera->scene_radius = radius;
     sinew_camera_set_mode(camera, mode);
 }

@@ -8,13 +8,92 @@
 #include "sinew/render.h"
 
 typedef struct render_programs {
-    GLuint mesh;    /* surfaces, wireframe */
-    GLuint normals; /* vertex normals as lines (geometry stage) */
-    GLuint overlay; /* skeleton, grid, axes, text */
+    GLuint mesh;       /* surfaces, wireframe, depth-only passes */
+    GLuint normals;    /* vertex normals as lines (geometry stage) */
+    GLuint overlay;    /* skeleton, grid, axes, text */
+    GLuint background; /* the environment behind the scene (a full-screen triangle) */
+    GLuint ground;     /* the shadow catcher: shadows and occlusion on the ground plane */
+    GLuint outline;    /* edges found in the depth pre-pass, over the frame */
 } render_programs;
 
 sinew_result render_programs_create(render_programs *programs, sinew_error *error);
 void render_programs_destroy(render_programs *programs);
+
+/* Image-based lighting (environment.c): an equirectangular environment, RENDER_ENV_WIDTH x
+ * RENDER_ENV_WIDTH/2 RGB floats at level 0 (mirror), each next level half the size and the GGX
+ * lobe of roughness level / (RENDER_ENV_LEVELS - 1) integrated over it; `sh`: the diffuse
+ * irradiance over pi as 9 spherical-harmonic coefficients (times the albedo: the diffuse
+ * radiance); the dominant light's direction (towards it) and how directional it is (0..1). */
+#define RENDER_ENV_WIDTH 256
+#define RENDER_ENV_LEVELS 6
+typedef struct render_env {
+    float *level[RENDER_ENV_LEVELS];
+    float sh[9][3];
+    float light_dir[3];
+    float directionality;
+    float *memory;
+} render_env;
+
+/* An environment from an image of any size (1 to 4 channels; NaN, infinite and negative
+ * texels read as 0), from an .hdr file (stb_image), or the built-in studio. */
+bool render_env_from_pixels(const float *pixels, int width, int height, int channels, render_env *env);
+sinew_result render_env_load(const char *path, render_env *env, sinew_error *error);
+bool render_env_studio(render_env *env);
+void render_env_free(render_env *env);
+/* The diffuse radiance over albedo the harmonics give for normal n. */
+void render_env_irradiance(const render_env *env, const float n[3], float out[3]);
+/* The split-sum BRDF table: size x size (x: n.v, y: roughness, texel centres), scale and bias
+ * of F0 (two floats a texel). */
+void render_brdf_table(int size, float *rg);
+
+/* Frame effects (effects.c): the environment on the GPU, the shadow map, the depth pre-pass
+ * (occlusion, outlines), and the passes that draw no model: background, ground, outline.
+ * Texture units they take: 7 environment, 8 BRDF table, 9 shadow map, 10 depth pre-pass. */
+#define RENDER_SHADOW_SIZE 2048
+typedef struct render_effects {
+    GLuint env_texture, brdf_texture;
+    float sh[9][3], light_dir[3], directionality;
+    bool env_ready, env_custom;
+    GLuint shadow_fbo, shadow_texture;
+    GLuint depth_fbo, depth_texture;
+    int depth_width, depth_height;
+    GLuint empty_vao, ground_vao, ground_buffer;
+} render_effects;
+
+/* One frame's effects, worked out before its passes. */
+typedef struct render_effect_frame {
+    float view_proj[16], inv_view_proj[16];
+    float light_view_proj[16], shadow_matrix[16];
+    float shadow_strength, shadow_bias;
+    bool shadows, depth_pass, ao, outline, background, ground;
+    float exposure; /* linear scale */
+    int tone;       /* 0 none, 1 ACES, 2 neutral */
+    float env_direct;
+    float center[3], radius, ground_height;
+    float near_plane, far_plane;
+    bool orthographic;
+    int width, height;
+} render_effect_frame;
+
+void render_effects_destroy(render_effects *fx);
+sinew_result render_effects_set_environment(render_effects *fx, const char *path, sinew_error *error);
+/* Works out the frame's effects (the camera's matrices, the key light towards `key`, the scene's
+ * centre and radius) and makes what they need: the studio environment the first time, the
+ * shadow map, the depth pre-pass's target at the viewport's size. `crowd`: a crowd frame (its
+ * characters cast no shadows and have no pre-pass). */
+sinew_result render_effects_prepare(render_effects *fx, render_effect_frame *ef, const sinew_frame *frame,
+                                    const float key[3], const float view[16], const float proj[16], bool crowd,
+                                    sinew_error *error);
+/* Binds the shadow map's or the pre-pass's framebuffer, its viewport, and clears its depth. */
+void render_effects_begin_shadow(render_effects *fx);
+void render_effects_begin_depth(render_effects *fx, const render_effect_frame *ef);
+/* Binds the effects' textures (units 7..10) and sets their uniforms on `program` (in use). */
+void render_effects_bind(const render_effects *fx, const render_effect_frame *ef);
+void render_effects_uniforms(const render_effects *fx, GLuint program, const render_effect_frame *ef);
+void render_effects_background(const render_effects *fx, const render_programs *programs,
+                               const render_effect_frame *ef);
+void render_effects_ground(const render_effects *fx, const render_programs *programs, const render_effect_frame *ef);
+void render_effects_outline(const render_effects *fx, const render_programs *programs, const render_effect_frame *ef);
 
 /* Levels of detail (lod.c): index lists of a mesh, full then simplified, over the same
  * vertices. first/count: where each level's indices start in the list and how many; total:

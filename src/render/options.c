@@ -27,13 +27,21 @@ static const switch_entry SWITCHES[] = {
     {"axes", offsetof(sinew_render_options, axes)},
     {"muscles", offsetof(sinew_render_options, muscles)},
     {"lod", offsetof(sinew_render_options, crowd_lod)},
+    {"shadows", offsetof(sinew_render_options, shadows)},
+    {"ssao", offsetof(sinew_render_options, ssao)},
+    {"outline", offsetof(sinew_render_options, outline)},
+    {"hdri-background", offsetof(sinew_render_options, environment_background)},
 };
 #define SWITCH_COUNT (sizeof SWITCHES / sizeof SWITCHES[0])
 
-static const char *const NAMES[] = {"materials",  "lighting",      "wireframe", "meshes",   "skeleton",
-                                    "joint-axes", "joint-names",   "normals",   "grid",     "axes",
-                                    "muscles",    "lod",           "shading",   "skinning", "skinning-method",
-                                    "background", "normal-length", NULL};
+static const char *const NAMES[] = {"materials", "lighting",   "wireframe",       "meshes",
+                                    "skeleton",  "joint-axes", "joint-names",     "normals",
+                                    "grid",      "axes",       "muscles",         "lod",
+                                    "shadows",   "ssao",       "outline",         "hdri-background",
+                                    "shading",   "skinning",   "skinning-method", "tone-mapping",
+                                    "exposure",  "background", "normal-length",   NULL};
+
+static const char *const TONES[] = {"auto", "none", "aces", "neutral"};
 
 static const char *const SHADINGS[] = {"phong", "gouraud", "flat", "pbr"};
 
@@ -136,6 +144,23 @@ sinew_result sinew_render_option_set(sinew_render_options *o, const char *name, 
         return sinew_fail(error, SINEW_ERROR_INVALID_ARGUMENT,
                           "background: expected RRGGBB, #RRGGBB, r,g,b in 0..1 or transparent, not \"%s\"", value);
     }
+    if (strcmp(name, "tone-mapping") == 0) {
+        for (int i = 0; i < 4; i++)
+            if (strcasecmp(value, TONES[i]) == 0)
+                return o->tone_mapping = (sinew_tone_mapping)i, SINEW_OK;
+        return sinew_fail(error, SINEW_ERROR_INVALID_ARGUMENT,
+                          "tone-mapping: expected auto, none, aces or neutral, not \"%s\"", value);
+    }
+    if (strcmp(name, "exposure") == 0) {
+        char *end = NULL;
+        errno = 0;
+        double d = strtod(value, &end);
+        if (end == value || *end || errno || !(d >= -10.0 && d <= 10.0))
+            return sinew_fail(error, SINEW_ERROR_INVALID_ARGUMENT,
+                              "exposure: expected stops from -10 to 10 (0: as lit), not \"%s\"", value);
+        o->exposure = (float)d;
+        return SINEW_OK;
+    }
     if (strcmp(name, "normal-length") == 0) {
         char *end = NULL;
         errno = 0;
@@ -173,6 +198,10 @@ sinew_result sinew_render_option_get(const sinew_render_options *o, const char *
                  (unsigned)lroundf(o->background[1] * 255.0f), (unsigned)lroundf(o->background[2] * 255.0f));
     else if (strcmp(name, "normal-length") == 0)
         snprintf(out, size, "%.9g", o->normal_length);
+    else if (strcmp(name, "tone-mapping") == 0)
+        snprintf(out, size, "%s", TONES[(unsigned)o->tone_mapping <= SINEW_TONE_MAPPING_NEUTRAL ? o->tone_mapping : 0]);
+    else if (strcmp(name, "exposure") == 0)
+        snprintf(out, size, "%.9g", o->exposure);
     else
         return sinew_fail(error, SINEW_ERROR_INVALID_ARGUMENT, "unknown display option \"%s\"", name);
     return SINEW_OK;

@@ -66,13 +66,14 @@ typedef struct mesh_uniforms {
         palette, morph, morph_count, morph_vertices, morph_texels, morph_target, morph_weight, heat_joint, heat_rigid,
         gouraud, key_dir, fill_dir, eye, base_color, use_texture, texture, mode, heat, override, normal_length,
         metallic, roughness, emissive, normal_scale, occlusion_strength, maps, map_mr, map_normal, map_occlusion,
-        map_emissive;
+        map_emissive, depth_only;
 } mesh_uniforms;
 
 struct sinew_renderer {
     const sinew_model *model;
     sinew_allocator allocator;
     render_programs programs;
+    render_effects fx; /* environment, shadow map, depth pre-pass */
     mesh_uniforms mesh_u, normals_u;
     GLint overlay_matrix, overlay_point_size, overlay_round;
     render_mesh *meshes;
@@ -389,7 +390,7 @@ static void lookup_mesh_uniforms(GLuint program, mesh_uniforms *u)
     U(morph), U(morph_count), U(morph_vertices), U(morph_texels), U(morph_target), U(morph_weight);
     U(key_dir), U(fill_dir), U(eye), U(base_color), U(use_texture), U(texture), U(mode), U(heat), U(override);
     U(normal_length), U(metallic), U(roughness), U(emissive), U(normal_scale), U(occlusion_strength), U(maps);
-    U(map_mr), U(map_normal), U(map_occlusion), U(map_emissive);
+    U(map_mr), U(map_normal), U(map_occlusion), U(map_emissive), U(depth_only);
 #undef U
 }
 
@@ -610,8 +611,16 @@ void sinew_renderer_destroy(sinew_renderer *r)
     glDeleteBuffers(1, &r->muscle_indices);
     glDeleteBuffers(1, &r->overlay_buffer);
     glDeleteBuffers(1, &r->quad_indices);
+    render_effects_destroy(&r->fx);
     render_programs_destroy(&r->programs);
     r->allocator.free(r, r->allocator.user);
+}
+
+sinew_result sinew_renderer_set_environment(sinew_renderer *r, const char *path, sinew_error *error)
+{
+    if (!r)
+        return sinew_fail(error, SINEW_ERROR_INVALID_ARGUMENT, "sinew_renderer_set_environment: no renderer");
+    return render_effects_set_environment(&r->fx, path, error);
 }
 
 uint32_t sinew_renderer_warning_count(const sinew_renderer *r)
@@ -821,6 +830,9 @@ typedef struct frame_state {
     float proj11; /* the projection's [1][1]: pixels of a world unit at clip w = 1, over half the height */
     float eye[3], key[3], fill[3];
     uint32_t dq_offset; /* records from a joint's matrix to its dual-quaternion joint */
+    const render_effects *fx;
+    const render_effect_frame *ef;
+    bool depth_only; /* a shadow map or depth pre-pass */
 } frame_state;
 
 static void set_common_uniforms(GLuint program, const mesh_uniforms *u, const frame_state *fs)
@@ -842,6 +854,10 @@ static void set_common_uniforms(GLuint program, const mesh_uniforms *u, const fr
     glUniform1i(u->morph, 6);
     glUniform1i(u->morph_count, 0);
     glUniform1i(u->dq_offset, (GLint)fs->dq_offset);
+    if (u->depth_only >= 0) { /* the mesh program: its surfaces' effects */
+        render_effects_uniforms(fs->fx, program, fs->ef);
+        glUniform1i(u->depth_only, fs->depth_only);
+    }
 }
 
 /* Binds the VAO and sets the skinning and morph uniforms of one instance; streams vertices
@@ -982,6 +998,56 @@ static sinew_result draw_meshes(sinew_renderer *r, const frame_state *fs, sinew_
         }
     }
     return SINEW_OK;
+}
+
+/* The depth of every shown mesh instance through view_proj (the shadow map, the pre-pass). */
+static sinew_result draw_depth(sinew_renderer *r, const frame_state *fs, const float *view_proj, sinew_error *error)
+{
+    const sinew_model *m = r->model;
+    const mesh_uniforms *u = &r->mesh_u;
+    frame_state depth = *fs;
+    memcpy(depth.view_proj, view_proj, sizeof depth.view_proj);
+    depth.depth_only = true;
+    set_common_uniforms(r->programs.mesh, u, &depth);
+    glUniform1i(u->mode, 0);
+    glUniform1i(u->gouraud, 0);
+    glUniform1i(u->heat, 0);
+    for (uint32_t i = 0; i < m->instance_count; i++) {
+        if (instance_hidden(fs->o, i))
+            continue;
+        sinew_result result = prepare_instance(r, u, &depth, i, error);
+        if (result != SINEW_OK)
+            return result;
+        glDrawElements(GL_TRIANGLES, (GLsizei)m->meshes[m->instances[i].mesh].index_count, GL_UNSIGNED_INT, NULL);
+    }
+    return SINEW_OK;
+}
+
+/* The shadow map and the depth pre-pass the frame's effects need, drawn into their own
+ * framebuffers; the caller's framebuffers are bound again after. */
+static sinew_result draw_effect_passes(sinew_renderer *r, const frame_state *fs, sinew_error *error)
+{
+    const render_effect_frame *ef = fs->ef;
+    GLint draw_fbo = 0, read_fbo = 0;
+    glGetIntegerv(GL_DRAW_FRAMEBUFFER_BINDING, &draw_fbo);
+    glGetIntegerv(GL_READ_FRAMEBUFFER_BINDING, &read_fbo);
+    sinew_result result = SINEW_OK;
+    if (ef->shadows) {
+        render_effects_begin_shadow(&r->fx);
+        glEnable(GL_POLYGON_OFFSET_FILL);
+        glPolygonOffset(2.0f, 4.0f);
+        result = draw_depth(r, fs, ef->light_view_proj, error);
+        glDisable(GL_POLYGON_OFFSET_FILL);
+    }
+    if (result == SINEW_OK && ef->depth_pass) {
+        render_effects_begin_depth(&r->fx, ef);
+        result = draw_depth(r, fs, fs->view_proj, error);
+    }
+    glBindFramebuffer(GL_DRAW_FRAMEBUFFER, (GLuint)draw_fbo);
+    glBindFramebuffer(GL_READ_FRAMEBUFFER, (GLuint)read_fbo);
+    glViewport(0, 0, fs->frame->width, fs->frame->height);
+    render_effects_bind(&r->fx, ef);
+    return result;
 }
 
 static sinew_result draw_normals(sinew_renderer *r, const frame_state *fs, float length, sinew_error *error)
@@ -1570,6 +1636,20 @@ sinew_result sinew_renderer_draw(sinew_renderer *r, const sinew_frame *frame, si
     glActiveTexture(GL_TEXTURE0);
     glBindTexture(GL_TEXTURE_BUFFER, r->palette_texture);
 
+    render_effect_frame ef;
+    result = render_effects_prepare(&r->fx, &ef, frame, fs.key, view.m, proj.m, frame->crowd_count > 0, error);
+    if (result != SINEW_OK)
+        return result;
+    fs.fx = &r->fx;
+    fs.ef = &ef;
+    glEnable(GL_DEPTH_TEST);
+    glDepthFunc(GL_LEQUAL);
+    glDisable(GL_CULL_FACE);
+    glDisable(GL_BLEND);
+    result = draw_effect_passes(r, &fs, error);
+    if (result != SINEW_OK)
+        return result;
+
     const float *bg = frame->options->background;
     glViewport(0, 0, frame->width, frame->height);
     if (frame->options->transparent) /* black: multisampled edges resolve to premultiplied colours */
@@ -1583,7 +1663,11 @@ sinew_result sinew_renderer_draw(sinew_renderer *r, const sinew_frame *frame, si
     glDisable(GL_CULL_FACE);
     glDisable(GL_BLEND);
     glEnable(GL_PROGRAM_POINT_SIZE);
+    if (ef.background)
+        render_effects_background(&r->fx, &r->programs, &ef);
     draw_overlay(r, &fs, true);
+    if (ef.ground)
+        render_effects_ground(&r->fx, &r->programs, &ef);
     if (frame->crowd_count) {
         result = frame->options->meshes ? draw_crowd(r, &fs, error) : SINEW_OK;
         if (result == SINEW_OK && frame->options->skeleton)
@@ -1616,6 +1700,8 @@ sinew_result sinew_renderer_draw(sinew_renderer *r, const sinew_frame *frame, si
         if (result != SINEW_OK)
             return result;
     }
+    if (ef.outline)
+        render_effects_outline(&r->fx, &r->programs, &ef);
     draw_overlay(r, &fs, false);
     glBindVertexArray(0);
     glUseProgram(0);

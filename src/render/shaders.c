@@ -1,12 +1,14 @@
 /* GLSL 3.30 sources of the renderer and the helpers that compile and link them.
  *
  * Index: mesh vertex stage (skinning, normals and tangents through the cofactor, heat
- * weight, Gouraud lighting) - physically based shading - mesh fragment stage (materials,
- * heat map, flat/Gouraud/Phong/PBR, sRGB out) -
- * normals geometry stage (a line per vertex) - overlay stages (coloured lines, points,
- * triangles, text) - compile/link.
+ * weight, Gouraud lighting) - surface effects (environment lookups, shadows, occlusion, tone
+ * mapping) - physically based shading - mesh fragment stage (materials, heat map,
+ * flat/Gouraud/Phong/PBR, sRGB out) - normals geometry stage (a line per vertex) - overlay
+ * stages (coloured lines, points, triangles, text) - background, ground and outline passes -
+ * compile/link.
  */
 #include <stdio.h>
+#include <string.h>
 
 #include "internal.h"
 
@@ -17,11 +19,12 @@ static const char *const LIGHTING =
     "uniform vec3 u_key_dir;   // towards the key light, world space\n"
     "uniform vec3 u_fill_dir;  // towards the fill light\n"
     "uniform vec3 u_eye;\n"
-    "void light_terms(vec3 n, vec3 p, out vec3 diffuse, out vec3 specular) {\n"
+    "// key_light: how much of the key light reaches p (shadows: 0..1)\n"
+    "void light_terms(vec3 n, vec3 p, float key_light, out vec3 diffuse, out vec3 specular) {\n"
     "    vec3 v = normalize(u_eye - p);\n"
     "    float hemi = 0.5 + 0.5 * n.y;\n"
     "    vec3 ambient = mix(vec3(0.10, 0.09, 0.08), vec3(0.20, 0.22, 0.26), hemi);\n"
-    "    float key = max(dot(n, u_key_dir), 0.0);\n"
+    "    float key = max(dot(n, u_key_dir), 0.0) * key_light;\n"
     "    float fill = max(dot(n, u_fill_dir), 0.0);\n"
     "    diffuse = ambient + key * vec3(0.85, 0.82, 0.78) + fill * vec3(0.25, 0.28, 0.33);\n"
     "    vec3 h = normalize(u_key_dir + v);\n"
@@ -108,7 +111,7 @@ static const char *const MESH_VS =
     "    v_diffuse = vec3(1.0);\n"
     "    v_specular = vec3(0.0);\n"
     "    if (u_gouraud)\n"
-    "        light_terms(v_normal, v_world, v_diffuse, v_specular);\n"
+    "        light_terms(v_normal, v_world, 1.0, v_diffuse, v_specular);\n"
     "    gl_Position = u_view_proj * vec4(world, 1.0);\n"
     "}\n"
     "// The vertex by dual quaternions: world position, normal.\n"
@@ -173,11 +176,11 @@ static const char *const MESH_VS =
     "}\n";
 
 /* Physically based shading as glTF defines it (metallic-roughness, Cook-Torrance with GGX,
- * Smith-GGX visibility and Schlick Fresnel): the key and fill lights plus an environment of
- * a sky over a ground, its diffuse part the hemisphere's irradiance and its specular part
- * the split-sum approximation (the sky sampled along the reflection, blurred towards the
- * irradiance with roughness; Karis's analytic environment BRDF), then Khronos PBR Neutral
- * tone mapping. */
+ * Smith-GGX visibility and Schlick Fresnel): the key and fill lights (the built-in studio
+ * only) plus image-based lighting, its diffuse part the environment's irradiance (spherical
+ * harmonics) and its specular part the split-sum approximation (the prefiltered level of the
+ * roughness along the reflection, times the BRDF table's scale and bias of F0). Linear out:
+ * MESH_FS applies exposure and tone mapping. */
 /* The mesh fragment stage's inputs, before PBR and MESH_FS, which read them. */
 static const char *const MESH_FS_INPUTS = "in vec3 v_world;\n"
                                           "in vec3 v_normal;\n"
@@ -186,6 +189,107 @@ static const char *const MESH_FS_INPUTS = "in vec3 v_world;\n"
                                           "in float v_heat;\n"
                                           "in vec3 v_diffuse;\n"
                                           "in vec3 v_specular;\n";
+
+/* What the fragment stages of surfaces share (meshes and the ground): the environment's
+ * lookups, shadows from the shadow map, screen-space ambient occlusion from the depth pre-pass,
+ * exposure and tone mapping. */
+static const char *const EFFECTS =
+    "#define ENV_LEVELS 6\n"
+    "uniform sampler2D u_env;         // equirectangular, RGB16F, ENV_LEVELS prefiltered levels\n"
+    "uniform sampler2D u_brdf;        // split-sum table: x n.v, y roughness\n"
+    "uniform vec3 u_sh[9];            // irradiance / pi as spherical harmonics\n"
+    "uniform float u_env_direct;      // 1: the key and fill lights too (studio); 0: the environment alone\n"
+    "uniform sampler2DShadow u_shadow_map;\n"
+    "uniform mat4 u_shadow_matrix;    // world to the shadow map's [0,1] cube\n"
+    "uniform float u_shadow_strength; // 0: no shadows\n"
+    "uniform float u_shadow_bias;     // world units along the normal\n"
+    "uniform sampler2D u_depth;       // the depth pre-pass (occlusion)\n"
+    "uniform bool u_ao;\n"
+    "uniform float u_ao_radius;       // world units\n"
+    "uniform mat4 u_inv_view_proj;\n"
+    "uniform mat4 u_ao_view_proj;\n"
+    "uniform vec2 u_viewport;\n"
+    "uniform float u_exposure;        // linear scale\n"
+    "uniform int u_tone;              // 0 none, 1 ACES, 2 Khronos PBR Neutral\n"
+    "vec2 env_uv(vec3 d) {\n"
+    "    d = normalize(d);\n"
+    "    return vec2(0.5 + atan(d.x, -d.z) * 0.15915494, acos(clamp(d.y, -1.0, 1.0)) * 0.31830989);\n"
+    "}\n"
+    "vec3 env_radiance(vec3 d, float lod) {\n"
+    "    return textureLod(u_env, env_uv(d), lod).rgb;\n"
+    "}\n"
+    "vec3 env_irradiance(vec3 n) {\n"
+    "    vec3 r = u_sh[0] * 0.282095 + (u_sh[1] * n.y + u_sh[2] * n.z + u_sh[3] * n.x) * 0.488603\n"
+    "           + (u_sh[4] * n.x * n.y + u_sh[5] * n.y * n.z + u_sh[7] * n.x * n.z) * 1.092548\n"
+    "           + u_sh[6] * 0.315392 * (3.0 * n.z * n.z - 1.0) + u_sh[8] * 0.546274 * (n.x * n.x - n.y * n.y);\n"
+    "    return max(r, vec3(0.0));\n"
+    "}\n"
+    "float shadow_visibility(vec3 p, vec3 n) {\n"
+    "    if (u_shadow_strength <= 0.0) return 1.0;\n"
+    "    vec4 s = u_shadow_matrix * vec4(p + n * u_shadow_bias, 1.0);\n"
+    "    s.xyz /= s.w;\n"
+    "    if (any(lessThan(s.xy, vec2(0.0))) || any(greaterThan(s.xy, vec2(1.0)))) return 1.0;\n"
+    "    vec2 texel = 1.0 / vec2(textureSize(u_shadow_map, 0));\n"
+    "    float lit = 0.0;\n"
+    "    for (int y = -1; y <= 1; y++)\n"
+    "        for (int x = -1; x <= 1; x++)\n"
+    "            lit += texture(u_shadow_map, vec3(s.xy + vec2(x, y) * texel * 1.5, min(s.z, 1.0)));\n"
+    "    return 1.0 - u_shadow_strength * (1.0 - lit / 9.0);\n"
+    "}\n";
+
+/* Screen-space ambient occlusion, exposure, tone mapping and sRGB. */
+static const char *const EFFECTS_POST =
+    "// Occlusion of the hemisphere around n at p by the depth pre-pass's surfaces: 16 points on a\n"
+    "// spiral within u_ao_radius on screen, each counting by its cosine to n and fading with distance.\n"
+    "float ambient_occlusion(vec3 p, vec3 n) {\n"
+    "    if (!u_ao) return 1.0;\n"
+    "    vec4 c = u_ao_view_proj * vec4(p, 1.0);\n"
+    "    if (c.w <= 0.0) return 1.0;\n"
+    "    vec2 px = gl_FragCoord.xy;\n"
+    "    vec4 e = u_ao_view_proj * vec4(p + u_ao_radius * normalize(cross(n, vec3(0.577, 0.577, 0.577)) + 1e-6), "
+    "1.0);\n"
+    "    float radius = clamp(length(e.xy / e.w - c.xy / c.w) * 0.5 * max(u_viewport.x, u_viewport.y), 2.0, 96.0);\n"
+    "    float noise = fract(52.9829189 * fract(dot(px, vec2(0.06711056, 0.00583715))));\n"
+    "    float occluded = 0.0;\n"
+    "    for (int i = 0; i < 16; i++) {\n"
+    "        float a = (float(i) + noise) * 2.3999632;\n"
+    "        float rr = radius * sqrt((float(i) + 0.5) / 16.0);\n"
+    "        vec2 q = (px + rr * vec2(cos(a), sin(a))) / u_viewport;\n"
+    "        if (any(lessThan(q, vec2(0.0))) || any(greaterThan(q, vec2(1.0)))) continue;\n"
+    "        float d = texture(u_depth, q).r;\n"
+    "        if (d >= 1.0) continue;\n"
+    "        vec4 w = u_inv_view_proj * vec4(vec3(q, d) * 2.0 - 1.0, 1.0);\n"
+    "        vec3 v = w.xyz / w.w - p;\n"
+    "        float len = length(v);\n"
+    "        if (len < 1e-6) continue;\n"
+    "        float fade = clamp(1.0 - len / (2.0 * u_ao_radius), 0.0, 1.0);\n"
+    "        occluded += max(dot(v / len, n) - 0.2, 0.0) * fade;\n"
+    "    }\n"
+    "    return clamp(1.0 - 4.0 * occluded / 16.0, 0.0, 1.0);\n"
+    "}\n"
+    "vec3 tone_map(vec3 c) {\n"
+    "    c *= u_exposure;\n"
+    "    if (u_tone == 1) { // ACES filmic (Narkowicz's fit of the RRT and ODT)\n"
+    "        c *= 0.6;\n"
+    "        return clamp(c * (2.51 * c + 0.03) / (c * (2.43 * c + 0.59) + 0.14), 0.0, 1.0);\n"
+    "    }\n"
+    "    if (u_tone == 2) { // Khronos PBR Neutral\n"
+    "        float x = min(c.r, min(c.g, c.b));\n"
+    "        float offset = x < 0.08 ? x - 6.25 * x * x : 0.04;\n"
+    "        c -= offset;\n"
+    "        float peak = max(c.r, max(c.g, c.b));\n"
+    "        if (peak < 0.76) return c;\n"
+    "        float d = 0.24, np = 1.0 - d * d / (peak + d - 0.76);\n"
+    "        c *= np / peak;\n"
+    "        float g = 1.0 - 1.0 / (0.15 * (peak - np) + 1.0);\n"
+    "        return mix(c, vec3(np), g);\n"
+    "    }\n"
+    "    return c;\n"
+    "}\n"
+    "vec3 to_srgb(vec3 c) {\n"
+    "    c = clamp(c, 0.0, 1.0);\n"
+    "    return mix(c * 12.92, 1.055 * pow(c, vec3(1.0 / 2.4)) - 0.055, step(vec3(0.0031308), c));\n"
+    "}\n";
 
 static const char *const PBR =
     "uniform float u_metallic;\n"
@@ -199,18 +303,6 @@ static const char *const PBR =
     "uniform sampler2D u_map_occlusion;\n"
     "uniform sampler2D u_map_emissive;\n"
     "const float PI = 3.14159265;\n"
-    "vec3 sky(vec3 d) {\n"
-    "    vec3 horizon = vec3(0.75, 0.75, 0.76), zenith = vec3(0.46, 0.5, 0.58), ground = vec3(0.2, 0.19, 0.18);\n"
-    "    return d.y >= 0.0 ? mix(horizon, zenith, sqrt(d.y)) : mix(horizon * 0.6, ground, sqrt(-d.y));\n"
-    "}\n"
-    "vec3 irradiance(vec3 n) {  // cosine-weighted sky over ground, divided by pi\n"
-    "    return mix(vec3(0.24, 0.23, 0.22), vec3(0.56, 0.58, 0.63), 0.5 + 0.5 * n.y);\n"
-    "}\n"
-    "vec2 env_brdf(float nv, float rough) {\n"
-    "    vec4 r = rough * vec4(-1.0, -0.0275, -0.572, 0.022) + vec4(1.0, 0.0425, 1.04, -0.04);\n"
-    "    float a = min(r.x * r.x, exp2(-9.28 * nv)) * r.x + r.y;\n"
-    "    return vec2(-1.04, 1.04) * a + r.zw;\n"
-    "}\n"
     "vec3 direct(vec3 n, vec3 v, vec3 l, vec3 radiance, vec3 albedo, vec3 f0, float alpha) {\n"
     "    float nl = max(dot(n, l), 0.0);\n"
     "    if (nl <= 0.0) return vec3(0.0);\n"
@@ -221,17 +313,6 @@ static const char *const PBR =
     "    float vis = 0.5 / (nl * sqrt(nv * nv * (1.0 - a2) + a2) + nv * sqrt(nl * nl * (1.0 - a2) + a2));\n"
     "    vec3 f = f0 + (1.0 - f0) * pow(1.0 - vh, 5.0);\n"
     "    return ((1.0 - f) * albedo / PI + f * d * vis) * radiance * nl;\n"
-    "}\n"
-    "vec3 tone_map(vec3 c) {  // Khronos PBR Neutral\n"
-    "    float x = min(c.r, min(c.g, c.b));\n"
-    "    float offset = x < 0.08 ? x - 6.25 * x * x : 0.04;\n"
-    "    c -= offset;\n"
-    "    float peak = max(c.r, max(c.g, c.b));\n"
-    "    if (peak < 0.76) return c;\n"
-    "    float d = 0.24, np = 1.0 - d * d / (peak + d - 0.76);\n"
-    "    c *= np / peak;\n"
-    "    float g = 1.0 - 1.0 / (0.15 * (peak - np) + 1.0);\n"
-    "    return mix(c, vec3(np), g);\n"
     "}\n"
     "mat3 tangent_frame(vec3 n, vec3 p, vec2 uv) {\n"
     "    if (dot(v_tangent.xyz, v_tangent.xyz) > 1e-12) {\n"
@@ -266,16 +347,17 @@ static const char *const PBR =
     "    vec3 albedo = albedo_in * (1.0 - metallic);\n"
     "    vec3 f0 = mix(vec3(0.04), albedo_in, metallic);\n"
     "    float alpha = rough * rough;\n"
-    "    vec3 color = direct(n, v, u_key_dir, vec3(2.6, 2.5, 2.35), albedo, f0, alpha)\n"
-    "               + direct(n, v, u_fill_dir, vec3(0.75, 0.85, 1.0), albedo, f0, alpha);\n"
+    "    vec3 color = u_env_direct * (direct(n, v, u_key_dir, vec3(2.6, 2.5, 2.35), albedo, f0, alpha)\n"
+    "                                   * shadow_visibility(v_world, n)\n"
+    "                               + direct(n, v, u_fill_dir, vec3(0.75, 0.85, 1.0), albedo, f0, alpha));\n"
     "    float ao = u_maps.z ? 1.0 + u_occlusion_strength * (texture(u_map_occlusion, v_uv).r - 1.0) : 1.0;\n"
     "    vec3 r = reflect(-v, n);\n"
-    "    vec3 prefiltered = mix(sky(r), irradiance(r), rough * rough);\n"
-    "    vec2 ab = env_brdf(nv, rough);\n"
-    "    color += ao * (albedo * irradiance(n) + prefiltered * (f0 * ab.x + ab.y));\n"
+    "    vec3 prefiltered = env_radiance(r, rough * float(ENV_LEVELS - 1));\n"
+    "    vec2 ab = texture(u_brdf, vec2(nv, rough)).rg;\n"
+    "    color += ao * (albedo * env_irradiance(n) + prefiltered * (f0 * ab.x + ab.y));\n"
     "    vec3 e = u_emissive;\n"
     "    if (u_maps.w) e *= texture(u_map_emissive, v_uv).rgb;\n"
-    "    return tone_map(color + e);\n"
+    "    return color + e;\n"
     "}\n";
 
 static const char *const MESH_FS =
@@ -285,6 +367,7 @@ static const char *const MESH_FS =
     "uniform int u_mode;            // 0 unlit, 1 Phong, 2 Gouraud, 3 flat, 4 physically based\n"
     "uniform bool u_heat;\n"
     "uniform vec4 u_override;       // a > 0: draw this sRGB colour (wireframe)\n"
+    "uniform bool u_depth_only;     // shadow and depth pre-passes: depth alone\n"
     "out vec4 o_color;\n"
     "vec3 heat_color(float w) {\n"
     "    w = clamp(w, 0.0, 1.0);\n"
@@ -295,11 +378,11 @@ static const char *const MESH_FS =
     "    if (w < 0.75) return mix(c2, c3, w * 4.0 - 2.0);\n"
     "    return mix(c3, c4, w * 4.0 - 3.0);\n"
     "}\n"
-    "vec3 to_srgb(vec3 c) {\n"
-    "    c = clamp(c, 0.0, 1.0);\n"
-    "    return mix(c * 12.92, 1.055 * pow(c, vec3(1.0 / 2.4)) - 0.055, step(vec3(0.0031308), c));\n"
-    "}\n"
     "void main() {\n"
+    "    if (u_depth_only) {\n"
+    "        o_color = vec4(0.0);\n"
+    "        return;\n"
+    "    }\n"
     "    if (u_override.a > 0.0) {\n"
     "        o_color = vec4(u_override.rgb, 1.0);\n"
     "        return;\n"
@@ -310,21 +393,24 @@ static const char *const MESH_FS =
     "    if (u_heat)\n"
     "        albedo = heat_color(v_heat);\n"
     "    vec3 color = albedo;\n"
+    "    float ao = 1.0;\n"
     "    if (u_mode == 2) {\n"
     "        color = albedo * v_diffuse + v_specular;\n"
+    "        ao = ambient_occlusion(v_world, normalize(v_normal) * (gl_FrontFacing ? 1.0 : -1.0));\n"
     "    } else if (u_mode != 0) {\n"
     "        vec3 n = u_mode == 3 ? normalize(cross(dFdx(v_world), dFdy(v_world))) : normalize(v_normal);\n"
     "        if (u_mode != 3 && !gl_FrontFacing)\n"
     "            n = -n;\n"
+    "        ao = ambient_occlusion(v_world, n);\n"
     "        if (u_mode == 4) {\n"
-    "            o_color = vec4(to_srgb(shade_pbr(albedo, n)), 1.0);\n"
+    "            o_color = vec4(to_srgb(tone_map(ao * shade_pbr(albedo, n))), 1.0);\n"
     "            return;\n"
     "        }\n"
     "        vec3 diffuse, specular;\n"
-    "        light_terms(n, v_world, diffuse, specular);\n"
+    "        light_terms(n, v_world, shadow_visibility(v_world, n), diffuse, specular);\n"
     "        color = albedo * diffuse + specular;\n"
     "    }\n"
-    "    o_color = vec4(to_srgb(color), 1.0);\n"
+    "    o_color = vec4(to_srgb(tone_map(ao * color)), 1.0);\n"
     "}\n";
 
 /* Normals as lines: the mesh vertex stage runs unchanged, this stage turns each vertex
@@ -404,20 +490,102 @@ static GLuint compile(GLenum stage, const char *const *parts, int part_count, co
     return shader;
 }
 
-/* Links a program from a vertex, an optional geometry and a fragment stage, each made of
- * the version line, `lighting` when asked, and the stage's body (the vertex stage's in two
- * parts; the fragment stage's head, when given, followed by the PBR functions). */
-static GLuint link_program(const char *vs_head, const char *vs, const char *gs, const char *fs_head, const char *fs,
-                           bool lighting, const char *what, sinew_error *error)
+/* A triangle covering the screen, from gl_VertexID alone (no buffers); v_ndc: its clip-space xy. */
+static const char *const FULLSCREEN_VS =
+    "out vec2 v_ndc;\n"
+    "void main() {\n"
+    "    vec2 p = vec2(gl_VertexID == 1 ? 3.0 : -1.0, gl_VertexID == 2 ? 3.0 : -1.0);\n"
+    "    v_ndc = p;\n"
+    "    gl_Position = vec4(p, 1.0, 1.0);\n"
+    "}\n";
+
+/* The environment behind everything: the direction through each pixel, at a blurred level. */
+static const char *const BACKGROUND_FS = "in vec2 v_ndc;\n"
+                                         "uniform float u_lod;\n"
+                                         "out vec4 o_color;\n"
+                                         "void main() {\n"
+                                         "    vec4 a = u_inv_view_proj * vec4(v_ndc, -1.0, 1.0);\n"
+                                         "    vec4 b = u_inv_view_proj * vec4(v_ndc, 1.0, 1.0);\n"
+                                         "    vec3 d = b.xyz / b.w - a.xyz / a.w;\n"
+                                         "    o_color = vec4(to_srgb(tone_map(env_radiance(d, u_lod))), 1.0);\n"
+                                         "}\n";
+
+/* The shadow catcher: a square on the ground, black with the shadow's and the occlusion's
+ * darkness as coverage, fading out towards its edges. */
+static const char *const GROUND_VS = "layout(location = 0) in vec3 a_position;\n"
+                                     "uniform mat4 u_view_proj;\n"
+                                     "out vec3 v_world;\n"
+                                     "void main() {\n"
+                                     "    v_world = a_position;\n"
+                                     "    gl_Position = u_view_proj * vec4(a_position, 1.0);\n"
+                                     "}\n";
+static const char *const GROUND_FS =
+    "in vec3 v_world;\n"
+    "uniform vec3 u_center;\n"
+    "uniform float u_extent;\n"
+    "out vec4 o_color;\n"
+    "void main() {\n"
+    "    vec3 up = vec3(0.0, 1.0, 0.0);\n"
+    "    float lit = shadow_visibility(v_world, up) * ambient_occlusion(v_world, up);\n"
+    "    float fade = clamp(1.0 - length(v_world.xz - u_center.xz) / u_extent, 0.0, 1.0);\n"
+    "    o_color = vec4(0.0, 0.0, 0.0, (1.0 - lit) * 0.6 * fade);\n"
+    "}\n";
+
+/* Outlines: where the depth pre-pass jumps (silhouettes against the background or against
+ * what lies behind, and creases), a dark line over the frame. Linear depths come from the
+ * projection's near and far planes. */
+static const char *const OUTLINE_FS =
+    "in vec2 v_ndc;\n"
+    "uniform sampler2D u_depth;\n"
+    "uniform vec2 u_viewport;\n"
+    "uniform vec2 u_planes;     // near, far\n"
+    "uniform bool u_ortho;\n"
+    "uniform vec4 u_color;\n"
+    "out vec4 o_color;\n"
+    "float linear_depth(float d) {\n"
+    "    float n = u_planes.x, f = u_planes.y;\n"
+    "    return u_ortho ? n + d * (f - n) : n * f / (f - d * (f - n));\n"
+    "}\n"
+    "float depth_at(vec2 px) { return texture(u_depth, px / u_viewport).r; }\n"
+    "void main() {\n"
+    "    vec2 px = gl_FragCoord.xy;\n"
+    "    float d0 = depth_at(px);\n"
+    "    float z0 = linear_depth(d0);\n"
+    "    float edge = 0.0;\n"
+    "    float zs[8];\n"
+    "    const vec2 offs[8] = vec2[8](vec2(1, 0), vec2(-1, 0), vec2(0, 1), vec2(0, -1),\n"
+    "                                 vec2(1, 1), vec2(-1, -1), vec2(1, -1), vec2(-1, 1));\n"
+    "    for (int i = 0; i < 8; i++) {\n"
+    "        float d = depth_at(px + offs[i]);\n"
+    "        if ((d >= 1.0) != (d0 >= 1.0)) { edge = 1.0; continue; }\n"
+    "        zs[i] = linear_depth(d);\n"
+    "    }\n"
+    "    if (edge == 0.0 && d0 < 1.0) {\n"
+    "        // a second difference across the pixel, relative to its depth: creases and steps, not slopes\n"
+    "        for (int i = 0; i < 8; i += 2) {\n"
+    "            float dd = abs(zs[i] + zs[i + 1] - 2.0 * z0) / z0;\n"
+    "            edge = max(edge, smoothstep(0.01, 0.03, dd));\n"
+    "        }\n"
+    "    }\n"
+    "    if (edge <= 0.0) discard;\n"
+    "    o_color = vec4(u_color.rgb, u_color.a * edge);\n"
+    "}\n";
+
+/* Links a program from a vertex, an optional geometry and a fragment stage, each given as
+ * parts after the version line. */
+static GLuint link_parts(const char *const *vs, int vs_count, const char *gs, const char *const *fs, int fs_count,
+                         const char *what, sinew_error *error)
 {
     static const char *const VERSION = "#version 330 core\n";
-    const char *vs_parts[] = {VERSION, lighting ? LIGHTING : "", vs_head ? vs_head : "", vs};
-    const char *gs_parts[] = {VERSION, gs ? gs : ""};
-    const char *fs_parts[] = {VERSION, lighting ? LIGHTING : "", fs_head ? fs_head : "", fs_head ? PBR : "", fs};
+    const char *vs_parts[8] = {VERSION}, *gs_parts[2] = {VERSION, gs}, *fs_parts[8] = {VERSION};
+    for (int i = 0; i < vs_count; i++)
+        vs_parts[1 + i] = vs[i];
+    for (int i = 0; i < fs_count; i++)
+        fs_parts[1 + i] = fs[i];
     GLuint stages[3] = {0}, program = 0;
-    stages[0] = compile(GL_VERTEX_SHADER, vs_parts, 4, what, error);
+    stages[0] = compile(GL_VERTEX_SHADER, vs_parts, 1 + vs_count, what, error);
     stages[1] = gs ? compile(GL_GEOMETRY_SHADER, gs_parts, 2, what, error) : 0;
-    stages[2] = compile(GL_FRAGMENT_SHADER, fs_parts, 5, what, error);
+    stages[2] = compile(GL_FRAGMENT_SHADER, fs_parts, 1 + fs_count, what, error);
     if (!stages[0] || (gs && !stages[1]) || !stages[2])
         goto out_delete_stages;
     program = glCreateProgram();
@@ -438,19 +606,24 @@ out_delete_stages:
 
 sinew_result render_programs_create(render_programs *programs, sinew_error *error)
 {
-    programs->mesh = link_program(MESH_VS_HEAD, MESH_VS, NULL, MESH_FS_INPUTS, MESH_FS, true, "mesh", error);
-    if (!programs->mesh)
-        goto fail;
-    programs->normals = link_program(MESH_VS_HEAD, MESH_VS, NORMALS_GS, NULL, NORMALS_FS, true, "normals", error);
-    if (!programs->normals)
-        goto fail;
-    programs->overlay = link_program(NULL, OVERLAY_VS, NULL, NULL, OVERLAY_FS, false, "overlay", error);
-    if (!programs->overlay)
-        goto fail;
+    const char *mesh_vs[] = {LIGHTING, MESH_VS_HEAD, MESH_VS};
+    const char *mesh_fs[] = {LIGHTING, MESH_FS_INPUTS, EFFECTS, EFFECTS_POST, PBR, MESH_FS};
+    const char *normals_fs[] = {NORMALS_FS};
+    const char *overlay_vs[] = {OVERLAY_VS}, *overlay_fs[] = {OVERLAY_FS};
+    const char *fullscreen_vs[] = {FULLSCREEN_VS};
+    const char *background_fs[] = {EFFECTS, EFFECTS_POST, BACKGROUND_FS};
+    const char *ground_vs[] = {GROUND_VS}, *ground_fs[] = {EFFECTS, EFFECTS_POST, GROUND_FS};
+    const char *outline_fs[] = {OUTLINE_FS};
+    if (!(programs->mesh = link_parts(mesh_vs, 3, NULL, mesh_fs, 6, "mesh", error)) ||
+        !(programs->normals = link_parts(mesh_vs, 3, NORMALS_GS, normals_fs, 1, "normals", error)) ||
+        !(programs->overlay = link_parts(overlay_vs, 1, NULL, overlay_fs, 1, "overlay", error)) ||
+        !(programs->background = link_parts(fullscreen_vs, 1, NULL, background_fs, 3, "background", error)) ||
+        !(programs->ground = link_parts(ground_vs, 1, NULL, ground_fs, 3, "ground", error)) ||
+        !(programs->outline = link_parts(fullscreen_vs, 1, NULL, outline_fs, 1, "outline", error))) {
+        render_programs_destroy(programs);
+        return error ? error->kind : SINEW_ERROR_GRAPHICS;
+    }
     return SINEW_OK;
-fail:
-    render_programs_destroy(programs);
-    return error ? error->kind : SINEW_ERROR_GRAPHICS;
 }
 
 void render_programs_destroy(render_programs *programs)
@@ -458,5 +631,8 @@ void render_programs_destroy(render_programs *programs)
     glDeleteProgram(programs->mesh);
     glDeleteProgram(programs->normals);
     glDeleteProgram(programs->overlay);
-    programs->mesh = programs->normals = programs->overlay = 0;
+    glDeleteProgram(programs->background);
+    glDeleteProgram(programs->ground);
+    glDeleteProgram(programs->outline);
+    memset(programs, 0, sizeof *programs);
 }

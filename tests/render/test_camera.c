@@ -78,27 +78,35 @@ static void test_pitch_is_clamped(void **state)
         assert_true(isfinite(v.m[i]));
 }
 
-/* Frame-all puts every corner of the box inside the picture, at several aspects and angles. */
+/* Frame-all puts every corner of the box inside the picture and fills it (95% of its tighter
+ * side, centred), at several aspects and angles, for a standing and a long model, in perspective
+ * and parallel views. */
 static void test_frame_all_shows_the_box(void **state)
 {
     (void)state;
-    const float lo[3] = {-0.3f, 0.0f, -0.2f}, hi[3] = {0.4f, 1.8f, 0.25f};
+    const float boxes[2][2][3] = {{{-0.3f, 0.0f, -0.2f}, {0.4f, 1.8f, 0.25f}},
+                                  {{-2.0f, 0.0f, -0.2f}, {2.0f, 0.6f, 0.2f}}};
     const float aspects[] = {16.0f / 9.0f, 1.0f, 0.5f};
-    for (int a = 0; a < 3; a++) {
-        for (int yaw = -180; yaw < 180; yaw += 45) {
-            sinew_camera c = sinew_camera_default();
-            sinew_camera_rotate(&c, (float)yaw * 3.14159265f / 180.0f, 0.2f);
-            sinew_camera_frame(&c, lo, hi, aspects[a]);
-            float widest = 0.0f;
-            for (int k = 0; k < 8; k++) {
-                float p[3] = {k & 1 ? hi[0] : lo[0], k & 2 ? hi[1] : lo[1], k & 4 ? hi[2] : lo[2]}, ndc[3];
-                project(&c, aspects[a], p, ndc);
-                assert_true(fabsf(ndc[0]) <= 1.0f && fabsf(ndc[1]) <= 1.0f && ndc[2] > -1.0f && ndc[2] < 1.0f);
-                widest = fmaxf(widest, fmaxf(fabsf(ndc[0]), fabsf(ndc[1])));
+    for (int b = 0; b < 4; b++)
+        for (int a = 0; a < 3; a++) {
+            const float *lo = boxes[b & 1][0], *hi = boxes[b & 1][1];
+            for (int yaw = -180; yaw < 180; yaw += 45) {
+                sinew_camera c = sinew_camera_default();
+                c.orthographic = b >= 2;
+                sinew_camera_rotate(&c, (float)yaw * 3.14159265f / 180.0f, 0.2f);
+                sinew_camera_frame(&c, lo, hi, aspects[a]);
+                float x0 = 1.0f, x1 = -1.0f, y0 = 1.0f, y1 = -1.0f;
+                for (int k = 0; k < 8; k++) {
+                    float p[3] = {k & 1 ? hi[0] : lo[0], k & 2 ? hi[1] : lo[1], k & 4 ? hi[2] : lo[2]}, ndc[3];
+                    project(&c, aspects[a], p, ndc);
+                    assert_true(fabsf(ndc[0]) <= 1.0f && fabsf(ndc[1]) <= 1.0f && ndc[2] > -1.0f && ndc[2] < 1.0f);
+                    x0 = fminf(x0, ndc[0]), x1 = fmaxf(x1, ndc[0]), y0 = fminf(y0, ndc[1]), y1 = fmaxf(y1, ndc[1]);
+                }
+                /* tight on one side, centred on both */
+                assert_true(x1 - x0 > 1.85f || y1 - y0 > 1.85f);
+                assert_true(fabsf(x0 + x1) < 0.02f && fabsf(y0 + y1) < 0.02f);
             }
-            assert_true(widest > 0.4f); /* framed, not lost in the distance */
         }
-    }
     /* Degenerate boxes stay drawable. */
     sinew_camera c = sinew_camera_default();
     const float p[3] = {1.0f, 1.0f, 1.0f}, nan3[3] = {NAN, NAN, NAN};

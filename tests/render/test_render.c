@@ -164,6 +164,66 @@ static void test_golden_muscles(void **state)
     free_image(&without);
 }
 
+/* Pixels whose colour moved by 8 levels or more in some channel. */
+static long changed_pixels(const image *a, const image *b)
+{
+    long changed = 0;
+    for (long p = 0; p < (long)a->width * a->height; p++)
+        for (int c = 0; c < 3; c++)
+            if (abs((int)a->rgb[p * 3 + c] - (int)b->rgb[p * 3 + c]) >= 8) {
+                changed++;
+                break;
+            }
+    return changed;
+}
+
+/* The look switches on the robot (PBR in the built-in studio, shadows on the ground, ambient
+ * occlusion, outlines, the environment behind), and an environment file of a sky with a sun
+ * (tests/fixtures/sky.hdr, made by scripts/sky-hdr.py --size 64). Each switch changes the
+ * picture; exposure brightens it; ACES differs from Khronos PBR Neutral. */
+static void test_golden_look(void **state)
+{
+    (void)state;
+    char path[1024], hdr[1024];
+    if (!testdata_path("raylib/robot.glb", path, sizeof path))
+        skip();
+    fixture_path("sky.hdr", hdr, sizeof hdr);
+    const char *base[] = {path, "--clip", "Robot_Walking", "--time", "0.3", "--size", SIZE, "--shading", "pbr"};
+#define LOOK(out, ...)                                                                                                 \
+    render(out, (const char *const[]){base[0], base[1], base[2], base[3], base[4], base[5], base[6], base[7], base[8], \
+                                      __VA_ARGS__, NULL})
+    image all = LOOK("g-look.png", "--shadows", "--ssao", "--outline", "--hdri-background");
+    compare_with_golden("robot-walk-look", &all);
+    image sky = LOOK("g-sky.png", "--hdri", hdr, "--hdri-background", "--shadows");
+    compare_with_golden("robot-walk-sky", &sky);
+    image plain = LOOK("g-plain.png", "--no-grid");
+    static const char *const switches[] = {"--shadows", "--ssao", "--outline", "--hdri-background"};
+    for (int i = 0; i < 4; i++) { /* pixels changed by 8 levels or more: occlusion is subtle */
+        image one = LOOK("g-switch.png", "--no-grid", switches[i]);
+        long changed = changed_pixels(&plain, &one);
+        printf("%s changes %ld pixels\n", switches[i], changed);
+        assert_true(changed > (long)plain.width * plain.height / 100);
+        free_image(&one);
+    }
+    image bright = LOOK("g-bright.png", "--no-grid", "--exposure", "1");
+    image aces = LOOK("g-aces.png", "--no-grid", "--tone-mapping", "aces");
+    double sum_plain = 0.0, sum_bright = 0.0;
+    for (long i = 0; i < (long)plain.width * plain.height * 3; i++)
+        if (memcmp(plain.rgb + i / 3 * 3, plain.rgb, 3) != 0) /* the model, not the background */
+            sum_plain += plain.rgb[i], sum_bright += bright.rgb[i];
+    long differing = changed_pixels(&plain, &aces);
+    assert_true(differing > (long)plain.width * plain.height / 100);
+    printf("exposure +1: the model's levels %.3g -> %.3g; ACES vs neutral: %ld pixels differ\n", sum_plain, sum_bright,
+           differing);
+    assert_true(sum_bright > sum_plain * 1.15);
+#undef LOOK
+    free_image(&all);
+    free_image(&sky);
+    free_image(&plain);
+    free_image(&bright);
+    free_image(&aces);
+}
+
 typedef struct golden_case {
     const char *name;
     const char *model;
@@ -822,6 +882,7 @@ int main(void)
         cmocka_unit_test(test_golden_models),
         cmocka_unit_test(test_golden_muscles),
         cmocka_unit_test(test_golden_pbr),
+        cmocka_unit_test(test_golden_look),
         cmocka_unit_test(test_tolerance_catches_a_wrong_pose),
         cmocka_unit_test(test_gpu_and_cpu_skinning_agree),
         cmocka_unit_test(test_dual_quaternion_skinning),

@@ -188,8 +188,9 @@ static int differing(const uint8_t *a, const uint8_t *b)
 /* pbr_spheres.glb's "bumps" sphere carries glTF tangents (w = +1: bitangent up the image,
  * where normal maps put +Y). Drawn with them, and again with them removed (the shader then
  * builds the frame from the UVs' derivatives, which cannot get the handedness wrong), the
- * pictures nearly agree (the derivative frame is coarser at this size); with the handedness
- * turned, or without the normal map, they clearly do not. */
+ * pictures nearly agree (the derivative frame is coarser at this size, and the studio
+ * environment's softboxes, reflected, show every small turn of the normal); with the handedness
+ * turned, or without the normal map, they clearly do not (2.5 times as many pixels or more). */
 static void test_normal_map_frames_agree(void **state)
 {
     fixture *f = *state;
@@ -233,8 +234,8 @@ static void test_normal_map_frames_agree(void **state)
            "the handedness turned %d; with vs without the map %d\n",
            W * H, frames, handedness, bumps);
     assert_true(bumps > 400);
-    assert_true(frames * 3 < bumps);
-    assert_true(frames * 3 < handedness);
+    assert_true(frames * 5 < bumps * 2);
+    assert_true(frames * 5 < handedness * 2);
     sinew_model_free(model);
 }
 

@@ -115,7 +115,7 @@ static const char *demo_file(char *dae, size_t size)
 }
 
 /* The viewer's screenshot with `view_args` against `sinew render` with `render_args` (the
- * same view; the viewer draws without multisampling). */
+ * same view; both anti-aliased with 4 samples, or as the viewer's --samples says). */
 static void compare_with_render(const char *const *view_args, const char *const *render_args)
 {
     char shot[4096], rendered[4096], size[32];
@@ -139,7 +139,11 @@ static void compare_with_render(const char *const *view_args, const char *const 
     k = 1;
     for (int i = 0; render_args[i]; i++)
         rargs[k++] = render_args[i];
-    rargs[k++] = "--samples", rargs[k++] = "1", rargs[k++] = "--size", rargs[k++] = size;
+    const char *samples = "4";
+    for (int i = 0; view_args[i]; i++)
+        if (strcmp(view_args[i], "--samples") == 0 && view_args[i + 1])
+            samples = view_args[i + 1];
+    rargs[k++] = "--samples", rargs[k++] = samples, rargs[k++] = "--size", rargs[k++] = size;
     rargs[k++] = "-o", rargs[k++] = rendered, rargs[k] = NULL;
     run_result r = run_sinew(NULL, rargs);
     assert_int_equal(r.code, 0);
@@ -270,6 +274,73 @@ static void test_screenshot_equals_headless_render(void **state)
                                               "--heatmap", "RightLowerArm", NULL},
                         (const char *const[]){dae, "--clip", "wave", "--time", "0.3", "--select", "RightLowerArm",
                                               "--heatmap", "RightLowerArm", NULL});
+}
+
+static char *settings_file(char *path, size_t size);
+
+/* Anti-aliasing (--samples, 4 by default) as `render --samples`: without it the picture is the
+ * jagged one; the look options (shadows, occlusion, outlines, an environment file shown behind)
+ * draw as `sinew render` draws them. */
+static void test_samples_and_look(void **state)
+{
+    (void)state;
+    if (!xvfb)
+        skip();
+    char dae[4096], hdr[4096];
+    demo_file(dae, sizeof dae);
+    compare_with_render((const char *const[]){dae, "--clip", "walk", "--time", "0.5", "--samples", "1", NULL},
+                        (const char *const[]){dae, "--clip", "walk", "--time", "0.5", NULL});
+    compare_with_render(
+        (const char *const[]){dae, "--clip", "walk", "--time", "0.5", "--shadows", "--ssao", "--outline", NULL},
+        (const char *const[]){dae, "--clip", "walk", "--time", "0.5", "--shadows", "--ssao", "--outline", NULL});
+    fixture_path("sky.hdr", hdr, sizeof hdr);
+    compare_with_render((const char *const[]){dae, "--clip", "walk", "--time", "0.5", "--shading", "pbr", "--hdri", hdr,
+                                              "--hdri-background", NULL},
+                        (const char *const[]){dae, "--clip", "walk", "--time", "0.5", "--shading", "pbr", "--hdri", hdr,
+                                              "--hdri-background", NULL});
+    /* a missing environment file: said, and the studio lights the model */
+    char *err = NULL, shot[4096];
+    tmp_path("view-no-hdri.png", shot, sizeof shot);
+    assert_int_equal(run_view((const char *const[]){dae, "--shading", "pbr", "--hdri", "/nonexistent/sky.hdr",
+                                                    "--screenshot", shot, "--quit", NULL},
+                              &err),
+                     0);
+    assert_non_null(err);
+    assert_non_null(strstr(err, "/nonexistent/sky.hdr"));
+    free(err);
+}
+
+/* Blender's key map (--key-map blender, or [view] key-map=blender in the settings): Home
+ * frames all (sinew's Home goes to the first frame), Shift+Left goes to the first frame. */
+static void test_blender_key_map(void **state)
+{
+    (void)state;
+    if (!xvfb)
+        skip();
+    char dae[4096], ini[4096];
+    demo_file(dae, sizeof dae);
+    compare_with_render((const char *const[]){dae, "--clip", "walk", "--time", "0.5", "--key-map", "blender",
+                                              "--camera", "orbit:40,20,0.4", "--press", "Home", NULL},
+                        (const char *const[]){dae, "--clip", "walk", "--time", "0.5", "--camera", "orbit:40,20", NULL});
+    compare_with_render((const char *const[]){dae, "--clip", "walk", "--time", "0.5", "--key-map", "blender", "--press",
+                                              "shift+Left", NULL},
+                        (const char *const[]){dae, "--clip", "walk", "--time", "0", NULL});
+    compare_with_render((const char *const[]){dae, "--clip", "walk", "--time", "0.5", "--press", "Home", NULL},
+                        (const char *const[]){dae, "--clip", "walk", "--time", "0", NULL});
+    /* from the settings file, and kept there */
+    settings_file(ini, sizeof ini);
+    const char *text = "[view]\nkey-map=blender\n";
+    write_file(ini, text, strlen(text));
+    compare_with_render((const char *const[]){dae, "--clip", "walk", "--time", "0.5", "--camera", "orbit:40,20,0.4",
+                                              "--press", "Home", NULL},
+                        (const char *const[]){dae, "--clip", "walk", "--time", "0.5", "--camera", "orbit:40,20", NULL});
+    size_t size = 0;
+    char *saved = read_file(ini, &size);
+    assert_non_null(saved);
+    assert_non_null(strstr(saved, "key-map=blender"));
+    assert_null(strstr(saved, "frame-all=")); /* Home is the map's own, not a rebinding */
+    free(saved);
+    unlink(ini);
 }
 
 /* The file opens on a worker thread after the demo: --time applies to the file's clip (a
@@ -571,6 +642,8 @@ int main(void)
         cmocka_unit_test(test_watch_keeps_going_when_the_clip_is_renamed),
         cmocka_unit_test(test_anim_files),
         cmocka_unit_test(test_shape_key_slider),
+        cmocka_unit_test(test_samples_and_look),
+        cmocka_unit_test(test_blender_key_map),
     };
     return cmocka_run_group_tests(tests, start_xvfb, stop_xvfb);
 }
