@@ -704,7 +704,7 @@ static void msaa_release(viewer *v)
  * when anti-aliasing is off or GL refuses it (the frame then goes straight into the GL area's). */
 static bool msaa_bind(viewer *v, int width, int height)
 {
-    if (v->samples <= 1)
+    if (v->samples <= 1 || v->msaa_refused)
         return false;
     if (v->msaa_fbo && v->msaa_width == width && v->msaa_height == height && v->msaa_samples == v->samples) {
         glBindFramebuffer(GL_FRAMEBUFFER, v->msaa_fbo);
@@ -714,8 +714,10 @@ static bool msaa_bind(viewer *v, int width, int height)
     GLint most = 0;
     glGetIntegerv(GL_MAX_SAMPLES, &most);
     int samples = v->samples < most ? v->samples : most;
-    if (samples <= 1)
+    if (samples <= 1) {
+        v->msaa_refused = true;
         return false;
+    }
     glGenFramebuffers(1, &v->msaa_fbo);
     glGenRenderbuffers(1, &v->msaa_color);
     glGenRenderbuffers(1, &v->msaa_depth);
@@ -728,9 +730,9 @@ static bool msaa_bind(viewer *v, int width, int height)
     glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_RENDERBUFFER, v->msaa_color);
     glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER, v->msaa_depth);
     if (glCheckFramebufferStatus(GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE) {
-        panels_log(v, "anti-aliasing: OpenGL refused a multisampled framebuffer; drawing without it");
+        panels_log(v, "anti-aliasing: OpenGL refused a multisampled framebuffer; FXAA instead");
         msaa_release(v);
-        v->samples = 1;
+        v->msaa_refused = true;
         return false;
     }
     v->msaa_width = width, v->msaa_height = height, v->msaa_samples = v->samples;
@@ -746,9 +748,9 @@ static void msaa_resolve(viewer *v, GLuint target, int width, int height)
     glBlitFramebuffer(0, 0, width, height, 0, 0, width, height, GL_COLOR_BUFFER_BIT, GL_NEAREST);
     glBindFramebuffer(GL_FRAMEBUFFER, target);
     if (glGetError() != GL_NO_ERROR) { /* a format the resolve refuses: without anti-aliasing from now on */
-        panels_log(v, "anti-aliasing: OpenGL refused to resolve into the view; drawing without it");
+        panels_log(v, "anti-aliasing: OpenGL refused to resolve into the view; FXAA instead");
         msaa_release(v);
-        v->samples = 1;
+        v->msaa_refused = true;
         view_redraw(v);
     }
 }
@@ -787,6 +789,10 @@ static gboolean on_render(GtkGLArea *area, GdkGLContext *context, gpointer data)
     GLint area_fbo = 0;
     glGetIntegerv(GL_DRAW_FRAMEBUFFER_BINDING, &area_fbo);
     bool msaa = msaa_bind(v, width, height);
+    sinew_render_options options = v->options;
+    if (v->samples > 1 && !msaa) /* multisampling refused: FXAA instead */
+        options.fxaa = true;
+    frame.options = &options;
     if (app_scene_pose(&v->scene, v->time, SINEW_WRAP_CLAMP, &error) != SINEW_OK ||
         (frame.cache_time = v->scene.cache_time, sinew_renderer_draw(v->renderer, &frame, &error)) != SINEW_OK)
         view_show_error(v, error.message);

@@ -85,6 +85,8 @@ typedef struct sinew_render_options {
     bool outline;                /* dark lines where depth jumps: silhouettes and creases */
     bool environment_background; /* the environment (sinew_renderer_set_environment) behind the scene,
                                   * blurred, instead of the background colour */
+    bool fxaa; /* fast approximate anti-aliasing: the frame is drawn into a texture, then smoothed along
+                * its edges into the bound framebuffer (cheap where multisampling is slow: llvmpipe) */
     sinew_tone_mapping tone_mapping;
     float exposure;         /* stops: the linear colour is scaled by 2^exposure before tone mapping (0 by default) */
     int32_t selected_joint; /* node index to highlight, -1 for none */
@@ -105,7 +107,7 @@ sinew_render_options sinew_render_options_default(void);
 
 /* Display switches by name, for settings files and command lines. Names: materials,
  * lighting, wireframe, meshes, skeleton, joint-axes, joint-names, normals, grid, axes,
- * muscles, lod, shadows, ssao, outline, hdri-background (booleans: on/off, true/false, yes/no,
+ * muscles, lod, shadows, ssao, outline, hdri-background, fxaa (booleans: on/off, true/false, yes/no,
  * 1/0; a NULL value means on), shading (phong|gouraud|flat|pbr), skinning (gpu|cpu),
  * skinning-method (file|lbs|dqs), tone-mapping (auto|none|aces|neutral), exposure (stops, -10..10),
  * background (RRGGBB, #RRGGBB, r,g,b in 0..1, or transparent), normal-length (world units, 0 =

@@ -28,6 +28,9 @@ void render_effects_destroy(render_effects *fx)
     glDeleteVertexArrays(1, &fx->empty_vao);
     glDeleteVertexArrays(1, &fx->ground_vao);
     glDeleteBuffers(1, &fx->ground_buffer);
+    glDeleteFramebuffers(1, &fx->aa_fbo);
+    glDeleteTextures(1, &fx->aa_color);
+    glDeleteRenderbuffers(1, &fx->aa_depth);
     memset(fx, 0, sizeof *fx);
 }
 
@@ -328,5 +331,57 @@ void render_effects_outline(const render_effects *fx, const render_programs *pro
     glBindVertexArray(fx->empty_vao);
     glDrawArrays(GL_TRIANGLES, 0, 3);
     glDisable(GL_BLEND);
+    glEnable(GL_DEPTH_TEST);
+}
+
+bool render_effects_begin_fxaa(render_effects *fx, int width, int height)
+{
+    if (!fx->aa_fbo || fx->aa_width != width || fx->aa_height != height) {
+        glDeleteFramebuffers(1, &fx->aa_fbo);
+        glDeleteTextures(1, &fx->aa_color);
+        glDeleteRenderbuffers(1, &fx->aa_depth);
+        glGenTextures(1, &fx->aa_color);
+        glBindTexture(GL_TEXTURE_2D, fx->aa_color);
+        glTexImage2D(GL_TEXTURE_2D, 0, GL_RGBA8, width, height, 0, GL_RGBA, GL_UNSIGNED_BYTE, NULL);
+        glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
+        glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+        glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+        glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+        glBindTexture(GL_TEXTURE_2D, 0);
+        glGenRenderbuffers(1, &fx->aa_depth);
+        glBindRenderbuffer(GL_RENDERBUFFER, fx->aa_depth);
+        glRenderbufferStorage(GL_RENDERBUFFER, GL_DEPTH_COMPONENT24, width, height);
+        glBindRenderbuffer(GL_RENDERBUFFER, 0);
+        glGenFramebuffers(1, &fx->aa_fbo);
+        glBindFramebuffer(GL_FRAMEBUFFER, fx->aa_fbo);
+        glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, fx->aa_color, 0);
+        glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER, fx->aa_depth);
+        fx->aa_width = width, fx->aa_height = height;
+        if (glCheckFramebufferStatus(GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE) {
+            glDeleteFramebuffers(1, &fx->aa_fbo);
+            fx->aa_fbo = 0;
+            return false;
+        }
+    }
+    glBindFramebuffer(GL_FRAMEBUFFER, fx->aa_fbo);
+    return true;
+}
+
+void render_effects_fxaa(const render_effects *fx, const render_programs *programs, GLuint target, int width,
+                         int height)
+{
+    glBindFramebuffer(GL_DRAW_FRAMEBUFFER, target);
+    glBindFramebuffer(GL_READ_FRAMEBUFFER, target);
+    glViewport(0, 0, width, height);
+    glUseProgram(programs->fxaa);
+    glActiveTexture(GL_TEXTURE0);
+    glBindTexture(GL_TEXTURE_2D, fx->aa_color);
+    glUniform1i(glGetUniformLocation(programs->fxaa, "u_color"), 0);
+    glUniform2f(glGetUniformLocation(programs->fxaa, "u_texel"), 1.0f / (float)width, 1.0f / (float)height);
+    glDisable(GL_DEPTH_TEST);
+    glDisable(GL_BLEND);
+    glBindVertexArray(fx->empty_vao);
+    glDrawArrays(GL_TRIANGLES, 0, 3);
+    glBindTexture(GL_TEXTURE_2D, 0);
     glEnable(GL_DEPTH_TEST);
 }

@@ -7,16 +7,24 @@
 #include "../core/internal.h"
 #include "sinew/render.h"
 
+/* The mesh program's variants: which effects its fragment stage has compiled in. */
+#define RENDER_WITH_SHADOWS 1u
+#define RENDER_WITH_AO 2u
+#define RENDER_WITH_TONE 4u
+#define RENDER_MESH_VARIANTS 8
 typedef struct render_programs {
-    GLuint mesh;       /* surfaces, wireframe, depth-only passes */
-    GLuint normals;    /* vertex normals as lines (geometry stage) */
-    GLuint overlay;    /* skeleton, grid, axes, text */
-    GLuint background; /* the environment behind the scene (a full-screen triangle) */
-    GLuint ground;     /* the shadow catcher: shadows and occlusion on the ground plane */
-    GLuint outline;    /* edges found in the depth pre-pass, over the frame */
+    GLuint mesh;                               /* surfaces, wireframe, depth-only passes: the variant of the frame */
+    GLuint mesh_variant[RENDER_MESH_VARIANTS]; /* made when first needed; [0] at creation */
+    GLuint normals;                            /* vertex normals as lines (geometry stage) */
+    GLuint overlay;                            /* skeleton, grid, axes, text */
+    GLuint background;                         /* the environment behind the scene (a full-screen triangle) */
+    GLuint ground;                             /* the shadow catcher: shadows and occlusion on the ground plane */
+    GLuint outline;                            /* edges found in the depth pre-pass, over the frame */
+    GLuint fxaa; /* the frame's texture smoothed along its edges into the caller's framebuffer */
 } render_programs;
 
 sinew_result render_programs_create(render_programs *programs, sinew_error *error);
+GLuint render_mesh_variant(render_programs *programs, unsigned flags, sinew_error *error);
 void render_programs_destroy(render_programs *programs);
 
 /* Image-based lighting (environment.c): an equirectangular environment, RENDER_ENV_WIDTH x
@@ -49,7 +57,7 @@ void render_brdf_table(int size, float *rg);
 /* Frame effects (effects.c): the environment on the GPU, the shadow map, the depth pre-pass
  * (occlusion, outlines), and the passes that draw no model: background, ground, outline.
  * Texture units they take: 7 environment, 8 BRDF table, 9 shadow map, 10 depth pre-pass. */
-#define RENDER_SHADOW_SIZE 2048
+#define RENDER_SHADOW_SIZE 1024
 typedef struct render_effects {
     GLuint env_texture, brdf_texture;
     float sh[9][3], light_dir[3], directionality;
@@ -58,6 +66,8 @@ typedef struct render_effects {
     GLuint depth_fbo, depth_texture;
     int depth_width, depth_height;
     GLuint empty_vao, ground_vao, ground_buffer;
+    GLuint aa_fbo, aa_color, aa_depth; /* FXAA: what the frame is drawn into first */
+    int aa_width, aa_height;
 } render_effects;
 
 /* One frame's effects, worked out before its passes. */
@@ -94,6 +104,11 @@ void render_effects_background(const render_effects *fx, const render_programs *
                                const render_effect_frame *ef);
 void render_effects_ground(const render_effects *fx, const render_programs *programs, const render_effect_frame *ef);
 void render_effects_outline(const render_effects *fx, const render_programs *programs, const render_effect_frame *ef);
+/* FXAA: binds a framebuffer of the frame's size to draw into (false when GL refuses one), then
+ * smooths it into `target` (the caller's draw framebuffer, bound again after). */
+bool render_effects_begin_fxaa(render_effects *fx, int width, int height);
+void render_effects_fxaa(const render_effects *fx, const render_programs *programs, GLuint target, int width,
+                         int height);
 
 /* Levels of detail (lod.c): index lists of a mesh, full then simplified, over the same
  * vertices. first/count: where each level's indices start in the list and how many; total:

@@ -31,15 +31,15 @@ static const switch_entry SWITCHES[] = {
     {"ssao", offsetof(sinew_render_options, ssao)},
     {"outline", offsetof(sinew_render_options, outline)},
     {"hdri-background", offsetof(sinew_render_options, environment_background)},
+    {"fxaa", offsetof(sinew_render_options, fxaa)},
 };
 #define SWITCH_COUNT (sizeof SWITCHES / sizeof SWITCHES[0])
 
-static const char *const NAMES[] = {"materials", "lighting",   "wireframe",       "meshes",
-                                    "skeleton",  "joint-axes", "joint-names",     "normals",
-                                    "grid",      "axes",       "muscles",         "lod",
-                                    "shadows",   "ssao",       "outline",         "hdri-background",
-                                    "shading",   "skinning",   "skinning-method", "tone-mapping",
-                                    "exposure",  "background", "normal-length",   NULL};
+static const char *const NAMES[] = {"materials",       "lighting",    "wireframe",  "meshes",        "skeleton",
+                                    "joint-axes",      "joint-names", "normals",    "grid",          "axes",
+                                    "muscles",         "lod",         "shadows",    "ssao",          "outline",
+                                    "hdri-background", "fxaa",        "shading",    "skinning",      "skinning-method",
+                                    "tone-mapping",    "exposure",    "background", "normal-length", NULL};
 
 static const char *const TONES[] = {"auto", "none", "aces", "neutral"};
 

@@ -73,8 +73,9 @@ struct sinew_renderer {
     const sinew_model *model;
     sinew_allocator allocator;
     render_programs programs;
-    render_effects fx; /* environment, shadow map, depth pre-pass */
-    mesh_uniforms mesh_u, normals_u;
+    render_effects fx;               /* environment, shadow map, depth pre-pass */
+    mesh_uniforms mesh_u, normals_u; /* mesh_u: of the mesh program in use (programs.mesh) */
+    mesh_uniforms variant_u[RENDER_MESH_VARIANTS];
     GLint overlay_matrix, overlay_point_size, overlay_round;
     render_mesh *meshes;
     GLuint (*textures)[SINEW_MAP_COUNT]; /* a material's maps, 0 when it has none or it could not be read */
@@ -423,7 +424,8 @@ static sinew_result create_gl_objects(sinew_renderer *r, uint32_t max_vertices, 
     sinew_result result = render_programs_create(&r->programs, error);
     if (result != SINEW_OK)
         return result;
-    lookup_mesh_uniforms(r->programs.mesh, &r->mesh_u);
+    lookup_mesh_uniforms(r->programs.mesh, &r->variant_u[0]);
+    r->mesh_u = r->variant_u[0];
     lookup_mesh_uniforms(r->programs.normals, &r->normals_u);
     r->overlay_matrix = glGetUniformLocation(r->programs.overlay, "u_matrix");
     r->overlay_point_size = glGetUniformLocation(r->programs.overlay, "u_point_size");
@@ -1020,6 +1022,22 @@ static sinew_result draw_depth(sinew_renderer *r, const frame_state *fs, const f
             return result;
         glDrawElements(GL_TRIANGLES, (GLsizei)m->meshes[m->instances[i].mesh].index_count, GL_UNSIGNED_INT, NULL);
     }
+    return SINEW_OK;
+}
+
+/* Makes the mesh program with the frame's effects compiled in the one in use. */
+static sinew_result use_mesh_variant(sinew_renderer *r, const render_effect_frame *ef, sinew_error *error)
+{
+    unsigned flags =
+        (ef->shadows ? RENDER_WITH_SHADOWS : 0u) | (ef->ao ? RENDER_WITH_AO : 0u) | (ef->tone ? RENDER_WITH_TONE : 0u);
+    bool fresh = !r->programs.mesh_variant[flags];
+    GLuint program = render_mesh_variant(&r->programs, flags, error);
+    if (!program)
+        return error ? error->kind : SINEW_ERROR_GRAPHICS;
+    if (fresh)
+        lookup_mesh_uniforms(program, &r->variant_u[flags]);
+    r->programs.mesh = program;
+    r->mesh_u = r->variant_u[flags];
     return SINEW_OK;
 }
 
@@ -1642,13 +1660,23 @@ sinew_result sinew_renderer_draw(sinew_renderer *r, const sinew_frame *frame, si
         return result;
     fs.fx = &r->fx;
     fs.ef = &ef;
+    result = use_mesh_variant(r, &ef, error);
+    if (result != SINEW_OK)
+        return result;
+    if (frame->muscle_count && !r->muscle_vao)
+        return sinew_fail(error, SINEW_ERROR_INVALID_ARGUMENT,
+                          "sinew_renderer_draw: muscles in a frame of a renderer created without them");
+    /* FXAA: the frame goes into a texture first, then smoothed into the caller's framebuffer */
+    GLint target = 0;
+    glGetIntegerv(GL_DRAW_FRAMEBUFFER_BINDING, &target);
+    bool fxaa = frame->options->fxaa && render_effects_begin_fxaa(&r->fx, frame->width, frame->height);
     glEnable(GL_DEPTH_TEST);
     glDepthFunc(GL_LEQUAL);
     glDisable(GL_CULL_FACE);
     glDisable(GL_BLEND);
     result = draw_effect_passes(r, &fs, error);
     if (result != SINEW_OK)
-        return result;
+        goto failed;
 
     const float *bg = frame->options->background;
     glViewport(0, 0, frame->width, frame->height);
@@ -1672,6 +1700,8 @@ sinew_result sinew_renderer_draw(sinew_renderer *r, const sinew_frame *frame, si
         result = frame->options->meshes ? draw_crowd(r, &fs, error) : SINEW_OK;
         if (result == SINEW_OK && frame->options->skeleton)
             draw_crowd_skeletons(r, &fs);
+        if (fxaa)
+            render_effects_fxaa(&r->fx, &r->programs, (GLuint)target, frame->width, frame->height);
         glBindVertexArray(0);
         glUseProgram(0);
         if (result != SINEW_OK)
@@ -1690,25 +1720,30 @@ sinew_result sinew_renderer_draw(sinew_renderer *r, const sinew_frame *frame, si
             result = draw_normals(r, &fs, length, error);
         }
         if (result != SINEW_OK)
-            return result;
+            goto failed;
     }
-    if (frame->muscle_count && !r->muscle_vao)
-        return sinew_fail(error, SINEW_ERROR_INVALID_ARGUMENT,
-                          "sinew_renderer_draw: muscles in a frame of a renderer created without them");
     if (frame->options->muscles && frame->muscle_count) {
         result = draw_muscles(r, &fs, error);
         if (result != SINEW_OK)
-            return result;
+            goto failed;
     }
     if (ef.outline)
         render_effects_outline(&r->fx, &r->programs, &ef);
     draw_overlay(r, &fs, false);
+    if (fxaa)
+        render_effects_fxaa(&r->fx, &r->programs, (GLuint)target, frame->width, frame->height);
     glBindVertexArray(0);
     glUseProgram(0);
     GLenum gl_error = glGetError();
     if (gl_error != GL_NO_ERROR)
         return sinew_fail(error, SINEW_ERROR_GRAPHICS, "%s: OpenGL error 0x%04x while drawing", m->source, gl_error);
     return SINEW_OK;
+failed: /* the caller's framebuffer bound again */
+    if (fxaa)
+        glBindFramebuffer(GL_FRAMEBUFFER, (GLuint)target);
+    glBindVertexArray(0);
+    glUseProgram(0);
+    return result;
 }
 
 /* ---- bounds --------------------------------------------------------------------------- */

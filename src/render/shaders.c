@@ -204,7 +204,6 @@ static const char *const EFFECTS =
     "uniform float u_shadow_strength; // 0: no shadows\n"
     "uniform float u_shadow_bias;     // world units along the normal\n"
     "uniform sampler2D u_depth;       // the depth pre-pass (occlusion)\n"
-    "uniform bool u_ao;\n"
     "uniform float u_ao_radius;       // world units\n"
     "uniform mat4 u_inv_view_proj;\n"
     "uniform mat4 u_ao_view_proj;\n"
@@ -224,25 +223,30 @@ static const char *const EFFECTS =
     "           + u_sh[6] * 0.315392 * (3.0 * n.z * n.z - 1.0) + u_sh[8] * 0.546274 * (n.x * n.x - n.y * n.y);\n"
     "    return max(r, vec3(0.0));\n"
     "}\n"
+    "#ifdef WITH_SHADOWS\n"
     "float shadow_visibility(vec3 p, vec3 n) {\n"
-    "    if (u_shadow_strength <= 0.0) return 1.0;\n"
     "    vec4 s = u_shadow_matrix * vec4(p + n * u_shadow_bias, 1.0);\n"
     "    s.xyz /= s.w;\n"
     "    if (any(lessThan(s.xy, vec2(0.0))) || any(greaterThan(s.xy, vec2(1.0)))) return 1.0;\n"
-    "    vec2 texel = 1.0 / vec2(textureSize(u_shadow_map, 0));\n"
-    "    float lit = 0.0;\n"
-    "    for (int y = -1; y <= 1; y++)\n"
-    "        for (int x = -1; x <= 1; x++)\n"
-    "            lit += texture(u_shadow_map, vec3(s.xy + vec2(x, y) * texel * 1.5, min(s.z, 1.0)));\n"
-    "    return 1.0 - u_shadow_strength * (1.0 - lit / 9.0);\n"
-    "}\n";
+    "    // four bilinear comparisons (16 texels) a texel apart\n"
+    "    vec2 t = 0.5 / vec2(textureSize(u_shadow_map, 0));\n"
+    "    float z = min(s.z, 1.0);\n"
+    "    float lit = texture(u_shadow_map, vec3(s.xy + vec2(-t.x, -t.y), z)) + texture(u_shadow_map, vec3(s.xy + "
+    "vec2(t.x, -t.y), z))\n"
+    "              + texture(u_shadow_map, vec3(s.xy + vec2(-t.x, t.y), z)) + texture(u_shadow_map, vec3(s.xy + t, "
+    "z));\n"
+    "    return 1.0 - u_shadow_strength * (1.0 - 0.25 * lit);\n"
+    "}\n"
+    "#else\n"
+    "float shadow_visibility(vec3 p, vec3 n) { return 1.0; }\n"
+    "#endif\n";
 
 /* Screen-space ambient occlusion, exposure, tone mapping and sRGB. */
 static const char *const EFFECTS_POST =
-    "// Occlusion of the hemisphere around n at p by the depth pre-pass's surfaces: 16 points on a\n"
+    "// Occlusion of the hemisphere around n at p by the depth pre-pass's surfaces: 12 points on a\n"
     "// spiral within u_ao_radius on screen, each counting by its cosine to n and fading with distance.\n"
+    "#ifdef WITH_AO\n"
     "float ambient_occlusion(vec3 p, vec3 n) {\n"
-    "    if (!u_ao) return 1.0;\n"
     "    vec4 c = u_ao_view_proj * vec4(p, 1.0);\n"
     "    if (c.w <= 0.0) return 1.0;\n"
     "    vec2 px = gl_FragCoord.xy;\n"
@@ -251,9 +255,9 @@ static const char *const EFFECTS_POST =
     "    float radius = clamp(length(e.xy / e.w - c.xy / c.w) * 0.5 * max(u_viewport.x, u_viewport.y), 2.0, 96.0);\n"
     "    float noise = fract(52.9829189 * fract(dot(px, vec2(0.06711056, 0.00583715))));\n"
     "    float occluded = 0.0;\n"
-    "    for (int i = 0; i < 16; i++) {\n"
+    "    for (int i = 0; i < 12; i++) {\n"
     "        float a = (float(i) + noise) * 2.3999632;\n"
-    "        float rr = radius * sqrt((float(i) + 0.5) / 16.0);\n"
+    "        float rr = radius * sqrt((float(i) + 0.5) / 12.0);\n"
     "        vec2 q = (px + rr * vec2(cos(a), sin(a))) / u_viewport;\n"
     "        if (any(lessThan(q, vec2(0.0))) || any(greaterThan(q, vec2(1.0)))) continue;\n"
     "        float d = texture(u_depth, q).r;\n"
@@ -265,10 +269,14 @@ static const char *const EFFECTS_POST =
     "        float fade = clamp(1.0 - len / (2.0 * u_ao_radius), 0.0, 1.0);\n"
     "        occluded += max(dot(v / len, n) - 0.2, 0.0) * fade;\n"
     "    }\n"
-    "    return clamp(1.0 - 4.0 * occluded / 16.0, 0.0, 1.0);\n"
+    "    return clamp(1.0 - 4.0 * occluded / 12.0, 0.0, 1.0);\n"
     "}\n"
+    "#else\n"
+    "float ambient_occlusion(vec3 p, vec3 n) { return 1.0; }\n"
+    "#endif\n"
     "vec3 tone_map(vec3 c) {\n"
     "    c *= u_exposure;\n"
+    "#ifdef WITH_TONE\n"
     "    if (u_tone == 1) { // ACES filmic (Narkowicz's fit of the RRT and ODT)\n"
     "        c *= 0.6;\n"
     "        return clamp(c * (2.51 * c + 0.03) / (c * (2.43 * c + 0.59) + 0.14), 0.0, 1.0);\n"
@@ -284,6 +292,7 @@ static const char *const EFFECTS_POST =
     "        float g = 1.0 - 1.0 / (0.15 * (peak - np) + 1.0);\n"
     "        return mix(c, vec3(np), g);\n"
     "    }\n"
+    "#endif\n"
     "    return c;\n"
     "}\n"
     "vec3 to_srgb(vec3 c) {\n"
@@ -521,12 +530,13 @@ static const char *const GROUND_VS = "layout(location = 0) in vec3 a_position;\n
                                      "}\n";
 static const char *const GROUND_FS =
     "in vec3 v_world;\n"
+    "uniform bool u_ao;\n"
     "uniform vec3 u_center;\n"
     "uniform float u_extent;\n"
     "out vec4 o_color;\n"
     "void main() {\n"
     "    vec3 up = vec3(0.0, 1.0, 0.0);\n"
-    "    float lit = shadow_visibility(v_world, up) * ambient_occlusion(v_world, up);\n"
+    "    float lit = shadow_visibility(v_world, up) * (u_ao ? ambient_occlusion(v_world, up) : 1.0);\n"
     "    float fade = clamp(1.0 - length(v_world.xz - u_center.xz) / u_extent, 0.0, 1.0);\n"
     "    o_color = vec4(0.0, 0.0, 0.0, (1.0 - lit) * 0.6 * fade);\n"
     "}\n";
@@ -571,6 +581,33 @@ static const char *const OUTLINE_FS =
     "    o_color = vec4(u_color.rgb, u_color.a * edge);\n"
     "}\n";
 
+/* FXAA (Lottes's, its compact form): along the edge the luma of the four diagonal neighbours
+ * shows, two and then four taps; the wider blend unless it leaves the neighbourhood's luma range.
+ * Alpha is the pixel's own. */
+static const char *const FXAA_FS =
+    "in vec2 v_ndc;\n"
+    "uniform sampler2D u_color;\n"
+    "uniform vec2 u_texel;\n"
+    "out vec4 o_color;\n"
+    "float luma(vec3 c) { return dot(c, vec3(0.299, 0.587, 0.114)); }\n"
+    "vec3 at(vec2 uv) { return texture(u_color, uv).rgb; }\n"
+    "void main() {\n"
+    "    vec2 uv = gl_FragCoord.xy * u_texel;\n"
+    "    vec4 m = texture(u_color, uv);\n"
+    "    float nw = luma(at(uv + vec2(-1.0, -1.0) * u_texel)), ne = luma(at(uv + vec2(1.0, -1.0) * u_texel));\n"
+    "    float sw = luma(at(uv + vec2(-1.0, 1.0) * u_texel)), se = luma(at(uv + vec2(1.0, 1.0) * u_texel));\n"
+    "    float lm = luma(m.rgb);\n"
+    "    float lo = min(lm, min(min(nw, ne), min(sw, se))), hi = max(lm, max(max(nw, ne), max(sw, se)));\n"
+    "    if (hi - lo < max(0.0312, hi * 0.125)) { o_color = m; return; }\n"
+    "    vec2 dir = vec2(-((nw + ne) - (sw + se)), (nw + sw) - (ne + se));\n"
+    "    float reduce = max((nw + ne + sw + se) * 0.03125, 1.0 / 128.0);\n"
+    "    dir = clamp(dir / (min(abs(dir.x), abs(dir.y)) + reduce), -8.0, 8.0) * u_texel;\n"
+    "    vec3 a = 0.5 * (at(uv + dir * (1.0 / 3.0 - 0.5)) + at(uv + dir * (2.0 / 3.0 - 0.5)));\n"
+    "    vec3 b = a * 0.5 + 0.25 * (at(uv - dir * 0.5) + at(uv + dir * 0.5));\n"
+    "    float lb = luma(b);\n"
+    "    o_color = vec4(lb < lo || lb > hi ? a : b, m.a);\n"
+    "}\n";
+
 /* Links a program from a vertex, an optional geometry and a fragment stage, each given as
  * parts after the version line. */
 static GLuint link_parts(const char *const *vs, int vs_count, const char *gs, const char *const *fs, int fs_count,
@@ -607,32 +644,52 @@ out_delete_stages:
 sinew_result render_programs_create(render_programs *programs, sinew_error *error)
 {
     const char *mesh_vs[] = {LIGHTING, MESH_VS_HEAD, MESH_VS};
-    const char *mesh_fs[] = {LIGHTING, MESH_FS_INPUTS, EFFECTS, EFFECTS_POST, PBR, MESH_FS};
+    const char *mesh_fs[] = {"", LIGHTING, MESH_FS_INPUTS, EFFECTS, EFFECTS_POST, PBR, MESH_FS};
     const char *normals_fs[] = {NORMALS_FS};
     const char *overlay_vs[] = {OVERLAY_VS}, *overlay_fs[] = {OVERLAY_FS};
     const char *fullscreen_vs[] = {FULLSCREEN_VS};
-    const char *background_fs[] = {EFFECTS, EFFECTS_POST, BACKGROUND_FS};
-    const char *ground_vs[] = {GROUND_VS}, *ground_fs[] = {EFFECTS, EFFECTS_POST, GROUND_FS};
-    const char *outline_fs[] = {OUTLINE_FS};
-    if (!(programs->mesh = link_parts(mesh_vs, 3, NULL, mesh_fs, 6, "mesh", error)) ||
+    const char *background_fs[] = {"#define WITH_TONE\n", EFFECTS, EFFECTS_POST, BACKGROUND_FS};
+    const char *ground_vs[] = {GROUND_VS},
+               *ground_fs[] = {"#define WITH_SHADOWS\n#define WITH_AO\n", EFFECTS, EFFECTS_POST, GROUND_FS};
+    const char *outline_fs[] = {OUTLINE_FS}, *fxaa_fs[] = {FXAA_FS};
+    if (!(programs->mesh = programs->mesh_variant[0] = link_parts(mesh_vs, 3, NULL, mesh_fs, 7, "mesh", error)) ||
         !(programs->normals = link_parts(mesh_vs, 3, NORMALS_GS, normals_fs, 1, "normals", error)) ||
         !(programs->overlay = link_parts(overlay_vs, 1, NULL, overlay_fs, 1, "overlay", error)) ||
-        !(programs->background = link_parts(fullscreen_vs, 1, NULL, background_fs, 3, "background", error)) ||
-        !(programs->ground = link_parts(ground_vs, 1, NULL, ground_fs, 3, "ground", error)) ||
-        !(programs->outline = link_parts(fullscreen_vs, 1, NULL, outline_fs, 1, "outline", error))) {
+        !(programs->background = link_parts(fullscreen_vs, 1, NULL, background_fs, 4, "background", error)) ||
+        !(programs->ground = link_parts(ground_vs, 1, NULL, ground_fs, 4, "ground", error)) ||
+        !(programs->outline = link_parts(fullscreen_vs, 1, NULL, outline_fs, 1, "outline", error)) ||
+        !(programs->fxaa = link_parts(fullscreen_vs, 1, NULL, fxaa_fs, 1, "fxaa", error))) {
         render_programs_destroy(programs);
         return error ? error->kind : SINEW_ERROR_GRAPHICS;
     }
     return SINEW_OK;
 }
 
+/* The mesh program with only the effects `flags` asks for compiled in (llvmpipe pays for
+ * every instruction of a fragment stage, taken or not). */
+GLuint render_mesh_variant(render_programs *programs, unsigned flags, sinew_error *error)
+{
+    flags &= RENDER_MESH_VARIANTS - 1;
+    if (programs->mesh_variant[flags])
+        return programs->mesh_variant[flags];
+    char defines[96];
+    snprintf(defines, sizeof defines, "%s%s%s", flags & RENDER_WITH_SHADOWS ? "#define WITH_SHADOWS\n" : "",
+             flags & RENDER_WITH_AO ? "#define WITH_AO\n" : "", flags & RENDER_WITH_TONE ? "#define WITH_TONE\n" : "");
+    const char *mesh_vs[] = {LIGHTING, MESH_VS_HEAD, MESH_VS};
+    const char *mesh_fs[] = {defines, LIGHTING, MESH_FS_INPUTS, EFFECTS, EFFECTS_POST, PBR, MESH_FS};
+    programs->mesh_variant[flags] = link_parts(mesh_vs, 3, NULL, mesh_fs, 7, "mesh", error);
+    return programs->mesh_variant[flags];
+}
+
 void render_programs_destroy(render_programs *programs)
 {
-    glDeleteProgram(programs->mesh);
+    for (int i = 0; i < RENDER_MESH_VARIANTS; i++)
+        glDeleteProgram(programs->mesh_variant[i]);
     glDeleteProgram(programs->normals);
     glDeleteProgram(programs->overlay);
     glDeleteProgram(programs->background);
     glDeleteProgram(programs->ground);
     glDeleteProgram(programs->outline);
+    glDeleteProgram(programs->fxaa);
     memset(programs, 0, sizeof *programs);
 }
