@@ -295,8 +295,34 @@ void render_effects_background(const render_effects *fx, const render_programs *
 void render_effects_ground(const render_effects *fx, const render_programs *programs, const render_effect_frame *ef)
 {
     float extent = ef->radius * 3.0f, y = ef->ground_height, cx = ef->center[0], cz = ef->center[2];
-    const float quad[12] = {cx - extent, y, cz - extent, cx + extent, y, cz - extent,
-                            cx + extent, y, cz + extent, cx - extent, y, cz + extent};
+    /* only where something can darken it (every pixel of it costs): the occlusion's square under the
+     * model, and where the shadow map's box meets the ground, within the fading square */
+    float lo[2] = {cx, cz}, hi[2] = {cx, cz};
+    if (ef->ao) {
+        float reach = extent * 0.4f;
+        lo[0] = cx - reach, lo[1] = cz - reach, hi[0] = cx + reach, hi[1] = cz + reach;
+    }
+    if (ef->shadows) {
+        mat4 inverse;
+        glm_mat4_inv((vec4 *)ef->light_view_proj, inverse);
+        for (int k = 0; k < 4; k++) {
+            vec4 a = {k & 1 ? 1.0f : -1.0f, k & 2 ? 1.0f : -1.0f, -1.0f, 1.0f}, b = {a[0], a[1], 1.0f, 1.0f}, wa, wb;
+            glm_mat4_mulv(inverse, a, wa);
+            glm_mat4_mulv(inverse, b, wb);
+            float dy = wb[1] / wb[3] - wa[1] / wa[3];
+            float t = fabsf(dy) > 1e-6f ? (y - wa[1] / wa[3]) / dy : 0.0f;
+            float px = wa[0] / wa[3] + t * (wb[0] / wb[3] - wa[0] / wa[3]);
+            float pz = wa[2] / wa[3] + t * (wb[2] / wb[3] - wa[2] / wa[3]);
+            if (fabsf(dy) <= 1e-6f) /* a light along the ground: the whole square */
+                px = k & 1 ? cx + extent : cx - extent, pz = k & 2 ? cz + extent : cz - extent;
+            lo[0] = fminf(lo[0], px), lo[1] = fminf(lo[1], pz), hi[0] = fmaxf(hi[0], px), hi[1] = fmaxf(hi[1], pz);
+        }
+    }
+    lo[0] = fmaxf(lo[0], cx - extent), lo[1] = fmaxf(lo[1], cz - extent);
+    hi[0] = fminf(hi[0], cx + extent), hi[1] = fminf(hi[1], cz + extent);
+    if (!(hi[0] > lo[0] && hi[1] > lo[1]))
+        return;
+    const float quad[12] = {lo[0], y, lo[1], hi[0], y, lo[1], hi[0], y, hi[1], lo[0], y, hi[1]};
     glBindBuffer(GL_ARRAY_BUFFER, fx->ground_buffer);
     glBufferSubData(GL_ARRAY_BUFFER, 0, sizeof quad, quad);
     glUseProgram(programs->ground);
@@ -313,8 +339,39 @@ void render_effects_ground(const render_effects *fx, const render_programs *prog
     glDisable(GL_BLEND);
 }
 
+/* Limits drawing to the pixels the scene's sphere (its bounding cube) covers, widened by a pixel;
+ * false when it covers none. The whole view when a corner lies behind the eye. */
+static bool scissor_to_scene(const render_effect_frame *ef)
+{
+    float x0 = INFINITY, y0 = INFINITY, x1 = -INFINITY, y1 = -INFINITY;
+    for (int k = 0; k < 8; k++) {
+        vec4 p = {ef->center[0] + (k & 1 ? ef->radius : -ef->radius),
+                  ef->center[1] + (k & 2 ? ef->radius : -ef->radius),
+                  ef->center[2] + (k & 4 ? ef->radius : -ef->radius), 1.0f},
+             c;
+        glm_mat4_mulv((vec4 *)ef->view_proj, p, c);
+        if (c[3] <= 1e-6f)
+            return true; /* no scissor */
+        x0 = fminf(x0, c[0] / c[3]), x1 = fmaxf(x1, c[0] / c[3]);
+        y0 = fminf(y0, c[1] / c[3]), y1 = fmaxf(y1, c[1] / c[3]);
+    }
+    int px0 = (int)floorf((x0 * 0.5f + 0.5f) * (float)ef->width) - 1,
+        px1 = (int)ceilf((x1 * 0.5f + 0.5f) * (float)ef->width) + 1;
+    int py0 = (int)floorf((y0 * 0.5f + 0.5f) * (float)ef->height) - 1,
+        py1 = (int)ceilf((y1 * 0.5f + 0.5f) * (float)ef->height) + 1;
+    px0 = px0 < 0 ? 0 : px0, py0 = py0 < 0 ? 0 : py0;
+    px1 = px1 > ef->width ? ef->width : px1, py1 = py1 > ef->height ? ef->height : py1;
+    if (px1 <= px0 || py1 <= py0)
+        return false;
+    glEnable(GL_SCISSOR_TEST);
+    glScissor(px0, py0, px1 - px0, py1 - py0);
+    return true;
+}
+
 void render_effects_outline(const render_effects *fx, const render_programs *programs, const render_effect_frame *ef)
 {
+    if (!scissor_to_scene(ef))
+        return;
     GLuint p = programs->outline;
     glUseProgram(p);
     glActiveTexture(GL_TEXTURE10);
@@ -331,6 +388,7 @@ void render_effects_outline(const render_effects *fx, const render_programs *pro
     glBindVertexArray(fx->empty_vao);
     glDrawArrays(GL_TRIANGLES, 0, 3);
     glDisable(GL_BLEND);
+    glDisable(GL_SCISSOR_TEST);
     glEnable(GL_DEPTH_TEST);
 }
 

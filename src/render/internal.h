@@ -20,7 +20,8 @@ typedef struct render_programs {
     GLuint background;                         /* the environment behind the scene (a full-screen triangle) */
     GLuint ground;                             /* the shadow catcher: shadows and occlusion on the ground plane */
     GLuint outline;                            /* edges found in the depth pre-pass, over the frame */
-    GLuint fxaa; /* the frame's texture smoothed along its edges into the caller's framebuffer */
+    GLuint fxaa;  /* the frame's texture smoothed along its edges into the caller's framebuffer */
+    GLuint depth; /* the mesh vertex stage with an empty fragment stage: shadow map, depth pre-pass */
 } render_programs;
 
 sinew_result render_programs_create(render_programs *programs, sinew_error *error);

@@ -66,15 +66,15 @@ typedef struct mesh_uniforms {
         palette, morph, morph_count, morph_vertices, morph_texels, morph_target, morph_weight, heat_joint, heat_rigid,
         gouraud, key_dir, fill_dir, eye, base_color, use_texture, texture, mode, heat, override, normal_length,
         metallic, roughness, emissive, normal_scale, occlusion_strength, maps, map_mr, map_normal, map_occlusion,
-        map_emissive, depth_only;
+        map_emissive;
 } mesh_uniforms;
 
 struct sinew_renderer {
     const sinew_model *model;
     sinew_allocator allocator;
     render_programs programs;
-    render_effects fx;               /* environment, shadow map, depth pre-pass */
-    mesh_uniforms mesh_u, normals_u; /* mesh_u: of the mesh program in use (programs.mesh) */
+    render_effects fx;                        /* environment, shadow map, depth pre-pass */
+    mesh_uniforms mesh_u, normals_u, depth_u; /* mesh_u: of the mesh program in use (programs.mesh) */
     mesh_uniforms variant_u[RENDER_MESH_VARIANTS];
     GLint overlay_matrix, overlay_point_size, overlay_round;
     render_mesh *meshes;
@@ -391,7 +391,7 @@ static void lookup_mesh_uniforms(GLuint program, mesh_uniforms *u)
     U(morph), U(morph_count), U(morph_vertices), U(morph_texels), U(morph_target), U(morph_weight);
     U(key_dir), U(fill_dir), U(eye), U(base_color), U(use_texture), U(texture), U(mode), U(heat), U(override);
     U(normal_length), U(metallic), U(roughness), U(emissive), U(normal_scale), U(occlusion_strength), U(maps);
-    U(map_mr), U(map_normal), U(map_occlusion), U(map_emissive), U(depth_only);
+    U(map_mr), U(map_normal), U(map_occlusion), U(map_emissive);
 #undef U
 }
 
@@ -427,6 +427,7 @@ static sinew_result create_gl_objects(sinew_renderer *r, uint32_t max_vertices, 
     lookup_mesh_uniforms(r->programs.mesh, &r->variant_u[0]);
     r->mesh_u = r->variant_u[0];
     lookup_mesh_uniforms(r->programs.normals, &r->normals_u);
+    lookup_mesh_uniforms(r->programs.depth, &r->depth_u);
     r->overlay_matrix = glGetUniformLocation(r->programs.overlay, "u_matrix");
     r->overlay_point_size = glGetUniformLocation(r->programs.overlay, "u_point_size");
     r->overlay_round = glGetUniformLocation(r->programs.overlay, "u_round");
@@ -834,7 +835,6 @@ typedef struct frame_state {
     uint32_t dq_offset; /* records from a joint's matrix to its dual-quaternion joint */
     const render_effects *fx;
     const render_effect_frame *ef;
-    bool depth_only; /* a shadow map or depth pre-pass */
 } frame_state;
 
 static void set_common_uniforms(GLuint program, const mesh_uniforms *u, const frame_state *fs)
@@ -856,10 +856,8 @@ static void set_common_uniforms(GLuint program, const mesh_uniforms *u, const fr
     glUniform1i(u->morph, 6);
     glUniform1i(u->morph_count, 0);
     glUniform1i(u->dq_offset, (GLint)fs->dq_offset);
-    if (u->depth_only >= 0) { /* the mesh program: its surfaces' effects */
+    if (u->mode >= 0) /* the mesh program: its surfaces' effects */
         render_effects_uniforms(fs->fx, program, fs->ef);
-        glUniform1i(u->depth_only, fs->depth_only);
-    }
 }
 
 /* Binds the VAO and sets the skinning and morph uniforms of one instance; streams vertices
@@ -1006,14 +1004,11 @@ static sinew_result draw_meshes(sinew_renderer *r, const frame_state *fs, sinew_
 static sinew_result draw_depth(sinew_renderer *r, const frame_state *fs, const float *view_proj, sinew_error *error)
 {
     const sinew_model *m = r->model;
-    const mesh_uniforms *u = &r->mesh_u;
+    const mesh_uniforms *u = &r->depth_u;
     frame_state depth = *fs;
     memcpy(depth.view_proj, view_proj, sizeof depth.view_proj);
-    depth.depth_only = true;
-    set_common_uniforms(r->programs.mesh, u, &depth);
-    glUniform1i(u->mode, 0);
+    set_common_uniforms(r->programs.depth, u, &depth);
     glUniform1i(u->gouraud, 0);
-    glUniform1i(u->heat, 0);
     for (uint32_t i = 0; i < m->instance_count; i++) {
         if (instance_hidden(fs->o, i))
             continue;

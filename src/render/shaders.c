@@ -376,7 +376,6 @@ static const char *const MESH_FS =
     "uniform int u_mode;            // 0 unlit, 1 Phong, 2 Gouraud, 3 flat, 4 physically based\n"
     "uniform bool u_heat;\n"
     "uniform vec4 u_override;       // a > 0: draw this sRGB colour (wireframe)\n"
-    "uniform bool u_depth_only;     // shadow and depth pre-passes: depth alone\n"
     "out vec4 o_color;\n"
     "vec3 heat_color(float w) {\n"
     "    w = clamp(w, 0.0, 1.0);\n"
@@ -388,10 +387,7 @@ static const char *const MESH_FS =
     "    return mix(c3, c4, w * 4.0 - 3.0);\n"
     "}\n"
     "void main() {\n"
-    "    if (u_depth_only) {\n"
-    "        o_color = vec4(0.0);\n"
-    "        return;\n"
-    "    }\n"
+
     "    if (u_override.a > 0.0) {\n"
     "        o_color = vec4(u_override.rgb, 1.0);\n"
     "        return;\n"
@@ -536,9 +532,13 @@ static const char *const GROUND_FS =
     "out vec4 o_color;\n"
     "void main() {\n"
     "    vec3 up = vec3(0.0, 1.0, 0.0);\n"
-    "    float lit = shadow_visibility(v_world, up) * (u_ao ? ambient_occlusion(v_world, up) : 1.0);\n"
-    "    float fade = clamp(1.0 - length(v_world.xz - u_center.xz) / u_extent, 0.0, 1.0);\n"
-    "    o_color = vec4(0.0, 0.0, 0.0, (1.0 - lit) * 0.6 * fade);\n"
+    "    float r = length(v_world.xz - u_center.xz) / u_extent;\n"
+    "    if (r >= 1.0) discard;\n"
+    "    float lit = shadow_visibility(v_world, up);\n"
+    "    if (u_ao && r < 0.4) lit *= ambient_occlusion(v_world, up); // contact: under the model only\n"
+    "    float a = (1.0 - lit) * 0.6 * (1.0 - r);\n"
+    "    if (a < 0.002) discard; // nothing to blend\n"
+    "    o_color = vec4(0.0, 0.0, 0.0, a);\n"
     "}\n";
 
 /* Outlines: where the depth pre-pass jumps (silhouettes against the background or against
@@ -652,13 +652,16 @@ sinew_result render_programs_create(render_programs *programs, sinew_error *erro
     const char *ground_vs[] = {GROUND_VS},
                *ground_fs[] = {"#define WITH_SHADOWS\n#define WITH_AO\n", EFFECTS, EFFECTS_POST, GROUND_FS};
     const char *outline_fs[] = {OUTLINE_FS}, *fxaa_fs[] = {FXAA_FS};
+    /* depth alone (shadow map, pre-pass): the mesh vertex stage, a fragment stage that does nothing */
+    const char *depth_fs[] = {MESH_FS_INPUTS, "void main() {}\n"};
     if (!(programs->mesh = programs->mesh_variant[0] = link_parts(mesh_vs, 3, NULL, mesh_fs, 7, "mesh", error)) ||
         !(programs->normals = link_parts(mesh_vs, 3, NORMALS_GS, normals_fs, 1, "normals", error)) ||
         !(programs->overlay = link_parts(overlay_vs, 1, NULL, overlay_fs, 1, "overlay", error)) ||
         !(programs->background = link_parts(fullscreen_vs, 1, NULL, background_fs, 4, "background", error)) ||
         !(programs->ground = link_parts(ground_vs, 1, NULL, ground_fs, 4, "ground", error)) ||
         !(programs->outline = link_parts(fullscreen_vs, 1, NULL, outline_fs, 1, "outline", error)) ||
-        !(programs->fxaa = link_parts(fullscreen_vs, 1, NULL, fxaa_fs, 1, "fxaa", error))) {
+        !(programs->fxaa = link_parts(fullscreen_vs, 1, NULL, fxaa_fs, 1, "fxaa", error)) ||
+        !(programs->depth = link_parts(mesh_vs, 3, NULL, depth_fs, 2, "depth", error))) {
         render_programs_destroy(programs);
         return error ? error->kind : SINEW_ERROR_GRAPHICS;
     }
@@ -691,5 +694,6 @@ void render_programs_destroy(render_programs *programs)
     glDeleteProgram(programs->ground);
     glDeleteProgram(programs->outline);
     glDeleteProgram(programs->fxaa);
+    glDeleteProgram(programs->depth);
     memset(programs, 0, sizeof *programs);
 }
