@@ -747,9 +747,10 @@ static void test_camera_views_and_turntable(void **state)
     char tube[1024];
     fixture_path("twist_tube.glb", tube, sizeof tube);
     /* and with --up z, the file's Z is up: the tube lies along -Z, round from the front */
-    const char *views[3] = {"front", "top", "front"}, *ups[3] = {"y", "y", "z"};
-    int box[3][2];
-    for (int v = 0; v < 3; v++) {
+    /* with f3d's +X: the file's X is up, the tube lies across the picture */
+    const char *views[4] = {"front", "top", "front", "front"}, *ups[4] = {"y", "y", "z", "+X"};
+    int box[4][2];
+    for (int v = 0; v < 4; v++) {
         image im = RENDER("view-tube.png", tube, "--size", "160x160", "--camera", views[v], "--up", ups[v], "--no-grid",
                           "--background", "000000", "--no-lighting", "--materials", "off");
         int x0 = im.width, x1 = -1, y0 = im.height, y1 = -1;
@@ -767,6 +768,8 @@ static void test_camera_views_and_turntable(void **state)
     assert_true(box[0][1] > 3 * box[0][0]);
     assert_true(abs(box[1][0] - box[1][1]) <= 2);
     assert_true(abs(box[2][0] - box[2][1]) <= 2);
+    printf("twist tube with --up +X: %dx%d pixels from the front\n", box[3][0], box[3][1]);
+    assert_true(box[3][0] > 3 * box[3][1]);
     long differing = 0;
 
     char pattern[1024], first[1100], later[1100];
@@ -807,6 +810,10 @@ static void test_bad_input(void **state)
     EXPECT_FAILURE(2, "no-such-file.glb", "render", "no-such-file.glb", "-o", out);
     EXPECT_FAILURE(1, "--size", "render", fixture, "--size", "0x100", "-o", out);
     EXPECT_FAILURE(1, "--size", "render", fixture, "--size", "wide", "-o", out);
+    EXPECT_FAILURE(1, "--up \"w\": expected [+|-]x, y or z", "render", fixture, "--up", "w", "-o", out);
+    EXPECT_FAILURE(1, "exposure", "render", fixture, "--exposure", "11", "-o", out);
+    EXPECT_FAILURE(1, "tone-mapping", "render", fixture, "--tone-mapping", "filmic", "-o", out);
+    EXPECT_FAILURE(2, "no-such-sky.hdr", "render", fixture, "--hdri", "no-such-sky.hdr", "--shading", "pbr", "-o", out);
     EXPECT_FAILURE(1, "orbit:YAW,PITCH", "render", fixture, "--camera", "orbit:abc", "-o", out);
     EXPECT_FAILURE(1, "fly:X,Y,Z,YAW,PITCH", "render", fixture, "--camera", "fly:1,2,3", "-o", out);
     EXPECT_FAILURE(1, "shading", "render", fixture, "--shading", "toon", "-o", out);
