@@ -69,7 +69,8 @@ static const char render_usage_look[] =
     "  --tone-mapping auto|none|aces|neutral   auto: Khronos PBR Neutral for pbr, none for the others\n"
     "  --exposure EV                           brighter or darker by EV stops (default 0)\n"
     "  --shadows --ssao --outline              the key light's shadows (on the model and the ground),\n"
-    "                                          ambient occlusion, dark edges; off by default\n"    "  --fxaa                                  fast approximate anti-aliasing after drawing (where\n"
+    "                                          ambient occlusion, dark edges; off by default\n"
+    "  --fxaa                                  fast approximate anti-aliasing after drawing (where\n"
     "                                          multisampling is refused; on llvmpipe it costs more than it)\n";
 
 static const char render_usage_crowds[] =

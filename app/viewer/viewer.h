@@ -69,7 +69,7 @@ typedef struct viewer {
     GLuint msaa_fbo, msaa_color, msaa_depth;
     int msaa_width, msaa_height, msaa_samples;
     bool msaa_refused; /* GL refused multisampling: the frames are smoothed by FXAA instead */
-    char *hdri; /* --hdri, settings [view] hdri: the environment file; NULL: the studio */
+    char *hdri;        /* --hdri, settings [view] hdri: the environment file; NULL: the studio */
     bool hdri_given, samples_given, key_map_given; /* on the command line: not saved */
     const char *anim, *name_map; /* --anim OTHER (--name-map M.json): its clips on every file opened */
     /* the Display panel's blending (issue 15): a second clip and its weight, root motion, an IK target */
