@@ -152,7 +152,7 @@ static int parse_crowd_args(int argc, char **argv, crowd_args *a)
                 return EXIT_USAGE;
             a->count = (uint32_t)n;
         } else if (strcmp(o, "--samples") == 0 && v) {
-            if (!cli_parse_count("bench crowd", o, argv[++i], 1, 64, &n))
+            if (!cli_parse_count("bench crowd", o, argv[++i], 1, CLI_MAX_SAMPLES, &n))
                 return EXIT_USAGE;
             a->samples = (int)n;
         } else if (strcmp(o, "--frames") == 0 && v) {

@@ -13,6 +13,11 @@
  * 2: an input is unreadable or malformed, or lacks what was named (a clip, a joint);
  * 3: this machine lacks something the command needs (an OpenGL 3.3 context, ffmpeg);
  * 4: an output cannot be written (no space, no permission, it is an input, it exists). */
+/* The most pixels a picture may have (--size): 8192x8192. */
+#define CLI_MAX_PIXELS (8192.0 * 8192.0)
+/* The most samples --samples takes (GPUs offer 8 to 32; more is refused, not clamped silently). */
+#define CLI_MAX_SAMPLES 16
+
 enum { EXIT_OK = 0, EXIT_USAGE = 1, EXIT_BAD_INPUT = 2, EXIT_UNAVAILABLE = 3, EXIT_OUTPUT = 4 };
 
 /* --import-timeout / --import-memory, wherever they are on the command line (main.c). */

@@ -109,7 +109,7 @@ static int bench_render(int argc, char **argv)
             a.json = true;
         } else if (strcmp(o, "--samples") == 0 && v) {
             long n = 0;
-            if (!cli_parse_count("bench render", o, argv[++i], 1, 64, &n))
+            if (!cli_parse_count("bench render", o, argv[++i], 1, CLI_MAX_SAMPLES, &n))
                 return EXIT_USAGE;
             a.samples = (int)n;
         } else if (strcmp(o, "--png") == 0 && v) {

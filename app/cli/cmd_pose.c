@@ -302,8 +302,8 @@ int cmd_pose(int argc, char **argv)
     if (code >= 0)
         return code;
     sinew_error early = {0};
-    const char *inputs[2] = {o.path, o.muscles && *o.muscles ? o.muscles : NULL};
-    if (o.mesh_out && app_output_check(o.mesh_out, inputs, 2, &early) != SINEW_OK) {
+    const char *inputs[4] = {o.path, o.muscles && *o.muscles ? o.muscles : NULL, o.anim, o.name_map};
+    if (o.mesh_out && app_output_check(o.mesh_out, inputs, 4, &early) != SINEW_OK) {
         cli_error("pose: %s", early.message);
         return EXIT_OUTPUT;
     }

@@ -23,7 +23,7 @@ static const char render_usage[] =
     "  --track             the camera follows the model (its posed centre) through a sequence\n"
     "  --turntable [DEG]   the camera turns DEG degrees (default 360) around the model over a sequence\n"
     "  --size WxH          image size in pixels (default 1280x720)\n"
-    "  --samples N         multisampling (default 4, 1 = off)\n"
+    "  --samples N         multisampling (default 4, 1 = off, at most 16; clamped to what OpenGL offers)\n"
     "  --camera SPEC       orbit:YAW,PITCH[,DISTANCE] or fly:X,Y,Z,YAW,PITCH, degrees and metres, or a view\n"
     "                      along an axis: front, back, left, right (side), top, bottom\n"
     "                      (default orbit:30,15: framed on the posed model over the frames drawn)\n"
@@ -175,7 +175,7 @@ static int parse_value_option(int argc, char **argv, int i, render_args *a, bool
         *(o[2] == 'c' ? &a->crowd : &a->threads) = (uint32_t)n;
     } else if (strcmp(o, "--samples") == 0 || strcmp(o, "--gpu-joint-limit") == 0) {
         long n = 0;
-        *bad = !cli_parse_count("render", o, v, 1, 1 << 20, &n);
+        *bad = !cli_parse_count("render", o, v, 1, o[2] == 's' ? CLI_MAX_SAMPLES : 1 << 20, &n);
         if (o[2] == 's')
             a->samples = (int)n;
         else
@@ -327,9 +327,9 @@ int cmd_render(int argc, char **argv)
                            .crowd = a.crowd,
                            .threads = a.threads};
     /* Never over an input: the model, or the muscle file. */
-    const char *inputs[3] = {a.path, a.muscles && *a.muscles ? a.muscles : NULL, a.hdri};
+    const char *inputs[5] = {a.path, a.muscles && *a.muscles ? a.muscles : NULL, a.hdri, a.anim, a.name_map};
     sinew_error error = {0};
-    if (kind != OUTPUT_PATTERN && app_output_check(a.out, inputs, 3, &error) != SINEW_OK) {
+    if (kind != OUTPUT_PATTERN && app_output_check(a.out, inputs, 5, &error) != SINEW_OK) {
         cli_error("render: %s", error.message);
         return EXIT_OUTPUT;
     }
@@ -393,7 +393,7 @@ int cmd_render(int argc, char **argv)
             snprintf(path, sizeof path, a.out, (int)f);
         else
             snprintf(path, sizeof path, "%s", a.out);
-        if (kind == OUTPUT_PATTERN && app_output_check(path, inputs, 3, &error) != SINEW_OK) {
+        if (kind == OUTPUT_PATTERN && app_output_check(path, inputs, 5, &error) != SINEW_OK) {
             cli_error("render: %s", error.message);
             code = EXIT_OUTPUT;
         } else if (!cli_write_image(path, scene.pixels, a.width, a.height, a.options.transparent)) {

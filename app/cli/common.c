@@ -192,5 +192,13 @@ bool cli_parse_size(const char *command, const char *text, int *width, int *heig
         cli_error("%s: bad --size \"%s\": expected WIDTHxHEIGHT, each 1..16384", command, text);
         return false;
     }
+    /* 4 samples of colour and depth and the image read back: 36 bytes a pixel */
+    double pixels = (double)*width * (double)*height;
+    if (pixels > CLI_MAX_PIXELS) {
+        cli_error("%s: --size %s is %.0f megapixels, more than %.0f (8192x8192): its framebuffers and image would "
+                  "take %.1f GB",
+                  command, text, pixels / 1e6, CLI_MAX_PIXELS / 1e6, pixels * 36.0 / 1e9);
+        return false;
+    }
     return true;
 }

@@ -1,4 +1,5 @@
 /* `sinew`: the command line. One file per subcommand; this one dispatches. */
+#include <errno.h>
 #include <string.h>
 
 #include "cli.h"
@@ -78,6 +79,17 @@ static int take_import_options(int argc, char **argv)
     return kept;
 }
 
+/* What a command printed must have reached standard output (a full disk, /dev/full, a closed
+ * pipe with SIGPIPE ignored): else a message and EXIT_OUTPUT, as for files. */
+static int stdout_checked(int code)
+{
+    errno = 0;
+    if (fflush(stdout) == 0 && !ferror(stdout))
+        return code;
+    cli_error("cannot write to standard output: %s", strerror(errno ? errno : EIO));
+    return code == EXIT_OK ? EXIT_OUTPUT : code;
+}
+
 int main(int argc, char **argv)
 {
     if (argc < 2) {
@@ -87,11 +99,11 @@ int main(int argc, char **argv)
     const char *command = argv[1];
     if (cli_is_help(command)) {
         fputs(usage, stdout);
-        return EXIT_OK;
+        return stdout_checked(EXIT_OK);
     }
     if (strcmp(command, "--version") == 0) {
         printf("sinew %s\n", sinew_version());
-        return EXIT_OK;
+        return stdout_checked(EXIT_OK);
     }
     static const struct {
         const char *name;
@@ -106,7 +118,7 @@ int main(int argc, char **argv)
         return EXIT_USAGE;
     for (size_t i = 0; i < count; i++)
         if (strcmp(command, commands[i].name) == 0)
-            return commands[i].run(argc - 1, argv + 1);
+            return stdout_checked(commands[i].run(argc - 1, argv + 1));
     const char *nearest = NULL;
     int best = 3; /* two edits at most: "rendr", "poes" */
     for (size_t i = 0; i < count; i++) {

@@ -2,6 +2,7 @@
  * `sinew pose` and `sinew info`, OBJ output. */
 #include <math.h>
 #include <stdio.h>
+#include <sys/wait.h>
 #include <stdlib.h>
 #include <string.h>
 #include <unistd.h>
@@ -806,6 +807,42 @@ static void test_pose_blend_ik_root_motion(void **state)
     }
 }
 
+/* No silent failures: what a command prints must reach standard output (a full disk: exit 4 with a
+ * message, not 0), and -o / --mesh may not overwrite --anim or --name-map inputs. */
+static void test_output_failures_are_said(void **state)
+{
+    (void)state;
+    char dae[1024], cmd[4096];
+    fixture_path("two_bone.dae", dae, sizeof dae);
+    const char *exe = getenv("SINEW_EXE");
+    assert_non_null(exe);
+    snprintf(cmd, sizeof cmd, "'%s' info '%s' > /dev/full 2>/dev/null", exe, dae);
+    int status = system(cmd);
+    assert_true(WIFEXITED(status));
+    assert_int_equal(WEXITSTATUS(status), 4);
+    snprintf(cmd, sizeof cmd, "'%s' --help > /dev/full 2>/dev/null", exe);
+    status = system(cmd);
+    assert_int_equal(WEXITSTATUS(status), 4);
+    /* the output named as an input */
+    char anim[1024];
+    tmp_path("anim-as-output.dae", anim, sizeof anim);
+    size_t n = 0;
+    unsigned char *bytes = read_file(dae, &n);
+    write_file(anim, bytes, n);
+    free(bytes);
+    run_result r = RUN("pose", dae, "--anim", anim, "--mesh", anim);
+    assert_int_not_equal(r.code, 0);
+    assert_non_null(strstr(r.err, "anim-as-output.dae"));
+    run_free(&r);
+    r = RUN("render", dae, "--anim", anim, "-o", anim);
+    assert_int_not_equal(r.code, 0);
+    run_free(&r);
+    bytes = read_file(anim, &n); /* untouched */
+    assert_non_null(bytes);
+    assert_non_null(strstr((char *)bytes, "COLLADA"));
+    free(bytes);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -826,6 +863,7 @@ int main(void)
         cmocka_unit_test(test_time_outside_the_clip),
         cmocka_unit_test(test_render_progress_on_a_terminal),
         cmocka_unit_test(test_camera_position_focal_point_fov),
+        cmocka_unit_test(test_output_failures_are_said),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -812,6 +812,8 @@ static void test_bad_input(void **state)
     EXPECT_FAILURE(1, "--size", "render", fixture, "--size", "wide", "-o", out);
     EXPECT_FAILURE(1, "--up \"w\": expected [+|-]x, y or z", "render", fixture, "--up", "w", "-o", out);
     EXPECT_FAILURE(1, "exposure", "render", fixture, "--exposure", "11", "-o", out);
+    EXPECT_FAILURE(1, "--samples \"1048576\"", "render", fixture, "--samples", "1048576", "-o", out);
+    EXPECT_FAILURE(1, "more than 67 (8192x8192)", "render", fixture, "--size", "16384x16384", "-o", out);
     EXPECT_FAILURE(1, "tone-mapping", "render", fixture, "--tone-mapping", "filmic", "-o", out);
     EXPECT_FAILURE(2, "no-such-sky.hdr", "render", fixture, "--hdri", "no-such-sky.hdr", "--shading", "pbr", "-o", out);
     EXPECT_FAILURE(1, "orbit:YAW,PITCH", "render", fixture, "--camera", "orbit:abc", "-o", out);
