@@ -51,6 +51,54 @@ sinew_result app_output_check(const char *output, const char *const *inputs, siz
     return SINEW_OK;
 }
 
+/* Temporary files in the making, removed when SIGINT, SIGTERM or SIGHUP ends the program (their
+ * names also say "sinew-tmp", for what SIGKILL leaves). The handler only reads these buffers and
+ * calls unlink(), which is async-signal-safe. */
+#define TEMP_SLOTS 16
+static char temp_paths[TEMP_SLOTS][4096];
+static volatile sig_atomic_t temp_used[TEMP_SLOTS];
+
+static void remove_temporaries(int sig)
+{
+    for (int i = 0; i < TEMP_SLOTS; i++)
+        if (temp_used[i])
+            unlink(temp_paths[i]);
+    signal(sig, SIG_DFL);
+    raise(sig);
+}
+
+static void track_temporary(const char *path)
+{
+    static bool handlers;
+    if (!handlers) {
+        static const int SIGNALS[] = {SIGINT, SIGTERM, SIGHUP};
+        for (size_t k = 0; k < sizeof SIGNALS / sizeof SIGNALS[0]; k++) {
+            struct sigaction old;
+            /* a signal the caller ignores (nohup) stays ignored */
+            if (sigaction(SIGNALS[k], NULL, &old) == 0 && old.sa_handler == SIG_IGN)
+                continue;
+            struct sigaction sa = {0};
+            sa.sa_handler = remove_temporaries;
+            sigemptyset(&sa.sa_mask);
+            sigaction(SIGNALS[k], &sa, NULL);
+        }
+        handlers = true;
+    }
+    for (int i = 0; i < TEMP_SLOTS; i++)
+        if (!temp_used[i]) {
+            snprintf(temp_paths[i], sizeof temp_paths[i], "%s", path);
+            temp_used[i] = 1;
+            return;
+        }
+}
+
+static void untrack_temporary(const char *path)
+{
+    for (int i = 0; i < TEMP_SLOTS; i++)
+        if (temp_used[i] && strcmp(temp_paths[i], path) == 0)
+            temp_used[i] = 0;
+}
+
 sinew_result app_output_open(app_output *o, const char *path, sinew_error *error)
 {
     memset(o, 0, sizeof *o);
@@ -71,13 +119,15 @@ sinew_result app_output_open(app_output *o, const char *path, sinew_error *error
     const char *name = strrchr(path, '/') ? strrchr(path, '/') + 1 : path;
     const char *ext = strrchr(name, '.');
     ext = ext && ext != name ? ext : "";
-    /* .NAME.XXXXXX.EXT: hidden, and with the target's extension (ffmpeg picks its muxer by it). */
-    int n = snprintf(o->temp, sizeof o->temp, "%s/.%s.XXXXXX%s", folder, name, ext);
+    /* .NAME.sinew-tmp-XXXXXX.EXT: hidden, recognisable, and with the target's extension (ffmpeg picks
+     * its muxer by it). */
+    int n = snprintf(o->temp, sizeof o->temp, "%s/.%s.sinew-tmp-XXXXXX%s", folder, name, ext);
     if (n < 0 || (size_t)n >= sizeof o->temp)
         return sinew_fail(error, SINEW_ERROR_IO, "%s: the path is too long", path);
     int fd = mkostemps(o->temp, (int)strlen(ext), O_CLOEXEC);
     if (fd < 0)
         return sinew_fail(error, SINEW_ERROR_IO, "%s: cannot write in %s: %s", path, folder, strerror(errno));
+    track_temporary(o->temp);
     mode_t mask = umask(0); /* files get 0666 less the umask, as fopen's would */
     umask(mask);
     fchmod(fd, 0666 & ~mask);
@@ -85,6 +135,7 @@ sinew_result app_output_open(app_output *o, const char *path, sinew_error *error
     if (!o->file) {
         close(fd);
         unlink(o->temp);
+        untrack_temporary(o->temp);
         return sinew_fail(error, SINEW_ERROR_IO, "%s: cannot write: %s", path, strerror(errno));
     }
     return SINEW_OK;
@@ -135,6 +186,7 @@ sinew_result app_output_commit(app_output *o, sinew_error *error)
         app_output_abort(o);
         return sinew_fail(error, SINEW_ERROR_IO, "%s: cannot put the file in place: %s", o->path, strerror(e));
     }
+    untrack_temporary(o->temp);
     o->temp[0] = '\0';
     return SINEW_OK;
 }
@@ -144,8 +196,10 @@ void app_output_abort(app_output *o)
     if (o->file)
         fclose(o->file);
     o->file = NULL;
-    if (!o->in_place && o->temp[0])
+    if (!o->in_place && o->temp[0]) {
         unlink(o->temp);
+        untrack_temporary(o->temp);
+    }
     o->temp[0] = '\0';
 }
 

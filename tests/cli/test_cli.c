@@ -843,6 +843,34 @@ static void test_output_failures_are_said(void **state)
     free(bytes);
 }
 
+/* A render stopped by SIGTERM or SIGINT (Ctrl+C) leaves no temporary file beside its output (their
+ * names say "sinew-tmp" for what SIGKILL would leave). */
+static void test_stopped_render_leaves_nothing(void **state)
+{
+    (void)state;
+    if (system("command -v ffmpeg >/dev/null 2>&1 && command -v timeout >/dev/null 2>&1") != 0)
+        skip();
+    char dae[1024], dir[1024], cmd[8192];
+    fixture_path("two_bone.dae", dae, sizeof dae);
+    tmp_path("stopped-render", dir, sizeof dir);
+    const char *exe = getenv("SINEW_EXE");
+    assert_non_null(exe);
+    static const char *const SIGNALS[] = {"TERM", "INT"};
+    for (int k = 0; k < 2; k++) {
+        snprintf(cmd, sizeof cmd,
+                 "rm -rf '%s' && mkdir -p '%s' && timeout -s %s 3 '%s' render '%s' --from 0 --to 200 --fps 30 "
+                 "--size 320x240 -o '%s/out.mp4' 2>/dev/null; ls -A '%s' | grep -c . || true",
+                 dir, dir, SIGNALS[k], exe, dae, dir, dir);
+        FILE *p = popen(cmd, "r");
+        assert_non_null(p);
+        int files = -1;
+        assert_int_equal(fscanf(p, "%d", &files), 1);
+        pclose(p);
+        printf("render stopped by SIG%s: %d files left in its folder\n", SIGNALS[k], files);
+        assert_int_equal(files, 0);
+    }
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -864,6 +892,7 @@ int main(void)
         cmocka_unit_test(test_render_progress_on_a_terminal),
         cmocka_unit_test(test_camera_position_focal_point_fov),
         cmocka_unit_test(test_output_failures_are_said),
+        cmocka_unit_test(test_stopped_render_leaves_nothing),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
