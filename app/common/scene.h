@@ -20,7 +20,7 @@
 
 /* The import helper's limits, as both apps take them on their command lines:
  * --import-timeout SECONDS (0: none) and --import-memory MIB (0: none); absent: the library's
- * defaults (120 s; half the memory, within 1..16 GiB). */
+ * defaults (120 s; 256 MiB and 64 times the file's size, at most half the memory). */
 typedef struct app_import_options {
     double timeout;        /* sinew_import_desc.timeout */
     uint64_t memory_limit; /* sinew_import_desc.memory_limit */
@@ -30,8 +30,8 @@ typedef struct app_import_options {
 int app_import_option_parse(app_import_options *options, int argc, char *const *argv, int i, sinew_error *error);
 #define APP_IMPORT_OPTIONS_HELP                                                                                        \
     "  --import-timeout S    stop reading a file after S seconds (default 120; 0: never)\n"                            \
-    "  --import-memory MIB   stop reading a file that needs more than MIB MiB (default: half the memory,\n"            \
-    "                        within 1..16 GiB; 0: no limit)\n"
+    "  --import-memory MIB   stop reading a file that needs more than MIB MiB (default: 256 MiB and 64 times\n"        \
+    "                        the file's size, at most half the memory; 0: no limit)\n"
 
 /* Which muscles a scene attaches. A model's own are a .sinew file's stored muscles, or the
  * built-in models' biceps. */

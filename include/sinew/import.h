@@ -43,6 +43,11 @@
 extern "C" {
 #endif
 
+/* The default memory limit of an import: 256 MiB and 64 times the file's size (a 600 kB file:
+ * 294 MiB), at most half the machine's memory. */
+#define SINEW_IMPORT_MEMORY_BASE ((uint64_t)256 << 20)
+#define SINEW_IMPORT_MEMORY_FACTOR 64u
+
 typedef struct sinew_import_desc {
     const char *path;
     bool in_process;                  /* import in this process (no helper; a crash or hang is the caller's) */
@@ -51,8 +56,10 @@ typedef struct sinew_import_desc {
     /* The helper (ignored in process): */
     const char *helper;    /* its path; NULL: found as sinew_import_helper_path() says */
     double timeout;        /* seconds it may take; 0: 120; negative: no deadline */
-    uint64_t memory_limit; /* bytes of address space it may use; 0: half the machine's memory, kept
-                              within 1..16 GiB; UINT64_MAX: none */
+    uint64_t memory_limit; /* bytes of address space it may use; 0: SINEW_IMPORT_MEMORY_BASE plus
+                              SINEW_IMPORT_MEMORY_FACTOR times the file's size, at most half the
+                              machine's memory (kept within 1..16 GiB; a session, whose files are
+                              not known in advance: that ceiling); UINT64_MAX: none */
     int stderr_fd;         /* 0: its stderr is kept, and its last lines quoted when it fails; else
                               the descriptor it writes its stderr to (2: the caller's stderr) */
     /* Called on the calling thread about every 50 ms while the helper works (once, before

@@ -109,15 +109,31 @@ sinew_result sinew_import_helper_path(const sinew_import_desc *desc, char *out, 
 
 /* ---- the limits ------------------------------------------------------------------------------ */
 
-/* desc->memory_limit, or its default (half the machine's memory, 1 to 16 GiB). */
-static uint64_t memory_limit_of(const sinew_import_desc *desc)
+/* The default's ceiling: half the machine's memory, within 1..16 GiB. */
+static uint64_t memory_ceiling(void)
 {
-    if (desc->memory_limit)
-        return desc->memory_limit;
     long pages = sysconf(_SC_PHYS_PAGES), page = sysconf(_SC_PAGESIZE);
     uint64_t half = pages > 0 && page > 0 ? (uint64_t)pages * (uint64_t)page / 2 : (uint64_t)4 << 30;
     const uint64_t lo = (uint64_t)1 << 30, hi = (uint64_t)16 << 30;
     return half < lo ? lo : half > hi ? hi : half;
+}
+
+/* desc->memory_limit, or its default: from the file's size, IMPORT_MEMORY_BASE plus
+ * IMPORT_MEMORY_FACTOR times the size (readers expand a file: compressed FBX arrays, Assimp's
+ * text parsers), at most the ceiling; the ceiling for a file whose size is unknown (a session). */
+static uint64_t memory_limit_of(const sinew_import_desc *desc)
+{
+    if (desc->memory_limit)
+        return desc->memory_limit;
+    uint64_t ceiling = memory_ceiling();
+    struct stat st;
+    if (!desc->path || stat(desc->path, &st) != 0 || !S_ISREG(st.st_mode))
+        return ceiling;
+    uint64_t size = (uint64_t)st.st_size;
+    uint64_t limit = size > ceiling / SINEW_IMPORT_MEMORY_FACTOR
+                         ? ceiling
+                         : SINEW_IMPORT_MEMORY_BASE + size * SINEW_IMPORT_MEMORY_FACTOR;
+    return limit < ceiling ? limit : ceiling;
 }
 
 static double timeout_of(const sinew_import_desc *desc)
@@ -153,6 +169,7 @@ typedef struct helper_run {
     char tail[TAIL_SIZE];
     size_t tail_len;
     uint64_t peak_rss, peak_vm, memory_limit;
+    bool default_limit; /* memory_limit is the default from the file's size */
     bool killed_for_time, killed_for_memory, cancelled;
     bool (*progress)(float fraction, void *user);
     void *progress_user;
@@ -440,11 +457,14 @@ static sinew_result memory_failure(const helper_run *run, const char *said, sine
     char limit[32], seen[32];
     format_bytes(run->memory_limit, limit, sizeof limit);
     format_bytes(run->peak_rss > run->peak_vm ? run->peak_rss : run->peak_vm, seen, sizeof seen);
-    return sinew_fail(
-        error, SINEW_ERROR_LIMIT,
-        "%s: the import needed more than its %s memory limit and was stopped (%s in use when last measured; "
-        "sinew_import_desc.memory_limit sets the limit)%s%s",
-        run->path, limit, seen, *said ? "; the reader said: " : "", said);
+    return sinew_fail(error, SINEW_ERROR_LIMIT,
+                      "%s: the import needed more than its %s memory limit and was stopped (%s in use when last "
+                      "measured; %s; sinew_import_desc.memory_limit sets another)%s%s",
+                      run->path, limit, seen,
+                      run->default_limit ? "the default for a file of its size: 256 MiB and 64 times the size, at "
+                                           "most half the memory"
+                                         : "the limit asked for",
+                      *said ? "; the reader said: " : "", said);
 }
 
 static sinew_result helper_failed(helper_run *run, const sinew_import_desc *desc, int status, sinew_error *error)
@@ -531,6 +551,7 @@ sinew_result import_in_helper(const sinew_import_desc *desc, sinew_model **out, 
                       .reply_fd = -1,
                       .err_fd = -1,
                       .memory_limit = memory_limit_of(desc),
+                      .default_limit = desc->memory_limit == 0,
                       .progress = desc->progress,
                       .progress_user = desc->progress_user};
     run.reply_limit = run.memory_limit;

@@ -73,7 +73,9 @@ static void test_hang_stops_at_the_deadline(void **state)
     /* sinew's reader refuses it straight away */
     expect(import_with(&(sinew_import_desc){.path = path}, &error), SINEW_ERROR_FORMAT, &error, path, "UTF-8");
     double start = now();
-    sinew_result r = import_with(&(sinew_import_desc){.path = path, .assimp = true, .timeout = 1.5}, &error);
+    /* (with room enough that the deadline, not the default memory limit of a small file, stops it) */
+    sinew_result r = import_with(
+        &(sinew_import_desc){.path = path, .assimp = true, .timeout = 1.5, .memory_limit = (uint64_t)4 << 30}, &error);
     double took = now() - start;
     expect(r, SINEW_ERROR_LIMIT, &error, path, "1.5 s deadline");
     if (took > 10.0)
@@ -144,6 +146,16 @@ static void test_memory_limit(void **state)
     double start = now();
     sinew_result r = import_with(&desc, &error);
     expect(r, SINEW_ERROR_LIMIT, &error, path, "256 MiB memory limit");
+    if (now() - start > 30.0)
+        fail_msg("stopped after %.1f s", now() - start);
+    assert_no_children();
+    /* the default follows the file's size (256 MiB and 64 times it), not half the machine's memory:
+     * the same file is stopped as soon, and the message says which limit it was */
+    desc.memory_limit = 0;
+    start = now();
+    r = import_with(&desc, &error);
+    expect(r, SINEW_ERROR_LIMIT, &error, path, "the default for a file of its size");
+    printf("default limit: stopped after %.1f s: %s\n", now() - start, error.message);
     if (now() - start > 30.0)
         fail_msg("stopped after %.1f s", now() - start);
     assert_no_children();
