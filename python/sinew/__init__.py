@@ -395,9 +395,9 @@ def load(path: Union[str, os.PathLike], *, timeout: Optional[float] = None, memo
          in_process: bool = False, assimp: bool = False) -> Model:
     """Imports a model file (FBX, glTF, COLLADA, BVH, IQM, .sinew, ...).
 
-    timeout: seconds the import may take (default 120); memory: bytes it may use (default half
-    the machine's memory, 1 to 16 GiB). Both bound the `sinew-import` helper process the import
-    runs in, so that a malformed file raises an Error and never crashes Python. in_process
+    timeout: seconds the import may take (default 120); memory: bytes it may use (default 256
+    MiB and 64 times the file's size, at most half the machine's memory). Both bound the
+    `sinew-import` helper process the import runs in, so that a malformed file raises an Error and never crashes Python. in_process
     imports in this process instead (faster for trusted files); assimp reads with Assimp even
     a format sinew reads itself. .sinew files are always read in process."""
     path = os.fspath(path)

@@ -107,7 +107,9 @@ def test_library_manifest(library_run):
     t = by_file[library_run["truncated"]]
     assert t["status"] == "failed" and t["kind"] == "format" and "truncated.fbx" in t["error"]
     h = by_file[library_run["hangs"]]
-    assert h["status"] == "failed" and h["kind"] == "limit" and "deadline" in h["error"]
+    # stopped by its deadline, or sooner by the default memory limit of a file of its size
+    assert h["status"] == "failed" and h["kind"] == "limit"
+    assert "deadline" in h["error"] or "memory limit" in h["error"]
     ok = [r for r in rows if r["status"] == "ok"]
     assert len(ok) >= len(rows) - 4, [(r["file"], r["error"]) for r in rows if r["status"] != "ok"]
     for r in rows:

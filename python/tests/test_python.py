@@ -226,7 +226,7 @@ def test_hanging_file_stops_at_the_deadline(testdata, tmp_path):
     path = hanging_file(testdata, tmp_path)
     started = time.monotonic()
     with pytest.raises(sinew.LimitError) as e:
-        sinew.load(path, timeout=1.5)
+        sinew.load(path, timeout=1.5, memory=4 << 30)  # room enough that the deadline stops it
     assert time.monotonic() - started < 20 and "deadline" in str(e.value)
 
 
