@@ -133,6 +133,10 @@ static uint64_t memory_limit_of(const sinew_import_desc *desc)
     uint64_t limit = size > ceiling / SINEW_IMPORT_MEMORY_FACTOR
                          ? ceiling
                          : SINEW_IMPORT_MEMORY_BASE + size * SINEW_IMPORT_MEMORY_FACTOR;
+#if defined(__SANITIZE_ADDRESS__)
+    /* AddressSanitizer's shadow, redzones and 256 MiB quarantine are not the file's */
+    limit = limit * 4 + ((uint64_t)256 << 20);
+#endif
     return limit < ceiling ? limit : ceiling;
 }
 
