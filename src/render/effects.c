@@ -34,6 +34,22 @@ void render_effects_destroy(render_effects *fx)
     memset(fx, 0, sizeof *fx);
 }
 
+/* A 2D texture of `data` (NULL: uninitialised), filtered as asked, clamped to its edges; left unbound. */
+static GLuint make_texture(GLint internal, int width, int height, GLenum format, GLenum type, const void *data,
+                           GLint filter)
+{
+    GLuint texture;
+    glGenTextures(1, &texture);
+    glBindTexture(GL_TEXTURE_2D, texture);
+    glTexImage2D(GL_TEXTURE_2D, 0, internal, width, height, 0, format, type, data);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, filter);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, filter);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+    glBindTexture(GL_TEXTURE_2D, 0);
+    return texture;
+}
+
 /* Puts a prefiltered environment on the GPU (and the BRDF table the first time). */
 static void upload_env(render_effects *fx, const render_env *env, bool custom)
 {
@@ -57,13 +73,7 @@ static void upload_env(render_effects *fx, const render_env *env, bool custom)
     if (!fx->brdf_texture) {
         float table[BRDF_SIZE * BRDF_SIZE * 2];
         render_brdf_table(BRDF_SIZE, table);
-        glGenTextures(1, &fx->brdf_texture);
-        glBindTexture(GL_TEXTURE_2D, fx->brdf_texture);
-        glTexImage2D(GL_TEXTURE_2D, 0, GL_RG16F, BRDF_SIZE, BRDF_SIZE, 0, GL_RG, GL_FLOAT, table);
-        glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
-        glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
-        glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
-        glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+        fx->brdf_texture = make_texture(GL_RG16F, BRDF_SIZE, BRDF_SIZE, GL_RG, GL_FLOAT, table, GL_LINEAR);
     }
     glBindTexture(GL_TEXTURE_2D, 0);
 }
@@ -86,20 +96,14 @@ sinew_result render_effects_set_environment(render_effects *fx, const char *path
 /* A depth texture for a target: 24-bit, nearest or compared (shadows, bilinear PCF). */
 static GLuint depth_texture(int width, int height, bool compare)
 {
-    GLuint texture;
-    glGenTextures(1, &texture);
-    glBindTexture(GL_TEXTURE_2D, texture);
-    glTexImage2D(GL_TEXTURE_2D, 0, GL_DEPTH_COMPONENT24, width, height, 0, GL_DEPTH_COMPONENT, GL_FLOAT, NULL);
-    GLint filter = compare ? GL_LINEAR : GL_NEAREST;
-    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, filter);
-    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, filter);
-    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
-    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+    GLuint texture = make_texture(GL_DEPTH_COMPONENT24, width, height, GL_DEPTH_COMPONENT, GL_FLOAT, NULL,
+                                  compare ? GL_LINEAR : GL_NEAREST);
     if (compare) {
+        glBindTexture(GL_TEXTURE_2D, texture);
         glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_COMPARE_MODE, GL_COMPARE_REF_TO_TEXTURE);
         glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_COMPARE_FUNC, GL_LEQUAL);
+        glBindTexture(GL_TEXTURE_2D, 0);
     }
-    glBindTexture(GL_TEXTURE_2D, 0);
     return texture;
 }
 
@@ -250,9 +254,8 @@ void render_effects_begin_depth(render_effects *fx, const render_effect_frame *e
     glClear(GL_DEPTH_BUFFER_BIT);
 }
 
-void render_effects_bind(const render_effects *fx, const render_effect_frame *ef)
+void render_effects_bind(const render_effects *fx)
 {
-    (void)ef;
     const GLuint textures[4] = {fx->env_texture, fx->brdf_texture, fx->shadow_texture, fx->depth_texture};
     for (int i = 0; i < 4; i++) {
         glActiveTexture(GL_TEXTURE7 + i);
@@ -398,14 +401,7 @@ bool render_effects_begin_fxaa(render_effects *fx, int width, int height)
         glDeleteFramebuffers(1, &fx->aa_fbo);
         glDeleteTextures(1, &fx->aa_color);
         glDeleteRenderbuffers(1, &fx->aa_depth);
-        glGenTextures(1, &fx->aa_color);
-        glBindTexture(GL_TEXTURE_2D, fx->aa_color);
-        glTexImage2D(GL_TEXTURE_2D, 0, GL_RGBA8, width, height, 0, GL_RGBA, GL_UNSIGNED_BYTE, NULL);
-        glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
-        glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
-        glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
-        glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
-        glBindTexture(GL_TEXTURE_2D, 0);
+        fx->aa_color = make_texture(GL_RGBA8, width, height, GL_RGBA, GL_UNSIGNED_BYTE, NULL, GL_LINEAR);
         glGenRenderbuffers(1, &fx->aa_depth);
         glBindRenderbuffer(GL_RENDERBUFFER, fx->aa_depth);
         glRenderbufferStorage(GL_RENDERBUFFER, GL_DEPTH_COMPONENT24, width, height);

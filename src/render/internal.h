@@ -99,7 +99,7 @@ sinew_result render_effects_prepare(render_effects *fx, render_effect_frame *ef,
 void render_effects_begin_shadow(render_effects *fx);
 void render_effects_begin_depth(render_effects *fx, const render_effect_frame *ef);
 /* Binds the effects' textures (units 7..10) and sets their uniforms on `program` (in use). */
-void render_effects_bind(const render_effects *fx, const render_effect_frame *ef);
+void render_effects_bind(const render_effects *fx);
 void render_effects_uniforms(const render_effects *fx, GLuint program, const render_effect_frame *ef);
 void render_effects_background(const render_effects *fx, const render_programs *programs,
                                const render_effect_frame *ef);

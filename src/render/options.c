@@ -96,6 +96,27 @@ static bool parse_color(const char *v, float out[3])
     return true;
 }
 
+/* The index of `value` among `count` names, case ignored; -1 when it is none of them. */
+static int find_name(const char *const *names, int count, const char *value)
+{
+    for (int i = 0; i < count; i++)
+        if (strcasecmp(value, names[i]) == 0)
+            return i;
+    return -1;
+}
+
+/* The whole text as a finite number within [lo, hi]. */
+static bool parse_number(const char *v, double lo, double hi, double *out)
+{
+    char *end = NULL;
+    errno = 0;
+    double d = strtod(v, &end);
+    if (end == v || *end || errno || !isfinite(d) || !(d >= lo && d <= hi))
+        return false;
+    *out = d;
+    return true;
+}
+
 sinew_result sinew_render_option_set(sinew_render_options *o, const char *name, const char *value, sinew_error *error)
 {
     if (!o || !name)
@@ -111,9 +132,9 @@ sinew_result sinew_render_option_set(sinew_render_options *o, const char *name, 
     if (!value)
         return sinew_fail(error, SINEW_ERROR_INVALID_ARGUMENT, "%s needs a value", name);
     if (strcmp(name, "shading") == 0) {
-        for (int i = 0; i < 4; i++)
-            if (strcasecmp(value, SHADINGS[i]) == 0)
-                return o->shading = (sinew_shading)i, SINEW_OK;
+        int i = find_name(SHADINGS, 4, value);
+        if (i >= 0)
+            return o->shading = (sinew_shading)i, SINEW_OK;
         return sinew_fail(error, SINEW_ERROR_INVALID_ARGUMENT,
                           "shading: expected phong, gouraud, flat or pbr, not \"%s\"", value);
     }
@@ -145,27 +166,22 @@ sinew_result sinew_render_option_set(sinew_render_options *o, const char *name, 
                           "background: expected RRGGBB, #RRGGBB, r,g,b in 0..1 or transparent, not \"%s\"", value);
     }
     if (strcmp(name, "tone-mapping") == 0) {
-        for (int i = 0; i < 4; i++)
-            if (strcasecmp(value, TONES[i]) == 0)
-                return o->tone_mapping = (sinew_tone_mapping)i, SINEW_OK;
+        int i = find_name(TONES, 4, value);
+        if (i >= 0)
+            return o->tone_mapping = (sinew_tone_mapping)i, SINEW_OK;
         return sinew_fail(error, SINEW_ERROR_INVALID_ARGUMENT,
                           "tone-mapping: expected auto, none, aces or neutral, not \"%s\"", value);
     }
+    double d = 0.0;
     if (strcmp(name, "exposure") == 0) {
-        char *end = NULL;
-        errno = 0;
-        double d = strtod(value, &end);
-        if (end == value || *end || errno || !(d >= -10.0 && d <= 10.0))
+        if (!parse_number(value, -10.0, 10.0, &d))
             return sinew_fail(error, SINEW_ERROR_INVALID_ARGUMENT,
                               "exposure: expected stops from -10 to 10 (0: as lit), not \"%s\"", value);
         o->exposure = (float)d;
         return SINEW_OK;
     }
     if (strcmp(name, "normal-length") == 0) {
-        char *end = NULL;
-        errno = 0;
-        double d = strtod(value, &end);
-        if (end == value || *end || errno || !(d >= 0.0) || !isfinite(d))
+        if (!parse_number(value, 0.0, INFINITY, &d))
             return sinew_fail(error, SINEW_ERROR_INVALID_ARGUMENT,
                               "normal-length: expected a length >= 0 (0 = automatic), not \"%s\"", value);
         o->normal_length = (float)d;

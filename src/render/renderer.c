@@ -1059,7 +1059,7 @@ static sinew_result draw_effect_passes(sinew_renderer *r, const frame_state *fs,
     glBindFramebuffer(GL_DRAW_FRAMEBUFFER, (GLuint)draw_fbo);
     glBindFramebuffer(GL_READ_FRAMEBUFFER, (GLuint)read_fbo);
     glViewport(0, 0, fs->frame->width, fs->frame->height);
-    render_effects_bind(&r->fx, ef);
+    render_effects_bind(&r->fx);
     return result;
 }
 

@@ -644,7 +644,6 @@ out_delete_stages:
 sinew_result render_programs_create(render_programs *programs, sinew_error *error)
 {
     const char *mesh_vs[] = {LIGHTING, MESH_VS_HEAD, MESH_VS};
-    const char *mesh_fs[] = {"", LIGHTING, MESH_FS_INPUTS, EFFECTS, EFFECTS_POST, PBR, MESH_FS};
     const char *normals_fs[] = {NORMALS_FS};
     const char *overlay_vs[] = {OVERLAY_VS}, *overlay_fs[] = {OVERLAY_FS};
     const char *fullscreen_vs[] = {FULLSCREEN_VS};
@@ -654,7 +653,7 @@ sinew_result render_programs_create(render_programs *programs, sinew_error *erro
     const char *outline_fs[] = {OUTLINE_FS}, *fxaa_fs[] = {FXAA_FS};
     /* depth alone (shadow map, pre-pass): the mesh vertex stage, a fragment stage that does nothing */
     const char *depth_fs[] = {MESH_FS_INPUTS, "void main() {}\n"};
-    if (!(programs->mesh = programs->mesh_variant[0] = link_parts(mesh_vs, 3, NULL, mesh_fs, 7, "mesh", error)) ||
+    if (!(programs->mesh = render_mesh_variant(programs, 0, error)) ||
         !(programs->normals = link_parts(mesh_vs, 3, NORMALS_GS, normals_fs, 1, "normals", error)) ||
         !(programs->overlay = link_parts(overlay_vs, 1, NULL, overlay_fs, 1, "overlay", error)) ||
         !(programs->background = link_parts(fullscreen_vs, 1, NULL, background_fs, 4, "background", error)) ||
