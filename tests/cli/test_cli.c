@@ -276,7 +276,8 @@ static void test_bad_input_exits_2(void **state)
         write_file(tmp_path("cli-hangs.dae", hangs, sizeof hangs), d, size);
         free(d);
         r = run_sinew((const char *const[]){"SINEW_IMPORTER=assimp", NULL},
-                      (const char *const[]){"info", hangs, "--import-timeout", "0.5", NULL});
+                      (const char *const[]){"info", hangs, "--import-timeout", "0.5", "--import-memory", "4096",
+                                            NULL}); /* the deadline, not a small file's memory default */
         assert_int_equal(r.code, 2);
         assert_non_null(strstr(r.err, "0.5 s deadline"));
         assert_non_null(strstr(r.err, "--import-timeout sets the deadline"));
