@@ -131,8 +131,8 @@ typedef struct blend_bench {
     void *soa_memory;
     sinew_soa_pose soa[4], soa_out, soa_rest;
     bool soa_scalar;
-    sinew_mixer *mixer;
-    void *mixer_memory;
+    sinew_character *fading, *reaching; /* a cross-fade alone; the same with two IK chains */
+    void *character_memory[2];
     sinew_clip_layout *layout;
 } blend_bench;
 
@@ -161,12 +161,25 @@ static void step_blend_soa(void *ctx, uint32_t i)
     (b->soa_scalar ? sinew_blend_soa_scalar : sinew_blend_soa)(&d, NULL);
 }
 
-/* A mixer in the middle of a long cross-fade: two clips sampled, blended, world matrices. */
-static void step_mixer(void *ctx, uint32_t i)
+/* A character in the middle of a long cross-fade: two clips sampled, blended (structures of
+ * arrays), world matrices. */
+static void step_fading(void *ctx, uint32_t i)
 {
     blend_bench *b = ctx;
     (void)i;
-    sinew_mixer_update(b->mixer, 1.0f / 60.0f, NULL, b->worlds, b->model->node_count, NULL);
+    sinew_character_advance(b->fading, 1.0f / 60.0f, NULL);
+    sinew_character_evaluate(b->fading,
+                             &(sinew_character_output){.worlds = b->worlds, .world_count = b->model->node_count}, NULL);
+}
+
+/* The same with two two-bone IK chains: the local-transform path, world matrices made three times. */
+static void step_reaching(void *ctx, uint32_t i)
+{
+    blend_bench *b = ctx;
+    (void)i;
+    sinew_character_advance(b->reaching, 1.0f / 60.0f, NULL);
+    sinew_character_evaluate(b->reaching,
+                             &(sinew_character_output){.worlds = b->worlds, .world_count = b->model->node_count}, NULL);
 }
 
 /* IK corrects a copy of one pose each time (the copy is part of the cost, 64 x 40 bytes). */
@@ -208,10 +221,11 @@ static void step_aim(void *ctx, uint32_t i)
 
 typedef struct blend_result {
     double blend2_us, blend4_us, two_bone_us, aim_us;
-    double soa2_us, soa4_us, soa2_scalar_us, soa4_scalar_us, mixer_us;
+    double soa2_us, soa4_us, soa2_scalar_us, soa4_scalar_us, fading_us, reaching_us;
 } blend_result;
 
-/* The structure-of-arrays copies of the bench's poses and a mixer fading clip 0 into itself. */
+/* The structure-of-arrays copies of the bench's poses, and characters fading clip 0 into itself
+ * (one with IK). */
 static bool soa_setup(blend_bench *b)
 {
     uint32_t n = b->model->node_count;
@@ -230,15 +244,22 @@ static bool soa_setup(blend_bench *b)
                                         &b->layout, NULL) == SINEW_OK;
     if (!ok)
         return false;
-    const sinew_clip_layout *clips[2] = {b->layout, b->layout};
-    sinew_mixer_desc md = {.layouts = clips, .layout_count = 2};
-    size_t size = sinew_mixer_size(&md);
-    b->mixer_memory = malloc(size);
-    return b->mixer_memory && sinew_mixer_init(b->mixer_memory, size, &md, &b->mixer, NULL) == SINEW_OK &&
-           sinew_mixer_play(b->mixer, 0, 0.0f, false, NULL) == SINEW_OK &&
-           sinew_mixer_update(b->mixer, 0.4f, NULL, b->worlds, n, NULL) == SINEW_OK &&
-           sinew_mixer_play(b->mixer, 1, 1e6f, false, NULL) == SINEW_OK &&
-           sinew_mixer_update(b->mixer, 1e5f, NULL, b->worlds, n, NULL) == SINEW_OK;
+    sinew_character_layer layers[2] = {{.layout = b->layout, .weight = 1.0f}, {.layout = b->layout}};
+    sinew_character_ik chains[2] = {{.end = b->chain[2], .target = {0.1f, 0.2f, 0.3f}},
+                                    {.end = b->aim_joint, .target = {-0.1f, 0.2f, 0.3f}}};
+    sinew_character **out[2] = {&b->fading, &b->reaching};
+    for (int k = 0; k < 2; k++) {
+        sinew_character_desc d = {
+            .model = b->model, .layers = layers, .layer_count = 2, .ik = chains, .ik_count = k ? 2 : 0};
+        size_t size = sinew_character_size(&d);
+        b->character_memory[k] = size ? malloc(size) : NULL;
+        ok = ok && b->character_memory[k] &&
+             sinew_character_init(b->character_memory[k], size, &d, out[k], NULL) == SINEW_OK &&
+             sinew_character_advance(*out[k], 0.4f, NULL) == SINEW_OK &&
+             sinew_character_play(*out[k], 1, 1e6f, false, NULL) == SINEW_OK &&
+             sinew_character_advance(*out[k], 1e5f, NULL) == SINEW_OK;
+    }
+    return ok;
 }
 
 /* Microseconds a 64-joint character: blending 2 and 4 poses, two-bone IK, aim. */
@@ -285,10 +306,12 @@ static bool bench_blend(blend_result *out)
             b.layers = 4;
             (scalar ? &out->soa4_scalar_us : &out->soa4_us)[0] = 1e6 * best_per_unit(step_blend_soa, &b, 50000);
         }
-        out->mixer_us = 1e6 * best_per_unit(step_mixer, &b, 20000);
+        out->fading_us = 1e6 * best_per_unit(step_fading, &b, 20000);
+        out->reaching_us = 1e6 * best_per_unit(step_reaching, &b, 20000);
     }
     free(b.soa_memory);
-    free(b.mixer_memory);
+    free(b.character_memory[0]);
+    free(b.character_memory[1]);
     sinew_clip_layout_free(b.layout);
     for (int k = 0; k < 4; k++)
         free(b.poses[k]);
@@ -849,7 +872,8 @@ int bench_eval(int argc, char **argv)
         cJSON_AddNumberToObject(o, "blend4_soa_us_64", blend.soa4_us);
         cJSON_AddNumberToObject(o, "blend2_soa_scalar_us_64", blend.soa2_scalar_us);
         cJSON_AddNumberToObject(o, "blend4_soa_scalar_us_64", blend.soa4_scalar_us);
-        cJSON_AddNumberToObject(o, "mixer_crossfade_us_64", blend.mixer_us);
+        cJSON_AddNumberToObject(o, "character_crossfade_us_64", blend.fading_us);
+        cJSON_AddNumberToObject(o, "character_ik_us_64", blend.reaching_us);
         cJSON_AddNumberToObject(o, "ik_two_bone_us_64", blend.two_bone_us);
         cJSON_AddNumberToObject(o, "ik_aim_us_64", blend.aim_us);
         cJSON_AddNumberToObject(o, "skin_vertices", skin.vertices);
@@ -923,7 +947,8 @@ int bench_eval(int argc, char **argv)
     printf("%-44s %9.3f us %9.3f us\n", "blend 2 poses, SoA (player's pose), 64 j.", blend.soa2_us,
            blend.soa2_scalar_us);
     printf("%-44s %9.3f us %9.3f us\n", "blend 4 poses, SoA, 64 joints", blend.soa4_us, blend.soa4_scalar_us);
-    printf("%-44s %9.3f us\n", "mixer mid-fade: 2 clips, blend, worlds", blend.mixer_us);
+    printf("%-44s %9.3f us\n", "character mid-fade: 2 clips, blend, worlds", blend.fading_us);
+    printf("%-44s %9.3f us\n", "character mid-fade with 2 IK chains", blend.reaching_us);
     printf("%-44s %9.3f us %9.3f us\n", "IK: two-bone | aim (with a 64-joint pose copy)", blend.two_bone_us,
            blend.aim_us);
     printf("%-44s %6.0f Mv/s %6.0f Mv/s %10s\n", "skinning (pos + normal, 4 infl), 1 thread", skin.mverts[1],

@@ -360,11 +360,13 @@ int cmd_pose(int argc, char **argv)
         }
         if (o.json) {
             cJSON *frame = frame_json(model, scene.worlds, o.times[i]);
-            if (scene.ops.root_motion) { /* what --root-motion took out at this time */
+            float moved[3], yaw;
+            const sinew_root_motion *took = app_scene_root_motion(&scene, moved, &yaw);
+            if (took) { /* what --root-motion took out at this time */
                 cJSON *motion = cJSON_AddObjectToObject(frame, "root_motion");
-                cJSON_AddStringToObject(motion, "node", model->node_names[scene.ops.motion.node]);
-                cJSON_AddItemToObject(motion, "translation", vector_json(scene.ops.motion_translation, 3));
-                cJSON_AddNumberToObject(motion, "yaw", cli_json_float(scene.ops.motion_yaw));
+                cJSON_AddStringToObject(motion, "node", model->node_names[took->node]);
+                cJSON_AddItemToObject(motion, "translation", vector_json(moved, 3));
+                cJSON_AddNumberToObject(motion, "yaw", cli_json_float(yaw));
             }
             if (rig)
                 cJSON_AddItemToObject(frame, "muscles", muscles_json(scene.muscle_poses, scene.muscle_count));

@@ -387,12 +387,14 @@ sinew_result app_scene_open(app_scene *s, const app_scene_desc *d, sinew_error *
     size_t channels = (size_t)s->model->morph_channel_count + 1;
     s->weights = malloc(channels * sizeof *s->weights);
     s->overrides = malloc(channels * sizeof *s->overrides);
-    s->weight_scratch = malloc(channels * (2 * APP_MAX_LAYERS + 2) * sizeof *s->weight_scratch);
+    s->layouts = calloc((size_t)s->model->clip_count + 1, sizeof *s->layouts);
+    s->masks = malloc(((size_t)s->model->node_count + 1) * SINEW_CHARACTER_MAX_LAYERS * sizeof *s->masks);
+    s->ops.fade_to = -1;
     for (size_t i = 0; s->overrides && i < channels; i++)
         s->overrides[i] = NAN;
     if (clip == APP_CLIP_ERROR)
         result = SINEW_ERROR_DATA;
-    else if (!s->worlds || !s->weights || !s->overrides || !s->weight_scratch)
+    else if (!s->worlds || !s->weights || !s->overrides || !s->layouts || !s->masks)
         result = sinew_fail(error, SINEW_ERROR_OUT_OF_MEMORY, "%s: out of memory", s->model->source);
     if (result == SINEW_OK)
         result = app_scene_use_clip(s, clip, error);
@@ -401,23 +403,6 @@ sinew_result app_scene_open(app_scene *s, const app_scene_desc *d, sinew_error *
     if (result != SINEW_OK)
         app_scene_close(s);
     return result;
-}
-
-sinew_result app_scene_use_clip(app_scene *s, int32_t index, sinew_error *error)
-{
-    if (index >= (int32_t)s->model->clip_count)
-        return sinew_fail(error, SINEW_ERROR_INVALID_ARGUMENT, "%s: no clip %d", s->model->source, index);
-    const sinew_clip *clip = index >= 0 ? &s->model->clips[index] : NULL;
-    app_player player;
-    sinew_result result = app_player_open(&player, s->model, clip, error);
-    if (result != SINEW_OK)
-        return result;
-    app_player_close(&s->player);
-    s->player = player;
-    s->clip_index = index;
-    s->clip = clip;
-    s->posed_at = NAN;
-    return SINEW_OK;
 }
 
 bool app_up_axis(const char *axis, sinew_mat4 *root)
@@ -462,24 +447,112 @@ bool app_scene_set_up_axis(app_scene *s, const char *axis)
     return true;
 }
 
-static sinew_result pose_with_ops(app_scene *s, double time, sinew_wrap wrap, sinew_error *error);
-static sinew_result weights_with_ops(app_scene *s, double time, sinew_wrap wrap, sinew_error *error);
+/* ---- posing: one sinew_character (sinew/character.h) ---------------------------------------- */
 
-/* The morph weights of the pose: the clip's (or the pose operations' blend of their clips'),
- * then the overrides; and where the clip is on the file's timeline, for vertex caches. */
-static sinew_result pose_weights(app_scene *s, double time, sinew_wrap wrap, sinew_error *error)
+/* The layout of clip `index` (-1: the rest pose), made once and kept while the scene is open. */
+static sinew_result clip_layout(app_scene *s, int32_t index, const sinew_clip_layout **out, sinew_error *error)
+{
+    sinew_clip_layout **slot = &s->layouts[index + 1];
+    if (!*slot) {
+        sinew_clip_layout_desc d = {.model = s->model, .clip = index >= 0 ? &s->model->clips[index] : NULL};
+        sinew_result r = sinew_clip_layout_create(&d, slot, error);
+        if (r != SINEW_OK)
+            return r;
+    }
+    *out = *slot;
+    return SINEW_OK;
+}
+
+/* A layer of the character: clip `index` at `weight`, masked to a joint's subtree (mask_joint >= 0). */
+static sinew_result add_layer(app_scene *s, sinew_character_desc *d, sinew_character_layer *layers, int32_t index,
+                              float weight, int32_t mask_joint, bool additive, sinew_error *error)
+{
+    sinew_character_layer *l = &layers[d->layer_count];
+    *l = (sinew_character_layer){.weight = weight, .additive = additive};
+    sinew_result r = clip_layout(s, index, &l->layout, error);
+    if (r == SINEW_OK && mask_joint >= 0) {
+        float *mask = s->masks + (size_t)d->layer_count * s->model->node_count;
+        r = sinew_character_subtree_mask(s->model, (uint32_t)mask_joint, mask, s->model->node_count, error);
+        l->mask = mask;
+    }
+    if (r == SINEW_OK)
+        d->layer_count++;
+    return r;
+}
+
+/* The character of the scene's clip and pose operations, made again (the old one stays on failure). */
+static sinew_result build_character(app_scene *s, sinew_error *error)
+{
+    const app_pose_ops *ops = &s->ops;
+    sinew_character_layer layers[SINEW_CHARACTER_MAX_LAYERS];
+    sinew_character_ik chains[APP_MAX_IK];
+    sinew_character_desc d = {.model = s->model, .layers = layers, .ik = chains, .root_motion = ops->root_motion};
+    sinew_result r = SINEW_OK;
+    if (ops->blend_count) {
+        for (uint32_t i = 0; r == SINEW_OK && i < ops->blend_count; i++)
+            r = add_layer(s, &d, layers, ops->blend[i].clip, ops->blend[i].weight, ops->blend[i].mask_joint, false,
+                          error);
+    } else {
+        r = add_layer(s, &d, layers, s->clip_index, 1.0f, -1, false, error);
+        if (r == SINEW_OK && ops->fade_to >= 0 && s->clip) { /* from the clip to another, from time 0 */
+            d.fade = (sinew_character_fade){.from = 0, .to = 1, .duration = ops->fade_seconds, .sync = true};
+            r = add_layer(s, &d, layers, ops->fade_to, 0.0f, -1, false, error);
+        }
+    }
+    for (uint32_t i = 0; r == SINEW_OK && i < ops->additive_count; i++)
+        r = add_layer(s, &d, layers, ops->additive[i].clip, ops->additive[i].weight, ops->additive[i].mask_joint, true,
+                      error);
+    for (uint32_t i = 0; i < ops->ik_count; i++) {
+        chains[i] = (sinew_character_ik){.end = ops->ik_end[i], .weight = 1.0f};
+        memcpy(chains[i].target, ops->ik_target[i], sizeof chains[i].target);
+    }
+    d.ik_count = ops->ik_count;
+    if (r == SINEW_OK && ops->root_motion && (ops->blend_count ? ops->blend[0].clip < 0 : !s->clip))
+        r = sinew_fail(error, SINEW_ERROR_INVALID_ARGUMENT, "%s: --root-motion needs a clip", s->model->source);
+    size_t size = r == SINEW_OK ? sinew_character_size(&d) : 0;
+    void *memory = size ? malloc(size) : NULL;
+    sinew_character *c = NULL;
+    if (r == SINEW_OK)
+        r = !size     ? sinew_character_init(&(char){0}, 0, &d, &c, error) /* says what is wrong */
+            : !memory ? sinew_fail(error, SINEW_ERROR_OUT_OF_MEMORY, "%s: out of memory for posing", s->model->source)
+                      : sinew_character_init(memory, size, &d, &c, error);
+    if (r != SINEW_OK) {
+        free(memory);
+        return r;
+    }
+    free(s->character_memory);
+    s->character_memory = memory;
+    s->character = c;
+    s->posed_at = NAN;
+    return SINEW_OK;
+}
+
+sinew_result app_scene_use_clip(app_scene *s, int32_t index, sinew_error *error)
+{
+    if (index >= (int32_t)s->model->clip_count)
+        return sinew_fail(error, SINEW_ERROR_INVALID_ARGUMENT, "%s: no clip %d", s->model->source, index);
+    int32_t was = s->clip_index;
+    s->clip_index = index;
+    s->clip = index >= 0 ? &s->model->clips[index] : NULL;
+    s->posed_at = NAN;
+    sinew_result r = build_character(s, error);
+    if (r != SINEW_OK && was != index) { /* the clip stays */
+        s->clip_index = was;
+        s->clip = was >= 0 ? &s->model->clips[was] : NULL;
+        build_character(s, NULL);
+    }
+    return r;
+}
+
+/* The morph weights of the pose (the character's blend of its clips' weights), then the
+ * overrides; and where the clip is on the file's timeline, for vertex caches. */
+static void pose_weights(app_scene *s, double time, sinew_wrap wrap)
 {
     const sinew_model *m = s->model;
     s->cache_time = s->clip ? s->clip->timeline + sinew_clip_time(s->clip, (float)time, wrap) : 0.0f;
-    if (m->morph_channel_count == 0)
-        return SINEW_OK;
-    sinew_result r = s->ops.active ? weights_with_ops(s, time, wrap, error)
-                                   : sinew_player_weights(s->player.player, (float)time, wrap, s->weights,
-                                                          m->morph_channel_count, error);
-    for (uint32_t c = 0; r == SINEW_OK && c < m->morph_channel_count; c++)
+    for (uint32_t c = 0; c < m->morph_channel_count; c++)
         if (!isnan(s->overrides[c]))
             s->weights[c] = s->overrides[c];
-    return r;
 }
 
 bool app_scene_override_weight(app_scene *s, uint32_t channel, float weight)
@@ -499,18 +572,28 @@ sinew_result app_scene_pose(app_scene *s, double time, sinew_wrap wrap, sinew_er
     if (!isfinite(time) || fabs(time) > APP_MAX_SECONDS)
         return sinew_fail(error, SINEW_ERROR_INVALID_ARGUMENT, "time %g s is out of range (at most %g s either way)",
                           time, APP_MAX_SECONDS);
-    sinew_result result = s->ops.active
-                              ? pose_with_ops(s, time, wrap, error)
-                              : sinew_player_update(s->player.player, (float)time, wrap, s->z_up ? &s->root : NULL,
-                                                    s->worlds, m->node_count, error);
-    if (result == SINEW_OK && s->muscle_rig)
-        result =
-            sinew_muscle_rig_update(s->muscle_rig, s->worlds, m->node_count, s->muscle_poses, s->muscle_count, error);
+    sinew_character_set_clamp(s->character, wrap == SINEW_WRAP_CLAMP);
+    sinew_result result = sinew_character_seek(s->character, time, error);
+    sinew_character_output out = {.root = s->z_up ? &s->root : NULL,
+                                  .worlds = s->worlds,
+                                  .world_count = m->node_count,
+                                  .weights = m->morph_channel_count ? s->weights : NULL,
+                                  .weight_count = m->morph_channel_count,
+                                  .muscle_rig = s->muscle_rig,
+                                  .muscles = s->muscle_poses,
+                                  .muscle_count = s->muscle_count};
     if (result == SINEW_OK)
-        result = pose_weights(s, time, wrap, error);
+        result = sinew_character_evaluate(s->character, &out, error);
+    if (result == SINEW_OK)
+        pose_weights(s, time, wrap);
     s->posed_at = result == SINEW_OK ? time : NAN;
     s->posed_wrap = wrap;
     return result;
+}
+
+const sinew_root_motion *app_scene_root_motion(const app_scene *s, float translation[3], float *yaw)
+{
+    return sinew_character_root_motion(s->character, translation, yaw);
 }
 
 sinew_frame app_scene_frame(const app_scene *s, const sinew_camera *camera, const sinew_render_options *options,
@@ -588,22 +671,8 @@ int app_pose_option_parse(app_pose_spec *spec, int argc, char *const *argv, int 
     return 2;
 }
 
-static void close_layers(app_pose_ops *ops)
-{
-    for (uint32_t i = 0; i < ops->blend_count; i++)
-        app_player_close(&ops->blend[i].player);
-    for (uint32_t i = 0; i < ops->additive_count; i++)
-        app_player_close(&ops->additive[i].player);
-    if (ops->fade_to.player.player)
-        app_player_close(&ops->fade_to.player);
-    free(ops->locals);
-    free(ops->layer_locals);
-    free(ops->reference);
-    memset(ops, 0, sizeof *ops);
-    ops->fade_to.clip = -1;
-}
-
-/* "CLIP:W,CLIP:W" into layers with their players (a clip by name or index; W a weight >= 0). */
+/* "CLIP[:W][@JOINT],..." into layers (a clip by name or index; W a weight >= 0, 1 when not
+ * given; JOINT: only that joint and the nodes below it move with the clip). */
 static sinew_result parse_layers(const app_scene *s, const char *option, const char *text, app_layer *out,
                                  uint32_t *count, sinew_error *error)
 {
@@ -611,6 +680,15 @@ static sinew_result parse_layers(const app_scene *s, const char *option, const c
     snprintf(buf, sizeof buf, "%s", text);
     *count = 0;
     for (char *save = NULL, *item = strtok_r(buf, ",", &save); item; item = strtok_r(NULL, ",", &save)) {
+        char *at = strrchr(item, '@');
+        int32_t joint = -1;
+        if (at) {
+            *at = 0;
+            if ((joint = sinew_model_find_joint(s->model, at + 1)) < 0)
+                return sinew_fail(error, SINEW_ERROR_INVALID_ARGUMENT,
+                                  "%s: %s \"%s\": no node \"%s\" to mask the clip to (see `sinew info`)",
+                                  s->model->source, option, text, at + 1);
+        }
         char *colon = strrchr(item, ':');
         double w = 1.0;
         if (colon) {
@@ -626,14 +704,7 @@ static sinew_result parse_layers(const app_scene *s, const char *option, const c
             return clip == APP_CLIP_NONE
                        ? sinew_fail(error, SINEW_ERROR_INVALID_ARGUMENT, "%s: \"none\" is not a clip to blend", option)
                        : SINEW_ERROR_INVALID_ARGUMENT;
-        app_layer *l = &out[(*count)++];
-        l->clip = clip;
-        l->weight = (float)w;
-        sinew_result r = app_player_open(&l->player, s->model, &s->model->clips[clip], error);
-        if (r != SINEW_OK) {
-            (*count)--;
-            return r;
-        }
+        out[(*count)++] = (app_layer){.clip = clip, .weight = (float)w, .mask_joint = joint};
     }
     if (*count == 0)
         return sinew_fail(error, SINEW_ERROR_INVALID_ARGUMENT, "%s \"%s\": expected CLIP:WEIGHT,...", option, text);
@@ -665,40 +736,14 @@ static sinew_result parse_ik(const app_scene *s, const char *text, uint32_t *end
     return SINEW_OK;
 }
 
-sinew_result app_scene_set_pose_ops(app_scene *s, const app_pose_spec *spec, sinew_error *error)
+/* The spec's operations resolved against the scene's model; --crossfade also plays its first clip. */
+static sinew_result parse_ops(app_scene *s, const app_pose_spec *spec, app_pose_ops *ops, sinew_error *error)
 {
-    close_layers(&s->ops);
-    s->posed_at = NAN;
-    for (uint32_t c = 0; c < s->model->morph_channel_count; c++)
-        s->overrides[c] = NAN;
-    for (int i = 0; spec && i < spec->morph_count; i++) {
-        sinew_result r = app_scene_parse_morph(s, spec->morph[i], error);
-        if (r != SINEW_OK)
-            return r;
-    }
-    if (!spec || (!spec->blend && !spec->additive && !spec->crossfade && !spec->ik_count && !spec->root_motion))
-        return SINEW_OK;
-    app_pose_ops *ops = &s->ops;
-    uint32_t n = s->model->node_count;
-    ops->locals = malloc((n ? n : 1) * sizeof *ops->locals);
-    /* the blended layers' poses, then the additive layers' */
-    ops->layer_locals = malloc((size_t)(n ? n : 1) * 2 * APP_MAX_LAYERS * sizeof *ops->layer_locals);
-    ops->reference = malloc((size_t)(n ? n : 1) * APP_MAX_LAYERS * sizeof *ops->reference);
-    sinew_result r = ops->locals && ops->layer_locals && ops->reference
-                         ? SINEW_OK
-                         : sinew_fail(error, SINEW_ERROR_OUT_OF_MEMORY, "out of memory for blending");
-    if (r == SINEW_OK && spec->blend)
+    sinew_result r = SINEW_OK;
+    if (spec->blend)
         r = parse_layers(s, "--blend", spec->blend, ops->blend, &ops->blend_count, error);
     if (r == SINEW_OK && spec->additive)
         r = parse_layers(s, "--additive", spec->additive, ops->additive, &ops->additive_count, error);
-    for (uint32_t i = 0; r == SINEW_OK && i < ops->additive_count; i++) { /* each clip's first frame */
-        sinew_sample_desc d = {.model = s->model,
-                               .clip = &s->model->clips[ops->additive[i].clip],
-                               .time = 0.0f,
-                               .locals = ops->reference + (size_t)i * n,
-                               .local_count = n};
-        r = sinew_sample(&d, error);
-    }
     if (r == SINEW_OK && spec->crossfade) {
         char buf[512], *comma1, *comma2;
         snprintf(buf, sizeof buf, "%s", spec->crossfade);
@@ -712,11 +757,12 @@ sinew_result app_scene_set_pose_ops(app_scene *s, const app_pose_spec *spec, sin
             *comma1 = 0;
             int32_t from = app_pick_clip(s->model, buf, error),
                     to = from >= 0 ? app_pick_clip(s->model, comma1 + 1, error) : APP_CLIP_ERROR;
-            if (from < 0 || to < 0)
+            if (from < 0 || to < 0) {
                 r = SINEW_ERROR_INVALID_ARGUMENT;
-            else if ((r = app_scene_use_clip(s, from, error)) == SINEW_OK &&
-                     (r = app_player_open(&ops->fade_to.player, s->model, &s->model->clips[to], error)) == SINEW_OK) {
-                ops->fade_to.clip = to;
+            } else {
+                s->clip_index = from;
+                s->clip = &s->model->clips[from];
+                ops->fade_to = to;
                 ops->fade_seconds = (float)seconds;
             }
         }
@@ -724,169 +770,61 @@ sinew_result app_scene_set_pose_ops(app_scene *s, const app_pose_spec *spec, sin
     for (int i = 0; r == SINEW_OK && i < spec->ik_count; i++)
         if ((r = parse_ik(s, spec->ik[i], &ops->ik_end[i], ops->ik_target[i], error)) == SINEW_OK)
             ops->ik_count++;
-    if (r == SINEW_OK && spec->root_motion) {
-        const sinew_clip *clip = ops->blend_count ? &s->model->clips[ops->blend[0].clip] : s->clip;
-        if (!clip)
-            r = sinew_fail(error, SINEW_ERROR_INVALID_ARGUMENT, "%s: --root-motion needs a clip", s->model->source);
-        else if ((r = sinew_root_motion_init(s->model, clip, -1, &ops->motion, error)) == SINEW_OK)
-            ops->root_motion = true;
-    }
-    if (r != SINEW_OK) {
-        close_layers(ops);
-        return r;
-    }
-    ops->active = true;
-    return SINEW_OK;
-}
-
-/* The operations' pose at `time`: layers blended (or the clip alone), faded, added to, the
- * root motion taken out, the worlds made, then IK on them. */
-static sinew_result pose_with_ops(app_scene *s, double time, sinew_wrap wrap, sinew_error *error)
-{
-    app_pose_ops *ops = &s->ops;
-    const sinew_model *m = s->model;
-    uint32_t n = m->node_count;
-    sinew_result r = SINEW_OK;
-    sinew_blend_layer layers[APP_MAX_LAYERS + 1], adds[APP_MAX_LAYERS];
-    uint32_t count = 0;
-    if (ops->blend_count) {
-        for (uint32_t i = 0; i < ops->blend_count && r == SINEW_OK; i++) {
-            sinew_transform *dst = ops->layer_locals + (size_t)i * n;
-            r = sinew_player_sample(ops->blend[i].player.player, (float)time, wrap, dst, n, error);
-            layers[count++] = (sinew_blend_layer){dst, ops->blend[i].weight, NULL};
-        }
-    } else if (ops->fade_to.clip >= 0 && s->clip) {
-        sinew_crossfade fade = {.from = s->clip,
-                                .to = &m->clips[ops->fade_to.clip],
-                                .duration = ops->fade_seconds,
-                                .sync = wrap == SINEW_WRAP_LOOP};
-        float from_t, to_t, w;
-        sinew_crossfade_at(&fade, (float)time, &from_t, &to_t, &w);
-        r = sinew_player_sample(s->player.player, from_t, wrap, ops->layer_locals, n, error);
-        if (r == SINEW_OK)
-            r = sinew_player_sample(ops->fade_to.player.player, to_t, wrap, ops->layer_locals + n, n, error);
-        layers[count++] = (sinew_blend_layer){ops->layer_locals, 1.0f - w, NULL};
-        layers[count++] = (sinew_blend_layer){ops->layer_locals + n, w, NULL};
-    } else {
-        r = sinew_player_sample(s->player.player, (float)time, wrap, ops->layer_locals, n, error);
-        layers[count++] = (sinew_blend_layer){ops->layer_locals, 1.0f, NULL};
-    }
-    /* additive layers: each clip's motion from its first frame */
-    for (uint32_t i = 0; i < ops->additive_count && r == SINEW_OK; i++) {
-        sinew_transform *dst = ops->layer_locals + (size_t)(APP_MAX_LAYERS + i) * n;
-        r = sinew_player_sample(ops->additive[i].player.player, (float)time, wrap, dst, n, error);
-        if (r == SINEW_OK)
-            r = sinew_additive_delta(ops->reference + (size_t)i * n, dst, dst, n, error);
-        adds[i] = (sinew_blend_layer){dst, ops->additive[i].weight, NULL};
-    }
-    sinew_blend_desc bd = {.model = m,
-                           .layers = layers,
-                           .layer_count = count,
-                           .additive = adds,
-                           .additive_count = ops->additive_count,
-                           .out = ops->locals,
-                           .out_count = n};
-    if (r == SINEW_OK)
-        r = sinew_blend(&bd, error);
-    if (r == SINEW_OK && ops->root_motion)
-        sinew_root_motion_extract(&ops->motion, ops->locals, ops->motion_translation, &ops->motion_yaw);
-    const sinew_mat4 *root = s->z_up ? &s->root : NULL;
-    if (r == SINEW_OK)
-        r = sinew_local_to_world(m, ops->locals, n, root, s->worlds, n, error);
-    for (uint32_t i = 0; i < ops->ik_count && r == SINEW_OK; i++) {
-        uint32_t end = ops->ik_end[i], mid = (uint32_t)m->node_parents[end], start = (uint32_t)m->node_parents[mid];
-        /* the pole: where the middle joint already bends, away from the start-end line */
-        sinew_ik_two_bone_desc d = {.model = m,
-                                    .worlds = s->worlds,
-                                    .locals = ops->locals,
-                                    .node_count = n,
-                                    .start = start,
-                                    .middle = mid,
-                                    .end = end,
-                                    .weight = 1.0f};
-        for (int k = 0; k < 3; k++) {
-            float line = 0.5f * (s->worlds[start].m[12 + k] + s->worlds[end].m[12 + k]);
-            d.pole[k] = s->worlds[mid].m[12 + k] + 4.0f * (s->worlds[mid].m[12 + k] - line);
-            d.target[k] = ops->ik_target[i][k];
-        }
-        r = sinew_ik_two_bone(&d, error);
-        if (r == SINEW_OK)
-            r = sinew_local_to_world(m, ops->locals, n, root, s->worlds, n, error);
-    }
+    ops->root_motion = spec->root_motion;
     return r;
 }
 
-/* The morph weights of pose_with_ops()'s layers, blended with the same weights. */
-static sinew_result weights_with_ops(app_scene *s, double time, sinew_wrap wrap, sinew_error *error)
+sinew_result app_scene_set_pose_ops(app_scene *s, const app_pose_spec *spec, sinew_error *error)
 {
-    app_pose_ops *ops = &s->ops;
-    const sinew_model *m = s->model;
-    uint32_t n = m->morph_channel_count;
-    float *scratch = s->weight_scratch;
-    sinew_weight_layer layers[APP_MAX_LAYERS + 1], adds[APP_MAX_LAYERS];
-    uint32_t count = 0;
-    sinew_result r = SINEW_OK;
-    if (ops->blend_count) {
-        for (uint32_t i = 0; i < ops->blend_count && r == SINEW_OK; i++) {
-            float *dst = scratch + (size_t)count * n;
-            r = sinew_player_weights(ops->blend[i].player.player, (float)time, wrap, dst, n, error);
-            layers[count++] = (sinew_weight_layer){dst, ops->blend[i].weight};
-        }
-    } else if (ops->fade_to.clip >= 0 && s->clip) {
-        sinew_crossfade fade = {.from = s->clip,
-                                .to = &m->clips[ops->fade_to.clip],
-                                .duration = ops->fade_seconds,
-                                .sync = wrap == SINEW_WRAP_LOOP};
-        float from_t, to_t, w;
-        sinew_crossfade_at(&fade, (float)time, &from_t, &to_t, &w);
-        r = sinew_player_weights(s->player.player, from_t, wrap, scratch, n, error);
-        if (r == SINEW_OK)
-            r = sinew_player_weights(ops->fade_to.player.player, to_t, wrap, scratch + n, n, error);
-        layers[count++] = (sinew_weight_layer){scratch, 1.0f - w};
-        layers[count++] = (sinew_weight_layer){scratch + n, w};
-    } else {
-        r = sinew_player_weights(s->player.player, (float)time, wrap, scratch, n, error);
-        layers[count++] = (sinew_weight_layer){scratch, 1.0f};
+    app_pose_ops ops = {.fade_to = -1};
+    int32_t clip = s->clip_index;
+    sinew_result r = spec ? parse_ops(s, spec, &ops, error) : SINEW_OK;
+    for (uint32_t c = 0; r == SINEW_OK && c < s->model->morph_channel_count; c++)
+        s->overrides[c] = NAN;
+    for (int i = 0; r == SINEW_OK && spec && i < spec->morph_count; i++)
+        r = app_scene_parse_morph(s, spec->morph[i], error);
+    if (r == SINEW_OK) {
+        s->ops = ops;
+        r = build_character(s, error);
     }
-    /* additive layers: each clip's weights less those of its first frame */
-    float *first = scratch + (size_t)(2 * APP_MAX_LAYERS + 1) * n;
-    for (uint32_t i = 0; i < ops->additive_count && r == SINEW_OK; i++) {
-        float *dst = scratch + (size_t)(APP_MAX_LAYERS + 1 + i) * n;
-        r = sinew_player_weights(ops->additive[i].player.player, (float)time, wrap, dst, n, error);
-        if (r == SINEW_OK)
-            r = sinew_player_weights(ops->additive[i].player.player, 0.0f, SINEW_WRAP_CLAMP, first, n, error);
-        for (uint32_t c = 0; c < n; c++)
-            dst[c] -= first[c];
-        adds[i] = (sinew_weight_layer){dst, ops->additive[i].weight};
+    if (r != SINEW_OK) { /* back to plain play of the clip */
+        s->ops = (app_pose_ops){.fade_to = -1};
+        s->clip_index = clip;
+        s->clip = clip >= 0 ? &s->model->clips[clip] : NULL;
+        build_character(s, NULL);
     }
-    if (r == SINEW_OK)
-        r = sinew_blend_weights(&(sinew_blend_weights_desc){.model = m,
-                                                            .layers = layers,
-                                                            .layer_count = count,
-                                                            .additive = adds,
-                                                            .additive_count = ops->additive_count,
-                                                            .out = s->weights,
-                                                            .out_count = n},
-                                error);
+    s->posed_at = NAN;
     return r;
+}
+
+bool app_scene_set_ik_target(app_scene *s, uint32_t chain, const float target[3])
+{
+    if (chain >= s->ops.ik_count || sinew_character_set_target(s->character, chain, target, 1.0f, NULL) != SINEW_OK)
+        return false;
+    memcpy(s->ops.ik_target[chain], target, sizeof s->ops.ik_target[chain]);
+    s->posed_at = NAN;
+    return true;
 }
 
 void app_scene_close(app_scene *s)
 {
-    close_layers(&s->ops);
-    app_player_close(&s->player);
+    for (uint32_t i = 0; s->layouts && s->model && i <= s->model->clip_count; i++)
+        sinew_clip_layout_free(s->layouts[i]);
+    free(s->layouts);
+    free(s->character_memory);
+    free(s->masks);
     sinew_muscle_rig_free(s->muscle_rig);
     sinew_muscle_set_free(s->owned_muscles);
     free(s->muscle_poses);
     free(s->worlds);
     free(s->weights);
     free(s->overrides);
-    free(s->weight_scratch);
     if (s->model)
         sinew_model_free(s->model);
     memset(s, 0, sizeof *s);
     s->posed_at = NAN;
     s->clip_index = -1;
+    s->ops.fade_to = -1;
 }
 
 /* ---- --morph: a weight by hand -------------------------------------------------------------- */

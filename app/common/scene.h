@@ -85,8 +85,9 @@ typedef struct app_pose_spec {
 /* Reads one of those options at argv[i]: the arguments used, 0 when it is not one. */
 int app_pose_option_parse(app_pose_spec *spec, int argc, char *const *argv, int i);
 #define APP_POSE_OPTIONS_HELP                                                                                          \
-    "  --blend CLIP:W,CLIP:W  blends clips with weights (the rest pose fills weight under 0.1)\n"                      \
-    "  --additive CLIP:W      adds CLIP's motion from its first frame, times W, on top\n"                              \
+    "  --blend CLIP:W,CLIP:W  blends clips with weights (the rest pose fills weight under 0.1); CLIP:W@JOINT\n"        \
+    "                         moves only JOINT and the nodes below it (a mask: an upper-body wave)\n"                  \
+    "  --additive CLIP:W      adds CLIP's motion from its first frame, times W, on top (@JOINT as --blend)\n"          \
     "  --crossfade A,B,T      fades from clip A to clip B over T seconds from time 0 (phases synced with --loop)\n"    \
     "  --ik JOINT:X,Y,Z       two-bone IK: JOINT (with its parent and grandparent) reaches X,Y,Z (world), bending\n"   \
     "                         the way it already bends (repeatable, up to 4)\n"                                        \
@@ -97,32 +98,28 @@ int app_pose_option_parse(app_pose_spec *spec, int argc, char *const *argv, int 
 typedef struct app_layer {
     int32_t clip;
     float weight;
-    app_player player;
+    int32_t mask_joint; /* >= 0: the layer moves only this joint and the nodes below it */
 } app_layer;
 
-/* The pose operations a scene carries out (app_scene_set_pose_ops), resolved against its model. */
+/* The pose operations a scene carries out (app_scene_set_pose_ops), resolved against its model:
+ * what the scene's sinew_character is made of, with the scene's clip. */
 typedef struct app_pose_ops {
-    bool active;
-    app_layer blend[APP_MAX_LAYERS];
+    app_layer blend[APP_MAX_LAYERS]; /* none: the scene's clip alone (or fading into fade_to) */
     uint32_t blend_count;
     app_layer additive[APP_MAX_LAYERS];
     uint32_t additive_count;
-    app_layer fade_to; /* clip < 0: no cross-fade */
+    int32_t fade_to; /* < 0: no cross-fade */
     float fade_seconds;
     uint32_t ik_end[APP_MAX_IK];
     float ik_target[APP_MAX_IK][3];
     uint32_t ik_count;
     bool root_motion;
-    sinew_root_motion motion;
-    float motion_translation[3], motion_yaw;            /* what the last pose took out */
-    sinew_transform *locals, *layer_locals, *reference; /* node_count each (reference: per additive layer) */
 } app_pose_ops;
 
 typedef struct app_scene {
     sinew_model *model;
     int32_t clip_index; /* -1: the rest pose */
     const sinew_clip *clip;
-    app_player player;
     sinew_mat4 *worlds; /* model->node_count: the pose of the last app_scene_pose() */
     double posed_at;    /* the time `worlds` hold; NAN: none yet */
     sinew_wrap posed_wrap;
@@ -135,10 +132,16 @@ typedef struct app_scene {
     int note_count;
     bool z_up;        /* another of the file's axes than +Y is shown up (app_scene_set_up_axis) */
     app_pose_ops ops; /* blending, IK, root motion (app_scene_set_pose_ops) */
-    sinew_mat4 root;  /* what places the roots: identity, or Z up turned to Y up */
+    /* how the scene poses: one sinew_character of the clip and the operations, made again when
+     * either changes; the layouts of the model's clips (index + 1; 0: the rest pose) as used */
+    sinew_character *character;
+    void *character_memory;
+    sinew_clip_layout **layouts;
+    float *masks;    /* node_count a layer: the layers' masks */
+    sinew_mat4 root; /* what places the roots: identity, or Z up turned to Y up */
     /* morph channels (model->morph_channel_count): the weights of the last pose (the clip's,
      * blended as the pose is, then the overrides), the overrides (NAN: none) */
-    float *weights, *overrides, *weight_scratch;
+    float *weights, *overrides;
     float cache_time; /* the file's timeline at the last pose, for vertex caches */
 } app_scene;
 
@@ -158,6 +161,11 @@ bool app_scene_set_up_axis(app_scene *scene, const char *axis);
 /* Resolves the spec's clips and joints against the scene's model (messages name the option
  * and list what the model has) and poses with them from now on; the spec all NULL: plain play. */
 sinew_result app_scene_set_pose_ops(app_scene *scene, const app_pose_spec *spec, sinew_error *error);
+/* Moves IK chain `chain` (the spec's --ik, in order) to `target` without making the pose again:
+ * the viewer's drag. False for a chain the scene lacks. */
+bool app_scene_set_ik_target(app_scene *scene, uint32_t chain, const float target[3]);
+/* What --root-motion took out at the last pose (sinew_character_root_motion()); NULL without it. */
+const sinew_root_motion *app_scene_root_motion(const app_scene *scene, float translation[3], float *yaw);
 /* Plays clip `index` (-1: the rest pose) from its start. On failure the clip stays. */
 sinew_result app_scene_use_clip(app_scene *scene, int32_t index, sinew_error *error);
 /* Poses at `time` (world matrices, then the muscles); once per time and wrap. */

@@ -563,20 +563,23 @@ static void record_frame(viewer *v, int width, int height)
 static void root_motion_path(viewer *v)
 {
     v->path_segments = 0;
-    const app_pose_ops *ops = &v->scene.ops;
     double d = view_duration(v);
-    if (!ops->root_motion || !(d > 0.0) || !v->scene.model)
+    if (!v->scene.ops.root_motion || !(d > 0.0) || !v->scene.model)
         return;
     uint32_t steps = (uint32_t)fmin(SINEW_MAX_FRAME_LINES, fmax(8.0, d * 30.0));
     if (!v->motion_path && !(v->motion_path = malloc(SINEW_MAX_FRAME_LINES * 6 * sizeof *v->motion_path)))
         return;
-    const float *start = ops->motion.start; /* where the root stays: the path starts there */
     float previous[3] = {0};
     for (uint32_t i = 0; i <= steps; i++) {
-        if (app_scene_pose(&v->scene, d * i / steps, SINEW_WRAP_CLAMP, NULL) != SINEW_OK)
+        float moved[3];
+        const sinew_root_motion *motion = app_scene_pose(&v->scene, d * i / steps, SINEW_WRAP_CLAMP, NULL) == SINEW_OK
+                                              ? app_scene_root_motion(&v->scene, moved, NULL)
+                                              : NULL;
+        if (!motion)
             return;
-        float local[3] = {start[0] + ops->motion_translation[0], 0.0f, start[2] + ops->motion_translation[2]}, p[3];
-        int32_t parent = v->scene.model->node_parents[ops->motion.node];
+        const float *start = motion->start; /* where the root stays: the path starts there */
+        float local[3] = {start[0] + moved[0], 0.0f, start[2] + moved[2]}, p[3];
+        int32_t parent = v->scene.model->node_parents[motion->node];
         const float *m = parent >= 0 ? v->scene.worlds[parent].m : NULL; /* the path is in the root's parent space */
         for (int k = 0; k < 3; k++)
             p[k] = m ? m[k] * local[0] + m[8 + k] * local[2] + m[12 + k] : local[k];
@@ -1118,6 +1121,13 @@ static void on_drag_update(GtkGestureDrag *gesture, double dx, double dy, gpoint
         float per_pixel = 2.0f * depth * tanf(0.5f * fov) / h;
         for (int k = 0; k < 3; k++)
             v->ik_target[k] += (float)ddx * per_pixel * right[k] - (float)ddy * per_pixel * up[k];
+        /* the drag's chain is the last: its target moves in place once the character has it */
+        uint32_t chain = (uint32_t)v->pose_ops.ik_count;
+        if (v->ik_on && v->scene.ops.ik_count == chain + 1 && v->scene.ops.ik_end[chain] == (uint32_t)v->ik_joint &&
+            app_scene_set_ik_target(&v->scene, chain, v->ik_target)) {
+            view_redraw(v);
+            return;
+        }
         v->ik_on = true;
         apply_pose_ops(v, false);
         return;

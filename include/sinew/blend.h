@@ -1,6 +1,8 @@
 /* sinew/blend.h — combining poses: blending, additive layers, cross-fades, inverse
  * kinematics and root motion.
  *
+ * The composition of all of these for one character, every frame, is sinew/character.h:
+ * start there; these are its parts, for engines that compose their own.
  * What: jobs over local poses (model->node_count sinew_transform, as sinew_sample() and
  * sinew_player_sample() write them), in the style of ozz-animation's BlendingJob and IK jobs:
  *   sinew_blend()          N poses with weights and optional per-node masks -> one pose;
@@ -10,8 +12,6 @@
  *   sinew_additive_delta() a pose minus its reference pose: what an additive layer adds.
  *   sinew_blend_soa()      the same on structure-of-arrays poses (the player's), 8 nodes at a
  *                          time with AVX2+FMA, with sinew_blend_soa_scalar() beside it.
- *   sinew_mixer_*()        clips fading into each other over time, with phase sync: a
- *                          player a clip and the SoA blend, in caller-owned memory.
  *   sinew_crossfade_at()   a cross-fade from clip A to clip B over T seconds: each clip's time
  *                          (with phase sync by normalised time) and B's weight.
  *   sinew_ik_two_bone()    a chain of start, middle and end joint reaching a target, bending
@@ -19,7 +19,7 @@
  *   sinew_ik_aim()         one joint turned so a local axis points at a target (look-at).
  *   sinew_root_motion_*()  the root's horizontal translation and yaw taken out of a pose
  *                          (the character walks in place) and returned.
- * What not: no allocation, no threads, no state kept between calls (but the mixer's); IK reads world matrices
+ * What not: no allocation, no threads, no state kept between calls; IK reads world matrices
  * the caller computed (sinew_local_to_world()) for the pose it corrects, and the caller
  * computes them again after.
  * Errors: SINEW_ERROR_INVALID_ARGUMENT with a message for spans too short, bad node
@@ -148,60 +148,6 @@ typedef struct sinew_crossfade {
  * With sync, to's speed follows from's cycle towards its own as the fade goes (the phases
  * stay equal), as engines blend locomotion cycles of different lengths. */
 void sinew_crossfade_at(const sinew_crossfade *fade, float clock, float *from_time, float *to_time, float *to_weight);
-
-/* ---- the mixer: clips that fade into each other, in a few lines ----
- *
- * One character's clips (one sinew_clip_layout each, of one model) and a clock: play a clip
- * now or fading in over some seconds while the others fade out, optionally in step (phase
- * sync: the clips' normalised times kept equal, for locomotion cycles of different lengths,
- * the shared cycle length blended by weight), as three.js's AnimationMixer crossFadeTo() and
- * engines' locomotion blends. Each update advances the clock, samples the clips that have
- * weight (sinew_player_advance()), blends them (sinew_blend_soa()) and writes world matrices.
- * Memory as the player's: the caller's, sized by sinew_mixer_size(); nothing is allocated.
- * A fade started during another fade starts from the weights at that moment. Weights follow
- * a smoothstep over the fade; where they do not add up to 1 the blend normalises them; when
- * more than SINEW_BLEND_SOA_MAX_LAYERS clips have weight, the lightest are left out.
- *
- *   sinew_mixer *mx;
- *   const sinew_clip_layout *clips[2] = {walk, run};
- *   sinew_mixer_desc d = {.layouts = clips, .layout_count = 2};
- *   void *memory = malloc(sinew_mixer_size(&d));
- *   sinew_mixer_init(memory, sinew_mixer_size(&d), &d, &mx, &e);
- *   sinew_mixer_play(mx, 0, 0.0f, false, &e);                    walk, now
- *   each frame: sinew_mixer_update(mx, dt, NULL, worlds, n, &e);
- *   sinew_mixer_play(mx, 1, 0.5f, true, &e);                     into the run over 0.5 s, in step
- */
-#define SINEW_MIXER_MAX_CLIPS 256u
-
-typedef struct sinew_mixer sinew_mixer;
-
-typedef struct sinew_mixer_desc {
-    const sinew_clip_layout *const *layouts; /* one per clip, of one model; they must outlive the mixer */
-    uint32_t layout_count;                   /* 1 .. SINEW_MIXER_MAX_CLIPS */
-    sinew_wrap wrap;                         /* how clip times wrap; 0: SINEW_WRAP_LOOP */
-} sinew_mixer_desc;
-
-/* Bytes a mixer of these clips needs (0 when the description is not valid). */
-size_t sinew_mixer_size(const sinew_mixer_desc *desc);
-/* A mixer in `memory` with no clip playing (the rest pose). */
-sinew_result sinew_mixer_init(void *memory, size_t size, const sinew_mixer_desc *desc, sinew_mixer **out,
-                              sinew_error *error);
-/* Fades `clip` in over `fade` seconds (0: at once) and every other clip out. A clip that
- * is not playing starts at its beginning, or with `sync` at the phase of the clip with the
- * most weight, the two then kept in step. */
-sinew_result sinew_mixer_play(sinew_mixer *mixer, uint32_t clip, float fade, bool sync, sinew_error *error);
-/* Advances the clock by dt seconds (>= 0) and writes the blended pose's world matrices. */
-sinew_result sinew_mixer_update(sinew_mixer *mixer, float dt, const sinew_mat4 *root, sinew_mat4 *worlds,
-                                uint32_t world_count, sinew_error *error);
-/* A clip's weight and time (seconds into the clip, unwrapped) now. */
-float sinew_mixer_weight(const sinew_mixer *mixer, uint32_t clip);
-float sinew_mixer_time(const sinew_mixer *mixer, uint32_t clip);
-/* The blended pose of the last update (read-only; valid until the next call). */
-const sinew_soa_pose *sinew_mixer_pose(const sinew_mixer *mixer);
-/* The morph channel weights of the last update's blend: each playing clip's weights at its
- * time, by the clips' weights (normalised); the channels' defaults when nothing plays.
- * weight_count >= model->morph_channel_count. */
-sinew_result sinew_mixer_weights(const sinew_mixer *mixer, float *weights, uint32_t weight_count, sinew_error *error);
 
 typedef struct sinew_ik_two_bone_desc {
     const sinew_model *model;

@@ -696,12 +696,25 @@ static void test_bench_eval_json(void **state)
     assert_int_equal(r.code, 0);
     cJSON *o = cJSON_Parse(r.out);
     assert_non_null(o);
-    static const char *const keys[] = {
-        "sample_world_us_64",      "sample_world_us_128",    "seek_us_64",       "skin_mverts_1t",
-        "skin_mverts_1t_posonly",  "skin_mverts_dqs_1t",     "threads",          "skin_mverts_nt",
-        "crowd1000_speedup_nt",    "load_speedup_vs_assimp", "blend2_us_64",     "blend4_us_64",
-        "ik_two_bone_us_64",       "ik_aim_us_64",           "blend2_soa_us_64", "blend4_soa_us_64",
-        "blend2_soa_scalar_us_64", "mixer_crossfade_us_64"};
+    static const char *const keys[] = {"sample_world_us_64",
+                                       "sample_world_us_128",
+                                       "seek_us_64",
+                                       "skin_mverts_1t",
+                                       "skin_mverts_1t_posonly",
+                                       "skin_mverts_dqs_1t",
+                                       "threads",
+                                       "skin_mverts_nt",
+                                       "crowd1000_speedup_nt",
+                                       "load_speedup_vs_assimp",
+                                       "blend2_us_64",
+                                       "blend4_us_64",
+                                       "ik_two_bone_us_64",
+                                       "ik_aim_us_64",
+                                       "blend2_soa_us_64",
+                                       "blend4_soa_us_64",
+                                       "blend2_soa_scalar_us_64",
+                                       "character_crossfade_us_64",
+                                       "character_ik_us_64"};
     for (size_t i = 0; i < sizeof keys / sizeof keys[0]; i++) {
         cJSON *v = cJSON_GetObjectItem(o, keys[i]);
         if (!cJSON_IsNumber(v) || !(v->valuedouble > 0.0))
@@ -735,7 +748,8 @@ static double node_component(const cJSON *root, const char *name, const char *wh
     return at(node_named(cJSON_GetArrayItem(cJSON_GetObjectItem(root, "frames"), 0), name), what, k);
 }
 
-/* --blend walk:1,wave:0 is the walk; --ik puts the hand on its target; --crossfade at its
+/* --blend walk:1,wave:0 is the walk, and with the wave masked to the chest the legs still walk;
+ * --ik puts the hand on its target; --crossfade at its
  * start is the first clip and after its end the second; --root-motion keeps the hips in place;
  * bad specs name the option. */
 static void test_pose_blend_ik_root_motion(void **state)
@@ -750,6 +764,18 @@ static void test_pose_blend_ik_root_motion(void **state)
             worst = fmax(worst, fabs(node_component(walk, nodes[i], "translation", k) -
                                      node_component(blend, nodes[i], "translation", k)));
     cJSON_Delete(blend);
+    /* a mask: the wave moves the chest and what is below it; legs and hips walk as before */
+    cJSON *masked = RUN_JSON("pose", "builtin:demo", "--blend", "walk:1,wave:1@Chest", "--time", "0.3", "--json");
+    double legs = 0.0, arm = 0.0;
+    for (int k = 0; k < 3; k++) {
+        legs = fmax(legs, fabs(node_component(walk, "RightFoot", "translation", k) -
+                               node_component(masked, "RightFoot", "translation", k)));
+        arm = fmax(arm, fabs(node_component(walk, "LeftHand", "translation", k) -
+                             node_component(masked, "LeftHand", "translation", k)));
+    }
+    print_message("pose: --blend walk:1,wave:1@Chest: the foot off the walk's by %.1e, the hand by %.3f\n", legs, arm);
+    assert_true(legs < 1e-5 && arm > 0.01);
+    cJSON_Delete(masked);
     cJSON *wave = RUN_JSON("pose", "builtin:demo", "--clip", "wave", "--time", "1.3", "--json");
     cJSON *start = RUN_JSON("pose", "builtin:demo", "--crossfade", "walk,wave,1", "--time", "0.3", "--json");
     cJSON *after = RUN_JSON("pose", "builtin:demo", "--crossfade", "walk,wave,1", "--time", "1.3", "--json");
@@ -798,7 +824,8 @@ static void test_pose_blend_ik_root_motion(void **state)
         const char *says, *args[8];
     } bad[] = {{2, "/nonexistent/walk.bvh", {"pose", "builtin:demo", "--anim", "/nonexistent/walk.bvh"}},
                {1, "--ik \"Nose\"", {"pose", "builtin:demo", "--ik", "Nose:0,1,0"}},
-               {1, "--blend", {"render", "builtin:demo", "--blend", "walk:x", "-o", "/tmp/never.png"}}};
+               {1, "--blend", {"render", "builtin:demo", "--blend", "walk:x", "-o", "/tmp/never.png"}},
+               {1, "no node \"Nose\" to mask", {"pose", "builtin:demo", "--additive", "wave:1@Nose"}}};
     for (size_t i = 0; i < sizeof bad / sizeof bad[0]; i++) {
         run_result r = run_sinew(NULL, bad[i].args);
         if (r.code != bad[i].code || !strstr(r.err, bad[i].says))

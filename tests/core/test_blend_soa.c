@@ -1,10 +1,7 @@
 /* Structure-of-arrays poses and what works on them: conversions both ways, world matrices
  * (equal to sinew_local_to_world()), sinew_blend_soa() (the AVX2 path against the scalar
  * reference, both against sinew_blend(), over random weights, masks and additive layers, on
- * the demo humanoid and CMU's 01_01.bvh), and the mixer (a clip alone is the player, a
- * cross-fade is the blend of the two clips at the mixer's times and weights, weights are
- * smooth and continuous when a fade interrupts another, phase sync keeps normalised times
- * equal, bad calls are refused). */
+ * the demo humanoid and CMU's 01_01.bvh). The character that composes them: test_character.c. */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -207,187 +204,12 @@ static void test_blend_soa_aliasing_and_errors(void **state)
     sinew_model_free(m);
 }
 
-/* ---- the mixer ------------------------------------------------------------------------------- */
-
-typedef struct test_mixer {
-    sinew_clip_layout *layouts[3];
-    uint32_t count;
-    void *memory;
-    sinew_mixer *mixer;
-} test_mixer;
-
-static sinew_mixer *mixer_open(test_mixer *t, const sinew_model *m, uint32_t count)
-{
-    memset(t, 0, sizeof *t);
-    t->count = count;
-    for (uint32_t i = 0; i < count; i++) {
-        sinew_clip_layout_desc ld = {.model = m, .clip = i < m->clip_count ? &m->clips[i] : NULL};
-        assert_int_equal(sinew_clip_layout_create(&ld, &t->layouts[i], NULL), SINEW_OK);
-    }
-    sinew_mixer_desc d = {.layouts = (const sinew_clip_layout *const *)t->layouts, .layout_count = count};
-    size_t size = sinew_mixer_size(&d);
-    assert_true(size > 0);
-    t->memory = malloc(size);
-    assert_int_equal(sinew_mixer_init(t->memory, size, &d, &t->mixer, NULL), SINEW_OK);
-    return t->mixer;
-}
-
-static void mixer_close(test_mixer *t)
-{
-    free(t->memory);
-    for (uint32_t i = 0; i < t->count; i++)
-        sinew_clip_layout_free(t->layouts[i]);
-}
-
-/* World matrices of the AoS blend of the clips at the mixer's times and weights. */
-static void expected_worlds(const sinew_model *m, const sinew_mixer *mx, uint32_t count, sinew_mat4 *worlds)
-{
-    sinew_blend_layer layers[3];
-    sinew_transform *locals[3], *out = malloc(m->node_count * sizeof *out);
-    uint32_t used = 0;
-    for (uint32_t i = 0; i < count; i++) {
-        locals[i] = pose_locals(m, &m->clips[i], sinew_mixer_time(mx, i), SINEW_WRAP_LOOP);
-        if (sinew_mixer_weight(mx, i) > 0.0f)
-            layers[used++] = (sinew_blend_layer){locals[i], sinew_mixer_weight(mx, i), NULL};
-    }
-    sinew_blend_desc d = {
-        .model = m, .layers = layers, .layer_count = used, .threshold = 1e-6f, .out = out, .out_count = m->node_count};
-    assert_int_equal(sinew_blend(&d, NULL), SINEW_OK);
-    assert_int_equal(sinew_local_to_world(m, out, m->node_count, NULL, worlds, m->node_count, NULL), SINEW_OK);
-    for (uint32_t i = 0; i < count; i++)
-        free(locals[i]);
-    free(out);
-}
-
-static void test_mixer_plays_and_fades(void **state)
-{
-    (void)state;
-    sinew_model *m = demo_humanoid();
-    const uint32_t n = m->node_count;
-    test_mixer t;
-    sinew_mixer *mx = mixer_open(&t, m, 2);
-    sinew_mat4 *worlds = malloc(n * sizeof *worlds), *expect = malloc(n * sizeof *expect);
-    /* nothing playing: the rest pose */
-    assert_int_equal(sinew_mixer_update(mx, 0.1f, NULL, worlds, n, NULL), SINEW_OK);
-    sinew_mat4 *rest = pose_worlds(m, NULL, 0.0f);
-    double at_rest = worlds_difference(worlds, rest, n);
-    free(rest);
-    /* the walk alone is the walk's player */
-    assert_int_equal(sinew_mixer_play(mx, 0, 0.0f, false, NULL), SINEW_OK);
-    double alone = 0.0, clock = 0.0;
-    for (int f = 0; f < 40; f++) {
-        float dt = f == 0 ? 0.0f : 1.0f / 30.0f;
-        clock += dt;
-        assert_int_equal(sinew_mixer_update(mx, dt, NULL, worlds, n, NULL), SINEW_OK);
-        sinew_mat4 *ref = pose_worlds(m, &m->clips[0], (float)fmod(clock, m->clips[0].duration));
-        alone = fmax(alone, worlds_difference(worlds, ref, n));
-        free(ref);
-    }
-    /* into the wave over 0.5 s: each frame the blend of both at the mixer's times and weights */
-    assert_int_equal(sinew_mixer_play(mx, 1, 0.5f, false, NULL), SINEW_OK);
-    assert_float_equal(sinew_mixer_time(mx, 1), 0.0f, 0.0f);
-    double fading = 0.0, sum = 0.0, step = 0.0;
-    float last = 0.0f;
-    for (int f = 0; f < 24; f++) {
-        assert_int_equal(sinew_mixer_update(mx, 1.0f / 30.0f, NULL, worlds, n, NULL), SINEW_OK);
-        expected_worlds(m, mx, 2, expect);
-        fading = fmax(fading, worlds_difference(worlds, expect, n));
-        float w = sinew_mixer_weight(mx, 1);
-        sum = fmax(sum, fabs(w + sinew_mixer_weight(mx, 0) - 1.0));
-        step = fmax(step, fabs(w - last));
-        assert_true(w >= last);
-        last = w;
-    }
-    assert_float_equal(sinew_mixer_weight(mx, 0), 0.0f, 0.0f);
-    assert_float_equal(sinew_mixer_weight(mx, 1), 1.0f, 0.0f);
-    /* back to the walk, interrupted half-way by the wave again: no jump in the weights */
-    assert_int_equal(sinew_mixer_play(mx, 0, 0.4f, false, NULL), SINEW_OK);
-    for (int f = 0; f < 6; f++)
-        assert_int_equal(sinew_mixer_update(mx, 1.0f / 30.0f, NULL, worlds, n, NULL), SINEW_OK);
-    float before = sinew_mixer_weight(mx, 1);
-    assert_int_equal(sinew_mixer_play(mx, 1, 0.4f, false, NULL), SINEW_OK);
-    float after = sinew_mixer_weight(mx, 1);
-    assert_int_equal(sinew_mixer_update(mx, 1.0f / 30.0f, NULL, worlds, n, NULL), SINEW_OK);
-    expected_worlds(m, mx, 2, expect);
-    double interrupted = worlds_difference(worlds, expect, n);
-    print_message("mixer: nothing playing vs rest %.1e; the walk alone vs its player %.1e; fading into the wave vs "
-                  "the blend at its times and weights %.1e (weights sum to 1 within %.1e, largest step a frame "
-                  "%.3f); interrupted fade: the wave's weight %.4f before, %.4f after, pose %.1e\n",
-                  at_rest, alone, fading, sum, step, before, after, interrupted);
-    assert_true(at_rest < 1e-6 && alone < 1e-5 && fading < 1e-5 && interrupted < 1e-5);
-    assert_true(sum < 1e-6 && step < 0.11);
-    assert_float_equal(before, after, 0.0f);
-    free(worlds);
-    free(expect);
-    mixer_close(&t);
-    sinew_model_free(m);
-}
-
-static void test_mixer_sync_and_errors(void **state)
-{
-    (void)state;
-    sinew_model *m = demo_humanoid(); /* walk 1 s, wave 2 s */
-    const uint32_t n = m->node_count;
-    test_mixer t;
-    sinew_mixer *mx = mixer_open(&t, m, 2);
-    sinew_mat4 *worlds = malloc(n * sizeof *worlds), *expect = malloc(n * sizeof *expect);
-    assert_int_equal(sinew_mixer_play(mx, 0, 0.0f, false, NULL), SINEW_OK);
-    for (int f = 0; f < 10; f++)
-        assert_int_equal(sinew_mixer_update(mx, 0.03f, NULL, worlds, n, NULL), SINEW_OK);
-    float phase0 = sinew_mixer_time(mx, 0) / m->clips[0].duration;
-    assert_int_equal(sinew_mixer_play(mx, 1, 1.0f, true, NULL), SINEW_OK);
-    double apart = fabs(sinew_mixer_time(mx, 1) / m->clips[1].duration - phase0), pose = 0.0;
-    float mid_rate = 0.0f;
-    for (int f = 0; f < 60; f++) {
-        float p0 = sinew_mixer_time(mx, 1) / m->clips[1].duration;
-        assert_int_equal(sinew_mixer_update(mx, 0.025f, NULL, worlds, n, NULL), SINEW_OK);
-        if (sinew_mixer_weight(mx, 0) > 0.0f) {
-            double a = sinew_mixer_time(mx, 0) / m->clips[0].duration,
-                   b = sinew_mixer_time(mx, 1) / m->clips[1].duration;
-            apart = fmax(apart, fabs(a - b));
-        }
-        if (f == 20) /* mid-fade the shared cycle is between 1 s and 2 s long */
-            mid_rate = (sinew_mixer_time(mx, 1) / m->clips[1].duration - p0) / 0.025f;
-        expected_worlds(m, mx, 2, expect);
-        pose = fmax(pose, worlds_difference(worlds, expect, n));
-    }
-    print_message("mixer with phase sync: normalised times apart by at most %.1e; mid-fade %.2f cycles a second "
-                  "(walk 1.00, wave 0.50); pose vs the blend %.1e\n",
-                  apart, mid_rate, pose);
-    assert_true(apart < 1e-5 && pose < 1e-5);
-    assert_true(mid_rate > 0.5f && mid_rate < 1.0f);
-    sinew_error error = {0};
-    assert_int_equal(sinew_mixer_play(mx, 2, 0.0f, false, &error), SINEW_ERROR_INVALID_ARGUMENT);
-    assert_non_null(strstr(error.message, "clip 2 of 2"));
-    assert_int_equal(sinew_mixer_play(mx, 0, -1.0f, false, &error), SINEW_ERROR_INVALID_ARGUMENT);
-    assert_int_equal(sinew_mixer_update(mx, NAN, NULL, worlds, n, &error), SINEW_ERROR_INVALID_ARGUMENT);
-    assert_int_equal(sinew_mixer_update(mx, 0.1f, NULL, worlds, n - 1, &error), SINEW_ERROR_INVALID_ARGUMENT);
-    /* clips of two models do not mix */
-    sinew_model *other = demo_humanoid();
-    sinew_clip_layout *foreign;
-    assert_int_equal(
-        sinew_clip_layout_create(&(sinew_clip_layout_desc){.model = other, .clip = &other->clips[0]}, &foreign, NULL),
-        SINEW_OK);
-    const sinew_clip_layout *mixed[2] = {t.layouts[0], foreign};
-    sinew_mixer_desc bad = {.layouts = mixed, .layout_count = 2};
-    assert_int_equal(sinew_mixer_size(&bad), 0);
-    sinew_mixer *no;
-    assert_int_equal(sinew_mixer_init(t.memory, 1u << 20, &bad, &no, &error), SINEW_ERROR_INVALID_ARGUMENT);
-    assert_non_null(strstr(error.message, "one model"));
-    sinew_clip_layout_free(foreign);
-    sinew_model_free(other);
-    free(worlds);
-    free(expect);
-    mixer_close(&t);
-    sinew_model_free(m);
-}
-
 int main(void)
 {
     const struct CMUnitTest tests[] = {
-        cmocka_unit_test(test_pose_conversions_and_worlds),   cmocka_unit_test(test_blend_soa_matches),
-        cmocka_unit_test(test_blend_soa_aliasing_and_errors), cmocka_unit_test(test_mixer_plays_and_fades),
-        cmocka_unit_test(test_mixer_sync_and_errors),
+        cmocka_unit_test(test_pose_conversions_and_worlds),
+        cmocka_unit_test(test_blend_soa_matches),
+        cmocka_unit_test(test_blend_soa_aliasing_and_errors),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -12,6 +12,7 @@
 #include <cjson/cJSON.h>
 
 #include "helpers.h"
+#include "sinew/character.h"
 
 static const char *quad_path(char *buf, size_t size)
 {
@@ -109,8 +110,8 @@ static void test_gltf_posed(void **state)
     sinew_model_free(m);
 }
 
-/* Morph weights blend with the poses: two clips at weights 1 and 3, an additive layer; the
- * mixer's weights follow its clips' weights. */
+/* Morph weights blend with the poses: two clips at weights 1 and 3, an additive layer; a
+ * character's weights follow its layers' weights. */
 static void test_weight_blending(void **state)
 {
     (void)state;
@@ -156,24 +157,25 @@ static void test_weight_blending(void **state)
             &(sinew_blend_weights_desc){.model = m, .layers = layers, .layer_count = 2, .out = out, .out_count = 4},
             &error),
         SINEW_ERROR_INVALID_ARGUMENT);
-    /* the mixer: "linear" playing alone, then fading into "step" */
+    /* a character: "linear" playing alone, then fading into "step" */
     sinew_clip_layout *layouts[2];
     for (int i = 0; i < 2; i++)
         assert_int_equal(
             sinew_clip_layout_create(&(sinew_clip_layout_desc){.model = m, .clip = &m->clips[i]}, &layouts[i], NULL),
             SINEW_OK);
-    sinew_mixer_desc md = {
-        .layouts = (const sinew_clip_layout *const *)layouts, .layout_count = 2, .wrap = SINEW_WRAP_CLAMP};
-    size_t size = sinew_mixer_size(&md);
+    sinew_character_layer cl[2] = {{.layout = layouts[0]}, {.layout = layouts[1]}};
+    sinew_character_desc cd = {.model = m, .layers = cl, .layer_count = 2, .clamp = true};
+    size_t size = sinew_character_size(&cd);
     void *memory = malloc(size);
-    sinew_mixer *mx;
-    assert_int_equal(sinew_mixer_init(memory, size, &md, &mx, NULL), SINEW_OK);
+    sinew_character *mx;
+    assert_int_equal(sinew_character_init(memory, size, &cd, &mx, NULL), SINEW_OK);
     sinew_mat4 worlds[2];
-    assert_int_equal(sinew_mixer_weights(mx, out, 4, NULL), SINEW_OK);
+    sinew_character_output o = {.worlds = worlds, .world_count = 2, .weights = out, .weight_count = 4};
+    assert_int_equal(sinew_character_evaluate(mx, &o, NULL), SINEW_OK);
     assert_float_equal(out[0], 0.25f, 1e-6); /* nothing plays: the defaults */
-    assert_int_equal(sinew_mixer_play(mx, 0, 0.0f, false, NULL), SINEW_OK);
-    assert_int_equal(sinew_mixer_update(mx, 0.5f, NULL, worlds, 2, NULL), SINEW_OK);
-    assert_int_equal(sinew_mixer_weights(mx, out, 4, NULL), SINEW_OK);
+    assert_int_equal(sinew_character_play(mx, 0, 0.0f, false, NULL), SINEW_OK);
+    assert_int_equal(sinew_character_advance(mx, 0.5f, NULL), SINEW_OK);
+    assert_int_equal(sinew_character_evaluate(mx, &o, NULL), SINEW_OK);
     assert_float_equal(out[0], 0.5f, 1e-6);
     assert_float_equal(out[1], 0.25f, 1e-6);
     free(memory);
