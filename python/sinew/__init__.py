@@ -18,7 +18,7 @@ released. Errors raise sinew.Error subclasses that carry the file and the librar
 a malformed or hostile file never takes the interpreter down (imports run in the
 `sinew-import` helper, with a deadline and a memory limit).
 The library is found through $SINEW_LIBRARY, the build tree beside this package, or the
-installed libsinew.so.0.
+installed libsinew.so.0.2.
 """
 
 import os
@@ -118,7 +118,7 @@ def _check(result, error, file=None):
 
 
 def version() -> str:
-    """The version of libsinew loaded ("0.1.0")."""
+    """The version of libsinew loaded ("0.2.0")."""
     return ffi.string(lib.sinew_version()).decode()
 
 

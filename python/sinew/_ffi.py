@@ -104,6 +104,8 @@ ffi = cffi.FFI()
 ffi.cdef(CDEF)
 
 _HERE = os.path.dirname(os.path.abspath(__file__))
+# libsinew's soname: it follows the ABI (CMakeLists.txt's SINEW_SOVERSION; CHANGELOG.md)
+SONAME = "libsinew.so.0.2"
 
 
 def _candidates():
@@ -119,11 +121,11 @@ def _candidates():
     # installed: PREFIX/share/sinew/python/sinew, the library in PREFIX/lib
     prefix = os.path.normpath(os.path.join(_HERE, "..", "..", "..", ".."))
     for libdir in ("lib", "lib64", "lib/x86_64-linux-gnu", "lib/aarch64-linux-gnu"):
-        yield os.path.join(prefix, libdir, "libsinew.so.0")
+        yield os.path.join(prefix, libdir, SONAME)
     found = ctypes.util.find_library("sinew")
     if found:
         yield found
-    yield "libsinew.so.0"
+    yield SONAME
 
 
 def _open():

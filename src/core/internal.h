@@ -33,6 +33,10 @@
 #include "sinew/anim.h"
 #include "sinew/model.h"
 
+/* Nothing here is public API: hidden from libsinew.so even where the name starts with sinew_
+ * (the export test compares libsinew.so's symbols with the headers). */
+#pragma GCC visibility push(hidden)
+
 #define BLOB_MAGIC "SINEW\r\n\x1a"
 #define BLOB_VERSION 4u
 #define BLOB_OLDEST_VERSION 3u /* the oldest version read */
@@ -100,10 +104,10 @@ typedef struct blob_section_kind {
     uint32_t elem_size;
 } blob_section_kind;
 
-extern const blob_section_kind blob_section_kinds[];
+extern const blob_section_kind sinew_blob_section_kinds[];
 /* The warning the reader adds to a model read from an older version (model.c). */
 extern const char *const sinew_blob_old_version_warning;
-extern const uint32_t blob_section_kind_count;
+extern const uint32_t sinew_blob_section_kind_count;
 
 typedef struct blob_skin {
     blob_span joints;       /* uint32_t */
@@ -262,11 +266,11 @@ void sinew_player_set_simd(sinew_player *player, bool simd);
  * processor has the AVX2+FMA paths; identity transforms in lanes [first, stride); rotations
  * normalised into local transforms; world matrices (simd: the AVX2+FMA path, else the scalar
  * reference), as sinew_soa_pose_worlds() and the player compute them. */
-bool soa_simd_supported(void);
-void soa_identity(float *pose, uint32_t stride, uint32_t first);
-void soa_to_locals(const float *pose, uint32_t stride, uint32_t node_count, sinew_transform *locals);
-void soa_worlds(const sinew_model *model, const float *pose, uint32_t stride, const sinew_mat4 *root,
-                sinew_mat4 *worlds, bool simd);
+bool sinew_soa_simd_supported(void);
+void sinew_soa_identity(float *pose, uint32_t stride, uint32_t first);
+void sinew_soa_to_locals(const float *pose, uint32_t stride, uint32_t node_count, sinew_transform *locals);
+void sinew_soa_worlds(const sinew_model *model, const float *pose, uint32_t stride, const sinew_mat4 *root,
+                      sinew_mat4 *worlds, bool simd);
 
 /* Width in floats of one key value of a channel kind (translation/scale 3, rotation 4, a
  * morph channel's weight 1). */
@@ -308,7 +312,10 @@ typedef struct pose_scales {
 /* The world matrix of `node` (a child whose inherit type is not SINEW_INHERIT_NORMAL, see
  * sinew_inherit) from its parent's world matrix in `worlds` and its local translation,
  * rotation and scale; the scales of the pose give the parent's own and inherited scale. */
-void pose_world_inherit(const sinew_model *model, uint32_t node, const float translation[3], const float rotation[4],
-                        const float scale[3], pose_scales scales, const sinew_mat4 *worlds, sinew_mat4 *out);
+void sinew_pose_world_inherit(const sinew_model *model, uint32_t node, const float translation[3],
+                              const float rotation[4], const float scale[3], pose_scales scales,
+                              const sinew_mat4 *worlds, sinew_mat4 *out);
+
+#pragma GCC visibility pop
 
 #endif

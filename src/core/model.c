@@ -20,7 +20,7 @@
     {                                                                                                                  \
         tag, offsetof(blob_header, field), sizeof(type)                                                                \
     }
-const blob_section_kind blob_section_kinds[] = {
+const blob_section_kind sinew_blob_section_kinds[] = {
     SECTION("STRS", strings, char),
     SECTION("NNAM", node_names, uint32_t),
     SECTION("NPAR", node_parents, int32_t),
@@ -45,7 +45,7 @@ const blob_section_kind blob_section_kinds[] = {
     SECTION("CTLN", clip_timeline, float),
 };
 #undef SECTION
-const uint32_t blob_section_kind_count = sizeof blob_section_kinds / sizeof blob_section_kinds[0];
+const uint32_t sinew_blob_section_kind_count = sizeof sinew_blob_section_kinds / sizeof sinew_blob_section_kinds[0];
 const char *const sinew_blob_old_version_warning =
     "the .sinew file was written by an older sinew (format 3), before it kept morph targets, vertex caches and "
     "skinning methods: convert the source file again for them";
@@ -153,14 +153,14 @@ static sinew_result read_directory(reader *r, const blob_file_header *f, blob_he
     h->version = f->version;
     if (f->section_count > BLOB_MAX_SECTIONS || sizeof *f + (uint64_t)f->section_count * sizeof(blob_section) > r->size)
         return corrupt(r, "section directory");
-    bool seen[sizeof blob_section_kinds / sizeof blob_section_kinds[0]] = {false};
+    bool seen[sizeof sinew_blob_section_kinds / sizeof sinew_blob_section_kinds[0]] = {false};
     for (uint32_t i = 0; i < f->section_count; i++) {
         blob_section sec;
         memcpy(&sec, r->bytes + sizeof *f + i * sizeof sec, sizeof sec);
         if (!range_ok(r, sec.offset, sec.count, sec.elem_size))
             return corrupt(r, "section out of bounds");
-        for (uint32_t k = 0; k < blob_section_kind_count; k++) {
-            const blob_section_kind *kind = &blob_section_kinds[k];
+        for (uint32_t k = 0; k < sinew_blob_section_kind_count; k++) {
+            const blob_section_kind *kind = &sinew_blob_section_kinds[k];
             if (memcmp(sec.tag, kind->tag, 4) != 0)
                 continue;
             if (sec.count && sec.offset % 8u != 0) /* tables hold doubles (muscles) */

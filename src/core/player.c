@@ -386,7 +386,7 @@ sinew_result sinew_player_init(void *memory, size_t size, const sinew_clip_layou
 void sinew_player_set_simd(sinew_player *player, bool simd)
 {
 #ifdef PLAYER_X86
-    player->simd = simd && soa_simd_supported();
+    player->simd = simd && sinew_soa_simd_supported();
 #else
     (void)simd;
     player->simd = false;
@@ -550,7 +550,7 @@ sinew_result sinew_player_sample(sinew_player *p, float time, sinew_wrap wrap, s
         return r;
     const sinew_clip_layout *l = p->layout;
     sample_at(p, t);
-    soa_to_locals(p->pose, l->stride, l->node_count, locals);
+    sinew_soa_to_locals(p->pose, l->stride, l->node_count, locals);
     return SINEW_OK;
 }
 
@@ -562,7 +562,7 @@ sinew_result sinew_player_update(sinew_player *p, float time, sinew_wrap wrap, c
     if (r != SINEW_OK)
         return r;
     sample_at(p, t);
-    soa_worlds(p->layout->model, p->pose, p->layout->stride, root, worlds, p->simd);
+    sinew_soa_worlds(p->layout->model, p->pose, p->layout->stride, root, worlds, p->simd);
     return SINEW_OK;
 }
 

@@ -68,8 +68,8 @@ static void inherited_scale(const sinew_model *m, uint32_t node, pose_scales s, 
     }
 }
 
-void pose_world_inherit(const sinew_model *m, uint32_t node, const float translation[3], const float rotation[4],
-                        const float scale[3], pose_scales scales, const sinew_mat4 *worlds, sinew_mat4 *out)
+void sinew_pose_world_inherit(const sinew_model *m, uint32_t node, const float translation[3], const float rotation[4],
+                              const float scale[3], pose_scales scales, const sinew_mat4 *worlds, sinew_mat4 *out)
 {
     uint32_t parent = (uint32_t)m->node_parents[node];
     float inherit[3], applied[3];
@@ -111,8 +111,8 @@ sinew_result sinew_local_to_world(const sinew_model *model, const sinew_transfor
     for (uint32_t i = 0; i < model->node_count; i++) {
         int32_t parent = model->node_parents[i];
         if (parent >= 0 && model->node_inherit && model->node_inherit[i] != SINEW_INHERIT_NORMAL) {
-            pose_world_inherit(model, i, locals[i].translation, locals[i].rotation, locals[i].scale, scales, worlds,
-                               &worlds[i]);
+            sinew_pose_world_inherit(model, i, locals[i].translation, locals[i].rotation, locals[i].scale, scales,
+                                     worlds, &worlds[i]);
             continue;
         }
         sinew_mat4 local;

@@ -33,7 +33,7 @@ static uint32_t soa_stride(uint32_t node_count)
     return (node_count + 7u) & ~7u;
 }
 
-bool soa_simd_supported(void)
+bool sinew_soa_simd_supported(void)
 {
 #ifdef SOA_X86
     return __builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma");
@@ -49,7 +49,7 @@ size_t sinew_soa_pose_size(uint32_t node_count)
     return 31 + (size_t)SINEW_SOA_ROWS * soa_stride(node_count) * sizeof(float);
 }
 
-void soa_identity(float *P, uint32_t stride, uint32_t first)
+void sinew_soa_identity(float *P, uint32_t stride, uint32_t first)
 {
     for (uint32_t r = 0; r < SINEW_SOA_ROWS; r++) {
         float v = r == SINEW_SOA_QW || r >= SINEW_SOA_SX ? 1.0f : 0.0f;
@@ -69,7 +69,7 @@ sinew_result sinew_soa_pose_init(void *memory, size_t size, uint32_t node_count,
                           node_count, sinew_soa_pose_size(node_count));
     float *data = (float *)(((uintptr_t)memory + 31) & ~(uintptr_t)31);
     *out = (sinew_soa_pose){data, node_count, soa_stride(node_count)};
-    soa_identity(data, out->stride, 0);
+    sinew_soa_identity(data, out->stride, 0);
     return SINEW_OK;
 }
 
@@ -111,11 +111,11 @@ sinew_result sinew_soa_pose_from_locals(const sinew_transform *locals, uint32_t 
             }
             P[(SINEW_SOA_QX + k) * S + i] = locals[i].rotation[k];
         }
-    soa_identity(P, S, pose->node_count);
+    sinew_soa_identity(P, S, pose->node_count);
     return SINEW_OK;
 }
 
-void soa_to_locals(const float *P, uint32_t S, uint32_t node_count, sinew_transform *locals)
+void sinew_soa_to_locals(const float *P, uint32_t S, uint32_t node_count, sinew_transform *locals)
 {
     for (uint32_t i = 0; i < node_count; i++) {
         sinew_transform *o = &locals[i];
@@ -138,7 +138,7 @@ sinew_result sinew_soa_pose_to_locals(const sinew_soa_pose *pose, sinew_transfor
     sinew_result r = check_locals(pose, locals, count, "sinew_soa_pose_to_locals", error);
     if (r != SINEW_OK)
         return r;
-    soa_to_locals(pose->data, pose->stride, pose->node_count, locals);
+    sinew_soa_to_locals(pose->data, pose->stride, pose->node_count, locals);
     return SINEW_OK;
 }
 
@@ -214,7 +214,8 @@ __attribute__((target("avx2,fma"))) static void world_avx2(const float *b, const
 }
 #endif
 
-void soa_worlds(const sinew_model *m, const float *P, uint32_t S, const sinew_mat4 *root, sinew_mat4 *worlds, bool simd)
+void sinew_soa_worlds(const sinew_model *m, const float *P, uint32_t S, const sinew_mat4 *root, sinew_mat4 *worlds,
+                      bool simd)
 {
     _Alignas(32) local_block M;
     for (uint32_t i0 = 0; i0 < m->node_count; i0 += 8) {
@@ -233,7 +234,7 @@ void soa_worlds(const sinew_model *m, const float *P, uint32_t S, const sinew_ma
                 float q[4] = {P[SINEW_SOA_QX * S + i], P[SINEW_SOA_QY * S + i], P[SINEW_SOA_QZ * S + i],
                               P[SINEW_SOA_QW * S + i]};
                 float s[3] = {P[SINEW_SOA_SX * S + i], P[SINEW_SOA_SY * S + i], P[SINEW_SOA_SZ * S + i]};
-                pose_world_inherit(m, i, t, q, s, (pose_scales){P + SINEW_SOA_SX * S, 1, S}, worlds, &worlds[i]);
+                sinew_pose_world_inherit(m, i, t, q, s, (pose_scales){P + SINEW_SOA_SX * S, 1, S}, worlds, &worlds[i]);
                 continue;
             }
             const float l[16] = {M[M_00][j],
@@ -275,7 +276,7 @@ sinew_result sinew_soa_pose_worlds(const sinew_model *model, const sinew_soa_pos
         return sinew_fail(error, SINEW_ERROR_INVALID_ARGUMENT,
                           "sinew_soa_pose_worlds: a pose of %u nodes, %u world matrices, a model of %u nodes",
                           pose->node_count, worlds ? world_count : 0, model ? model->node_count : 0);
-    soa_worlds(model, pose->data, pose->stride, root, worlds, soa_simd_supported());
+    sinew_soa_worlds(model, pose->data, pose->stride, root, worlds, sinew_soa_simd_supported());
     return SINEW_OK;
 }
 
@@ -576,13 +577,13 @@ static sinew_result blend_soa(const sinew_blend_soa_desc *d, bool simd, sinew_er
 #endif
             blend_block_scalar(&job);
     }
-    soa_identity(d->out->data, S, m->node_count); /* the padding stays identity */
+    sinew_soa_identity(d->out->data, S, m->node_count); /* the padding stays identity */
     return SINEW_OK;
 }
 
 sinew_result sinew_blend_soa(const sinew_blend_soa_desc *desc, sinew_error *error)
 {
-    return blend_soa(desc, soa_simd_supported(), error);
+    return blend_soa(desc, sinew_soa_simd_supported(), error);
 }
 
 sinew_result sinew_blend_soa_scalar(const sinew_blend_soa_desc *desc, sinew_error *error)

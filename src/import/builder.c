@@ -1496,7 +1496,7 @@ static blob_span write_muscles(writer *w, const sinew_muscle_set *set)
 sinew_result raw_model_write(const raw_model *m, void **bytes, size_t *size, sinew_error *error)
 {
     writer w = {0};
-    const uint32_t sections = blob_section_kind_count;
+    const uint32_t sections = sinew_blob_section_kind_count;
     size_t head = sizeof(blob_file_header) + sections * sizeof(blob_section);
     unsigned char *zeros = calloc(1, head);
     if (!zeros)
@@ -1538,7 +1538,7 @@ sinew_result raw_model_write(const raw_model *m, void **bytes, size_t *size, sin
                           .format = h.format};
     memcpy(f.magic, BLOB_MAGIC, 8);
     for (uint32_t k = 0; k < sections; k++) {
-        const blob_section_kind *kind = &blob_section_kinds[k];
+        const blob_section_kind *kind = &sinew_blob_section_kinds[k];
         const blob_span *span = (const blob_span *)((const char *)&h + kind->field);
         blob_section sec = {
             .offset = span->count ? span->offset : BLOB_NONE, .count = span->count, .elem_size = kind->elem_size};

@@ -1,7 +1,9 @@
 #!/bin/sh
 # Installs the build into a temporary prefix and uses it as a user and an engine would:
-# the installed programs find their data and import helper; libsinew.so exports only sinew_*;
-# small programs build against it with find_package(sinew) (shared, static, core) and with
+# the installed programs find their data and import helper; libsinew.so exports exactly the
+# functions its headers declare, its soname follows the version (CHANGELOG.md);
+# small programs build against it with find_package(sinew) (shared, static, core; a cross-fade
+# with IK in under 40 lines) and with
 # pkg-config (sinew, sinew-core), and run.
 #   test_install.sh BUILD_DIR SOURCE_DIR WORK_DIR CC
 set -eu
@@ -39,11 +41,30 @@ assert sinew.library_path.startswith(sys.argv[2]), sinew.library_path
 print(m, m.world(0, times=[0.0, 0.5]).shape)" "$fixture" "$prefix"
 fi
 
-echo "== exports"
-others=$(nm -D --defined-only "$libdir/libsinew.so" | awk '{print $3}' | grep -v '^sinew_' || true)
-if [ -n "$others" ]; then echo "libsinew.so exports more than sinew_*: $others"; exit 1; fi
-others=$(nm -g --defined-only "$libdir/libsinew.a" | awk 'NF == 3 {print $3}' | grep -v '^sinew_' || true)
-if [ -n "$others" ]; then echo "libsinew.a has global symbols other than sinew_*: $others"; exit 1; fi
+echo "== exports: exactly the public API"
+# the functions the installed headers declare (comments gone through the preprocessor) against
+# what libsinew.so exports; the static libraries carry no global that is not sinew_*
+"$cc" -E -P -I"$prefix/include" "$prefix/include/sinew/sinew.h" |
+    grep -oE '\bsinew_[a-z0-9_]+[[:space:]]*\(' | sed 's/[[:space:]]*($//' | sort -u > "$work/declared"
+nm -D --defined-only "$libdir/libsinew.so" | awk '{print $3}' | sort -u > "$work/exported"
+if ! cmp -s "$work/declared" "$work/exported"; then
+    echo "libsinew.so's exports differ from the headers' functions (< declared only, > exported only):"
+    diff "$work/declared" "$work/exported" || true
+    exit 1
+fi
+echo "$(wc -l < "$work/exported") functions exported, each declared in include/sinew"
+for a in libsinew.a libsinew_core.a; do
+    others=$(nm -g --defined-only "$libdir/$a" | awk 'NF == 3 {print $3}' | grep -v '^sinew_' || true)
+    if [ -n "$others" ]; then echo "$a has global symbols other than sinew_*: $others"; exit 1; fi
+done
+echo "== version and soname follow the ABI"
+version=$(grep -oE 'SINEW_VERSION_STRING "[0-9.]+"' "$prefix/include/sinew/version.h" | grep -oE '[0-9.]+')
+soname=$(objdump -p "$libdir/libsinew.so" | awk '$1 == "SONAME" {print $2}')
+minor=$(echo "$version" | cut -d. -f1-2)
+test "$soname" = "libsinew.so.$minor" || { echo "soname $soname for version $version"; exit 1; }
+grep -q "^SONAME = \"$soname\"" "$source/python/sinew/_ffi.py" || { echo "python/sinew/_ffi.py does not load $soname"; exit 1; }
+grep -q "^## $version" "$source/CHANGELOG.md" || { echo "CHANGELOG.md has no entry for $version"; exit 1; }
+echo "version $version, soname $soname"
 
 echo "== find_package(sinew)"
 cmake -S "$source/tests/install/consumer" -B "$work/consumer" -DCMAKE_PREFIX_PATH="$prefix" \
@@ -52,6 +73,11 @@ cmake --build "$work/consumer" >> "$work/consumer.log"
 "$work/consumer/consumer_shared" "$fixture"
 "$work/consumer/consumer_static" "$fixture"
 "$work/consumer/consumer_core"
+# a shared model's walk fading into its run, a foreleg reaching by IK (sinew_character)
+fox="${SINEW_TESTDATA:-$source/../shared/testdata}/gltf-samples/Fox.glb"
+test -e "$fox" || { echo "missing $fox (../shared/testdata)"; exit 1; }
+test "$(wc -l < "$source/tests/install/consumer/crossfade.c")" -lt 40
+"$work/consumer/consumer_crossfade" "$fox" b_LeftHand_011
 ldd "$work/consumer/consumer_shared" | grep -q "$libdir/libsinew.so" ||
     { echo "consumer_shared does not use the installed libsinew.so"; exit 1; }
 
