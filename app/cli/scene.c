@@ -268,8 +268,8 @@ void cli_scene_close(cli_scene *s)
 {
     app_crowd_close(&s->crowd);
     sinew_jobs_free(s->jobs);
-    sinew_renderer_destroy(s->renderer);
-    sinew_headless_destroy(s->headless);
+    sinew_renderer_free(s->renderer);
+    sinew_headless_free(s->headless);
     app_scene_close(&s->scene);
     free(s->pixels);
     memset(s, 0, sizeof *s);

@@ -261,8 +261,10 @@ sinew_result app_load_model(const app_scene_desc *d, sinew_model **out, sinew_er
                               .progress = d->progress,
                               .progress_user = d->progress_user};
     sinew_result result = sinew_import(&desc, out, error);
-    if (result == SINEW_ERROR_LIMIT && error) /* in the apps' words: the options that set them */
-        for (int i = 0; i < 2; i++) {
+    /* in the apps' words: the option that sets the limit the import hit */
+    int limit = result == SINEW_ERROR_LIMIT_TIME ? 0 : result == SINEW_ERROR_LIMIT_MEMORY ? 1 : -1;
+    if (limit >= 0 && error)
+        for (int i = limit; i == limit; i++) {
             static const char *const library[2] = {"sinew_import_desc.timeout", "sinew_import_desc.memory_limit"};
             static const char *const option[2] = {"--import-timeout", "--import-memory"};
             char *at = strstr(error->message, library[i]);

@@ -848,7 +848,7 @@ static void on_unrealize(GtkGLArea *area, gpointer data)
 {
     viewer *v = data;
     gtk_gl_area_make_current(area);
-    sinew_renderer_destroy(v->renderer);
+    sinew_renderer_free(v->renderer);
     v->renderer = NULL;
     msaa_release(v);
 }

@@ -77,7 +77,7 @@ static bool adopt_scene(viewer *v, app_scene *incoming)
         return false;
     }
     if (renderer) /* make_renderer left the area's context current */
-        sinew_renderer_destroy(v->renderer);
+        sinew_renderer_free(v->renderer);
     v->renderer = renderer;
     app_crowd_close(&v->crowd); /* of the old model: remade for the new one when shown */
     app_scene_close(&v->scene);

@@ -31,7 +31,7 @@ typedef struct sinew_headless_desc {
 
 /* Creates the context, makes it current on this thread and binds its framebuffer. */
 sinew_result sinew_headless_create(const sinew_headless_desc *desc, sinew_headless **out, sinew_error *error);
-void sinew_headless_destroy(sinew_headless *headless);
+void sinew_headless_free(sinew_headless *headless);
 
 /* Makes the context current and binds the framebuffer to draw into (after other GL use). */
 void sinew_headless_bind(sinew_headless *headless);

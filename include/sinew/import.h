@@ -29,8 +29,10 @@
  * unknown format, truncated), SINEW_ERROR_IMPORTER (Assimp refused; the helper crashed or was
  * killed from outside: the signal is named, and its last stderr lines quoted),
  * SINEW_ERROR_DATA (NaN/Inf, bad indices, zero weights), SINEW_ERROR_LIMIT (over a documented
- * limit, or the helper passed its deadline or memory limit: the message says which),
- * SINEW_ERROR_CANCELLED (desc->progress asked to stop).
+ * limit), SINEW_ERROR_LIMIT_TIME and SINEW_ERROR_LIMIT_MEMORY (the helper passed its deadline or
+ * memory limit), SINEW_ERROR_CANCELLED (desc->progress asked to stop). error->file names the file
+ * (or the external part that failed); error->offset (binary FBX, glTF JSON) and error->line
+ * (COLLADA, ASCII FBX) say where, when the reader knows.
  * Import warnings (dropped dummy meshes, missing textures, renormalised weights) are kept in
  * model->warnings.
  */
@@ -84,7 +86,7 @@ sinew_result sinew_import_session_create(const sinew_import_desc *desc, sinew_im
 sinew_result sinew_import_session_load(sinew_import_session *session, const char *path, sinew_model **out,
                                        sinew_error *error);
 /* Ends the helper (it exits when its requests end) and frees the session. */
-void sinew_import_session_destroy(sinew_import_session *session);
+void sinew_import_session_free(sinew_import_session *session);
 /* The process id of the session's helper, 0 when none runs (for monitoring and tests). */
 int sinew_import_session_helper_pid(const sinew_import_session *session);
 

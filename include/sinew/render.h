@@ -138,7 +138,7 @@ typedef struct sinew_renderer_desc {
 
 /* Needs a current OpenGL >= 3.3 core context. */
 sinew_result sinew_renderer_create(const sinew_renderer_desc *desc, sinew_renderer **out, sinew_error *error);
-void sinew_renderer_destroy(sinew_renderer *renderer);
+void sinew_renderer_free(sinew_renderer *renderer);
 
 /* Image-based lighting for physically based shading (and the hdri-background option): an
  * equirectangular environment image (a Radiance .hdr, or any image stb_image reads, taken as

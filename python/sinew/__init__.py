@@ -33,7 +33,8 @@ __all__ = [
     "load", "demo", "synthetic", "retarget", "render", "version", "Importer",
     "Model", "Clip", "Joints", "Mesh", "Sample",
     "Error", "ArgumentError", "FileError", "FormatError", "ImporterError", "DataError",
-    "LimitError", "OutOfMemoryError", "GraphicsError", "CancelledError",
+    "LimitError", "TimeLimitError", "MemoryLimitError", "OutOfMemoryError", "GraphicsError", "CancelledError",
+    "UnsupportedError", "InternalError",
 ]
 
 
@@ -41,15 +42,20 @@ __all__ = [
 
 class Error(Exception):
     """A failure libsinew reported: `kind` is the library's error kind ("io", "format",
-    "importer", "data", "limit", "out_of_memory", "graphics", "cancelled",
-    "invalid_argument"), `file` the file concerned (or None), `message` its text."""
+    "importer", "data", "limit", "limit_time", "limit_memory", "out_of_memory", "graphics",
+    "cancelled", "unsupported", "internal", "invalid_argument"), `file` the file concerned (or
+    None), `offset` the byte offset and `line` the line in it where the reader found the problem
+    (None when not known), `message` its text."""
 
     kind = "error"
 
-    def __init__(self, message: str, file: Optional[str] = None):
+    def __init__(self, message: str, file: Optional[str] = None, offset: Optional[int] = None,
+                 line: Optional[int] = None):
         super().__init__(message)
         self.message = message
         self.file = file
+        self.offset = offset
+        self.line = line
 
 
 class ArgumentError(Error, ValueError):
@@ -82,6 +88,26 @@ class LimitError(Error):
     kind = "limit"
 
 
+class TimeLimitError(LimitError):
+    """The import took longer than its deadline (timeout=) and was stopped."""
+    kind = "limit_time"
+
+
+class MemoryLimitError(LimitError):
+    """The import needed more than its memory limit (memory=) and was stopped."""
+    kind = "limit_memory"
+
+
+class UnsupportedError(Error):
+    """Valid, but something sinew does not do (a format only Assimp reads, given as bytes)."""
+    kind = "unsupported"
+
+
+class InternalError(Error):
+    """A bug in sinew: please report it with the file."""
+    kind = "internal"
+
+
 class OutOfMemoryError(Error, MemoryError):
     kind = "out_of_memory"
 
@@ -105,6 +131,10 @@ _KINDS = {
     lib.SINEW_ERROR_OUT_OF_MEMORY: OutOfMemoryError,
     lib.SINEW_ERROR_GRAPHICS: GraphicsError,
     lib.SINEW_ERROR_CANCELLED: CancelledError,
+    lib.SINEW_ERROR_UNSUPPORTED: UnsupportedError,
+    lib.SINEW_ERROR_LIMIT_TIME: TimeLimitError,
+    lib.SINEW_ERROR_LIMIT_MEMORY: MemoryLimitError,
+    lib.SINEW_ERROR_INTERNAL: InternalError,
 }
 
 
@@ -114,7 +144,8 @@ def _check(result, error, file=None):
     cls = _KINDS.get(result, Error)
     message = ffi.string(error.message).decode("utf-8", "replace") or ffi.string(
         lib.sinew_result_string(result)).decode()
-    raise cls(message, file)
+    said = ffi.string(error.file).decode("utf-8", "replace")
+    raise cls(message, file or said or None, error.offset if error.offset >= 0 else None, error.line or None)
 
 
 def version() -> str:
@@ -440,7 +471,7 @@ class Importer:
         error = ffi.new("sinew_error *")
         _check(lib.sinew_import_session_create(desc, out, error), error)
         self._raw = out[0]
-        self._session = ffi.gc(out[0], lib.sinew_import_session_destroy)
+        self._session = ffi.gc(out[0], lib.sinew_import_session_free)
 
     def load(self, path: Union[str, os.PathLike]) -> "Model":
         """Imports one file, as sinew.load() does."""
@@ -462,7 +493,7 @@ class Importer:
         if self._session is not None:
             ffi.gc(self._session, None)  # no second destroy when it is collected
             self._session = None
-            lib.sinew_import_session_destroy(self._raw)
+            lib.sinew_import_session_free(self._raw)
             self._raw = None
 
     def __enter__(self):

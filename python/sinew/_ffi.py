@@ -13,9 +13,12 @@ import cffi
 CDEF = r"""
 typedef enum sinew_result {
     SINEW_OK = 0, SINEW_ERROR_INVALID_ARGUMENT, SINEW_ERROR_IO, SINEW_ERROR_FORMAT, SINEW_ERROR_IMPORTER,
-    SINEW_ERROR_DATA, SINEW_ERROR_LIMIT, SINEW_ERROR_OUT_OF_MEMORY, SINEW_ERROR_GRAPHICS, SINEW_ERROR_CANCELLED
+    SINEW_ERROR_DATA, SINEW_ERROR_LIMIT, SINEW_ERROR_OUT_OF_MEMORY, SINEW_ERROR_GRAPHICS, SINEW_ERROR_CANCELLED,
+    SINEW_ERROR_UNSUPPORTED, SINEW_ERROR_LIMIT_TIME, SINEW_ERROR_LIMIT_MEMORY, SINEW_ERROR_INTERNAL
 } sinew_result;
-typedef struct sinew_error { sinew_result kind; char message[512]; } sinew_error;
+typedef struct sinew_error {
+    sinew_result kind; char message[512]; char file[256]; int64_t offset; uint32_t line;
+} sinew_error;
 const char *sinew_result_string(sinew_result result);
 const char *sinew_version(void);
 
@@ -69,7 +72,7 @@ sinew_result sinew_import(const sinew_import_desc *desc, sinew_model **out, sine
 typedef struct sinew_import_session sinew_import_session;
 sinew_result sinew_import_session_create(const sinew_import_desc *desc, sinew_import_session **out, sinew_error *error);
 sinew_result sinew_import_session_load(sinew_import_session *session, const char *path, sinew_model **out, sinew_error *error);
-void sinew_import_session_destroy(sinew_import_session *session);
+void sinew_import_session_free(sinew_import_session *session);
 int sinew_import_session_helper_pid(const sinew_import_session *session);
 sinew_result sinew_model_save(const sinew_model *model, const void *muscles, const char *path, sinew_error *error);
 typedef struct sinew_synthetic_desc {

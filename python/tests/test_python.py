@@ -225,9 +225,10 @@ def test_hanging_file_stops_at_the_deadline(testdata, tmp_path):
     from test_batch import hanging_file
     path = hanging_file(testdata, tmp_path)
     started = time.monotonic()
-    with pytest.raises(sinew.LimitError) as e:
+    with pytest.raises(sinew.TimeLimitError) as e:
         sinew.load(path, timeout=1.5, memory=4 << 30)  # room enough that the deadline stops it
     assert time.monotonic() - started < 20 and "deadline" in str(e.value)
+    assert isinstance(e.value, sinew.LimitError) and e.value.kind == "limit_time" and e.value.file == path
 
 
 def test_bad_arguments(testdata):

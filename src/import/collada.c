@@ -125,13 +125,15 @@ static sinew_result vfail(collada *c, const xmlNode *at, sinew_result kind, cons
 {
     char what[512], where[256] = "";
     vsnprintf(what, sizeof what, format, ap);
+    long line = 0;
     if (at && at->type == XML_ELEMENT_NODE) {
         xmlChar *id = xmlGetProp(at, (const xmlChar *)"id");
-        snprintf(where, sizeof where, "line %ld, <%s%s%s%s>: ", xmlGetLineNo(at), (const char *)at->name,
-                 id ? " id=\"" : "", id ? (const char *)id : "", id ? "\"" : "");
+        line = xmlGetLineNo(at);
+        snprintf(where, sizeof where, "line %ld, <%s%s%s%s>: ", line, (const char *)at->name, id ? " id=\"" : "",
+                 id ? (const char *)id : "", id ? "\"" : "");
         xmlFree(id);
     }
-    return sinew_fail(c->error, kind, "%s: %s%s", c->path, where, what);
+    return sinew_fail_at(c->error, kind, c->path, -1, line > 0 ? (uint32_t)line : 0, "%s: %s%s", c->path, where, what);
 }
 
 /* A file that breaks COLLADA's rules: "FILE: line N, <element id>: what". */
@@ -2587,14 +2589,11 @@ sinew_result raw_model_from_collada(const char *path, const unsigned char *bytes
     if (!r && size > INT32_MAX)
         r = fail(&c, NULL, "larger than 2 GB");
     if (!r) {
-        c.doc = import_xml_parse(path, bytes, size);
-        if (!c.doc) {
-            const xmlError *e = xmlGetLastError();
-            r = sinew_fail(error, SINEW_ERROR_FORMAT, "%s: not well-formed XML (line %d: %s)", path, e ? e->line : 0,
-                           e && e->message ? e->message : "no reason given");
-            if (r && strchr(error->message, '\n'))
-                *strchr(error->message, '\n') = 0;
-        }
+        import_xml_error first;
+        c.doc = import_xml_parse(path, bytes, size, &first);
+        if (!c.doc)
+            r = sinew_fail_at(error, SINEW_ERROR_FORMAT, path, -1, (uint32_t)first.line,
+                              "%s: not well-formed XML (line %d: %s)", path, first.line, first.message);
     }
     if (!r) {
         c.root = xmlDocGetRootElement(c.doc);

@@ -163,7 +163,7 @@ void collada_split_clips(const char *path, raw_model *m)
     size_t size = 0;
     if (!import_read_file(path, &bytes, &size))
         return;
-    xmlDocPtr doc = size <= INT32_MAX ? import_xml_parse(path, bytes, size) : NULL;
+    xmlDocPtr doc = size <= INT32_MAX ? import_xml_parse(path, bytes, size, NULL) : NULL;
     free(bytes);
     if (!doc)
         return;

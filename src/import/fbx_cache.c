@@ -227,7 +227,7 @@ static xmlNode *element(xmlNode *parent, const char *name)
 static sinew_result read_description(reader *r, const unsigned char *bytes, size_t size, const char *wanted,
                                      description *d)
 {
-    xmlDoc *doc = import_xml_parse(r->path, bytes, size);
+    xmlDoc *doc = import_xml_parse(r->path, bytes, size, NULL);
     if (!doc)
         return fail(r, SINEW_ERROR_FORMAT, "is not well-formed XML");
     xmlNode *root = xmlDocGetRootElement(doc);

@@ -126,7 +126,8 @@ static fbx_node *push_child(parser *ps, fbx_node *parent, uint32_t *capacity, si
 
 static sinew_result bad(parser *ps, size_t at, const char *what)
 {
-    return sinew_fail(ps->error, SINEW_ERROR_FORMAT, "%s: byte %zu: %s", ps->path, at, what);
+    return sinew_fail_at(ps->error, SINEW_ERROR_FORMAT, ps->path, (int64_t)at, 0, "%s: byte %zu: %s", ps->path, at,
+                         what);
 }
 
 static uint64_t read_le(const unsigned char *p, int bytes)
@@ -299,9 +300,10 @@ static sinew_result read_record(parser *ps, size_t limit, fbx_node *out, bool *n
         return SINEW_OK;
     }
     if (end > ps->size && end < at + (1u << 30))
-        return sinew_fail(ps->error, SINEW_ERROR_FORMAT,
-                          "%s: the file ends at byte %zu inside a record that runs to byte %llu (it seems cut short)",
-                          ps->path, ps->size, (unsigned long long)end);
+        return sinew_fail_at(
+            ps->error, SINEW_ERROR_FORMAT, ps->path, (int64_t)at, 0,
+            "%s: the file ends at byte %zu inside a record that runs to byte %llu (it seems cut short)", ps->path,
+            ps->size, (unsigned long long)end);
     if (end > limit || end < at + header + name_len || value_bytes > end - (at + header + name_len))
         return bad(ps, at, "record's end lies outside its parent");
     if (value_count > value_bytes)
@@ -362,10 +364,10 @@ static sinew_result parse_binary(parser *ps, fbx_doc *doc)
         return bad(ps, ps->pos, "the file ends before its first record");
     /* Every writer ends the top level with a null record: without one the file was cut short
      * between two records. */
-    return sinew_fail(ps->error, SINEW_ERROR_FORMAT,
-                      "%s: the file ends at byte %zu, between two records, before the end of its top level "
-                      "(it seems cut short)",
-                      ps->path, ps->size);
+    return sinew_fail_at(ps->error, SINEW_ERROR_FORMAT, ps->path, (int64_t)ps->size, 0,
+                         "%s: the file ends at byte %zu, between two records, before the end of its top level "
+                         "(it seems cut short)",
+                         ps->path, ps->size);
 }
 
 /* ---- ASCII ------------------------------------------------------------------------- */
@@ -374,7 +376,8 @@ enum { T_END, T_KEY, T_STRING, T_NUMBER, T_WORD, T_OPEN, T_CLOSE, T_COMMA, T_STA
 
 static sinew_result bad_line(parser *ps, const char *what)
 {
-    return sinew_fail(ps->error, SINEW_ERROR_FORMAT, "%s: line %zu: %s", ps->path, ps->line, what);
+    return sinew_fail_at(ps->error, SINEW_ERROR_FORMAT, ps->path, -1, (uint32_t)ps->line, "%s: line %zu: %s", ps->path,
+                         ps->line, what);
 }
 
 static bool word_char(unsigned char c)

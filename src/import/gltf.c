@@ -89,7 +89,7 @@ static sinew_result fail_at(gltf *g, const char *format, ...)
     va_start(ap, format);
     vsnprintf(what, sizeof what, format, ap);
     va_end(ap);
-    return sinew_fail(g->error, SINEW_ERROR_FORMAT, "%s: %s", g->path, what);
+    return sinew_fail_at(g->error, SINEW_ERROR_FORMAT, g->path, -1, 0, "%s: %s", g->path, what);
 }
 
 static sinew_result oom(gltf *g)
@@ -264,7 +264,10 @@ static sinew_result load_document(gltf *g)
     if (!g->json) {
         const char *at = cJSON_GetErrorPtr();
         size_t offset = at && at >= text && at <= text + text_size ? (size_t)(at - text) : 0;
-        return fail_at(g, "not valid JSON (at byte %zu of the JSON text)", offset);
+        fail_at(g, "not valid JSON (at byte %zu of the JSON text)", offset);
+        if (g->error) /* where in the file: the JSON text starts after a .glb's header */
+            g->error->offset = (int64_t)(offset + (size_t)(text - (const char *)g->file));
+        return SINEW_ERROR_FORMAT;
     }
     if (!cJSON_IsObject(g->json))
         return fail_at(g, "the JSON document is not an object");

@@ -202,17 +202,40 @@ static void quiet(void *context, const char *format, ...)
     (void)format;
 }
 
-struct _xmlDoc *import_xml_parse(const char *path, const unsigned char *bytes, size_t size)
+/* The first error of a parse (libxml2's last one is often a consequence: "premature end"). */
+static void first_error(void *context, const xmlError *e)
 {
-    /* libxml2 reports encoding errors through its generic handler, which prints to stderr
-     * whatever the parse options say; the library never prints, so it is quieted for the
-     * parse (the error itself comes back from xmlGetLastError) */
+    import_xml_error *first = context;
+    if (first->line || !e || e->level < XML_ERR_ERROR)
+        return;
+    first->line = e->line > 0 ? e->line : 1;
+    snprintf(first->message, sizeof first->message, "%s", e->message ? e->message : "no reason given");
+    char *nl = strchr(first->message, '\n');
+    if (nl)
+        *nl = '\0';
+}
+
+struct _xmlDoc *import_xml_parse(const char *path, const unsigned char *bytes, size_t size, import_xml_error *first)
+{
+    /* libxml2 reports errors through its generic and structured handlers, which print to stderr
+     * whatever the parse options say; the library never prints, so both are taken for the parse:
+     * the first error is kept for the caller's message */
+    import_xml_error ignored = {0};
+    if (!first)
+        first = &ignored;
+    memset(first, 0, sizeof *first);
     xmlGenericErrorFunc printer = xmlGenericError;
     void *printer_context = xmlGenericErrorContext;
+    xmlStructuredErrorFunc structured = xmlStructuredError;
+    void *structured_context = xmlStructuredErrorContext;
     xmlSetGenericErrorFunc(NULL, quiet);
+    xmlSetStructuredErrorFunc(first, (xmlStructuredErrorFunc)first_error);
     xmlDoc *doc = xmlReadMemory((const char *)bytes, (int)size, path, NULL,
                                 XML_PARSE_NONET | XML_PARSE_NOWARNING | XML_PARSE_NOERROR | XML_PARSE_HUGE);
     xmlSetGenericErrorFunc(printer_context, printer);
+    xmlSetStructuredErrorFunc(structured_context, structured);
+    if (!doc && !first->line)
+        snprintf(first->message, sizeof first->message, "no reason given");
     return doc;
 }
 
@@ -300,8 +323,24 @@ sinew_result sinew_import_blob(const char *path, void **bytes, size_t *size, sin
     return sinew_import_blob_desc(&(sinew_import_desc){.path = path}, bytes, size, error);
 }
 
+/* An import's error names its file when the reader did not name another (an external part). */
+static sinew_result named(sinew_result result, const char *path, sinew_error *error)
+{
+    if (result != SINEW_OK && error && !error->file[0] && path)
+        snprintf(error->file, sizeof error->file, "%s", path);
+    return result;
+}
+
+static sinew_result session_load(sinew_import_session *session, const char *path, sinew_model **out,
+                                 sinew_error *error);
+
 sinew_result sinew_import_session_load(sinew_import_session *session, const char *path, sinew_model **out,
                                        sinew_error *error)
+{
+    return named(session_load(session, path, out, error), path, error);
+}
+
+static sinew_result session_load(sinew_import_session *session, const char *path, sinew_model **out, sinew_error *error)
 {
     if (!session || !path || !out)
         return sinew_fail(error, SINEW_ERROR_INVALID_ARGUMENT,
@@ -323,10 +362,17 @@ sinew_result sinew_import_session_load(sinew_import_session *session, const char
     return import_in_session(session, path, out, error);
 }
 
+static sinew_result import_file(const sinew_import_desc *desc, sinew_model **out, sinew_error *error);
+
 sinew_result sinew_import(const sinew_import_desc *desc, sinew_model **out, sinew_error *error)
 {
     if (!desc || !desc->path || !out)
         return sinew_fail(error, SINEW_ERROR_INVALID_ARGUMENT, "sinew_import: NULL path or output");
+    return named(import_file(desc, out, error), desc->path, error);
+}
+
+static sinew_result import_file(const sinew_import_desc *desc, sinew_model **out, sinew_error *error)
+{
     *out = NULL;
     sinew_result result = check_path(desc->path, error);
     if (result)

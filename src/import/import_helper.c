@@ -66,9 +66,13 @@ static bool reply_to(const sinew_import_desc *desc, int reply_fd)
     sinew_result result = sinew_import_blob_desc(desc, &bytes, &size, &error);
     reply_header reply = {.magic = REPLY_MAGIC, .kind = result};
     const void *payload = bytes;
-    if (result) {
-        payload = error.message;
-        size = strlen(error.message) + 1;
+    unsigned char said[sizeof error.message + REPLY_ERROR_TRAILER];
+    if (result) { /* the message, its NUL, then where: offset (8 bytes) and line (4), little-endian */
+        size_t n = strlen(error.message) + 1;
+        memcpy(said, error.message, n);
+        import_reply_put_where(said + n, error.offset, error.line);
+        payload = said;
+        size = n + REPLY_ERROR_TRAILER;
     }
     reply.size = size;
     bool ok = write_all(reply_fd, &reply, sizeof reply) && write_all(reply_fd, payload, size);

@@ -262,6 +262,9 @@ typedef struct reply_header {
     uint64_t size; /* bytes that follow */
 } reply_header;
 #define REPLY_MAGIC 0x53524550u /* "PERS" */
+/* An error reply's payload: the message, its NUL, then offset (int64) and line (uint32), little-endian. */
+#define REPLY_ERROR_TRAILER 12u
+void import_reply_put_where(unsigned char *out, int64_t offset, uint32_t line);
 
 /* isolate.c: runs the import in the helper program under the desc's deadline and memory
  * limit; decodes a whole reply (a model, or the helper's error). */
@@ -277,7 +280,11 @@ const char *import_reader_name(const char *path, bool assimp);
 /* An XML document of `size` (<= INT32_MAX) bytes, parsed with no network, huge text nodes
  * allowed and nothing printed (libxml2's own error handlers quieted for the parse); NULL
  * when it is not well-formed (xmlGetLastError says why). Free with xmlFreeDoc. */
-struct _xmlDoc *import_xml_parse(const char *path, const unsigned char *bytes, size_t size);
+typedef struct import_xml_error {
+    int line; /* 0: none */
+    char message[256];
+} import_xml_error;
+struct _xmlDoc *import_xml_parse(const char *path, const unsigned char *bytes, size_t size, import_xml_error *first);
 
 /* A relative URI with its %XX escapes decoded, into `out` (cut to `size`). */
 void import_uri_decode(const char *uri, char *out, size_t size);

@@ -461,7 +461,7 @@ static sinew_result memory_failure(const helper_run *run, const char *said, sine
     char limit[32], seen[32];
     format_bytes(run->memory_limit, limit, sizeof limit);
     format_bytes(run->peak_rss > run->peak_vm ? run->peak_rss : run->peak_vm, seen, sizeof seen);
-    return sinew_fail(error, SINEW_ERROR_LIMIT,
+    return sinew_fail(error, SINEW_ERROR_LIMIT_MEMORY,
                       "%s: the import needed more than its %s memory limit and was stopped (%s in use when last "
                       "measured; %s; sinew_import_desc.memory_limit sets another)%s%s",
                       run->path, limit, seen,
@@ -480,7 +480,7 @@ static sinew_result helper_failed(helper_run *run, const sinew_import_desc *desc
     if (run->cancelled)
         return sinew_fail(error, SINEW_ERROR_CANCELLED, "%s: the import was cancelled", run->path);
     if (run->killed_for_time)
-        return sinew_fail(error, SINEW_ERROR_LIMIT,
+        return sinew_fail(error, SINEW_ERROR_LIMIT_TIME,
                           "%s: the import took longer than its %.3g s deadline and was stopped (the file may make "
                           "the reader loop; sinew_import_desc.timeout sets the deadline)",
                           run->path, timeout_of(desc));
@@ -522,9 +522,31 @@ sinew_result import_reply_decode(const unsigned char *bytes, size_t size, const 
     const unsigned char *payload = bytes + sizeof reply;
     if (reply.kind == SINEW_OK)
         return sinew_model_from_blob(payload, (size_t)reply.size, path, allocator, out, error);
-    if (reply.kind > SINEW_ERROR_CANCELLED || reply.size == 0 || payload[reply.size - 1] != '\0')
+    const unsigned char *nul = reply.size ? memchr(payload, 0, (size_t)reply.size) : NULL;
+    size_t text = nul ? (size_t)(nul - payload) + 1 : 0;
+    if (reply.kind > SINEW_RESULT_LAST || !nul || (text != reply.size && text + REPLY_ERROR_TRAILER != reply.size))
         return sinew_fail(error, SINEW_ERROR_IMPORTER, "%s: the import helper's error reply is malformed", path);
-    return sinew_fail(error, (sinew_result)reply.kind, "%s", (const char *)payload);
+    int64_t offset = -1;
+    uint32_t line = 0;
+    if (text != reply.size) {
+        uint64_t o = 0;
+        for (int i = 7; i >= 0; i--)
+            o = o << 8 | payload[text + (size_t)i];
+        for (int i = 3; i >= 0; i--)
+            line = line << 8 | payload[text + 8 + (size_t)i];
+        offset = (int64_t)o;
+    }
+    return sinew_fail_at(error, (sinew_result)reply.kind, path, offset < -1 ? -1 : offset, line, "%s",
+                         (const char *)payload);
+}
+
+void import_reply_put_where(unsigned char *out, int64_t offset, uint32_t line)
+{
+    uint64_t o = (uint64_t)offset;
+    for (int i = 0; i < 8; i++)
+        out[i] = (unsigned char)(o >> (8 * i));
+    for (int i = 0; i < 4; i++)
+        out[8 + i] = (unsigned char)(line >> (8 * i));
 }
 
 /* A reader in the helper that gave up for want of memory (Assimp's std::bad_alloc), or came
@@ -536,7 +558,8 @@ static sinew_result starved_is_limit(const helper_run *run, sinew_result result,
         memcpy(&reply, run->reply, sizeof reply);
     bool starved = reply.kind == SINEW_ERROR_OUT_OF_MEMORY ||
                    (reply.kind != SINEW_OK && error && strstr(error->message, "bad_alloc"));
-    if (result != SINEW_OK && result != SINEW_ERROR_LIMIT && !run->cancelled && (starved || near_memory_limit(run))) {
+    if (result != SINEW_OK && result != SINEW_ERROR_LIMIT_TIME && result != SINEW_ERROR_LIMIT_MEMORY &&
+        !run->cancelled && (starved || near_memory_limit(run))) {
         char said[SINEW_ERROR_MESSAGE_SIZE] = "";
         if (error)
             snprintf(said, sizeof said, "%s", error->message);
@@ -631,7 +654,7 @@ sinew_result sinew_import_session_create(const sinew_import_desc *desc, sinew_im
     return SINEW_OK;
 }
 
-void sinew_import_session_destroy(sinew_import_session *session)
+void sinew_import_session_free(sinew_import_session *session)
 {
     if (!session)
         return;

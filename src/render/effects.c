@@ -17,7 +17,7 @@
 /* The environment's level shown behind the scene (blurred, as f3d and Blender's viewport blur it). */
 #define BACKGROUND_LOD 1.5f
 
-void render_effects_destroy(render_effects *fx)
+void render_effects_free(render_effects *fx)
 {
     glDeleteTextures(1, &fx->env_texture);
     glDeleteTextures(1, &fx->brdf_texture);

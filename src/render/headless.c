@@ -181,7 +181,7 @@ sinew_result sinew_headless_create(const sinew_headless_desc *desc, sinew_headle
     else
         result = make_framebuffers(h, error);
     if (result != SINEW_OK) {
-        sinew_headless_destroy(h);
+        sinew_headless_free(h);
         return result;
     }
     snprintf(h->description, sizeof h->description, "%s / %s", (const char *)glGetString(GL_RENDERER),
@@ -191,7 +191,7 @@ sinew_result sinew_headless_create(const sinew_headless_desc *desc, sinew_headle
     return SINEW_OK;
 }
 
-void sinew_headless_destroy(sinew_headless *h)
+void sinew_headless_free(sinew_headless *h)
 {
     if (!h)
         return;

@@ -26,7 +26,7 @@ typedef struct render_programs {
 
 sinew_result render_programs_create(render_programs *programs, sinew_error *error);
 GLuint render_mesh_variant(render_programs *programs, unsigned flags, sinew_error *error);
-void render_programs_destroy(render_programs *programs);
+void render_programs_free(render_programs *programs);
 
 /* Image-based lighting (environment.c): an equirectangular environment, RENDER_ENV_WIDTH x
  * RENDER_ENV_WIDTH/2 RGB floats at level 0 (mirror), each next level half the size and the GGX
@@ -86,7 +86,7 @@ typedef struct render_effect_frame {
     int width, height;
 } render_effect_frame;
 
-void render_effects_destroy(render_effects *fx);
+void render_effects_free(render_effects *fx);
 sinew_result render_effects_set_environment(render_effects *fx, const char *path, sinew_error *error);
 /* Works out the frame's effects (the camera's matrices, the key light towards `key`, the scene's
  * centre and radius) and makes what they need: the studio environment the first time, the

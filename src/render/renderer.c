@@ -572,14 +572,14 @@ sinew_result sinew_renderer_create(const sinew_renderer_desc *desc, sinew_render
     mark_skeleton(r);
     sinew_result result = create_gl_objects(r, max_vertices, error);
     if (result != SINEW_OK) {
-        sinew_renderer_destroy(r);
+        sinew_renderer_free(r);
         return result;
     }
     *out = r;
     return SINEW_OK;
 }
 
-void sinew_renderer_destroy(sinew_renderer *r)
+void sinew_renderer_free(sinew_renderer *r)
 {
     if (!r)
         return;
@@ -614,8 +614,8 @@ void sinew_renderer_destroy(sinew_renderer *r)
     glDeleteBuffers(1, &r->muscle_indices);
     glDeleteBuffers(1, &r->overlay_buffer);
     glDeleteBuffers(1, &r->quad_indices);
-    render_effects_destroy(&r->fx);
-    render_programs_destroy(&r->programs);
+    render_effects_free(&r->fx);
+    render_programs_free(&r->programs);
     r->allocator.free(r, r->allocator.user);
 }
 

@@ -661,7 +661,7 @@ sinew_result render_programs_create(render_programs *programs, sinew_error *erro
         !(programs->outline = link_parts(fullscreen_vs, 1, NULL, outline_fs, 1, "outline", error)) ||
         !(programs->fxaa = link_parts(fullscreen_vs, 1, NULL, fxaa_fs, 1, "fxaa", error)) ||
         !(programs->depth = link_parts(mesh_vs, 3, NULL, depth_fs, 2, "depth", error))) {
-        render_programs_destroy(programs);
+        render_programs_free(programs);
         return error ? error->kind : SINEW_ERROR_GRAPHICS;
     }
     return SINEW_OK;
@@ -683,7 +683,7 @@ GLuint render_mesh_variant(render_programs *programs, unsigned flags, sinew_erro
     return programs->mesh_variant[flags];
 }
 
-void render_programs_destroy(render_programs *programs)
+void render_programs_free(render_programs *programs)
 {
     for (int i = 0; i < RENDER_MESH_VARIANTS; i++)
         glDeleteProgram(programs->mesh_variant[i]);

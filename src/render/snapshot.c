@@ -18,8 +18,8 @@ typedef struct snapshot {
 
 static void snapshot_free(snapshot *s)
 {
-    sinew_renderer_destroy(s->renderer);
-    sinew_headless_destroy(s->headless);
+    sinew_renderer_free(s->renderer);
+    sinew_headless_free(s->headless);
     free(s->worlds);
     free(s->weights);
 }

@@ -19,6 +19,54 @@ static void expect_error(const char *path, sinew_result kind, const char *needle
     assert_null(m);
     if (!strstr(error.message, path) || !strstr(error.message, needle))
         fail_msg("message \"%s\" should name %s and say \"%s\"", error.message, path, needle);
+    assert_string_equal(error.file, path); /* the error names its file as a field too */
+}
+
+/* Where in the file: a binary FBX cut short gives the byte offset, a COLLADA element the line,
+ * broken glTF JSON the offset of the error; through the helper (the default) and in process. */
+static void test_where_in_the_file(void **state)
+{
+    (void)state;
+    char fbx[1024], dae[1024], gltf[1024];
+    static const char dae_text[] = "<?xml version=\"1.0\"?>\n<COLLADA xmlns=\"http://www.collada.org/2005/11/"
+                                   "COLLADASchema\" version=\"1.4.1\">\n<asset><up_axis>Y_UP</asset>\n"
+                                   "</COLLADA>\n";
+    static const char gltf_text[] = "{\"asset\": {\"version\": \"2.0\"},\n \"nodes\": [ {\"name\": } ]}";
+    write_file(tmp_path("where.dae", dae, sizeof dae), dae_text, sizeof dae_text - 1);
+    write_file(tmp_path("where.gltf", gltf, sizeof gltf), gltf_text, sizeof gltf_text - 1);
+    /* a binary FBX header and a node record that runs past the end */
+    unsigned char bin[64] = "Kaydara FBX Binary  \0\x1a\0";
+    bin[23] = 0xE8, bin[24] = 0x1C; /* version 7400 */
+    bin[27] = 0xFF, bin[28] = 0xFF; /* the first node ends at 65535 */
+    write_file(tmp_path("where.fbx", fbx, sizeof fbx), bin, sizeof bin);
+    for (int in_process = 0; in_process < 2; in_process++) {
+        sinew_error error = {0};
+        sinew_model *m = NULL;
+        assert_int_equal(sinew_import(&(sinew_import_desc){.path = dae, .in_process = in_process}, &m, &error),
+                         SINEW_ERROR_FORMAT);
+        print_message("%s: line %u, offset %lld\n", error.message, error.line, (long long)error.offset);
+        assert_string_equal(error.file, dae);
+        assert_int_equal(error.line, 3);
+        assert_int_equal(sinew_import(&(sinew_import_desc){.path = gltf, .in_process = in_process}, &m, &error),
+                         SINEW_ERROR_FORMAT);
+        print_message("%s: offset %lld\n", error.message, (long long)error.offset);
+        assert_int_equal(error.offset, (int64_t)(strstr(gltf_text, "} ]") - gltf_text));
+        assert_int_equal(sinew_import(&(sinew_import_desc){.path = fbx, .in_process = in_process}, &m, &error),
+                         SINEW_ERROR_FORMAT);
+        print_message("%s: offset %lld\n", error.message, (long long)error.offset);
+        assert_true(error.offset >= 27 && error.offset < 64);
+        assert_string_equal(error.file, fbx);
+    }
+    /* a missing file: the file, no offset or line */
+    sinew_error error = {0};
+    sinew_model *m = NULL;
+    char missing[1024];
+    tmp_path("where-not.glb", missing, sizeof missing);
+    assert_int_equal(sinew_import(&(sinew_import_desc){.path = missing}, &m, &error), SINEW_ERROR_IO);
+    assert_string_equal(error.file, missing);
+    assert_true(error.offset == -1 && error.line == 0);
+    assert_string_equal(sinew_result_name(SINEW_ERROR_LIMIT_MEMORY), "limit_memory");
+    assert_string_equal(sinew_result_name(SINEW_RESULT_LAST), "internal");
 }
 
 static void test_missing_directory_empty(void **state)
@@ -317,6 +365,7 @@ int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_missing_directory_empty),
+        cmocka_unit_test(test_where_in_the_file),
         cmocka_unit_test(test_unknown_format_and_garbage),
         cmocka_unit_test(test_every_prefix_of_collada),
         cmocka_unit_test(test_every_prefix_of_gltf),

@@ -77,7 +77,7 @@ static void test_hang_stops_at_the_deadline(void **state)
     sinew_result r = import_with(
         &(sinew_import_desc){.path = path, .assimp = true, .timeout = 1.5, .memory_limit = (uint64_t)4 << 30}, &error);
     double took = now() - start;
-    expect(r, SINEW_ERROR_LIMIT, &error, path, "1.5 s deadline");
+    expect(r, SINEW_ERROR_LIMIT_TIME, &error, path, "1.5 s deadline");
     if (took > 10.0)
         fail_msg("stopped after %.1f s (deadline 1.5 s)", took);
     assert_no_children();
@@ -145,7 +145,7 @@ static void test_memory_limit(void **state)
     sinew_import_desc desc = {.path = path, .assimp = true, .timeout = 60, .memory_limit = (uint64_t)256 << 20};
     double start = now();
     sinew_result r = import_with(&desc, &error);
-    expect(r, SINEW_ERROR_LIMIT, &error, path, "256 MiB memory limit");
+    expect(r, SINEW_ERROR_LIMIT_MEMORY, &error, path, "256 MiB memory limit");
     if (now() - start > 30.0)
         fail_msg("stopped after %.1f s", now() - start);
     assert_no_children();
@@ -154,7 +154,7 @@ static void test_memory_limit(void **state)
     desc.memory_limit = 0;
     start = now();
     r = import_with(&desc, &error);
-    expect(r, SINEW_ERROR_LIMIT, &error, path, "the default for a file of its size");
+    expect(r, SINEW_ERROR_LIMIT_MEMORY, &error, path, "the default for a file of its size");
     printf("default limit: stopped after %.1f s: %s\n", now() - start, error.message);
     if (now() - start > 30.0)
         fail_msg("stopped after %.1f s", now() - start);
@@ -325,7 +325,7 @@ static void test_session_many_files_one_helper(void **state)
     sinew_model *m = (sinew_model *)1;
     assert_int_equal(sinew_import_session_load(session, "/nonexistent/x.fbx", &m, &error), SINEW_ERROR_IO);
     assert_null(m);
-    sinew_import_session_destroy(session);
+    sinew_import_session_free(session);
     assert_no_children();
 }
 
@@ -345,7 +345,7 @@ static void test_session_deadline_and_kill(void **state)
     int pid = sinew_import_session_helper_pid(session);
     kill(pid, SIGSTOP);
     double t = now();
-    expect(sinew_import_session_load(session, b, &m, &error), SINEW_ERROR_LIMIT, &error, b, "deadline");
+    expect(sinew_import_session_load(session, b, &m, &error), SINEW_ERROR_LIMIT_TIME, &error, b, "deadline");
     assert_true(now() - t < 10.0);
     assert_int_equal(sinew_import_session_helper_pid(session), 0);
     assert_int_equal(sinew_import_session_load(session, b, &m, &error), SINEW_OK);
@@ -357,7 +357,7 @@ static void test_session_deadline_and_kill(void **state)
     assert_int_equal(sinew_import_session_load(session, a, &m, &error), SINEW_OK);
     sinew_model_free(m);
     assert_true(sinew_import_session_helper_pid(session) != second);
-    sinew_import_session_destroy(session);
+    sinew_import_session_free(session);
     assert_no_children();
     assert_int_equal(sinew_import_session_load(NULL, a, &m, &error), SINEW_ERROR_INVALID_ARGUMENT);
 }

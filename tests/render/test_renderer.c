@@ -45,9 +45,9 @@ static int teardown(void **state)
     if (!f)
         return 0;
     free(f->worlds);
-    sinew_renderer_destroy(f->renderer);
+    sinew_renderer_free(f->renderer);
     sinew_model_free(f->model);
-    sinew_headless_destroy(f->headless);
+    sinew_headless_free(f->headless);
     return 0;
 }
 
@@ -167,7 +167,7 @@ static void draw_pbr(sinew_headless *headless, const sinew_model *model, const f
     assert_int_equal(sinew_renderer_draw(renderer, &frame, &error), SINEW_OK);
     assert_int_equal(sinew_headless_read(headless, pixels, &error), SINEW_OK);
     free(worlds);
-    sinew_renderer_destroy(renderer);
+    sinew_renderer_free(renderer);
 }
 
 /* Pixels where some channel differs by more than 24 levels. */
