@@ -10,5 +10,5 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size);
 
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 {
-    return fuzz_read(raw_model_from_collada, "fuzz.dae", data, size);
+    return fuzz_read("dae", "fuzz.dae", data, size);
 }

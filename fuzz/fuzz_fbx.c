@@ -10,5 +10,5 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size);
 
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 {
-    return fuzz_read(raw_model_from_fbx, "fuzz.fbx", data, size);
+    return fuzz_read("fbx", "fuzz.fbx", data, size);
 }

@@ -9,5 +9,5 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size);
 
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 {
-    return fuzz_read(raw_model_from_iqm, "fuzz.iqm", data, size);
+    return fuzz_read("iqm", "fuzz.iqm", data, size);
 }

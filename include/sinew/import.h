@@ -69,9 +69,27 @@ typedef struct sinew_import_desc {
      * comes back. Returning false stops the helper at once: SINEW_ERROR_CANCELLED. NULL: none. */
     bool (*progress)(float fraction, void *user);
     void *progress_user;
+    /* Where files come from, as cgltf's and ufbx's file callbacks: the model (sinew_import()) and its
+     * external parts (a glTF's .bin buffers, an FBX's vertex caches, a COLLADA clip library), `path`
+     * as the reader resolved it against the model's folder. Return true with *bytes (from malloc:
+     * sinew frees it) and *size, or false: the file is missing. With a callback, sinew_import()
+     * reads in this process with sinew's own readers (FBX, glTF, COLLADA, IQM, .sinew; Assimp's
+     * formats need files: SINEW_ERROR_UNSUPPORTED). NULL: the file system. */
+    bool (*read_file)(const char *path, void **bytes, size_t *size, void *user);
+    void *read_user;
 } sinew_import_desc;
 
 sinew_result sinew_import(const sinew_import_desc *desc, sinew_model **out, sinew_error *error);
+
+/* Imports a model from bytes in memory, in this process, with sinew's own readers: an engine's
+ * asset loader, a file inside an archive, a fuzzer. `format` names it as its file extension would
+ * ("fbx", "gltf", "glb", "dae", "iqm", "sinew"), or NULL: desc->path's extension, else told from the bytes. `desc` may
+ * be NULL; desc->path names the model in messages and is the folder its external parts are found in (through
+ * desc->read_file when given; NULL path: "(memory).FORMAT", parts in the working folder); desc->allocator makes the
+ * model; desc->progress is asked once. The bytes are only read, and may go when it returns. SINEW_ERROR_UNSUPPORTED for
+ * bytes of another format (Assimp's need files), else the errors of sinew_import(). */
+sinew_result sinew_import_memory(const void *bytes, size_t size, const char *format, const sinew_import_desc *desc,
+                                 sinew_model **out, sinew_error *error);
 
 /* Many files, one helper: a session keeps its helper running between files, so that a library
  * of small files does not pay for starting a process each (about 6 ms of CPU, and on some

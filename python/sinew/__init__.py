@@ -30,7 +30,7 @@ import numpy as np
 from ._ffi import ffi, lib, library_path  # noqa: F401  (sinew.library_path: the libsinew loaded)
 
 __all__ = [
-    "load", "demo", "synthetic", "retarget", "render", "version", "Importer",
+    "load", "load_bytes", "demo", "synthetic", "retarget", "render", "version", "Importer",
     "Model", "Clip", "Joints", "Mesh", "Sample",
     "Error", "ArgumentError", "FileError", "FormatError", "ImporterError", "DataError",
     "LimitError", "TimeLimitError", "MemoryLimitError", "OutOfMemoryError", "GraphicsError", "CancelledError",
@@ -441,6 +441,22 @@ def load(path: Union[str, os.PathLike], *, timeout: Optional[float] = None, memo
     encoded = ffi.new("char[]", os.fsencode(path))
     desc.path = encoded
     _check(lib.sinew_import(desc, out, error), error, path)
+    return Model(out[0])
+
+
+def load_bytes(data: bytes, format: Optional[str] = None, *, name: Optional[str] = None) -> Model:
+    """Imports a model from bytes in memory (an archive member, a download), in this process, with
+    sinew's own readers: format "fbx", "gltf", "glb", "dae", "iqm" or "sinew", or None: from
+    `name`'s extension, else told from the bytes. `name` names the model in errors and is the
+    folder a .gltf's .bin files are looked for in. Assimp's formats need a file (load())."""
+    error = ffi.new("sinew_error *")
+    out = ffi.new("sinew_model **")
+    desc = ffi.new("sinew_import_desc *")
+    encoded = ffi.new("char[]", os.fsencode(name)) if name else ffi.NULL
+    desc.path = encoded
+    fmt = ffi.new("char[]", format.encode()) if format else ffi.NULL
+    buf = ffi.from_buffer(data)
+    _check(lib.sinew_import_memory(buf, len(buf), fmt, desc, out, error), error, name)
     return Model(out[0])
 
 

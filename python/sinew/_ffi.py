@@ -67,8 +67,11 @@ typedef struct sinew_import_desc {
     const char *path; bool in_process; bool assimp; const sinew_allocator *allocator;
     const char *helper; double timeout; uint64_t memory_limit; int stderr_fd;
     bool (*progress)(float fraction, void *user); void *progress_user;
+    bool (*read_file)(const char *path, void **bytes, size_t *size, void *user); void *read_user;
 } sinew_import_desc;
 sinew_result sinew_import(const sinew_import_desc *desc, sinew_model **out, sinew_error *error);
+sinew_result sinew_import_memory(const void *bytes, size_t size, const char *format, const sinew_import_desc *desc,
+                                 sinew_model **out, sinew_error *error);
 typedef struct sinew_import_session sinew_import_session;
 sinew_result sinew_import_session_create(const sinew_import_desc *desc, sinew_import_session **out, sinew_error *error);
 sinew_result sinew_import_session_load(sinew_import_session *session, const char *path, sinew_model **out, sinew_error *error);

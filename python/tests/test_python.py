@@ -221,6 +221,22 @@ def test_truncated_file_is_an_error(testdata, tmp_path):
     assert "cut.fbx" in str(e.value)
 
 
+def test_load_bytes(testdata):
+    path = model_path(testdata, "gltf-samples/Fox.glb")
+    with open(path, "rb") as f:
+        data = f.read()
+    a, b = sinew.load(path), sinew.load_bytes(data, name=path)
+    assert a.joints.names == b.joints.names and [c.name for c in a.clips] == [c.name for c in b.clips]
+    assert np.array_equal(a.world("Walk", times=[0.3]), b.world("Walk", times=[0.3]))
+    assert sinew.load_bytes(data).joints.names == a.joints.names  # told from the bytes
+    with pytest.raises(sinew.UnsupportedError) as e:
+        sinew.load_bytes(b"HIERARCHY\nROOT Hips\n", "bvh")
+    assert e.value.kind == "unsupported" and e.value.file == "(memory).bvh"
+    with pytest.raises(sinew.FormatError) as e:
+        sinew.load_bytes(data[:100], name="cut.glb")
+    assert "cut.glb" in str(e.value) and e.value.file == "cut.glb"
+
+
 def test_hanging_file_stops_at_the_deadline(testdata, tmp_path):
     from test_batch import hanging_file
     path = hanging_file(testdata, tmp_path)

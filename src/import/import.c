@@ -58,8 +58,31 @@ static bool is_sinew_file(const char *path)
     return read_head(path, magic, sizeof magic) == sizeof magic && memcmp(magic, BLOB_MAGIC, sizeof magic) == 0;
 }
 
+/* The file callback of the import running on this thread (sinew_import_desc.read_file), if any:
+ * the readers' external parts go through it. */
+static _Thread_local const sinew_import_desc *reading_for;
+
 bool import_read_file(const char *path, unsigned char **bytes, size_t *size)
 {
+    if (reading_for && reading_for->read_file) {
+        void *got = NULL;
+        size_t n = 0;
+        if (!reading_for->read_file(path, &got, &n, reading_for->read_user)) {
+            errno = ENOENT;
+            return false;
+        }
+        /* the readers want a NUL after the bytes (text formats) */
+        unsigned char *buf = realloc(got, n + 1);
+        if (!buf) {
+            free(got);
+            errno = ENOMEM;
+            return false;
+        }
+        buf[n] = 0;
+        *bytes = buf;
+        *size = n;
+        return true;
+    }
     struct stat st;
     if (stat(path, &st) == 0 && !S_ISREG(st.st_mode)) {
         errno = EINVAL; /* a FIFO or device would block or never end */
@@ -281,6 +304,104 @@ static reader_choice choose_reader(const char *path, bool assimp)
     return (reader_choice){NULL, "Assimp", NULL};
 }
 
+/* An import's error names its file when the reader did not name another (an external part). */
+static sinew_result named(sinew_result result, const char *path, sinew_error *error)
+{
+    if (result != SINEW_OK && error && !error->file[0] && path)
+        snprintf(error->file, sizeof error->file, "%s", path);
+    return result;
+}
+
+/* A reader for bytes in memory: by the format's name (its extension without the dot), else by
+ * what the bytes look like. */
+static reader_choice choose_memory_reader(const unsigned char *bytes, size_t size, const char *format)
+{
+    static const struct {
+        const char *name;
+        file_reader read;
+        const char *reader;
+    } BY_NAME[] = {{"fbx", raw_model_from_fbx, "sinew's FBX reader"},
+                   {"gltf", raw_model_from_gltf, "sinew's glTF reader"},
+                   {"glb", raw_model_from_gltf, "sinew's glTF reader"},
+                   {"dae", raw_model_from_collada, "sinew's COLLADA reader"},
+                   {"iqm", raw_model_from_iqm, "sinew's IQM reader"}};
+    if (format) {
+        const char *f = format[0] == '.' ? format + 1 : format;
+        for (size_t i = 0; i < sizeof BY_NAME / sizeof *BY_NAME; i++)
+            if (strcasecmp(f, BY_NAME[i].name) == 0)
+                return (reader_choice){BY_NAME[i].read, BY_NAME[i].reader, NULL};
+        return (reader_choice){NULL, NULL, NULL};
+    }
+    size_t head = size < 1024 ? size : 1024;
+    if (fbx_sniff(bytes, head))
+        return (reader_choice){raw_model_from_fbx, "sinew's FBX reader", NULL};
+    if (gltf_sniff(bytes, head))
+        return (reader_choice){raw_model_from_gltf, "sinew's glTF reader", NULL};
+    if (iqm_sniff(bytes, head))
+        return (reader_choice){raw_model_from_iqm, "sinew's IQM reader", NULL};
+    if (collada_sniff(bytes, head))
+        return (reader_choice){raw_model_from_collada, "sinew's COLLADA reader", NULL};
+    return (reader_choice){NULL, NULL, NULL};
+}
+
+static sinew_result import_bytes(const unsigned char *bytes, size_t size, const char *format, const char *name,
+                                 const sinew_import_desc *desc, sinew_model **out, sinew_error *error)
+{
+    const sinew_allocator *allocator = desc ? desc->allocator : NULL;
+    bool sinew_blob = size >= 8 && memcmp(bytes, BLOB_MAGIC, 8) == 0;
+    if ((format && strcasecmp(format[0] == '.' ? format + 1 : format, "sinew") == 0) || (!format && sinew_blob))
+        return sinew_model_from_blob(bytes, size, name, allocator, out, error);
+    reader_choice choice = choose_memory_reader(bytes, size, format);
+    if (!choice.read)
+        return format
+                   ? sinew_fail(error, SINEW_ERROR_UNSUPPORTED,
+                                "%s: from memory sinew reads fbx, gltf, glb, dae, iqm and sinew, not \"%s\" (Assimp's "
+                                "formats are read from files: sinew_import())",
+                                name, format)
+                   : sinew_fail(error, SINEW_ERROR_UNSUPPORTED,
+                                "%s: not FBX, glTF, COLLADA, IQM or .sinew bytes (Assimp's formats are read from "
+                                "files: sinew_import())",
+                                name);
+    if (desc && desc->progress && !desc->progress(-1.0f, desc->progress_user))
+        return sinew_fail(error, SINEW_ERROR_CANCELLED, "%s: the import was cancelled", name);
+    const sinew_import_desc *was = reading_for;
+    reading_for = desc;
+    raw_model raw;
+    sinew_result result = choice.read(name, bytes, size, &raw, error);
+    reading_for = was;
+    void *blob = NULL;
+    size_t blob_size = 0;
+    if (result == SINEW_OK) {
+        result = raw_model_build(&raw, &blob, &blob_size, error);
+        raw_model_free(&raw);
+    }
+    if (result == SINEW_OK) {
+        result = sinew_model_from_blob(blob, blob_size, name, allocator, out, error);
+        if (result != SINEW_OK && result != SINEW_ERROR_OUT_OF_MEMORY) /* the builder wrote what it cannot read */
+            result = sinew_fail(error, SINEW_ERROR_INTERNAL, "%s: the model built from it does not read back (%s)",
+                                name, error ? error->message : "");
+    }
+    free(blob);
+    return result;
+}
+
+sinew_result sinew_import_memory(const void *bytes, size_t size, const char *format, const sinew_import_desc *desc,
+                                 sinew_model **out, sinew_error *error)
+{
+    if (!out || (!bytes && size))
+        return sinew_fail(error, SINEW_ERROR_INVALID_ARGUMENT, "sinew_import_memory: NULL bytes or output");
+    *out = NULL;
+    char fallback[64];
+    const char *name = desc && desc->path ? desc->path : fallback;
+    snprintf(fallback, sizeof fallback, "(memory).%s", format ? (format[0] == '.' ? format + 1 : format) : "model");
+    if (size == 0)
+        return named(sinew_fail(error, SINEW_ERROR_FORMAT, "%s: empty (0 bytes)", name), name, error);
+    const char *dot = !format && desc && desc->path ? strrchr(desc->path, '.') : NULL;
+    if (dot && choose_memory_reader(bytes, size, dot + 1).read) /* no format given: the name's extension */
+        format = dot + 1;
+    return named(import_bytes(bytes, size, format, name, desc, out, error), name, error);
+}
+
 const char *import_reader_name(const char *path, bool assimp)
 {
     reader_choice choice = choose_reader(path, assimp);
@@ -321,14 +442,6 @@ sinew_result sinew_import_blob_desc(const sinew_import_desc *desc, void **bytes,
 sinew_result sinew_import_blob(const char *path, void **bytes, size_t *size, sinew_error *error)
 {
     return sinew_import_blob_desc(&(sinew_import_desc){.path = path}, bytes, size, error);
-}
-
-/* An import's error names its file when the reader did not name another (an external part). */
-static sinew_result named(sinew_result result, const char *path, sinew_error *error)
-{
-    if (result != SINEW_OK && error && !error->file[0] && path)
-        snprintf(error->file, sizeof error->file, "%s", path);
-    return result;
 }
 
 static sinew_result session_load(sinew_import_session *session, const char *path, sinew_model **out,
@@ -374,6 +487,20 @@ sinew_result sinew_import(const sinew_import_desc *desc, sinew_model **out, sine
 static sinew_result import_file(const sinew_import_desc *desc, sinew_model **out, sinew_error *error)
 {
     *out = NULL;
+    if (desc->read_file) { /* the caller's files: read in this process, through its callback */
+        unsigned char *bytes = NULL;
+        size_t size = 0;
+        reading_for = desc;
+        bool read = import_read_file(desc->path, &bytes, &size);
+        reading_for = NULL;
+        if (!read)
+            return sinew_fail(error, SINEW_ERROR_IO, "%s: the read_file callback could not read it", desc->path);
+        const char *dot = strrchr(desc->path, '.');
+        bool known = dot && choose_memory_reader(bytes, size, dot + 1).read;
+        sinew_result result = import_bytes(bytes, size, known ? dot + 1 : NULL, desc->path, desc, out, error);
+        free(bytes);
+        return result;
+    }
     sinew_result result = check_path(desc->path, error);
     if (result)
         return result;
