@@ -24,7 +24,10 @@
  * caller's process instead (for debuggers).
  * What not: no rendering, no sampling; the model is immutable once built.
  * Memory: the model is one allocation through desc->allocator (malloc when NULL); free it
- * with sinew_model_free().
+ * with sinew_model_free(). While reading, every allocation of sinew's readers and builder is
+ * counted against the import's own byte limit (desc->memory_limit), and any that fails fails
+ * the import with SINEW_ERROR_OUT_OF_MEMORY: never a partial model (the tests fail each
+ * allocation in turn over the shared models, as ufbx's runner does).
  * Errors: SINEW_ERROR_IO (missing, directory, unreadable), SINEW_ERROR_FORMAT (empty,
  * unknown format, truncated), SINEW_ERROR_IMPORTER (Assimp refused; the helper crashed or was
  * killed from outside: the signal is named, and its last stderr lines quoted),
@@ -61,7 +64,11 @@ typedef struct sinew_import_desc {
     uint64_t memory_limit; /* bytes of address space it may use; 0: SINEW_IMPORT_MEMORY_BASE plus
                               SINEW_IMPORT_MEMORY_FACTOR times the file's size, at most half the
                               machine's memory (kept within 1..16 GiB; a session, whose files are
-                              not known in advance: that ceiling); UINT64_MAX: none */
+                              not known in advance: that ceiling); UINT64_MAX: none. It also bounds
+                              the bytes sinew's readers and builder hold, in the helper and in
+                              process (sinew_import_memory(), in_process, read_file), counted
+                              allocation by allocation: past it SINEW_ERROR_LIMIT_MEMORY. (What
+                              libxml2, cJSON and Assimp allocate inside is not counted.) */
     int stderr_fd;         /* 0: its stderr is kept, and its last lines quoted when it fails; else
                               the descriptor it writes its stderr to (2: the caller's stderr) */
     /* Called on the calling thread about every 50 ms while the helper works (once, before

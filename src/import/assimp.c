@@ -32,6 +32,7 @@
 #include "../core/internal.h"
 #include "internal.h"
 #include "sinew/anim.h"
+#include "alloc.h" /* last: the readers' allocations are the import's (alloc.h) */
 
 /* The rate Assimp's own viewer assumes when a file gives none (aiAnimation::mTicksPerSecond 0). */
 #define FALLBACK_TICKS_PER_SECOND 25.0

@@ -10,6 +10,7 @@
 
 #include "internal.h"
 #include "sinew/anim.h"
+#include "alloc.h" /* last: the readers' allocations are the import's (alloc.h) */
 
 #define BAKE_MAX_DEPTH 10
 

@@ -14,6 +14,7 @@
 #include "../core/internal.h"
 #include "internal.h"
 #include "sinew/muscle_file.h"
+#include "alloc.h" /* last: the readers' allocations are the import's (alloc.h) */
 
 /* Morph weights beyond this (either way) are kept and warned about. */
 #define WEIGHT_WARN_LIMIT 10.0f
@@ -71,11 +72,15 @@ bool raw_model_warn(raw_model *model, const char *format, ...)
     vsnprintf(text, sizeof text, format, args);
     va_end(args);
     char **grown = realloc(model->warnings, (model->warning_count + 1) * sizeof(char *));
-    if (!grown)
+    if (!grown) {
+        model->warning_lost = true;
         return false;
+    }
     model->warnings = grown;
-    if (!(grown[model->warning_count] = raw_strdup(text)))
+    if (!(grown[model->warning_count] = raw_strdup(text))) {
+        model->warning_lost = true;
         return false;
+    }
     model->warning_count++;
     return true;
 }
@@ -980,6 +985,7 @@ typedef struct writer {
     char *pool;
     size_t pool_size, pool_capacity;
     bool failed;
+    bool too_big; /* failed for the blob's 4 GiB, not for memory */
 } writer;
 
 static bool writer_reserve(unsigned char **buf, size_t *capacity, size_t need)
@@ -1003,6 +1009,7 @@ static uint32_t writer_put(writer *w, const void *data, size_t bytes)
     if (w->failed || !data || bytes == 0)
         return BLOB_NONE;
     size_t at = (w->size + BLOB_ALIGN - 1) & ~(size_t)(BLOB_ALIGN - 1);
+    w->too_big = w->too_big || at + bytes > UINT32_MAX;
     if (at + bytes > UINT32_MAX || !writer_reserve(&w->bytes, &w->capacity, at + bytes)) {
         w->failed = true;
         return BLOB_NONE;
@@ -1018,6 +1025,7 @@ static uint32_t writer_string(writer *w, const char *text)
     if (!text || w->failed)
         return BLOB_NONE;
     size_t n = strlen(text) + 1;
+    w->too_big = w->too_big || w->pool_size + n > UINT32_MAX - 1;
     if (w->pool_size + n > UINT32_MAX - 1 ||
         !writer_reserve((unsigned char **)&w->pool, &w->pool_capacity, w->pool_size + n)) {
         w->failed = true;
@@ -1527,8 +1535,9 @@ sinew_result raw_model_write(const raw_model *m, void **bytes, size_t *size, sin
     free(w.pool);
     if (w.failed) {
         free(w.bytes);
-        return sinew_fail(error, SINEW_ERROR_LIMIT, "%s: the model does not fit in memory or in a 4 GiB blob",
-                          m->source);
+        return w.too_big
+                   ? sinew_fail(error, SINEW_ERROR_LIMIT, "%s: the model does not fit in a 4 GiB blob", m->source)
+                   : sinew_fail(error, SINEW_ERROR_OUT_OF_MEMORY, "%s: out of memory writing the model", m->source);
     }
     blob_file_header f = {.version = BLOB_VERSION,
                           .header_size = sizeof f,
@@ -1581,6 +1590,9 @@ static void fix_material(raw_material *mat)
 
 sinew_result raw_model_build(raw_model *m, void **bytes, size_t *size, sinew_error *error)
 {
+    if (m->warning_lost)
+        return sinew_fail(error, SINEW_ERROR_OUT_OF_MEMORY, "%s: out of memory keeping the import's warnings",
+                          m->source ? m->source : "the model");
     sinew_result result = check_nodes(m, error);
     if (result)
         return result;
@@ -1612,5 +1624,8 @@ sinew_result raw_model_build(raw_model *m, void **bytes, size_t *size, sinew_err
     /* fix_mesh may have added fallback joints: check the skins again. */
     if ((result = check_nodes(m, error)))
         return result;
+    if (m->warning_lost) /* a repair's warning could not be kept: say so rather than hide the repair */
+        return sinew_fail(error, SINEW_ERROR_OUT_OF_MEMORY, "%s: out of memory keeping the import's warnings",
+                          m->source ? m->source : "the model");
     return raw_model_write(m, bytes, size, error);
 }

@@ -58,6 +58,7 @@
 #include "../core/internal.h"
 #include "internal.h"
 #include "sinew/anim.h"
+#include "alloc.h" /* last: the readers' allocations are the import's (alloc.h) */
 
 #define DAE_MAX_NODES (1u << 20) /* nodes after <instance_node> copies */
 #define DAE_MAX_DEPTH 2048       /* node nesting (libxml2 parses 2048 levels with XML_PARSE_HUGE) */
@@ -1369,8 +1370,10 @@ static sinew_result target_shape(collada *c, const morph_data *d, uint32_t t, ui
         prim tp;
         bool skip = false;
         sinew_result r = read_primitive(c, el, id, &tp, &skip);
-        if (r)
+        if (r) {
+            prim_free(&tp); /* what it read before it failed */
             return r;
+        }
         if (!skip && tp.mesh.vertex_count == n &&
             memcmp(tp.position_of, p->position_of, n * sizeof *p->position_of) == 0) {
             *positions = tp.mesh.positions, tp.mesh.positions = NULL;

@@ -23,6 +23,7 @@
 #include "../core/internal.h"
 #include "internal.h"
 #include "sinew/anim.h"
+#include "alloc.h" /* last: the readers' allocations are the import's (alloc.h) */
 
 #define MAX_CLIP_ANIMATIONS 256
 

@@ -3,6 +3,7 @@
 #include <math.h>
 
 #include "internal.h"
+#include "alloc.h" /* last: the readers' allocations are the import's (alloc.h) */
 
 dmat dmat_identity(void)
 {

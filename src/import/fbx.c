@@ -36,6 +36,7 @@
 #include "fbx_internal.h"
 #include "fbx_scene.h"
 #include "internal.h"
+#include "alloc.h" /* last: the readers' allocations are the import's (alloc.h) */
 
 #define FBX_BAKE_TOLERANCE 2e-7
 #define FBX_MAX_NODES (1u << 20)

@@ -10,6 +10,7 @@
  *                 little-endian float xyz, sample after sample
  *
  * Only the positions of one channel are kept, as seconds and xyz frames. */
+#include <errno.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -19,6 +20,7 @@
 #include <libxml/tree.h>
 
 #include "fbx_scene.h"
+#include "alloc.h" /* last: the readers' allocations are the import's (alloc.h) */
 
 #define MAYA_TICKS_PER_SECOND 6000.0
 #define MAX_FRAMES 1000000u
@@ -155,7 +157,8 @@ static sinew_result read_maya_data(reader *r, const char *path, const char *chan
     const char *was = r->path;
     r->path = path;
     if (!import_read_file(path, &bytes, &size)) {
-        sinew_result result = fail(r, SINEW_ERROR_IO, "cannot be read");
+        sinew_result result = errno == ENOMEM ? fail(r, SINEW_ERROR_OUT_OF_MEMORY, "out of memory reading it")
+                                              : fail(r, SINEW_ERROR_IO, "cannot be read");
         r->path = was;
         return result;
     }
@@ -337,7 +340,8 @@ sinew_result fbx_cache_read(const char *path, const char *channel, double frame_
     unsigned char *bytes = NULL;
     size_t size = 0;
     if (!import_read_file(path, &bytes, &size))
-        return fail(&r, SINEW_ERROR_IO, "cannot be read");
+        return errno == ENOMEM ? fail(&r, SINEW_ERROR_OUT_OF_MEMORY, "out of memory reading it")
+                               : fail(&r, SINEW_ERROR_IO, "cannot be read");
     sinew_result result = size >= 11 && memcmp(bytes, "POINTCACHE2", 11) == 0 ? read_pc2(&r, bytes, size, frame_rate)
                                                                               : read_maya(&r, bytes, size, channel);
     free(bytes);

@@ -16,6 +16,7 @@
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
+#include "alloc.h" /* last: the readers' allocations are the import's (alloc.h) */
 
 /* KeyAttrFlags bits (FbxAnimCurveDef). */
 enum {

@@ -21,6 +21,7 @@
 #include <string.h>
 
 #include "fbx_scene.h"
+#include "alloc.h" /* last: the readers' allocations are the import's (alloc.h) */
 
 #define WEIGHT_TOLERANCE 1e-5 /* of a weight: linear keys stray at most this far from the curve */
 

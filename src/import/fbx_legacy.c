@@ -20,6 +20,7 @@
 #include <string.h>
 
 #include "fbx_scene.h"
+#include "alloc.h" /* last: the readers' allocations are the import's (alloc.h) */
 
 typedef struct name_entry {
     const char *cls, *name;

@@ -18,6 +18,7 @@
 
 #include "../core/internal.h"
 #include "fbx_internal.h"
+#include "alloc.h" /* last: the readers' allocations are the import's (alloc.h) */
 
 #define FBX_MAX_DEPTH 64
 #define FBX_BINARY_MAGIC "Kaydara FBX Binary  \0\x1a"

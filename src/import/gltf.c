@@ -34,6 +34,7 @@
 #include "../core/internal.h"
 #include "internal.h"
 #include "sinew/anim.h"
+#include "alloc.h" /* last: the readers' allocations are the import's (alloc.h) */
 
 #define GLTF_MAX_COUNT (1u << 28) /* elements in one accessor, nodes, ... */
 
@@ -385,8 +386,9 @@ static sinew_result buffer_bytes(gltf *g, int index, const blob **out)
         int dir = slash ? (int)(slash - g->path + 1) : 0;
         snprintf(file, sizeof file, "%.*s%s", dir, g->path, name);
         if (!import_read_file(file, &b->bytes, &b->size))
-            return sinew_fail(g->error, SINEW_ERROR_IO, "%s: %s: cannot read the buffer file %s: %s", g->path, where,
-                              file, strerror(errno));
+            return errno == ENOMEM ? oom(g)
+                                   : sinew_fail(g->error, SINEW_ERROR_IO, "%s: %s: cannot read the buffer file %s: %s",
+                                                g->path, where, file, strerror(errno));
         b->owned = true;
     }
     b->loaded = true;
@@ -1671,7 +1673,7 @@ sinew_result raw_model_from_gltf(const char *path, const unsigned char *bytes, s
         r = build_meshes(&g);
     if (!r)
         r = build_clips(&g);
-    for (int i = 0; i < g.buffer_count; i++)
+    for (int i = 0; g.buffers && i < g.buffer_count; i++)
         if (g.buffers[i].owned)
             free(g.buffers[i].bytes);
     free(g.buffers);

@@ -21,6 +21,7 @@
 #include "fbx_internal.h"
 #include "internal.h"
 #include "sinew/import.h"
+#include "alloc.h" /* last: the readers' allocations are the import's (alloc.h) */
 
 static sinew_result check_path(const char *path, sinew_error *error)
 {
@@ -95,10 +96,12 @@ bool import_read_file(const char *path, unsigned char **bytes, size_t *size)
     long n = ok ? ftell(f) : -1;
     ok = n >= 0 && fseek(f, 0, SEEK_SET) == 0;
     unsigned char *buf = ok ? malloc((size_t)n + 1) : NULL;
+    int why = ok && !buf ? ENOMEM : EIO;
     ok = buf && fread(buf, 1, (size_t)n, f) == (size_t)n;
     fclose(f);
     if (!ok) {
         free(buf);
+        errno = why;
         return false;
     }
     buf[n] = 0;
@@ -344,6 +347,34 @@ static reader_choice choose_memory_reader(const unsigned char *bytes, size_t siz
     return (reader_choice){NULL, NULL, NULL};
 }
 
+/* The byte limit of an import's own allocations: the desc's (UINT64_MAX: none), else the default
+ * for a file of `size` bytes (in the helper too, under its process limit). */
+static uint64_t own_limit(const sinew_import_desc *desc, uint64_t size)
+{
+    return desc && desc->memory_limit ? desc->memory_limit : import_default_memory_limit(size);
+}
+
+/* An import that ran out of its own byte limit says so, whatever the reader said. */
+static sinew_result over_limit(sinew_result result, const import_alloc_result *used, const char *name,
+                               const sinew_import_desc *desc, sinew_error *error)
+{
+    if (result == SINEW_OK && (used->over_limit || used->refused)) /* a reader went on without what it could */
+        result = sinew_fail(error, SINEW_ERROR_OUT_OF_MEMORY,      /* not allocate: no partial model */
+                            "%s: out of memory while reading (part of the file was left out)", name);
+    if (result == SINEW_OK || !used->over_limit)
+        return result;
+    char said[SINEW_ERROR_MESSAGE_SIZE] = "";
+    if (error)
+        snprintf(said, sizeof said, "%s", error->message);
+    return sinew_fail(error, SINEW_ERROR_LIMIT_MEMORY,
+                      "%s: the import needed more than its %.0f MiB memory limit and was stopped (%s; "
+                      "sinew_import_desc.memory_limit sets another)%s%s",
+                      name, (double)used->limit / (1 << 20),
+                      desc && desc->memory_limit ? "the limit asked for"
+                                                 : "the default for a file of its size: 256 MiB and 64 times the size",
+                      *said ? "; the reader said: " : "", said);
+}
+
 static sinew_result import_bytes(const unsigned char *bytes, size_t size, const char *format, const char *name,
                                  const sinew_import_desc *desc, sinew_model **out, sinew_error *error)
 {
@@ -366,6 +397,9 @@ static sinew_result import_bytes(const unsigned char *bytes, size_t size, const 
         return sinew_fail(error, SINEW_ERROR_CANCELLED, "%s: the import was cancelled", name);
     const sinew_import_desc *was = reading_for;
     reading_for = desc;
+    import_alloc_state state;
+    import_alloc_result used;
+    import_alloc_begin(&state, own_limit(desc, size));
     raw_model raw;
     sinew_result result = choice.read(name, bytes, size, &raw, error);
     reading_for = was;
@@ -375,6 +409,8 @@ static sinew_result import_bytes(const unsigned char *bytes, size_t size, const 
         result = raw_model_build(&raw, &blob, &blob_size, error);
         raw_model_free(&raw);
     }
+    import_alloc_end(&state, &used);
+    result = over_limit(result, &used, name, desc, error);
     if (result == SINEW_OK) {
         result = sinew_model_from_blob(blob, blob_size, name, allocator, out, error);
         if (result != SINEW_OK && result != SINEW_ERROR_OUT_OF_MEMORY) /* the builder wrote what it cannot read */
@@ -418,7 +454,9 @@ static sinew_result raw_model_read(const char *path, bool assimp, raw_model *raw
     unsigned char *bytes = NULL;
     size_t size = 0;
     if (!import_read_file(path, &bytes, &size))
-        return sinew_fail(error, SINEW_ERROR_IO, "%s: cannot read: %s", path, strerror(errno));
+        return errno == ENOMEM
+                   ? sinew_fail(error, SINEW_ERROR_OUT_OF_MEMORY, "%s: out of memory reading the file", path)
+                   : sinew_fail(error, SINEW_ERROR_IO, "%s: cannot read: %s", path, strerror(errno));
     sinew_result result = choice.read(path, bytes, size, raw, error);
     free(bytes);
     return result;
@@ -428,14 +466,28 @@ sinew_result sinew_import_blob_desc(const sinew_import_desc *desc, void **bytes,
 {
     if (!desc || !desc->path || !bytes || !size)
         return sinew_fail(error, SINEW_ERROR_INVALID_ARGUMENT, "sinew_import_blob: NULL argument");
+    *bytes = NULL;
+    *size = 0;
     sinew_result result = check_path(desc->path, error);
     if (result)
         return result;
+    struct stat st;
+    uint64_t file_size = stat(desc->path, &st) == 0 ? (uint64_t)st.st_size : 0;
+    import_alloc_state state;
+    import_alloc_result used;
+    import_alloc_begin(&state, own_limit(desc, file_size));
     raw_model raw;
-    if ((result = raw_model_read(desc->path, desc->assimp, &raw, error)))
-        return result;
-    result = raw_model_build(&raw, bytes, size, error);
-    raw_model_free(&raw);
+    if ((result = raw_model_read(desc->path, desc->assimp, &raw, error)) == SINEW_OK) {
+        result = raw_model_build(&raw, bytes, size, error);
+        raw_model_free(&raw);
+    }
+    import_alloc_end(&state, &used);
+    result = over_limit(result, &used, desc->path, desc, error);
+    if (result != SINEW_OK && *bytes) {
+        free(*bytes);
+        *bytes = NULL;
+        *size = 0;
+    }
     return result;
 }
 

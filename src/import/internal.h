@@ -147,6 +147,7 @@ typedef struct raw_model {
     uint32_t pool_count;
     raw_key_pool *pools;
     uint32_t warning_count;
+    bool warning_lost; /* raw_model_warn() ran out of memory: the build fails rather than lose it */
     char **warnings;
     const struct sinew_muscle_set *muscles; /* borrowed, not freed: stored with the model, or NULL */
 } raw_model;
@@ -358,5 +359,26 @@ bool gltf_sniff(const unsigned char *head, size_t size);
 /* COLLADA files: cuts the one clip Assimp makes of a file's <animation_clip>s into those
  * clips (collada_clips.c). Leaves the model as it is when there are none. */
 void collada_split_clips(const char *path, raw_model *model);
+
+/* alloc.c: an import's own allocation accounting (alloc.h routes the readers' allocations through
+ * it). begin .. end on one thread, nested imports stacked. */
+typedef struct import_alloc_state {
+    unsigned char opaque[64];
+    void *outer;
+} import_alloc_state;
+typedef struct import_alloc_result {
+    uint64_t peak, count, limit;
+    bool over_limit; /* an allocation was refused for the limit */
+    bool refused;    /* an allocation failed (import_alloc_sweep(), or the system's malloc) */
+} import_alloc_result;
+void import_alloc_begin(import_alloc_state *state, uint64_t limit);
+void import_alloc_end(import_alloc_state *state, import_alloc_result *result);
+/* Tests: imports on this thread fail their allocation number `fail_at` (1 first; 0: none), and
+ * how many allocations the last import made. */
+void import_alloc_sweep(uint64_t fail_at);
+uint64_t import_alloc_last_count(void);
+/* The default memory limit of an import of a file of `size` bytes (0: not known): 256 MiB and 64
+ * times the size, at most half the memory (within 1..16 GiB). */
+uint64_t import_default_memory_limit(uint64_t size);
 
 #endif

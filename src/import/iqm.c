@@ -27,6 +27,7 @@
 #include <string.h>
 
 #include "internal.h"
+#include "alloc.h" /* last: the readers' allocations are the import's (alloc.h) */
 
 #define IQM_MAGIC "INTERQUAKEMODEL"
 #define IQM_HEADER_SIZE 124u

@@ -125,18 +125,26 @@ static uint64_t memory_limit_of(const sinew_import_desc *desc)
 {
     if (desc->memory_limit)
         return desc->memory_limit;
-    uint64_t ceiling = memory_ceiling();
     struct stat st;
     if (!desc->path || stat(desc->path, &st) != 0 || !S_ISREG(st.st_mode))
-        return ceiling;
-    uint64_t size = (uint64_t)st.st_size;
-    uint64_t limit = size > ceiling / SINEW_IMPORT_MEMORY_FACTOR
-                         ? ceiling
-                         : SINEW_IMPORT_MEMORY_BASE + size * SINEW_IMPORT_MEMORY_FACTOR;
+        return memory_ceiling();
+    uint64_t limit = import_default_memory_limit((uint64_t)st.st_size);
 #if defined(__SANITIZE_ADDRESS__)
     /* AddressSanitizer's shadow, redzones and 256 MiB quarantine are not the file's */
     limit = limit * 4 + ((uint64_t)256 << 20);
 #endif
+    uint64_t ceiling = memory_ceiling();
+    return limit < ceiling ? limit : ceiling;
+}
+
+uint64_t import_default_memory_limit(uint64_t size)
+{
+    uint64_t ceiling = memory_ceiling();
+    if (!size)
+        return ceiling;
+    uint64_t limit = size > ceiling / SINEW_IMPORT_MEMORY_FACTOR
+                         ? ceiling
+                         : SINEW_IMPORT_MEMORY_BASE + size * SINEW_IMPORT_MEMORY_FACTOR;
     return limit < ceiling ? limit : ceiling;
 }
 
