@@ -250,7 +250,7 @@ int bench_crowd(int argc, char **argv)
                             .crowd = 1,
                             .threads = a.threads};
         d.options.skinning = runs[r].skinning ? SINEW_SKINNING_CPU : SINEW_SKINNING_GPU;
-        d.options.crowd_lod = !a.no_lod;
+        d.options.crowd_full_detail = a.no_lod;
         cli_scene s;
         code = cli_scene_open(&s, &d);
         if (code != EXIT_OK)

@@ -10,16 +10,18 @@
 
 #define FRAMING_SAMPLES 60
 
-static bool resolve_joint(const sinew_model *m, const char *name, const char *option, int32_t *out)
+static bool resolve_joint(const sinew_model *m, const char *name, const char *option, bool *on, uint32_t *out)
 {
-    *out = -1;
+    *on = false;
     if (!name)
         return true;
-    *out = sinew_model_find_joint(m, name);
-    if (*out < 0) {
+    int32_t node = sinew_model_find_joint(m, name);
+    if (node < 0) {
         cli_error("%s: %s \"%s\": no node of that name (see `sinew info`)", m->source, option, name);
         return false;
     }
+    *on = true;
+    *out = (uint32_t)node;
     return true;
 }
 
@@ -119,8 +121,9 @@ int cli_scene_open(cli_scene *s, const cli_scene_desc *d)
         return EXIT_BAD_INPUT;
     s->model = s->scene.model;
     s->clip = s->scene.clip;
-    if (!resolve_joint(s->model, d->select, "--select", &s->frame_options.selected_joint) ||
-        !resolve_joint(s->model, d->heatmap, "--heatmap", &s->frame_options.heatmap_joint)) {
+    sinew_render_options *o = &s->frame_options;
+    if (!resolve_joint(s->model, d->select, "--select", &o->select_joint, &o->selected_joint) ||
+        !resolve_joint(s->model, d->heatmap, "--heatmap", &o->heatmap, &o->heatmap_joint)) {
         cli_scene_close(s);
         return EXIT_BAD_INPUT;
     }

@@ -56,10 +56,12 @@ bool view_make_renderer(viewer *v, const app_scene *scene, sinew_renderer **out)
 
 static void resolve_joints(viewer *v)
 {
+    int32_t node = v->select ? sinew_model_find_joint(v->scene.model, v->select) : -1;
     if (v->select)
-        v->options.selected_joint = sinew_model_find_joint(v->scene.model, v->select);
+        v->options.select_joint = node >= 0, v->options.selected_joint = node >= 0 ? (uint32_t)node : 0;
+    node = v->heatmap ? sinew_model_find_joint(v->scene.model, v->heatmap) : -1;
     if (v->heatmap)
-        v->options.heatmap_joint = sinew_model_find_joint(v->scene.model, v->heatmap);
+        v->options.heatmap = node >= 0, v->options.heatmap_joint = node >= 0 ? (uint32_t)node : 0;
 }
 
 /* Makes `incoming` the scene (the viewer owns it from here, whatever happens; `incoming` is

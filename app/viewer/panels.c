@@ -60,8 +60,10 @@ void panels_select(viewer *v, int32_t node)
         v->updating = was;
     }
     bool joint = node >= 0 && sinew_model_node_is_joint(v->scene.model, (uint32_t)node);
-    v->options.selected_joint = joint ? node : -1;
-    v->options.heatmap_joint = joint && gtk_check_button_get_active(GTK_CHECK_BUTTON(v->heatmap_check)) ? node : -1;
+    v->options.select_joint = joint;
+    v->options.selected_joint = joint ? (uint32_t)node : 0;
+    v->options.heatmap = joint && gtk_check_button_get_active(GTK_CHECK_BUTTON(v->heatmap_check));
+    v->options.heatmap_joint = v->options.heatmap ? (uint32_t)node : 0;
     if (node >= 0)
         view_pose(v);
     panels_frame_drawn(v);

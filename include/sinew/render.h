@@ -63,21 +63,25 @@ typedef enum sinew_skinning {
     SINEW_SKINNING_CPU = 1  /* sinew_skin_vertices() each frame, vertices streamed */
 } sinew_skinning;
 
-/* Display switches. Start from sinew_render_options_default(): several defaults are "on". */
+/* Display switches. A zeroed struct is the defaults (sinew_render_options_default() returns one):
+ * meshes drawn with their materials, lit, Phong shading, the grid and muscles shown, small crowd
+ * characters simplified, nothing selected, the dark grey background. Switches that are on by
+ * default are named for turning them off (clay, unlit, hide_*). */
 typedef struct sinew_render_options {
-    bool materials;              /* base colour + diffuse texture; off = clay */
-    bool lighting;               /* key + fill light; off = unlit colour */
-    sinew_shading shading;       /* used when lighting is on */
+    bool clay;                   /* no base colour or diffuse texture: clay (default: materials) */
+    bool unlit;                  /* no key and fill light: unlit colour (default: lit) */
+    sinew_shading shading;       /* used when lit */
     bool wireframe;              /* triangle edges over the surface */
-    bool meshes;                 /* draw the meshes at all */
+    bool hide_meshes;            /* draw no meshes (default: drawn) */
     bool skeleton;               /* bones and joint dots over the mesh */
     bool joint_axes;             /* each joint's local X/Y/Z axes (red/green/blue) */
     bool joint_names;            /* joint names next to the dots */
     bool normals;                /* vertex normals as short lines */
-    bool grid;                   /* ground grid, at grid_height */
+    bool hide_grid;              /* no ground grid (default: a grid at grid_height) */
     bool axes;                   /* world X/Y/Z axes at the origin */
-    bool muscles;                /* the frame's muscles, Gouraud-shaded in their colours */
-    bool crowd_lod;              /* crowds: characters small on screen drawn with simplified meshes (on by default) */
+    bool hide_muscles;           /* no muscles (default: the frame's muscles, Gouraud-shaded in their colours) */
+    bool crowd_full_detail;      /* crowds: every character with its full meshes (default: characters small on
+                                  * screen drawn with simplified meshes) */
     bool shadows;                /* the key light's shadows on the model and the ground (a shadow map); with an
                                   * environment file and PBR, the environment's dominant light casts them */
     bool ssao;                   /* screen-space ambient occlusion (from a depth pre-pass), on the model and the
@@ -88,14 +92,17 @@ typedef struct sinew_render_options {
     bool fxaa; /* fast approximate anti-aliasing: the frame is drawn into a texture, then smoothed along
                 * its edges into the bound framebuffer (cheap where multisampling is slow: llvmpipe) */
     sinew_tone_mapping tone_mapping;
-    float exposure;         /* stops: the linear colour is scaled by 2^exposure before tone mapping (0 by default) */
-    int32_t selected_joint; /* node index to highlight, -1 for none */
-    int32_t heatmap_joint;  /* node index whose skin weights colour the mesh, -1 for none */
-    float background[3];    /* 0..1 RGB as displayed (sRGB) */
-    bool transparent;       /* the background is cleared to (0, 0, 0, 0): edges come out premultiplied */
-    float normal_length;    /* world units; 0 = 3% of the scene radius */
-    float grid_height;      /* world y of the ground grid (0 by default; sinew's apps put it under the
-                             * model's lowest point over the frames they frame) */
+    float exposure;    /* stops: the linear colour is scaled by 2^exposure before tone mapping (0 by default) */
+    bool select_joint; /* highlight node selected_joint (default: none) */
+    uint32_t selected_joint;
+    bool heatmap; /* colour the mesh by node heatmap_joint's skin weights (default: off) */
+    uint32_t heatmap_joint;
+    bool background_set; /* background below instead of the default dark grey (0.16, 0.17, 0.19) */
+    float background[3]; /* 0..1 RGB as displayed (sRGB) */
+    bool transparent;    /* the background is cleared to (0, 0, 0, 0): edges come out premultiplied */
+    float normal_length; /* world units; 0 = 3% of the scene radius */
+    float grid_height;   /* world y of the ground grid (0 by default; sinew's apps put it under the
+                          * model's lowest point over the frames they frame) */
     sinew_skinning skinning;
     bool skin_method_set;          /* false (the default): each skin skins as its file asks (sinew_skin.blend:
                                     * linear, dual quaternion, or the two mixed per vertex); true: skin_method */
@@ -103,7 +110,10 @@ typedef struct sinew_render_options {
     const bool *hidden_instances;  /* instance_count flags, true = hidden; NULL = all shown */
 } sinew_render_options;
 
+/* The defaults: a zeroed struct, kept for code that asks for them by name. */
 sinew_render_options sinew_render_options_default(void);
+/* The background a frame with these options clears to (the default's grey when not set). */
+void sinew_render_options_background(const sinew_render_options *options, float rgb[3]);
 
 /* Display switches by name, for settings files and command lines. Names: materials,
  * lighting, wireframe, meshes, skeleton, joint-axes, joint-names, normals, grid, axes,

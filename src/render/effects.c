@@ -161,7 +161,7 @@ sinew_result render_effects_prepare(render_effects *fx, render_effect_frame *ef,
                                     sinew_error *error)
 {
     const sinew_render_options *o = frame->options;
-    bool pbr = o->lighting && o->shading == SINEW_SHADING_PBR;
+    bool pbr = !o->unlit && o->shading == SINEW_SHADING_PBR;
     memset(ef, 0, sizeof *ef);
     ef->width = frame->width, ef->height = frame->height;
     glm_mat4_mul((vec4 *)proj, (vec4 *)view, (vec4 *)ef->view_proj);
@@ -193,7 +193,7 @@ sinew_result render_effects_prepare(render_effects *fx, render_effect_frame *ef,
         ef->radius = 1.0f;
     ef->ground_height = o->grid_height;
 
-    bool models = o->meshes && !crowd;
+    bool models = !o->hide_meshes && !crowd;
     ef->shadows = o->shadows && models;
     ef->ao = o->ssao && models;
     ef->outline = o->outline && models;

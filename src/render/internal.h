@@ -180,4 +180,14 @@ uint32_t overlay_capacity(uint32_t node_count);
 /* Vertices reserved for text quads. */
 #define OVERLAY_TEXT_VERTICES (64u * 1024u)
 
+/* The options' joint choices as node indices, -1 for none. */
+static inline int32_t options_selected(const sinew_render_options *o)
+{
+    return o->select_joint ? (int32_t)o->selected_joint : -1;
+}
+static inline int32_t options_heatmap(const sinew_render_options *o)
+{
+    return o->heatmap ? (int32_t)o->heatmap_joint : -1;
+}
+
 #endif

@@ -12,26 +12,27 @@
 typedef struct switch_entry {
     const char *name;
     size_t offset; /* of a bool in sinew_render_options */
+    bool inverted; /* the field turns the switch off (clay: materials off) */
 } switch_entry;
 
 static const switch_entry SWITCHES[] = {
-    {"materials", offsetof(sinew_render_options, materials)},
-    {"lighting", offsetof(sinew_render_options, lighting)},
-    {"wireframe", offsetof(sinew_render_options, wireframe)},
-    {"meshes", offsetof(sinew_render_options, meshes)},
-    {"skeleton", offsetof(sinew_render_options, skeleton)},
-    {"joint-axes", offsetof(sinew_render_options, joint_axes)},
-    {"joint-names", offsetof(sinew_render_options, joint_names)},
-    {"normals", offsetof(sinew_render_options, normals)},
-    {"grid", offsetof(sinew_render_options, grid)},
-    {"axes", offsetof(sinew_render_options, axes)},
-    {"muscles", offsetof(sinew_render_options, muscles)},
-    {"lod", offsetof(sinew_render_options, crowd_lod)},
-    {"shadows", offsetof(sinew_render_options, shadows)},
-    {"ssao", offsetof(sinew_render_options, ssao)},
-    {"outline", offsetof(sinew_render_options, outline)},
-    {"hdri-background", offsetof(sinew_render_options, environment_background)},
-    {"fxaa", offsetof(sinew_render_options, fxaa)},
+    {"materials", offsetof(sinew_render_options, clay), true},
+    {"lighting", offsetof(sinew_render_options, unlit), true},
+    {"wireframe", offsetof(sinew_render_options, wireframe), false},
+    {"meshes", offsetof(sinew_render_options, hide_meshes), true},
+    {"skeleton", offsetof(sinew_render_options, skeleton), false},
+    {"joint-axes", offsetof(sinew_render_options, joint_axes), false},
+    {"joint-names", offsetof(sinew_render_options, joint_names), false},
+    {"normals", offsetof(sinew_render_options, normals), false},
+    {"grid", offsetof(sinew_render_options, hide_grid), true},
+    {"axes", offsetof(sinew_render_options, axes), false},
+    {"muscles", offsetof(sinew_render_options, hide_muscles), true},
+    {"lod", offsetof(sinew_render_options, crowd_full_detail), true},
+    {"shadows", offsetof(sinew_render_options, shadows), false},
+    {"ssao", offsetof(sinew_render_options, ssao), false},
+    {"outline", offsetof(sinew_render_options, outline), false},
+    {"hdri-background", offsetof(sinew_render_options, environment_background), false},
+    {"fxaa", offsetof(sinew_render_options, fxaa), false},
 };
 #define SWITCH_COUNT (sizeof SWITCHES / sizeof SWITCHES[0])
 
@@ -126,7 +127,7 @@ sinew_result sinew_render_option_set(sinew_render_options *o, const char *name, 
         bool on = true;
         if (value && !parse_bool(value, &on))
             return sinew_fail(error, SINEW_ERROR_INVALID_ARGUMENT, "%s: expected on or off, not \"%s\"", name, value);
-        *(bool *)((char *)o + s->offset) = on;
+        *(bool *)((char *)o + s->offset) = s->inverted ? !on : on;
         return SINEW_OK;
     }
     if (!value)
@@ -161,7 +162,7 @@ sinew_result sinew_render_option_set(sinew_render_options *o, const char *name, 
         if (strcasecmp(value, "transparent") == 0 || strcasecmp(value, "none") == 0)
             return o->transparent = true, SINEW_OK;
         if (parse_color(value, o->background))
-            return o->transparent = false, SINEW_OK;
+            return o->transparent = false, o->background_set = true, SINEW_OK;
         return sinew_fail(error, SINEW_ERROR_INVALID_ARGUMENT,
                           "background: expected RRGGBB, #RRGGBB, r,g,b in 0..1 or transparent, not \"%s\"", value);
     }
@@ -197,7 +198,7 @@ sinew_result sinew_render_option_get(const sinew_render_options *o, const char *
         return sinew_fail(error, SINEW_ERROR_INVALID_ARGUMENT, "sinew_render_option_get: missing argument");
     const switch_entry *s = find_switch(name);
     if (s)
-        snprintf(out, size, "%s", *(const bool *)((const char *)o + s->offset) ? "on" : "off");
+        snprintf(out, size, "%s", *(const bool *)((const char *)o + s->offset) != s->inverted ? "on" : "off");
     else if (strcmp(name, "shading") == 0)
         snprintf(out, size, "%s", SHADINGS[o->shading <= SINEW_SHADING_PBR ? o->shading : 0]);
     else if (strcmp(name, "skinning") == 0)
@@ -209,10 +210,12 @@ sinew_result sinew_render_option_get(const sinew_render_options *o, const char *
                                                                 : "lbs");
     else if (strcmp(name, "background") == 0 && o->transparent)
         snprintf(out, size, "transparent");
-    else if (strcmp(name, "background") == 0)
-        snprintf(out, size, "#%02x%02x%02x", (unsigned)lroundf(o->background[0] * 255.0f),
-                 (unsigned)lroundf(o->background[1] * 255.0f), (unsigned)lroundf(o->background[2] * 255.0f));
-    else if (strcmp(name, "normal-length") == 0)
+    else if (strcmp(name, "background") == 0) {
+        float bg[3];
+        sinew_render_options_background(o, bg);
+        snprintf(out, size, "#%02x%02x%02x", (unsigned)lroundf(bg[0] * 255.0f), (unsigned)lroundf(bg[1] * 255.0f),
+                 (unsigned)lroundf(bg[2] * 255.0f));
+    } else if (strcmp(name, "normal-length") == 0)
         snprintf(out, size, "%.9g", o->normal_length);
     else if (strcmp(name, "tone-mapping") == 0)
         snprintf(out, size, "%s", TONES[(unsigned)o->tone_mapping <= SINEW_TONE_MAPPING_NEUTRAL ? o->tone_mapping : 0]);

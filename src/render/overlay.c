@@ -70,7 +70,8 @@ void overlay_add_grid(overlay_list *list, const overlay_frame *frame)
     sinew_camera_eye(frame->camera, eye);
     const float *focus = frame->camera->mode == SINEW_CAMERA_ORBIT ? frame->camera->target : eye;
     float cx = roundf(focus[0] / spacing) * spacing, cz = roundf(focus[2] / spacing) * spacing;
-    const float *bg = frame->options->background;
+    float bg[3];
+    sinew_render_options_background(frame->options, bg);
     uint8_t minor[3], major[3];
     for (int i = 0; i < 3; i++) {
         minor[i] = (uint8_t)fminf(255.0f, (bg[i] * 0.6f + 0.4f * 0.55f) * 255.0f);
@@ -163,7 +164,7 @@ void overlay_add_bones(overlay_list *list, const overlay_frame *frame)
     for (int i = 0; i < 3; i++)
         light[i] = -f[i] + 0.6f * up[i];
     glm_vec3_normalize(light);
-    int32_t selected = frame->options->selected_joint;
+    int32_t selected = options_selected(frame->options);
     for (uint32_t n = 0; n < m->node_count; n++) {
         int32_t p = m->node_parents[n];
         if (!frame->skeleton_nodes[n] || p < 0 || !frame->skeleton_nodes[p])
@@ -201,7 +202,7 @@ void overlay_add_joint_axes(overlay_list *list, const overlay_frame *frame)
 void overlay_add_joints(overlay_list *list, const overlay_frame *frame, bool selected_only)
 {
     static const uint8_t JOINT_COLOR[3] = {235, 235, 240};
-    int32_t selected = frame->options->selected_joint;
+    int32_t selected = options_selected(frame->options);
     for (uint32_t n = 0; n < frame->model->node_count; n++) {
         if (selected_only ? (int32_t)n != selected : !frame->skeleton_nodes[n])
             continue;
@@ -219,7 +220,7 @@ void overlay_add_names(overlay_list *list, const overlay_frame *frame)
     const sinew_render_options *o = frame->options;
     float scale = frame->height >= 1000 ? 2.0f : 1.0f;
     for (uint32_t n = 0; n < m->node_count; n++) {
-        bool is_selected = (int32_t)n == o->selected_joint;
+        bool is_selected = (int32_t)n == options_selected(o);
         if (!(is_selected || (o->joint_names && frame->skeleton_nodes[n])))
             continue;
         float p[3];

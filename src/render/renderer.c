@@ -133,16 +133,13 @@ static void default_free(void *ptr, void *user)
 
 sinew_render_options sinew_render_options_default(void)
 {
-    return (sinew_render_options){.materials = true,
-                                  .lighting = true,
-                                  .shading = SINEW_SHADING_PHONG,
-                                  .meshes = true,
-                                  .grid = true,
-                                  .muscles = true,
-                                  .crowd_lod = true,
-                                  .selected_joint = -1,
-                                  .heatmap_joint = -1,
-                                  .background = {0.16f, 0.17f, 0.19f}};
+    return (sinew_render_options){0};
+}
+
+void sinew_render_options_background(const sinew_render_options *o, float rgb[3])
+{
+    static const float GREY[3] = {0.16f, 0.17f, 0.19f};
+    memcpy(rgb, o && o->background_set ? o->background : GREY, 3 * sizeof *rgb);
 }
 
 static void warn(sinew_renderer *r, const char *format, ...) __attribute__((format(printf, 2, 3)));
@@ -868,7 +865,7 @@ static sinew_result prepare_instance(sinew_renderer *r, const mesh_uniforms *u, 
     const sinew_instance *inst = &r->model->instances[index];
     const sinew_mesh *mesh = &r->model->meshes[inst->mesh];
     render_mesh *rm = &r->meshes[inst->mesh];
-    int32_t heat_node = fs->o->heatmap_joint;
+    int32_t heat_node = options_heatmap(fs->o);
     uint32_t morphs = instance_targets(r, inst);
     bool cpu = on_cpu(r, fs->o, mesh, rm, morphs);
     bool placed = !mesh_is_skinned(mesh) || (mesh->cache && !r->no_cache); /* by its node's matrix */
@@ -913,7 +910,7 @@ static void set_material(sinew_renderer *r, const frame_state *fs, const sinew_m
     const float *color = CLAY, *emissive = BLACK;
     float metallic = 0.0f, roughness = 0.5f, normal_scale = 1.0f, occlusion = 1.0f;
     const GLuint *maps = NO_MAPS;
-    if (fs->o->materials) {
+    if (!fs->o->clay) {
         color = NO_MATERIAL;
         if (mesh->material >= 0) {
             const sinew_material *mat = &r->model->materials[mesh->material];
@@ -944,7 +941,7 @@ static void set_material(sinew_renderer *r, const frame_state *fs, const sinew_m
 
 static int shading_mode(const sinew_render_options *o)
 {
-    if (!o->lighting)
+    if (o->unlit)
         return 0;
     return o->shading == SINEW_SHADING_GOURAUD ? 2
            : o->shading == SINEW_SHADING_FLAT  ? 3
@@ -973,7 +970,7 @@ static sinew_result draw_meshes(sinew_renderer *r, const frame_state *fs, sinew_
     const sinew_model *m = r->model;
     const sinew_render_options *o = fs->o;
     const mesh_uniforms *u = &r->mesh_u;
-    begin_mesh_pass(r, fs, o->heatmap_joint >= 0);
+    begin_mesh_pass(r, fs, options_heatmap(o) >= 0);
     static const float WIRE[4] = {0.06f, 0.06f, 0.08f, 1.0f}, NONE[4] = {0, 0, 0, 0};
     for (uint32_t i = 0; i < m->instance_count; i++) {
         if (instance_hidden(o, i))
@@ -1092,7 +1089,7 @@ static sinew_result draw_muscles(sinew_renderer *r, const frame_state *fs, sinew
 {
     const mesh_uniforms *u = &r->mesh_u;
     set_common_uniforms(r->programs.mesh, u, fs);
-    int mode = fs->o->lighting ? 2 : 0;
+    int mode = !fs->o->unlit ? 2 : 0;
     glUniform1i(u->mode, mode);
     glUniform1i(u->gouraud, mode == 2);
     glUniform1i(u->heat, 0);
@@ -1189,7 +1186,7 @@ static void draw_overlay(sinew_renderer *r, const frame_state *fs, bool before_m
     overlay_range lines = {0}, grid = {0}, axes = {0}, bones = {0}, joint_axes = {0}, joints = {0}, selected = {0},
                   names = {0};
     if (before_meshes) {
-        if (o->grid)
+        if (!o->hide_grid)
             grid = add_range(list, &of, overlay_add_grid);
         if (o->axes)
             axes = add_range(list, &of, overlay_add_axes);
@@ -1360,7 +1357,7 @@ static void crowd_levels(sinew_renderer *r, const frame_state *fs, uint32_t star
 {
     const sinew_frame *frame = fs->frame;
     const uint32_t n = r->model->node_count;
-    bool lod = fs->o->crowd_lod;
+    bool lod = !fs->o->crowd_full_detail;
     if (lod && r->crowd_radius < 0.0f)
         crowd_extent(r, fs);
     for (int l = 0; l < RENDER_LOD_LEVELS; l++)
@@ -1523,7 +1520,7 @@ static sinew_result draw_crowd(sinew_renderer *r, const frame_state *fs, sinew_e
     crowd_levels(r, fs, level_start, level_count);
     for (uint32_t i = 0; i < m->instance_count; i++) { /* every mesh's levels, once (those without: the full list) */
         render_mesh *rm = &r->meshes[m->instances[i].mesh];
-        if (fs->o->crowd_lod)
+        if (!fs->o->crowd_full_detail)
             result = crowd_lods(r, &m->meshes[m->instances[i].mesh], rm, error);
         else if (!rm->lod_built)
             for (int l = 0; l < RENDER_LOD_LEVELS; l++)
@@ -1673,7 +1670,8 @@ sinew_result sinew_renderer_draw(sinew_renderer *r, const sinew_frame *frame, si
     if (result != SINEW_OK)
         goto failed;
 
-    const float *bg = frame->options->background;
+    float bg[3];
+    sinew_render_options_background(frame->options, bg);
     glViewport(0, 0, frame->width, frame->height);
     if (frame->options->transparent) /* black: multisampled edges resolve to premultiplied colours */
         glClearColor(0.0f, 0.0f, 0.0f, 0.0f);
@@ -1692,7 +1690,7 @@ sinew_result sinew_renderer_draw(sinew_renderer *r, const sinew_frame *frame, si
     if (ef.ground)
         render_effects_ground(&r->fx, &r->programs, &ef);
     if (frame->crowd_count) {
-        result = frame->options->meshes ? draw_crowd(r, &fs, error) : SINEW_OK;
+        result = !frame->options->hide_meshes ? draw_crowd(r, &fs, error) : SINEW_OK;
         if (result == SINEW_OK && frame->options->skeleton)
             draw_crowd_skeletons(r, &fs);
         if (fxaa)
@@ -1707,7 +1705,7 @@ sinew_result sinew_renderer_draw(sinew_renderer *r, const sinew_frame *frame, si
                               crowd_error);
         return SINEW_OK;
     }
-    if (frame->options->meshes) {
+    if (!frame->options->hide_meshes) {
         result = draw_meshes(r, &fs, error);
         if (result == SINEW_OK && frame->options->normals) {
             float radius = frame->camera->scene_radius > 0.0f ? frame->camera->scene_radius : 1.0f;
@@ -1717,7 +1715,7 @@ sinew_result sinew_renderer_draw(sinew_renderer *r, const sinew_frame *frame, si
         if (result != SINEW_OK)
             goto failed;
     }
-    if (frame->options->muscles && frame->muscle_count) {
+    if (!frame->options->hide_muscles && frame->muscle_count) {
         result = draw_muscles(r, &fs, error);
         if (result != SINEW_OK)
             goto failed;

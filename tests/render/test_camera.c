@@ -164,7 +164,7 @@ static void test_options_round_trip(void **state)
     (void)state;
     sinew_render_options o = sinew_render_options_default();
     sinew_error e = {0};
-    assert_true(o.materials && o.lighting && o.grid && o.meshes && !o.skeleton);
+    assert_true(!o.clay && !o.unlit && !o.hide_grid && !o.hide_meshes && !o.skeleton);
     assert_int_equal(sinew_render_option_set(&o, "skeleton", NULL, &e), SINEW_OK);
     assert_int_equal(sinew_render_option_set(&o, "grid", "off", &e), SINEW_OK);
     assert_int_equal(sinew_render_option_set(&o, "shading", "Gouraud", &e), SINEW_OK);

@@ -55,9 +55,10 @@ static int teardown(void **state)
 static void draw(fixture *f, sinew_skinning skinning)
 {
     sinew_render_options o = sinew_render_options_default();
-    o.materials = false;
-    o.lighting = false;
-    o.grid = false;
+    o.clay = true;
+    o.unlit = true;
+    o.hide_grid = true;
+    o.background_set = true;
     o.background[0] = o.background[1] = o.background[2] = 0.0f;
     o.skinning = skinning;
     float lo[3], hi[3];
@@ -104,6 +105,47 @@ static void test_draw_and_read_back(void **state)
                  lit(f->pixels, W - 1, H - 1));
     assert_true(covered > W * H / 20 && covered < W * H / 2);
     assert_non_null(sinew_renderer_gl_name(f->renderer));
+}
+
+/* A zeroed sinew_render_options is the defaults: the mesh drawn, lit, with its grid, on the
+ * default grey; and the option names read back what the inverted fields hold. */
+static void test_zeroed_options_are_the_defaults(void **state)
+{
+    fixture *f = *state;
+    if (!f)
+        skip();
+    sinew_render_options zero = {0}, named = sinew_render_options_default();
+    assert_memory_equal(&zero, &named, sizeof zero);
+    float lo[3], hi[3];
+    assert_true(sinew_renderer_bounds(f->renderer, f->worlds, f->model->node_count, lo, hi));
+    sinew_camera camera = sinew_camera_default();
+    sinew_camera_frame(&camera, lo, hi, (float)W / (float)H);
+    sinew_frame frame = {.worlds = f->worlds,
+                         .world_count = f->model->node_count,
+                         .camera = &camera,
+                         .width = W,
+                         .height = H,
+                         .options = &zero};
+    sinew_headless_bind(f->headless);
+    assert_int_equal(sinew_renderer_draw(f->renderer, &frame, NULL), SINEW_OK);
+    assert_int_equal(sinew_headless_read(f->headless, f->pixels, NULL), SINEW_OK);
+    long other = 0;
+    const uint8_t *corner = f->pixels;
+    for (size_t i = 0; i < (size_t)W * H; i++)
+        other += abs(f->pixels[i * 4] - corner[0]) + abs(f->pixels[i * 4 + 1] - corner[1]) > 30;
+    print_message("zeroed options: corner (%u, %u, %u), %ld pixels of the model\n", corner[0], corner[1], corner[2],
+                  other);
+    assert_true(other > W * H / 20);                                   /* the mesh is drawn */
+    assert_true(abs(corner[0] - 41) <= 2 && abs(corner[2] - 48) <= 2); /* 0.16, 0.17, 0.19: the default grey */
+    char value[32];
+    assert_int_equal(sinew_render_option_get(&zero, "materials", value, sizeof value, NULL), SINEW_OK);
+    assert_string_equal(value, "on");
+    assert_int_equal(sinew_render_option_set(&zero, "grid", "off", NULL), SINEW_OK);
+    assert_true(zero.hide_grid);
+    assert_int_equal(sinew_render_option_get(&zero, "grid", value, sizeof value, NULL), SINEW_OK);
+    assert_string_equal(value, "off");
+    assert_int_equal(sinew_render_option_get(&zero, "background", value, sizeof value, NULL), SINEW_OK);
+    assert_string_equal(value, "#292b30");
 }
 
 static void test_cpu_and_gpu_skinning_agree(void **state)
@@ -158,7 +200,7 @@ static void draw_pbr(sinew_headless *headless, const sinew_model *model, const f
     sinew_mat4 *worlds = pose_worlds(model, NULL, 0.0f);
     sinew_render_options o = sinew_render_options_default();
     o.shading = SINEW_SHADING_PBR;
-    o.grid = false;
+    o.hide_grid = true;
     sinew_camera camera = sinew_camera_default();
     camera.pitch = 0.0f;
     sinew_camera_frame(&camera, lo, hi, (float)W / (float)H);
@@ -242,9 +284,8 @@ static void test_normal_map_frames_agree(void **state)
 int main(void)
 {
     const struct CMUnitTest tests[] = {
-        cmocka_unit_test(test_draw_and_read_back),
-        cmocka_unit_test(test_cpu_and_gpu_skinning_agree),
-        cmocka_unit_test(test_bad_frames),
+        cmocka_unit_test(test_draw_and_read_back),         cmocka_unit_test(test_zeroed_options_are_the_defaults),
+        cmocka_unit_test(test_cpu_and_gpu_skinning_agree), cmocka_unit_test(test_bad_frames),
         cmocka_unit_test(test_normal_map_frames_agree),
     };
     return cmocka_run_group_tests(tests, setup, teardown);
