@@ -181,7 +181,7 @@ typedef struct sinew_frame {
      * skinning draws each mesh once for all characters
      * (instancing: the palettes of every character in one texture buffer); CPU skinning skins
      * and draws character after character. 0: the one character of `worlds`.
-     * Levels of detail (options->crowd_lod): each character is drawn with all of its meshes'
+     * Levels of detail (unless options->crowd_full_detail): each character is drawn with all of its meshes'
      * triangles, or about a quarter, a sixteenth or a sixty-fourth of them (as far as a 2% error
      * allows), the finest level whose triangles cover two pixels or more each on screen
      * (meshoptimizer's simplifier; the same skinning, the levels on their own vertices; made
