@@ -55,7 +55,7 @@ void view_redraw(viewer *v)
 /* The worlds at the current time; once a time (the tick, the panel and the draw all ask). */
 bool view_pose(viewer *v)
 {
-    return v->scene.model && app_scene_pose(&v->scene, v->time, SINEW_WRAP_CLAMP, NULL) == SINEW_OK;
+    return v->scene.model && app_scene_pose(&v->scene, v->play.time, SINEW_WRAP_CLAMP, NULL) == SINEW_OK;
 }
 
 void view_recent_changed(viewer *v)
@@ -112,7 +112,7 @@ static double clip_frame_rate(const float *times, size_t n)
 
 double view_frame_rate(const viewer *v)
 {
-    return v->frame_rate > 0.0 ? v->frame_rate : FRAME_RATE;
+    return v->play.frame_rate > 0.0 ? v->play.frame_rate : FRAME_RATE;
 }
 
 void view_update_timeline(viewer *v)
@@ -150,13 +150,13 @@ void view_update_timeline(viewer *v)
             gtk_scale_add_mark(GTK_SCALE(v->scale), times[i], GTK_POS_BOTTOM, NULL);
         count = distinct;
     }
-    free(v->key_times); /* kept for the key jumps (Up / Down) */
-    v->key_times = times;
-    v->key_time_count = times ? count : 0;
+    free(v->play.key_times); /* kept for the key jumps (Up / Down) */
+    v->play.key_times = times;
+    v->play.key_time_count = times ? count : 0;
     /* the file's own frame rate (FBX's time mode), else the usual spacing of the clip's keys */
-    v->frame_rate = v->scene.clip && v->scene.clip->frame_rate > 0.0f
-                        ? v->scene.clip->frame_rate
-                        : clip_frame_rate(v->key_times, v->key_time_count);
+    v->play.frame_rate = v->scene.clip && v->scene.clip->frame_rate > 0.0f
+                             ? v->scene.clip->frame_rate
+                             : clip_frame_rate(v->play.key_times, v->play.key_time_count);
     v->updating = false;
 }
 
@@ -164,14 +164,14 @@ void view_show_time(viewer *v)
 {
     char text[128];
     double rate = view_frame_rate(v);
-    snprintf(text, sizeof text, "%6.3f / %.3f s   frame %d / %d at %g fps", v->time, view_duration(v),
-             (int)floor(v->time * rate + 1e-6), (int)floor(view_duration(v) * rate + 1e-6), rate);
+    snprintf(text, sizeof text, "%6.3f / %.3f s   frame %d / %d at %g fps", v->play.time, view_duration(v),
+             (int)floor(v->play.time * rate + 1e-6), (int)floor(view_duration(v) * rate + 1e-6), rate);
     gtk_label_set_text(GTK_LABEL(v->time_label), text);
     v->updating = true;
-    gtk_range_set_value(GTK_RANGE(v->scale), v->time);
+    gtk_range_set_value(GTK_RANGE(v->scale), v->play.time);
     if (v->frame_spin) {
         gtk_spin_button_set_range(GTK_SPIN_BUTTON(v->frame_spin), 0.0, floor(view_duration(v) * rate + 1e-6));
-        gtk_spin_button_set_value(GTK_SPIN_BUTTON(v->frame_spin), floor(v->time * rate + 1e-6));
+        gtk_spin_button_set_value(GTK_SPIN_BUTTON(v->frame_spin), floor(v->play.time * rate + 1e-6));
     }
     v->updating = false;
 }
@@ -179,7 +179,7 @@ void view_show_time(viewer *v)
 static void set_time(viewer *v, double t)
 {
     double d = view_duration(v);
-    v->time = t < 0.0 ? 0.0 : t > d ? d : t;
+    v->play.time = t < 0.0 ? 0.0 : t > d ? d : t;
     view_show_time(v);
     if ((v->selected >= 0 || v->shape_count) && view_pose(v)) {
         panels_frame_drawn(v);
@@ -190,8 +190,8 @@ static void set_time(viewer *v, double t)
 
 static void set_playing(viewer *v, bool playing)
 {
-    v->playing = playing;
-    v->last_frame = 0;
+    v->play.playing = playing;
+    v->play.last_frame = 0;
     gtk_button_set_icon_name(GTK_BUTTON(v->play_button),
                              playing ? "media-playback-pause-symbolic" : "media-playback-start-symbolic");
 }
@@ -207,12 +207,12 @@ static void advance(viewer *v, double dt)
     double d = view_duration(v);
     if (d <= 0.0)
         return;
-    double t = v->time + dt * v->speed * v->direction;
-    if (v->mode == PLAY_LOOP) {
+    double t = v->play.time + dt * v->play.speed * v->play.direction;
+    if (v->play.mode == PLAY_LOOP) {
         t = fmod(t, d);
         if (t < 0.0)
             t += d;
-    } else if (v->mode == PLAY_ALL_CLIPS && (t >= d || t < 0.0) && v->scene.model->clip_count > 1) {
+    } else if (v->play.mode == PLAY_ALL_CLIPS && (t >= d || t < 0.0) && v->scene.model->clip_count > 1) {
         /* the next clip (the previous when reversed), wrapping; the list shows which */
         uint32_t n = v->scene.model->clip_count;
         int32_t at = v->scene.clip ? (int32_t)(v->scene.clip - v->scene.model->clips) : 0;
@@ -221,7 +221,7 @@ static void advance(viewer *v, double dt)
         gtk_drop_down_set_selected(GTK_DROP_DOWN(v->clip_list), (guint)next); /* on_clip plays it from 0 */
         d = view_duration(v);
         t = t >= 0.0 ? fmin(over, d) : fmax(d - over, 0.0);
-    } else if (v->mode == PLAY_ONCE || v->mode == PLAY_ALL_CLIPS) {
+    } else if (v->play.mode == PLAY_ONCE || v->play.mode == PLAY_ALL_CLIPS) {
         if (t >= d || t <= 0.0) {
             t = t >= d ? d : 0.0;
             set_playing(v, false);
@@ -229,10 +229,10 @@ static void advance(viewer *v, double dt)
     } else {
         while (t > d || t < 0.0) {
             t = t > d ? 2.0 * d - t : -t;
-            v->direction = -v->direction;
+            v->play.direction = -v->play.direction;
         }
     }
-    v->time = t;
+    v->play.time = t;
 }
 
 static void show_status(viewer *v);
@@ -267,16 +267,15 @@ static gboolean on_tick(GtkWidget *widget, GdkFrameClock *clock, gpointer data)
     (void)widget;
     viewer *v = data;
     gint64 now = gdk_frame_clock_get_frame_time(clock);
-    static gint64 last_tick;
-    double dt = last_tick ? (double)(now - last_tick) * 1e-6 : 0.0;
-    last_tick = now;
-    if (v->camera.mode == SINEW_CAMERA_FLY) { /* keys held: metres a second from the scene's size */
-        float speed = 0.8f * (v->camera.scene_radius > 0.0f ? v->camera.scene_radius : 1.0f) * (float)dt;
-        float f = (float)(v->held[ACTION_FORWARD] - v->held[ACTION_BACK]);
-        float r = (float)(v->held[ACTION_RIGHT] - v->held[ACTION_LEFT]);
-        float u = (float)(v->held[ACTION_UP] - v->held[ACTION_DOWN]);
+    double dt = v->play.last_tick ? (double)(now - v->play.last_tick) * 1e-6 : 0.0;
+    v->play.last_tick = now;
+    if (v->look.camera.mode == SINEW_CAMERA_FLY) { /* keys held: metres a second from the scene's size */
+        float speed = 0.8f * (v->look.camera.scene_radius > 0.0f ? v->look.camera.scene_radius : 1.0f) * (float)dt;
+        float f = (float)(v->look.held[ACTION_FORWARD] - v->look.held[ACTION_BACK]);
+        float r = (float)(v->look.held[ACTION_RIGHT] - v->look.held[ACTION_LEFT]);
+        float u = (float)(v->look.held[ACTION_UP] - v->look.held[ACTION_DOWN]);
         if (f != 0.0f || r != 0.0f || u != 0.0f) {
-            sinew_camera_move(&v->camera, f * speed, r * speed, u * speed);
+            sinew_camera_move(&v->look.camera, f * speed, r * speed, u * speed);
             view_redraw(v);
         }
     }
@@ -291,24 +290,25 @@ static gboolean on_tick(GtkWidget *widget, GdkFrameClock *clock, gpointer data)
                                                          * (priority 120) starve idle sources on a slow machine */
             g_idle_add_full(G_PRIORITY_DEFAULT, close_window, v, NULL);
     }
-    if (v->fade_from > 0.0 && v->blend_scale) { /* the Cross-fade button: the weight to 1 over half a second */
-        double w = fmin(1.0, ((double)now * 1e-6 - v->fade_from) / 0.5);
+    if (v->pose.fade_from > 0.0 &&
+        v->pose.blend_scale) { /* the Cross-fade button: the weight to 1 over half a second */
+        double w = fmin(1.0, ((double)now * 1e-6 - v->pose.fade_from) / 0.5);
         if (w >= 1.0)
-            v->fade_from = 0.0;
-        gtk_range_set_value(GTK_RANGE(v->blend_scale), w * w * (3.0 - 2.0 * w));
+            v->pose.fade_from = 0.0;
+        gtk_range_set_value(GTK_RANGE(v->pose.blend_scale), w * w * (3.0 - 2.0 * w));
     }
-    if (v->record_end) {
-        if (v->record_error[0])
-            view_show_error(v, v->record_error);
-        stop_recording(v, v->record_end);
-        v->record_end = NULL;
-        v->record_error[0] = 0;
+    if (v->rec.record_end) {
+        if (v->rec.record_error[0])
+            view_show_error(v, v->rec.record_error);
+        stop_recording(v, v->rec.record_end);
+        v->rec.record_end = NULL;
+        v->rec.record_error[0] = 0;
     }
-    if (v->title_due) { /* recording: the title says so and where */
-        v->title_due = false;
+    if (v->rec.title_due) { /* recording: the title says so and where */
+        v->rec.title_due = false;
         char title[4300];
-        if (v->recording)
-            snprintf(title, sizeof title, "● recording %s (F9 stops) — sinew", v->video_path);
+        if (v->rec.recording)
+            snprintf(title, sizeof title, "● recording %s (F9 stops) — sinew", v->rec.video_path);
         else
             snprintf(title, sizeof title, "%s — sinew", v->scene.model ? v->scene.model->source : "sinew");
         gtk_window_set_title(GTK_WINDOW(v->window), title);
@@ -341,12 +341,12 @@ static gboolean on_tick(GtkWidget *widget, GdkFrameClock *clock, gpointer data)
         }
         g_strfreev(names);
     }
-    if (v->playing) {
-        if (v->recording) /* the video's clock, not the wall's: every frame 1/RECORD_FPS s on */
-            advance(v, v->speed > 0.0 ? 1.0 / RECORD_FPS / v->speed : 0.0);
-        else if (v->last_frame)
-            advance(v, (double)(now - v->last_frame) * 1e-6);
-        v->last_frame = now;
+    if (v->play.playing) {
+        if (v->rec.recording) /* the video's clock, not the wall's: every frame 1/RECORD_FPS s on */
+            advance(v, v->play.speed > 0.0 ? 1.0 / RECORD_FPS / v->play.speed : 0.0);
+        else if (v->play.last_frame)
+            advance(v, (double)(now - v->play.last_frame) * 1e-6);
+        v->play.last_frame = now;
         view_show_time(v);
         if ((v->selected >= 0 || v->shape_count) && view_pose(v)) { /* not from the draw: a label may resize */
             panels_frame_drawn(v);
@@ -391,32 +391,32 @@ static void frame_all(viewer *v)
     if (!v->renderer)
         return;
     v->options.grid_height = app_scene_ground(&v->scene, v->renderer, 60); /* as `sinew render` places it */
-    if (!app_scene_bounds(&v->scene, v->renderer, v->time, v->time, 1, SINEW_WRAP_CLAMP, lo, hi))
+    if (!app_scene_bounds(&v->scene, v->renderer, v->play.time, v->play.time, 1, SINEW_WRAP_CLAMP, lo, hi))
         return;
     if (v->crowd_on && crowd_ready(v))
         app_crowd_bounds(&v->crowd, lo, hi);
-    sinew_camera keep = v->camera;
-    sinew_camera_frame(&v->camera, lo, hi, h > 0 ? (float)w / (float)h : 1.0f);
-    if (v->keep_now == CAMERA_KEEP_ALL) { /* the grid's spacing follows the new file's size */
-        float radius = v->camera.scene_radius;
-        v->camera = keep;
-        v->camera.scene_radius = radius;
-    } else if (v->keep_now == CAMERA_KEEP_GIVEN && keep.mode == SINEW_CAMERA_FLY) {
-        memcpy(v->camera.position, keep.position, sizeof keep.position);
-    } else if (v->keep_now == CAMERA_KEEP_GIVEN) {
-        v->camera.distance = keep.distance;
+    sinew_camera keep = v->look.camera;
+    sinew_camera_frame(&v->look.camera, lo, hi, h > 0 ? (float)w / (float)h : 1.0f);
+    if (v->look.keep_now == CAMERA_KEEP_ALL) { /* the grid's spacing follows the new file's size */
+        float radius = v->look.camera.scene_radius;
+        v->look.camera = keep;
+        v->look.camera.scene_radius = radius;
+    } else if (v->look.keep_now == CAMERA_KEEP_GIVEN && keep.mode == SINEW_CAMERA_FLY) {
+        memcpy(v->look.camera.position, keep.position, sizeof keep.position);
+    } else if (v->look.keep_now == CAMERA_KEEP_GIVEN) {
+        v->look.camera.distance = keep.distance;
     }
-    if (v->keep_now != CAMERA_KEEP_ALL) { /* --camera-position, --camera-focal-point: once */
-        app_camera_place(&v->camera, &v->placement);
-        v->placement.has_position = v->placement.has_focal = false;
+    if (v->look.keep_now != CAMERA_KEEP_ALL) { /* --camera-position, --camera-focal-point: once */
+        app_camera_place(&v->look.camera, &v->look.placement);
+        v->look.placement.has_position = v->look.placement.has_focal = false;
     }
-    v->keep_now = CAMERA_FRAME; /* the next framing (F, a crowd) frames all */
+    v->look.keep_now = CAMERA_FRAME; /* the next framing (F, a crowd) frames all */
 }
 
 void view_toggle_crowd(viewer *v, bool on)
 {
     v->crowd_on = on;
-    v->framed = false;
+    v->look.framed = false;
     if (v->crowd_check) {
         v->updating = true;
         gtk_check_button_set_active(GTK_CHECK_BUTTON(v->crowd_check), on);
@@ -488,23 +488,23 @@ static void take_numbered_screenshot(viewer *v)
  * (kept when anything was recorded) and its path logged. */
 static void stop_recording(viewer *v, const char *why)
 {
-    if (!v->recording)
+    if (!v->rec.recording)
         return;
-    v->recording = false;
+    v->rec.recording = false;
     sinew_error error = {0};
-    bool kept = app_video_close(&v->video, v->recorded > 0.0, &error) == SINEW_OK;
-    free(v->video_frame);
-    v->video_frame = NULL;
+    bool kept = app_video_close(&v->rec.video, v->rec.recorded > 0.0, &error) == SINEW_OK;
+    free(v->rec.video_frame);
+    v->rec.video_frame = NULL;
     char line[4400];
     if (kept) {
-        snprintf(line, sizeof line, "recorded %.2f s to %s (%s)", v->recorded, v->video_path, why);
+        snprintf(line, sizeof line, "recorded %.2f s to %s (%s)", v->rec.recorded, v->rec.video_path, why);
         panels_log(v, line);
-        printf("sinew-view: wrote %s\n", v->video_path);
+        printf("sinew-view: wrote %s\n", v->rec.video_path);
         fflush(stdout);
     } else if (error.kind != SINEW_OK) {
         view_show_error(v, error.message);
     }
-    v->title_due = true;
+    v->rec.title_due = true;
 }
 
 /* F9: records what the view shows, playing the clip at RECORD_FPS frames a second of clip
@@ -513,22 +513,22 @@ static void stop_recording(viewer *v, const char *why)
  * looping or once-played clip. */
 static void start_recording(viewer *v, int w, int h)
 {
-    v->record_asked = false;
-    numbered_path(v, G_USER_DIRECTORY_VIDEOS, "mp4", v->video_path, sizeof v->video_path);
+    v->rec.record_asked = false;
+    numbered_path(v, G_USER_DIRECTORY_VIDEOS, "mp4", v->rec.video_path, sizeof v->rec.video_path);
     sinew_error error = {0};
     signal(SIGPIPE, SIG_IGN); /* a dead ffmpeg is a write error */
-    v->video_frame = malloc((size_t)w * (size_t)h * 4 + 1);
-    if (!v->video_frame || w <= 0 || h <= 0 ||
-        app_video_open(&v->video, v->video_path, w, h, RECORD_FPS, true, &error) != SINEW_OK) {
-        free(v->video_frame);
-        v->video_frame = NULL;
+    v->rec.video_frame = malloc((size_t)w * (size_t)h * 4 + 1);
+    if (!v->rec.video_frame || w <= 0 || h <= 0 ||
+        app_video_open(&v->rec.video, v->rec.video_path, w, h, RECORD_FPS, true, &error) != SINEW_OK) {
+        free(v->rec.video_frame);
+        v->rec.video_frame = NULL;
         view_show_error(v, error.kind != SINEW_OK ? error.message : "out of memory for recording");
         return;
     }
-    v->recording = true;
-    v->recorded = 0.0;
-    v->video_width = w, v->video_height = h;
-    v->title_due = true; /* from the next tick: a widget changed during the GL area's draw is left
+    v->rec.recording = true;
+    v->rec.recorded = 0.0;
+    v->rec.video_width = w, v->rec.video_height = h;
+    v->rec.title_due = true; /* from the next tick: a widget changed during the GL area's draw is left
                              unallocated for that frame ("Trying to snapshot ... without a current allocation") */
 }
 
@@ -537,37 +537,38 @@ static void record_frame(viewer *v, int width, int height)
 {
     sinew_error error = {0};
     glPixelStorei(GL_PACK_ALIGNMENT, 1);
-    if (width == v->video_width && height == v->video_height) {
-        glReadPixels(0, 0, width, height, GL_RGBA, GL_UNSIGNED_BYTE, v->video_frame);
+    if (width == v->rec.video_width && height == v->rec.video_height) {
+        glReadPixels(0, 0, width, height, GL_RGBA, GL_UNSIGNED_BYTE, v->rec.video_frame);
     } else { /* the view was resized: the video keeps its size, cropped or padded from the top left */
-        int w = width < v->video_width ? width : v->video_width,
-            h = height < v->video_height ? height : v->video_height;
-        memset(v->video_frame, 0, (size_t)v->video_width * (size_t)v->video_height * 4);
-        glPixelStorei(GL_PACK_ROW_LENGTH, v->video_width);
+        int w = width < v->rec.video_width ? width : v->rec.video_width,
+            h = height < v->rec.video_height ? height : v->rec.video_height;
+        memset(v->rec.video_frame, 0, (size_t)v->rec.video_width * (size_t)v->rec.video_height * 4);
+        glPixelStorei(GL_PACK_ROW_LENGTH, v->rec.video_width);
         glReadPixels(0, height - h, w, h, GL_RGBA, GL_UNSIGNED_BYTE,
-                     v->video_frame + (size_t)(v->video_height - h) * (size_t)v->video_width * 4);
+                     v->rec.video_frame + (size_t)(v->rec.video_height - h) * (size_t)v->rec.video_width * 4);
         glPixelStorei(GL_PACK_ROW_LENGTH, 0);
     }
-    if (app_video_write(&v->video, v->video_frame, &error) != SINEW_OK) {
-        snprintf(v->record_error, sizeof v->record_error, "%s", error.message);
-        v->record_end = "ffmpeg stopped";
+    if (app_video_write(&v->rec.video, v->rec.video_frame, &error) != SINEW_OK) {
+        snprintf(v->rec.record_error, sizeof v->rec.record_error, "%s", error.message);
+        v->rec.record_end = "ffmpeg stopped";
         return;
     }
-    v->recorded += v->playing ? v->speed / RECORD_FPS : 0.0;
+    v->rec.recorded += v->play.playing ? v->play.speed / RECORD_FPS : 0.0;
     double d = view_duration(v);
-    if ((v->mode == PLAY_LOOP || v->mode == PLAY_ONCE) && (d <= 0.0 || v->recorded >= d - 1e-9))
-        v->record_end = d > 0.0 ? "one pass of the clip" : "the rest pose";
+    if ((v->play.mode == PLAY_LOOP || v->play.mode == PLAY_ONCE) && (d <= 0.0 || v->rec.recorded >= d - 1e-9))
+        v->rec.record_end = d > 0.0 ? "one pass of the clip" : "the rest pose";
 }
 
 /* The root-motion path: where the root goes over the clip, drawn on the grid. */
 static void root_motion_path(viewer *v)
 {
-    v->path_segments = 0;
+    v->pose.path_segments = 0;
     double d = view_duration(v);
     if (!v->scene.ops.root_motion || !(d > 0.0) || !v->scene.model)
         return;
     uint32_t steps = (uint32_t)fmin(SINEW_MAX_FRAME_LINES, fmax(8.0, d * 30.0));
-    if (!v->motion_path && !(v->motion_path = malloc(SINEW_MAX_FRAME_LINES * 6 * sizeof *v->motion_path)))
+    if (!v->pose.motion_path &&
+        !(v->pose.motion_path = malloc(SINEW_MAX_FRAME_LINES * 6 * sizeof *v->pose.motion_path)))
         return;
     float previous[3] = {0};
     for (uint32_t i = 0; i <= steps; i++) {
@@ -584,9 +585,9 @@ static void root_motion_path(viewer *v)
         for (int k = 0; k < 3; k++)
             p[k] = m ? m[k] * local[0] + m[8 + k] * local[2] + m[12 + k] : local[k];
         if (i > 0) {
-            memcpy(v->motion_path + v->path_segments * 6, previous, sizeof previous);
-            memcpy(v->motion_path + v->path_segments * 6 + 3, p, sizeof p);
-            v->path_segments++;
+            memcpy(v->pose.motion_path + v->pose.path_segments * 6, previous, sizeof previous);
+            memcpy(v->pose.motion_path + v->pose.path_segments * 6 + 3, p, sizeof p);
+            v->pose.path_segments++;
         }
         memcpy(previous, p, sizeof p);
     }
@@ -599,23 +600,23 @@ static void apply_pose_ops(viewer *v, bool path)
 {
     if (!v->scene.model)
         return;
-    app_pose_spec spec = v->pose_ops; /* the command line's, with the panel's on top */
+    app_pose_spec spec = v->pose.pose_ops; /* the command line's, with the panel's on top */
     char blend[128], ik[600];
-    if (v->blend_clip >= 0 && v->scene.clip_index >= 0) {
-        snprintf(blend, sizeof blend, "%d:%.4f,%d:%.4f", v->scene.clip_index, 1.0 - v->blend_weight, v->blend_clip,
-                 v->blend_weight);
+    if (v->pose.blend_clip >= 0 && v->scene.clip_index >= 0) {
+        snprintf(blend, sizeof blend, "%d:%.4f,%d:%.4f", v->scene.clip_index, 1.0 - v->pose.blend_weight,
+                 v->pose.blend_clip, v->pose.blend_weight);
         spec.blend = blend;
     }
-    spec.root_motion = spec.root_motion || v->root_motion;
-    if (v->ik_on && v->ik_joint >= 0 && spec.ik_count < APP_MAX_IK) {
-        snprintf(ik, sizeof ik, "%s:%g,%g,%g", v->scene.model->node_names[v->ik_joint], (double)v->ik_target[0],
-                 (double)v->ik_target[1], (double)v->ik_target[2]);
+    spec.root_motion = spec.root_motion || v->pose.root_motion;
+    if (v->pose.ik_on && v->pose.ik_joint >= 0 && spec.ik_count < APP_MAX_IK) {
+        snprintf(ik, sizeof ik, "%s:%g,%g,%g", v->scene.model->node_names[v->pose.ik_joint],
+                 (double)v->pose.ik_target[0], (double)v->pose.ik_target[1], (double)v->pose.ik_target[2]);
         spec.ik[spec.ik_count++] = ik;
     }
     sinew_error error = {0};
     if (app_scene_set_pose_ops(&v->scene, &spec, &error) != SINEW_OK) {
         view_show_error(v, error.message);
-        v->ik_on = false;
+        v->pose.ik_on = false;
     }
     if (path)
         root_motion_path(v);
@@ -651,14 +652,14 @@ static void fill_help(viewer *v)
 static void look_along(viewer *v, int axis)
 {
     if (axis < 0) {
-        v->camera.yaw = 30.0f * (float)G_PI / 180.0f;
-        v->camera.pitch = 15.0f * (float)G_PI / 180.0f;
-        v->camera.orthographic = false;
-        sinew_camera_set_mode(&v->camera, SINEW_CAMERA_ORBIT);
+        v->look.camera.yaw = 30.0f * (float)G_PI / 180.0f;
+        v->look.camera.pitch = 15.0f * (float)G_PI / 180.0f;
+        v->look.camera.orthographic = false;
+        sinew_camera_set_mode(&v->look.camera, SINEW_CAMERA_ORBIT);
     } else {
-        sinew_camera_look_along(&v->camera, (sinew_camera_view_axis)axis);
+        sinew_camera_look_along(&v->look.camera, (sinew_camera_view_axis)axis);
     }
-    if (v->camera.mode == SINEW_CAMERA_ORBIT)
+    if (v->look.camera.mode == SINEW_CAMERA_ORBIT)
         frame_all(v);
     panels_options_changed(v);
     view_redraw(v);
@@ -770,21 +771,21 @@ static gboolean on_render(GtkGLArea *area, GdkGLContext *context, gpointer data)
         glClear(GL_COLOR_BUFFER_BIT);
         return TRUE;
     }
-    if (!v->framed) {
+    if (!v->look.framed) {
         frame_all(v);
-        v->framed = true;
+        v->look.framed = true;
     }
     sinew_error error = {0};
-    sinew_frame frame = app_scene_frame(&v->scene, &v->camera, &v->options, width, height);
-    if (v->scene.ops.root_motion && v->path_segments) { /* the root-motion path on the ground */
-        for (uint32_t i = 0; i < v->path_segments * 2; i++)
-            v->motion_path[i * 3 + 1] = v->options.grid_height;
-        frame.lines = v->motion_path;
-        frame.line_count = v->path_segments;
+    sinew_frame frame = app_scene_frame(&v->scene, &v->look.camera, &v->options, width, height);
+    if (v->scene.ops.root_motion && v->pose.path_segments) { /* the root-motion path on the ground */
+        for (uint32_t i = 0; i < v->pose.path_segments * 2; i++)
+            v->pose.motion_path[i * 3 + 1] = v->options.grid_height;
+        frame.lines = v->pose.motion_path;
+        frame.line_count = v->pose.path_segments;
         frame.line_color[0] = 1.0f, frame.line_color[1] = 0.75f, frame.line_color[2] = 0.2f;
     }
     if (v->crowd_on && crowd_ready(v)) {
-        app_crowd_pose(&v->crowd, v->time);
+        app_crowd_pose(&v->crowd, v->play.time);
         frame.crowd_count = v->crowd.count;
         frame.crowd_worlds = v->crowd.worlds;
         frame.jobs = v->jobs;
@@ -796,7 +797,7 @@ static gboolean on_render(GtkGLArea *area, GdkGLContext *context, gpointer data)
     if (v->samples > 1 && !msaa) /* multisampling refused: FXAA instead */
         options.fxaa = true;
     frame.options = &options;
-    if (app_scene_pose(&v->scene, v->time, SINEW_WRAP_CLAMP, &error) != SINEW_OK ||
+    if (app_scene_pose(&v->scene, v->play.time, SINEW_WRAP_CLAMP, &error) != SINEW_OK ||
         (frame.cache_time = v->scene.cache_time, sinew_renderer_draw(v->renderer, &frame, &error)) != SINEW_OK)
         view_show_error(v, error.message);
     if (msaa)
@@ -812,9 +813,9 @@ static gboolean on_render(GtkGLArea *area, GdkGLContext *context, gpointer data)
                                  leaves its row without an allocation for that frame, so GTK skips
                                  drawing it ("Trying to snapshot GtkBox without a current allocation") */
     }
-    if (v->recording && !v->record_end)
+    if (v->rec.recording && !v->rec.record_end)
         record_frame(v, width, height);
-    if (v->record_asked && !v->load && !v->press) /* the first frame goes in at the next draw */
+    if (v->rec.record_asked && !v->load && !v->press) /* the first frame goes in at the next draw */
         start_recording(v, width, height);
     if (!v->load && !v->press && !v->sliders)
         v->frames_drawn++;
@@ -859,7 +860,7 @@ static void on_play(GtkButton *button, gpointer data)
 {
     (void)button;
     viewer *v = data;
-    set_playing(v, !v->playing);
+    set_playing(v, !v->play.playing);
 }
 
 static void on_scrub(GtkRange *range, gpointer data)
@@ -894,20 +895,20 @@ static void on_frame_entry(GtkSpinButton *spin, gpointer data)
 static void on_speed(GtkSpinButton *spin, gpointer data)
 {
     viewer *v = data;
-    v->speed = gtk_spin_button_get_value(spin);
+    v->play.speed = gtk_spin_button_get_value(spin);
 }
 
 static void on_reverse(GtkToggleButton *toggle, gpointer data)
 {
     viewer *v = data;
-    v->direction = gtk_toggle_button_get_active(toggle) ? -1 : 1;
+    v->play.direction = gtk_toggle_button_get_active(toggle) ? -1 : 1;
 }
 
 static void on_mode(GObject *dropdown, GParamSpec *pspec, gpointer data)
 {
     (void)pspec;
     viewer *v = data;
-    v->mode = (play_mode)gtk_drop_down_get_selected(GTK_DROP_DOWN(dropdown));
+    v->play.mode = (play_mode)gtk_drop_down_get_selected(GTK_DROP_DOWN(dropdown));
 }
 
 static void on_open(GtkButton *button, gpointer data);
@@ -938,7 +939,7 @@ static gboolean on_key(GtkEventControllerKey *controller, guint key, guint code,
         gtk_widget_set_visible(v->help, false);
         return TRUE;
     }
-    if (key == GDK_KEY_Escape && !v->ik_dragging) { /* nothing dragged, no text being edited (above) */
+    if (key == GDK_KEY_Escape && !v->pose.ik_dragging) { /* nothing dragged, no text being edited (above) */
         g_idle_add_full(G_PRIORITY_DEFAULT, close_window, v, NULL);
         return TRUE;
     }
@@ -958,13 +959,13 @@ static gboolean on_key(GtkEventControllerKey *controller, guint key, guint code,
     }
     switch ((view_action)action) {
     case ACTION_PLAY:
-        set_playing(v, !v->playing);
+        set_playing(v, !v->play.playing);
         return TRUE;
     case ACTION_PREVIOUS_FRAME:
     case ACTION_NEXT_FRAME:
         set_playing(v, false);
         /* from the frame the time is in (3.034 s at 24 fps is in frame 72: on to 73, back to 71) */
-        set_time(v, (floor(v->time * view_frame_rate(v) + 1e-6) + (action == ACTION_NEXT_FRAME ? 1 : -1)) /
+        set_time(v, (floor(v->play.time * view_frame_rate(v) + 1e-6) + (action == ACTION_NEXT_FRAME ? 1 : -1)) /
                         view_frame_rate(v));
         return TRUE;
     case ACTION_FIRST:
@@ -978,7 +979,8 @@ static gboolean on_key(GtkEventControllerKey *controller, guint key, guint code,
         view_redraw(v);
         return TRUE;
     case ACTION_CAMERA_MODE:
-        sinew_camera_set_mode(&v->camera, v->camera.mode == SINEW_CAMERA_FLY ? SINEW_CAMERA_ORBIT : SINEW_CAMERA_FLY);
+        sinew_camera_set_mode(&v->look.camera,
+                              v->look.camera.mode == SINEW_CAMERA_FLY ? SINEW_CAMERA_ORBIT : SINEW_CAMERA_FLY);
         panels_options_changed(v);
         view_redraw(v);
         return TRUE;
@@ -993,9 +995,9 @@ static gboolean on_key(GtkEventControllerKey *controller, guint key, guint code,
         set_playing(v, false);
         bool next = action == ACTION_NEXT_KEY;
         double to = next ? view_duration(v) : 0.0;
-        for (size_t i = 0; i < v->key_time_count; i++) {
-            double t = v->key_times[next ? i : v->key_time_count - 1 - i];
-            if (next ? t > v->time + 1e-5 : t < v->time - 1e-5) {
+        for (size_t i = 0; i < v->play.key_time_count; i++) {
+            double t = v->play.key_times[next ? i : v->play.key_time_count - 1 - i];
+            if (next ? t > v->play.time + 1e-5 : t < v->play.time - 1e-5) {
                 to = t;
                 break;
             }
@@ -1014,10 +1016,10 @@ static gboolean on_key(GtkEventControllerKey *controller, guint key, guint code,
         take_numbered_screenshot(v);
         return TRUE;
     case ACTION_RECORD:
-        if (v->recording) {
+        if (v->rec.recording) {
             stop_recording(v, "F9");
         } else {
-            v->record_asked = true; /* at the next draw, which knows the view's size */
+            v->rec.record_asked = true; /* at the next draw, which knows the view's size */
             set_playing(v, true);
             view_redraw(v);
         }
@@ -1033,7 +1035,7 @@ static gboolean on_key(GtkEventControllerKey *controller, guint key, guint code,
         look_along(v, -1);
         return TRUE;
     case ACTION_ORTHOGRAPHIC:
-        v->camera.orthographic = !v->camera.orthographic;
+        v->look.camera.orthographic = !v->look.camera.orthographic;
         panels_options_changed(v);
         view_redraw(v);
         return TRUE;
@@ -1054,8 +1056,8 @@ static gboolean on_key(GtkEventControllerKey *controller, guint key, guint code,
         view_redraw(v);
         return TRUE;
     default:
-        if (action >= ACTION_FORWARD && v->camera.mode == SINEW_CAMERA_FLY) {
-            v->held[action] = true;
+        if (action >= ACTION_FORWARD && v->look.camera.mode == SINEW_CAMERA_FLY) {
+            v->look.held[action] = true;
             return TRUE;
         }
         return FALSE;
@@ -1069,23 +1071,24 @@ static void on_key_released(GtkEventControllerKey *controller, guint key, guint 
     viewer *v = data;
     int action = settings_action_for_key(v, key);
     if (action >= ACTION_FORWARD)
-        v->held[action] = false;
+        v->look.held[action] = false;
 }
 
 static void on_drag_begin(GtkGestureDrag *gesture, double x, double y, gpointer data)
 {
     (void)x, (void)y;
     viewer *v = data;
-    v->drag_x = v->drag_y = 0.0;
+    v->look.drag_x = v->look.drag_y = 0.0;
     gtk_widget_grab_focus(v->area);
     GdkModifierType mods = gtk_event_controller_get_current_event_state(GTK_EVENT_CONTROLLER(gesture));
     guint button = gtk_gesture_single_get_current_button(GTK_GESTURE_SINGLE(gesture));
     /* ctrl-drag moves an IK target (Blender's map: ctrl-left; its ctrl-middle zooms) */
-    v->ik_dragging = (mods & GDK_CONTROL_MASK) && v->selected >= 0 && v->scene.worlds &&
-                     (v->key_map != KEY_MAP_BLENDER || button == GDK_BUTTON_PRIMARY);
-    if (v->ik_dragging && !(v->ik_on && v->ik_joint == v->selected)) { /* a new target, where the joint is */
-        v->ik_joint = v->selected;
-        memcpy(v->ik_target, v->scene.worlds[v->selected].m + 12, sizeof v->ik_target);
+    v->pose.ik_dragging = (mods & GDK_CONTROL_MASK) && v->selected >= 0 && v->scene.worlds &&
+                          (v->key_map != KEY_MAP_BLENDER || button == GDK_BUTTON_PRIMARY);
+    if (v->pose.ik_dragging &&
+        !(v->pose.ik_on && v->pose.ik_joint == v->selected)) { /* a new target, where the joint is */
+        v->pose.ik_joint = v->selected;
+        memcpy(v->pose.ik_target, v->scene.worlds[v->selected].m + 12, sizeof v->pose.ik_target);
     }
 }
 
@@ -1095,11 +1098,11 @@ static void on_drag_end(GtkGestureDrag *gesture, double dx, double dy, gpointer 
 {
     (void)gesture;
     viewer *v = data;
-    if (v->ik_dragging && fabs(dx) < 2.0 && fabs(dy) < 2.0 && v->ik_on) {
-        v->ik_on = false;
+    if (v->pose.ik_dragging && fabs(dx) < 2.0 && fabs(dy) < 2.0 && v->pose.ik_on) {
+        v->pose.ik_on = false;
         apply_pose_ops(v, false);
     }
-    v->ik_dragging = false;
+    v->pose.ik_dragging = false;
 }
 
 static void on_drag_update(GtkGestureDrag *gesture, double dx, double dy, gpointer data)
@@ -1107,45 +1110,46 @@ static void on_drag_update(GtkGestureDrag *gesture, double dx, double dy, gpoint
     viewer *v = data;
     GdkModifierType mods = gtk_event_controller_get_current_event_state(GTK_EVENT_CONTROLLER(gesture));
     guint button = gtk_gesture_single_get_current_button(GTK_GESTURE_SINGLE(gesture));
-    double ddx = dx - v->drag_x, ddy = dy - v->drag_y;
-    v->drag_x = dx, v->drag_y = dy;
+    double ddx = dx - v->look.drag_x, ddy = dy - v->look.drag_y;
+    v->look.drag_x = dx, v->look.drag_y = dy;
     float h = (float)fmax(1, gtk_widget_get_height(v->area));
-    if (v->ik_dragging) {
+    if (v->pose.ik_dragging) {
         float right[3], up[3], eye[3];
-        sinew_camera_basis(&v->camera, NULL, right, up);
-        sinew_camera_eye(&v->camera, eye);
-        float fov = v->camera.fov_y > 0.0f ? v->camera.fov_y : 0.785398f;
-        float depth = sqrtf((eye[0] - v->ik_target[0]) * (eye[0] - v->ik_target[0]) +
-                            (eye[1] - v->ik_target[1]) * (eye[1] - v->ik_target[1]) +
-                            (eye[2] - v->ik_target[2]) * (eye[2] - v->ik_target[2]));
+        sinew_camera_basis(&v->look.camera, NULL, right, up);
+        sinew_camera_eye(&v->look.camera, eye);
+        float fov = v->look.camera.fov_y > 0.0f ? v->look.camera.fov_y : 0.785398f;
+        float depth = sqrtf((eye[0] - v->pose.ik_target[0]) * (eye[0] - v->pose.ik_target[0]) +
+                            (eye[1] - v->pose.ik_target[1]) * (eye[1] - v->pose.ik_target[1]) +
+                            (eye[2] - v->pose.ik_target[2]) * (eye[2] - v->pose.ik_target[2]));
         float per_pixel = 2.0f * depth * tanf(0.5f * fov) / h;
         for (int k = 0; k < 3; k++)
-            v->ik_target[k] += (float)ddx * per_pixel * right[k] - (float)ddy * per_pixel * up[k];
+            v->pose.ik_target[k] += (float)ddx * per_pixel * right[k] - (float)ddy * per_pixel * up[k];
         /* the drag's chain is the last: its target moves in place once the character has it */
-        uint32_t chain = (uint32_t)v->pose_ops.ik_count;
-        if (v->ik_on && v->scene.ops.ik_count == chain + 1 && v->scene.ops.ik_end[chain] == (uint32_t)v->ik_joint &&
-            app_scene_set_ik_target(&v->scene, chain, v->ik_target)) {
+        uint32_t chain = (uint32_t)v->pose.pose_ops.ik_count;
+        if (v->pose.ik_on && v->scene.ops.ik_count == chain + 1 &&
+            v->scene.ops.ik_end[chain] == (uint32_t)v->pose.ik_joint &&
+            app_scene_set_ik_target(&v->scene, chain, v->pose.ik_target)) {
             view_redraw(v);
             return;
         }
-        v->ik_on = true;
+        v->pose.ik_on = true;
         apply_pose_ops(v, false);
         return;
     }
     bool blender = v->key_map == KEY_MAP_BLENDER;
-    if (v->camera.mode == SINEW_CAMERA_FLY) {
+    if (v->look.camera.mode == SINEW_CAMERA_FLY) {
         if (button == GDK_BUTTON_SECONDARY || button == GDK_BUTTON_PRIMARY || (blender && button == GDK_BUTTON_MIDDLE))
-            sinew_camera_rotate(&v->camera, -(float)ddx * 0.005f, -(float)ddy * 0.005f);
+            sinew_camera_rotate(&v->look.camera, -(float)ddx * 0.005f, -(float)ddy * 0.005f);
     } else if (blender && button != GDK_BUTTON_MIDDLE) {
         return; /* Blender: the left button selects, the right opens menus; the middle one moves the view */
     } else if (blender && (mods & GDK_CONTROL_MASK)) {
-        sinew_camera_zoom(&v->camera, expf((float)ddy * 0.005f));
+        sinew_camera_zoom(&v->look.camera, expf((float)ddy * 0.005f));
     } else if (button == GDK_BUTTON_MIDDLE ? !blender || (mods & GDK_SHIFT_MASK) : (mods & GDK_SHIFT_MASK) != 0) {
-        float fov = v->camera.fov_y > 0.0f ? v->camera.fov_y : 0.785398f;
-        float per_pixel = 2.0f * v->camera.distance * tanf(0.5f * fov) / h;
-        sinew_camera_pan(&v->camera, -(float)ddx * per_pixel, (float)ddy * per_pixel);
+        float fov = v->look.camera.fov_y > 0.0f ? v->look.camera.fov_y : 0.785398f;
+        float per_pixel = 2.0f * v->look.camera.distance * tanf(0.5f * fov) / h;
+        sinew_camera_pan(&v->look.camera, -(float)ddx * per_pixel, (float)ddy * per_pixel);
     } else {
-        sinew_camera_rotate(&v->camera, -(float)ddx * 0.01f, (float)ddy * 0.01f);
+        sinew_camera_rotate(&v->look.camera, -(float)ddx * 0.01f, (float)ddy * 0.01f);
     }
     gtk_gl_area_queue_render(GTK_GL_AREA(v->area));
 }
@@ -1154,7 +1158,7 @@ static gboolean on_scroll(GtkEventControllerScroll *controller, double dx, doubl
 {
     (void)controller, (void)dx;
     viewer *v = data;
-    sinew_camera_zoom(&v->camera, dy > 0 ? 1.1f : 1.0f / 1.1f);
+    sinew_camera_zoom(&v->look.camera, dy > 0 ? 1.1f : 1.0f / 1.1f);
     gtk_gl_area_queue_render(GTK_GL_AREA(v->area));
     return TRUE;
 }
@@ -1259,13 +1263,9 @@ static void end_bar(GtkWidget *box, GtkWidget *bar, GtkWidget *button, GCallback
     gtk_box_append(GTK_BOX(box), bar);
 }
 
-static void on_activate(GtkApplication *app, gpointer data)
+/* The header bar: Open and the Recent menu. */
+static void build_header(viewer *v)
 {
-    startup *s = data;
-    viewer *v = s->v;
-    v->window = gtk_application_window_new(app);
-    gtk_window_set_default_size(GTK_WINDOW(v->window), s->width, s->height);
-    g_signal_connect(v->window, "close-request", G_CALLBACK(on_close_request), v);
     GtkWidget *header = gtk_header_bar_new();
     GtkWidget *open = gtk_button_new_with_mnemonic("_Open…");
     g_signal_connect(open, "clicked", G_CALLBACK(on_open), v);
@@ -1279,8 +1279,11 @@ static void on_activate(GtkApplication *app, gpointer data)
     static const GActionEntry actions[] = {{.name = "open-recent", .activate = on_open_recent, .parameter_type = "s"}};
     g_action_map_add_action_entries(G_ACTION_MAP(v->window), actions, 1, v);
     gtk_window_set_titlebar(GTK_WINDOW(v->window), header);
+}
 
-    GtkWidget *box = gtk_box_new(GTK_ORIENTATION_VERTICAL, 0);
+/* The error bar and the bar of a file being opened (what, how long, how far, and Cancel). */
+static void build_bars(viewer *v, GtkWidget *box)
+{
     v->error_bar = gtk_box_new(GTK_ORIENTATION_HORIZONTAL, 6);
     gtk_widget_add_css_class(v->error_bar, "sinew-error");
     GtkCssProvider *css = gtk_css_provider_new();
@@ -1301,7 +1304,6 @@ static void on_activate(GtkApplication *app, gpointer data)
     gtk_box_append(GTK_BOX(v->error_bar), v->error_label);
     end_bar(box, v->error_bar, gtk_button_new_from_icon_name("window-close-symbolic"), G_CALLBACK(on_close_error), v);
 
-    /* While a file opens: what, how long, how far (when known), and Cancel. */
     v->load_bar = gtk_box_new(GTK_ORIENTATION_HORIZONTAL, 8);
     gtk_widget_set_margin_start(v->load_bar, 8);
     gtk_widget_set_margin_end(v->load_bar, 4);
@@ -1313,7 +1315,11 @@ static void on_activate(GtkApplication *app, gpointer data)
     gtk_widget_set_valign(v->load_progress, GTK_ALIGN_CENTER);
     gtk_box_append(GTK_BOX(v->load_bar), v->load_progress);
     end_bar(box, v->load_bar, gtk_button_new_with_mnemonic("_Cancel"), G_CALLBACK(on_cancel_open), v);
+}
 
+/* The GL area with its mouse, scroll, drop and key controllers, under the key cheat sheet (H). */
+static GtkWidget *build_view(viewer *v)
+{
     v->area = gtk_gl_area_new();
     gtk_gl_area_set_required_version(GTK_GL_AREA(v->area), 3, 3);
     gtk_gl_area_set_has_depth_buffer(GTK_GL_AREA(v->area), TRUE);
@@ -1350,15 +1356,12 @@ static void on_activate(GtkApplication *app, gpointer data)
     gtk_widget_set_can_target(v->help, FALSE);
     gtk_widget_set_visible(v->help, FALSE);
     gtk_overlay_add_overlay(GTK_OVERLAY(overlay), v->help);
-    GtkWidget *paned = gtk_paned_new(GTK_ORIENTATION_HORIZONTAL);
-    gtk_paned_set_start_child(GTK_PANED(paned), overlay);
-    GtkWidget *panels = v->panels = panels_create(v);
-    gtk_paned_set_end_child(GTK_PANED(paned), panels);
-    gtk_paned_set_resize_end_child(GTK_PANED(paned), FALSE);
-    gtk_paned_set_shrink_end_child(GTK_PANED(paned), FALSE);
-    gtk_widget_set_vexpand(paned, TRUE);
-    gtk_box_append(GTK_BOX(box), paned);
+    return overlay;
+}
 
+/* The timeline: play, scrub, time and frame number. */
+static void build_timeline(viewer *v, GtkWidget *box)
+{
     GtkWidget *bar = gtk_box_new(GTK_ORIENTATION_HORIZONTAL, 6);
     gtk_widget_set_margin_start(bar, 6);
     gtk_widget_set_margin_end(bar, 6);
@@ -1381,7 +1384,11 @@ static void on_activate(GtkApplication *app, gpointer data)
     g_signal_connect(v->frame_spin, "value-changed", G_CALLBACK(on_frame_entry), v);
     gtk_box_append(GTK_BOX(bar), v->frame_spin);
     gtk_box_append(GTK_BOX(box), bar);
+}
 
+/* Clip, speed, direction, play mode and the status line. */
+static void build_controls(viewer *v, GtkWidget *box)
+{
     GtkWidget *controls = gtk_box_new(GTK_ORIENTATION_HORIZONTAL, 6);
     gtk_widget_set_margin_start(controls, 6);
     gtk_widget_set_margin_end(controls, 6);
@@ -1392,7 +1399,7 @@ static void on_activate(GtkApplication *app, gpointer data)
     gtk_box_append(GTK_BOX(controls), v->clip_list);
     gtk_box_append(GTK_BOX(controls), gtk_label_new("Speed"));
     GtkWidget *speed = gtk_spin_button_new_with_range(0.1, 4.0, 0.1);
-    gtk_spin_button_set_value(GTK_SPIN_BUTTON(speed), v->speed);
+    gtk_spin_button_set_value(GTK_SPIN_BUTTON(speed), v->play.speed);
     g_signal_connect(speed, "value-changed", G_CALLBACK(on_speed), v);
     gtk_box_append(GTK_BOX(controls), speed);
     GtkWidget *reverse = gtk_toggle_button_new_with_label("Reverse");
@@ -1408,25 +1415,51 @@ static void on_activate(GtkApplication *app, gpointer data)
     gtk_label_set_ellipsize(GTK_LABEL(v->status), PANGO_ELLIPSIZE_END);
     gtk_box_append(GTK_BOX(controls), v->status);
     gtk_box_append(GTK_BOX(box), controls);
+}
+
+static void on_activate(GtkApplication *app, gpointer data)
+{
+    startup *s = data;
+    viewer *v = s->v;
+    v->window = gtk_application_window_new(app);
+    gtk_window_set_default_size(GTK_WINDOW(v->window), s->width, s->height);
+    g_signal_connect(v->window, "close-request", G_CALLBACK(on_close_request), v);
+    build_header(v);
+
+    GtkWidget *box = gtk_box_new(GTK_ORIENTATION_VERTICAL, 0);
+    build_bars(v, box);
+    GtkWidget *overlay = build_view(v);
+
+    GtkWidget *paned = gtk_paned_new(GTK_ORIENTATION_HORIZONTAL);
+    gtk_paned_set_start_child(GTK_PANED(paned), overlay);
+    GtkWidget *panels = v->panels = panels_create(v);
+    gtk_paned_set_end_child(GTK_PANED(paned), panels);
+    gtk_paned_set_resize_end_child(GTK_PANED(paned), FALSE);
+    gtk_paned_set_shrink_end_child(GTK_PANED(paned), FALSE);
+    gtk_widget_set_vexpand(paned, TRUE);
+    gtk_box_append(GTK_BOX(box), paned);
+    build_timeline(v, box);
+    build_controls(v, box);
+
     gtk_window_set_child(GTK_WINDOW(v->window), box);
 
     /* The demo first (--anim's clips on it only when it is what is shown); a file given opens on
      * a worker thread and replaces it, or its error shows above the demo. --camera's view is the
      * file's then (the demo's open used to spend it, and a fly camera was framed away). */
-    int camera_keep = v->camera_keep;
+    int camera_keep = v->look.camera_keep;
     v->placeholder = s->path != NULL;
     bool demo = view_open_now(v, APP_BUILTIN_DEMO, s->path ? NULL : s->clip, !s->path);
     v->placeholder = false;
-    if (demo && !s->path && !isnan(v->start_time)) {
-        v->time = v->start_time;
-        if (v->time > view_duration(v))
-            v->time = view_duration(v);
+    if (demo && !s->path && !isnan(v->play.start_time)) {
+        v->play.time = v->play.start_time;
+        if (v->play.time > view_duration(v))
+            v->play.time = view_duration(v);
     }
     if (s->path) {
-        v->camera_keep = camera_keep;
+        v->look.camera_keep = camera_keep;
         view_open_file(v, s->path, s->clip);
     } else
-        v->start_time = NAN;
+        v->play.start_time = NAN;
     view_show_time(v);
     set_playing(v, v->screenshot == NULL);
     gtk_widget_add_tick_callback(v->area, on_tick, v, NULL);
@@ -1492,17 +1525,15 @@ static const char usage_more[] =
 int main(int argc, char **argv)
 {
     viewer v = {.options = sinew_render_options_default(),
-                .speed = 1.0,
-                .direction = 1,
+                .play = {.speed = 1.0, .direction = 1, .start_time = NAN},
                 .selected = -1,
-                .start_time = NAN,
                 .reload_clip = -1,
                 .crowd_size = 100};
     settings_defaults(&v);
     settings_load(&v);
-    v.camera = sinew_camera_default();
-    v.camera.yaw = 30.0f * (float)G_PI / 180.0f; /* as `sinew render` frames a model */
-    v.camera.pitch = 15.0f * (float)G_PI / 180.0f;
+    v.look.camera = sinew_camera_default();
+    v.look.camera.yaw = 30.0f * (float)G_PI / 180.0f; /* as `sinew render` frames a model */
+    v.look.camera.pitch = 15.0f * (float)G_PI / 180.0f;
     startup s = {.v = &v, .width = v.width, .height = v.height};
     for (int i = 1; i < argc; i++) {
         sinew_error error = {0};
@@ -1513,7 +1544,7 @@ int main(int argc, char **argv)
             fprintf(stderr, "sinew-view: %s\n", error.message);
             return 1;
         }
-        int ops_used = used == 0 && import_used == 0 ? app_pose_option_parse(&v.pose_ops, argc, argv, i) : 0;
+        int ops_used = used == 0 && import_used == 0 ? app_pose_option_parse(&v.pose.pose_ops, argc, argv, i) : 0;
         if (ops_used > 0) {
             i += ops_used - 1;
         } else if (import_used > 0) {
@@ -1541,7 +1572,7 @@ int main(int argc, char **argv)
             if (strcmp(o, "--clip") == 0) {
                 s.clip = value;
             } else if (strcmp(o, "--time") == 0) {
-                if (!app_parse_number(value, -APP_MAX_SECONDS, APP_MAX_SECONDS, &v.start_time)) {
+                if (!app_parse_number(value, -APP_MAX_SECONDS, APP_MAX_SECONDS, &v.play.start_time)) {
                     fprintf(stderr, "sinew-view: bad --time \"%s\": expected seconds (within +-%g)\n", value,
                             APP_MAX_SECONDS);
                     return 1;
@@ -1620,19 +1651,19 @@ int main(int argc, char **argv)
                     fprintf(stderr, "sinew-view: bad --size \"%s\": expected WIDTHxHEIGHT, each 64..16384\n", value);
                     return 1;
                 }
-            } else if ((placed = app_camera_placement_parse(&v.placement, o, value, &error)) != 0) {
+            } else if ((placed = app_camera_placement_parse(&v.look.placement, o, value, &error)) != 0) {
                 if (placed < 0) {
                     fprintf(stderr, "sinew-view: %s\n", error.message);
                     return 1;
                 }
-                if (v.placement.fov > 0.0)
-                    v.camera.fov_y = (float)(v.placement.fov * M_PI / 180.0);
+                if (v.look.placement.fov > 0.0)
+                    v.look.camera.fov_y = (float)(v.look.placement.fov * M_PI / 180.0);
             } else if (strcmp(o, "--camera") == 0) {
-                if (app_camera_parse(value, &v.camera, &frame, &error) != SINEW_OK) {
+                if (app_camera_parse(value, &v.look.camera, &frame, &error) != SINEW_OK) {
                     fprintf(stderr, "sinew-view: %s\n", error.message);
                     return 1;
                 }
-                v.camera_keep = frame ? CAMERA_FRAME : CAMERA_KEEP_GIVEN;
+                v.look.camera_keep = frame ? CAMERA_FRAME : CAMERA_KEEP_GIVEN;
             } else {
                 fprintf(stderr, "sinew-view: unknown option %s\n%s%s", o, usage, usage_more);
                 return 1;
@@ -1659,9 +1690,9 @@ int main(int argc, char **argv)
     sinew_jobs_free(v.jobs);
     if (v.monitor)
         g_object_unref(v.monitor);
-    free(v.motion_path);
+    free(v.pose.motion_path);
     g_free(v.path);
-    free(v.key_times);
+    free(v.play.key_times);
     app_scene_close(&v.scene);
     g_free(v.settings_path);
     g_free(v.last_folder);

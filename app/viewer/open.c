@@ -24,11 +24,11 @@ bool view_use_clip(viewer *v, int32_t index)
         view_show_error(v, error.message);
         return false;
     }
-    app_crowd_close(&v->crowd);                           /* remade for the new clip when shown */
-    if (v->blend_clip >= 0 || v->root_motion || v->ik_on) /* the panel's blending is of the clip shown */
+    app_crowd_close(&v->crowd);                                          /* remade for the new clip when shown */
+    if (v->pose.blend_clip >= 0 || v->pose.root_motion || v->pose.ik_on) /* the panel's blending is of the clip shown */
         view_apply_pose_ops(v);
-    if (v->time > view_duration(v))
-        v->time = 0.0;
+    if (v->play.time > view_duration(v))
+        v->play.time = 0.0;
     view_update_timeline(v);
     return true;
 }
@@ -87,8 +87,8 @@ static bool adopt_scene(viewer *v, app_scene *incoming)
     if (v->up)
         app_scene_set_up_axis(&v->scene, v->up);
     memset(incoming, 0, sizeof *incoming); /* the viewer's now */
-    v->blend_clip = -1;                    /* the panel's blending starts over with each model */
-    v->ik_on = false;
+    v->pose.blend_clip = -1;               /* the panel's blending starts over with each model */
+    v->pose.ik_on = false;
     panels_clips_changed(v);
     if (!v->placeholder) /* the command line's --blend, --morph, ... are the file's, not the demo's */
         view_apply_pose_ops(v);
@@ -97,8 +97,8 @@ static bool adopt_scene(viewer *v, app_scene *incoming)
     v->options.hidden_instances = v->hidden;
     for (int i = 0; i < v->scene.note_count; i++)
         panels_log(v, v->scene.notes[i]);
-    if (v->time > view_duration(v))
-        v->time = 0.0;
+    if (v->play.time > view_duration(v))
+        v->play.time = 0.0;
     resolve_joints(v);
     /* Nothing to see but a skeleton: show it, for this file only (not saved in the settings,
      * and given back when a file with meshes comes) */
@@ -114,9 +114,9 @@ static bool adopt_scene(viewer *v, app_scene *incoming)
         if (skeleton >= 0)
             v->overridden[skeleton] = false;
     }
-    v->framed = false; /* with what the camera keeps */
-    v->keep_now = v->camera_keep;
-    v->camera_keep = CAMERA_FRAME;
+    v->look.framed = false; /* with what the camera keeps */
+    v->look.keep_now = v->look.camera_keep;
+    v->look.camera_keep = CAMERA_FRAME;
     if (v->window) {
         char title[600];
         snprintf(title, sizeof title, "%s — sinew", model->source);
@@ -295,8 +295,8 @@ static gboolean reload_file(gpointer data)
     if (!v->path || v->closing)
         return G_SOURCE_REMOVE;
     panels_log(v, "the file changed on disk: reopening it");
-    v->start_time = v->time;
-    v->camera_keep = CAMERA_KEEP_ALL;
+    v->play.start_time = v->play.time;
+    v->look.camera_keep = CAMERA_KEEP_ALL;
     v->reload_clip = v->scene.clip ? v->scene.clip_index : -1; /* if its name is gone ("none" never is) */
     view_open_file(v, v->path, v->scene.clip ? v->scene.clip->name : "none");
     return G_SOURCE_REMOVE;
@@ -417,15 +417,15 @@ static gboolean load_finished(gpointer data)
     }
     if (!opened && v->screenshot) /* a screenshot run says so in its exit status (2, as sinew's) */
         v->exit_code = 2;
-    if (opened && !isnan(v->start_time)) /* --time: against the file's clip, not the demo's */
-        v->time = v->start_time;
-    v->start_time = NAN;
+    if (opened && !isnan(v->play.start_time)) /* --time: against the file's clip, not the demo's */
+        v->play.time = v->play.start_time;
+    v->play.start_time = NAN;
     /* a --screenshot run shows the moment asked for, still */
     if (opened && v->play_after_open && !v->screenshot && !v->window_shot)
         view_set_playing(v, true);
     v->play_after_open = false;
-    if (v->time > view_duration(v))
-        v->time = view_duration(v);
+    if (v->play.time > view_duration(v))
+        v->play.time = view_duration(v);
     view_show_time(v);
     view_redraw(v);
     load_free(l);
@@ -435,8 +435,8 @@ static gboolean load_finished(gpointer data)
 void view_open_other(viewer *v, const char *path)
 {
     /* another file, as f3d and Blender open one: from its start, playing, framed on its own */
-    v->start_time = 0.0;
-    v->camera_keep = CAMERA_FRAME;
+    v->play.start_time = 0.0;
+    v->look.camera_keep = CAMERA_FRAME;
     v->play_after_open = true;
     view_open_file(v, path, NULL);
 }

@@ -227,7 +227,7 @@ static void on_camera_mode(GObject *dropdown, GParamSpec *pspec, gpointer data)
     viewer *v = data;
     if (v->updating)
         return;
-    sinew_camera_set_mode(&v->camera,
+    sinew_camera_set_mode(&v->look.camera,
                           gtk_drop_down_get_selected(GTK_DROP_DOWN(dropdown)) ? SINEW_CAMERA_FLY : SINEW_CAMERA_ORBIT);
     view_redraw(v);
 }
@@ -272,7 +272,7 @@ void panels_options_changed(viewer *v)
                                    : v->options.skin_method == SINEW_SKIN_DUAL_QUATERNION ? 2
                                                                                           : 1);
     if (v->camera_list)
-        gtk_drop_down_set_selected(GTK_DROP_DOWN(v->camera_list), v->camera.mode == SINEW_CAMERA_FLY);
+        gtk_drop_down_set_selected(GTK_DROP_DOWN(v->camera_list), v->look.camera.mode == SINEW_CAMERA_FLY);
     v->updating = false;
 }
 
@@ -283,7 +283,7 @@ static void on_blend_clip(GObject *dropdown, GParamSpec *pspec, gpointer data)
     if (v->updating)
         return;
     guint i = gtk_drop_down_get_selected(GTK_DROP_DOWN(dropdown));
-    v->blend_clip = i == 0 || i == GTK_INVALID_LIST_POSITION ? -1 : (int32_t)i - 1;
+    v->pose.blend_clip = i == 0 || i == GTK_INVALID_LIST_POSITION ? -1 : (int32_t)i - 1;
     view_apply_pose_ops(v);
 }
 
@@ -292,7 +292,7 @@ static void on_blend_weight(GtkRange *range, gpointer data)
     viewer *v = data;
     if (v->updating)
         return;
-    v->blend_weight = gtk_range_get_value(range);
+    v->pose.blend_weight = gtk_range_get_value(range);
     view_apply_pose_ops(v);
 }
 
@@ -300,8 +300,8 @@ static void on_cross_fade(GtkButton *button, gpointer data)
 {
     (void)button;
     viewer *v = data;
-    if (v->blend_clip >= 0)
-        v->fade_from = (double)g_get_monotonic_time() * 1e-6; /* the tick moves the weight to 1 */
+    if (v->pose.blend_clip >= 0)
+        v->pose.fade_from = (double)g_get_monotonic_time() * 1e-6; /* the tick moves the weight to 1 */
 }
 
 static void on_root_motion(GtkCheckButton *check, gpointer data)
@@ -309,7 +309,7 @@ static void on_root_motion(GtkCheckButton *check, gpointer data)
     viewer *v = data;
     if (v->updating)
         return;
-    v->root_motion = gtk_check_button_get_active(check);
+    v->pose.root_motion = gtk_check_button_get_active(check);
     view_apply_pose_ops(v);
 }
 
@@ -364,42 +364,42 @@ static GtkWidget *display_page(viewer *v)
     gtk_box_append(GTK_BOX(box), v->key_map_list);
     /* blending: a second clip, its weight, a cross-fade, root motion */
     gtk_box_append(GTK_BOX(box), gtk_label_new("Blend with   (ctrl-drag: IK to the selected joint)"));
-    v->blend_list = gtk_drop_down_new(NULL, NULL);
-    g_signal_connect(v->blend_list, "notify::selected", G_CALLBACK(on_blend_clip), v);
-    gtk_box_append(GTK_BOX(box), v->blend_list);
+    v->pose.blend_list = gtk_drop_down_new(NULL, NULL);
+    g_signal_connect(v->pose.blend_list, "notify::selected", G_CALLBACK(on_blend_clip), v);
+    gtk_box_append(GTK_BOX(box), v->pose.blend_list);
     GtkWidget *row = gtk_box_new(GTK_ORIENTATION_HORIZONTAL, 4);
-    v->blend_scale = gtk_scale_new_with_range(GTK_ORIENTATION_HORIZONTAL, 0.0, 1.0, 0.01);
-    gtk_widget_set_hexpand(v->blend_scale, TRUE);
-    gtk_scale_set_draw_value(GTK_SCALE(v->blend_scale), TRUE);
-    g_signal_connect(v->blend_scale, "value-changed", G_CALLBACK(on_blend_weight), v);
-    gtk_box_append(GTK_BOX(row), v->blend_scale);
+    v->pose.blend_scale = gtk_scale_new_with_range(GTK_ORIENTATION_HORIZONTAL, 0.0, 1.0, 0.01);
+    gtk_widget_set_hexpand(v->pose.blend_scale, TRUE);
+    gtk_scale_set_draw_value(GTK_SCALE(v->pose.blend_scale), TRUE);
+    g_signal_connect(v->pose.blend_scale, "value-changed", G_CALLBACK(on_blend_weight), v);
+    gtk_box_append(GTK_BOX(row), v->pose.blend_scale);
     GtkWidget *fade = gtk_button_new_with_label("Cross-fade");
     gtk_widget_set_tooltip_text(fade, "Fade to the second clip over half a second");
     g_signal_connect(fade, "clicked", G_CALLBACK(on_cross_fade), v);
     gtk_box_append(GTK_BOX(row), fade);
     gtk_box_append(GTK_BOX(box), row);
-    v->root_motion_check = gtk_check_button_new_with_label("Root motion in place (path on the ground)");
-    gtk_check_button_set_active(GTK_CHECK_BUTTON(v->root_motion_check), v->root_motion);
-    g_signal_connect(v->root_motion_check, "toggled", G_CALLBACK(on_root_motion), v);
-    gtk_box_append(GTK_BOX(box), v->root_motion_check);
+    v->pose.root_motion_check = gtk_check_button_new_with_label("Root motion in place (path on the ground)");
+    gtk_check_button_set_active(GTK_CHECK_BUTTON(v->pose.root_motion_check), v->pose.root_motion);
+    g_signal_connect(v->pose.root_motion_check, "toggled", G_CALLBACK(on_root_motion), v);
+    gtk_box_append(GTK_BOX(box), v->pose.root_motion_check);
     panels_options_changed(v);
     return box;
 }
 
 void panels_clips_changed(viewer *v)
 {
-    if (!v->blend_list)
+    if (!v->pose.blend_list)
         return;
     GtkStringList *names = gtk_string_list_new(NULL);
     gtk_string_list_append(names, "(none)");
     for (uint32_t i = 0; v->scene.model && i < v->scene.model->clip_count; i++)
         gtk_string_list_append(names, v->scene.model->clips[i].name ? v->scene.model->clips[i].name : "clip");
     v->updating = true;
-    gtk_drop_down_set_model(GTK_DROP_DOWN(v->blend_list), G_LIST_MODEL(names));
-    gtk_drop_down_set_selected(GTK_DROP_DOWN(v->blend_list), 0);
+    gtk_drop_down_set_model(GTK_DROP_DOWN(v->pose.blend_list), G_LIST_MODEL(names));
+    gtk_drop_down_set_selected(GTK_DROP_DOWN(v->pose.blend_list), 0);
     v->updating = false;
     g_object_unref(names);
-    v->blend_clip = -1;
+    v->pose.blend_clip = -1;
 }
 
 /* ---- shape keys ------------------------------------------------------------------------------ */

@@ -41,7 +41,71 @@ typedef struct view_key {
  * zooms; the left button does not move the view). */
 typedef enum view_key_map { KEY_MAP_SINEW, KEY_MAP_BLENDER, KEY_MAP_COUNT } view_key_map;
 
+/* The state of sinew-view, by concern: the clock (play), the camera and how files frame (look),
+ * the pose operations of the Display panel and the command line (pose), F9's recording (rec);
+ * then the document (the file, its scene, the load under way), the widgets and the settings. */
+
+/* Playback: the clip's clock. */
+typedef struct view_playback {
+    double time, speed;
+    play_mode mode;
+    int direction; /* ping-pong: +1 or -1 */
+    gint64 last_frame;
+    gint64 last_tick; /* the frame clock's previous tick (0: none yet) */
+    bool playing;
+    double start_time; /* --time, applied to the file's clip once it is open; NAN: none */
+    float *key_times;  /* the clip's distinct key times, sorted (the timeline's ticks, every one) */
+    size_t key_time_count;
+    double frame_rate; /* the clip's own (its usual key spacing), else FRAME_RATE */
+} view_playback;
+
+/* The camera and how the next file is framed. */
+typedef struct view_look {
+    sinew_camera camera;
+    /* How much of the camera the next file's framing keeps: CAMERA_KEEP_GIVEN, what --camera gave
+     * (a fly camera's position, an orbit's distance; as `sinew render`); CAMERA_KEEP_ALL, the
+     * whole view (a reload). camera_keep is for the file being opened, keep_now for the one shown. */
+    enum { CAMERA_FRAME, CAMERA_KEEP_GIVEN, CAMERA_KEEP_ALL } camera_keep, keep_now;
+    app_camera_placement placement; /* --camera-position, --camera-focal-point: at the first framing */
+    bool framed;
+    bool held[ACTION_COUNT]; /* fly keys held down */
+    double drag_x, drag_y;
+} view_look;
+
+/* The pose operations: the Display panel's blending (a second clip and its weight, root motion,
+ * an IK target) over the command line's. */
+typedef struct view_pose_ops {
+    GtkWidget *blend_list, *blend_scale, *root_motion_check;
+    int32_t blend_clip;  /* -1: none */
+    double blend_weight; /* 0..1 */
+    double fade_from;    /* a cross-fade under way: its start (monotonic seconds), else 0 */
+    bool root_motion;
+    bool ik_on; /* ctrl-drag set an IK target for ik_joint */
+    bool ik_dragging;
+    int32_t ik_joint;
+    float ik_target[3];
+    float *motion_path; /* the root-motion path: path_segments * 6 floats */
+    uint32_t path_segments;
+    app_pose_spec pose_ops; /* --blend, --additive, --crossfade, --ik, --root-motion */
+} view_pose_ops;
+
+/* F9: the clip recorded to FILE-NNN.mp4, a frame every 1/RECORD_FPS s of clip time. */
+typedef struct view_recording {
+    app_video video;
+    bool recording, record_asked, title_due;
+    const char *record_end; /* why the recording stops at the next tick, or NULL */
+    char record_error[SINEW_ERROR_MESSAGE_SIZE];
+    char video_path[4096];
+    int video_width, video_height;
+    unsigned char *video_frame;
+    double recorded; /* seconds of clip time recorded */
+} view_recording;
+
 typedef struct viewer {
+    view_playback play;
+    view_look look;
+    view_pose_ops pose;
+    view_recording rec;
     GtkWidget *window, *area, *scale, *time_label, *play_button, *clip_list, *status, *error_bar, *error_label;
     GtkWidget *node_list, *node_search, *transform_label, *heatmap_check, *log_view, *camera_list;
     GtkWidget *option_checks[32]; /* by index into sinew_render_option_names() */
@@ -72,43 +136,16 @@ typedef struct viewer {
     char *hdri;        /* --hdri, settings [view] hdri: the environment file; NULL: the studio */
     bool hdri_given, samples_given, key_map_given; /* on the command line: not saved */
     const char *anim, *name_map; /* --anim OTHER (--name-map M.json): its clips on every file opened */
-    /* the Display panel's blending (issue 15): a second clip and its weight, root motion, an IK target */
-    GtkWidget *blend_list, *blend_scale, *root_motion_check;
-    int32_t blend_clip;  /* -1: none */
-    double blend_weight; /* 0..1 */
-    double fade_from;    /* a cross-fade under way: its start (monotonic seconds), else 0 */
-    bool root_motion;
-    bool ik_on; /* ctrl-drag set an IK target for ik_joint */
-    bool ik_dragging;
-    int32_t ik_joint;
-    float ik_target[3];
-    float *motion_path; /* the root-motion path: path_segments * 6 floats */
-    uint32_t path_segments;
-    app_pose_spec pose_ops; /* --blend, --additive, --crossfade, --ik, --root-motion */
-    /* F9: the clip recorded to FILE-NNN.mp4, a frame every 1/RECORD_FPS s of clip time */
-    app_video video;
-    bool recording, record_asked, title_due;
-    const char *record_end; /* why the recording stops at the next tick, or NULL */
-    char record_error[SINEW_ERROR_MESSAGE_SIZE];
-    char video_path[4096];
-    int video_width, video_height;
-    unsigned char *video_frame;
-    double recorded;       /* seconds of clip time recorded */
-    GtkWidget *help;       /* the key cheat sheet over the view (H) */
-    GtkWidget *frame_spin; /* the frame number, typed or stepped */
-    char *path;            /* the file shown (NULL: the demo): next/previous file, --watch */
-    bool watch;            /* --watch: reload the file when it changes on disk */
+    GtkWidget *help;             /* the key cheat sheet over the view (H) */
+    GtkWidget *frame_spin;       /* the frame number, typed or stepped */
+    char *path;                  /* the file shown (NULL: the demo): next/previous file, --watch */
+    bool watch;                  /* --watch: reload the file when it changes on disk */
     GFileMonitor *monitor;
     guint reload_timer;
     bool quit_after_screenshot;
-    /* How much of the camera the next file's framing keeps: CAMERA_KEEP_GIVEN, what --camera gave
-     * (a fly camera's position, an orbit's distance; as `sinew render`); CAMERA_KEEP_ALL, the
-     * whole view (a reload). camera_keep is for the file being opened, keep_now for the one shown. */
-    enum { CAMERA_FRAME, CAMERA_KEEP_GIVEN, CAMERA_KEEP_ALL } camera_keep, keep_now;
-    app_camera_placement placement; /* --camera-position, --camera-focal-point: at the first framing */
-    int32_t reload_clip;            /* --watch: the shown clip's index for the reload being started, else -1 */
-    bool play_after_open;           /* another file opened by hand: it plays once open */
-    app_scene scene;                /* the model shown, its clip, muscles and pose */
+    int32_t reload_clip;  /* --watch: the shown clip's index for the reload being started, else -1 */
+    bool play_after_open; /* another file opened by hand: it plays once open */
+    app_scene scene;      /* the model shown, its clip, muscles and pose */
     sinew_renderer *renderer;
     /* the crowd toggle (key C, --crowd N): crowd_size characters of the scene's model */
     uint32_t crowd_size;
@@ -119,27 +156,16 @@ typedef struct viewer {
     struct view_load *load; /* a file being opened, or NULL */
     GtkWidget *load_bar, *load_label, *load_progress;
     guint load_timer;
-    double start_time;            /* --time, applied to the file's clip once it is open; NAN: none */
     app_import_options import;    /* --import-timeout, --import-memory */
     bool *hidden;                 /* instance_count flags */
     bool skeleton_shown_for_file; /* the skeleton switch was turned on for a file without meshes */
     bool closing;                 /* the window is being closed: widgets are going away */
     double quit_after;            /* --quit-after: seconds, 0 for never */
-    float *key_times;             /* the clip's distinct key times, sorted (the timeline's ticks, every one) */
-    size_t key_time_count;
-    double frame_rate; /* the clip's own (its usual key spacing), else FRAME_RATE */
-    bool status_due;   /* the status bar's figures changed in a draw: shown at the next tick */
-    int32_t selected;  /* node, -1 for none */
-    sinew_camera camera;
+    bool status_due;              /* the status bar's figures changed in a draw: shown at the next tick */
+    int32_t selected;             /* node, -1 for none */
     sinew_render_options options;
-    double time, speed;
-    play_mode mode;
-    int direction; /* ping-pong: +1 or -1 */
-    gint64 last_frame;
-    bool playing, framed, updating;
-    bool placeholder;        /* the demo opening as the file's stand-in: the command line's pose options wait */
-    bool held[ACTION_COUNT]; /* fly keys held down */
-    double drag_x, drag_y;
+    bool updating;    /* widgets are being set from the state: their signals change nothing */
+    bool placeholder; /* the demo opening as the file's stand-in: the command line's pose options wait */
     gint64 fps_since;
     int fps_frames;
     double fps;
