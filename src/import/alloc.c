@@ -129,11 +129,7 @@ void *import_realloc(void *ptr, size_t size)
 
 char *import_strdup(const char *text)
 {
-    size_t n = strlen(text) + 1;
-    char *p = import_malloc(n);
-    if (p)
-        memcpy(p, text, n);
-    return p;
+    return raw_strdup(text); /* builder.c's: its malloc is import_malloc there */
 }
 
 void import_free(void *ptr)

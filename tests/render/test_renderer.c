@@ -51,6 +51,8 @@ static int teardown(void **state)
     return 0;
 }
 
+static void draw_with(fixture *f, const sinew_render_options *o, bool front);
+
 /* Draws with clay, no lighting, no grid, on black, seen from the front at the chain. */
 static void draw(fixture *f, sinew_skinning skinning)
 {
@@ -61,17 +63,25 @@ static void draw(fixture *f, sinew_skinning skinning)
     o.background_set = true;
     o.background[0] = o.background[1] = o.background[2] = 0.0f;
     o.skinning = skinning;
+    draw_with(f, &o, true);
+}
+
+/* Draws the chain with `o`, framed (from the front, or from the default camera's angle), and
+ * reads the picture back. */
+static void draw_with(fixture *f, const sinew_render_options *o, bool front)
+{
     float lo[3], hi[3];
     assert_true(sinew_renderer_bounds(f->renderer, f->worlds, f->model->node_count, lo, hi));
     sinew_camera camera = sinew_camera_default();
-    camera.pitch = 0.0f;
+    if (front)
+        camera.pitch = 0.0f;
     sinew_camera_frame(&camera, lo, hi, (float)W / (float)H);
     sinew_frame frame = {.worlds = f->worlds,
                          .world_count = f->model->node_count,
                          .camera = &camera,
                          .width = W,
                          .height = H,
-                         .options = &o};
+                         .options = o};
     sinew_error error = {0};
     sinew_headless_bind(f->headless);
     assert_int_equal(sinew_renderer_draw(f->renderer, &frame, &error), SINEW_OK);
@@ -116,19 +126,7 @@ static void test_zeroed_options_are_the_defaults(void **state)
         skip();
     sinew_render_options zero = {0}, named = sinew_render_options_default();
     assert_memory_equal(&zero, &named, sizeof zero);
-    float lo[3], hi[3];
-    assert_true(sinew_renderer_bounds(f->renderer, f->worlds, f->model->node_count, lo, hi));
-    sinew_camera camera = sinew_camera_default();
-    sinew_camera_frame(&camera, lo, hi, (float)W / (float)H);
-    sinew_frame frame = {.worlds = f->worlds,
-                         .world_count = f->model->node_count,
-                         .camera = &camera,
-                         .width = W,
-                         .height = H,
-                         .options = &zero};
-    sinew_headless_bind(f->headless);
-    assert_int_equal(sinew_renderer_draw(f->renderer, &frame, NULL), SINEW_OK);
-    assert_int_equal(sinew_headless_read(f->headless, f->pixels, NULL), SINEW_OK);
+    draw_with(f, &zero, false);
     long other = 0;
     const uint8_t *corner = f->pixels;
     for (size_t i = 0; i < (size_t)W * H; i++)
