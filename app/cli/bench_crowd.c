@@ -240,8 +240,7 @@ int bench_crowd(int argc, char **argv)
                 runs[run_count++] = (crowd_run){.samples = samples[k], .skinning = skinning};
     cli_scene last = {0};
     for (int r = 0; r < run_count; r++) {
-        cli_scene_desc d = {.path = a.path ? a.path : APP_BUILTIN_DEMO,
-                            .clip = a.clip,
+        cli_scene_desc d = {.scene = {.path = a.path ? a.path : APP_BUILTIN_DEMO, .clip = a.clip},
                             .width = a.width,
                             .height = a.height,
                             .samples = runs[r].samples,

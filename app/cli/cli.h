@@ -68,15 +68,13 @@ bool cli_is_help(const char *arg);
 
 /* A model posed and drawn off-screen: what `render` and `bench render` share. */
 typedef struct cli_scene_desc {
-    const char *path, *clip, *camera, *select, *heatmap;
-    sinew_model *model;  /* instead of loading path: a model the scene takes over */
+    /* the scene as both apps describe it (file or model, clip, --anim, --up, the pose spec);
+     * its muscle mode comes from `muscles` below */
+    app_scene_desc scene;
     const char *muscles; /* NULL: none; "": the file beside the model; else a muscle file */
-    double muscle_scale; /* sinew_muscle_rig_set_scale(); 0 = 1 */
+    const char *camera, *select, *heatmap;
     int width, height, samples;
     bool loop, skeleton_set, orthographic;
-    const char *up;              /* "y" (NULL) or "z": app_scene_set_up_axis() */
-    const char *anim, *name_map; /* --anim OTHER (--name-map M.json): app_scene_desc */
-    const app_pose_spec *ops;    /* --blend, --additive, --crossfade, --ik, --root-motion; NULL: none */
     uint32_t gpu_joint_limit;
     sinew_render_options options;
     uint32_t crowd;                 /* > 0: that many characters on a grid (app_crowd), each at its own time and clip */

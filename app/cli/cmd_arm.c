@@ -165,9 +165,8 @@ int cmd_arm(int argc, char **argv)
     sinew_arm_angle(desc.origin_to_elbow, desc.elbow_to_insertion, spec.length, &angle, NULL);
     if (!(spec.length > 0.0))
         angle = spec.angle;
-    cli_scene_desc sd = {.model = model,
+    cli_scene_desc sd = {.scene = {.model = model, .muscle_scale = a.scale},
                          .muscles = "",
-                         .muscle_scale = a.scale,
                          .camera = a.camera,
                          .width = a.width,
                          .height = a.height,

@@ -46,8 +46,7 @@ typedef struct render_bench_args {
 static int run_render_bench(const render_bench_args *a, int samples, int mode, double *spf, char *source,
                             size_t source_size, char *gl_name, size_t gl_size, uint32_t *vertices, uint32_t *joints)
 {
-    cli_scene_desc d = {.path = a->path,
-                        .clip = a->clip,
+    cli_scene_desc d = {.scene = {.path = a->path, .clip = a->clip},
                         .width = a->width,
                         .height = a->height,
                         .samples = samples,
@@ -58,7 +57,7 @@ static int run_render_bench(const render_bench_args *a, int samples, int mode, d
     if (!a->path) {
         sinew_error error = {0};
         sinew_synthetic_desc sd = {.joints = 64, .vertices = 10000, .influences = 4};
-        if (sinew_synthetic_model(&sd, &d.model, &error) != SINEW_OK) {
+        if (sinew_synthetic_model(&sd, &d.scene.model, &error) != SINEW_OK) {
             cli_error("%s", error.message);
             return EXIT_BAD_INPUT;
         }

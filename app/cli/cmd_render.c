@@ -304,28 +304,24 @@ int cmd_render(int argc, char **argv)
         cli_error("render: --from/--to/--fps write several frames: give -o DIR/frame%%04d.png or -o OUT.mp4");
         return EXIT_USAGE;
     }
-    cli_scene_desc desc = {.path = a.path,
-                           .clip = a.clip,
-                           .width = a.width,
-                           .height = a.height,
-                           .samples = a.samples,
-                           .camera = a.camera,
-                           .placement = a.placement,
-                           .hdri = a.hdri,
-                           .select = a.select,
-                           .heatmap = a.heatmap,
-                           .loop = a.loop,
-                           .skeleton_set = a.skeleton_set,
-                           .orthographic = a.orthographic,
-                           .up = a.up,
-                           .anim = a.anim,
-                           .name_map = a.name_map,
-                           .ops = &a.ops,
-                           .gpu_joint_limit = a.gpu_joint_limit,
-                           .muscles = a.muscles,
-                           .options = a.options,
-                           .crowd = a.crowd,
-                           .threads = a.threads};
+    cli_scene_desc desc = {
+        .scene = {.path = a.path, .clip = a.clip, .anim = a.anim, .name_map = a.name_map, .up = a.up, .pose = &a.ops},
+        .width = a.width,
+        .height = a.height,
+        .samples = a.samples,
+        .camera = a.camera,
+        .placement = a.placement,
+        .hdri = a.hdri,
+        .select = a.select,
+        .heatmap = a.heatmap,
+        .loop = a.loop,
+        .skeleton_set = a.skeleton_set,
+        .orthographic = a.orthographic,
+        .gpu_joint_limit = a.gpu_joint_limit,
+        .muscles = a.muscles,
+        .options = a.options,
+        .crowd = a.crowd,
+        .threads = a.threads};
     /* Never over an input: the model, or the muscle file. */
     const char *inputs[5] = {a.path, a.muscles && *a.muscles ? a.muscles : NULL, a.hdri, a.anim, a.name_map};
     sinew_error error = {0};

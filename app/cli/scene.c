@@ -77,7 +77,7 @@ static int open_crowd(cli_scene *s, const cli_scene_desc *d)
         return EXIT_UNAVAILABLE;
     }
     app_crowd_desc cd = {.model = s->model,
-                         .clip = d->clip ? s->clip : NULL,
+                         .clip = d->scene.clip ? s->clip : NULL,
                          .count = d->crowd,
                          .spacing = app_crowd_spacing(&s->scene, s->renderer, FRAMING_SAMPLES),
                          .jobs = s->jobs};
@@ -106,19 +106,19 @@ int cli_scene_open(cli_scene *s, const cli_scene_desc *d)
         s->camera.fov_y = (float)(d->placement.fov * M_PI / 180.0);
     if (d->camera && app_camera_parse(d->camera, &s->camera, &s->frame_all, &error) != SINEW_OK) {
         cli_error("%s", error.message);
-        if (d->model)
-            sinew_model_free(d->model);
+        if (d->scene.model)
+            sinew_model_free(d->scene.model);
         return EXIT_USAGE;
     }
-    app_scene_desc ad = {.path = d->path,
-                         .model = d->model,
-                         .clip = d->clip,
-                         .muscle_scale = d->muscle_scale,
-                         .anim = d->anim,
-                         .name_map = d->name_map};
+    app_scene_desc ad = d->scene;
     cli_scene_muscles(d->muscles, &ad);
-    if (!cli_scene_load(&s->scene, &ad))
-        return EXIT_BAD_INPUT;
+    ad.stderr_fd = STDERR_FILENO;
+    ad.import = cli_import;
+    if (app_scene_open(&s->scene, &ad, &error) != SINEW_OK) {
+        cli_error("%s", error.message);
+        return error.kind == SINEW_ERROR_INVALID_ARGUMENT ? EXIT_USAGE : EXIT_BAD_INPUT; /* a pose spec */
+    }
+    cli_print_warnings(s->scene.model);
     s->model = s->scene.model;
     s->clip = s->scene.clip;
     sinew_render_options *o = &s->frame_options;
@@ -126,14 +126,6 @@ int cli_scene_open(cli_scene *s, const cli_scene_desc *d)
         !resolve_joint(s->model, d->heatmap, "--heatmap", &o->heatmap, &o->heatmap_joint)) {
         cli_scene_close(s);
         return EXIT_BAD_INPUT;
-    }
-    if (d->up)
-        app_scene_set_up_axis(&s->scene, d->up); /* checked when parsed */
-    sinew_error ops_error = {0};
-    if (d->ops && app_scene_set_pose_ops(&s->scene, d->ops, &ops_error) != SINEW_OK) {
-        cli_error("%s", ops_error.message);
-        cli_scene_close(s);
-        return EXIT_USAGE;
     }
     /* Nothing to see but a skeleton: show it unless asked not to. */
     if (app_vertex_count(s->model) == 0 && !d->skeleton_set)

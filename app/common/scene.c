@@ -402,6 +402,10 @@ sinew_result app_scene_open(app_scene *s, const app_scene_desc *d, sinew_error *
         result = app_scene_use_clip(s, clip, error);
     if (result == SINEW_OK && d->muscles != APP_MUSCLES_NONE)
         result = attach_muscles(s, d, error);
+    if (result == SINEW_OK && d->up && !app_scene_set_up_axis(s, d->up))
+        result = sinew_fail(error, SINEW_ERROR_INVALID_ARGUMENT, "--up \"%s\": expected [+|-]x, y or z", d->up);
+    if (result == SINEW_OK && d->pose)
+        result = app_scene_set_pose_ops(s, d->pose, error);
     if (result != SINEW_OK)
         app_scene_close(s);
     return result;

@@ -63,6 +63,9 @@ typedef struct app_scene_desc {
     app_import_options import;
     bool (*progress)(float fraction, void *user); /* sinew_import_desc.progress: false cancels */
     void *progress_user;
+    /* how it is shown and posed once open (the viewer sets its own later): */
+    const char *up;                   /* app_scene_set_up_axis(); NULL: as the file says */
+    const struct app_pose_spec *pose; /* app_scene_set_pose_ops(); NULL: the clip plays alone */
 } app_scene_desc;
 
 #define APP_SCENE_NOTES 4
@@ -73,14 +76,15 @@ typedef struct app_scene_desc {
 /* What the command lines ask of a pose beyond playing one clip (sinew/blend.h), as written:
  * --blend CLIP:W,CLIP:W,...  --additive CLIP:W  --crossfade A,B,SECONDS  --ik JOINT:X,Y,Z
  * (repeatable)  --root-motion. */
-typedef struct app_pose_spec {
+typedef struct app_pose_spec app_pose_spec;
+struct app_pose_spec {
     const char *blend, *additive, *crossfade;
     const char *ik[APP_MAX_IK];
     int ik_count;
     bool root_motion;
     const char *morph[APP_MAX_MORPHS]; /* --morph MESH:TARGET=W (repeatable) */
     int morph_count;
-} app_pose_spec;
+};
 
 /* Reads one of those options at argv[i]: the arguments used, 0 when it is not one. */
 int app_pose_option_parse(app_pose_spec *spec, int argc, char *const *argv, int i);
@@ -148,9 +152,10 @@ typedef struct app_scene {
 /* The model desc asks for: desc->path read (import options from desc), or a built-in one. */
 sinew_result app_load_model(const app_scene_desc *desc, sinew_model **out, sinew_error *error);
 
-/* Loads (or takes desc->model), picks the clip, attaches muscles and makes the player.
- * Errors: the import's; SINEW_ERROR_DATA for a clip the file lacks ("no clip ..."); the
- * muscle file's with APP_MUSCLES_REQUIRED. On failure the scene is empty (nothing to close). */
+/* Loads (or takes desc->model), picks the clip, attaches muscles, turns it up as desc->up says
+ * and poses with desc->pose. Errors: the import's; SINEW_ERROR_DATA for a clip the file lacks
+ * ("no clip ..."); the muscle file's with APP_MUSCLES_REQUIRED; SINEW_ERROR_INVALID_ARGUMENT
+ * for a pose spec the model refuses. On failure the scene is empty (nothing to close). */
 sinew_result app_scene_open(app_scene *scene, const app_scene_desc *desc, sinew_error *error);
 /* Which of the file's axes is shown up, as f3d's --up: [+|-]x, y or z, case ignored ("y", as
  * sinew reads every file: the importers turn what the file says to Y up; "z" for files that say
