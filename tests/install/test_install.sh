@@ -73,7 +73,7 @@ cmake --build "$work/consumer" >> "$work/consumer.log"
 "$work/consumer/consumer_shared" "$fixture"
 "$work/consumer/consumer_static" "$fixture"
 "$work/consumer/consumer_core"
-# a shared model's walk fading into its run, a foreleg reaching by IK (sinew_character)
+# a shared model's first clip fading into its second (Fox: Survey into Walk), a foreleg reaching by IK
 fox="${SINEW_TESTDATA:-$source/../shared/testdata}/gltf-samples/Fox.glb"
 test -e "$fox" || { echo "missing $fox (../shared/testdata)"; exit 1; }
 test "$(wc -l < "$source/tests/install/consumer/crossfade.c")" -lt 40
