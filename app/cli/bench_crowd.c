@@ -24,7 +24,7 @@ static const char crowd_usage[] =
     "  grows from --count (default 64) by doubling while a frame takes at most 1/60 s, then is bisected\n"
     "  to within 5% (--most N caps the count, default 100,000; --fps F holds F frames a second instead,\n"
     "  and the JSON key becomes characters_at_Ffps).\n"
-    "  A frame: posing every character (sinew_player, on --threads threads, default: the cores),\n"
+    "  A frame: posing every character (sinew_character, on --threads threads, default: the cores),\n"
     "  palettes, the draw and glFinish; --frames N frames (default 20) after 5 warm-up frames, at --size\n"
     "  (default 1920x1080), the camera framing the grid (of at least 256, so that a small crowd does not\n"
     "  fill the screen). --samples N or --skinning M measures only those. Characters small on the\n"

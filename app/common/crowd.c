@@ -33,10 +33,10 @@ sinew_result app_crowd_open(app_crowd *c, const app_crowd_desc *d, sinew_error *
     c->jobs = d->jobs;
     c->layout_count = d->clip || m->clip_count == 0 ? 1 : m->clip_count;
     c->layouts = calloc(c->layout_count, sizeof *c->layouts);
-    c->players = calloc(c->count, sizeof *c->players);
+    c->characters = calloc(c->count, sizeof *c->characters);
     c->roots = malloc((size_t)c->count * sizeof *c->roots);
     c->worlds = malloc((size_t)c->count * (m->node_count ? m->node_count : 1) * sizeof *c->worlds);
-    if (!c->layouts || !c->players || !c->roots || !c->worlds) {
+    if (!c->layouts || !c->characters || !c->roots || !c->worlds) {
         app_crowd_close(c);
         return sinew_fail(error, SINEW_ERROR_OUT_OF_MEMORY, "out of memory for a crowd of %u", d->count);
     }
@@ -49,7 +49,8 @@ sinew_result app_crowd_open(app_crowd *c, const app_crowd_desc *d, sinew_error *
             app_crowd_close(c);
             return result;
         }
-        size_t size = sinew_player_size(c->layouts[l]);
+        sinew_character_layer layer = {.layout = c->layouts[l], .weight = 1.0f};
+        size_t size = sinew_character_size(&(sinew_character_desc){.model = m, .layers = &layer, .layer_count = 1});
         largest = size > largest ? size : largest;
     }
     c->state_size = (largest + 63) & ~(size_t)63;
@@ -59,8 +60,11 @@ sinew_result app_crowd_open(app_crowd *c, const app_crowd_desc *d, sinew_error *
         return sinew_fail(error, SINEW_ERROR_OUT_OF_MEMORY, "out of memory for a crowd of %u", d->count);
     }
     for (uint32_t i = 0; i < c->count; i++) {
-        sinew_result result = sinew_player_init(c->states + c->state_size * i, c->state_size,
-                                                c->layouts[i % c->layout_count], &c->players[i], error);
+        /* each character one sinew_character playing its clip (the player's path) */
+        sinew_character_layer layer = {.layout = c->layouts[i % c->layout_count], .weight = 1.0f};
+        sinew_character_desc cd = {.model = m, .layers = &layer, .layer_count = 1};
+        sinew_result result =
+            sinew_character_init(c->states + c->state_size * i, c->state_size, &cd, &c->characters[i], error);
         if (result != SINEW_OK) {
             app_crowd_close(c);
             return result;
@@ -77,9 +81,11 @@ static void pose_range(void *user, uint32_t first, uint32_t count, uint32_t thre
     (void)thread;
     app_crowd *c = user;
     uint32_t n = c->model->node_count;
-    for (uint32_t i = first; i < first + count; i++)
-        sinew_player_update(c->players[i], (float)(c->time + 0.37 * (i % 27)), SINEW_WRAP_LOOP, &c->roots[i],
-                            c->worlds + (size_t)i * n, n, NULL);
+    for (uint32_t i = first; i < first + count; i++) {
+        sinew_character_output o = {.root = &c->roots[i], .worlds = c->worlds + (size_t)i * n, .world_count = n};
+        if (sinew_character_seek(c->characters[i], c->time + 0.37 * (i % 27), NULL) == SINEW_OK)
+            sinew_character_evaluate(c->characters[i], &o, NULL);
+    }
 }
 
 void app_crowd_pose(app_crowd *c, double time)
@@ -125,7 +131,7 @@ void app_crowd_close(app_crowd *c)
         sinew_clip_layout_free(c->layouts[l]);
     free(c->layouts);
     free(c->states);
-    free(c->players);
+    free(c->characters);
     free(c->roots);
     free(c->worlds);
     memset(c, 0, sizeof *c);

@@ -21,11 +21,11 @@ typedef struct app_crowd {
     float spacing;
     uint32_t layout_count;
     sinew_clip_layout **layouts; /* one a clip played */
-    unsigned char *states;       /* count players' memory */
+    unsigned char *states;       /* count characters' memory */
     size_t state_size;
-    sinew_player **players;
-    sinew_mat4 *roots;  /* count grid placements */
-    sinew_mat4 *worlds; /* count * node_count: the last pose */
+    sinew_character **characters; /* one clip each (sinew/character.h) */
+    sinew_mat4 *roots;            /* count grid placements */
+    sinew_mat4 *worlds;           /* count * node_count: the last pose */
     double time;
     sinew_jobs *jobs;        /* borrowed; NULL: the calling thread */
     uint32_t frame_at_least; /* app_crowd_bounds() covers the grid of at least this many (0: count) */

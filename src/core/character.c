@@ -2,9 +2,9 @@
  * motion, IK chains and root motion, composed in one call.
  *
  * Memory, from the caller's block (each part 32-byte aligned): the character, its layers and
- * chains, two structure-of-arrays poses (the blend and the rest pose), the local poses
- * (the composed one, one a layer, one reference a layer for additive layers), the morph
- * scratch, then one player a layer.
+ * chains, structure-of-arrays poses (the blend, and the rest pose with several layers), the morph scratch, the
+ * local poses when the description has IK, additive layers or root motion (the composed one,
+ * one a layer, one reference a layer for additive layers), then one player a layer.
  * The clock: after a seek the layers' times and weights are a function of the clock (the
  * description's weights and scheduled fade), so advance is a seek to clock + dt. A play starts
  * fades that run on from now, as the mixer of three.js does: each layer's weight is a
@@ -40,7 +40,7 @@ struct sinew_character {
     const sinew_model *model;
     uint32_t layer_count, ik_count, root_layer;
     sinew_character_fade fade;
-    bool has_fade, root_motion, clamp, scheduled;
+    bool has_fade, root_motion, clamp, scheduled, has_rest;
     float threshold;
     double clock, phase;
     sinew_root_motion motion;
@@ -119,6 +119,17 @@ static sinew_result check_desc(const sinew_character_desc *d, sinew_error *error
     return SINEW_OK;
 }
 
+/* Whether the description can take the local-transform path (IK, additive layers, root motion):
+ * only then are its buffers (the composed pose, a pose a layer, additive references) made. A
+ * crowd of plain players pays for none of them. */
+static bool needs_locals(const sinew_character_desc *d)
+{
+    bool any = d->ik_count > 0 || d->root_motion;
+    for (uint32_t i = 0; i < d->layer_count; i++)
+        any = any || d->layers[i].additive;
+    return any;
+}
+
 size_t sinew_character_size(const sinew_character_desc *d)
 {
     if (check_desc(d, NULL) != SINEW_OK)
@@ -127,9 +138,10 @@ size_t sinew_character_size(const sinew_character_desc *d)
     size_t n = m->node_count ? m->node_count : 1, layers = d->layer_count;
     size_t size = 31 + ALIGN32(sizeof(sinew_character)) + ALIGN32((layers ? layers : 1) * sizeof(layer_state)) +
                   ALIGN32((d->ik_count ? d->ik_count : 1) * sizeof(chain_state)) +
-                  2 * ALIGN32(sinew_soa_pose_size(m->node_count)) + ALIGN32(n * sizeof(sinew_transform)) +
-                  2 * ALIGN32((layers ? layers : 1) * n * sizeof(sinew_transform)) +
+                  (d->layer_count > 1 ? 2 : 1) * ALIGN32(sinew_soa_pose_size(m->node_count)) +
                   ALIGN32((layers + 1) * (m->morph_channel_count ? m->morph_channel_count : 1) * sizeof(float));
+    if (needs_locals(d))
+        size += ALIGN32(n * sizeof(sinew_transform)) + 2 * ALIGN32((layers ? layers : 1) * n * sizeof(sinew_transform));
     for (uint32_t i = 0; i < d->layer_count; i++)
         size += ALIGN32(sinew_player_size(d->layers[i].layout));
     return size;
@@ -174,13 +186,18 @@ sinew_result sinew_character_init(void *memory, size_t size, const sinew_charact
     c->chains = take(&at, (d->ik_count ? d->ik_count : 1) * sizeof *c->chains);
     size_t pose_size = sinew_soa_pose_size(m->node_count);
     r = sinew_soa_pose_init(take(&at, pose_size), pose_size, m->node_count, &c->out, error);
-    if (r == SINEW_OK)
+    /* the rest pose as a structure of arrays, for blends of several layers; one layer blends (when
+     * its weight is under the threshold or it is masked) reading the rest pose from the model */
+    c->has_rest = d->layer_count > 1;
+    if (r == SINEW_OK && c->has_rest)
         r = sinew_soa_pose_init(take(&at, pose_size), pose_size, m->node_count, &c->rest, error);
-    if (r == SINEW_OK)
+    if (r == SINEW_OK && c->has_rest)
         r = sinew_soa_pose_from_locals(m->node_rest, m->node_count, &c->rest, error);
-    c->locals = take(&at, n * sizeof *c->locals);
-    c->layer_locals = take(&at, layers * n * sizeof *c->layer_locals);
-    c->reference = take(&at, layers * n * sizeof *c->reference);
+    if (needs_locals(d)) {
+        c->locals = take(&at, n * sizeof *c->locals);
+        c->layer_locals = take(&at, layers * n * sizeof *c->layer_locals);
+        c->reference = take(&at, layers * n * sizeof *c->reference);
+    }
     c->scratch = take(&at, (layers + 1) * (m->morph_channel_count ? m->morph_channel_count : 1) * sizeof(float));
     for (uint32_t i = 0; r == SINEW_OK && i < d->layer_count; i++) {
         const sinew_character_layer *l = &d->layers[i];
@@ -417,7 +434,7 @@ static sinew_result evaluate_soa(sinew_character *c, sinew_wrap wrap, const sine
         count++;
     }
     sinew_result r = sinew_blend_soa(&(sinew_blend_soa_desc){.model = c->model,
-                                                             .rest = &c->rest,
+                                                             .rest = c->has_rest ? &c->rest : NULL,
                                                              .layers = layers,
                                                              .layer_count = count,
                                                              .threshold = c->threshold,
@@ -540,7 +557,7 @@ sinew_result sinew_character_evaluate(sinew_character *c, const sinew_character_
         return r;
     const sinew_model *m = c->model;
     const sinew_wrap wrap = c->clamp ? SINEW_WRAP_CLAMP : SINEW_WRAP_LOOP;
-    bool locals = c->root_motion || o->locals != NULL;
+    bool locals = c->root_motion || (o->locals != NULL && c->locals);
     uint32_t blended = 0, alone = 0;
     for (uint32_t i = 0; i < c->layer_count; i++) {
         const layer_state *s = &c->layers[i];
@@ -553,11 +570,11 @@ sinew_result sinew_character_evaluate(sinew_character *c, const sinew_character_
         locals = locals || c->chains[i].weight > 0.0f;
     if (locals)
         r = evaluate_locals(c, wrap, o, error);
-    else if (blended == 1 && !c->layers[alone].mask && c->layers[alone].weight >= c->threshold)
+    else if (blended == 1 && !c->layers[alone].mask && c->layers[alone].weight >= c->threshold && !o->locals)
         r = sinew_player_update(c->layers[alone].player, c->layers[alone].time, wrap, o->root, o->worlds,
-                                o->world_count, error); /* the clip alone: the player */
-    else
-        r = evaluate_soa(c, wrap, o, error);
+                                o->world_count, error);                      /* the clip alone: the player */
+    else if ((r = evaluate_soa(c, wrap, o, error)) == SINEW_OK && o->locals) /* a lean character's locals */
+        r = sinew_soa_pose_to_locals(&c->out, o->locals, o->local_count, error);
     if (r == SINEW_OK && o->palettes)
         for (uint32_t s = 0, at = 0; r == SINEW_OK && s < m->skin_count; at += m->skins[s++].joint_count)
             r = sinew_skin_palette(&m->skins[s], o->worlds, o->world_count, o->palettes + at, m->skins[s].joint_count,
