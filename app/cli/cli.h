@@ -105,8 +105,9 @@ typedef struct cli_scene {
 
 /* --muscles as a scene wants it: NULL none, "" the model's own or the file beside it, else a file. */
 void cli_scene_muscles(const char *spec, app_scene_desc *desc);
-/* app_scene_open() with the import's stderr passed through; prints the error. */
-bool cli_scene_load(app_scene *scene, const app_scene_desc *desc);
+/* app_scene_open() with the import's stderr passed through and the CLI's import limits; prints
+ * the error and returns its kind (SINEW_OK when the scene is open). */
+sinew_result cli_scene_load(app_scene *scene, const app_scene_desc *desc);
 
 /* Loads, makes the context and the renderer; prints the error and returns an exit code. */
 int cli_scene_open(cli_scene *scene, const cli_scene_desc *desc);

@@ -175,7 +175,7 @@ int cmd_arm(int argc, char **argv)
         /* Numbers need no GL: the arm's own biceps, solved at the rest pose. */
         app_scene arm;
         app_scene_desc ad = {.model = model, .muscles = APP_MUSCLES_REQUIRED, .muscle_scale = a.scale};
-        if (!cli_scene_load(&arm, &ad)) /* takes the model over */
+        if (cli_scene_load(&arm, &ad) != SINEW_OK) /* takes the model over */
             return EXIT_BAD_INPUT;
         bool ok = app_scene_pose(&arm, 0.0, SINEW_WRAP_CLAMP, &error) == SINEW_OK && arm.muscle_count > 0;
         if (ok)

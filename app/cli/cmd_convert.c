@@ -76,7 +76,7 @@ int cmd_convert(int argc, char **argv)
     if (no_muscles)
         desc.muscles = APP_MUSCLES_NONE;
     app_scene scene;
-    if (!cli_scene_load(&scene, &desc))
+    if (cli_scene_load(&scene, &desc) != SINEW_OK)
         return EXIT_BAD_INPUT; /* a muscle that names no joint of IN, too */
     const sinew_model *model = scene.model;
     const sinew_muscle_set *set = scene.muscle_set;

@@ -310,7 +310,7 @@ int cmd_pose(int argc, char **argv)
     app_scene scene;
     app_scene_desc desc = {.path = o.path, .clip = o.clip, .anim = o.anim, .name_map = o.name_map};
     cli_scene_muscles(o.muscles, &desc);
-    if (!cli_scene_load(&scene, &desc))
+    if (cli_scene_load(&scene, &desc) != SINEW_OK)
         return EXIT_BAD_INPUT;
     sinew_error ops_error = {0};
     if (app_scene_set_pose_ops(&scene, &o.ops, &ops_error) != SINEW_OK) {

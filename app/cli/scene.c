@@ -54,7 +54,7 @@ void cli_scene_muscles(const char *spec, app_scene_desc *desc)
     desc->muscle_path = spec && spec[0] ? spec : NULL;
 }
 
-bool cli_scene_load(app_scene *scene, const app_scene_desc *desc)
+sinew_result cli_scene_load(app_scene *scene, const app_scene_desc *desc)
 {
     app_scene_desc d = *desc;
     d.stderr_fd = STDERR_FILENO;
@@ -62,10 +62,10 @@ bool cli_scene_load(app_scene *scene, const app_scene_desc *desc)
     sinew_error error = {0};
     if (app_scene_open(scene, &d, &error) != SINEW_OK) {
         cli_error("%s", error.message);
-        return false;
+        return error.kind;
     }
     cli_print_warnings(scene->model);
-    return true;
+    return SINEW_OK;
 }
 
 /* The crowd: spaced by one character's footprint over its clip, on a job system. */
@@ -112,13 +112,9 @@ int cli_scene_open(cli_scene *s, const cli_scene_desc *d)
     }
     app_scene_desc ad = d->scene;
     cli_scene_muscles(d->muscles, &ad);
-    ad.stderr_fd = STDERR_FILENO;
-    ad.import = cli_import;
-    if (app_scene_open(&s->scene, &ad, &error) != SINEW_OK) {
-        cli_error("%s", error.message);
-        return error.kind == SINEW_ERROR_INVALID_ARGUMENT ? EXIT_USAGE : EXIT_BAD_INPUT; /* a pose spec */
-    }
-    cli_print_warnings(s->scene.model);
+    sinew_result loaded = cli_scene_load(&s->scene, &ad);
+    if (loaded != SINEW_OK)
+        return loaded == SINEW_ERROR_INVALID_ARGUMENT ? EXIT_USAGE : EXIT_BAD_INPUT; /* a pose spec */
     s->model = s->scene.model;
     s->clip = s->scene.clip;
     sinew_render_options *o = &s->frame_options;
