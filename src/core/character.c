@@ -49,7 +49,8 @@ struct sinew_character {
     chain_state *chains;
     sinew_soa_pose out, rest;
     sinew_transform *locals, *layer_locals, *reference;
-    float *scratch; /* (layer_count + 1) morph channels */
+    float *scratch;           /* layer_count times the morph channels: each layer's weights */
+    float *reference_weights; /* with additive layers: each one's weights at its first frame */
 };
 
 #define ALIGN32(n) (((n) + 31u) & ~(size_t)31u)
@@ -122,29 +123,41 @@ static sinew_result check_desc(const sinew_character_desc *d, sinew_error *error
 /* Whether the description can take the local-transform path (IK, additive layers, root motion):
  * only then are its buffers (the composed pose, a pose a layer, additive references) made. A
  * crowd of plain players pays for none of them. */
+static bool has_additive(const sinew_character_desc *d)
+{
+    for (uint32_t i = 0; i < d->layer_count; i++)
+        if (d->layers[i].additive)
+            return true;
+    return false;
+}
+
 static bool needs_locals(const sinew_character_desc *d)
 {
-    bool any = d->ik_count > 0 || d->root_motion;
+    return d->ik_count > 0 || d->root_motion || has_additive(d);
+}
+
+/* The bytes of a valid description's instance, part by part as init takes them. */
+static size_t size_of(const sinew_character_desc *d)
+{
+    const sinew_model *m = d->model;
+    size_t n = m->node_count ? m->node_count : 1, layers = d->layer_count ? d->layer_count : 1,
+           channels = m->morph_channel_count ? m->morph_channel_count : 1;
+    size_t size = 31 + ALIGN32(sizeof(sinew_character)) + ALIGN32(layers * sizeof(layer_state)) +
+                  ALIGN32((d->ik_count ? d->ik_count : 1) * sizeof(chain_state)) +
+                  (d->layer_count > 1 ? 2 : 1) * ALIGN32(sinew_soa_pose_size(m->node_count)) +
+                  ALIGN32(layers * channels * sizeof(float));
+    if (needs_locals(d))
+        size += ALIGN32(n * sizeof(sinew_transform)) + 2 * ALIGN32(layers * n * sizeof(sinew_transform));
+    if (has_additive(d) && m->morph_channel_count)
+        size += ALIGN32(layers * channels * sizeof(float));
     for (uint32_t i = 0; i < d->layer_count; i++)
-        any = any || d->layers[i].additive;
-    return any;
+        size += ALIGN32(sinew_player_size(d->layers[i].layout));
+    return size;
 }
 
 size_t sinew_character_size(const sinew_character_desc *d)
 {
-    if (check_desc(d, NULL) != SINEW_OK)
-        return 0;
-    const sinew_model *m = d->model;
-    size_t n = m->node_count ? m->node_count : 1, layers = d->layer_count;
-    size_t size = 31 + ALIGN32(sizeof(sinew_character)) + ALIGN32((layers ? layers : 1) * sizeof(layer_state)) +
-                  ALIGN32((d->ik_count ? d->ik_count : 1) * sizeof(chain_state)) +
-                  (d->layer_count > 1 ? 2 : 1) * ALIGN32(sinew_soa_pose_size(m->node_count)) +
-                  ALIGN32((layers + 1) * (m->morph_channel_count ? m->morph_channel_count : 1) * sizeof(float));
-    if (needs_locals(d))
-        size += ALIGN32(n * sizeof(sinew_transform)) + 2 * ALIGN32((layers ? layers : 1) * n * sizeof(sinew_transform));
-    for (uint32_t i = 0; i < d->layer_count; i++)
-        size += ALIGN32(sinew_player_size(d->layers[i].layout));
-    return size;
+    return check_desc(d, NULL) == SINEW_OK ? size_of(d) : 0;
 }
 
 /* Takes `bytes` (32-aligned) from *at. */
@@ -164,7 +177,7 @@ sinew_result sinew_character_init(void *memory, size_t size, const sinew_charact
     sinew_result r = check_desc(d, error);
     if (r != SINEW_OK)
         return r;
-    size_t need = sinew_character_size(d);
+    size_t need = size_of(d);
     if (size < need)
         return sinew_fail(error, SINEW_ERROR_INVALID_ARGUMENT,
                           "sinew_character_init: %zu bytes given, the character needs %zu (sinew_character_size())",
@@ -198,7 +211,10 @@ sinew_result sinew_character_init(void *memory, size_t size, const sinew_charact
         c->layer_locals = take(&at, layers * n * sizeof *c->layer_locals);
         c->reference = take(&at, layers * n * sizeof *c->reference);
     }
-    c->scratch = take(&at, (layers + 1) * (m->morph_channel_count ? m->morph_channel_count : 1) * sizeof(float));
+    size_t channels = m->morph_channel_count ? m->morph_channel_count : 1;
+    c->scratch = take(&at, layers * channels * sizeof(float));
+    if (has_additive(d) && m->morph_channel_count)
+        c->reference_weights = take(&at, layers * channels * sizeof(float));
     for (uint32_t i = 0; r == SINEW_OK && i < d->layer_count; i++) {
         const sinew_character_layer *l = &d->layers[i];
         layer_state *s = &c->layers[i];
@@ -212,6 +228,9 @@ sinew_result sinew_character_init(void *memory, size_t size, const sinew_charact
         r = sinew_player_init(take(&at, player_size), player_size, l->layout, &s->player, error);
         if (r == SINEW_OK && l->additive) /* what the layer adds is its motion from its first frame */
             r = sinew_player_sample(s->player, 0.0f, SINEW_WRAP_CLAMP, c->reference + i * n, m->node_count, error);
+        if (r == SINEW_OK && l->additive && c->reference_weights) /* and its morph weights' */
+            r = sinew_player_weights(s->player, 0.0f, SINEW_WRAP_CLAMP, c->reference_weights + i * channels,
+                                     m->morph_channel_count, error);
     }
     for (uint32_t i = 0; i < d->ik_count; i++) {
         const sinew_character_ik *k = &d->ik[i];
@@ -416,6 +435,12 @@ static sinew_result check_output(const sinew_character *c, const sinew_character
     return SINEW_OK;
 }
 
+/* Whether a layer counts in the blend now: a blended one with weight, an additive one not at 0. */
+static bool weighs(const layer_state *s)
+{
+    return s->additive ? s->weight != 0.0f : s->weight > 0.0f;
+}
+
 /* Blended layers on structure-of-arrays poses (no additive layer, IK or root motion). */
 static sinew_result evaluate_soa(sinew_character *c, sinew_wrap wrap, const sinew_character_output *o,
                                  sinew_error *error)
@@ -425,7 +450,7 @@ static sinew_result evaluate_soa(sinew_character *c, sinew_wrap wrap, const sine
     uint32_t count = 0;
     for (uint32_t i = 0; i < c->layer_count; i++) {
         layer_state *s = &c->layers[i];
-        if (s->additive || !(s->weight > 0.0f))
+        if (s->additive || !weighs(s))
             continue;
         sinew_result r = sinew_player_advance(s->player, s->time, wrap, &poses[count], error);
         if (r != SINEW_OK)
@@ -455,7 +480,7 @@ static sinew_result evaluate_locals(sinew_character *c, sinew_wrap wrap, const s
     sinew_result r = SINEW_OK;
     for (uint32_t i = 0; r == SINEW_OK && i < c->layer_count; i++) {
         layer_state *s = &c->layers[i];
-        if (s->additive ? !(s->weight != 0.0f) : !(s->weight > 0.0f))
+        if (!weighs(s))
             continue;
         sinew_transform *dst = c->layer_locals + i * stride;
         r = sinew_player_sample(s->player, s->time, wrap, dst, n, error);
@@ -493,12 +518,11 @@ static sinew_result evaluate_locals(sinew_character *c, sinew_wrap wrap, const s
                                     .middle = k->middle,
                                     .end = k->end,
                                     .weight = k->weight};
-        const float *w = NULL;
+        /* the pole: where the middle joint already bends, away from the start-end line */
+        const float *start = o->worlds[k->start].m + 12, *mid = o->worlds[k->middle].m + 12,
+                    *end = o->worlds[k->end].m + 12;
         for (int a = 0; a < 3; a++) {
-            /* the pole: where the middle joint already bends, away from the start-end line */
-            float line = 0.5f * (o->worlds[k->start].m[12 + a] + o->worlds[k->end].m[12 + a]);
-            w = o->worlds[k->middle].m;
-            d.pole[a] = k->pole_given ? k->pole[a] : w[12 + a] + 4.0f * (w[12 + a] - line);
+            d.pole[a] = k->pole_given ? k->pole[a] : mid[a] + 4.0f * (mid[a] - 0.5f * (start[a] + end[a]));
             d.target[a] = k->target[a];
         }
         r = sinew_ik_two_bone(&d, error);
@@ -518,16 +542,15 @@ static sinew_result evaluate_weights(sinew_character *c, sinew_wrap wrap, float 
     const uint32_t n = m->morph_channel_count;
     sinew_weight_layer layers[SINEW_CHARACTER_MAX_LAYERS], adds[SINEW_CHARACTER_MAX_LAYERS];
     uint32_t count = 0, add_count = 0;
-    float *first = c->scratch + (size_t)c->layer_count * n;
     sinew_result r = SINEW_OK;
     for (uint32_t i = 0; r == SINEW_OK && i < c->layer_count; i++) {
         layer_state *s = &c->layers[i];
-        if (s->additive ? !(s->weight != 0.0f) : !(s->weight > 0.0f))
+        if (!weighs(s))
             continue;
         float *dst = c->scratch + (size_t)i * n;
         r = sinew_player_weights(s->player, s->time, wrap, dst, n, error);
         if (r == SINEW_OK && s->additive) {
-            r = sinew_player_weights(s->player, 0.0f, SINEW_WRAP_CLAMP, first, n, error);
+            const float *first = c->reference_weights + (size_t)i * n;
             for (uint32_t k = 0; k < n; k++)
                 dst[k] -= first[k];
             adds[add_count++] = (sinew_weight_layer){dst, s->weight};
@@ -561,9 +584,9 @@ sinew_result sinew_character_evaluate(sinew_character *c, const sinew_character_
     uint32_t blended = 0, alone = 0;
     for (uint32_t i = 0; i < c->layer_count; i++) {
         const layer_state *s = &c->layers[i];
-        if (s->additive)
-            locals = locals || s->weight != 0.0f;
-        else if (s->weight > 0.0f)
+        if (weighs(s) && s->additive)
+            locals = true;
+        else if (weighs(s))
             blended++, alone = i;
     }
     for (uint32_t i = 0; i < c->ik_count; i++)

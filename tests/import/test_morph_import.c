@@ -179,6 +179,24 @@ static void test_weight_blending(void **state)
     assert_float_equal(out[0], 0.5f, 1e-6);
     assert_float_equal(out[1], 0.25f, 1e-6);
     free(memory);
+    /* clip 1 added on top of clip 0, twice: its weights less those of its first frame */
+    cl[0].weight = 1.0f;
+    cl[1] = (sinew_character_layer){.layout = layouts[1], .weight = 2.0f, .additive = true};
+    size = sinew_character_size(&cd);
+    memory = malloc(size);
+    assert_int_equal(sinew_character_init(memory, size, &cd, &mx, NULL), SINEW_OK);
+    float added[4], first[4];
+    for (int k = 0; k < 3; k++) {
+        float t = 0.3f * (float)k + 0.2f;
+        assert_int_equal(sinew_character_seek(mx, t, NULL), SINEW_OK);
+        assert_int_equal(sinew_character_evaluate(mx, &o, NULL), SINEW_OK);
+        weights_at(m, m->clips[0].name, t, a);
+        weights_at(m, m->clips[1].name, t, added);
+        weights_at(m, m->clips[1].name, 0.0f, first);
+        for (int c = 0; c < 4; c++)
+            assert_float_equal(out[c], a[c] + 2.0f * (added[c] - first[c]), 1e-6);
+    }
+    free(memory);
     for (int i = 0; i < 2; i++)
         sinew_clip_layout_free(layouts[i]);
     sinew_model_free(m);
