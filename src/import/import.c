@@ -96,8 +96,9 @@ bool import_read_file(const char *path, unsigned char **bytes, size_t *size)
     long n = ok ? ftell(f) : -1;
     ok = n >= 0 && fseek(f, 0, SEEK_SET) == 0;
     unsigned char *buf = ok ? malloc((size_t)n + 1) : NULL;
-    int why = ok && !buf ? ENOMEM : EIO;
+    bool starved = ok && !buf;
     ok = buf && fread(buf, 1, (size_t)n, f) == (size_t)n;
+    int why = starved ? ENOMEM : errno; /* what failed, not what fclose() leaves */
     fclose(f);
     if (!ok) {
         free(buf);
