@@ -8,30 +8,18 @@ prints the median and the min-max of each in milliseconds, with per-version tota
 
     bench/fbx-load.py [--sinew build/sinew] [--runs 7] [--testdata ../shared/testdata] [--json]
 """
-import argparse
 import collections
 import json
 import os
 import re
 import statistics
-import subprocess
 import sys
-import time
 
-
-def run_ms(cmd, env):
-    t = time.perf_counter()
-    r = subprocess.run(cmd, env=env, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
-    return (time.perf_counter() - t) * 1000.0, r.returncode
+from timing import process_args, run_ms
 
 
 def main():
-    here = os.path.dirname(os.path.abspath(__file__))
-    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    ap.add_argument("--sinew", default=os.path.join(here, "..", "build", "sinew"))
-    ap.add_argument("--runs", type=int, default=7)
-    ap.add_argument("--testdata", default=os.path.join(here, "..", "..", "shared", "testdata"))
-    ap.add_argument("--json", action="store_true")
+    ap = process_args(__doc__)
     args = ap.parse_args()
     folder = os.path.join(args.testdata, "ufbx")
     scenes = collections.defaultdict(list)

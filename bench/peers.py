@@ -17,23 +17,17 @@ median and min-max in milliseconds and the ratios issue 31 sets goals on: sinew 
 
     bench/peers.py [--sinew build/sinew] [--runs 7] [--testdata ../shared/testdata] [--json] [FILE...]
 """
-import argparse
 import json
 import os
 import shutil
 import statistics
 import subprocess
 import sys
-import time
+
+from timing import process_args, run_ms
 
 DEFAULT_FILES = ["ozz/pab/walk.fbx", "ozz/pab/arnaud.fbx", "ufbx/motionbuilder_sausage_rrss_7700_binary.fbx",
                  "raylib/robot.glb", "gltf-samples/Fox.glb", "blender/robot_walk.dae"]
-
-
-def run_ms(cmd, env):
-    t = time.perf_counter()
-    r = subprocess.run(cmd, env=env, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
-    return (time.perf_counter() - t) * 1000.0, r.returncode
 
 
 def build_peers(shared):
@@ -71,12 +65,7 @@ def measure(rows, runs):
 
 
 def main():
-    here = os.path.dirname(os.path.abspath(__file__))
-    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    ap.add_argument("--sinew", default=os.path.join(here, "..", "build", "sinew"))
-    ap.add_argument("--runs", type=int, default=7)
-    ap.add_argument("--testdata", default=os.path.join(here, "..", "..", "shared", "testdata"))
-    ap.add_argument("--json", action="store_true")
+    ap = process_args(__doc__)
     ap.add_argument("files", nargs="*", help="files to open (default: six shared FBX, glTF and COLLADA models)")
     args = ap.parse_args()
     shared = os.path.dirname(os.path.normpath(args.testdata))
