@@ -355,9 +355,10 @@ static uint64_t own_limit(const sinew_import_desc *desc, uint64_t size)
     return desc && desc->memory_limit ? desc->memory_limit : import_default_memory_limit(size);
 }
 
-/* An import that ran out of its own byte limit says so, whatever the reader said. */
-static sinew_result over_limit(sinew_result result, const import_alloc_result *used, const char *name,
-                               const sinew_import_desc *desc, sinew_error *error)
+/* What the import's allocations make of its result: one refused fails an import that went on
+ * without it (out of memory), and one refused for the byte limit says so, whatever the reader said. */
+static sinew_result allocation_outcome(sinew_result result, const import_alloc_result *used, const char *name,
+                                       const sinew_import_desc *desc, sinew_error *error)
 {
     if (result == SINEW_OK && (used->over_limit || used->refused)) /* a reader went on without what it could */
         result = sinew_fail(error, SINEW_ERROR_OUT_OF_MEMORY,      /* not allocate: no partial model */
@@ -411,7 +412,7 @@ static sinew_result import_bytes(const unsigned char *bytes, size_t size, const 
         raw_model_free(&raw);
     }
     import_alloc_end(&state, &used);
-    result = over_limit(result, &used, name, desc, error);
+    result = allocation_outcome(result, &used, name, desc, error);
     if (result == SINEW_OK) {
         result = sinew_model_from_blob(blob, blob_size, name, allocator, out, error);
         if (result != SINEW_OK && result != SINEW_ERROR_OUT_OF_MEMORY) /* the builder wrote what it cannot read */
@@ -483,7 +484,7 @@ sinew_result sinew_import_blob_desc(const sinew_import_desc *desc, void **bytes,
         raw_model_free(&raw);
     }
     import_alloc_end(&state, &used);
-    result = over_limit(result, &used, desc->path, desc, error);
+    result = allocation_outcome(result, &used, desc->path, desc, error);
     if (result != SINEW_OK && *bytes) {
         free(*bytes);
         *bytes = NULL;
