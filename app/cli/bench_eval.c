@@ -686,7 +686,7 @@ static bool time_import(const char *path, bool assimp, double *best_ms, sinew_mo
     sinew_model_free(probe);
     for (int i = 0; i < (batches > 1 ? 3 : 1); i++) {
         sinew_model *m = NULL;
-        sinew_import_desc d = {.path = path, .in_process = true, .assimp = assimp};
+        sinew_import_desc d = {.path = path, .assimp = assimp};
         double start = cli_now_seconds();
         if (sinew_import(&d, &m, &error) != SINEW_OK) {
             cli_error("%s%s", assimp ? "(through Assimp) " : "", error.message);

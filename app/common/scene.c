@@ -253,7 +253,7 @@ sinew_result app_load_model(const app_scene_desc *d, sinew_model **out, sinew_er
     /* SINEW_IMPORTER=assimp: read even FBX through Assimp, to compare (README). */
     const char *importer = getenv("SINEW_IMPORTER");
     sinew_import_desc desc = {.path = path,
-                              .in_process = d->in_process || getenv("SINEW_IMPORT_IN_PROCESS") != NULL,
+                              .isolate = d->isolate || getenv("SINEW_IMPORT_ISOLATE") != NULL,
                               .assimp = d->assimp || (importer && strcmp(importer, "assimp") == 0),
                               .timeout = d->import.timeout,
                               .memory_limit = d->import.memory_limit,

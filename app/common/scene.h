@@ -58,7 +58,7 @@ typedef struct app_scene_desc {
     const char *muscle_path; /* APP_MUSCLES_REQUIRED: this file instead of the model's own */
     double muscle_scale;     /* sinew_muscle_rig_set_scale(); 0: 1 */
     /* importing a file (sinew/import.h): */
-    bool in_process, assimp; /* also $SINEW_IMPORT_IN_PROCESS and $SINEW_IMPORTER=assimp */
+    bool isolate, assimp; /* also $SINEW_IMPORT_ISOLATE and $SINEW_IMPORTER=assimp */
     int stderr_fd;
     app_import_options import;
     bool (*progress)(float fraction, void *user); /* sinew_import_desc.progress: false cancels */

@@ -15,13 +15,18 @@
  * relative scale, and of the scene's size for translation) in between. A file that looks
  * like FBX, glTF or COLLADA, or is named so, is never handed to Assimp unless desc->assimp
  * asks for it.
- * By default the readers run in a helper program, sinew-import (installed beside sinew, see
- * sinew_import_helper_path()), started with posix_spawn, which hands the model back through a
- * pipe as one flat blob: a crash, a hang or a runaway allocation inside Assimp or a reader
- * becomes an error naming the file, never a dead or frozen caller. The helper has a deadline
- * and a memory limit (desc->timeout, desc->memory_limit), dies with the thread that started it,
- * and its reply can be no larger than its memory limit. desc->in_process reads in the
- * caller's process instead (for debuggers).
+ * sinew's own readers run in the calling process, under the import's deadline and memory limit
+ * (desc->timeout, desc->memory_limit): every allocation of the readers and the builder is
+ * counted against the limit, and the readers look at the clock as they go, so that a file that
+ * would make them loop or grow without end stops with SINEW_ERROR_LIMIT_TIME or
+ * SINEW_ERROR_LIMIT_MEMORY and nothing is left behind. Assimp's formats (and desc->assimp) are
+ * read in the import helper program, sinew-import (installed beside sinew, see
+ * sinew_import_helper_path()), which hands them to sinew-import-assimp: libsinew never loads
+ * Assimp. desc->isolate runs every format there
+ * (an untrusted file: a crash in a reader then costs an error, not the caller). The helper is
+ * started with posix_spawn and hands the model back through a pipe as one flat blob; it has the
+ * same deadline and memory limit, dies with the thread that started it, and its reply can be no
+ * larger than its memory limit.
  * What not: no rendering, no sampling; the model is immutable once built.
  * Memory: the model is one allocation through desc->allocator (malloc when NULL); free it
  * with sinew_model_free(). While reading, every allocation of sinew's readers and builder is
@@ -32,7 +37,7 @@
  * unknown format, truncated), SINEW_ERROR_IMPORTER (Assimp refused; the helper crashed or was
  * killed from outside: the signal is named, and its last stderr lines quoted),
  * SINEW_ERROR_DATA (NaN/Inf, bad indices, zero weights), SINEW_ERROR_LIMIT (over a documented
- * limit), SINEW_ERROR_LIMIT_TIME and SINEW_ERROR_LIMIT_MEMORY (the helper passed its deadline or
+ * limit), SINEW_ERROR_LIMIT_TIME and SINEW_ERROR_LIMIT_MEMORY (the import passed its deadline or
  * memory limit), SINEW_ERROR_CANCELLED (desc->progress asked to stop). error->file names the file
  * (or the external part that failed); error->offset (binary FBX, glTF JSON) and error->line
  * (COLLADA, ASCII FBX) say where, when the reader knows.
@@ -55,24 +60,23 @@ extern "C" {
 
 typedef struct sinew_import_desc {
     const char *path;
-    bool in_process;                  /* import in this process (no helper; a crash or hang is the caller's) */
+    bool isolate;                     /* read every format in the helper program (sinew's own too) */
     bool assimp;                      /* read with Assimp even a format sinew reads itself: to compare */
     const sinew_allocator *allocator; /* NULL: malloc/free */
-    /* The helper (ignored in process): */
-    const char *helper;    /* its path; NULL: found as sinew_import_helper_path() says */
-    double timeout;        /* seconds it may take; 0: 120; negative: no deadline */
-    uint64_t memory_limit; /* bytes of address space it may use; 0: SINEW_IMPORT_MEMORY_BASE plus
-                              SINEW_IMPORT_MEMORY_FACTOR times the file's size, at most half the
-                              machine's memory (kept within 1..16 GiB; a session, whose files are
-                              not known in advance: that ceiling); UINT64_MAX: none. It also bounds
-                              the bytes sinew's readers and builder hold, in the helper and in
-                              process (sinew_import_memory(), in_process, read_file), counted
-                              allocation by allocation: past it SINEW_ERROR_LIMIT_MEMORY. (What
-                              libxml2, cJSON and Assimp allocate inside is not counted.) */
-    int stderr_fd;         /* 0: its stderr is kept, and its last lines quoted when it fails; else
-                              the descriptor it writes its stderr to (2: the caller's stderr) */
+    const char *helper;               /* the helper's path; NULL: found as sinew_import_helper_path() says */
+    double timeout;                   /* seconds the import may take; 0: 120; negative: no deadline */
+    uint64_t memory_limit;            /* bytes of address space it may use; 0: SINEW_IMPORT_MEMORY_BASE plus
+                                         SINEW_IMPORT_MEMORY_FACTOR times the file's size, at most half the
+                                         machine's memory (kept within 1..16 GiB; a session, whose files are
+                                         not known in advance: that ceiling); UINT64_MAX: none. It also bounds
+                                         the bytes sinew's readers and builder hold, in the helper and in
+                                         process (sinew_import_memory(), read_file), counted
+                                         allocation by allocation: past it SINEW_ERROR_LIMIT_MEMORY. (What
+                                         libxml2, cJSON and Assimp allocate inside is not counted.) */
+    int stderr_fd;                    /* 0: its stderr is kept, and its last lines quoted when it fails; else
+                                         the descriptor it writes its stderr to (2: the caller's stderr) */
     /* Called on the calling thread about every 50 ms while the helper works (once, before
-     * reading, in process): `fraction` is -1 while the file is read, then 0..1 as the model
+     * reading, in this process): `fraction` is -1 while the file is read, then 0..1 as the model
      * comes back. Returning false stops the helper at once: SINEW_ERROR_CANCELLED. NULL: none. */
     bool (*progress)(float fraction, void *user);
     void *progress_user;
@@ -98,13 +102,14 @@ sinew_result sinew_import(const sinew_import_desc *desc, sinew_model **out, sine
 sinew_result sinew_import_memory(const void *bytes, size_t size, const char *format, const sinew_import_desc *desc,
                                  sinew_model **out, sinew_error *error);
 
-/* Many files, one helper: a session keeps its helper running between files, so that a library
- * of small files does not pay for starting a process each (about 6 ms of CPU, and on some
- * machines process starts do not run in parallel). Each file keeps its own deadline; past it,
- * or on a crash, the helper is killed and the next file starts a fresh one; one that used more
- * than half the memory limit is replaced too. Files only Assimp reads, .sinew files and
- * desc->in_process imports go as sinew_import() sends them. A session is used by one thread at
- * a time; its helper dies with the thread that started it (the next file then starts another).
+/* Many files, one helper: with desc->isolate, a session keeps its helper running between
+ * files, so that a library of small files does not pay for starting a process each (about 6 ms
+ * of CPU, and on some machines process starts do not run in parallel). Each file keeps its own
+ * deadline; past it, or on a crash, the helper is killed and the next file starts a fresh one;
+ * one that used more than half the memory limit is replaced too. Files only Assimp reads,
+ * .sinew files and, without desc->isolate, every file go as sinew_import() sends them (sinew's
+ * own formats in this process, no helper started). A session is used by one thread at a time;
+ * its helper dies with the thread that started it (the next file then starts another).
  * `desc` (its path unused) gives every setting, as for sinew_import(). */
 typedef struct sinew_import_session sinew_import_session;
 sinew_result sinew_import_session_create(const sinew_import_desc *desc, sinew_import_session **out, sinew_error *error);
@@ -122,7 +127,8 @@ int sinew_import_session_helper_pid(const sinew_import_session *session);
 sinew_result sinew_import_helper_path(const sinew_import_desc *desc, char *out, size_t size, sinew_error *error);
 
 /* Imports the file into the flat blob that sinew_model_from_blob() reads; *bytes is
- * malloc'd, the caller frees it. This is what the import helper does. */
+ * malloc'd, the caller frees it. This is what the import helper does (in this process for
+ * sinew's own formats, through the helper for Assimp's). */
 sinew_result sinew_import_blob(const char *path, void **bytes, size_t *size, sinew_error *error);
 /* The same with the import desc's choice of reader (desc->assimp). */
 sinew_result sinew_import_blob_desc(const sinew_import_desc *desc, void **bytes, size_t *size, sinew_error *error);

@@ -423,21 +423,22 @@ class Model:
 # ---- making models ------------------------------------------------------------------------
 
 def load(path: Union[str, os.PathLike], *, timeout: Optional[float] = None, memory: Optional[int] = None,
-         in_process: bool = False, assimp: bool = False) -> Model:
+         isolate: bool = False, assimp: bool = False) -> Model:
     """Imports a model file (FBX, glTF, COLLADA, BVH, IQM, .sinew, ...).
 
-    timeout: seconds the import may take (default 120); memory: bytes it may use (default 256
-    MiB and 64 times the file's size, at most half the machine's memory). Both bound the
-    `sinew-import` helper process the import runs in, so that a malformed file raises an Error and never crashes Python. in_process
-    imports in this process instead (faster for trusted files); assimp reads with Assimp even
-    a format sinew reads itself. .sinew files are always read in process."""
+    timeout: seconds the import may take (default 120, TimeLimitError past it); memory: bytes it
+    may use (default 256 MiB and 64 times the file's size, at most half the machine's memory;
+    MemoryLimitError). sinew's own readers (FBX, glTF, COLLADA, IQM, .sinew) run in this process
+    under both; Assimp's formats in the `sinew-import` helper process. isolate reads every format
+    in the helper (files from strangers: a crash in a reader then raises an Error instead of
+    ending Python); assimp reads with Assimp even a format sinew reads itself."""
     path = os.fspath(path)
     error = ffi.new("sinew_error *")
     out = ffi.new("sinew_model **")
     if path.endswith(".sinew"):
         _check(lib.sinew_model_load(os.fsencode(path), ffi.NULL, out, error), error, path)
         return Model(out[0])
-    desc = _import_desc(timeout, memory, in_process, assimp)
+    desc = _import_desc(timeout, memory, isolate, assimp)
     encoded = ffi.new("char[]", os.fsencode(path))
     desc.path = encoded
     _check(lib.sinew_import(desc, out, error), error, path)
@@ -460,10 +461,10 @@ def load_bytes(data: bytes, format: Optional[str] = None, *, name: Optional[str]
     return Model(out[0])
 
 
-def _import_desc(timeout, memory, in_process, assimp):
+def _import_desc(timeout, memory, isolate, assimp):
     """A sinew_import_desc with the settings load() and Importer take (path unset)."""
     desc = ffi.new("sinew_import_desc *")
-    desc.in_process = in_process
+    desc.isolate = isolate
     desc.assimp = assimp
     desc.timeout = float(timeout) if timeout else 0.0
     desc.memory_limit = int(memory) if memory else 0
@@ -471,18 +472,18 @@ def _import_desc(timeout, memory, in_process, assimp):
 
 
 class Importer:
-    """Loads many files through one running import helper (sinew_import_session): the same
-    isolation as load() — a deadline a file, a memory limit, a crash costs an error — without
-    starting a process for each file. Use from one thread at a time:
+    """Loads many files with the same settings (sinew_import_session): a deadline and a memory
+    limit a file, as load(); with isolate, through one running import helper, so that a crash
+    costs an error without starting a process for each file. Use from one thread at a time:
 
         with sinew.Importer(timeout=30) as importer:
             for path in paths:
                 model = importer.load(path)
     """
 
-    def __init__(self, *, timeout: Optional[float] = None, memory: Optional[int] = None, in_process: bool = False,
+    def __init__(self, *, timeout: Optional[float] = None, memory: Optional[int] = None, isolate: bool = False,
                  assimp: bool = False):
-        desc = _import_desc(timeout, memory, in_process, assimp)
+        desc = _import_desc(timeout, memory, isolate, assimp)
         out = ffi.new("sinew_import_session **")
         error = ffi.new("sinew_error *")
         _check(lib.sinew_import_session_create(desc, out, error), error)

@@ -64,7 +64,7 @@ int32_t sinew_model_pick_clip(const sinew_model *model, const char *text);
 void sinew_model_blob(const sinew_model *model, const void **bytes, size_t *size);
 
 typedef struct sinew_import_desc {
-    const char *path; bool in_process; bool assimp; const sinew_allocator *allocator;
+    const char *path; bool isolate; bool assimp; const sinew_allocator *allocator;
     const char *helper; double timeout; uint64_t memory_limit; int stderr_fd;
     bool (*progress)(float fraction, void *user); void *progress_user;
     bool (*read_file)(const char *path, void **bytes, size_t *size, void *user); void *read_user;
@@ -111,7 +111,7 @@ ffi.cdef(CDEF)
 
 _HERE = os.path.dirname(os.path.abspath(__file__))
 # libsinew's soname: it follows the ABI (CMakeLists.txt's SINEW_SOVERSION; CHANGELOG.md)
-SONAME = "libsinew.so.0.2"
+SONAME = "libsinew.so.0.3"
 
 
 def _candidates():

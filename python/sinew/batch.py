@@ -149,14 +149,15 @@ _IMPORTERS = {}  # a worker's import sessions (one running helper), by settings 
 
 
 def _importer(opts):
-    """This worker thread's import session: its helper stays between files (a process start a
-    file costs as much as a small file's work, and does not parallelise on every machine)."""
+    """This worker thread's import session: sinew's own formats read in the worker under the file's
+    deadline and memory limit; with --isolate, in a helper that stays between files (a process
+    start a file costs as much as a small file's work, and does not parallelise on every machine)."""
     import threading
 
     import sinew
-    key = (opts["timeout"], opts["memory"], threading.get_ident())
+    key = (opts["timeout"], opts["memory"], opts["isolate"], threading.get_ident())
     if key not in _IMPORTERS:
-        _IMPORTERS[key] = sinew.Importer(timeout=opts["timeout"], memory=opts["memory"])
+        _IMPORTERS[key] = sinew.Importer(timeout=opts["timeout"], memory=opts["memory"], isolate=opts["isolate"])
     return _IMPORTERS[key]
 
 
@@ -205,10 +206,7 @@ def process_file(job: dict) -> dict:
     row = _row(job)
     opts = job["options"]
     try:
-        if opts["in_process"]:
-            model = sinew.load(job["path"], in_process=True)
-        else:
-            model = _importer(opts).load(job["path"])
+        model = _importer(opts).load(job["path"])
         row["warnings"] = list(model.warnings)  # the model's own list stays as the file gave it
         clips = list(range(len(model.clips)))
         if opts["retarget"]:
@@ -392,9 +390,9 @@ def run(args) -> int:
                "retarget_sha256": file_hash(args.retarget) if args.retarget else None,
                "name_map": os.path.abspath(args.name_map) if args.name_map else None,
                "skin": args.skin, "preview": args.preview, "preview_size": (width, height),
-               "in_process": args.in_process, "max_frames": args.max_frames, "compress": args.compress, "timeout": args.timeout, "memory": args.memory * (1 << 20) if args.memory else None}
+               "isolate": args.isolate, "max_frames": args.max_frames, "compress": args.compress, "timeout": args.timeout, "memory": args.memory * (1 << 20) if args.memory else None}
     options_key = hashlib.sha256(json.dumps([FORMAT_VERSION, sinew.version(), {
-        k: v for k, v in options.items() if k not in ("timeout", "memory", "retarget", "in_process")}], sort_keys=True).encode()).hexdigest()
+        k: v for k, v in options.items() if k not in ("timeout", "memory", "retarget", "isolate")}], sort_keys=True).encode()).hexdigest()
     jobs, rows = [], {}
     for order, f in enumerate(files):
         job = dict(f, order=order, outdir=outdir, options=options, options_key=options_key,
@@ -504,10 +502,10 @@ def parser() -> argparse.ArgumentParser:
     g.add_argument("--scheduler", metavar="tcp://HOST:PORT", help="run on an existing Dask scheduler's workers")
     p.add_argument("--timeout", type=float, default=60.0, metavar="S", help="seconds one file's import may take (60)")
     p.add_argument("--memory", type=int, default=None, metavar="MIB", help="memory one file's import may use")
-    p.add_argument("--in-process", action="store_true",
-                   help="import in the worker, not in the helper: about twice as fast a file, for trusted files "
-                        "(no deadline or memory limit a file; a file that crashes the reader costs its worker, "
-                        "and is recorded as a crash after Dask's retries)")
+    p.add_argument("--isolate", action="store_true",
+                   help="read every file in the import helper, not only Assimp's formats: for files from strangers "
+                        "(a file that crashes a reader then costs an error row, not its worker and Dask's retries); "
+                        "by default sinew's own readers run in the worker under the same deadline and memory limit")
     p.add_argument("--force", action="store_true", help="redo every file, even unchanged ones")
     p.add_argument("-q", "--quiet", action="store_true", help="no progress line, no summary")
     return p

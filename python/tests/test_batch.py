@@ -182,7 +182,7 @@ def test_same_results_for_any_worker_count(testdata, tmp_path):
     one, two, inside = str(tmp_path / "one"), str(tmp_path / "two"), str(tmp_path / "inside")
     batch(lib, "-o", one, "--workers", "1", "--skin", check=0)
     batch(lib, "-o", two, "--workers", "2", "--skin", check=0)
-    batch(lib, "-o", inside, "--workers", "2", "--skin", "--in-process", check=0)
+    batch(lib, "-o", inside, "--workers", "2", "--skin", "--isolate", check=0)
     a, b, c = arrays(one, manifest(one)), arrays(two, manifest(two)), arrays(inside, manifest(inside))
     assert a.keys() == b.keys() == c.keys() and len(a) >= len(SMALL)
     for rel in a:

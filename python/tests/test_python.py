@@ -294,7 +294,9 @@ def test_importer_keeps_one_helper(testdata, tmp_path):
     import signal
     paths = [model_path(testdata, rel) for rel in ("gltf-samples/Fox.glb", "ozz/pab/arnaud.fbx", "ozz/pab/walk.dae",
                                                     "raylib/guy.iqm", "assimp/BVH/01_01.bvh")]
-    with sinew.Importer(timeout=30) as importer:
+    with sinew.Importer() as inside:  # by default sinew's own formats are read in this process
+        assert inside.load(paths[0]).joints.names and inside.helper_pid == 0
+    with sinew.Importer(timeout=30, isolate=True) as importer:
         pid = None
         for path in paths:
             a, b = sinew.load(path), importer.load(path)
@@ -303,7 +305,7 @@ def test_importer_keeps_one_helper(testdata, tmp_path):
             assert importer.helper_pid == pid > 0  # the BVH went to Assimp's helper, this one stayed
         from test_batch import hanging_file
         with pytest.raises(sinew.LimitError):
-            sinew.Importer(timeout=1.0).load(hanging_file(testdata, tmp_path))
+            sinew.Importer(timeout=1.0, isolate=True).load(hanging_file(testdata, tmp_path))
         os.kill(pid, signal.SIGKILL)  # gone while it waited: the next file starts another
         assert importer.load(paths[0]).joints.names == sinew.load(paths[0]).joints.names
         assert importer.helper_pid not in (0, pid)

@@ -37,6 +37,13 @@
  * (the export test compares libsinew.so's symbols with the headers). */
 #pragma GCC visibility push(hidden)
 
+/* Loads a shared library by its soname and finds `count` symbols in it (into `functions`, in the
+ * order of `names`): a dependency only some programs need (libxml2, meshoptimizer) is loaded
+ * when first used, not at every process start. false with the reason in `why` when the library
+ * or a symbol is missing. Call once (pthread_once); the library stays loaded. */
+bool sinew_lazy_open(const char *soname, const char *const *names, void **functions, size_t count, char *why,
+                     size_t why_size);
+
 #define BLOB_MAGIC "SINEW\r\n\x1a"
 #define BLOB_VERSION 4u
 #define BLOB_OLDEST_VERSION 3u /* the oldest version read */

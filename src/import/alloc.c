@@ -1,4 +1,5 @@
-/* The import's allocation accounting (alloc.h): a byte limit of its own and the failure sweep. */
+/* The import's allocation accounting (alloc.h): a byte limit of its own, the deadline, and the
+ * failure sweep. */
 #include <errno.h>
 #ifdef SINEW_ALLOC_TRACE
 #include <execinfo.h>
@@ -6,6 +7,7 @@
 #include <malloc.h>
 #include <stdlib.h>
 #include <string.h>
+#include <time.h>
 
 #include "internal.h"
 
@@ -14,18 +16,29 @@ typedef struct import_alloc {
     uint64_t in_use, peak;
     uint64_t count;   /* allocations so far */
     uint64_t fail_at; /* fail the allocation with this number (1 first); 0: none */
-    bool over_limit, failed;
+    double deadline;  /* CLOCK_MONOTONIC seconds; 0: none */
+    uint32_t polls;   /* deadline checks since the clock was last read */
+    bool over_limit, failed, late;
 } import_alloc;
 
 static _Thread_local import_alloc *current;
 static _Thread_local uint64_t sweep_fail_at; /* the tests' hook: the next import fails this allocation */
 static _Thread_local uint64_t last_count;
 
-void import_alloc_begin(import_alloc_state *state, uint64_t limit)
+static double monotonic_seconds(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return (double)ts.tv_sec + (double)ts.tv_nsec * 1e-9;
+}
+
+void import_alloc_begin(import_alloc_state *state, uint64_t limit, double seconds)
 {
     import_alloc *a = (import_alloc *)state->opaque;
     _Static_assert(sizeof(import_alloc) <= sizeof state->opaque, "room for the state");
-    *a = (import_alloc){.limit = limit ? limit : UINT64_MAX, .fail_at = sweep_fail_at};
+    *a = (import_alloc){.limit = limit ? limit : UINT64_MAX,
+                        .fail_at = sweep_fail_at,
+                        .deadline = seconds > 0.0 ? monotonic_seconds() + seconds : 0.0};
     state->outer = current;
     current = a;
 }
@@ -34,8 +47,12 @@ void import_alloc_end(import_alloc_state *state, import_alloc_result *result)
 {
     import_alloc *a = (import_alloc *)state->opaque;
     if (result)
-        *result = (import_alloc_result){
-            .peak = a->peak, .count = a->count, .limit = a->limit, .over_limit = a->over_limit, .refused = a->failed};
+        *result = (import_alloc_result){.peak = a->peak,
+                                        .count = a->count,
+                                        .limit = a->limit,
+                                        .over_limit = a->over_limit,
+                                        .refused = a->failed,
+                                        .late = a->late};
     last_count = a->count;
     current = state->outer;
 }
@@ -50,12 +67,35 @@ uint64_t import_alloc_last_count(void)
     return last_count;
 }
 
-/* Whether the next allocation of `size` more bytes may go ahead. */
+/* Whether the import is past its deadline: the clock is read every 64th call (a call costs a
+ * branch), and once late it stays late. */
+static bool past_deadline(import_alloc *a)
+{
+    if (!a || a->deadline == 0.0)
+        return false;
+    if (!a->late && ++a->polls >= 64) {
+        a->polls = 0;
+        a->late = monotonic_seconds() > a->deadline;
+    }
+    return a->late;
+}
+
+bool import_late(void)
+{
+    return past_deadline(current);
+}
+
+/* Whether the next allocation of `size` more bytes may go ahead: past the deadline none does, so
+ * that a reader unwinds as from a failed allocation. */
 static bool allowed(import_alloc *a, size_t size)
 {
     if (!a)
         return true;
     a->count++;
+    if (past_deadline(a)) {
+        errno = ENOMEM;
+        return false;
+    }
     if (a->fail_at && a->count == a->fail_at) {
         a->failed = true;
 #ifdef SINEW_ALLOC_TRACE

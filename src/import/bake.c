@@ -181,6 +181,10 @@ bool bake_track(const bake_desc *d, const float *times, uint32_t n, const sinew_
     bake b = {.d = d};
     bake_key prev, next;
     for (uint32_t k = 0; k < n && !b.failed; k++) {
+        if (import_late()) { /* past the import's deadline: stop as for a failed allocation */
+            b.failed = true;
+            break;
+        }
         /* Derivatives from inside the neighbouring intervals: a step between two keys a
          * float apart has none to speak of, and a key's own step is kept out of them. */
         double gap = fmin(k > 0 ? times[k] - times[k - 1] : INFINITY, k + 1 < n ? times[k + 1] - times[k] : INFINITY);

@@ -51,9 +51,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include <libxml/hash.h>
-#include <libxml/parser.h>
-#include <libxml/tree.h>
+#include "xml.h" /* libxml2, loaded on first use */
 
 #include "../core/internal.h"
 #include "internal.h"
@@ -2594,7 +2592,10 @@ sinew_result raw_model_from_collada(const char *path, const unsigned char *bytes
     if (!r) {
         import_xml_error first;
         c.doc = import_xml_parse(path, bytes, size, &first);
-        if (!c.doc)
+        if (!c.doc && first.unavailable)
+            r = sinew_fail(error, SINEW_ERROR_UNSUPPORTED, "%s: reading COLLADA needs libxml2, and %s", path,
+                           first.message);
+        else if (!c.doc)
             r = sinew_fail_at(error, SINEW_ERROR_FORMAT, path, -1, (uint32_t)first.line,
                               "%s: not well-formed XML (line %d: %s)", path, first.line, first.message);
     }

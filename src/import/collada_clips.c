@@ -17,8 +17,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include <libxml/parser.h>
-#include <libxml/tree.h>
+#include "xml.h" /* libxml2, loaded on first use */
 
 #include "../core/internal.h"
 #include "internal.h"

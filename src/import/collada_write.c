@@ -15,7 +15,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include <libxml/xmlwriter.h>
+#include "xml.h" /* libxml2, loaded on first use */
 
 #include "../core/internal.h"
 #include "internal.h"
@@ -618,6 +618,9 @@ sinew_result sinew_model_write_collada(const sinew_model *model, const char *pat
 {
     if (!model || !path)
         return sinew_fail(error, SINEW_ERROR_INVALID_ARGUMENT, "sinew_model_write_collada: NULL argument");
+    char why[256];
+    if (!import_xml_load(why, sizeof why))
+        return sinew_fail(error, SINEW_ERROR_UNSUPPORTED, "%s: writing COLLADA needs libxml2, and %s", path, why);
     for (uint32_t i = 0; model->node_inherit && i < model->node_count; i++)
         if (model->node_inherit[i] != SINEW_INHERIT_NORMAL)
             return sinew_fail(error, SINEW_ERROR_LIMIT,

@@ -16,8 +16,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include <libxml/parser.h>
-#include <libxml/tree.h>
+#include "xml.h" /* libxml2, loaded on first use */
 
 #include "fbx_scene.h"
 #include "alloc.h" /* last: the readers' allocations are the import's (alloc.h) */

@@ -1,4 +1,4 @@
-/* glTF 2.0 read by sinew (cJSON): .gltf with external or data: URI buffers, and .glb.
+/* glTF 2.0 read by sinew (JSON through jsmn, json.h): .gltf with external or data: URI buffers, and .glb.
  *
  * What the file says, checked against the file: nodes by index (names are for display;
  * unnamed nodes are "nodes[i]"), every primitive of every mesh, skins with every JOINTS_n /
@@ -29,10 +29,9 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include <cjson/cJSON.h>
-
 #include "../core/internal.h"
 #include "internal.h"
+#include "json.h"
 #include "sinew/anim.h"
 #include "alloc.h" /* last: the readers' allocations are the import's (alloc.h) */
 
@@ -51,9 +50,9 @@ typedef struct mesh_key {
     uint32_t count;
 } mesh_key;
 
-/* A JSON array's elements by index (cJSON's arrays are lists: cJSON_GetArrayItem walks). */
+/* A JSON array's elements by index (json_item walks). */
 typedef struct table {
-    const cJSON **at;
+    const json_node **at;
     int count;
 } table;
 
@@ -61,7 +60,8 @@ typedef struct gltf {
     const char *path;
     raw_model *m;
     sinew_error *error;
-    cJSON *json;
+    json_doc doc;
+    const json_node *json; /* doc.root */
     const unsigned char *file;
     size_t file_size;
     blob bin; /* the GLB BIN chunk (not owned) */
@@ -100,12 +100,12 @@ static sinew_result oom(gltf *g)
 
 /* A member that must have one type when present; NULL when absent (or of another type,
  * which *bad reports). */
-static const cJSON *member(const cJSON *object, const char *key, int type, bool *bad)
+static const json_node *member(const json_node *object, const char *key, int type, bool *bad)
 {
-    const cJSON *item = cJSON_GetObjectItemCaseSensitive(object, key);
+    const json_node *item = json_get(object, key);
     if (!item)
         return NULL;
-    if ((item->type & 0xff) != type) {
+    if (item->type != type) {
         *bad = true;
         return NULL;
     }
@@ -113,15 +113,15 @@ static const cJSON *member(const cJSON *object, const char *key, int type, bool 
 }
 
 /* An integer member in [lo, hi]; `fallback` when absent. */
-static sinew_result int_at(gltf *g, const cJSON *object, const char *key, const char *where, long long lo, long long hi,
-                           long long fallback, long long *out)
+static sinew_result int_at(gltf *g, const json_node *object, const char *key, const char *where, long long lo,
+                           long long hi, long long fallback, long long *out)
 {
-    const cJSON *item = cJSON_GetObjectItemCaseSensitive(object, key);
+    const json_node *item = json_get(object, key);
     if (!item) {
         *out = fallback;
         return SINEW_OK;
     }
-    double v = cJSON_IsNumber(item) ? item->valuedouble : NAN;
+    double v = json_is_number(item) ? item->number : NAN;
     if (!(v >= (double)lo && v <= (double)hi) || v != floor(v))
         return fail_at(g, "%s.%s: not an integer from %lld to %lld", where, key, lo, hi);
     *out = (long long)v;
@@ -129,10 +129,10 @@ static sinew_result int_at(gltf *g, const cJSON *object, const char *key, const 
 }
 
 /* An index member into an array of `count`; -1 when absent and not required. */
-static sinew_result index_at(gltf *g, const cJSON *object, const char *key, const char *where, int count, bool required,
-                             int *out)
+static sinew_result index_at(gltf *g, const json_node *object, const char *key, const char *where, int count,
+                             bool required, int *out)
 {
-    if (required && !cJSON_GetObjectItemCaseSensitive(object, key))
+    if (required && !json_get(object, key))
         return fail_at(g, "%s: no \"%s\"", where, key);
     long long v;
     sinew_result r = int_at(g, object, key, where, 0, count > 0 ? count - 1 : -1, -1, &v);
@@ -143,46 +143,46 @@ static sinew_result index_at(gltf *g, const cJSON *object, const char *key, cons
 }
 
 /* `n` finite numbers of an array member (exactly n); `fallback` when absent. */
-static sinew_result numbers_at(gltf *g, const cJSON *object, const char *key, const char *where, int n,
+static sinew_result numbers_at(gltf *g, const json_node *object, const char *key, const char *where, int n,
                                const double *fallback, double *out)
 {
-    const cJSON *item = cJSON_GetObjectItemCaseSensitive(object, key);
+    const json_node *item = json_get(object, key);
     if (!item) {
         memcpy(out, fallback, (size_t)n * sizeof *out);
         return SINEW_OK;
     }
-    if (!cJSON_IsArray(item) || cJSON_GetArraySize(item) != n)
+    if (!json_is_array(item) || json_size(item) != n)
         return fail_at(g, "%s.%s: not an array of %d numbers", where, key, n);
     int i = 0;
-    const cJSON *v;
-    cJSON_ArrayForEach(v, item)
+    const json_node *v;
+    JSON_FOR_EACH(v, item)
     {
-        if (!cJSON_IsNumber(v) || !isfinite(v->valuedouble))
+        if (!json_is_number(v) || !isfinite(v->number))
             return fail_at(g, "%s.%s[%d]: not a finite number", where, key, i);
-        out[i++] = v->valuedouble;
+        out[i++] = v->number;
     }
     return SINEW_OK;
 }
 
 /* A finite number (`fallback` when absent). */
-static sinew_result number_at(gltf *g, const cJSON *object, const char *key, const char *where, double fallback,
+static sinew_result number_at(gltf *g, const json_node *object, const char *key, const char *where, double fallback,
                               float *out)
 {
-    const cJSON *item = cJSON_GetObjectItemCaseSensitive(object, key);
-    if (item && !(cJSON_IsNumber(item) && isfinite(item->valuedouble)))
+    const json_node *item = json_get(object, key);
+    if (item && !(json_is_number(item) && isfinite(item->number)))
         return fail_at(g, "%s.%s: not a finite number", where, key);
-    *out = (float)(item ? item->valuedouble : fallback);
+    *out = (float)(item ? item->number : fallback);
     return SINEW_OK;
 }
 
 /* An array's elements into a table (none: an empty table); false when out of memory. */
-static bool table_of(const cJSON *array, table *out)
+static bool table_of(const json_node *array, table *out)
 {
-    out->count = cJSON_GetArraySize(array);
+    out->count = json_size(array);
     out->at = malloc((out->count ? (size_t)out->count : 1) * sizeof *out->at);
     int i = 0;
-    const cJSON *e;
-    cJSON_ArrayForEach(e, array)
+    const json_node *e;
+    JSON_FOR_EACH(e, array)
     {
         if (out->at && i < out->count)
             out->at[i++] = e;
@@ -191,7 +191,7 @@ static bool table_of(const cJSON *array, table *out)
 }
 
 /* Element i of a table, or NULL. */
-static const cJSON *item(const table *t, int i)
+static const json_node *item(const table *t, int i)
 {
     return i >= 0 && i < t->count ? t->at[i] : NULL;
 }
@@ -200,18 +200,18 @@ static const cJSON *item(const table *t, int i)
 static sinew_result top_array(gltf *g, const char *key, table *out)
 {
     bool bad = false;
-    const cJSON *array = member(g->json, key, cJSON_Array, &bad);
+    const json_node *array = member(g->json, key, JSON_ARRAY, &bad);
     if (bad)
         return fail_at(g, "\"%s\" is not an array", key);
-    if (array && cJSON_GetArraySize(array) > (int)GLTF_MAX_COUNT)
+    if (array && json_size(array) > (int)GLTF_MAX_COUNT)
         return fail_at(g, "\"%s\" has more elements than sinew reads", key);
     return table_of(array, out) ? SINEW_OK : oom(g);
 }
 
-static const char *string_at(const cJSON *object, const char *key)
+static const char *string_at(const json_node *object, const char *key)
 {
-    const cJSON *item = cJSON_GetObjectItemCaseSensitive(object, key);
-    return cJSON_IsString(item) ? item->valuestring : NULL;
+    const json_node *item = json_get(object, key);
+    return json_is_string(item) ? item->string : NULL;
 }
 
 /* ---- file and buffers ----------------------------------------------------------------- */
@@ -260,19 +260,21 @@ static sinew_result load_document(gltf *g)
         text += 3;
         text_size -= 3;
     }
-    const char *end = NULL;
-    g->json = cJSON_ParseWithLengthOpts(text, text_size, &end, false);
-    if (!g->json) {
-        const char *at = cJSON_GetErrorPtr();
-        size_t offset = at && at >= text && at <= text + text_size ? (size_t)(at - text) : 0;
-        fail_at(g, "not valid JSON (at byte %zu of the JSON text)", offset);
+    size_t offset;
+    const char *why;
+    sinew_result parsed = json_parse(text, text_size, &g->doc, &offset, &why);
+    if (parsed == SINEW_ERROR_OUT_OF_MEMORY)
+        return oom(g);
+    g->json = g->doc.root;
+    if (parsed != SINEW_OK) {
+        fail_at(g, "not valid JSON (at byte %zu of the JSON text: %s)", offset, why);
         if (g->error) /* where in the file: the JSON text starts after a .glb's header */
             g->error->offset = (int64_t)(offset + (size_t)(text - (const char *)g->file));
         return SINEW_ERROR_FORMAT;
     }
-    if (!cJSON_IsObject(g->json))
+    if (!json_is_object(g->json))
         return fail_at(g, "the JSON document is not an object");
-    const char *version = string_at(cJSON_GetObjectItemCaseSensitive(g->json, "asset"), "version");
+    const char *version = string_at(json_get(g->json, "asset"), "version");
     if (!version)
         return fail_at(g, "asset.version: missing (not a glTF 2.0 file)");
     if (strncmp(version, "2.", 2) != 0)
@@ -280,22 +282,20 @@ static sinew_result load_document(gltf *g)
                        "asset.version is \"%s\" (sinew reads glTF 2.0; glTF 1.0 goes through Assimp with "
                        "SINEW_IMPORTER=assimp)",
                        version);
-    const cJSON *required = cJSON_GetObjectItemCaseSensitive(g->json, "extensionsRequired"), *e;
-    cJSON_ArrayForEach(e, required)
+    const json_node *required = json_get(g->json, "extensionsRequired"), *e;
+    JSON_FOR_EACH(e, required)
     {
-        if (!cJSON_IsString(e))
+        if (!json_is_string(e))
             continue;
-        if (strcmp(e->valuestring, "KHR_mesh_quantization") == 0 ||
-            strcmp(e->valuestring, "KHR_texture_transform") == 0)
+        if (strcmp(e->string, "KHR_mesh_quantization") == 0 || strcmp(e->string, "KHR_texture_transform") == 0)
             continue;
-        if (strcmp(e->valuestring, "KHR_draco_mesh_compression") == 0 ||
-            strcmp(e->valuestring, "EXT_meshopt_compression") == 0)
+        if (strcmp(e->string, "KHR_draco_mesh_compression") == 0 || strcmp(e->string, "EXT_meshopt_compression") == 0)
             return fail_at(g,
                            "requires %s (compressed geometry), which sinew does not decode; export it again "
                            "without compression",
-                           e->valuestring);
+                           e->string);
         if (!raw_model_warn(g->m, "%s: requires the extension %s, which sinew does not know; it is ignored", g->path,
-                            e->valuestring))
+                            e->string))
             return oom(g);
     }
     return SINEW_OK;
@@ -360,7 +360,7 @@ static sinew_result buffer_bytes(gltf *g, int index, const blob **out)
     *out = b;
     if (b->loaded)
         return SINEW_OK;
-    const cJSON *buffer = item(&g->buffer_items, index);
+    const json_node *buffer = item(&g->buffer_items, index);
     char where[64];
     snprintf(where, sizeof where, "buffers[%d]", index);
     long long length;
@@ -462,7 +462,7 @@ static sinew_result view_span(gltf *g, int view, long long offset, long long cou
 {
     char vw[64];
     snprintf(vw, sizeof vw, "bufferViews[%d]", view);
-    const cJSON *v = item(&g->views, view);
+    const json_node *v = item(&g->views, view);
     int buffer;
     long long voff, vlen, vstride;
     sinew_result r;
@@ -497,8 +497,8 @@ static sinew_result read_accessor(gltf *g, int index, const char *use, int want,
     *out = NULL;
     char where[96];
     snprintf(where, sizeof where, "accessors[%d] (%s)", index, use);
-    const cJSON *a = item(&g->accessors, index);
-    if (!cJSON_IsObject(a))
+    const json_node *a = item(&g->accessors, index);
+    if (!json_is_object(a))
         return fail_at(g, "%s: not an object", where);
     int comps = type_components(string_at(a, "type"));
     long long ctype, count, offset;
@@ -517,8 +517,8 @@ static sinew_result read_accessor(gltf *g, int index, const char *use, int want,
         allowed |= *t == ctype;
     if (!allowed || !component_size(ctype))
         return fail_at(g, "%s: componentType %lld is not allowed here", where, ctype);
-    const cJSON *norm = cJSON_GetObjectItemCaseSensitive(a, "normalized");
-    bool normalized = cJSON_IsTrue(norm);
+    const json_node *norm = json_get(a, "normalized");
+    bool normalized = json_is_true(norm);
     if (normalized && (ctype == 5126 || ctype == 5125))
         return fail_at(g, "%s: normalized with componentType %lld", where, ctype);
     int csize = component_size(ctype);
@@ -552,14 +552,14 @@ static sinew_result read_accessor(gltf *g, int index, const char *use, int want,
                     component(base + stride * i + column_bytes * (c / column) + (long long)csize * (c % column), ctype,
                               normalized);
     }
-    const cJSON *sparse = cJSON_GetObjectItemCaseSensitive(a, "sparse");
+    const json_node *sparse = json_get(a, "sparse");
     if (sparse) {
         char sw[128];
         snprintf(sw, sizeof sw, "%s.sparse", where);
         long long n, itype, ioff, voff;
         int iview, vview;
-        const cJSON *ind = cJSON_GetObjectItemCaseSensitive(sparse, "indices");
-        const cJSON *val = cJSON_GetObjectItemCaseSensitive(sparse, "values");
+        const json_node *ind = json_get(sparse, "indices");
+        const json_node *val = json_get(sparse, "values");
         const unsigned char *ib, *vb;
         long long is, vs;
         int nviews = g->views.count;
@@ -610,12 +610,12 @@ typedef struct walk {
     int *parent; /* by glTF node: its parent, -1, or -2 not seen yet */
 } walk;
 
-static sinew_result node_rest(gltf *g, const cJSON *n, const char *where, sinew_transform *out)
+static sinew_result node_rest(gltf *g, const json_node *n, const char *where, sinew_transform *out)
 {
     static const double zero[3] = {0, 0, 0}, one[3] = {1, 1, 1}, unit_q[4] = {0, 0, 0, 1};
     static const double identity[16] = {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1};
     sinew_result r;
-    if (cJSON_GetObjectItemCaseSensitive(n, "matrix")) {
+    if (json_get(n, "matrix")) {
         double mat[16];
         if ((r = numbers_at(g, n, "matrix", where, 16, identity, mat)))
             return r;
@@ -657,7 +657,7 @@ static sinew_result add_subtree(gltf *g, walk *w, int root)
         g->node_of[i] = at;
         char where[48];
         snprintf(where, sizeof where, "nodes[%d]", i);
-        const cJSON *n = item(&g->nodes, i);
+        const json_node *n = item(&g->nodes, i);
         const char *name = string_at(n, "name");
         m->node_names[at] = raw_strdup(name && *name ? name : where);
         if (!m->node_names[at])
@@ -667,12 +667,12 @@ static sinew_result add_subtree(gltf *g, walk *w, int root)
         if (r)
             return r;
         table children;
-        if (!table_of(cJSON_GetObjectItemCaseSensitive(n, "children"), &children))
+        if (!table_of(json_get(n, "children"), &children))
             return oom(g);
         /* Pushed in reverse so that children come out in the file's order. */
         for (int k = children.count - 1; k >= 0; k--) {
-            const cJSON *c = children.at[k];
-            double v = cJSON_IsNumber(c) ? c->valuedouble : -1;
+            const json_node *c = children.at[k];
+            double v = json_is_number(c) ? c->number : -1;
             int child = v >= 0 && v < g->node_count && v == floor(v) ? (int)v : -1;
             if (child < 0 || w->parent[child] != -2) {
                 free(children.at);
@@ -714,30 +714,29 @@ static sinew_result build_nodes(gltf *g)
         r = oom(g);
     for (int i = 0; i < n && !r; i++) {
         w.parent[i] = -2;
-        const cJSON *node = item(&g->nodes, i), *c;
-        if (!cJSON_IsObject(node))
+        const json_node *node = item(&g->nodes, i), *c;
+        if (!json_is_object(node))
             r = fail_at(g, "nodes[%d]: not an object", i);
-        cJSON_ArrayForEach(c, cJSON_GetObjectItemCaseSensitive(node, "children"))
+        JSON_FOR_EACH(c, json_get(node, "children"))
         {
-            double v = cJSON_IsNumber(c) ? c->valuedouble : -1;
+            double v = json_is_number(c) ? c->number : -1;
             if (v >= 0 && v < n && v == floor(v))
                 has_parent[(int)v] = true;
         }
     }
-    const cJSON *scenes = cJSON_GetObjectItemCaseSensitive(g->json, "scenes");
+    const json_node *scenes = json_get(g->json, "scenes");
     int scene = -1;
-    if (!r && cJSON_GetArraySize(scenes) > 0 &&
-        !(r = index_at(g, g->json, "scene", "the document", cJSON_GetArraySize(scenes), false, &scene)) && scene < 0)
+    if (!r && json_size(scenes) > 0 &&
+        !(r = index_at(g, g->json, "scene", "the document", json_size(scenes), false, &scene)) && scene < 0)
         scene = 0;
-    const cJSON *scene_nodes =
-        scene >= 0 ? cJSON_GetObjectItemCaseSensitive(cJSON_GetArrayItem(scenes, scene), "nodes") : NULL;
+    const json_node *scene_nodes = scene >= 0 ? json_get(json_item(scenes, scene), "nodes") : NULL;
     int order_count = 0, k = 0;
-    const cJSON *s;
-    cJSON_ArrayForEach(s, scene_nodes)
+    const json_node *s;
+    JSON_FOR_EACH(s, scene_nodes)
     {
         if (r)
             break;
-        double v = cJSON_IsNumber(s) ? s->valuedouble : -1;
+        double v = json_is_number(s) ? s->number : -1;
         if (!(v >= 0 && v < n) || v != floor(v))
             r = fail_at(g, "scenes[%d].nodes[%d]: not a node index", scene, k);
         else if (has_parent[(int)v])
@@ -776,7 +775,7 @@ static sinew_result build_nodes(gltf *g)
 
 /* An image embedded in the file: a bufferView (GLB) or a base64 data: URI, copied into the
  * material as the encoded bytes (PNG, JPEG, ... as stored) for the renderer to decode. */
-static sinew_result embedded_image(gltf *g, const cJSON *img, int image, const char *uri, const char *material,
+static sinew_result embedded_image(gltf *g, const json_node *img, int image, const char *uri, const char *material,
                                    raw_texture *out)
 {
     char where[64];
@@ -794,7 +793,7 @@ static sinew_result embedded_image(gltf *g, const cJSON *img, int image, const c
     } else {
         int view;
         long long length, stride;
-        if (!cJSON_GetObjectItemCaseSensitive(img, "bufferView"))
+        if (!json_get(img, "bufferView"))
             return fail_at(g, "%s: neither a uri nor a bufferView", where);
         if ((r = index_at(g, img, "bufferView", where, g->views.count, true, &view)) ||
             (r = int_at(g, item(&g->views, view), "byteLength", where, 1, (long long)1 << 40, -1, &length)))
@@ -832,7 +831,7 @@ static sinew_result texture_of(gltf *g, int texture, const char *material, raw_t
 {
     char where[64];
     snprintf(where, sizeof where, "textures[%d]", texture);
-    const cJSON *t = item(&g->textures, texture);
+    const json_node *t = item(&g->textures, texture);
     int image;
     sinew_result r = index_at(g, t, "source", where, g->images.count, false, &image);
     if (r)
@@ -843,7 +842,7 @@ static sinew_result texture_of(gltf *g, int texture, const char *material, raw_t
                    ? SINEW_OK
                    : oom(g);
     }
-    const cJSON *img = item(&g->images, image);
+    const json_node *img = item(&g->images, image);
     const char *uri = string_at(img, "uri");
     if (!uri || strncmp(uri, "data:", 5) == 0)
         return embedded_image(g, img, image, uri, material, out);
@@ -857,7 +856,7 @@ static const char *const MAP_NAMES[SINEW_MAP_COUNT] = {"baseColorTexture", "meta
 
 /* KHR_texture_transform of a texture info into the material's UV transform (sinew keeps
  * one UV set a mesh: the base colour map's transform is applied to the UVs). */
-static sinew_result texture_transform(gltf *g, int material, const cJSON *tt, const char *where, long long *set)
+static sinew_result texture_transform(gltf *g, int material, const json_node *tt, const char *where, long long *set)
 {
     static const double zero2[2] = {0, 0}, one2[2] = {1, 1};
     double offset[2], scale[2], rotation = 0;
@@ -866,10 +865,10 @@ static sinew_result texture_transform(gltf *g, int material, const cJSON *tt, co
         (r = numbers_at(g, tt, "scale", where, 2, one2, scale)) ||
         (r = int_at(g, tt, "texCoord", where, 0, 255, *set, set)))
         return r;
-    const cJSON *rot = cJSON_GetObjectItemCaseSensitive(tt, "rotation");
-    if (rot && !(cJSON_IsNumber(rot) && isfinite(rot->valuedouble)))
+    const json_node *rot = json_get(tt, "rotation");
+    if (rot && !(json_is_number(rot) && isfinite(rot->number)))
         return fail_at(g, "%s: KHR_texture_transform.rotation is not a number", where);
-    rotation = rot ? rot->valuedouble : 0;
+    rotation = rot ? rot->number : 0;
     /* translation * rotation * scale (the extension's definition). */
     double c = cos(rotation), s = sin(rotation);
     float *t = g->uv_transform[material];
@@ -884,7 +883,7 @@ static sinew_result texture_transform(gltf *g, int material, const cJSON *tt, co
 }
 
 /* One texture info of material `material` (its "index", "texCoord" and transform) into map `slot`. */
-static sinew_result material_map(gltf *g, int material, const cJSON *info, const char *where, raw_material *out,
+static sinew_result material_map(gltf *g, int material, const json_node *info, const char *where, raw_material *out,
                                  int slot)
 {
     int texture;
@@ -893,8 +892,7 @@ static sinew_result material_map(gltf *g, int material, const cJSON *info, const
     if ((r = index_at(g, info, "index", where, g->textures.count, true, &texture)) ||
         (r = int_at(g, info, "texCoord", where, 0, 255, 0, &set)))
         return r;
-    const cJSON *tt =
-        cJSON_GetObjectItemCaseSensitive(cJSON_GetObjectItemCaseSensitive(info, "extensions"), "KHR_texture_transform");
+    const json_node *tt = json_get(json_get(info, "extensions"), "KHR_texture_transform");
     if (tt && slot == SINEW_MAP_BASE_COLOR && (r = texture_transform(g, material, tt, where, &set)))
         return r;
     if (tt && slot != SINEW_MAP_BASE_COLOR &&
@@ -922,14 +920,14 @@ static sinew_result build_materials(gltf *g)
         return oom(g);
     m->material_count = (uint32_t)n;
     for (int i = 0; i < n; i++) {
-        const cJSON *mat = item(&g->materials, i);
+        const json_node *mat = item(&g->materials, i);
         char where[48];
         snprintf(where, sizeof where, "materials[%d]", i);
         const char *name = string_at(mat, "name");
         raw_material *out = &m->materials[i];
         if (!(out->name = raw_strdup(name && *name ? name : where)))
             return oom(g);
-        const cJSON *pbr = cJSON_GetObjectItemCaseSensitive(mat, "pbrMetallicRoughness");
+        const json_node *pbr = json_get(mat, "pbrMetallicRoughness");
         static const double white[4] = {1, 1, 1, 1}, black[3] = {0, 0, 0};
         double color[4], emissive[3];
         sinew_result r = numbers_at(g, pbr, "baseColorFactor", where, 4, white, color);
@@ -943,24 +941,22 @@ static sinew_result build_materials(gltf *g)
             return r;
         if ((r = numbers_at(g, mat, "emissiveFactor", where, 3, black, emissive)))
             return r;
-        const cJSON *strength = cJSON_GetObjectItemCaseSensitive(
-            cJSON_GetObjectItemCaseSensitive(cJSON_GetObjectItemCaseSensitive(mat, "extensions"),
-                                             "KHR_materials_emissive_strength"),
-            "emissiveStrength");
-        double gain = cJSON_IsNumber(strength) && isfinite(strength->valuedouble) ? strength->valuedouble : 1.0;
+        const json_node *strength =
+            json_get(json_get(json_get(mat, "extensions"), "KHR_materials_emissive_strength"), "emissiveStrength");
+        double gain = json_is_number(strength) && isfinite(strength->number) ? strength->number : 1.0;
         for (int c = 0; c < 3; c++)
             out->emissive[c] = (float)(emissive[c] * gain);
-        const cJSON *normal = cJSON_GetObjectItemCaseSensitive(mat, "normalTexture");
-        const cJSON *occlusion = cJSON_GetObjectItemCaseSensitive(mat, "occlusionTexture");
+        const json_node *normal = json_get(mat, "normalTexture");
+        const json_node *occlusion = json_get(mat, "occlusionTexture");
         if ((r = number_at(g, normal, "scale", where, 1.0, &out->normal_scale)) ||
             (r = number_at(g, occlusion, "strength", where, 1.0, &out->occlusion_strength)))
             return r;
-        const cJSON *infos[SINEW_MAP_COUNT] = {
-            [SINEW_MAP_BASE_COLOR] = cJSON_GetObjectItemCaseSensitive(pbr, "baseColorTexture"),
-            [SINEW_MAP_METALLIC_ROUGHNESS] = cJSON_GetObjectItemCaseSensitive(pbr, "metallicRoughnessTexture"),
-            [SINEW_MAP_NORMAL] = normal,
-            [SINEW_MAP_OCCLUSION] = occlusion,
-            [SINEW_MAP_EMISSIVE] = cJSON_GetObjectItemCaseSensitive(mat, "emissiveTexture")};
+        const json_node *infos[SINEW_MAP_COUNT] = {[SINEW_MAP_BASE_COLOR] = json_get(pbr, "baseColorTexture"),
+                                                   [SINEW_MAP_METALLIC_ROUGHNESS] =
+                                                       json_get(pbr, "metallicRoughnessTexture"),
+                                                   [SINEW_MAP_NORMAL] = normal,
+                                                   [SINEW_MAP_OCCLUSION] = occlusion,
+                                                   [SINEW_MAP_EMISSIVE] = json_get(mat, "emissiveTexture")};
         for (int k = 0; k < SINEW_MAP_COUNT; k++)
             if (infos[k] && (r = material_map(g, i, infos[k], where, out, k)))
                 return r;
@@ -979,11 +975,11 @@ static const long long WEIGHT_TYPES[] = {5126, 5121, 5123, 0};
 static const long long INDEX_TYPES[] = {5121, 5123, 5125, 0};
 
 /* An attribute of a primitive as floats (malloc'd), or NULL when the primitive has none. */
-static sinew_result attribute(gltf *g, const cJSON *attrs, const char *name, const char *where, int want,
+static sinew_result attribute(gltf *g, const json_node *attrs, const char *name, const char *where, int want,
                               const long long *types, uint32_t vertex_count, float **out)
 {
     *out = NULL;
-    if (!cJSON_GetObjectItemCaseSensitive(attrs, name))
+    if (!json_get(attrs, name))
         return SINEW_OK;
     char use[160];
     snprintf(use, sizeof use, "%s %s", where, name);
@@ -1010,7 +1006,7 @@ static sinew_result attribute(gltf *g, const cJSON *attrs, const char *name, con
 }
 
 /* Triangle corners of a primitive (mode 4, 5 or 6), from its indices or 0..n-1. */
-static sinew_result primitive_indices(gltf *g, const cJSON *prim, const char *where, long long mode,
+static sinew_result primitive_indices(gltf *g, const json_node *prim, const char *where, long long mode,
                                       uint32_t vertex_count, raw_mesh *out)
 {
     int index;
@@ -1059,14 +1055,14 @@ static sinew_result primitive_indices(gltf *g, const cJSON *prim, const char *wh
 }
 
 /* Joints and weights of every JOINTS_n / WEIGHTS_n set (any number of sets). */
-static sinew_result primitive_influences(gltf *g, const cJSON *attrs, const char *where, uint32_t joint_count,
+static sinew_result primitive_influences(gltf *g, const json_node *attrs, const char *where, uint32_t joint_count,
                                          raw_mesh *out)
 {
     int sets = 0;
     char name[32];
     for (;; sets++) {
         snprintf(name, sizeof name, "JOINTS_%d", sets);
-        if (!cJSON_GetObjectItemCaseSensitive(attrs, name))
+        if (!json_get(attrs, name))
             break;
     }
     if (sets == 0)
@@ -1118,31 +1114,30 @@ static sinew_result primitive_influences(gltf *g, const cJSON *attrs, const char
 
 /* A primitive's morph targets: each target's POSITION, NORMAL and TANGENT offsets (VEC3, of
  * as many elements as the primitive's vertices), named by the mesh's extras.targetNames. */
-static sinew_result read_targets(gltf *g, const cJSON *gm, const cJSON *prim, const char *where, raw_mesh *out)
+static sinew_result read_targets(gltf *g, const json_node *gm, const json_node *prim, const char *where, raw_mesh *out)
 {
-    const cJSON *targets = cJSON_GetObjectItemCaseSensitive(prim, "targets");
+    const json_node *targets = json_get(prim, "targets");
     if (!targets)
         return SINEW_OK;
-    if (!cJSON_IsArray(targets))
+    if (!json_is_array(targets))
         return fail_at(g, "%s.targets: not an array", where);
-    int n = cJSON_GetArraySize(targets);
+    int n = json_size(targets);
     if (n == 0)
         return SINEW_OK;
     if (!(out->targets = calloc((size_t)n, sizeof *out->targets)))
         return oom(g);
-    const cJSON *names =
-        cJSON_GetObjectItemCaseSensitive(cJSON_GetObjectItemCaseSensitive(gm, "extras"), "targetNames");
+    const json_node *names = json_get(json_get(gm, "extras"), "targetNames");
     static const char *const attrs[3] = {"POSITION", "NORMAL", "TANGENT"};
     static const long long *const types[3] = {POSITION_TYPES, NORMAL_TYPES, TANGENT_TYPES};
     for (int t = 0; t < n; t++) {
         raw_morph_target *rt = &out->targets[out->target_count++];
-        const cJSON *target = cJSON_GetArrayItem(targets, t), *name = cJSON_GetArrayItem(names, t);
+        const json_node *target = json_item(targets, t), *name = json_item(names, t);
         char tw[96], label[32];
         snprintf(tw, sizeof tw, "%s.targets[%d]", where, t);
         snprintf(label, sizeof label, "target %d", t);
-        if (!cJSON_IsObject(target))
+        if (!json_is_object(target))
             return fail_at(g, "%s: not an object", tw);
-        if (!(rt->name = raw_strdup(cJSON_IsString(name) && *name->valuestring ? name->valuestring : label)))
+        if (!(rt->name = raw_strdup(json_is_string(name) && *name->string ? name->string : label)))
             return oom(g);
         rt->channel = (uint32_t)t;
         rt->full_weight = 1.0f;
@@ -1166,9 +1161,9 @@ static sinew_result read_targets(gltf *g, const cJSON *gm, const cJSON *prim, co
 /* One primitive as a raw mesh. Points and lines are left out (*out->vertex_count == 0). */
 static sinew_result read_primitive(gltf *g, int mesh, int k, int skin, raw_mesh *out)
 {
-    const cJSON *gm = item(&g->meshes, mesh);
-    const cJSON *prims = cJSON_GetObjectItemCaseSensitive(gm, "primitives");
-    const cJSON *prim = cJSON_GetArrayItem(prims, k);
+    const json_node *gm = item(&g->meshes, mesh);
+    const json_node *prims = json_get(gm, "primitives");
+    const json_node *prim = json_item(prims, k);
     char where[64];
     snprintf(where, sizeof where, "meshes[%d].primitives[%d]", mesh, k);
     const char *name = string_at(gm, "name");
@@ -1177,7 +1172,7 @@ static sinew_result read_primitive(gltf *g, int mesh, int k, int skin, raw_mesh 
         snprintf(base, sizeof base, "%s", name);
     else
         snprintf(base, sizeof base, "meshes[%d]", mesh);
-    if (cJSON_GetArraySize(prims) > 1)
+    if (json_size(prims) > 1)
         snprintf(label, sizeof label, "%s-%d", base, k);
     else
         snprintf(label, sizeof label, "%s", base);
@@ -1195,8 +1190,8 @@ static sinew_result read_primitive(gltf *g, int mesh, int k, int skin, raw_mesh 
                               mode == 0 ? "points" : "lines")
                    ? SINEW_OK
                    : oom(g);
-    const cJSON *attrs = cJSON_GetObjectItemCaseSensitive(prim, "attributes");
-    if (!cJSON_IsObject(attrs) || !cJSON_GetObjectItemCaseSensitive(attrs, "POSITION"))
+    const json_node *attrs = json_get(prim, "attributes");
+    if (!json_is_object(attrs) || !json_get(attrs, "POSITION"))
         return fail_at(g, "%s: no POSITION attribute", where);
     int material;
     if ((r = index_at(g, prim, "material", where, (int)g->m->material_count, false, &material)))
@@ -1264,12 +1259,12 @@ static sinew_result build_skins(gltf *g)
         return oom(g);
     m->skin_count = (uint32_t)n;
     for (int i = 0; i < n; i++) {
-        const cJSON *skin = item(&g->skins, i);
+        const json_node *skin = item(&g->skins, i);
         char where[48];
         snprintf(where, sizeof where, "skins[%d]", i);
-        const cJSON *joints = cJSON_GetObjectItemCaseSensitive(skin, "joints");
-        int count = cJSON_GetArraySize(joints);
-        if (!cJSON_IsArray(joints) || count == 0)
+        const json_node *joints = json_get(skin, "joints");
+        int count = json_size(joints);
+        if (!json_is_array(joints) || count == 0)
             return fail_at(g, "%s.joints: not a non-empty array", where);
         raw_skin *out = &m->skins[i];
         out->joints = calloc((size_t)count, sizeof *out->joints);
@@ -1278,10 +1273,10 @@ static sinew_result build_skins(gltf *g)
             return oom(g);
         out->joint_count = (uint32_t)count;
         int k = 0;
-        const cJSON *j;
-        cJSON_ArrayForEach(j, joints)
+        const json_node *j;
+        JSON_FOR_EACH(j, joints)
         {
-            double v = cJSON_IsNumber(j) ? j->valuedouble : -1;
+            double v = json_is_number(j) ? j->number : -1;
             if (!(v >= 0 && v < g->node_count) || v != floor(v))
                 return fail_at(g, "%s.joints[%d]: not a node index", where, k);
             out->joints[k++] = g->node_of[(int)v];
@@ -1323,10 +1318,10 @@ static sinew_result meshes_for(gltf *g, int mesh, int skin, const mesh_key **out
             return SINEW_OK;
         }
     raw_model *m = g->m;
-    const cJSON *gm = item(&g->meshes, mesh);
-    const cJSON *prims = cJSON_GetObjectItemCaseSensitive(gm, "primitives");
-    int count = cJSON_GetArraySize(prims);
-    if (!cJSON_IsArray(prims) || count == 0)
+    const json_node *gm = item(&g->meshes, mesh);
+    const json_node *prims = json_get(gm, "primitives");
+    int count = json_size(prims);
+    if (!json_is_array(prims) || count == 0)
         return fail_at(g, "meshes[%d].primitives: not a non-empty array", mesh);
     mesh_key *keys = realloc(g->keys, (g->key_count + 1) * sizeof *keys);
     raw_mesh *meshes = realloc(m->meshes, (m->mesh_count + (size_t)count) * sizeof *meshes);
@@ -1367,15 +1362,15 @@ static sinew_result node_channels(gltf *g, int node, int mesh, const mesh_key *k
     uint32_t n = key->count ? m->meshes[key->first].target_count : 0;
     if (n == 0)
         return SINEW_OK;
-    const cJSON *gn = item(&g->nodes, node), *gm = item(&g->meshes, mesh);
-    const cJSON *weights = cJSON_GetObjectItemCaseSensitive(gn, "weights");
+    const json_node *gn = item(&g->nodes, node), *gm = item(&g->meshes, mesh);
+    const json_node *weights = json_get(gn, "weights");
     char where[48];
     snprintf(where, sizeof where, "nodes[%d].weights", node);
     if (!weights) {
-        weights = cJSON_GetObjectItemCaseSensitive(gm, "weights");
+        weights = json_get(gm, "weights");
         snprintf(where, sizeof where, "meshes[%d].weights", mesh);
     }
-    if (weights && (!cJSON_IsArray(weights) || cJSON_GetArraySize(weights) != (int)n))
+    if (weights && (!json_is_array(weights) || json_size(weights) != (int)n))
         return fail_at(g, "%s: not an array of %u numbers, one a morph target", where, n);
     raw_morph_channel *grown = realloc(m->morph_channels, (m->morph_channel_count + n) * sizeof *grown);
     if (!grown)
@@ -1384,11 +1379,11 @@ static sinew_result node_channels(gltf *g, int node, int mesh, const mesh_key *k
     g->morph_first[node] = (int32_t)m->morph_channel_count;
     g->morph_count[node] = n;
     for (uint32_t t = 0; t < n; t++) {
-        const cJSON *w = cJSON_GetArrayItem(weights, (int)t);
-        if (weights && (!cJSON_IsNumber(w) || !isfinite(w->valuedouble)))
+        const json_node *w = json_item(weights, (int)t);
+        if (weights && (!json_is_number(w) || !isfinite(w->number)))
             return fail_at(g, "%s[%u]: not a finite number", where, t);
         raw_morph_channel *c = &m->morph_channels[m->morph_channel_count];
-        c->default_weight = w ? (float)w->valuedouble : 0.0f;
+        c->default_weight = w ? (float)w->number : 0.0f;
         if (!(c->name = raw_strdup(m->meshes[key->first].targets[t].name)))
             return oom(g);
         m->morph_channel_count++;
@@ -1407,7 +1402,7 @@ static sinew_result build_meshes(gltf *g)
     for (int i = 0; i < g->node_count; i++)
         g->morph_first[i] = -1;
     for (int i = 0; i < g->node_count; i++) {
-        const cJSON *node = item(&g->nodes, i);
+        const json_node *node = item(&g->nodes, i);
         char where[48];
         snprintf(where, sizeof where, "nodes[%d]", i);
         int mesh, skin;
@@ -1440,7 +1435,7 @@ static const long long ROTATION_TYPES[] = {5126, 5120, 5121, 5122, 5123, 0};
 
 /* A sampler's interpolation, input times (checked ascending) and output values (`elements`
  * elements of `comps` components a key, three times that for CUBICSPLINE), malloc'd. */
-static sinew_result read_sampler(gltf *g, const cJSON *s, const char *sw, int comps, uint32_t elements,
+static sinew_result read_sampler(gltf *g, const json_node *s, const char *sw, int comps, uint32_t elements,
                                  const long long *types, uint32_t *interp, double **times, uint32_t *nt,
                                  double **values)
 {
@@ -1485,7 +1480,7 @@ static sinew_result read_sampler(gltf *g, const cJSON *s, const char *sw, int co
 
 /* A "weights" channel: the node's morph channels, one weight track each (the output holds
  * every target's weight at each key, CUBICSPLINE: every in-tangent, value, out-tangent). */
-static sinew_result read_weights(gltf *g, int node, const cJSON *s, const char *sw, raw_clip *clip)
+static sinew_result read_weights(gltf *g, int node, const json_node *s, const char *sw, raw_clip *clip)
 {
     uint32_t n = g->morph_count[node];
     if (n == 0)
@@ -1529,14 +1524,14 @@ static sinew_result read_weights(gltf *g, int node, const cJSON *s, const char *
 }
 
 /* One channel: its sampler's keys as a raw channel of the node's track. */
-static sinew_result read_channel(gltf *g, int a, int c, const cJSON *channel, const table *samplers, raw_clip *clip)
+static sinew_result read_channel(gltf *g, int a, int c, const json_node *channel, const table *samplers, raw_clip *clip)
 {
     char where[80];
     snprintf(where, sizeof where, "animations[%d].channels[%d]", a, c);
-    const cJSON *target = cJSON_GetObjectItemCaseSensitive(channel, "target");
+    const json_node *target = json_get(channel, "target");
     int node, sampler;
     sinew_result r;
-    if (!cJSON_IsObject(target))
+    if (!json_is_object(target))
         return fail_at(g, "%s: no target", where);
     if ((r = index_at(g, channel, "sampler", where, samplers->count, true, &sampler)) ||
         (r = index_at(g, target, "node", where, g->node_count, false, &node)))
@@ -1553,7 +1548,7 @@ static sinew_result read_channel(gltf *g, int a, int c, const cJSON *channel, co
     if (kind == -2)
         return fail_at(g, "%s.target.path: \"%s\" is not translation, rotation, scale or weights", where,
                        path ? path : "(none)");
-    const cJSON *s = item(samplers, sampler);
+    const json_node *s = item(samplers, sampler);
     char sw[64];
     snprintf(sw, sizeof sw, "animations[%d].samplers[%d]", a, sampler);
     if (kind == -1)
@@ -1609,14 +1604,14 @@ static sinew_result build_clips(gltf *g)
     if (!(m->clips = calloc((size_t)n, sizeof *m->clips)))
         return oom(g);
     for (int a = 0; a < n; a++) {
-        const cJSON *anim = item(&g->animations, a);
+        const json_node *anim = item(&g->animations, a);
         raw_clip *clip = &m->clips[m->clip_count++];
         const char *name = string_at(anim, "name");
         char fallback[32];
         snprintf(fallback, sizeof fallback, "clip %d", a);
         table channels, samplers;
-        bool listed = table_of(cJSON_GetObjectItemCaseSensitive(anim, "channels"), &channels);
-        listed &= table_of(cJSON_GetObjectItemCaseSensitive(anim, "samplers"), &samplers);
+        bool listed = table_of(json_get(anim, "channels"), &channels);
+        listed &= table_of(json_get(anim, "samplers"), &samplers);
         int count = channels.count;
         if (!listed || !(clip->name = raw_strdup(name && *name ? name : fallback)) ||
             !(clip->tracks = calloc(count ? (size_t)count : 1, sizeof *clip->tracks)))
@@ -1688,7 +1683,7 @@ sinew_result raw_model_from_gltf(const char *path, const unsigned char *bytes, s
                              &g.materials, &g.textures, &g.images, &g.buffer_items, &g.animations};
     for (size_t i = 0; i < sizeof tables / sizeof tables[0]; i++)
         free(tables[i]->at);
-    cJSON_Delete(g.json);
+    json_free(&g.doc);
     if (r)
         raw_model_free(model);
     return r;

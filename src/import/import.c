@@ -1,6 +1,8 @@
 /* sinew_import: checks the path, reads a .sinew file directly, or picks the reader (sinew's
- * own for FBX, glTF and COLLADA, Assimp for the rest) and runs it in the import helper
- * (isolate.c) or in process, and turns the blob it makes into a runtime model.
+ * own for FBX, glTF, COLLADA and IQM, Assimp for the rest) and runs it: sinew's own in this
+ * process under the import's byte limit and deadline (or in the import helper when the desc
+ * asks to isolate it), Assimp always in the helper (isolate.c), which libsinew never links;
+ * then turns the blob made into a runtime model.
  */
 #define _GNU_SOURCE /* realpath, mkostemp */
 #include <errno.h>
@@ -15,7 +17,7 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
-#include <libxml/parser.h>
+#include "xml.h" /* libxml2, loaded on first use */
 
 #include "../core/internal.h"
 #include "fbx_internal.h"
@@ -251,6 +253,10 @@ struct _xmlDoc *import_xml_parse(const char *path, const unsigned char *bytes, s
     if (!first)
         first = &ignored;
     memset(first, 0, sizeof *first);
+    if (!import_xml_load(first->message, sizeof first->message)) {
+        first->unavailable = true;
+        return NULL;
+    }
     xmlGenericErrorFunc printer = xmlGenericError;
     void *printer_context = xmlGenericErrorContext;
     xmlStructuredErrorFunc structured = xmlStructuredError;
@@ -355,11 +361,24 @@ static uint64_t own_limit(const sinew_import_desc *desc, uint64_t size)
     return desc && desc->memory_limit ? desc->memory_limit : import_default_memory_limit(size);
 }
 
+sinew_result (*import_assimp_reader)(const char *path, raw_model *model, sinew_error *error);
+
+/* An import's deadline in process (a NULL desc: the default's). */
+static double own_seconds(const sinew_import_desc *desc)
+{
+    return import_timeout_of(desc ? desc : &(sinew_import_desc){0});
+}
+
 /* What the import's allocations make of its result: one refused fails an import that went on
  * without it (out of memory), and one refused for the byte limit says so, whatever the reader said. */
 static sinew_result allocation_outcome(sinew_result result, const import_alloc_result *used, const char *name,
                                        const sinew_import_desc *desc, sinew_error *error)
 {
+    if (used->late && result != SINEW_ERROR_CANCELLED)
+        return sinew_fail(error, SINEW_ERROR_LIMIT_TIME,
+                          "%s: the import took longer than its %.3g s deadline and was stopped (the file may make "
+                          "the reader loop; sinew_import_desc.timeout sets the deadline)",
+                          name, own_seconds(desc));
     if (result == SINEW_OK && (used->over_limit || used->refused)) /* a reader went on without what it could */
         result = sinew_fail(error, SINEW_ERROR_OUT_OF_MEMORY,      /* not allocate: no partial model */
                             "%s: out of memory while reading (part of the file was left out)", name);
@@ -401,7 +420,7 @@ static sinew_result import_bytes(const unsigned char *bytes, size_t size, const 
     reading_for = desc;
     import_alloc_state state;
     import_alloc_result used;
-    import_alloc_begin(&state, own_limit(desc, size));
+    import_alloc_begin(&state, own_limit(desc, size), own_seconds(desc));
     raw_model raw;
     sinew_result result = choice.read(name, bytes, size, &raw, error);
     reading_for = was;
@@ -451,8 +470,10 @@ static sinew_result raw_model_read(const char *path, bool assimp, raw_model *raw
     reader_choice choice = choose_reader(path, assimp);
     if (choice.refusal)
         return sinew_fail(error, SINEW_ERROR_FORMAT, "%s: %s", path, choice.refusal);
+    if (!choice.read && !import_assimp_reader)
+        return sinew_fail(error, SINEW_ERROR_INTERNAL, "%s: Assimp's formats are read by the import helper", path);
     if (!choice.read)
-        return raw_model_from_assimp(path, raw, error);
+        return import_assimp_reader(path, raw, error);
     unsigned char *bytes = NULL;
     size_t size = 0;
     if (!import_read_file(path, &bytes, &size))
@@ -473,11 +494,14 @@ sinew_result sinew_import_blob_desc(const sinew_import_desc *desc, void **bytes,
     sinew_result result = check_path(desc->path, error);
     if (result)
         return result;
+    reader_choice choice = choose_reader(desc->path, desc->assimp);
+    if (!choice.read && !choice.refusal && !import_assimp_reader) /* Assimp: only the helper links it */
+        return import_blob_in_helper(desc, bytes, size, error);
     struct stat st;
     uint64_t file_size = stat(desc->path, &st) == 0 ? (uint64_t)st.st_size : 0;
     import_alloc_state state;
     import_alloc_result used;
-    import_alloc_begin(&state, own_limit(desc, file_size));
+    import_alloc_begin(&state, own_limit(desc, file_size), own_seconds(desc));
     raw_model raw;
     if ((result = raw_model_read(desc->path, desc->assimp, &raw, error)) == SINEW_OK) {
         result = raw_model_build(&raw, bytes, size, error);
@@ -516,10 +540,10 @@ static sinew_result session_load(sinew_import_session *session, const char *path
     const sinew_import_desc *d = import_session_desc(session);
     sinew_import_desc one = *d;
     one.path = path;
-    /* what the session's helper does not do: .sinew files, in-process imports, Assimp's formats
+    /* what the session's helper does not do: .sinew files, imports not isolated, Assimp's formats
      * (the lean helper execs another program for them: one helper for that file) */
     reader_choice choice = choose_reader(path, false);
-    if (d->in_process || d->assimp || is_sinew_file(path) || (!choice.read && !choice.refusal))
+    if (!d->isolate || d->assimp || is_sinew_file(path) || (!choice.read && !choice.refusal))
         return sinew_import(&one, out, error);
     sinew_result result = check_path(path, error);
     if (result)
@@ -560,7 +584,8 @@ static sinew_result import_file(const sinew_import_desc *desc, sinew_model **out
         return result;
     if (is_sinew_file(desc->path))
         return sinew_model_load(desc->path, desc->allocator, out, error);
-    if (!desc->in_process)
+    reader_choice choice = choose_reader(desc->path, desc->assimp);
+    if (desc->isolate || (!choice.read && !choice.refusal)) /* asked for, or Assimp's */
         return import_in_helper(desc, out, error);
     if (desc->progress && !desc->progress(-1.0f, desc->progress_user))
         return sinew_fail(error, SINEW_ERROR_CANCELLED, "%s: the import was cancelled", desc->path);

@@ -145,6 +145,8 @@ int main(int argc, char **argv)
         return usage();
     if (!serve)
         desc.path = argv[i + 1];
+    desc.timeout = -1.0; /* the parent keeps the deadline: it kills a helper past it */
+    import_assimp_reader = raw_model_from_assimp;
 
     prctl(PR_SET_PDEATHSIG, SIGKILL);
     if (parent && getppid() != (pid_t)parent)

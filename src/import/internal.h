@@ -270,6 +270,10 @@ void import_reply_put_where(unsigned char *out, int64_t offset, uint32_t line);
 /* isolate.c: runs the import in the helper program under the desc's deadline and memory
  * limit; decodes a whole reply (a model, or the helper's error). */
 sinew_result import_in_helper(const sinew_import_desc *desc, sinew_model **out, sinew_error *error);
+/* The same, the blob the helper made (malloc'd) instead of a model. */
+sinew_result import_blob_in_helper(const sinew_import_desc *desc, void **bytes, size_t *size, sinew_error *error);
+/* The desc's deadline in seconds: desc->timeout, 0 meaning 120; 0 or less: none. */
+double import_timeout_of(const sinew_import_desc *desc);
 /* The same in a session's helper (started, or started again, as needed); the session's desc. */
 const sinew_import_desc *import_session_desc(const sinew_import_session *session);
 sinew_result import_in_session(sinew_import_session *session, const char *path, sinew_model **out, sinew_error *error);
@@ -280,9 +284,11 @@ const char *import_reader_name(const char *path, bool assimp);
 
 /* An XML document of `size` (<= INT32_MAX) bytes, parsed with no network, huge text nodes
  * allowed and nothing printed (libxml2's own error handlers quieted for the parse); NULL
- * when it is not well-formed (xmlGetLastError says why). Free with xmlFreeDoc. */
+ * when it is not well-formed, or libxml2 cannot be loaded (xml.h; `first` says which). Free
+ * with xmlFreeDoc. */
 typedef struct import_xml_error {
-    int line; /* 0: none */
+    int line;         /* 0: none */
+    bool unavailable; /* libxml2 could not be loaded (the message says why) */
     char message[256];
 } import_xml_error;
 struct _xmlDoc *import_xml_parse(const char *path, const unsigned char *bytes, size_t size, import_xml_error *first);
@@ -324,6 +330,10 @@ sinew_result raw_model_write(const raw_model *model, void **bytes, size_t *size,
 /* Reads a file through Assimp into a raw model, in this process (assimp.c); in the lean import
  * helper (assimp_exec.c), becomes sinew-import-assimp instead, after import_helper_set_exec(). */
 sinew_result raw_model_from_assimp(const char *path, raw_model *model, sinew_error *error);
+/* The Assimp reader of this program: NULL in libsinew (which never loads Assimp: its formats are
+ * read by the helper, sinew-import-assimp), raw_model_from_assimp in the helpers (set by their
+ * main: the lean one's execs sinew-import-assimp). */
+extern sinew_result (*import_assimp_reader)(const char *path, raw_model *model, sinew_error *error);
 void import_helper_set_exec(char **argv, int reply_fd);
 
 /* Reads an FBX 7.x file (binary or ASCII, its bytes already in memory) with sinew's own
@@ -360,8 +370,10 @@ bool gltf_sniff(const unsigned char *head, size_t size);
  * clips (collada_clips.c). Leaves the model as it is when there are none. */
 void collada_split_clips(const char *path, raw_model *model);
 
-/* alloc.c: an import's own allocation accounting (alloc.h routes the readers' allocations through
- * it). begin .. end on one thread, nested imports stacked. */
+/* alloc.c: an import's own allocation accounting and deadline (alloc.h routes the readers'
+ * allocations through it). begin .. end on one thread, nested imports stacked. Past the
+ * deadline every allocation fails, and import_late() says so: a reader's long loops ask it and
+ * stop as for a failed allocation; the import then fails with SINEW_ERROR_LIMIT_TIME. */
 typedef struct import_alloc_state {
     unsigned char opaque[64];
     void *outer;
@@ -370,8 +382,11 @@ typedef struct import_alloc_result {
     uint64_t peak, count, limit;
     bool over_limit; /* an allocation was refused for the limit */
     bool refused;    /* an allocation failed (import_alloc_sweep(), or the system's malloc) */
+    bool late;       /* the deadline passed */
 } import_alloc_result;
-void import_alloc_begin(import_alloc_state *state, uint64_t limit);
+/* `seconds`: the time it may take (0 or less: no deadline). */
+void import_alloc_begin(import_alloc_state *state, uint64_t limit, double seconds);
+bool import_late(void);
 void import_alloc_end(import_alloc_state *state, import_alloc_result *result);
 /* Tests: imports on this thread fail their allocation number `fail_at` (1 first; 0: none), and
  * how many allocations the last import made. */

@@ -148,7 +148,7 @@ uint64_t import_default_memory_limit(uint64_t size)
     return limit < ceiling ? limit : ceiling;
 }
 
-static double timeout_of(const sinew_import_desc *desc)
+double import_timeout_of(const sinew_import_desc *desc)
 {
     return desc->timeout == 0.0 ? DEFAULT_TIMEOUT : desc->timeout;
 }
@@ -491,7 +491,7 @@ static sinew_result helper_failed(helper_run *run, const sinew_import_desc *desc
         return sinew_fail(error, SINEW_ERROR_LIMIT_TIME,
                           "%s: the import took longer than its %.3g s deadline and was stopped (the file may make "
                           "the reader loop; sinew_import_desc.timeout sets the deadline)",
-                          run->path, timeout_of(desc));
+                          run->path, import_timeout_of(desc));
     if (run->killed_for_memory || near_memory_limit(run))
         return memory_failure(run, words, error);
     if (run->reply_too_big)
@@ -576,31 +576,67 @@ static sinew_result starved_is_limit(const helper_run *run, sinew_result result,
     return result;
 }
 
-sinew_result import_in_helper(const sinew_import_desc *desc, sinew_model **out, sinew_error *error)
+/* Runs the helper on desc->path; its whole reply (malloc'd) in run->reply, or the error. */
+static sinew_result run_helper(const sinew_import_desc *desc, helper_run *run, sinew_error *error)
 {
     char helper[PATH_MAX];
     sinew_result result = sinew_import_helper_path(desc, helper, sizeof helper, error);
     if (result)
         return result;
-    helper_run run = {.path = desc->path,
-                      .reply_fd = -1,
-                      .err_fd = -1,
-                      .memory_limit = memory_limit_of(desc),
-                      .default_limit = desc->memory_limit == 0,
-                      .progress = desc->progress,
-                      .progress_user = desc->progress_user};
-    run.reply_limit = run.memory_limit;
-    if ((result = spawn_helper(desc, helper, &run, NULL, error)))
+    *run = (helper_run){.path = desc->path,
+                        .reply_fd = -1,
+                        .err_fd = -1,
+                        .memory_limit = memory_limit_of(desc),
+                        .default_limit = desc->memory_limit == 0,
+                        .progress = desc->progress,
+                        .progress_user = desc->progress_user};
+    run->reply_limit = run->memory_limit;
+    if ((result = spawn_helper(desc, helper, run, NULL, error)))
         return result;
-    double timeout = timeout_of(desc), deadline = timeout > 0.0 ? now_seconds() + timeout : 0.0;
-    watch(&run, deadline);
-    int status = reap(&run, deadline);
-    if (run.cancelled || run.killed_for_time || run.killed_for_memory || run.reply_too_big ||
+    double timeout = import_timeout_of(desc), deadline = timeout > 0.0 ? now_seconds() + timeout : 0.0;
+    watch(run, deadline);
+    int status = reap(run, deadline);
+    if (run->cancelled || run->killed_for_time || run->killed_for_memory || run->reply_too_big ||
         !(WIFEXITED(status) && WEXITSTATUS(status) == 0))
-        result = helper_failed(&run, desc, status, error);
-    else
+        result = helper_failed(run, desc, status, error);
+    return result;
+}
+
+sinew_result import_in_helper(const sinew_import_desc *desc, sinew_model **out, sinew_error *error)
+{
+    helper_run run = {0};
+    sinew_result result = run_helper(desc, &run, error);
+    if (result == SINEW_OK)
         result = import_reply_decode(run.reply, run.reply_size, desc->path, desc->allocator, out, error);
-    result = starved_is_limit(&run, result, error);
+    if (run.memory_limit) /* the helper was started */
+        result = starved_is_limit(&run, result, error);
+    free(run.reply);
+    return result;
+}
+
+sinew_result import_blob_in_helper(const sinew_import_desc *desc, void **bytes, size_t *size, sinew_error *error)
+{
+    helper_run run = {0};
+    sinew_result result = run_helper(desc, &run, error);
+    reply_header reply = {0};
+    if (result == SINEW_OK && run.reply_size >= sizeof reply)
+        memcpy(&reply, run.reply, sizeof reply);
+    if (result == SINEW_OK && reply.kind == SINEW_OK && reply.magic == REPLY_MAGIC &&
+        reply.size == run.reply_size - sizeof reply) { /* the blob: moved to the front of the reply */
+        memmove(run.reply, run.reply + sizeof reply, (size_t)reply.size);
+        *bytes = run.reply;
+        *size = (size_t)reply.size;
+        return SINEW_OK;
+    }
+    if (result == SINEW_OK) { /* the helper's error, or a malformed reply */
+        sinew_model *none = NULL;
+        result = import_reply_decode(run.reply, run.reply_size, desc->path, NULL, &none, error);
+        sinew_model_free(none);
+        if (result == SINEW_OK)
+            result = sinew_fail(error, SINEW_ERROR_IMPORTER, "%s: the import helper's reply is malformed", desc->path);
+    }
+    if (run.memory_limit) /* the helper was started */
+        result = starved_is_limit(&run, result, error);
     free(run.reply);
     return result;
 }
@@ -645,7 +681,7 @@ sinew_result sinew_import_session_create(const sinew_import_desc *desc, sinew_im
     sinew_import_desc d = desc ? *desc : (sinew_import_desc){0};
     d.path = NULL;
     char helper[PATH_MAX] = "";
-    if (!d.in_process) {
+    if (d.isolate) {
         sinew_result r = sinew_import_helper_path(&d, helper, sizeof helper, error);
         if (r)
             return r;
@@ -753,7 +789,7 @@ static sinew_result session_try(sinew_import_session *s, const char *path, sinew
                       .progress_user = desc.progress_user,
                       .serving = true};
     run.reply_limit = run.memory_limit;
-    double timeout = timeout_of(&desc), deadline = timeout > 0.0 ? now_seconds() + timeout : 0.0;
+    double timeout = import_timeout_of(&desc), deadline = timeout > 0.0 ? now_seconds() + timeout : 0.0;
     watch(&run, deadline);
     sinew_result result;
     if (run.header_seen && run.reply_size == run.reply_cap && !run.reply_too_big && !run.cancelled &&
@@ -772,7 +808,8 @@ static sinew_result session_try(sinew_import_session *s, const char *path, sinew
                  !run.killed_for_memory && WIFSIGNALED(status) && WTERMSIG(status) == SIGKILL;
         result = helper_failed(&run, &desc, status, error);
     }
-    result = starved_is_limit(&run, result, error);
+    if (run.memory_limit) /* the helper was started */
+        result = starved_is_limit(&run, result, error);
     free(run.reply);
     return result;
 }

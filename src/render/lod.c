@@ -15,9 +15,38 @@
  * bounding circle's, about what a standing figure fills).
  */
 #include <meshoptimizer.h>
+#include <pthread.h>
 #include <string.h>
 
+#include "../core/internal.h"
 #include "internal.h"
+
+/* meshoptimizer is loaded when a crowd first needs its levels (it pulls in the C++ runtime,
+ * which every other program start would pay for); without it every level is the full mesh. */
+#ifndef SINEW_MESHOPTIMIZER_SONAME
+#error "the build names meshoptimizer's soname (CMakeLists.txt: SINEW_MESHOPTIMIZER_SONAME)"
+#endif
+static union {
+    struct {
+        __typeof__(meshopt_simplify) *simplify;
+        __typeof__(meshopt_optimizeVertexCache) *optimizeVertexCache;
+        __typeof__(meshopt_optimizeVertexFetchRemap) *optimizeVertexFetchRemap;
+        __typeof__(meshopt_remapIndexBuffer) *remapIndexBuffer;
+        __typeof__(meshopt_remapVertexBuffer) *remapVertexBuffer;
+    };
+    void *symbol[5];
+} meshopt;
+static bool meshopt_loaded;
+static pthread_once_t meshopt_once = PTHREAD_ONCE_INIT;
+
+static void load_meshopt(void)
+{
+    static const char *const names[5] = {"meshopt_simplify", "meshopt_optimizeVertexCache",
+                                         "meshopt_optimizeVertexFetchRemap", "meshopt_remapIndexBuffer",
+                                         "meshopt_remapVertexBuffer"};
+    char why[256];
+    meshopt_loaded = sinew_lazy_open(SINEW_MESHOPTIMIZER_SONAME, names, meshopt.symbol, 5, why, sizeof why);
+}
 
 #define LOD_MIN_TRIANGLES 1000u
 #define LOD_ERROR 0.02f /* of the mesh's size */
@@ -30,11 +59,11 @@ static size_t simplify(const sinew_mesh *mesh, const float *shape, float share, 
                        uint32_t *scratch)
 {
     size_t target = (size_t)((float)mesh->index_count * share) / 3 * 3;
-    size_t n = meshopt_simplify(scratch, mesh->indices, mesh->index_count, shape, mesh->vertex_count, 12, target,
+    size_t n = meshopt.simplify(scratch, mesh->indices, mesh->index_count, shape, mesh->vertex_count, 12, target,
                                 LOD_ERROR, 0, NULL);
     if (n == 0 || n * 4 > above * 3)
         return 0;
-    meshopt_optimizeVertexCache(out, scratch, n, mesh->vertex_count);
+    meshopt.optimizeVertexCache(out, scratch, n, mesh->vertex_count);
     return n;
 }
 
@@ -43,7 +72,8 @@ bool render_lod_build(const sinew_mesh *mesh, const sinew_allocator *allocator, 
     *indices = NULL;
     for (int l = 0; l < RENDER_LOD_LEVELS; l++)
         lod->first[l] = 0, lod->count[l] = mesh->index_count;
-    if (mesh->index_count / 3 < LOD_MIN_TRIANGLES || !mesh->positions)
+    pthread_once(&meshopt_once, load_meshopt);
+    if (mesh->index_count / 3 < LOD_MIN_TRIANGLES || !mesh->positions || !meshopt_loaded)
         return true;
     /* the full list, then each level's, one after another */
     size_t room = (size_t)mesh->index_count * 2 + 1;
@@ -98,7 +128,7 @@ bool render_lod_compact(const sinew_mesh *mesh, const uint32_t *indices, uint32_
     uint32_t *remap = allocator->alloc(ALIGN16(n * sizeof *remap) + 16, allocator->user);
     if (!remap)
         return false;
-    size_t used = meshopt_optimizeVertexFetchRemap(remap, indices, index_count, n);
+    size_t used = meshopt.optimizeVertexFetchRemap(remap, indices, index_count, n);
     /* every array of the copy, 16-byte aligned, one after another */
     const size_t sizes[] = {(size_t)index_count * 4, 12, 12, mesh->uvs ? 8 : 0, mesh->tangents ? 16 : 0, k * 2, k * 4};
     size_t total = ALIGN16(sizes[0]);
@@ -114,11 +144,11 @@ bool render_lod_compact(const sinew_mesh *mesh, const uint32_t *indices, uint32_
     unsigned char *at = block;
     to[0] = at;
     at += ALIGN16(sizes[0]);
-    meshopt_remapIndexBuffer(to[0], indices, index_count, remap);
+    meshopt.remapIndexBuffer(to[0], indices, index_count, remap);
     for (int a = 1; a < 7; a++) {
         to[a] = sizes[a] && from[a] ? at : NULL;
         if (to[a])
-            meshopt_remapVertexBuffer(to[a], from[a], n, sizes[a], remap);
+            meshopt.remapVertexBuffer(to[a], from[a], n, sizes[a], remap);
         at += ALIGN16(used * sizes[a]);
     }
     allocator->free(remap, allocator->user);

@@ -70,7 +70,7 @@ static sinew_result import_failing(const char *path, uint64_t k, uint64_t *count
     sinew_model *m = NULL;
     sinew_error error = {0};
     import_alloc_sweep(k);
-    sinew_result r = sinew_import(&(sinew_import_desc){.path = path, .in_process = true}, &m, &error);
+    sinew_result r = sinew_import(&(sinew_import_desc){.path = path}, &m, &error);
     import_alloc_sweep(0);
     if (count)
         *count = import_alloc_last_count();
@@ -156,7 +156,7 @@ static void test_own_byte_limit(void **state)
         fail_msg("missing raylib/robot.glb");
     sinew_model *m = NULL;
     sinew_error error = {0};
-    sinew_import_desc desc = {.path = path, .in_process = true, .memory_limit = 1 << 20};
+    sinew_import_desc desc = {.path = path, .memory_limit = 1 << 20};
     assert_int_equal(sinew_import(&desc, &m, &error), SINEW_ERROR_LIMIT_MEMORY);
     print_message("%s\n", error.message);
     assert_non_null(strstr(error.message, "1 MiB memory limit"));

@@ -23,7 +23,7 @@ static void expect_error(const char *path, sinew_result kind, const char *needle
 }
 
 /* Where in the file: a binary FBX cut short gives the byte offset, a COLLADA element the line,
- * broken glTF JSON the offset of the error; through the helper (the default) and in process. */
+ * broken glTF JSON the offset of the error; in process (the default) and through the helper. */
 static void test_where_in_the_file(void **state)
 {
     (void)state;
@@ -39,19 +39,19 @@ static void test_where_in_the_file(void **state)
     bin[23] = 0xE8, bin[24] = 0x1C; /* version 7400 */
     bin[27] = 0xFF, bin[28] = 0xFF; /* the first node ends at 65535 */
     write_file(tmp_path("where.fbx", fbx, sizeof fbx), bin, sizeof bin);
-    for (int in_process = 0; in_process < 2; in_process++) {
+    for (int isolate = 0; isolate < 2; isolate++) {
         sinew_error error = {0};
         sinew_model *m = NULL;
-        assert_int_equal(sinew_import(&(sinew_import_desc){.path = dae, .in_process = in_process}, &m, &error),
+        assert_int_equal(sinew_import(&(sinew_import_desc){.path = dae, .isolate = isolate}, &m, &error),
                          SINEW_ERROR_FORMAT);
         print_message("%s: line %u, offset %lld\n", error.message, error.line, (long long)error.offset);
         assert_string_equal(error.file, dae);
         assert_int_equal(error.line, 3);
-        assert_int_equal(sinew_import(&(sinew_import_desc){.path = gltf, .in_process = in_process}, &m, &error),
+        assert_int_equal(sinew_import(&(sinew_import_desc){.path = gltf, .isolate = isolate}, &m, &error),
                          SINEW_ERROR_FORMAT);
         print_message("%s: offset %lld\n", error.message, (long long)error.offset);
         assert_int_equal(error.offset, (int64_t)(strstr(gltf_text, "} ]") - gltf_text));
-        assert_int_equal(sinew_import(&(sinew_import_desc){.path = fbx, .in_process = in_process}, &m, &error),
+        assert_int_equal(sinew_import(&(sinew_import_desc){.path = fbx, .isolate = isolate}, &m, &error),
                          SINEW_ERROR_FORMAT);
         print_message("%s: offset %lld\n", error.message, (long long)error.offset);
         assert_true(error.offset >= 27 && error.offset < 64);
@@ -136,7 +136,7 @@ static void check_every_prefix(const char *fixture, const char *name)
         sinew_error error = {0};
         /* In process: a reader's crash is this test's (and the sanitizers see it), and
          * thousands of imports do not each start the helper. */
-        sinew_import_desc desc = {.path = path, .in_process = true};
+        sinew_import_desc desc = {.path = path};
         sinew_result r = sinew_import(&desc, &m, &error);
         if (r == SINEW_OK) {
             if (n < complete)

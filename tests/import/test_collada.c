@@ -813,7 +813,7 @@ static void test_encoding_errors_are_not_printed(void **state)
     close(to);
     sinew_model *m = NULL;
     sinew_error error = {0};
-    sinew_import_desc desc = {.path = path, .in_process = true};
+    sinew_import_desc desc = {.path = path};
     sinew_result r = sinew_import(&desc, &m, &error);
     fflush(stderr);
     dup2(saved, 2);

@@ -146,7 +146,7 @@ static void check_edit(const edit *e, const char *text)
     write_file(file, out, strlen(out));
     sinew_model *m = NULL;
     sinew_error error = {0};
-    sinew_import_desc desc = {.path = file, .in_process = true};
+    sinew_import_desc desc = {.path = file};
     sinew_result r = sinew_import(&desc, &m, &error);
     if (r == SINEW_OK)
         fail_msg("%s: accepted", e->what);

@@ -193,7 +193,7 @@ static sinew_result import_edited(uint32_t offset, uint32_t value, sinew_error *
     write_file(tmp_path("edited.iqm", path, sizeof path), bytes, size);
     free(bytes);
     sinew_model *m = NULL;
-    sinew_result r = sinew_import(&(sinew_import_desc){.path = path, .in_process = true}, &m, error);
+    sinew_result r = sinew_import(&(sinew_import_desc){.path = path}, &m, error);
     sinew_model_free(m);
     if (r != SINEW_OK)
         assert_non_null(strstr(error->message, "edited.iqm"));
@@ -235,8 +235,7 @@ static void test_broken_files(void **state)
     char path[1024];
     write_file(tmp_path("not.iqm", path, sizeof path), "hello, world", 12);
     sinew_model *m = NULL;
-    assert_int_equal(sinew_import(&(sinew_import_desc){.path = path, .in_process = true}, &m, &error),
-                     SINEW_ERROR_FORMAT);
+    assert_int_equal(sinew_import(&(sinew_import_desc){.path = path}, &m, &error), SINEW_ERROR_FORMAT);
     assert_non_null(strstr(error.message, "INTERQUAKEMODEL"));
 }
 

@@ -83,6 +83,27 @@ static void test_hang_stops_at_the_deadline(void **state)
     assert_no_children();
 }
 
+/* sinew's own readers, in process, keep the deadline too: they look at the clock as they go (and
+ * every allocation past it fails), so the import stops with the same error and no helper runs. */
+static void test_deadline_in_process(void **state)
+{
+    (void)state;
+    static const char *files[] = {"ozz/pab/walk.fbx", "raylib/robot.glb", "blender/robot_walk.dae"};
+    for (size_t i = 0; i < sizeof files / sizeof *files; i++) {
+        char path[1024];
+        if (!testdata_path(files[i], path, sizeof path))
+            skip();
+        sinew_error error = {0};
+        double start = now();
+        sinew_result r = import_with(&(sinew_import_desc){.path = path, .timeout = 1e-4}, &error);
+        double took = now() - start;
+        expect(r, SINEW_ERROR_LIMIT_TIME, &error, path, "0.0001 s deadline");
+        print_message("%s: stopped after %.1f ms\n", files[i], took * 1e3);
+        assert_no_children();
+        assert_int_equal(import_with(&(sinew_import_desc){.path = path}, &error), SINEW_OK);
+    }
+}
+
 typedef struct progress_log {
     double cancel_at; /* seconds from the start */
     double start;
@@ -127,9 +148,9 @@ static void test_progress_and_cancel(void **state)
     desc.path = good;
     assert_int_equal(import_with(&desc, &error), SINEW_OK);
     assert_true(log.calls >= 1);
-    /* in process: asked once before reading, and it may stop there */
+    /* sinew's own reader, in process: asked once before reading, and it may stop there */
     log = (progress_log){.cancel_at = -1.0, .start = now()};
-    desc.in_process = true;
+    desc.assimp = false;
     expect(import_with(&desc, &error), SINEW_ERROR_CANCELLED, &error, good, "cancelled");
     assert_int_equal(log.calls, 1);
     assert_no_children();
@@ -209,7 +230,7 @@ static void test_missing_helper(void **state)
     char path[1024], found[4096];
     fixture_path("two_bone.dae", path, sizeof path);
     sinew_error error = {0};
-    sinew_import_desc desc = {.path = path, .helper = "/nonexistent/sinew-import"};
+    sinew_import_desc desc = {.path = path, .isolate = true, .helper = "/nonexistent/sinew-import"};
     expect(import_with(&desc, &error), SINEW_ERROR_IO, &error, "/nonexistent/sinew-import", "not an executable");
     /* the tests name the build's helper in $SINEW_IMPORT_HELPER */
     assert_int_equal(sinew_import_helper_path(NULL, found, sizeof found, &error), SINEW_OK);
@@ -223,10 +244,8 @@ static void test_missing_helper(void **state)
     if (r == SINEW_OK)
         fail_msg("found a helper at %s without being told", found);
     assert_non_null(strstr(error.message, "looked for"));
-    /* in process needs no helper */
-    assert_int_equal(
-        import_with(&(sinew_import_desc){.path = path, .in_process = true, .helper = "/nonexistent"}, &error),
-        SINEW_OK);
+    /* sinew's own formats need no helper unless isolated */
+    assert_int_equal(import_with(&(sinew_import_desc){.path = path, .helper = "/nonexistent"}, &error), SINEW_OK);
 }
 
 /* A stand-in helper: a shell script doing what `body` says. */
@@ -271,8 +290,10 @@ static void test_bad_replies(void **state)
     fixture_path("two_bone.dae", model, sizeof model);
     for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++) {
         sinew_error error = {0};
-        sinew_import_desc desc = {
-            .path = model, .helper = fake_helper(cases[i].name, cases[i].body, helper, sizeof helper), .timeout = 20};
+        sinew_import_desc desc = {.path = model,
+                                  .isolate = true,
+                                  .helper = fake_helper(cases[i].name, cases[i].body, helper, sizeof helper),
+                                  .timeout = 20};
         sinew_result r = import_with(&desc, &error);
         if (r != cases[i].kind || !strstr(error.message, cases[i].says))
             fail_msg("%s: expected %s saying \"%s\"; got %s: %s", cases[i].name, sinew_result_string(cases[i].kind),
@@ -303,7 +324,8 @@ static void test_session_many_files_one_helper(void **state)
                            "two_bone.dae"};
     sinew_import_session *session = NULL;
     sinew_error error = {0};
-    assert_int_equal(sinew_import_session_create(&(sinew_import_desc){.timeout = 30}, &session, &error), SINEW_OK);
+    assert_int_equal(
+        sinew_import_session_create(&(sinew_import_desc){.isolate = true, .timeout = 30}, &session, &error), SINEW_OK);
     assert_int_equal(sinew_import_session_helper_pid(session), 0);
     int pid = 0;
     for (size_t i = 0; i < sizeof names / sizeof names[0]; i++) {
@@ -337,7 +359,8 @@ static void test_session_deadline_and_kill(void **state)
     fixture_path("two_bone_7500.fbx", b, sizeof b);
     sinew_import_session *session = NULL;
     sinew_error error = {0};
-    assert_int_equal(sinew_import_session_create(&(sinew_import_desc){.timeout = 1.0}, &session, &error), SINEW_OK);
+    assert_int_equal(
+        sinew_import_session_create(&(sinew_import_desc){.isolate = true, .timeout = 1.0}, &session, &error), SINEW_OK);
     sinew_model *m = NULL;
     assert_int_equal(sinew_import_session_load(session, a, &m, &error), SINEW_OK);
     sinew_model_free(m);
@@ -366,6 +389,7 @@ int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_hang_stops_at_the_deadline),
+        cmocka_unit_test(test_deadline_in_process),
         cmocka_unit_test(test_progress_and_cancel),
         cmocka_unit_test(test_memory_limit),
         cmocka_unit_test(test_killed_from_outside),

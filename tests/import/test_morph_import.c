@@ -296,7 +296,7 @@ static sinew_result import_edited(const char *const *keys, const char *value, si
     fclose(f);
     free(json);
     sinew_error error = {0};
-    sinew_result r = sinew_import(&(sinew_import_desc){.path = edited, .in_process = true}, out, &error);
+    sinew_result r = sinew_import(&(sinew_import_desc){.path = edited}, out, &error);
     snprintf(message, size, "%s", error.message);
     return r;
 }
@@ -356,7 +356,7 @@ static sinew_result import_dae_edited(const char *from, const char *to, sinew_mo
     free(changed);
     free(text);
     sinew_error error = {0};
-    sinew_result r = sinew_import(&(sinew_import_desc){.path = edited, .in_process = true}, out, &error);
+    sinew_result r = sinew_import(&(sinew_import_desc){.path = edited}, out, &error);
     snprintf(message, size, "%s", error.message);
     return r;
 }
@@ -474,8 +474,7 @@ static void test_fbx_bad_deformers(void **state)
     free(text);
     sinew_error error = {0};
     m = NULL;
-    assert_int_equal(sinew_import(&(sinew_import_desc){.path = copy, .in_process = true}, &m, &error),
-                     SINEW_ERROR_DATA);
+    assert_int_equal(sinew_import(&(sinew_import_desc){.path = copy}, &m, &error), SINEW_ERROR_DATA);
     assert_non_null(strstr(error.message, "blend_bad_index.fbx"));
     assert_non_null(strstr(error.message, "moves vertex 99"));
 }

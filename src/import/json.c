@@ -1,0 +1,282 @@
+/* JSON through jsmn, into flat nodes (json.h). */
+#define _GNU_SOURCE /* newlocale, strtod_l */
+#include <locale.h>
+#include <pthread.h>
+#include <stdlib.h>
+#include <string.h>
+
+#define JSMN_STATIC
+#define JSMN_PARENT_LINKS /* a closing bracket finds its opener without walking back */
+#define JSMN_STRICT
+#include <jsmn.h>
+
+#include "../core/internal.h"
+#include "json.h"
+#include "alloc.h" /* last: the readers' allocations are the import's (alloc.h) */
+
+static locale_t c_locale;
+static pthread_once_t c_locale_once = PTHREAD_ONCE_INIT;
+
+static void make_c_locale(void)
+{
+    c_locale = newlocale(LC_NUMERIC_MASK, "C", (locale_t)0);
+}
+
+static int hex4(const char *p)
+{
+    int v = 0;
+    for (int i = 0; i < 4; i++) {
+        char c = p[i];
+        int d = c >= '0' && c <= '9'   ? c - '0'
+                : c >= 'a' && c <= 'f' ? c - 'a' + 10
+                : c >= 'A' && c <= 'F' ? c - 'A' + 10
+                                       : -1;
+        if (d < 0)
+            return -1;
+        v = v * 16 + d;
+    }
+    return v;
+}
+
+static char *put_utf8(char *out, unsigned cp)
+{
+    if (cp < 0x80) {
+        *out++ = (char)cp;
+    } else if (cp < 0x800) {
+        *out++ = (char)(0xC0 | cp >> 6);
+        *out++ = (char)(0x80 | (cp & 0x3F));
+    } else if (cp < 0x10000) {
+        *out++ = (char)(0xE0 | cp >> 12);
+        *out++ = (char)(0x80 | (cp >> 6 & 0x3F));
+        *out++ = (char)(0x80 | (cp & 0x3F));
+    } else {
+        *out++ = (char)(0xF0 | cp >> 18);
+        *out++ = (char)(0x80 | (cp >> 12 & 0x3F));
+        *out++ = (char)(0x80 | (cp >> 6 & 0x3F));
+        *out++ = (char)(0x80 | (cp & 0x3F));
+    }
+    return out;
+}
+
+/* The string text[start, end) unescaped in place and NUL-terminated (it only shrinks); false
+ * with *bad at the offending byte. */
+static bool unescape(char *text, int start, int end, int *bad)
+{
+    char *out = text + start;
+    for (int i = start; i < end; i++) {
+        unsigned char c = (unsigned char)text[i];
+        if (c < 0x20) {
+            *bad = i;
+            return false;
+        }
+        if (c != '\\') {
+            *out++ = (char)c;
+            continue;
+        }
+        char e = text[++i]; /* jsmn has checked the escape's form */
+        switch (e) {
+        case 'b':
+            *out++ = '\b';
+            break;
+        case 'f':
+            *out++ = '\f';
+            break;
+        case 'n':
+            *out++ = '\n';
+            break;
+        case 'r':
+            *out++ = '\r';
+            break;
+        case 't':
+            *out++ = '\t';
+            break;
+        case 'u': {
+            int cp = hex4(text + i + 1);
+            i += 4;
+            if (cp >= 0xD800 && cp < 0xDC00 && i + 6 < end && text[i + 1] == '\\' && text[i + 2] == 'u') {
+                int low = hex4(text + i + 3);
+                if (low >= 0xDC00 && low < 0xE000) {
+                    cp = 0x10000 + ((cp - 0xD800) << 10) + (low - 0xDC00);
+                    i += 6;
+                }
+            }
+            out = put_utf8(out, cp < 0 ? 0xFFFD : (unsigned)cp);
+            break;
+        }
+        default:
+            *out++ = e;
+            break; /* \" \\ \/ */
+        }
+    }
+    *out = '\0';
+    return true;
+}
+
+/* Where a member's value should have been: after the key's closing quote and the colon. */
+static size_t after_key(const char *text, size_t size, int key_end)
+{
+    size_t at = (size_t)key_end + 1;
+    while (at < size && strchr(" \t\r\n:", text[at]))
+        at++;
+    return at;
+}
+
+static bool literal(const char *p, int n, json_node *node)
+{
+    static const struct {
+        const char *word;
+        json_type type;
+    } WORDS[] = {{"true", JSON_TRUE}, {"false", JSON_FALSE}, {"null", JSON_NULL}};
+    for (int w = 0; w < 3; w++)
+        if ((size_t)n == strlen(WORDS[w].word) && memcmp(p, WORDS[w].word, (size_t)n) == 0) {
+            node->type = (uint8_t)WORDS[w].type;
+            return true;
+        }
+    return false;
+}
+
+/* The tokens as nodes; false with *bad and *why when a token is not JSON. */
+static bool convert(char *text, size_t size, const jsmntok_t *tok, int n, json_node *nodes, size_t *bad,
+                    const char **why)
+{
+    for (int i = 0; i < n; i++) {
+        const jsmntok_t *t = &tok[i];
+        json_node *node = &nodes[i];
+        *node = (json_node){.span = 1, .offset = (uint32_t)t->start};
+        if (t->type == JSMN_OBJECT || t->type == JSMN_ARRAY) {
+            node->type = t->type == JSMN_OBJECT ? JSON_OBJECT : JSON_ARRAY;
+            node->count = (uint32_t)t->size;
+        } else if (t->type == JSMN_STRING) {
+            bool key = t->parent >= 0 && tok[t->parent].type == JSMN_OBJECT;
+            if (key && t->size != 1) {
+                *bad = after_key(text, size, t->end);
+                *why = "a member without a value";
+                return false;
+            }
+            int at;
+            if (!unescape(text, t->start, t->end, &at)) {
+                *bad = (size_t)at;
+                *why = "a control character inside a string";
+                return false;
+            }
+            node->type = JSON_STRING;
+            node->string = text + t->start;
+        } else {
+            const char *p = text + t->start;
+            int len = t->end - t->start;
+            if (!literal(p, len, node)) {
+                char *end = NULL;
+                node->type = JSON_NUMBER;
+                node->number = strtod_l(p, &end, c_locale);
+                if (end != p + len || !(*p == '-' || (*p >= '0' && *p <= '9'))) {
+                    *bad = (size_t)t->start;
+                    *why = "not a number, true, false or null";
+                    return false;
+                }
+            }
+        }
+    }
+    for (int i = n - 1; i > 0; i--) /* children follow their parent: a subtree's size from its end */
+        if (tok[i].parent >= 0)
+            nodes[tok[i].parent].span += nodes[i].span;
+    if (nodes[0].span != (uint32_t)n) {
+        *bad = (size_t)tok[nodes[0].span].start;
+        *why = "more than one value at the top level";
+        return false;
+    }
+    return true;
+}
+
+sinew_result json_parse(const char *source, size_t size, json_doc *doc, size_t *error_offset, const char **why)
+{
+    *doc = (json_doc){0};
+    *error_offset = 0;
+    *why = "";
+    pthread_once(&c_locale_once, make_c_locale);
+    if (size > (size_t)INT32_MAX) {
+        *why = "larger than 2 GB";
+        return SINEW_ERROR_FORMAT;
+    }
+    if (!c_locale || !(doc->text = malloc(size + 1)))
+        return SINEW_ERROR_OUT_OF_MEMORY;
+    memcpy(doc->text, source, size);
+    doc->text[size] = '\0';
+    /* tokens: a guess from the size, doubled while jsmn asks for more (it goes on where it stopped) */
+    jsmn_parser parser;
+    jsmn_init(&parser);
+    unsigned room = (unsigned)(size / 16 + 16);
+    jsmntok_t *tokens = NULL;
+    int n;
+    for (;;) {
+        jsmntok_t *more = realloc(tokens, (size_t)room * sizeof *tokens);
+        if (!more) {
+            free(tokens);
+            json_free(doc);
+            return SINEW_ERROR_OUT_OF_MEMORY;
+        }
+        tokens = more;
+        n = jsmn_parse(&parser, doc->text, size, tokens, room);
+        if (n != JSMN_ERROR_NOMEM)
+            break;
+        room = room > UINT32_MAX / 4 ? UINT32_MAX / 2 : room * 2;
+    }
+    sinew_result result = SINEW_OK;
+    if (n <= 0) {
+        *error_offset = parser.pos < size ? parser.pos : size;
+        *why = n == 0 ? "no value" : n == JSMN_ERROR_PART ? "it ends inside a value" : "an unexpected character";
+        result = SINEW_ERROR_FORMAT;
+    } else if (!(doc->root = malloc((size_t)n * sizeof *doc->root))) {
+        result = SINEW_ERROR_OUT_OF_MEMORY;
+    } else if (!convert(doc->text, size, tokens, n, doc->root, error_offset, why)) {
+        result = SINEW_ERROR_FORMAT;
+    }
+    free(tokens);
+    if (result != SINEW_OK)
+        json_free(doc);
+    return result;
+}
+
+void json_free(json_doc *doc)
+{
+    free(doc->root);
+    free(doc->text);
+    *doc = (json_doc){0};
+}
+
+const json_node *json_first(const json_node *parent)
+{
+    if (!parent || parent->count == 0)
+        return NULL;
+    return parent->type == JSON_OBJECT ? parent + 2 : parent->type == JSON_ARRAY ? parent + 1 : NULL;
+}
+
+const json_node *json_after(const json_node *parent, const json_node *child)
+{
+    const json_node *next = child + child->span, *end = parent + parent->span;
+    if (parent->type == JSON_OBJECT)
+        next++; /* over the key */
+    return next < end ? next : NULL;
+}
+
+const json_node *json_get(const json_node *object, const char *key)
+{
+    if (!object || object->type != JSON_OBJECT)
+        return NULL;
+    const json_node *v;
+    JSON_FOR_EACH(v, object)
+    {
+        if (strcmp(v[-1].string, key) == 0)
+            return v;
+    }
+    return NULL;
+}
+
+const json_node *json_item(const json_node *array, int i)
+{
+    if (!array || array->type != JSON_ARRAY || i < 0 || (uint32_t)i >= array->count)
+        return NULL;
+    const json_node *v = json_first(array);
+    while (i-- > 0)
+        v = json_after(array, v);
+    return v;
+}

@@ -1,0 +1,88 @@
+/* JSON for the glTF reader: jsmn's flat tokenizer (the one cgltf uses), then one pass that
+ * turns its tokens into one array of nodes: strings unescaped in place and NUL-terminated,
+ * numbers read (in the C locale, whatever the program's), each node knowing how many nodes its
+ * subtree holds, so that an object's members and an array's elements are found by stepping over
+ * subtrees: no allocation a value, no pointers to chase.
+ *
+ * Stricter than jsmn alone: a member without a value, a literal other than true, false or null,
+ * a number strtod does not read whole, more than one top-level value and a control character in
+ * a string are refused with the byte offset. (jsmn still lets a missing comma between values
+ * pass, as cgltf does.) */
+#ifndef SINEW_IMPORT_JSON_H
+#define SINEW_IMPORT_JSON_H
+
+#include <stdbool.h>
+#include <stddef.h>
+#include <stdint.h>
+
+#include "sinew/model.h"
+
+typedef enum json_type {
+    JSON_NULL,
+    JSON_FALSE,
+    JSON_TRUE,
+    JSON_NUMBER,
+    JSON_STRING,
+    JSON_ARRAY,
+    JSON_OBJECT
+} json_type;
+
+/* A value. An object's members follow it as key (a string), value, key, value, ...; an array's
+ * elements follow it; each child's subtree is `span` nodes long. */
+typedef struct json_node {
+    uint8_t type;    /* json_type */
+    uint32_t span;   /* nodes in its subtree, itself included */
+    uint32_t count;  /* an array's elements, an object's members; 0 otherwise */
+    uint32_t offset; /* where it starts in the text (bytes) */
+    union {
+        double number;
+        const char *string; /* unescaped, NUL-terminated (it may hold a NUL of its own: \u0000) */
+    };
+} json_node;
+
+typedef struct json_doc {
+    json_node *root; /* NULL until parsed */
+    char *text;      /* the copy the strings point into */
+} json_doc;
+
+/* Parses `size` bytes of JSON. SINEW_ERROR_FORMAT with *error_offset (bytes into the text) and
+ * `why` when it is not JSON, SINEW_ERROR_OUT_OF_MEMORY, else SINEW_OK. Free with json_free(). */
+sinew_result json_parse(const char *text, size_t size, json_doc *doc, size_t *error_offset, const char **why);
+void json_free(json_doc *doc);
+
+/* An object's member by key (the first of that name), NULL when absent or not an object. */
+const json_node *json_get(const json_node *object, const char *key);
+/* An array's element i (walks), NULL past the end. */
+const json_node *json_item(const json_node *array, int i);
+/* The first element (array) or member value (object), and the one after `child`; NULL at the end. */
+const json_node *json_first(const json_node *parent);
+const json_node *json_after(const json_node *parent, const json_node *child);
+#define JSON_FOR_EACH(value, parent)                                                                                   \
+    for ((value) = json_first(parent); (value); (value) = json_after((parent), (value)))
+
+static inline int json_size(const json_node *n)
+{
+    return n && (n->type == JSON_ARRAY || n->type == JSON_OBJECT) ? (int)n->count : 0;
+}
+static inline bool json_is_number(const json_node *n)
+{
+    return n && n->type == JSON_NUMBER;
+}
+static inline bool json_is_string(const json_node *n)
+{
+    return n && n->type == JSON_STRING;
+}
+static inline bool json_is_array(const json_node *n)
+{
+    return n && n->type == JSON_ARRAY;
+}
+static inline bool json_is_object(const json_node *n)
+{
+    return n && n->type == JSON_OBJECT;
+}
+static inline bool json_is_true(const json_node *n)
+{
+    return n && n->type == JSON_TRUE;
+}
+
+#endif
