@@ -44,6 +44,12 @@
 bool sinew_lazy_open(const char *soname, const char *const *names, void **functions, size_t count, char *why,
                      size_t why_size);
 
+/* sinew_model_from_blob() for malloc'd bytes the model then owns (freed with it) instead of
+ * copying them, when `allocator` is NULL (with an allocator they are copied, and stay the
+ * caller's). On failure the bytes stay the caller's. */
+sinew_result sinew_model_adopt_blob(void *bytes, size_t size, const char *name, const sinew_allocator *allocator,
+                                    sinew_model **out, sinew_error *error);
+
 #define BLOB_MAGIC "SINEW\r\n\x1a"
 #define BLOB_VERSION 4u
 #define BLOB_OLDEST_VERSION 3u /* the oldest version read */

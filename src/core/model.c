@@ -57,6 +57,7 @@ typedef struct model_block {
     sinew_allocator allocator;
     const unsigned char *blob;
     size_t blob_size;
+    void *owned;      /* the blob, when it is a malloc'd block of its own (adopted: not copied) */
     uint32_t version; /* of the blob: an older one adds a warning */
 } model_block;
 
@@ -755,7 +756,7 @@ static void fill_model(model_block *b, const reader *r, unsigned char *tables)
 }
 
 /* from_blob and load: `file` is the .sinew path the bytes came from, or NULL. */
-static sinew_result open_blob(const void *bytes, size_t size, const char *name, const char *file,
+static sinew_result open_blob(const void *bytes, size_t size, const char *name, const char *file, bool adopt,
                               const sinew_allocator *allocator, sinew_model **out, sinew_error *error)
 {
     *out = NULL;
@@ -774,12 +775,14 @@ static sinew_result open_blob(const void *bytes, size_t size, const char *name, 
     if (result)
         return result;
     size_t tables = tables_size(&header) + (file ? (strlen(file) + BLOB_ALIGN) & ~(size_t)(BLOB_ALIGN - 1) : 0);
-    unsigned char *block = alloc.alloc(head + tables + size, alloc.user);
+    adopt = adopt && !allocator; /* the model's memory is the caller's allocator's: copied into it */
+    size_t room = head + tables + (adopt ? 0 : size);
+    unsigned char *block = alloc.alloc(room, alloc.user);
     if (!block)
-        return sinew_fail(error, SINEW_ERROR_OUT_OF_MEMORY, "%s: out of memory for %zu bytes", name,
-                          head + tables + size);
-    unsigned char *copy = block + head + tables;
-    memcpy(copy, bytes, size);
+        return sinew_fail(error, SINEW_ERROR_OUT_OF_MEMORY, "%s: out of memory for %zu bytes", name, room);
+    unsigned char *copy = adopt ? (unsigned char *)bytes : block + head + tables;
+    if (!adopt)
+        memcpy(copy, bytes, size);
 
     reader r = {.bytes = copy, .size = size, .name = name, .header = &header, .error = error};
     if ((result = check_nodes(&r)) || (result = check_skins(&r)) || (result = check_meshes(&r)) ||
@@ -792,6 +795,7 @@ static sinew_result open_blob(const void *bytes, size_t size, const char *name, 
     b->allocator = alloc;
     b->blob = copy;
     b->blob_size = size;
+    b->owned = adopt ? copy : NULL;
     fill_model(b, &r, block + head);
     if (file) {
         char *path = (char *)block + head + tables_size(&header);
@@ -809,7 +813,13 @@ sinew_result sinew_model_from_blob(const void *bytes, size_t size, const char *n
 {
     if (!out || (!bytes && size))
         return sinew_fail(error, SINEW_ERROR_INVALID_ARGUMENT, "sinew_model_from_blob: NULL argument");
-    return open_blob(bytes, size, name, NULL, allocator, out, error);
+    return open_blob(bytes, size, name, NULL, false, allocator, out, error);
+}
+
+sinew_result sinew_model_adopt_blob(void *bytes, size_t size, const char *name, const sinew_allocator *allocator,
+                                    sinew_model **out, sinew_error *error)
+{
+    return open_blob(bytes, size, name, NULL, true, allocator, out, error);
 }
 
 sinew_result sinew_model_load(const char *path, const sinew_allocator *allocator, sinew_model **out, sinew_error *error)
@@ -834,8 +844,9 @@ sinew_result sinew_model_load(const char *path, const sinew_allocator *allocator
     bool failed = ferror(f);
     fclose(f);
     sinew_result result = failed ? sinew_fail(error, SINEW_ERROR_IO, "%s: cannot read: %s", path, strerror(errno))
-                                 : open_blob(bytes, got, path, path, allocator, out, error);
-    free(bytes);
+                                 : open_blob(bytes, got, path, path, true, allocator, out, error);
+    if (result != SINEW_OK || allocator) /* else the model keeps the bytes (adopted) */
+        free(bytes);
     return result;
 }
 
@@ -851,7 +862,9 @@ void sinew_model_free(sinew_model *model)
     if (!model)
         return;
     model_block *b = (model_block *)model;
+    void *owned = b->owned;
     b->allocator.free(b, b->allocator.user);
+    free(owned);
 }
 
 int32_t sinew_model_find_node(const sinew_model *model, const char *name)

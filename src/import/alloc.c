@@ -7,6 +7,7 @@
 #include <malloc.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/mman.h>
 #include <time.h>
 
 #include "internal.h"
@@ -176,4 +177,87 @@ void import_free(void *ptr)
 {
     gave(current, ptr);
     free(ptr);
+}
+
+/* ---- the arena ------------------------------------------------------------------------------- */
+
+typedef struct arena_chunk {
+    struct arena_chunk *next;
+    size_t size, used; /* bytes after the header */
+    bool mapped;
+} arena_chunk;
+#define ARENA_HEADER ((sizeof(arena_chunk) + 15) & ~(size_t)15)
+#define ARENA_FIRST ((size_t)64 << 10)
+#define ARENA_LARGEST ((size_t)4 << 20)
+#define ARENA_MAP ((size_t)256 << 10)
+
+static arena_chunk *chunk_new(size_t size)
+{
+    size_t total = ARENA_HEADER + size;
+    if (!allowed(current, total))
+        return NULL;
+    arena_chunk *c = NULL;
+    bool mapped = total >= ARENA_MAP;
+    if (mapped) {
+        void *p = mmap(NULL, total, PROT_READ | PROT_WRITE, MAP_PRIVATE | MAP_ANONYMOUS | MAP_POPULATE, -1, 0);
+        c = p == MAP_FAILED ? NULL : p;
+    } else {
+        c = calloc(1, total);
+    }
+    if (!c) {
+        if (current)
+            current->failed = true;
+        return NULL;
+    }
+    if (current) {
+        current->in_use += total;
+        if (current->in_use > current->peak)
+            current->peak = current->in_use;
+    }
+    *c = (arena_chunk){.size = size, .mapped = mapped};
+    return c;
+}
+
+void *import_arena_take(import_arena *arena, size_t bytes)
+{
+    bytes = (bytes + 15) & ~(size_t)15;
+    arena_chunk *head = arena->head;
+    if (head && head->size - head->used >= bytes) {
+        void *p = (unsigned char *)head + ARENA_HEADER + head->used;
+        head->used += bytes;
+        return p;
+    }
+    size_t grown = head ? head->size * 2 : ARENA_FIRST;
+    if (grown > ARENA_LARGEST)
+        grown = ARENA_LARGEST;
+    bool own = bytes >= grown / 4;
+    if (bytes > SIZE_MAX / 2)
+        return NULL;
+    arena_chunk *c = chunk_new(own ? bytes : grown);
+    if (!c)
+        return NULL;
+    c->used = bytes;
+    if (own && head) { /* behind the current chunk, which keeps its room */
+        c->next = head->next;
+        head->next = c;
+    } else {
+        c->next = head;
+        arena->head = c;
+    }
+    return (unsigned char *)c + ARENA_HEADER;
+}
+
+void import_arena_free(import_arena *arena)
+{
+    for (arena_chunk *c = arena->head, *next; c; c = next) {
+        next = c->next;
+        size_t total = ARENA_HEADER + c->size;
+        if (current)
+            current->in_use = current->in_use > total ? current->in_use - total : 0;
+        if (c->mapped)
+            munmap(c, total);
+        else
+            free(c);
+    }
+    arena->head = NULL;
 }

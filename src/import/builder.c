@@ -986,6 +986,7 @@ typedef struct writer {
     size_t pool_size, pool_capacity;
     bool failed;
     bool too_big; /* failed for the blob's 4 GiB, not for memory */
+    bool measure; /* only count: the first of raw_model_write's two passes */
 } writer;
 
 static bool writer_reserve(unsigned char **buf, size_t *capacity, size_t need)
@@ -1010,6 +1011,10 @@ static uint32_t writer_put(writer *w, const void *data, size_t bytes)
         return BLOB_NONE;
     size_t at = (w->size + BLOB_ALIGN - 1) & ~(size_t)(BLOB_ALIGN - 1);
     w->too_big = w->too_big || at + bytes > UINT32_MAX;
+    if (w->measure && !w->too_big) {
+        w->size = at + bytes;
+        return (uint32_t)at;
+    }
     if (at + bytes > UINT32_MAX || !writer_reserve(&w->bytes, &w->capacity, at + bytes)) {
         w->failed = true;
         return BLOB_NONE;
@@ -1501,37 +1506,54 @@ static blob_span write_muscles(writer *w, const sinew_muscle_set *set)
 }
 
 /* Header and directory first (filled in at the end), then the tables, then the pool. */
-sinew_result raw_model_write(const raw_model *m, void **bytes, size_t *size, sinew_error *error)
+/* Every table of the model into the writer; the header's spans. */
+static void write_tables(writer *w, const raw_model *m, size_t head, blob_header *h)
 {
-    writer w = {0};
-    const uint32_t sections = sinew_blob_section_kind_count;
-    size_t head = sizeof(blob_file_header) + sections * sizeof(blob_section);
     unsigned char *zeros = calloc(1, head);
     if (!zeros)
-        return sinew_fail(error, SINEW_ERROR_OUT_OF_MEMORY, "%s: out of memory", m->source);
-    writer_put(&w, zeros, head);
+        w->failed = true;
+    writer_put(w, zeros, head);
     free(zeros);
-    blob_header h = {0};
-    h.source = writer_string(&w, m->source);
-    h.format = writer_string(&w, m->format ? m->format : "unknown");
-    h.node_names = writer_strings(&w, m->node_names, m->node_count);
-    h.node_parents = (blob_span){writer_put(&w, m->node_parents, m->node_count * 4u), m->node_count};
-    h.node_rest = (blob_span){writer_put(&w, m->node_rest, m->node_count * sizeof(sinew_transform)), m->node_count};
+    *h = (blob_header){0};
+    h->source = writer_string(w, m->source);
+    h->format = writer_string(w, m->format ? m->format : "unknown");
+    h->node_names = writer_strings(w, m->node_names, m->node_count);
+    h->node_parents = (blob_span){writer_put(w, m->node_parents, m->node_count * 4u), m->node_count};
+    h->node_rest = (blob_span){writer_put(w, m->node_rest, m->node_count * sizeof(sinew_transform)), m->node_count};
     bool inherits = false;
     for (uint32_t i = 0; m->node_inherit && i < m->node_count; i++)
         inherits |= m->node_inherit[i] != SINEW_INHERIT_NORMAL;
     if (inherits)
-        h.node_inherit = (blob_span){writer_put(&w, m->node_inherit, m->node_count), m->node_count};
-    h.skins = write_skins(&w, m);
-    h.meshes = write_meshes(&w, m);
-    h.mesh_tangents = write_mesh_tangents(&w, m);
-    h.instances = write_instances(&w, m, &h.instance_morph);
-    write_deformers(&w, m, &h);
-    h.materials = write_materials(&w, m, &h.materials_pbr);
-    h.clips = write_clips(&w, m, &h.weight_tracks, &h.clip_timeline);
-    h.warnings = writer_strings(&w, m->warnings, m->warning_count);
-    h.muscles = write_muscles(&w, m->muscles);
-    h.strings = (blob_span){writer_put(&w, w.pool, w.pool_size), (uint32_t)w.pool_size};
+        h->node_inherit = (blob_span){writer_put(w, m->node_inherit, m->node_count), m->node_count};
+    h->skins = write_skins(w, m);
+    h->meshes = write_meshes(w, m);
+    h->mesh_tangents = write_mesh_tangents(w, m);
+    h->instances = write_instances(w, m, &h->instance_morph);
+    write_deformers(w, m, h);
+    h->materials = write_materials(w, m, &h->materials_pbr);
+    h->clips = write_clips(w, m, &h->weight_tracks, &h->clip_timeline);
+    h->warnings = writer_strings(w, m->warnings, m->warning_count);
+    h->muscles = write_muscles(w, m->muscles);
+    h->strings = (blob_span){writer_put(w, w->pool, w->pool_size), (uint32_t)w->pool_size};
+}
+
+sinew_result raw_model_write(const raw_model *m, void **bytes, size_t *size, sinew_error *error)
+{
+    const uint32_t sections = sinew_blob_section_kind_count;
+    size_t head = sizeof(blob_file_header) + sections * sizeof(blob_section);
+    /* Twice: first counting the bytes, then into one allocation of exactly that size (growing
+     * the buffer by doubling copied the blob about twice and touched twice its pages). */
+    writer w = {.measure = true};
+    blob_header h;
+    write_tables(&w, m, head, &h);
+    free(w.pool);
+    w.pool = NULL;
+    if (!w.failed) {
+        w = (writer){.capacity = w.size, .bytes = malloc(w.size ? w.size : 1)};
+        w.failed = !w.bytes;
+    }
+    if (!w.failed)
+        write_tables(&w, m, head, &h);
     free(w.pool);
     if (w.failed) {
         free(w.bytes);

@@ -613,7 +613,7 @@ static int compare_stacks(const void *a, const void *b)
 static sinew_result index_animation(scene *s)
 {
     sinew_result result;
-    fbx_curve_source src = {s->doc.version, s->doc.binary, s->ticks_per_second};
+    fbx_curve_source src = {s->doc.version, s->doc.binary, s->ticks_per_second, &s->doc.arena};
     uint32_t stack_count = 0;
     for (uint32_t i = 0; i < s->object_count; i++) {
         fbx_object *o = &s->objects[i];

@@ -216,7 +216,8 @@ const char *fbx_curve_read(const fbx_node *node, const fbx_curve_source *src, fb
     r.as_bits = !src->binary && !fbx_array_reals(node, "KeyAttrDataFloat");
     if (n_flags && (n_data < 4u * n_flags || n_refs < n_flags))
         return "curve's key attributes are incomplete";
-    out->keys = calloc(n, sizeof *out->keys);
+    out->keys = src->arena ? import_arena_take(src->arena, n * sizeof *out->keys) : calloc(n, sizeof *out->keys);
+    out->in_arena = src->arena != NULL;
     if (!out->keys)
         return "out of memory";
     out->count = n;
@@ -345,7 +346,8 @@ const char *fbx_curve_read_legacy(const fbx_node *channel, const fbx_curve_sourc
     if (count > items / 3 + 1)
         return "channel's KeyCount is larger than its keys";
     uint32_t n = (uint32_t)count;
-    out->keys = calloc(n, sizeof *out->keys);
+    out->keys = src->arena ? import_arena_take(src->arena, n * sizeof *out->keys) : calloc(n, sizeof *out->keys);
+    out->in_arena = src->arena != NULL;
     if (!out->keys)
         return "out of memory";
     out->count = n;
@@ -457,7 +459,8 @@ const char *fbx_curve_read_legacy(const fbx_node *channel, const fbx_curve_sourc
 
 void fbx_curve_free(fbx_curve *c)
 {
-    free(c->keys);
+    if (!c->in_arena)
+        free(c->keys);
     c->keys = NULL;
     c->count = 0;
 }

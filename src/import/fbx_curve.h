@@ -48,6 +48,7 @@ typedef struct fbx_curve {
     fbx_key *keys;
     fbx_extrapolation pre, post;
     double ticks_per_second; /* the file's: extrapolated cycles are whole ticks */
+    bool in_arena;           /* the keys belong to the source's arena (fbx_curve_free leaves them) */
 } fbx_curve;
 
 /* How a file writes its curves' attributes: which FBX version, whether binary, and how many
@@ -56,6 +57,7 @@ typedef struct fbx_curve_source {
     uint32_t version;
     bool binary;
     double ticks_per_second;
+    import_arena *arena; /* where the keys are made (the document's); NULL: calloc */
 } fbx_curve_source;
 
 /* The keys of an FBX 7.x AnimationCurve node (KeyTime, KeyValueFloat, KeyAttrFlags,

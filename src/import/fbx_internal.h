@@ -20,6 +20,7 @@
 #include <stddef.h>
 #include <stdint.h>
 
+#include "internal.h" /* import_arena */
 #include "sinew/result.h"
 
 typedef enum fbx_type { FBX_INT = 'I', FBX_REAL = 'D', FBX_STRING = 'S', FBX_ARRAY = 'A' } fbx_type;
@@ -44,8 +45,9 @@ typedef struct fbx_node {
 } fbx_node;
 
 typedef struct fbx_doc {
-    fbx_node root;    /* its children are the top-level nodes */
-    uint32_t version; /* 7400 for FBX 7.4: FBXHeaderExtension's FBXVersion, else the binary header's */
+    fbx_node root;      /* its children are the top-level nodes */
+    import_arena arena; /* every node, value and array of the document */
+    uint32_t version;   /* 7400 for FBX 7.4: FBXHeaderExtension's FBXVersion, else the binary header's */
     bool binary;
 } fbx_doc;
 

@@ -351,7 +351,7 @@ static sinew_result index_v5(legacy *l)
 
 static bool push_curve(scene *s, const fbx_node *channel, int32_t *out, const char **problem)
 {
-    fbx_curve_source src = {s->doc.version, s->doc.binary, s->ticks_per_second};
+    fbx_curve_source src = {s->doc.version, s->doc.binary, s->ticks_per_second, &s->doc.arena};
     fbx_curve c;
     *out = -1;
     *problem = fbx_curve_read_legacy(channel, &src, &c);

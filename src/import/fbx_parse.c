@@ -1,6 +1,7 @@
 /* FBX documents, binary and ASCII 7.x, as a tree of nodes (fbx_internal.h).
  *
- *   budget ............ every allocation counted against a limit set by the file size
+ *   budget ............ every allocation counted against a limit set by the file size, and made
+ *                       in the document's arena (a few large chunks, freed together)
  *   binary ............ records (32-bit offsets before 7.5, 64-bit from 7.5), typed values,
  *                       arrays raw or zlib-compressed
  *   ascii ............. a tokenizer and a recursive reader of `Name: values { children }`
@@ -26,6 +27,7 @@
 #define FBX_BINARY_HEADER_SIZE 27u
 
 typedef struct parser {
+    fbx_doc *doc; /* whose arena holds what is read */
     const unsigned char *bytes;
     size_t size, pos;
     const char *path;
@@ -69,7 +71,7 @@ static void *take(parser *ps, size_t count, size_t elem, sinew_result *result)
         *result = fail_limit(ps);
         return NULL;
     }
-    void *p = calloc(count, elem);
+    void *p = import_arena_take(&ps->doc->arena, count * elem);
     if (!p) {
         *result = out_of_memory(ps);
         return NULL;
@@ -78,36 +80,31 @@ static void *take(parser *ps, size_t count, size_t elem, sinew_result *result)
     return p;
 }
 
-static void node_free(fbx_node *n)
-{
-    for (uint32_t i = 0; i < n->value_count; i++)
-        free(n->values[i].a);
-    free(n->values);
-    for (uint32_t i = 0; i < n->child_count; i++)
-        node_free(&n->children[i]);
-    free(n->children);
-}
-
 void fbx_doc_free(fbx_doc *doc)
 {
-    if (doc)
-        node_free(&doc->root);
+    if (!doc)
+        return;
+    import_arena_free(&doc->arena);
+    memset(doc, 0, sizeof *doc);
 }
 
 /* Room for one more element after `count` in a growing array charged to the budget: the
- * capacity doubles (from `first` when empty). */
+ * capacity doubles (from `first` when empty), the elements moved to a larger block of the arena
+ * (the old one is left: at most as much again). */
 static sinew_result grow_array(parser *ps, void **array, uint32_t count, uint32_t *capacity, uint32_t first,
                                size_t elem)
 {
     if (count < *capacity)
         return SINEW_OK;
     uint32_t grown = *capacity ? *capacity * 2 : first;
-    if (grown <= *capacity || (size_t)(grown - *capacity) > ps->budget / elem)
+    if (grown <= *capacity || (size_t)grown > ps->budget / elem)
         return fail_limit(ps);
-    void *p = realloc(*array, (size_t)grown * elem);
+    void *p = import_arena_take(&ps->doc->arena, (size_t)grown * elem);
     if (!p)
         return out_of_memory(ps);
-    ps->budget -= (size_t)(grown - *capacity) * elem;
+    if (count)
+        memcpy(p, *array, (size_t)count * elem);
+    ps->budget -= (size_t)grown * elem;
     *array = p;
     *capacity = grown;
     return SINEW_OK;
@@ -118,9 +115,7 @@ static fbx_node *push_child(parser *ps, fbx_node *parent, uint32_t *capacity, si
 {
     if ((*result = grow_array(ps, (void **)&parent->children, parent->child_count, capacity, 4, sizeof(fbx_node))))
         return NULL;
-    fbx_node *c = &parent->children[parent->child_count++];
-    memset(c, 0, sizeof *c);
-    return c;
+    return &parent->children[parent->child_count++]; /* zeroed: fresh from the arena */
 }
 
 /* ---- binary ------------------------------------------------------------------------ */
@@ -273,14 +268,12 @@ static sinew_result read_children(parser *ps, size_t end, fbx_node *parent)
         fbx_node child = {0};
         bool null_record = false;
         if ((result = read_record(ps, end, &child, &null_record))) {
-            node_free(&child);
             return result;
         }
         if (null_record)
             break;
         fbx_node *slot = push_child(ps, parent, &capacity, &result);
         if (!slot) {
-            node_free(&child);
             return result;
         }
         *slot = child;
@@ -349,14 +342,12 @@ static sinew_result parse_binary(parser *ps, fbx_doc *doc)
         fbx_node child = {0};
         bool null_record = false;
         if ((result = read_record(ps, ps->size, &child, &null_record))) {
-            node_free(&child);
             return result;
         }
         if (null_record)
             return SINEW_OK;
         fbx_node *slot = push_child(ps, &doc->root, &capacity, &result);
         if (!slot) {
-            node_free(&child);
             return result;
         }
         *slot = child;
@@ -672,7 +663,7 @@ bool fbx_sniff(const unsigned char *bytes, size_t size)
 sinew_result fbx_parse(const unsigned char *bytes, size_t size, const char *path, fbx_doc *doc, sinew_error *error)
 {
     memset(doc, 0, sizeof *doc);
-    parser ps = {.bytes = bytes, .size = size, .path = path, .error = error, .budget = budget_for(size)};
+    parser ps = {.doc = doc, .bytes = bytes, .size = size, .path = path, .error = error, .budget = budget_for(size)};
     bool binary = size >= FBX_BINARY_MAGIC_SIZE && memcmp(bytes, FBX_BINARY_MAGIC, FBX_BINARY_MAGIC_SIZE) == 0;
     if (binary && size < FBX_BINARY_HEADER_SIZE)
         return bad(&ps, size, "the file ends inside the binary FBX header");

@@ -14,6 +14,7 @@
 #include <string.h>
 #include <strings.h>
 #include <fcntl.h>
+#include <sys/mman.h>
 #include <sys/stat.h>
 #include <unistd.h>
 
@@ -111,6 +112,36 @@ bool import_read_file(const char *path, unsigned char **bytes, size_t *size)
     *bytes = buf;
     *size = (size_t)n;
     return true;
+}
+
+/* A model file's bytes for a reader: mapped (MAP_POPULATE: its pages come in one call, not a
+ * fault each, and are not copied) when it is a regular file whose size leaves room in its last
+ * page for the NUL the readers want after the bytes; else read as import_read_file() reads. */
+static bool map_model_file(const char *path, unsigned char **bytes, size_t *size, bool *mapped)
+{
+    *mapped = false;
+    long page = sysconf(_SC_PAGESIZE);
+    struct stat st;
+    int fd = reading_for && reading_for->read_file ? -1 : open(path, O_RDONLY | O_CLOEXEC);
+    bool mappable = fd >= 0 && fstat(fd, &st) == 0 && S_ISREG(st.st_mode) && st.st_size >= (off_t)(64 << 10) &&
+                    page > 0 && st.st_size % page != 0;
+    void *p = mappable ? mmap(NULL, (size_t)st.st_size, PROT_READ, MAP_PRIVATE | MAP_POPULATE, fd, 0) : MAP_FAILED;
+    if (fd >= 0)
+        close(fd);
+    if (p == MAP_FAILED)
+        return import_read_file(path, bytes, size);
+    *bytes = p;
+    *size = (size_t)st.st_size;
+    *mapped = true;
+    return true;
+}
+
+static void unmap_model_file(unsigned char *bytes, size_t size, bool mapped)
+{
+    if (mapped)
+        munmap(bytes, size);
+    else
+        free(bytes);
 }
 
 sinew_result import_write_file(const char *path, const void *bytes, size_t size, sinew_error *error)
@@ -433,7 +464,9 @@ static sinew_result import_bytes(const unsigned char *bytes, size_t size, const 
     import_alloc_end(&state, &used);
     result = allocation_outcome(result, &used, name, desc, error);
     if (result == SINEW_OK) {
-        result = sinew_model_from_blob(blob, blob_size, name, allocator, out, error);
+        result = sinew_model_adopt_blob(blob, blob_size, name, allocator, out, error);
+        if (result == SINEW_OK && !allocator)
+            blob = NULL;                                               /* the model's now */
         if (result != SINEW_OK && result != SINEW_ERROR_OUT_OF_MEMORY) /* the builder wrote what it cannot read */
             result = sinew_fail(error, SINEW_ERROR_INTERNAL, "%s: the model built from it does not read back (%s)",
                                 name, error ? error->message : "");
@@ -476,12 +509,13 @@ static sinew_result raw_model_read(const char *path, bool assimp, raw_model *raw
         return import_assimp_reader(path, raw, error);
     unsigned char *bytes = NULL;
     size_t size = 0;
-    if (!import_read_file(path, &bytes, &size))
+    bool mapped;
+    if (!map_model_file(path, &bytes, &size, &mapped))
         return errno == ENOMEM
                    ? sinew_fail(error, SINEW_ERROR_OUT_OF_MEMORY, "%s: out of memory reading the file", path)
                    : sinew_fail(error, SINEW_ERROR_IO, "%s: cannot read: %s", path, strerror(errno));
     sinew_result result = choice.read(path, bytes, size, raw, error);
-    free(bytes);
+    unmap_model_file(bytes, size, mapped);
     return result;
 }
 
@@ -593,7 +627,8 @@ static sinew_result import_file(const sinew_import_desc *desc, sinew_model **out
     size_t size = 0;
     if ((result = sinew_import_blob_desc(desc, &bytes, &size, error)))
         return result;
-    result = sinew_model_from_blob(bytes, size, desc->path, desc->allocator, out, error);
-    free(bytes);
+    result = sinew_model_adopt_blob(bytes, size, desc->path, desc->allocator, out, error);
+    if (result != SINEW_OK || desc->allocator) /* else the model's now */
+        free(bytes);
     return result;
 }

@@ -388,6 +388,16 @@ typedef struct import_alloc_result {
 void import_alloc_begin(import_alloc_state *state, uint64_t limit, double seconds);
 bool import_late(void);
 void import_alloc_end(import_alloc_state *state, import_alloc_result *result);
+/* An arena of the import: what is taken is zeroed and 16-byte aligned, and stays until the whole
+ * arena is freed. Its chunks (64 KiB, doubling to 4 MiB; a large request gets its own) count
+ * against the import's limit as one allocation each; those of 256 KiB and more are mapped with
+ * their pages filled in at once (MAP_POPULATE), which on a virtual machine costs a fraction of
+ * a fault a page. */
+typedef struct import_arena {
+    void *head;
+} import_arena;
+void *import_arena_take(import_arena *arena, size_t bytes);
+void import_arena_free(import_arena *arena);
 /* Tests: imports on this thread fail their allocation number `fail_at` (1 first; 0: none), and
  * how many allocations the last import made. */
 void import_alloc_sweep(uint64_t fail_at);
