@@ -324,6 +324,7 @@ typedef struct skin_bench {
     float *positions, *normals;
     bool scalar, positions_only, dqs;
     sinew_jobs *jobs; /* NULL: the calling thread alone */
+    uint32_t grain;   /* vertices a job; 0: SKIN_GRAIN */
 } skin_bench;
 
 #define SKIN_GRAIN 2048 /* vertices a chunk */
@@ -348,7 +349,7 @@ static void step_skin(void *ctx, uint32_t i)
 {
     (void)i;
     skin_bench *b = ctx;
-    sinew_jobs_run(b->jobs, b->mesh->vertex_count, SKIN_GRAIN, skin_range, b);
+    sinew_jobs_run(b->jobs, b->mesh->vertex_count, b->grain ? b->grain : SKIN_GRAIN, skin_range, b);
 }
 
 #define MAX_BENCH_THREADS 64
@@ -370,7 +371,12 @@ typedef struct skin_result {
     double mverts_scalar, mverts_posonly, mverts_dqs, mverts_dqs_scalar;
     double mverts_mixed, mverts_posonly_mixed; /* the influences dealt out of order: no runs of shared joints */
     double mverts[MAX_BENCH_THREADS + 1];      /* by thread count, 1 .. threads */
+    /* the memory-bound case: the mesh tiled to LARGE_VERTICES (10x a 32 MiB L3), against a
+     * STREAM triad's bandwidth on this machine, by thread count */
+    double large_mverts[MAX_BENCH_THREADS + 1], triad_gbps[MAX_BENCH_THREADS + 1];
 } skin_result;
+
+static bool bench_large_skinning(skin_bench *small, uint32_t threads, skin_result *out);
 
 static bool bench_skinning(uint32_t threads, skin_result *out)
 {
@@ -436,6 +442,7 @@ static bool bench_skinning(uint32_t threads, skin_result *out)
             sinew_jobs_free(b.jobs);
             b.jobs = NULL;
         }
+        ok = ok && bench_large_skinning(&b, threads, out);
     }
     app_player_close(&player);
     free(worlds);
@@ -444,6 +451,105 @@ static bool bench_skinning(uint32_t threads, skin_result *out)
     free(b.positions);
     free(b.normals);
     sinew_model_free(model);
+    return ok;
+}
+
+/* ---- skinning at the memory's speed ------------------------------------------------------------ */
+
+/* Ten times the 32 MiB L3 of an EPYC core complex at 72 bytes a vertex (positions and normals
+ * in and out, 4 joints and weights): no vertex is in a cache when its turn comes. (This VM says
+ * its L3 is 512 MiB: the host's, shared with others.) */
+#define LARGE_VERTICES (10u * (32u << 20) / 72u)
+#define LARGE_BYTES_A_VERTEX 72.0
+#define TRIAD_COUNT ((size_t)16 << 20) /* doubles an array: 3 x 128 MiB */
+
+typedef struct triad_bench {
+    double *a, *b, *c;
+    sinew_jobs *jobs;
+} triad_bench;
+
+static void triad_range(void *ctx, uint32_t first, uint32_t count, uint32_t thread)
+{
+    (void)thread;
+    triad_bench *t = ctx;
+    double *restrict a = t->a;
+    const double *restrict b = t->b, *restrict c = t->c;
+    for (size_t i = first; i < (size_t)first + count; i++)
+        a[i] = b[i] + 3.0 * c[i];
+}
+
+static void step_triad(void *ctx, uint32_t i)
+{
+    (void)i;
+    triad_bench *t = ctx;
+    sinew_jobs_run(t->jobs, (uint32_t)TRIAD_COUNT, 1u << 16, triad_range, t);
+}
+
+/* STREAM's triad (a = b + s c, 24 bytes an element as STREAM counts them) with `threads`. */
+static bool triad_gbps(uint32_t threads, double *gbps)
+{
+    triad_bench t = {malloc(TRIAD_COUNT * 8), malloc(TRIAD_COUNT * 8), malloc(TRIAD_COUNT * 8), NULL};
+    bool ok = t.a && t.b && t.c && open_jobs(threads, &t.jobs);
+    if (ok) {
+        for (size_t i = 0; i < TRIAD_COUNT; i++)
+            t.a[i] = 0.0, t.b[i] = 1.0, t.c[i] = 2.0;
+        *gbps = TRIAD_COUNT * 24.0 / best_per_unit(step_triad, &t, 4) * 1e-9;
+    }
+    sinew_jobs_free(t.jobs);
+    free(t.a);
+    free(t.b);
+    free(t.c);
+    return ok;
+}
+
+/* The benchmark mesh tiled to LARGE_VERTICES and skinned with 1 .. threads threads. */
+static bool bench_large_skinning(skin_bench *small, uint32_t threads, skin_result *out)
+{
+    const sinew_mesh *m = small->mesh;
+    uint32_t n = LARGE_VERTICES, k = m->influence_count, count = m->vertex_count;
+    sinew_mesh large = *m;
+    float *positions = malloc((size_t)n * 12), *normals = malloc((size_t)n * 12), *weights = malloc((size_t)n * k * 4);
+    uint16_t *joints = malloc((size_t)n * k * 2);
+    skin_bench b = *small;
+    b.grain = 1u << 15; /* a job's share of a large mesh: 2.3 MiB of vertices */
+    b.positions = malloc((size_t)n * 12);
+    b.normals = malloc((size_t)n * 12);
+    b.jobs = NULL;
+    bool ok = positions && normals && weights && joints && b.positions && b.normals;
+    for (uint32_t v = 0; ok && v < n; v += count) {
+        uint32_t c = n - v < count ? n - v : count;
+        memcpy(positions + (size_t)v * 3, m->positions, (size_t)c * 12);
+        memcpy(normals + (size_t)v * 3, m->normals, (size_t)c * 12);
+        memcpy(weights + (size_t)v * k, m->weights, (size_t)c * k * 4);
+        memcpy(joints + (size_t)v * k, m->joints, (size_t)c * k * 2);
+    }
+    if (ok) {
+        memset(b.positions, 0, (size_t)n * 12);
+        memset(b.normals, 0, (size_t)n * 12);
+        large.vertex_count = n;
+        large.positions = positions, large.normals = normals, large.weights = weights, large.joints = joints;
+        b.mesh = &large;
+    }
+    /* the triad and the skinning in turn, three times, the best of each: other tenants' traffic
+     * on a shared machine then weighs on both alike */
+    for (uint32_t t = 1; ok && t <= threads; t++) {
+        ok = open_jobs(t, &b.jobs);
+        for (int round = 0; ok && round < 3; round++) {
+            double gbps = 0.0, mverts;
+            ok = triad_gbps(t, &gbps);
+            mverts = n * 1e-6 / best_per_unit(step_skin, &b, 2 * t);
+            out->triad_gbps[t] = gbps > out->triad_gbps[t] ? gbps : out->triad_gbps[t];
+            out->large_mverts[t] = mverts > out->large_mverts[t] ? mverts : out->large_mverts[t];
+        }
+        sinew_jobs_free(b.jobs);
+        b.jobs = NULL;
+    }
+    free(positions);
+    free(normals);
+    free(weights);
+    free(joints);
+    free(b.positions);
+    free(b.normals);
     return ok;
 }
 
@@ -875,6 +981,9 @@ int bench_eval(int argc, char **argv)
         cJSON_AddNumberToObject(o, "skin_mverts_1t_posonly", skin.mverts_posonly);
         cJSON_AddNumberToObject(o, "skin_mverts_1t_mixed", skin.mverts_mixed);
         cJSON_AddNumberToObject(o, "skin_mverts_1t_posonly_mixed", skin.mverts_posonly_mixed);
+        cJSON_AddNumberToObject(o, "skin_large_vertices", LARGE_VERTICES);
+        cJSON_AddNumberToObject(o, "skin_large_mverts_1t", skin.large_mverts[1]);
+        cJSON_AddNumberToObject(o, "triad_gbps_1t", skin.triad_gbps[1]);
         cJSON_AddNumberToObject(o, "skin_mverts_dqs_1t", skin.mverts_dqs);
         cJSON_AddNumberToObject(o, "skin_mverts_dqs_scalar_1t", skin.mverts_dqs_scalar);
         cJSON_AddNumberToObject(o, "morph_vertices", MORPH_VERTICES);
@@ -909,6 +1018,8 @@ int bench_eval(int argc, char **argv)
             cJSON_AddNumberToObject(step, "crowd_efficiency", crowd.ms[1] / crowd.ms[t] / t);
             cJSON_AddNumberToObject(step, "skin_mverts", skin.mverts[t]);
             cJSON_AddNumberToObject(step, "skin_speedup", skin.mverts[t] / skin.mverts[1]);
+            cJSON_AddNumberToObject(step, "skin_large_mverts", skin.large_mverts[t]);
+            cJSON_AddNumberToObject(step, "triad_gbps", skin.triad_gbps[t]);
             cJSON_AddItemToArray(scaling, step);
         }
         cJSON_AddNumberToObject(o, "load_ms_sinew", load.sinew_ms);
@@ -949,6 +1060,16 @@ int bench_eval(int argc, char **argv)
     printf("%-44s %6.0f Mv/s %12s %10s\n", "skinning, positions only, 1 thread", skin.mverts_posonly, "", ">= 500");
     printf("%-44s %6.0f Mv/s %6.0f Mv/s\n", "influences out of order: pos.+nor. | pos.", skin.mverts_mixed,
            skin.mverts_posonly_mixed);
+    for (uint32_t t = 1; t <= threads; t++) {
+        char label[64];
+        double ceiling = skin.triad_gbps[t] * 1e9 / LARGE_BYTES_A_VERTEX * 1e-6;
+        snprintf(label, sizeof label, "%.1fM vertices (10x L3), %u thread%s | ceiling", LARGE_VERTICES * 1e-6, t,
+                 t > 1 ? "s" : "");
+        printf("%-44s %6.0f Mv/s %6.0f Mv/s %9.0f%%\n", label, skin.large_mverts[t], ceiling,
+               100.0 * skin.large_mverts[t] / ceiling);
+        snprintf(label, sizeof label, "  STREAM triad, %u thread%s", t, t > 1 ? "s" : "");
+        printf("%-44s %6.1f GB/s (72 bytes a vertex)\n", label, skin.triad_gbps[t]);
+    }
     printf("%-44s %6.0f Mv/s %6.0f Mv/s %10s\n", "skinning, dual quaternions, 1 thread", skin.mverts_dqs,
            skin.mverts_dqs_scalar, "");
     printf("%-44s %6.0f Mv/s %6.0f Mv/s\n", "morph: 50k verts, 5 of 50 targets, 1 thread", morph.mverts[1],
