@@ -5,15 +5,19 @@ Builds the peer loaders of ../shared/peers (ufbx 0.23 for FBX, cgltf 1.15 for gl
 and times whole processes on the same files, runs interleaved so that the machine's noise falls
 on every reader alike:
 
-    sinew info FILE -q                      the default: sinew's reader in the sinew-import helper
-    sinew info FILE -q  (in process)        SINEW_IMPORT_IN_PROCESS=1: no helper process
+    sinew info FILE -q                      the default: sinew's reader in the sinew process
+    sinew info FILE -q  (isolated)          SINEW_IMPORT_ISOLATE=1: in the sinew-import helper
+    sinew info FILE.sinew -q                the same model converted to .sinew (goal: 5 ms)
     ufbx_load FILE / ufbx_load FILE --bake  FBX: load, and load + bake every stack (sinew bakes clips)
     cgltf_load FILE                         glTF: parse, load buffers, validate
     assimp info FILE                        Assimp's command line, where installed
 
-plus `sinew --help` (what a process that never opens a file costs). It prints each reader's
-median and min-max in milliseconds and the ratios issue 31 sets goals on: sinew / ufbx --bake
-(goal 1.3), sinew / cgltf (1.3), sinew / assimp (0.5).
+plus `sinew --help` and an empty C program (what a process that does nothing costs here). It
+prints each reader's median and min-max in milliseconds and the ratios issue 31 sets goals on:
+sinew / ufbx --bake (goal 1.3), sinew / cgltf (1.3), sinew / assimp (0.5); and the import
+without the process, in MB/s of the file: sinew's from memory through the Python binding
+(sinew.load_bytes, best of --runs), the peers' as their median less the empty program's
+(goal: sinew at least 0.8 of ufbx --bake and of cgltf).
 
     bench/peers.py [--sinew build/sinew] [--runs 7] [--testdata ../shared/testdata] [--json] [FILE...]
 """
@@ -24,7 +28,7 @@ import statistics
 import subprocess
 import sys
 
-from timing import process_args, run_ms
+from timing import HERE, process_args, run_ms
 
 DEFAULT_FILES = ["ozz/pab/walk.fbx", "ozz/pab/arnaud.fbx", "ufbx/motionbuilder_sausage_rrss_7700_binary.fbx",
                  "raylib/robot.glb", "gltf-samples/Fox.glb", "blender/robot_walk.dae"]
@@ -34,14 +38,52 @@ def build_peers(shared):
     out = os.environ.get("OUT", "/tmp/peers")
     subprocess.run(["bash", os.path.join(shared, "peers", "build.sh")], check=True, stdout=subprocess.DEVNULL,
                    env=dict(os.environ, OUT=out))
-    return os.path.join(out, "ufbx_load"), os.path.join(out, "cgltf_load")
+    empty = os.path.join(out, "empty")
+    with open(empty + ".c", "w") as f:
+        f.write("int main(void) { return 0; }\n")
+    subprocess.run(["cc", "-O2", empty + ".c", "-o", empty], check=True)
+    return os.path.join(out, "ufbx_load"), os.path.join(out, "cgltf_load"), empty, out
 
 
-def readers_for(path, sinew, ufbx, cgltf, assimp):
+def converted(sinew, path, folder):
+    """The file as .sinew (sinew convert), or None when it cannot be converted."""
+    out = os.path.join(folder, os.path.basename(path) + ".sinew")
+    r = subprocess.run([sinew, "convert", path, out], stdout=subprocess.DEVNULL,
+                       stderr=subprocess.DEVNULL)
+    return out if r.returncode == 0 and os.path.exists(out) else None
+
+
+def in_library_ms(sinew, path, runs):
+    """Best milliseconds of sinew.load_bytes() on the file's bytes, in this process (no process start, no file
+    read): the library's import from memory."""
+    library = os.path.join(os.path.dirname(os.path.abspath(sinew)), "libsinew.so")  # the build's, as built
+    if not os.path.exists(library):
+        return None
+    os.environ.setdefault("SINEW_LIBRARY", os.path.realpath(library))
+    sys.path.insert(0, os.path.join(HERE, "..", "python"))
+    import time
+    try:
+        import sinew as binding
+    except ImportError as e:  # numpy or cffi missing: Debian's python3 has them
+        print(f"in-library timing left out: {e}", file=sys.stderr)
+        return None
+    data = open(path, "rb").read()
+    best = None
+    for _ in range(runs + 1):
+        t = time.perf_counter()
+        binding.load_bytes(data, name=path)
+        ms = (time.perf_counter() - t) * 1000.0
+        best = ms if best is None else min(best, ms)
+    return best
+
+
+def readers_for(path, sinew, ufbx, cgltf, assimp, dot_sinew):
     """(name, command, extra environment) of every reader of this file."""
     ext = os.path.splitext(path)[1].lower()
     rows = [("sinew", [sinew, "info", path, "-q"], {}),
-            ("sinew in process", [sinew, "info", path, "-q"], {"SINEW_IMPORT_IN_PROCESS": "1"})]
+            ("sinew isolated", [sinew, "info", path, "-q"], {"SINEW_IMPORT_ISOLATE": "1"})]
+    if dot_sinew:
+        rows += [("sinew .sinew", [sinew, "info", dot_sinew, "-q"], {})]
     if ext == ".fbx":
         rows += [("ufbx", [ufbx, path], {}), ("ufbx --bake", [ufbx, path, "--bake"], {})]
     if ext in (".gltf", ".glb"):
@@ -69,41 +111,63 @@ def main():
     ap.add_argument("files", nargs="*", help="files to open (default: six shared FBX, glTF and COLLADA models)")
     args = ap.parse_args()
     shared = os.path.dirname(os.path.normpath(args.testdata))
-    ufbx, cgltf = build_peers(shared)
+    ufbx, cgltf, empty, folder = build_peers(shared)
     assimp = shutil.which("assimp")
     files = args.files or [os.path.join(args.testdata, f) for f in DEFAULT_FILES]
     report = {"runs": args.runs, "files": []}
-    help_rows = [("sinew --help", [args.sinew, "--help"], {})]
+    help_rows = [("empty process", [empty], {}), ("sinew --help", [args.sinew, "--help"], {})]
     help_times, _ = measure(help_rows, args.runs)
+    report["empty_process_ms"] = statistics.median(help_times["empty process"])
     report["sinew_help_ms"] = statistics.median(help_times["sinew --help"])
     for path in files:
         if not os.path.exists(path):
             print(f"{path}: missing", file=sys.stderr)
             continue
-        times, failed = measure(readers_for(path, args.sinew, ufbx, cgltf, assimp), args.runs)
-        entry = {"file": os.path.relpath(path, args.testdata), "bytes": os.path.getsize(path),
+        rows = readers_for(path, args.sinew, ufbx, cgltf, assimp, converted(args.sinew, path, folder))
+        times, failed = measure(rows, args.runs)
+        size = os.path.getsize(path)
+        entry = {"file": os.path.relpath(path, args.testdata), "bytes": size,
                  "median_ms": {k: statistics.median(v) for k, v in times.items()},
                  "min_ms": {k: min(v) for k, v in times.items()}, "max_ms": {k: max(v) for k, v in times.items()},
                  "failed": sorted(failed)}
         med = entry["median_ms"]
-        for mine in ("sinew", "sinew in process"):
+        for mine in ("sinew", "sinew isolated"):
             for peer in ("ufbx --bake", "cgltf", "assimp"):
                 if mine in med and peer in med:
                     key = (mine + " / " + peer).replace(" ", "_").replace("--", "").replace("/", "over")
                     entry[key] = med[mine] / med[peer]
+        # in the library: MB/s of the file, sinew from memory, the peers without their process start
+        mine = in_library_ms(args.sinew, path, args.runs)
+        speeds = {}
+        if mine:
+            speeds["sinew"] = size / 1e6 / (mine / 1000.0)
+        for peer in ("ufbx --bake", "cgltf"):
+            if peer in med and med[peer] > report["empty_process_ms"]:
+                speeds[peer] = size / 1e6 / ((med[peer] - report["empty_process_ms"]) / 1000.0)
+        entry["in_library_mb_s"] = speeds
+        for peer in ("ufbx --bake", "cgltf"):
+            if "sinew" in speeds and peer in speeds:
+                entry["in_library_sinew_over_" + peer.replace(" --", "_")] = speeds["sinew"] / speeds[peer]
         report["files"].append(entry)
     if args.json:
         json.dump(report, sys.stdout, indent=1)
         print()
         return
-    print(f"sinew --help: {report['sinew_help_ms']:.1f} ms (median of {args.runs})")
+    print(f"sinew --help: {report['sinew_help_ms']:.1f} ms, an empty C program {report['empty_process_ms']:.1f} ms "
+          f"(medians of {args.runs})")
     for e in report["files"]:
         print(f"\n{e['file']} ({e['bytes'] / 1e6:.2f} MB)")
         for k, m in e["median_ms"].items():
             print(f"  {k:18s} {m:7.1f} ms  ({e['min_ms'][k]:.1f}-{e['max_ms'][k]:.1f})")
-        ratios = [f"{k.replace('_over_', ' / ').replace('_', ' ')} {v:.2f}" for k, v in e.items() if "_over_" in k]
+        ratios = [f"{k.replace('_over_', ' / ').replace('_', ' ')} {v:.2f}" for k, v in e.items()
+                  if "_over_" in k and not k.startswith("in_library")]
         if ratios:
             print("  " + ", ".join(ratios))
+        speeds = e["in_library_mb_s"]
+        if speeds:
+            print("  in the library: " + ", ".join(f"{k} {v:.1f} MB/s" for k, v in speeds.items()) +
+                  "".join(f"; sinew / {k} {speeds['sinew'] / v:.2f}" for k, v in speeds.items() if k != "sinew"
+                          and "sinew" in speeds))
         if e["failed"]:
             print("  failed: " + ", ".join(e["failed"]))
 

@@ -4,8 +4,6 @@
 #include <string.h>
 #include <unistd.h>
 
-#include <epoxy/gl.h>
-
 #include "cli.h"
 
 #define FRAMING_SAMPLES 60
@@ -223,7 +221,7 @@ bool cli_scene_time_frames(cli_scene *s, int warmup, int frames, double *seconds
     for (int i = 0; i < warmup; i++, t += 1.0 / 60.0)
         if (!cli_scene_draw(s, t))
             return false;
-    glFinish();
+    sinew_headless_finish(s->headless);
     /* each frame finished and timed on its own; the median, since the machines these run on
      * are shared and another process's burst would otherwise land in the mean */
     double *each = malloc((size_t)(frames > 0 ? frames : 1) * sizeof *each);
@@ -235,7 +233,7 @@ bool cli_scene_time_frames(cli_scene *s, int warmup, int frames, double *seconds
             free(each);
             return false;
         }
-        glFinish();
+        sinew_headless_finish(s->headless);
         each[i] = cli_now_seconds() - start;
     }
     qsort(each, (size_t)frames, sizeof *each, compare_doubles);

@@ -38,6 +38,8 @@ void sinew_headless_bind(sinew_headless *headless);
 
 /* Resolves the frame and reads it as 8-bit RGBA, top row first, width*height*4 bytes. */
 sinew_result sinew_headless_read(sinew_headless *headless, uint8_t *rgba, sinew_error *error);
+/* Waits until everything drawn in the context is finished (glFinish): for timing frames. */
+void sinew_headless_finish(sinew_headless *headless);
 
 /* What EGL/GL report: "llvmpipe (LLVM 15.0.6, 256 bits) / 4.5 (Core Profile) Mesa 22.3.6". */
 const char *sinew_headless_description(const sinew_headless *headless);

@@ -3,8 +3,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include <epoxy/egl.h>
-#include <epoxy/gl.h>
+#include "gl.h"
 
 #include "sinew/headless.h"
 #include "internal.h"
@@ -152,6 +151,9 @@ sinew_result sinew_headless_create(const sinew_headless_desc *desc, sinew_headle
     if (desc->width < 1 || desc->height < 1 || desc->width > 16384 || desc->height > 16384)
         return sinew_fail(error, SINEW_ERROR_INVALID_ARGUMENT, "image size %dx%d is outside 1x1..16384x16384",
                           desc->width, desc->height);
+    char why[256];
+    if (!render_gl_load(why, sizeof why))
+        return sinew_fail(error, SINEW_ERROR_GRAPHICS, "no OpenGL: %s", why);
     sinew_headless *h = calloc(1, sizeof *h);
     if (!h)
         return sinew_fail(error, SINEW_ERROR_OUT_OF_MEMORY, "out of memory");
@@ -210,6 +212,12 @@ void sinew_headless_free(sinew_headless *h)
         eglReleaseThread();
     }
     free(h);
+}
+
+void sinew_headless_finish(sinew_headless *h)
+{
+    if (h)
+        glFinish();
 }
 
 void sinew_headless_bind(sinew_headless *h)

@@ -2,7 +2,7 @@
 #ifndef SINEW_RENDER_INTERNAL_H
 #define SINEW_RENDER_INTERNAL_H
 
-#include <epoxy/gl.h>
+#include "gl.h" /* libepoxy, loaded when the first context is made */
 
 #include "../core/internal.h"
 #include "sinew/render.h"

@@ -504,6 +504,9 @@ sinew_result sinew_renderer_create(const sinew_renderer_desc *desc, sinew_render
         return sinew_fail(error, SINEW_ERROR_INVALID_ARGUMENT, "sinew_renderer_create: no model or no output");
     *out = NULL;
     const sinew_model *m = desc->model;
+    char why[256];
+    if (!render_gl_load(why, sizeof why))
+        return sinew_fail(error, SINEW_ERROR_GRAPHICS, "no OpenGL: %s", why);
     if (!epoxy_is_desktop_gl() || epoxy_gl_version() < 33)
         return sinew_fail(error, SINEW_ERROR_GRAPHICS, "OpenGL 3.3 core is needed; the current context is %s %s",
                           epoxy_is_desktop_gl() ? "OpenGL" : "OpenGL ES", (const char *)glGetString(GL_VERSION));
