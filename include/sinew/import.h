@@ -70,9 +70,10 @@ typedef struct sinew_import_desc {
                                          machine's memory (kept within 1..16 GiB; a session, whose files are
                                          not known in advance: that ceiling); UINT64_MAX: none. It also bounds
                                          the bytes sinew's readers and builder hold, in the helper and in
-                                         process (sinew_import_memory(), read_file), counted
-                                         allocation by allocation: past it SINEW_ERROR_LIMIT_MEMORY. (What
-                                         libxml2, cJSON and Assimp allocate inside is not counted.) */
+                                         process, counted allocation by allocation (glTF's JSON tokens
+                                         too): past it SINEW_ERROR_LIMIT_MEMORY. (What libxml2 and Assimp
+                                         allocate inside, and the model file, mapped read-only while it is
+                                         read, are not counted.) */
     int stderr_fd;                    /* 0: its stderr is kept, and its last lines quoted when it fails; else
                                          the descriptor it writes its stderr to (2: the caller's stderr) */
     /* Called on the calling thread about every 50 ms while the helper works (once, before

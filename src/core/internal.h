@@ -43,6 +43,10 @@
  * or a symbol is missing. Call once (pthread_once); the library stays loaded. */
 bool sinew_lazy_open(const char *soname, const char *const *names, void **functions, size_t count, char *why,
                      size_t why_size);
+/* Fills in the pages of a large block about to be written whole (MADV_POPULATE_WRITE: one call
+ * instead of a fault a page, which costs microseconds on a virtual machine); nothing for a block
+ * under 256 KiB, or where the kernel cannot. */
+void sinew_prefault(void *p, size_t size);
 
 /* sinew_model_from_blob() for malloc'd bytes the model then owns (freed with it) instead of
  * copying them, when `allocator` is NULL (with an allocator they are copied, and stay the

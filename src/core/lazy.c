@@ -1,6 +1,9 @@
-/* A library loaded on first use (internal.h: sinew_lazy_open). */
+/* A library loaded on first use (internal.h: sinew_lazy_open), and pages filled in ahead
+ * (sinew_prefault): what a process start and its first large buffers cost. */
 #include <dlfcn.h>
+#include <stdint.h>
 #include <stdio.h>
+#include <sys/mman.h>
 
 #include "internal.h"
 
@@ -19,4 +22,17 @@ bool sinew_lazy_open(const char *soname, const char *const *names, void **functi
             return false;
         }
     return true; /* kept loaded for the life of the process */
+}
+
+void sinew_prefault(void *p, size_t size)
+{
+#ifdef MADV_POPULATE_WRITE
+    const uintptr_t page = 4096;
+    uintptr_t start = ((uintptr_t)p + page - 1) & ~(page - 1), end = ((uintptr_t)p + size) & ~(page - 1);
+    if (size >= ((size_t)256 << 10) && end > start)
+        madvise((void *)start, end - start, MADV_POPULATE_WRITE); /* older kernels: EINVAL, no harm */
+#else
+    (void)p;
+    (void)size;
+#endif
 }

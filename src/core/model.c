@@ -840,6 +840,7 @@ sinew_result sinew_model_load(const char *path, const sinew_allocator *allocator
         fclose(f);
         return sinew_fail(error, SINEW_ERROR_OUT_OF_MEMORY, "%s: out of memory for %ld bytes", path, n);
     }
+    sinew_prefault(bytes, (size_t)n);
     size_t got = fread(bytes, 1, (size_t)n, f);
     bool failed = ferror(f);
     fclose(f);

@@ -1552,7 +1552,7 @@ sinew_result raw_model_write(const raw_model *m, void **bytes, size_t *size, sin
         w = (writer){.capacity = w.size, .bytes = malloc(w.size ? w.size : 1)};
         w.failed = !w.bytes;
         if (w.bytes)
-            import_prefault(w.bytes, w.capacity);
+            sinew_prefault(w.bytes, w.capacity);
     }
     if (!w.failed)
         write_tables(&w, m, head, &h);

@@ -397,9 +397,6 @@ typedef struct import_arena {
     void *head;
 } import_arena;
 void *import_arena_take(import_arena *arena, size_t bytes);
-/* Fills in the pages of a large block about to be written whole (MADV_POPULATE_WRITE: one call
- * instead of a fault a page); nothing for a small one, or where the kernel cannot. */
-void import_prefault(void *p, size_t size);
 void import_arena_free(import_arena *arena);
 /* Tests: imports on this thread fail their allocation number `fail_at` (1 first; 0: none), and
  * how many allocations the last import made. */
