@@ -72,8 +72,7 @@ typedef struct sinew_import_desc {
                                          the bytes sinew's readers and builder hold, in the helper and in
                                          process, counted allocation by allocation (glTF's JSON tokens
                                          too): past it SINEW_ERROR_LIMIT_MEMORY. (What libxml2 and Assimp
-                                         allocate inside, and the model file, mapped read-only while it is
-                                         read, are not counted.) */
+                                         allocate inside is not counted.) */
     int stderr_fd;                    /* 0: its stderr is kept, and its last lines quoted when it fails; else
                                          the descriptor it writes its stderr to (2: the caller's stderr) */
     /* Called on the calling thread about every 50 ms while the helper works (once, before

@@ -14,7 +14,6 @@
 #include <string.h>
 #include <strings.h>
 #include <fcntl.h>
-#include <sys/mman.h>
 #include <sys/stat.h>
 #include <unistd.h>
 
@@ -114,34 +113,44 @@ bool import_read_file(const char *path, unsigned char **bytes, size_t *size)
     return true;
 }
 
-/* A model file's bytes for a reader: mapped (MAP_POPULATE: its pages come in one call, not a
- * fault each, and are not copied) when it is a regular file whose size leaves room in its last
- * page for the NUL the readers want after the bytes; else read as import_read_file() reads. */
-static bool map_model_file(const char *path, unsigned char **bytes, size_t *size, bool *mapped)
+/* A model file's bytes for a reader, read into a buffer whose pages are filled in first (one
+ * call, not a fault a page). Not mapped: a file truncated while it is read (an exporter writing
+ * it again under `sinew-view --watch`) would end the process with SIGBUS. */
+static bool read_model_file(const char *path, unsigned char **bytes, size_t *size)
 {
-    *mapped = false;
-    long page = sysconf(_SC_PAGESIZE);
     struct stat st;
     int fd = reading_for && reading_for->read_file ? -1 : open(path, O_RDONLY | O_CLOEXEC);
-    bool mappable = fd >= 0 && fstat(fd, &st) == 0 && S_ISREG(st.st_mode) && st.st_size >= (off_t)(64 << 10) &&
-                    page > 0 && st.st_size % page != 0;
-    void *p = mappable ? mmap(NULL, (size_t)st.st_size, PROT_READ, MAP_PRIVATE | MAP_POPULATE, fd, 0) : MAP_FAILED;
-    if (fd >= 0)
-        close(fd);
-    if (p == MAP_FAILED)
+    if (fd < 0 || fstat(fd, &st) != 0 || !S_ISREG(st.st_mode) || st.st_size < (off_t)(256 << 10)) {
+        if (fd >= 0)
+            close(fd);
         return import_read_file(path, bytes, size);
-    *bytes = p;
-    *size = (size_t)st.st_size;
-    *mapped = true;
+    }
+    size_t n = (size_t)st.st_size, got = 0;
+    unsigned char *buf = malloc(n + 1);
+    int why = ENOMEM;
+    if (buf) {
+        sinew_prefault(buf, n);
+        while (got < n) {
+            ssize_t r = read(fd, buf + got, n - got);
+            if (r < 0 && errno == EINTR)
+                continue;
+            if (r <= 0) {
+                why = r < 0 ? errno : EIO;
+                break;
+            }
+            got += (size_t)r;
+        }
+    }
+    close(fd);
+    if (!buf || got != n) {
+        free(buf);
+        errno = why;
+        return false;
+    }
+    buf[n] = 0;
+    *bytes = buf;
+    *size = n;
     return true;
-}
-
-static void unmap_model_file(unsigned char *bytes, size_t size, bool mapped)
-{
-    if (mapped)
-        munmap(bytes, size);
-    else
-        free(bytes);
 }
 
 sinew_result import_write_file(const char *path, const void *bytes, size_t size, sinew_error *error)
@@ -509,13 +518,12 @@ static sinew_result raw_model_read(const char *path, bool assimp, raw_model *raw
         return import_assimp_reader(path, raw, error);
     unsigned char *bytes = NULL;
     size_t size = 0;
-    bool mapped;
-    if (!map_model_file(path, &bytes, &size, &mapped))
+    if (!read_model_file(path, &bytes, &size))
         return errno == ENOMEM
                    ? sinew_fail(error, SINEW_ERROR_OUT_OF_MEMORY, "%s: out of memory reading the file", path)
                    : sinew_fail(error, SINEW_ERROR_IO, "%s: cannot read: %s", path, strerror(errno));
     sinew_result result = choice.read(path, bytes, size, raw, error);
-    unmap_model_file(bytes, size, mapped);
+    free(bytes);
     return result;
 }
 
