@@ -546,11 +546,21 @@ static sinew_result read_accessor(gltf *g, int index, const char *use, int want,
             free(v);
             return r;
         }
-        for (long long i = 0; i < count; i++)
-            for (int c = 0; c < comps; c++)
-                v[i * comps + c] =
-                    component(base + stride * i + column_bytes * (c / column) + (long long)csize * (c % column), ctype,
-                              normalized);
+        if (ctype == 5126 && column_bytes == (long long)csize * column) /* floats, no padded matrix columns */
+            for (long long i = 0; i < count; i++) {
+                const unsigned char *e = base + stride * i;
+                for (int c = 0; c < comps; c++) {
+                    float f;
+                    memcpy(&f, e + 4 * c, 4);
+                    v[i * comps + c] = f;
+                }
+            }
+        else
+            for (long long i = 0; i < count; i++)
+                for (int c = 0; c < comps; c++)
+                    v[i * comps + c] =
+                        component(base + stride * i + column_bytes * (c / column) + (long long)csize * (c % column),
+                                  ctype, normalized);
     }
     const json_node *sparse = json_get(a, "sparse");
     if (sparse) {
