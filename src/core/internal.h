@@ -37,12 +37,20 @@
  * (the export test compares libsinew.so's symbols with the headers). */
 #pragma GCC visibility push(hidden)
 
-/* Loads a shared library by its soname and finds `count` symbols in it (into `functions`, in the
- * order of `names`): a dependency only some programs need (libxml2, meshoptimizer) is loaded
- * when first used, not at every process start. false with the reason in `why` when the library
- * or a symbol is missing. Call once (pthread_once); the library stays loaded. */
-bool sinew_lazy_open(const char *soname, const char *const *names, void **functions, size_t count, char *why,
-                     size_t why_size);
+/* A shared library loaded on first use, by its soname, with `count` symbols found in it (into
+ * `symbols`, in the order of `names`): a dependency only some programs need (libxml2, libepoxy,
+ * meshoptimizer) is loaded when first used, not at every process start. sinew_lazy_load() tries
+ * once (thread-safe) and says whether it is loaded; the reason it is not goes to `why`. The
+ * library stays loaded. A static instance: {.soname = ..., .names = ..., .symbols = ..., .count = ...}. */
+typedef struct sinew_lazy_library {
+    const char *soname;
+    const char *const *names;
+    void **symbols;
+    size_t count;
+    bool tried, loaded;
+    char failure[256];
+} sinew_lazy_library;
+bool sinew_lazy_load(sinew_lazy_library *library, char *why, size_t why_size);
 /* Fills in the pages of a large block about to be written whole (MADV_POPULATE_WRITE: one call
  * instead of a fault a page, which costs microseconds on a virtual machine); nothing for a block
  * under 256 KiB, or where the kernel cannot. */

@@ -1,27 +1,36 @@
-/* A library loaded on first use (internal.h: sinew_lazy_open), and pages filled in ahead
+/* A library loaded on first use (internal.h: sinew_lazy_load), and pages filled in ahead
  * (sinew_prefault): what a process start and its first large buffers cost. */
 #include <dlfcn.h>
+#include <pthread.h>
 #include <stdint.h>
 #include <stdio.h>
 #include <sys/mman.h>
 
 #include "internal.h"
 
-bool sinew_lazy_open(const char *soname, const char *const *names, void **functions, size_t count, char *why,
-                     size_t why_size)
+static pthread_mutex_t lazy_lock = PTHREAD_MUTEX_INITIALIZER;
+
+bool sinew_lazy_load(sinew_lazy_library *library, char *why, size_t why_size)
 {
-    void *library = dlopen(soname, RTLD_NOW | RTLD_LOCAL);
-    if (!library) {
-        snprintf(why, why_size, "cannot load %s: %s", soname, dlerror());
-        return false;
+    pthread_mutex_lock(&lazy_lock);
+    if (!library->tried) {
+        library->tried = true;
+        void *handle = dlopen(library->soname, RTLD_NOW | RTLD_LOCAL);
+        if (!handle)
+            snprintf(library->failure, sizeof library->failure, "cannot load %s: %s", library->soname, dlerror());
+        for (size_t i = 0; handle && i < library->count; i++)
+            if (!(library->symbols[i] = dlsym(handle, library->names[i]))) {
+                snprintf(library->failure, sizeof library->failure, "%s lacks %s", library->soname, library->names[i]);
+                dlclose(handle);
+                handle = NULL;
+            }
+        library->loaded = handle != NULL; /* kept loaded for the life of the process */
     }
-    for (size_t i = 0; i < count; i++)
-        if (!(functions[i] = dlsym(library, names[i]))) {
-            snprintf(why, why_size, "%s lacks %s", soname, names[i]);
-            dlclose(library);
-            return false;
-        }
-    return true; /* kept loaded for the life of the process */
+    bool loaded = library->loaded;
+    pthread_mutex_unlock(&lazy_lock);
+    if (!loaded && why && why_size)
+        snprintf(why, why_size, "%s", library->failure);
+    return loaded;
 }
 
 void sinew_prefault(void *p, size_t size)

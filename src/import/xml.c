@@ -1,7 +1,4 @@
 /* Loading libxml2 on first use (xml.h). */
-#include <pthread.h>
-#include <stdio.h>
-
 #include "../core/internal.h"
 #include "xml.h"
 
@@ -9,25 +6,15 @@
 #error "the build names libxml2's soname (CMakeLists.txt: SINEW_LIBXML2_SONAME)"
 #endif
 
-const import_xml_api *import_xml;
-
 static import_xml_api loaded;
-static char failure[256];
-static pthread_once_t once = PTHREAD_ONCE_INIT;
-
-static void load(void)
-{
+const import_xml_api *const import_xml = &loaded;
 #define IMPORT_XML_NAME(name) #name,
-    static const char *const names[IMPORT_XML_SYMBOLS] = {IMPORT_XML_FUNCTIONS(IMPORT_XML_NAME) "xmlFree"};
+static const char *const names[IMPORT_XML_SYMBOLS] = {IMPORT_XML_FUNCTIONS(IMPORT_XML_NAME) "xmlFree"};
 #undef IMPORT_XML_NAME
-    if (sinew_lazy_open(SINEW_LIBXML2_SONAME, names, loaded.symbol, IMPORT_XML_SYMBOLS, failure, sizeof failure))
-        import_xml = &loaded;
-}
+static sinew_lazy_library libxml2 = {
+    .soname = SINEW_LIBXML2_SONAME, .names = names, .symbols = loaded.symbol, .count = IMPORT_XML_SYMBOLS};
 
 bool import_xml_load(char *why, size_t size)
 {
-    pthread_once(&once, load);
-    if (!import_xml && why && size)
-        snprintf(why, size, "%s", failure);
-    return import_xml != NULL;
+    return sinew_lazy_load(&libxml2, why, size);
 }

@@ -66,8 +66,8 @@ typedef union import_xml_api {
     void *symbol[IMPORT_XML_SYMBOLS];
 } import_xml_api;
 
-/* The loaded functions; NULL until import_xml_load() succeeds. */
-extern const import_xml_api *import_xml;
+/* The loaded functions: valid once import_xml_load() has succeeded. */
+extern const import_xml_api *const import_xml;
 
 /* Loads libxml2 once (thread-safe); false with the reason in `why` (the library named, dlerror()'s
  * words) when it cannot be. */

@@ -128,8 +128,8 @@ typedef union render_gl_api {
     void *symbol[RENDER_GL_SYMBOLS];
 } render_gl_api;
 
-/* The loaded symbols; NULL until render_gl_load() succeeds. */
-extern const render_gl_api *render_gl;
+/* The loaded symbols: valid once render_gl_load() has succeeded. */
+extern const render_gl_api *const render_gl;
 
 /* Loads libepoxy once (thread-safe); false with the reason in `why`. */
 bool render_gl_load(char *why, size_t size);

@@ -15,7 +15,6 @@
  * bounding circle's, about what a standing figure fills).
  */
 #include <meshoptimizer.h>
-#include <pthread.h>
 #include <string.h>
 
 #include "../core/internal.h"
@@ -36,17 +35,11 @@ static union {
     };
     void *symbol[5];
 } meshopt;
-static bool meshopt_loaded;
-static pthread_once_t meshopt_once = PTHREAD_ONCE_INIT;
-
-static void load_meshopt(void)
-{
-    static const char *const names[5] = {"meshopt_simplify", "meshopt_optimizeVertexCache",
-                                         "meshopt_optimizeVertexFetchRemap", "meshopt_remapIndexBuffer",
-                                         "meshopt_remapVertexBuffer"};
-    char why[256];
-    meshopt_loaded = sinew_lazy_open(SINEW_MESHOPTIMIZER_SONAME, names, meshopt.symbol, 5, why, sizeof why);
-}
+static const char *const meshopt_names[5] = {"meshopt_simplify", "meshopt_optimizeVertexCache",
+                                             "meshopt_optimizeVertexFetchRemap", "meshopt_remapIndexBuffer",
+                                             "meshopt_remapVertexBuffer"};
+static sinew_lazy_library meshoptimizer = {
+    .soname = SINEW_MESHOPTIMIZER_SONAME, .names = meshopt_names, .symbols = meshopt.symbol, .count = 5};
 
 #define LOD_MIN_TRIANGLES 1000u
 #define LOD_ERROR 0.02f /* of the mesh's size */
@@ -72,8 +65,7 @@ bool render_lod_build(const sinew_mesh *mesh, const sinew_allocator *allocator, 
     *indices = NULL;
     for (int l = 0; l < RENDER_LOD_LEVELS; l++)
         lod->first[l] = 0, lod->count[l] = mesh->index_count;
-    pthread_once(&meshopt_once, load_meshopt);
-    if (mesh->index_count / 3 < LOD_MIN_TRIANGLES || !mesh->positions || !meshopt_loaded)
+    if (mesh->index_count / 3 < LOD_MIN_TRIANGLES || !mesh->positions || !sinew_lazy_load(&meshoptimizer, NULL, 0))
         return true;
     /* the full list, then each level's, one after another */
     size_t room = (size_t)mesh->index_count * 2 + 1;
