@@ -75,9 +75,10 @@ typedef struct sinew_import_desc {
                                          allocate inside is not counted.) */
     int stderr_fd;                    /* 0: its stderr is kept, and its last lines quoted when it fails; else
                                          the descriptor it writes its stderr to (2: the caller's stderr) */
-    /* Called on the calling thread about every 50 ms while the helper works (once, before
-     * reading, in this process): `fraction` is -1 while the file is read, then 0..1 as the model
-     * comes back. Returning false stops the helper at once: SINEW_ERROR_CANCELLED. NULL: none. */
+    /* Called on the calling thread before reading and about every 50 ms while the file is read
+     * (in this process, or in the helper): `fraction` is -1 while the file is read, then, from
+     * the helper, 0..1 as the model comes back. Returning false stops the import at once:
+     * SINEW_ERROR_CANCELLED. NULL: none. */
     bool (*progress)(float fraction, void *user);
     void *progress_user;
     /* Where files come from, as cgltf's and ufbx's file callbacks: the model (sinew_import()) and its

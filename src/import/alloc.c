@@ -15,11 +15,14 @@
 typedef struct import_alloc {
     uint64_t limit; /* bytes the readers may hold; UINT64_MAX: none */
     uint64_t in_use, peak;
-    uint64_t count;   /* allocations so far */
-    uint64_t fail_at; /* fail the allocation with this number (1 first); 0: none */
-    double deadline;  /* CLOCK_MONOTONIC seconds; 0: none */
-    uint32_t polls;   /* deadline checks since the clock was last read */
-    bool over_limit, failed, late;
+    uint64_t count;                               /* allocations so far */
+    uint64_t fail_at;                             /* fail the allocation with this number (1 first); 0: none */
+    double deadline;                              /* CLOCK_MONOTONIC seconds; 0: none */
+    uint32_t polls;                               /* deadline checks since the clock was last read */
+    bool (*progress)(float fraction, void *user); /* asked every PROGRESS_EVERY seconds; NULL: none */
+    void *progress_user;
+    double next_progress;
+    bool over_limit, failed, late, cancelled;
 } import_alloc;
 
 static _Thread_local import_alloc *current;
@@ -33,13 +36,18 @@ static double monotonic_seconds(void)
     return (double)ts.tv_sec + (double)ts.tv_nsec * 1e-9;
 }
 
-void import_alloc_begin(import_alloc_state *state, uint64_t limit, double seconds)
+#define PROGRESS_EVERY 0.05
+
+void import_alloc_begin(import_alloc_state *state, uint64_t limit, double seconds,
+                        bool (*progress)(float fraction, void *user), void *progress_user)
 {
     import_alloc *a = (import_alloc *)state->opaque;
     _Static_assert(sizeof(import_alloc) <= sizeof state->opaque, "room for the state");
     *a = (import_alloc){.limit = limit ? limit : UINT64_MAX,
                         .fail_at = sweep_fail_at,
-                        .deadline = seconds > 0.0 ? monotonic_seconds() + seconds : 0.0};
+                        .deadline = seconds > 0.0 ? monotonic_seconds() + seconds : 0.0,
+                        .progress = progress,
+                        .progress_user = progress_user};
     state->outer = current;
     current = a;
 }
@@ -53,7 +61,8 @@ void import_alloc_end(import_alloc_state *state, import_alloc_result *result)
                                         .limit = a->limit,
                                         .over_limit = a->over_limit,
                                         .refused = a->failed,
-                                        .late = a->late};
+                                        .late = a->late,
+                                        .cancelled = a->cancelled};
     last_count = a->count;
     current = state->outer;
 }
@@ -68,17 +77,23 @@ uint64_t import_alloc_last_count(void)
     return last_count;
 }
 
-/* Whether the import is past its deadline: the clock is read every 64th call (a call costs a
- * branch), and once late it stays late. */
+/* Whether the import is past its deadline or was cancelled: the clock is read every 64th call
+ * (a call costs a branch); the progress callback is asked at the first reading, then every
+ * PROGRESS_EVERY seconds, and returning false cancels. Once stopped it stays stopped. */
 static bool past_deadline(import_alloc *a)
 {
-    if (!a || a->deadline == 0.0)
+    if (!a || (a->deadline == 0.0 && !a->progress))
         return false;
-    if (!a->late && ++a->polls >= 64) {
+    if (!a->late && !a->cancelled && ++a->polls >= 64) {
         a->polls = 0;
-        a->late = monotonic_seconds() > a->deadline;
+        double now = monotonic_seconds();
+        a->late = a->deadline != 0.0 && now > a->deadline;
+        if (a->progress && now >= a->next_progress) {
+            a->next_progress = now + PROGRESS_EVERY;
+            a->cancelled = !a->progress(-1.0f, a->progress_user);
+        }
     }
-    return a->late;
+    return a->late || a->cancelled;
 }
 
 bool import_late(void)

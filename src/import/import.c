@@ -414,6 +414,8 @@ static double own_seconds(const sinew_import_desc *desc)
 static sinew_result allocation_outcome(sinew_result result, const import_alloc_result *used, const char *name,
                                        const sinew_import_desc *desc, sinew_error *error)
 {
+    if (used->cancelled)
+        return sinew_fail(error, SINEW_ERROR_CANCELLED, "%s: the import was cancelled", name);
     if (used->late && result != SINEW_ERROR_CANCELLED)
         return sinew_fail(error, SINEW_ERROR_LIMIT_TIME,
                           "%s: the import took longer than its %.3g s deadline and was stopped (the file may make "
@@ -460,7 +462,8 @@ static sinew_result import_bytes(const unsigned char *bytes, size_t size, const 
     reading_for = desc;
     import_alloc_state state;
     import_alloc_result used;
-    import_alloc_begin(&state, own_limit(desc, size), own_seconds(desc));
+    import_alloc_begin(&state, own_limit(desc, size), own_seconds(desc), desc ? desc->progress : NULL,
+                       desc ? desc->progress_user : NULL);
     raw_model raw;
     sinew_result result = choice.read(name, bytes, size, &raw, error);
     reading_for = was;
@@ -543,7 +546,7 @@ sinew_result sinew_import_blob_desc(const sinew_import_desc *desc, void **bytes,
     uint64_t file_size = stat(desc->path, &st) == 0 ? (uint64_t)st.st_size : 0;
     import_alloc_state state;
     import_alloc_result used;
-    import_alloc_begin(&state, own_limit(desc, file_size), own_seconds(desc));
+    import_alloc_begin(&state, own_limit(desc, file_size), own_seconds(desc), desc->progress, desc->progress_user);
     raw_model raw;
     if ((result = raw_model_read(desc->path, desc->assimp, &raw, error)) == SINEW_OK) {
         result = raw_model_build(&raw, bytes, size, error);

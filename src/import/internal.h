@@ -372,10 +372,11 @@ void collada_split_clips(const char *path, raw_model *model);
 
 /* alloc.c: an import's own allocation accounting and deadline (alloc.h routes the readers'
  * allocations through it). begin .. end on one thread, nested imports stacked. Past the
- * deadline every allocation fails, and import_late() says so: a reader's long loops ask it and
- * stop as for a failed allocation; the import then fails with SINEW_ERROR_LIMIT_TIME. */
+ * deadline (or once cancelled) every allocation fails, and import_late() says so: a reader's long
+ * loops ask it and stop as for a failed allocation; the import then fails with
+ * SINEW_ERROR_LIMIT_TIME (SINEW_ERROR_CANCELLED). */
 typedef struct import_alloc_state {
-    unsigned char opaque[64];
+    unsigned char opaque[128];
     void *outer;
 } import_alloc_state;
 typedef struct import_alloc_result {
@@ -383,9 +384,12 @@ typedef struct import_alloc_result {
     bool over_limit; /* an allocation was refused for the limit */
     bool refused;    /* an allocation failed (import_alloc_sweep(), or the system's malloc) */
     bool late;       /* the deadline passed */
+    bool cancelled;  /* the progress callback said stop */
 } import_alloc_result;
-/* `seconds`: the time it may take (0 or less: no deadline). */
-void import_alloc_begin(import_alloc_state *state, uint64_t limit, double seconds);
+/* `seconds`: the time it may take (0 or less: no deadline); `progress` (may be NULL) is asked
+ * about every 50 ms, and returning false stops the import as the deadline does. */
+void import_alloc_begin(import_alloc_state *state, uint64_t limit, double seconds,
+                        bool (*progress)(float fraction, void *user), void *progress_user);
 bool import_late(void);
 void import_alloc_end(import_alloc_state *state, import_alloc_result *result);
 /* An arena of the import: what is taken is zeroed and 16-byte aligned, and stays until the whole

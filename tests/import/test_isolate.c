@@ -122,6 +122,12 @@ static bool note_progress(float fraction, void *user)
     return now() - log->start < log->cancel_at;
 }
 
+static bool stop_on_second_call(float fraction, void *user)
+{
+    (void)fraction;
+    return ++*(int *)user < 2;
+}
+
 /* The progress callback hears from the helper every 50 ms or so; returning false stops it at
  * once with SINEW_ERROR_CANCELLED (the viewer's Cancel button); a file that reads in time
  * reports its reply's arrival up to 1. */
@@ -154,6 +160,18 @@ static void test_progress_and_cancel(void **state)
     expect(import_with(&desc, &error), SINEW_ERROR_CANCELLED, &error, good, "cancelled");
     assert_int_equal(log.calls, 1);
     assert_no_children();
+    /* and asked again while it reads (the first time soon after it starts, then every 50 ms):
+     * stopping then stops it too */
+    char big[1024];
+    if (testdata_path("ozz/pab/walk.fbx", big, sizeof big)) {
+        int calls = 0;
+        desc = (sinew_import_desc){.path = big, .progress = stop_on_second_call, .progress_user = &calls};
+        expect(import_with(&desc, &error), SINEW_ERROR_CANCELLED, &error, big, "cancelled");
+        assert_int_equal(calls, 2);
+        calls = -1000; /* never stops: the import ends as usual */
+        assert_int_equal(import_with(&desc, &error), SINEW_OK);
+        assert_true(calls > -1000 + 1);
+    }
 }
 
 static void test_memory_limit(void **state)
