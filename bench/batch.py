@@ -149,7 +149,7 @@ def main():
         for f in files:
             subprocess.run([args.sinew, "pose", f, "--json", "-q"], stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
         result["cli_loop_s"] = time.perf_counter() - t
-        for mode, extra in (("", ()), ("_in_process", ("--in-process",))):
+        for mode, extra in (("", ()), ("_isolated", ("--isolate",))):
             for workers in (1, 2):
                 seconds, rows = batch(python, library, os.path.join(work, "out%d" % workers), workers, env, extra)
                 result["batch%d%s_s" % (workers, mode)] = seconds
@@ -199,7 +199,7 @@ def main():
     print("library: %d files (../shared/testdata repeated)" % n)
     print("  sinew pose --json, a process a file: %6.1f files/s  %6.1f ms a file" % (
         n / result["cli_loop_s"], 1000 * result["cli_loop_s"] / n))
-    for mode, label in (("", ""), ("_in_process", " --in-process")):
+    for mode, label in (("", ""), ("_isolated", " --isolate")):
         for w in (1, 2):
             s = result["batch%d%s_s" % (w, mode)]
             print("  sinew batch --workers %d%-13s %6.1f files/s  %6.1f ms a file  (%d frames, %d failed)" % (
