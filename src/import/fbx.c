@@ -91,6 +91,16 @@ static dmat euler_matrix(const double degrees[3], int order)
     return m;
 }
 
+/* The inverse (transpose) of an XYZ Euler rotation's matrix. */
+static dmat inverse_rotation(const double degrees[3])
+{
+    dmat r = euler_matrix(degrees, 0), inverse = dmat_identity();
+    for (int i = 0; i < 3; i++)
+        for (int j = 0; j < 3; j++)
+            inverse.m[i * 4 + j] = r.m[j * 4 + i];
+    return inverse;
+}
+
 /* The Euler angles (degrees, applied in `order`) of the rotation of a unit quaternion
  * (x, y, z, w); in gimbal lock the first angle is 0. */
 static void quat_euler(const double q[4], int order, double out[3])
@@ -482,6 +492,8 @@ static void read_statics(scene *s, uint32_t model)
     st->order = prop_int(o, "RotationOrder", 0);
     if (s->legacy && !o->props)
         read_channel_defaults(o->node, st);
+    st->pre = euler_matrix(st->value[P_PRE_ROTATION], 0);
+    st->post_inverse = inverse_rotation(st->value[P_POST_ROTATION]);
 }
 
 /* ---- animation ------------------------------------------------------------------------ */
@@ -832,15 +844,14 @@ static void node_local(const scene *s, uint32_t model, int32_t stack, double t_s
     const double *pre = v[P_PRE_ROTATION], *post = v[P_POST_ROTATION];
     int order = s->statics[model].order;
     dmat rot = euler_matrix(r, order);
+    const fbx_static *st = &s->statics[model];
     if (pre[0] != 0 || pre[1] != 0 || pre[2] != 0) {
-        dmat rpre = euler_matrix(pre, 0);
+        dmat rpre = memcmp(pre, st->value[P_PRE_ROTATION], sizeof st->value[0]) == 0 ? st->pre : euler_matrix(pre, 0);
         rot = dmat_mul(&rpre, &rot);
     }
     if (post[0] != 0 || post[1] != 0 || post[2] != 0) {
-        dmat rpost = euler_matrix(post, 0), rpost_inv = dmat_identity();
-        for (int i = 0; i < 3; i++)
-            for (int j = 0; j < 3; j++)
-                rpost_inv.m[i * 4 + j] = rpost.m[j * 4 + i];
+        dmat rpost_inv = memcmp(post, st->value[P_POST_ROTATION], sizeof st->value[0]) == 0 ? st->post_inverse
+                                                                                            : inverse_rotation(post);
         rot = dmat_mul(&rot, &rpost_inv);
     }
     double inner[3], a[3], b[3];

@@ -113,6 +113,9 @@ typedef struct fbx_binding {
 typedef struct fbx_static {
     double value[P_COUNT][3];
     int order; /* rotation order */
+    /* value[]'s pre-rotation and inverse post-rotation matrices, made once: node_local() takes
+     * them while the animated values are the same (nearly always: they are rarely animated) */
+    dmat pre, post_inverse;
 } fbx_static;
 
 typedef struct scene {
