@@ -99,6 +99,9 @@ bool import_read_file(const char *path, unsigned char **bytes, size_t *size)
     ok = n >= 0 && fseek(f, 0, SEEK_SET) == 0;
     unsigned char *buf = ok ? malloc((size_t)n + 1) : NULL;
     bool starved = ok && !buf;
+    if (buf) /* a large file's pages in one call, not a fault a page. (Not mapped: a file truncated while
+              * mapped ends the process with SIGBUS, and sinew-view --watch reads files being rewritten.) */
+        sinew_prefault(buf, (size_t)n);
     ok = buf && fread(buf, 1, (size_t)n, f) == (size_t)n;
     int why = starved ? ENOMEM : errno; /* what failed, not what fclose() leaves */
     fclose(f);
@@ -110,46 +113,6 @@ bool import_read_file(const char *path, unsigned char **bytes, size_t *size)
     buf[n] = 0;
     *bytes = buf;
     *size = (size_t)n;
-    return true;
-}
-
-/* A model file's bytes for a reader, read into a buffer whose pages are filled in first (one
- * call, not a fault a page). Not mapped: a file truncated while it is read (an exporter writing
- * it again under `sinew-view --watch`) would end the process with SIGBUS. */
-static bool read_model_file(const char *path, unsigned char **bytes, size_t *size)
-{
-    struct stat st;
-    int fd = reading_for && reading_for->read_file ? -1 : open(path, O_RDONLY | O_CLOEXEC);
-    if (fd < 0 || fstat(fd, &st) != 0 || !S_ISREG(st.st_mode) || st.st_size < (off_t)(256 << 10)) {
-        if (fd >= 0)
-            close(fd);
-        return import_read_file(path, bytes, size);
-    }
-    size_t n = (size_t)st.st_size, got = 0;
-    unsigned char *buf = malloc(n + 1);
-    int why = ENOMEM;
-    if (buf) {
-        sinew_prefault(buf, n);
-        while (got < n) {
-            ssize_t r = read(fd, buf + got, n - got);
-            if (r < 0 && errno == EINTR)
-                continue;
-            if (r <= 0) {
-                why = r < 0 ? errno : EIO;
-                break;
-            }
-            got += (size_t)r;
-        }
-    }
-    close(fd);
-    if (!buf || got != n) {
-        free(buf);
-        errno = why;
-        return false;
-    }
-    buf[n] = 0;
-    *bytes = buf;
-    *size = n;
     return true;
 }
 
@@ -510,9 +473,8 @@ const char *import_reader_name(const char *path, bool assimp)
     return choice.name ? choice.name : "the importer";
 }
 
-static sinew_result raw_model_read(const char *path, bool assimp, raw_model *raw, sinew_error *error)
+static sinew_result raw_model_read(const char *path, reader_choice choice, raw_model *raw, sinew_error *error)
 {
-    reader_choice choice = choose_reader(path, assimp);
     if (choice.refusal)
         return sinew_fail(error, SINEW_ERROR_FORMAT, "%s: %s", path, choice.refusal);
     if (!choice.read && !import_assimp_reader)
@@ -521,7 +483,7 @@ static sinew_result raw_model_read(const char *path, bool assimp, raw_model *raw
         return import_assimp_reader(path, raw, error);
     unsigned char *bytes = NULL;
     size_t size = 0;
-    if (!read_model_file(path, &bytes, &size))
+    if (!import_read_file(path, &bytes, &size))
         return errno == ENOMEM
                    ? sinew_fail(error, SINEW_ERROR_OUT_OF_MEMORY, "%s: out of memory reading the file", path)
                    : sinew_fail(error, SINEW_ERROR_IO, "%s: cannot read: %s", path, strerror(errno));
@@ -530,6 +492,9 @@ static sinew_result raw_model_read(const char *path, bool assimp, raw_model *raw
     return result;
 }
 
+static sinew_result blob_of(const sinew_import_desc *desc, reader_choice choice, void **bytes, size_t *size,
+                            sinew_error *error);
+
 sinew_result sinew_import_blob_desc(const sinew_import_desc *desc, void **bytes, size_t *size, sinew_error *error)
 {
     if (!desc || !desc->path || !bytes || !size)
@@ -537,18 +502,23 @@ sinew_result sinew_import_blob_desc(const sinew_import_desc *desc, void **bytes,
     *bytes = NULL;
     *size = 0;
     sinew_result result = check_path(desc->path, error);
-    if (result)
-        return result;
-    reader_choice choice = choose_reader(desc->path, desc->assimp);
+    return result ? result : blob_of(desc, choose_reader(desc->path, desc->assimp), bytes, size, error);
+}
+
+/* sinew_import_blob_desc() for a checked path and its reader. */
+static sinew_result blob_of(const sinew_import_desc *desc, reader_choice choice, void **bytes, size_t *size,
+                            sinew_error *error)
+{
     if (!choice.read && !choice.refusal && !import_assimp_reader) /* Assimp: only the helper links it */
         return import_blob_in_helper(desc, bytes, size, error);
+    sinew_result result;
     struct stat st;
     uint64_t file_size = stat(desc->path, &st) == 0 ? (uint64_t)st.st_size : 0;
     import_alloc_state state;
     import_alloc_result used;
     import_alloc_begin(&state, own_limit(desc, file_size), own_seconds(desc), desc->progress, desc->progress_user);
     raw_model raw;
-    if ((result = raw_model_read(desc->path, desc->assimp, &raw, error)) == SINEW_OK) {
+    if ((result = raw_model_read(desc->path, choice, &raw, error)) == SINEW_OK) {
         result = raw_model_build(&raw, bytes, size, error);
         raw_model_free(&raw);
     }
@@ -636,7 +606,7 @@ static sinew_result import_file(const sinew_import_desc *desc, sinew_model **out
         return sinew_fail(error, SINEW_ERROR_CANCELLED, "%s: the import was cancelled", desc->path);
     void *bytes = NULL;
     size_t size = 0;
-    if ((result = sinew_import_blob_desc(desc, &bytes, &size, error)))
+    if ((result = blob_of(desc, choice, &bytes, &size, error)))
         return result;
     result = sinew_model_adopt_blob(bytes, size, desc->path, desc->allocator, out, error);
     if (result != SINEW_OK || desc->allocator) /* else the model's now */
