@@ -461,7 +461,8 @@ static bool near_memory_limit(const helper_run *run)
 #else
     uint64_t peak = run->peak_vm;
 #endif
-    return run->memory_limit != UINT64_MAX && peak >= run->memory_limit / 10 * 9;
+    /* (a limit of 0: no helper was started) */
+    return run->memory_limit != 0 && run->memory_limit != UINT64_MAX && peak >= run->memory_limit / 10 * 9;
 }
 
 static sinew_result memory_failure(const helper_run *run, const char *said, sinew_error *error)
@@ -515,8 +516,10 @@ static sinew_result helper_failed(helper_run *run, const sinew_import_desc *desc
                       WIFEXITED(status) ? WEXITSTATUS(status) : -1, lead, words);
 }
 
-sinew_result import_reply_decode(const unsigned char *bytes, size_t size, const char *path,
-                                 const sinew_allocator *allocator, sinew_model **out, sinew_error *error)
+/* The payload of a whole reply: SINEW_OK with the blob, else the helper's error (or the reply's
+ * fault) in `error`. */
+static sinew_result reply_blob(const unsigned char *bytes, size_t size, const char *path, const unsigned char **blob,
+                               size_t *blob_size, sinew_error *error)
 {
     reply_header reply;
     if (size < sizeof reply)
@@ -528,8 +531,11 @@ sinew_result import_reply_decode(const unsigned char *bytes, size_t size, const 
                           "%s: the import helper's reply is malformed (%zu bytes, header says %llu)", path, size,
                           (unsigned long long)reply.size);
     const unsigned char *payload = bytes + sizeof reply;
-    if (reply.kind == SINEW_OK)
-        return sinew_model_from_blob(payload, (size_t)reply.size, path, allocator, out, error);
+    if (reply.kind == SINEW_OK) {
+        *blob = payload;
+        *blob_size = (size_t)reply.size;
+        return SINEW_OK;
+    }
     const unsigned char *nul = reply.size ? memchr(payload, 0, (size_t)reply.size) : NULL;
     size_t text = nul ? (size_t)(nul - payload) + 1 : 0;
     if (reply.kind > SINEW_RESULT_LAST || !nul || (text != reply.size && text + REPLY_ERROR_TRAILER != reply.size))
@@ -546,6 +552,15 @@ sinew_result import_reply_decode(const unsigned char *bytes, size_t size, const 
     }
     return sinew_fail_at(error, (sinew_result)reply.kind, path, offset < -1 ? -1 : offset, line, "%s",
                          (const char *)payload);
+}
+
+sinew_result import_reply_decode(const unsigned char *bytes, size_t size, const char *path,
+                                 const sinew_allocator *allocator, sinew_model **out, sinew_error *error)
+{
+    const unsigned char *blob;
+    size_t blob_size;
+    sinew_result result = reply_blob(bytes, size, path, &blob, &blob_size, error);
+    return result ? result : sinew_model_from_blob(blob, blob_size, path, allocator, out, error);
 }
 
 void import_reply_put_where(unsigned char *out, int64_t offset, uint32_t line)
@@ -608,8 +623,7 @@ sinew_result import_in_helper(const sinew_import_desc *desc, sinew_model **out, 
     sinew_result result = run_helper(desc, &run, error);
     if (result == SINEW_OK)
         result = import_reply_decode(run.reply, run.reply_size, desc->path, desc->allocator, out, error);
-    if (run.memory_limit) /* the helper was started */
-        result = starved_is_limit(&run, result, error);
+    result = starved_is_limit(&run, result, error);
     free(run.reply);
     return result;
 }
@@ -617,26 +631,18 @@ sinew_result import_in_helper(const sinew_import_desc *desc, sinew_model **out, 
 sinew_result import_blob_in_helper(const sinew_import_desc *desc, void **bytes, size_t *size, sinew_error *error)
 {
     helper_run run = {0};
+    const unsigned char *blob = NULL;
+    size_t blob_size = 0;
     sinew_result result = run_helper(desc, &run, error);
-    reply_header reply = {0};
-    if (result == SINEW_OK && run.reply_size >= sizeof reply)
-        memcpy(&reply, run.reply, sizeof reply);
-    if (result == SINEW_OK && reply.kind == SINEW_OK && reply.magic == REPLY_MAGIC &&
-        reply.size == run.reply_size - sizeof reply) { /* the blob: moved to the front of the reply */
-        memmove(run.reply, run.reply + sizeof reply, (size_t)reply.size);
+    if (result == SINEW_OK)
+        result = reply_blob(run.reply, run.reply_size, desc->path, &blob, &blob_size, error);
+    if (result == SINEW_OK) { /* the blob, moved to the front of the reply, is the caller's */
+        memmove(run.reply, blob, blob_size);
         *bytes = run.reply;
-        *size = (size_t)reply.size;
+        *size = blob_size;
         return SINEW_OK;
     }
-    if (result == SINEW_OK) { /* the helper's error, or a malformed reply */
-        sinew_model *none = NULL;
-        result = import_reply_decode(run.reply, run.reply_size, desc->path, NULL, &none, error);
-        sinew_model_free(none);
-        if (result == SINEW_OK)
-            result = sinew_fail(error, SINEW_ERROR_IMPORTER, "%s: the import helper's reply is malformed", desc->path);
-    }
-    if (run.memory_limit) /* the helper was started */
-        result = starved_is_limit(&run, result, error);
+    result = starved_is_limit(&run, result, error);
     free(run.reply);
     return result;
 }
@@ -808,8 +814,7 @@ static sinew_result session_try(sinew_import_session *s, const char *path, sinew
                  !run.killed_for_memory && WIFSIGNALED(status) && WTERMSIG(status) == SIGKILL;
         result = helper_failed(&run, &desc, status, error);
     }
-    if (run.memory_limit) /* the helper was started */
-        result = starved_is_limit(&run, result, error);
+    result = starved_is_limit(&run, result, error);
     free(run.reply);
     return result;
 }
