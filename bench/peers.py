@@ -60,7 +60,9 @@ def in_library_ms(sinew, path, runs):
     if not os.path.exists(library):
         return None
     os.environ.setdefault("SINEW_LIBRARY", os.path.realpath(library))
-    sys.path.insert(0, os.path.join(HERE, "..", "python"))
+    package = os.path.join(HERE, "..", "python")
+    if package not in sys.path:
+        sys.path.insert(0, package)
     import time
     try:
         import sinew as binding

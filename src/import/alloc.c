@@ -129,23 +129,31 @@ static bool allowed(import_alloc *a, size_t size)
     return true;
 }
 
-static void took(import_alloc *a, void *p)
+/* `n` more (fewer) bytes held by the import. */
+static void charge(import_alloc *a, size_t n)
 {
-    if (a && !p)
-        a->failed = true; /* the system's malloc said no */
-    if (!a || !p)
-        return;
-    a->in_use += malloc_usable_size(p);
+    a->in_use += n;
     if (a->in_use > a->peak)
         a->peak = a->in_use;
 }
 
+static void discharge(import_alloc *a, size_t n)
+{
+    a->in_use = a->in_use > n ? a->in_use - n : 0;
+}
+
+static void took(import_alloc *a, void *p)
+{
+    if (a && !p)
+        a->failed = true; /* the system's malloc said no */
+    if (a && p)
+        charge(a, malloc_usable_size(p));
+}
+
 static void gave(import_alloc *a, void *p)
 {
-    if (!a || !p)
-        return;
-    size_t n = malloc_usable_size(p);
-    a->in_use = a->in_use > n ? a->in_use - n : 0;
+    if (a && p)
+        discharge(a, malloc_usable_size(p));
 }
 
 void *import_malloc(size_t size)
@@ -177,7 +185,7 @@ void *import_realloc(void *ptr, size_t size)
     if (!p && size && current)
         current->failed = true;
     if (p && current) {
-        current->in_use = current->in_use > old ? current->in_use - old : 0;
+        discharge(current, old);
         took(current, p);
     }
     return p;
@@ -224,17 +232,16 @@ static arena_chunk *chunk_new(size_t size)
             current->failed = true;
         return NULL;
     }
-    if (current) {
-        current->in_use += total;
-        if (current->in_use > current->peak)
-            current->peak = current->in_use;
-    }
+    if (current)
+        charge(current, total);
     *c = (arena_chunk){.size = size, .mapped = mapped};
     return c;
 }
 
 void *import_arena_take(import_arena *arena, size_t bytes)
 {
+    if (bytes > SIZE_MAX / 2)
+        return NULL;
     bytes = (bytes + 15) & ~(size_t)15;
     arena_chunk *head = arena->head;
     if (head && head->size - head->used >= bytes) {
@@ -246,8 +253,6 @@ void *import_arena_take(import_arena *arena, size_t bytes)
     if (grown > ARENA_LARGEST)
         grown = ARENA_LARGEST;
     bool own = bytes >= grown / 4;
-    if (bytes > SIZE_MAX / 2)
-        return NULL;
     arena_chunk *c = chunk_new(own ? bytes : grown);
     if (!c)
         return NULL;
@@ -268,7 +273,7 @@ void import_arena_free(import_arena *arena)
         next = c->next;
         size_t total = ARENA_HEADER + c->size;
         if (current)
-            current->in_use = current->in_use > total ? current->in_use - total : 0;
+            discharge(current, total);
         if (c->mapped)
             munmap(c, total);
         else
