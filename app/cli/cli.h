@@ -120,8 +120,10 @@ bool cli_scene_track(cli_scene *scene, double time);
 /* Poses at `time` and draws (no read-back). */
 bool cli_scene_draw(cli_scene *scene, double time);
 /* Seconds a frame of drawing (cli_scene_draw and glFinish, each frame timed; no read-back): the
- * median of `frames` frames at 60 Hz from t = warmup / 60, after `warmup` frames from 0. */
-bool cli_scene_time_frames(cli_scene *scene, int warmup, int frames, double *seconds_per_frame);
+ * median of `frames` frames at 60 Hz from t = warmup / 60, after `warmup` frames from 0; and when
+ * submit_seconds is given, the median of the part before glFinish (posing, palettes, GL calls:
+ * the CPU's share; the rest is waiting for the GPU). */
+bool cli_scene_time_frames(cli_scene *scene, int warmup, int frames, double *seconds_per_frame, double *submit_seconds);
 /* Reads the frame into scene->pixels. */
 bool cli_scene_read(cli_scene *scene);
 void cli_scene_close(cli_scene *scene);

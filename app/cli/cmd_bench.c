@@ -67,7 +67,7 @@ static int run_render_bench(const render_bench_args *a, int samples, int mode, d
     if (code != EXIT_OK)
         return code;
     bool ok = cli_scene_frame_all(&scene, 0.0, scene.clip ? scene.clip->duration : 0.0) &&
-              cli_scene_time_frames(&scene, 10, a->frames, spf);
+              cli_scene_time_frames(&scene, 10, a->frames, spf, NULL);
     bool written = true;
     if (ok && a->png && mode == 0)
         ok = cli_scene_read(&scene) && (written = cli_write_image(a->png, scene.pixels, a->width, a->height, false));

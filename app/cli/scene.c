@@ -215,7 +215,16 @@ static int compare_doubles(const void *a, const void *b)
     return x < y ? -1 : x > y;
 }
 
-bool cli_scene_time_frames(cli_scene *s, int warmup, int frames, double *seconds_per_frame)
+/* The median of n values (sorted in place). */
+static double median(double *v, int n)
+{
+    if (n <= 0)
+        return 0.0;
+    qsort(v, (size_t)n, sizeof *v, compare_doubles);
+    return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
+}
+
+bool cli_scene_time_frames(cli_scene *s, int warmup, int frames, double *seconds_per_frame, double *submit_seconds)
 {
     double t = 0.0;
     for (int i = 0; i < warmup; i++, t += 1.0 / 60.0)
@@ -224,7 +233,8 @@ bool cli_scene_time_frames(cli_scene *s, int warmup, int frames, double *seconds
     sinew_headless_finish(s->headless);
     /* each frame finished and timed on its own; the median, since the machines these run on
      * are shared and another process's burst would otherwise land in the mean */
-    double *each = malloc((size_t)(frames > 0 ? frames : 1) * sizeof *each);
+    double *each = malloc((size_t)(frames > 0 ? frames : 1) * 2 * sizeof *each),
+           *submit = each + (frames > 0 ? frames : 1);
     if (!each)
         return false;
     for (int i = 0; i < frames; i++, t += 1.0 / 60.0) {
@@ -233,12 +243,13 @@ bool cli_scene_time_frames(cli_scene *s, int warmup, int frames, double *seconds
             free(each);
             return false;
         }
+        submit[i] = cli_now_seconds() - start;
         sinew_headless_finish(s->headless);
         each[i] = cli_now_seconds() - start;
     }
-    qsort(each, (size_t)frames, sizeof *each, compare_doubles);
-    *seconds_per_frame =
-        frames > 0 ? (frames % 2 ? each[frames / 2] : 0.5 * (each[frames / 2 - 1] + each[frames / 2])) : 0.0;
+    *seconds_per_frame = median(each, frames);
+    if (submit_seconds)
+        *submit_seconds = median(submit, frames);
     free(each);
     return true;
 }
