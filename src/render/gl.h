@@ -81,6 +81,7 @@
     X(epoxy_glGetString)                                                                                               \
     X(epoxy_glGetUniformLocation)                                                                                      \
     X(epoxy_glLinkProgram)                                                                                             \
+    X(epoxy_glMapBufferRange)                                                                                          \
     X(epoxy_glPixelStorei)                                                                                             \
     X(epoxy_glPolygonMode)                                                                                             \
     X(epoxy_glPolygonOffset)                                                                                           \
@@ -103,6 +104,7 @@
     X(epoxy_glUniform4fv)                                                                                              \
     X(epoxy_glUniform4i)                                                                                               \
     X(epoxy_glUniformMatrix4fv)                                                                                        \
+    X(epoxy_glUnmapBuffer)                                                                                             \
     X(epoxy_glUseProgram)                                                                                              \
     X(epoxy_glVertexAttrib1f)                                                                                          \
     X(epoxy_glVertexAttrib2f)                                                                                          \
@@ -200,6 +202,7 @@ bool render_gl_load(char *why, size_t size);
 #define epoxy_glGetString (*render_gl->epoxy_glGetString)
 #define epoxy_glGetUniformLocation (*render_gl->epoxy_glGetUniformLocation)
 #define epoxy_glLinkProgram (*render_gl->epoxy_glLinkProgram)
+#define epoxy_glMapBufferRange (*render_gl->epoxy_glMapBufferRange)
 #define epoxy_glPixelStorei (*render_gl->epoxy_glPixelStorei)
 #define epoxy_glPolygonMode (*render_gl->epoxy_glPolygonMode)
 #define epoxy_glPolygonOffset (*render_gl->epoxy_glPolygonOffset)
@@ -222,6 +225,7 @@ bool render_gl_load(char *why, size_t size);
 #define epoxy_glUniform4fv (*render_gl->epoxy_glUniform4fv)
 #define epoxy_glUniform4i (*render_gl->epoxy_glUniform4i)
 #define epoxy_glUniformMatrix4fv (*render_gl->epoxy_glUniformMatrix4fv)
+#define epoxy_glUnmapBuffer (*render_gl->epoxy_glUnmapBuffer)
 #define epoxy_glUseProgram (*render_gl->epoxy_glUseProgram)
 #define epoxy_glVertexAttrib1f (*render_gl->epoxy_glVertexAttrib1f)
 #define epoxy_glVertexAttrib2f (*render_gl->epoxy_glVertexAttrib2f)

@@ -113,11 +113,13 @@ void render_effects_fxaa(const render_effects *fx, const render_programs *progra
 
 /* Levels of detail (lod.c): index lists of a mesh, full then simplified, over the same
  * vertices. first/count: where each level's indices start in the list and how many; total:
- * the whole list's length. */
-#define RENDER_LOD_LEVELS 4
+ * the whole list's length; far_error: how far the last level (the far one) strays from the
+ * mesh, as a fraction of the mesh's largest extent (0 when it has no such level). */
+#define RENDER_LOD_LEVELS 5
 typedef struct render_lod {
     uint32_t first[RENDER_LOD_LEVELS], count[RENDER_LOD_LEVELS];
     uint32_t total;
+    float far_error;
 } render_lod;
 
 /* The levels of a mesh: *indices gets the whole list (through the allocator; NULL when the
@@ -131,8 +133,9 @@ bool render_lod_compact(const sinew_mesh *mesh, const uint32_t *indices, uint32_
                         const sinew_allocator *allocator, sinew_mesh *out, void **memory);
 /* The level for a character of `triangles` (its meshes' at full detail) whose bounding
  * sphere's radius spans this many pixels on screen: the finest whose triangles cover two
- * pixels or more each. */
-int render_lod_level(float projected_radius, uint32_t triangles);
+ * pixels or more each; past the others, the far level only where its error (far_error, the
+ * largest of the character's meshes') comes to less than a pixel. */
+int render_lod_level(float projected_radius, uint32_t triangles, float far_error);
 
 /* Reverses the order of `rows` rows of `row_bytes` each, in place (images store the top row
  * first, OpenGL the bottom one). */

@@ -67,12 +67,17 @@ static void test_levels_of_the_demo(void **state)
         lod_free(memory, NULL);
     }
     assert_true(lod.count[1] / 3 <= 7000 && lod.count[2] / 3 <= 1800);
+    /* the far level, simplified across the segments' seams: a few hundred triangles at most,
+     * its error measured (a few percent of the figure's height) */
+    assert_true(lod.count[RENDER_LOD_LEVELS - 1] / 3 <= 400);
+    assert_true(lod.far_error > 0.0f && lod.far_error <= 0.1f);
     lod_free(indices, NULL);
     /* a small mesh keeps one level */
     assert_true(render_lod_build(staff, &ALLOCATOR, &indices, &lod));
     assert_null(indices);
     for (int l = 0; l < RENDER_LOD_LEVELS; l++)
         assert_int_equal(lod.count[l], staff->index_count);
+    assert_true(lod.far_error == 0.0f);
     sinew_model_free(m);
 }
 
@@ -80,12 +85,15 @@ static void test_level_by_size(void **state)
 {
     (void)state;
     /* 27,904 triangles: full detail needs 55,808 pixels of figure (0.3 of the circle): r >= 243 */
-    assert_int_equal(render_lod_level(250.0f, 27904), 0);
-    assert_int_equal(render_lod_level(200.0f, 27904), 1);
-    assert_int_equal(render_lod_level(70.0f, 27904), 2);
-    assert_int_equal(render_lod_level(30.0f, 27904), 3);
-    assert_int_equal(render_lod_level(0.0f, 27904), RENDER_LOD_LEVELS - 1);
-    assert_int_equal(render_lod_level(20.0f, 100), 0); /* a small model stays whole */
+    assert_int_equal(render_lod_level(250.0f, 27904, 0.03f), 0);
+    assert_int_equal(render_lod_level(200.0f, 27904, 0.03f), 1);
+    assert_int_equal(render_lod_level(70.0f, 27904, 0.03f), 2);
+    assert_int_equal(render_lod_level(30.0f, 27904, 0.03f), 3);
+    /* the far level where its error (3% of a 2r-pixel figure) is under a pixel: r <= 16.7 */
+    assert_int_equal(render_lod_level(17.0f, 27904, 0.03f), 3);
+    assert_int_equal(render_lod_level(16.0f, 27904, 0.03f), 4);
+    assert_int_equal(render_lod_level(0.0f, 27904, 0.03f), RENDER_LOD_LEVELS - 1);
+    assert_int_equal(render_lod_level(20.0f, 100, 0.0f), 0); /* a small model stays whole */
 }
 
 int main(void)
