@@ -1,12 +1,12 @@
 /* JSON for the glTF reader: jsmn's flat tokenizer (the one cgltf uses), then one pass that
  * turns its tokens into one array of nodes: strings unescaped in place and NUL-terminated,
- * numbers read (in the C locale, whatever the program's), each node knowing how many nodes its
+ * numbers read exactly (Clinger's fast path, else strtod in the C locale), each node knowing how many nodes its
  * subtree holds, so that an object's members and an array's elements are found by stepping over
  * subtrees: no allocation a value, no pointers to chase.
  *
  * Stricter than jsmn alone: a member without a value, a literal other than true, false or null,
- * a number strtod does not read whole, more than one top-level value and a control character in
- * a string are refused with the byte offset. (jsmn still lets a missing comma between values
+ * a number outside RFC 8259's grammar (01, 1., .5, +1, 0x10, inf), more than one top-level value
+ * and a control character in a string are refused with the byte offset. (jsmn still lets a missing comma between values
  * pass, as cgltf does.) */
 #ifndef SINEW_IMPORT_JSON_H
 #define SINEW_IMPORT_JSON_H

@@ -1,0 +1,126 @@
+/* The glTF reader's JSON: numbers read exactly as strtod reads them (the fast path and the
+ * rest), and what RFC 8259 does not call a number refused. */
+#include <locale.h>
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include <cmocka.h>
+
+#include "import/json.h"
+
+/* The number in "[text]" (jsmn, strict, wants an array or object at the top). */
+static double parse_one(const char *number, bool *ok)
+{
+    char text[96];
+    snprintf(text, sizeof text, "[%s]", number);
+    json_doc doc = {0};
+    size_t at = 0;
+    const char *why = NULL;
+    *ok = json_parse(text, strlen(text), &doc, &at, &why) == SINEW_OK && doc.root->count == 1 &&
+          doc.root[1].type == JSON_NUMBER;
+    double v = *ok ? doc.root[1].number : 0.0;
+    json_free(&doc);
+    return v;
+}
+
+static void test_numbers_as_strtod(void **state)
+{
+    (void)state;
+    static const char *const numbers[] = {"0",
+                                          "-0",
+                                          "1",
+                                          "-1",
+                                          "0.5",
+                                          "3.14159265358979",
+                                          "1e10",
+                                          "1E-10",
+                                          "2.5e+3",
+                                          "-7.25e-2",
+                                          "0.1",
+                                          "0.2",
+                                          "0.30000000000000004",
+                                          "123456789012345",
+                                          "1234567890123456",
+                                          "12345678901234567890",
+                                          "0.000000000000000000000001",
+                                          "1e22",
+                                          "1e23",
+                                          "1e-22",
+                                          "1e-23",
+                                          "9007199254740993",
+                                          "4.9e-324",
+                                          "1.7976931348623157e308",
+                                          "2.2250738585072014e-308",
+                                          "0.1000000000000000055511151231257827",
+                                          "100000000000000000000000",
+                                          "0.00001",
+                                          "-0.0000000123",
+                                          "5e-1",
+                                          "1.000000000000000000000001",
+                                          "0.7071067811865476",
+                                          "-0.7071067811865475",
+                                          "1.0",
+                                          "10.0e0",
+                                          "123.456e-5"};
+    for (size_t i = 0; i < sizeof numbers / sizeof numbers[0]; i++) {
+        bool ok;
+        double v = parse_one(numbers[i], &ok), want = strtod(numbers[i], NULL);
+        if (!ok || memcmp(&v, &want, sizeof v) != 0)
+            fail_msg("\"%s\": read %.17g, strtod %.17g", numbers[i], v, want);
+    }
+    /* many generated decimals of up to 17 digits: every one bit-exact */
+    uint64_t seed = 12345;
+    char text[64];
+    for (int i = 0; i < 200000; i++) {
+        seed = seed * 6364136223846793005u + 1442695040888963407u;
+        int digits = 1 + (int)((seed >> 33) % 17), point = (int)((seed >> 40) % (unsigned)(digits + 1));
+        int exponent = (int)((seed >> 45) % 61) - 30;
+        int n = 0;
+        if (seed & 1)
+            text[n++] = '-';
+        uint64_t r = seed;
+        for (int d = 0; d < digits; d++) {
+            if (d == point && d > 0)
+                text[n++] = '.';
+            r = r * 6364136223846793005u + 1;
+            text[n++] = (char)('0' + (d == 0 && point > 1 ? 1 + (r >> 60) % 9 : (r >> 60) % 10));
+        }
+        if ((seed >> 20) & 1)
+            n += snprintf(text + n, sizeof text - (size_t)n, "e%d", exponent);
+        text[n] = 0;
+        if (text[seed & 1] == '0' && text[(seed & 1) + 1] >= '0' && text[(seed & 1) + 1] <= '9')
+            continue; /* a leading zero: not JSON */
+        bool ok;
+        double v = parse_one(text, &ok), want = strtod(text, NULL);
+        if (!ok || memcmp(&v, &want, sizeof v) != 0)
+            fail_msg("\"%s\": read %.17g (%s), strtod %.17g", text, v, ok ? "ok" : "refused", want);
+    }
+}
+
+static void test_not_numbers(void **state)
+{
+    (void)state;
+    static const char *const bad[] = {"01", "-01", "1.", ".5",   "+1",  "0x10", "inf",   "-inf", "nan",
+                                      "1e", "1e+", "-",  "1.e5", "- 1", "1f",   "0.5.5", "--1",  "1e5.5"};
+    for (size_t i = 0; i < sizeof bad / sizeof bad[0]; i++) {
+        bool ok;
+        parse_one(bad[i], &ok);
+        if (ok)
+            fail_msg("\"%s\" was read as a number", bad[i]);
+    }
+}
+
+int main(void)
+{
+    setlocale(LC_ALL, "C");
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_numbers_as_strtod),
+        cmocka_unit_test(test_not_numbers),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}
