@@ -488,11 +488,18 @@ static double bezier_parameter(double x, double x1, double x2)
     return s;
 }
 
-/* The curve between its first and last key. */
-static double eval_inside(const fbx_curve *c, double t)
+/* The first key after t (count when none). Bakers ask for times close to the last one (a key,
+ * points just around it, points inside the interval after it), so the last answer and the key
+ * after it are tried before a binary search. */
+static uint32_t key_after(const fbx_curve *c, double t)
 {
     const fbx_key *keys = c->keys;
-    uint32_t lo = 0, hi = c->count; /* first key after t */
+    uint32_t n = c->count, h = c->hint;
+    if (h < n && (h == 0 || keys[h - 1].time <= t) && t < keys[h].time)
+        return h;
+    if (h < n && keys[h].time <= t && (h + 1 == n || t < keys[h + 1].time))
+        return ((fbx_curve *)c)->hint = h + 1;
+    uint32_t lo = 0, hi = n;
     while (lo < hi) {
         uint32_t mid = lo + (hi - lo) / 2;
         if (keys[mid].time <= t)
@@ -500,6 +507,14 @@ static double eval_inside(const fbx_curve *c, double t)
         else
             hi = mid;
     }
+    return ((fbx_curve *)c)->hint = lo;
+}
+
+/* The curve between its first and last key. */
+static double eval_inside(const fbx_curve *c, double t)
+{
+    const fbx_key *keys = c->keys;
+    uint32_t lo = key_after(c, t);
     if (lo == 0)
         return keys[0].value;
     if (lo == c->count)
@@ -574,14 +589,7 @@ double fbx_curve_eval_at(const fbx_curve *c, double t, double clip_start, double
 {
     if (c->count > 1) {
         float ft = (float)(t - clip_start);
-        uint32_t lo = 0, hi = c->count; /* first key after t */
-        while (lo < hi) {
-            uint32_t mid = lo + (hi - lo) / 2;
-            if (c->keys[mid].time <= t)
-                lo = mid + 1;
-            else
-                hi = mid;
-        }
+        uint32_t lo = key_after(c, t);
         if (lo < c->count && (float)(c->keys[lo].time - clip_start) == ft)
             t = c->keys[lo].time;
         else if (lo > 0 && (float)(c->keys[lo - 1].time - clip_start) == ft)

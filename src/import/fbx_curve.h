@@ -49,6 +49,8 @@ typedef struct fbx_curve {
     fbx_extrapolation pre, post;
     double ticks_per_second; /* the file's: extrapolated cycles are whole ticks */
     bool in_arena;           /* the keys belong to the source's arena (fbx_curve_free leaves them) */
+    uint32_t hint;           /* the key after the time last looked up: a cache the evaluators write
+                              * through const (a curve is one import's, read on one thread) */
 } fbx_curve;
 
 /* How a file writes its curves' attributes: which FBX version, whether binary, and how many

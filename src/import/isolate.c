@@ -557,8 +557,8 @@ static sinew_result reply_blob(const unsigned char *bytes, size_t size, const ch
 sinew_result import_reply_decode(const unsigned char *bytes, size_t size, const char *path,
                                  const sinew_allocator *allocator, sinew_model **out, sinew_error *error)
 {
-    const unsigned char *blob;
-    size_t blob_size;
+    const unsigned char *blob = NULL;
+    size_t blob_size = 0;
     sinew_result result = reply_blob(bytes, size, path, &blob, &blob_size, error);
     return result ? result : sinew_model_from_blob(blob, blob_size, path, allocator, out, error);
 }
