@@ -364,6 +364,34 @@ static long lit_pixels(const image *im)
     return lit;
 }
 
+/* The demo's crowd of 100 at `size` with levels of detail against it drawn whole (coverage
+ * within 3/4 .. 21/20) and against CPU skinning (the same picture). */
+static void demo_crowd_levels(const char *size, const char *name)
+{
+    char names[3][64];
+    snprintf(names[0], sizeof names[0], "%s.png", name);
+    snprintf(names[1], sizeof names[1], "%s-whole.png", name);
+    snprintf(names[2], sizeof names[2], "%s-cpu.png", name);
+    image lod = RENDER(names[0], "builtin:demo", "--crowd", "100", "--time", "0.3", "--size", size, "--no-grid",
+                       "--background", "000000");
+    image whole = RENDER(names[1], "builtin:demo", "--crowd", "100", "--time", "0.3", "--size", size, "--no-grid",
+                         "--background", "000000", "--no-lod");
+    image cpu = RENDER(names[2], "builtin:demo", "--crowd", "100", "--time", "0.3", "--size", size, "--no-grid",
+                       "--background", "000000", "--skinning", "cpu");
+    long differing = 0, cpu_differing = 0;
+    same_picture(&lod, &whole, &differing);
+    bool cpu_same = same_picture(&lod, &cpu, &cpu_differing);
+    long covered = lit_pixels(&lod), whole_covered = lit_pixels(&whole);
+    printf("demo crowd of 100 at %s: with levels of detail vs whole %ld pixels differ (%ld vs %ld covered); GPU vs "
+           "CPU skinning with levels %ld\n",
+           size, differing, covered, whole_covered, cpu_differing);
+    assert_true(cpu_same);
+    assert_true(covered > whole_covered * 3 / 4 && covered <= whole_covered * 21 / 20);
+    free_image(&lod);
+    free_image(&whole);
+    free_image(&cpu);
+}
+
 /* A crowd: GPU skinning (instanced) and CPU skinning draw the same picture, linear blend
  * and dual quaternions alike; the crowd is not one character (more of the image is covered
  * than by the single model framed the same way); bad counts are refused. */
@@ -393,44 +421,10 @@ static void test_crowd(void **state)
     free_image(&dqs);
     /* levels of detail: the demo humanoid's crowd, small on screen (figures some 15 pixels
      * high: the coarsest level, limbs a little thinner), drawn with its simplified meshes
-     * covers nearly what the crowd drawn whole covers, by GPU and CPU skinning alike */
-    image lod = RENDER("crowd-lod.png", "builtin:demo", "--crowd", "100", "--time", "0.3", "--size", "640x360",
-                       "--no-grid", "--background", "000000");
-    image whole = RENDER("crowd-whole.png", "builtin:demo", "--crowd", "100", "--time", "0.3", "--size", "640x360",
-                         "--no-grid", "--background", "000000", "--no-lod");
-    image lod_cpu = RENDER("crowd-lod-cpu.png", "builtin:demo", "--crowd", "100", "--time", "0.3", "--size", "640x360",
-                           "--no-grid", "--background", "000000", "--skinning", "cpu");
-    long lod_differing = 0, lod_cpu_differing = 0;
-    same_picture(&lod, &whole, &lod_differing);
-    bool lod_cpu_same = same_picture(&lod, &lod_cpu, &lod_cpu_differing);
-    long lod_covered = lit_pixels(&lod), whole_covered = lit_pixels(&whole);
-    printf("demo crowd of 100 at 640x360: with levels of detail vs whole %ld pixels differ (%ld vs %ld covered); GPU "
-           "vs CPU skinning with levels %ld\n",
-           lod_differing, lod_covered, whole_covered, lod_cpu_differing);
-    assert_true(lod_cpu_same);
-    assert_true(lod_covered > whole_covered * 3 / 4 && lod_covered <= whole_covered * 21 / 20);
-    free_image(&lod);
-    free_image(&whole);
-    free_image(&lod_cpu);
-    /* the far level (figures some 10 pixels high, where its error is under a pixel): still the
-     * crowd, and GPU and CPU skinning draw the same */
-    image far = RENDER("crowd-far.png", "builtin:demo", "--crowd", "100", "--time", "0.3", "--size", "320x180",
-                       "--no-grid", "--background", "000000");
-    image far_whole = RENDER("crowd-far-whole.png", "builtin:demo", "--crowd", "100", "--time", "0.3", "--size",
-                             "320x180", "--no-grid", "--background", "000000", "--no-lod");
-    image far_cpu = RENDER("crowd-far-cpu.png", "builtin:demo", "--crowd", "100", "--time", "0.3", "--size", "320x180",
-                           "--no-grid", "--background", "000000", "--skinning", "cpu");
-    long far_differing = 0, far_cpu_differing = 0;
-    same_picture(&far, &far_whole, &far_differing);
-    bool far_cpu_same = same_picture(&far, &far_cpu, &far_cpu_differing);
-    long far_covered = lit_pixels(&far), far_whole_covered = lit_pixels(&far_whole);
-    printf("demo crowd of 100 at 320x180: far level vs whole %ld pixels differ (%ld vs %ld covered); GPU vs CPU %ld\n",
-           far_differing, far_covered, far_whole_covered, far_cpu_differing);
-    assert_true(far_cpu_same);
-    assert_true(far_covered > far_whole_covered * 3 / 4 && far_covered <= far_whole_covered * 21 / 20);
-    free_image(&far);
-    free_image(&far_whole);
-    free_image(&far_cpu);
+     * covers nearly what the crowd drawn whole covers, by GPU and CPU skinning alike; and at
+     * 320x180 (figures some 10 pixels high) with the far level, where its error is under a pixel */
+    demo_crowd_levels("640x360", "crowd-lod");
+    demo_crowd_levels("320x180", "crowd-far");
     /* a file without meshes: a crowd of skeletons */
     char bvh[1024];
     if (testdata_path("assimp/BVH/01_01.bvh", bvh, sizeof bvh)) {
