@@ -10,8 +10,9 @@
 #     ones work;
 #  2. `sinew bench render` (frames per second, GPU and CPU skinning, 4x MSAA and none) on the
 #     generated character and on each skinned model; `sinew bench crowd` on the demo humanoid;
-#  3. renders each model at one moment with --skinning gpu and --skinning cpu, and compares the
-#     two images pixel by pixel (the vertex shader and the library's skinning must agree).
+#  3. renders each model (and three crowds) at one moment with --skinning gpu and --skinning cpu,
+#     and compares the two images pixel by pixel (the vertex shader and the library's skinning
+#     must agree).
 # bench/README.md records what it printed. Needs python3 with numpy and Pillow for step 3.
 set -u
 S=$1 M=$2 O=$3
@@ -66,6 +67,10 @@ shot dqs-forced "$M/max_transformed_skin_7500_binary.fbx" 0.5 --skinning-method 
 shot morphcube "$M/AnimatedMorphCube.glb" 1.0
 shot morphprims "$M/MorphPrimitivesTest.glb" 0
 shot humanoid-muscles "$M/demo/humanoid.dae" 0.5 --clip wave --muscles
+# crowds: instanced GPU skinning against the CPU's batches (a mapped stream buffer, base vertices)
+shot crowd-humanoid "$M/demo/humanoid.dae" 0.5 --crowd 64
+shot crowd-far "$M/demo/humanoid.dae" 0.5 --crowd 400
+shot crowd-robot "$M/robot.glb" 0.5 --crowd 16
 python3 - "$O/img" <<'EOF' | tee -a "$O/gpu.txt"
 import sys, glob, os
 import numpy as np
