@@ -1880,6 +1880,23 @@ static void bake_node_eval(const void *context, double t, bake_trs *out)
     memcpy(out->s, l.s, sizeof out->s);
 }
 
+/* The clip time of the node's key that the float clip time t stands for (fbx_curve_eval_at
+ * takes a float-equal time as the key's), or t. */
+static double bake_node_key_time(const void *context, double t)
+{
+    const bake_node *n = context;
+    const fbx_object *o = &n->s->objects[n->model];
+    for (uint32_t b = o->first_binding; b < o->first_binding + o->binding_count; b++) {
+        const fbx_binding *bind = &n->s->bindings[b];
+        for (int c = 0; bind->stack == (uint32_t)n->stack && c < 3; c++) {
+            double k;
+            if (bind->curves[c] >= 0 && fbx_curve_key_near(&n->s->curves[bind->curves[c]], n->start + t, n->start, &k))
+                return k - n->start;
+        }
+    }
+    return t;
+}
+
 static int compare_float(const void *a, const void *b)
 {
     float x = *(const float *)a, y = *(const float *)b;
@@ -2032,6 +2049,7 @@ static sinew_result build_clip(scene *s, uint32_t stack)
          * world's (the check against ufbx bounds the result in world space). */
         bake_node node = {s, model, (int32_t)stack, start};
         bake_desc desc = {.eval = bake_node_eval,
+                          .key_time = bake_node_key_time,
                           .context = &node,
                           .tol_t = FBX_BAKE_TOLERANCE * s->diagonal,
                           .tol_r = FBX_BAKE_TOLERANCE,

@@ -598,6 +598,20 @@ double fbx_curve_eval_at(const fbx_curve *c, double t, double clip_start, double
     return fbx_curve_eval(c, t, fallback);
 }
 
+bool fbx_curve_key_near(const fbx_curve *c, double t, double clip_start, double *key)
+{
+    if (c->count == 0)
+        return false;
+    float ft = (float)(t - clip_start);
+    uint32_t lo = key_after(c, t);
+    for (uint32_t k = lo > 0 ? lo - 1 : 0; k <= lo && k < c->count; k++)
+        if ((float)(c->keys[k].time - clip_start) == ft) {
+            *key = c->keys[k].time;
+            return true;
+        }
+    return false;
+}
+
 bool fbx_curve_step(const fbx_curve *c, uint32_t k, bool *after_key)
 {
     if (k + 1 >= c->count)

@@ -80,6 +80,9 @@ double fbx_curve_eval(const fbx_curve *c, double t, double fallback);
 /* The same at the clip time `t - clip_start` as the runtime's float clip times see it: a key
  * whose clip time is the same float counts as at t, so that a step at a key stays at its key. */
 double fbx_curve_eval_at(const fbx_curve *c, double t, double clip_start, double fallback);
+/* Whether a key of the curve has the clip time of t as a float (as fbx_curve_eval_at matches
+ * them); *key gets its time (seconds). */
+bool fbx_curve_key_near(const fbx_curve *c, double t, double clip_start, double *key);
 
 /* Whether the segment that starts at key k is a step, and when its value changes: the time
  * just before key k + 1 (constant-previous) or just after key k (constant-next). */

@@ -230,6 +230,9 @@ typedef struct bake_trs {
 
 typedef struct bake_desc {
     void (*eval)(const void *context, double time, bake_trs *out); /* exact, at clip time (s) */
+    /* Optional: the exact clip time of the file's key that `time` (a float clip time) stands
+     * for, or `time` itself: a key's derivatives are taken around where it really is. */
+    double (*key_time)(const void *context, double time);
     const void *context;
     double tol_t, tol_r, tol_s; /* translation (file units), rotation (rad), relative scale */
     uint64_t *budget;           /* keys the whole clip may still add by halving */
