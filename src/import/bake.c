@@ -47,7 +47,9 @@ static void bake_eval(const bake *b, double t, const double *near, double out[10
  * taken around the file's own key time where the reader knows it: `t` is a float clip time,
  * up to half a float step away, and differences around it mixed the key's exact value with
  * points beside it (in and out then differed by 0.1% at smooth keys of walk.fbx, and the
- * halving added a third more keys to make up for it). */
+ * halving added a third more keys to make up for it). One-sided even where in and out agree:
+ * keyed curves are C1 at their keys but their second derivative jumps there, which a central
+ * difference carries as an error of h * (jump) / 4 (tried: 70% more keys). */
 static void bake_key_at(const bake *b, double t, double h, const double *near, bake_key *k)
 {
     double f1[10], f2[10], g1[10], g2[10];
