@@ -233,10 +233,11 @@ bool cli_scene_time_frames(cli_scene *s, int warmup, int frames, double *seconds
     sinew_headless_finish(s->headless);
     /* each frame finished and timed on its own; the median, since the machines these run on
      * are shared and another process's burst would otherwise land in the mean */
-    double *each = malloc((size_t)(frames > 0 ? frames : 1) * 2 * sizeof *each),
-           *submit = each + (frames > 0 ? frames : 1);
+    size_t room = (size_t)(frames > 0 ? frames : 1);
+    double *each = malloc(room * 2 * sizeof *each); /* frame times, then their parts before glFinish */
     if (!each)
         return false;
+    double *submit = each + room;
     for (int i = 0; i < frames; i++, t += 1.0 / 60.0) {
         double start = cli_now_seconds();
         if (!cli_scene_draw(s, t)) {

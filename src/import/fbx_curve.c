@@ -585,31 +585,27 @@ double fbx_curve_eval(const fbx_curve *c, double t, double fallback)
     return eval_inside(c, t);
 }
 
-double fbx_curve_eval_at(const fbx_curve *c, double t, double clip_start, double fallback)
-{
-    if (c->count > 1) {
-        float ft = (float)(t - clip_start);
-        uint32_t lo = key_after(c, t);
-        if (lo < c->count && (float)(c->keys[lo].time - clip_start) == ft)
-            t = c->keys[lo].time;
-        else if (lo > 0 && (float)(c->keys[lo - 1].time - clip_start) == ft)
-            t = c->keys[lo - 1].time;
-    }
-    return fbx_curve_eval(c, t, fallback);
-}
-
 bool fbx_curve_key_near(const fbx_curve *c, double t, double clip_start, double *key)
 {
     if (c->count == 0)
         return false;
     float ft = (float)(t - clip_start);
     uint32_t lo = key_after(c, t);
-    for (uint32_t k = lo > 0 ? lo - 1 : 0; k <= lo && k < c->count; k++)
-        if ((float)(c->keys[k].time - clip_start) == ft) {
-            *key = c->keys[k].time;
-            return true;
-        }
-    return false;
+    if (lo < c->count && (float)(c->keys[lo].time - clip_start) == ft)
+        *key = c->keys[lo].time;
+    else if (lo > 0 && (float)(c->keys[lo - 1].time - clip_start) == ft)
+        *key = c->keys[lo - 1].time;
+    else
+        return false;
+    return true;
+}
+
+double fbx_curve_eval_at(const fbx_curve *c, double t, double clip_start, double fallback)
+{
+    double key;
+    if (c->count > 1 && fbx_curve_key_near(c, t, clip_start, &key))
+        t = key;
+    return fbx_curve_eval(c, t, fallback);
 }
 
 bool fbx_curve_step(const fbx_curve *c, uint32_t k, bool *after_key)

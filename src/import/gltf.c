@@ -168,7 +168,7 @@ static sinew_result index_at(gltf *g, const json_node *object, const char *key, 
 {
     if (required && !json_get(object, key))
         return fail_at(g, "%s: no \"%s\"", where, key);
-    long long v = -1;
+    long long v;
     sinew_result r = int_at(g, object, key, where, 0, count > 0 ? count - 1 : -1, -1, &v);
     if (r && count == 0)
         return fail_at(g, "%s.%s: refers to an element of an array the file does not have", where, key);

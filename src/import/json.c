@@ -135,8 +135,6 @@ static bool literal(const char *p, int n, json_node *node)
     return false;
 }
 
-/* The tokens as nodes; false with *bad and *why when a token is not JSON. */
-
 /* A JSON number (RFC 8259: -? int frac? exp?, nothing else) of len bytes at p. Up to 15
  * significant digits and a power of ten within 10^22 (most numbers of a glTF file) are exact
  * as one product or quotient of two exactly representable doubles, correctly rounded
@@ -191,6 +189,7 @@ static bool number(const char *p, int len, double *out)
     return end == p + len;
 }
 
+/* The tokens as nodes; false with *bad and *why when a token is not JSON. */
 static bool convert(char *text, size_t size, const jsmntok_t *tok, int n, json_node *nodes, size_t *bad,
                     const char **why)
 {

@@ -778,6 +778,30 @@ static sinew_skin_desc stream_skin_desc(const sinew_renderer *r, const sinew_mes
                              .out_stride = STREAM_STRIDE};
 }
 
+/* The mesh morphed by the targets at r->target_weights into r->morphed (positions, then
+ * normals and tangents where it has them). */
+static sinew_result morph_scratch(sinew_renderer *r, const sinew_mesh *mesh, sinew_error *error)
+{
+    size_t n = mesh->vertex_count;
+    return sinew_morph_vertices(&(sinew_morph_desc){.mesh = mesh,
+                                                    .target_weights = r->target_weights,
+                                                    .out_positions = r->morphed,
+                                                    .out_normals = mesh->normals ? r->morphed + n * 3 : NULL,
+                                                    .out_tangents = mesh->tangents ? r->morphed + n * 6 : NULL},
+                                error);
+}
+
+/* A skinned mesh (from r->morphed when `morphed`) into r->stream, over `jobs` when given. */
+static sinew_result skin_stream(sinew_renderer *r, const sinew_mesh *mesh, bool morphed, const sinew_mat4 *palettes,
+                                const sinew_dq_joint *dq_palettes, sinew_jobs *jobs, sinew_error *error)
+{
+    sinew_skin_desc d = stream_skin_desc(r, mesh, morphed, palettes, dq_palettes, r->stream);
+    if (!jobs)
+        return sinew_skin_vertices(&d, error);
+    sinew_jobs_run(jobs, mesh->vertex_count, 4096, skin_range_job, &d);
+    return SINEW_OK;
+}
+
 /* Fills r->stream with an instance's vertices as the CPU poses them: a vertex cache's (mesh
  * space, smooth normals), or the morph targets at r->target_weights (`morphs` of them not 0)
  * then the skin (world space; mesh space for a rigid mesh), from a palette of total_joints
@@ -798,26 +822,15 @@ static sinew_result fill_stream(sinew_renderer *r, const sinew_mesh *mesh, uint3
         return result;
     }
     bool morphed = morphs > 0;
-    if (morphed) {
-        sinew_result result = sinew_morph_vertices(&(sinew_morph_desc){.mesh = mesh,
-                                                                       .target_weights = r->target_weights,
-                                                                       .out_positions = p,
-                                                                       .out_normals = mesh->normals ? nrm : NULL,
-                                                                       .out_tangents = mesh->tangents ? t : NULL},
-                                                   error);
-        if (result != SINEW_OK)
-            return result;
-    }
+    sinew_result result = morphed ? morph_scratch(r, mesh, error) : SINEW_OK;
+    if (result != SINEW_OK)
+        return result;
     if (!mesh_is_skinned(mesh)) {
         interleave(r, n, morphed ? p : mesh->positions, morphed ? nrm : mesh->normals,
                    morphed && mesh->tangents ? t : mesh->tangents);
         return SINEW_OK;
     }
-    sinew_skin_desc d = stream_skin_desc(r, mesh, morphed, palettes, dq_palettes, r->stream);
-    if (!jobs)
-        return sinew_skin_vertices(&d, error);
-    sinew_jobs_run(jobs, mesh->vertex_count, 4096, skin_range_job, &d);
-    return SINEW_OK;
+    return skin_stream(r, mesh, morphed, palettes, dq_palettes, jobs, error);
 }
 
 /* The morph uniforms of a GPU draw: the targets with weight (up to GPU_MORPHS), or none. */
@@ -1587,17 +1600,9 @@ static sinew_result draw_crowd_cpu_mesh(sinew_renderer *r, const frame_state *fs
         r->crowd_stream_threads = r->crowd_stream ? threads : 0;
     }
     bool morphed = morphs > 0;
-    if (morphed) {
-        sinew_result result = sinew_morph_vertices(
-            &(sinew_morph_desc){.mesh = mesh,
-                                .target_weights = r->target_weights,
-                                .out_positions = r->morphed,
-                                .out_normals = mesh->normals ? r->morphed + (size_t)n * 3 : NULL,
-                                .out_tangents = mesh->tangents ? r->morphed + (size_t)n * 6 : NULL},
-            error);
-        if (result != SINEW_OK)
-            return result;
-    }
+    sinew_result result = morphed ? morph_scratch(r, mesh, error) : SINEW_OK;
+    if (result != SINEW_OK)
+        return result;
     uint32_t batch = (uint32_t)(CROWD_STREAM_BYTES / ((size_t)n * STREAM_STRIDE + 1));
     batch = batch < 1 ? 1 : batch > frame->crowd_count ? frame->crowd_count : batch;
     if (batch > rm->stream_room) {
@@ -1619,9 +1624,9 @@ static sinew_result draw_crowd_cpu_mesh(sinew_renderer *r, const frame_state *fs
             uint32_t c = first + k, base = 0;
             if (!w.mapped) {
                 const sinew_mat4 *block = r->crowd_records + (size_t)r->crowd_slot[c] * stride;
-                sinew_skin_desc d = stream_skin_desc(r, mesh, morphed, block,
-                                                     (const sinew_dq_joint *)(block + r->total_joints), r->stream);
-                sinew_jobs_run(frame->jobs, n, 4096, skin_range_job, &d);
+                if ((result = skin_stream(r, mesh, morphed, block, (const sinew_dq_joint *)(block + r->total_joints),
+                                          frame->jobs, error)))
+                    return result;
                 glBufferSubData(GL_ARRAY_BUFFER, 0, (GLsizeiptr)n * STREAM_STRIDE, r->stream);
             } else {
                 base = k * n;
