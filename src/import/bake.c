@@ -57,6 +57,8 @@ static void bake_key_at(const bake *b, double t, double h, const double *near, b
     bake_eval(b, t, near, k->value);
     if (b->d->key_time)
         t = b->d->key_time(b->d->context, t);
+    if (b->d->derivatives && b->d->derivatives(b->d->context, t, k->value, k->in, k->out))
+        return;
     bake_eval(b, t - h, k->value, f1);
     bake_eval(b, t - 2 * h, k->value, f2);
     bake_eval(b, t + h, k->value, g1);

@@ -28,6 +28,7 @@
  */
 #define _GNU_SOURCE /* qsort_r */
 #include <math.h>
+#include <stddef.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -834,11 +835,8 @@ typedef struct local_trs {
 /* A node's local transform at time t (seconds) of `stack` (-1: the rest pose):
  * T * Roff * Rp * Rpre * R * Rpost^-1 * Rp^-1 * Soff * Sp * S * Sp^-1, which is exactly a
  * translation, the rotation Rpre * R * Rpost^-1 and the scale S. */
-static void node_local(const scene *s, uint32_t model, int32_t stack, double t_seconds, double clip_start,
-                       local_trs *out)
+static void local_from_values(const scene *s, uint32_t model, const double v[P_COUNT][3], local_trs *out)
 {
-    double v[P_COUNT][3];
-    anim_values(s, model, stack, t_seconds, clip_start, v);
     const double *t = v[P_TRANSLATION], *r = v[P_ROTATION], *sc = v[P_SCALING], *roff = v[P_ROTATION_OFFSET];
     const double *rp = v[P_ROTATION_PIVOT], *soff = v[P_SCALING_OFFSET], *sp = v[P_SCALING_PIVOT];
     const double *pre = v[P_PRE_ROTATION], *post = v[P_POST_ROTATION];
@@ -864,6 +862,14 @@ static void node_local(const scene *s, uint32_t model, int32_t stack, double t_s
         out->s[row] = sc[row];
     }
     dmat_quat(&rot, out->q);
+}
+
+static void node_local(const scene *s, uint32_t model, int32_t stack, double t_seconds, double clip_start,
+                       local_trs *out)
+{
+    double v[P_COUNT][3];
+    anim_values(s, model, stack, t_seconds, clip_start, v);
+    local_from_values(s, model, (const double(*)[3])v, out);
 }
 
 /* The geometric transform: applied to what a node carries, not to its children. */
@@ -1137,21 +1143,31 @@ typedef struct corner {
     uint32_t point;
     uint32_t polygon;
     int32_t material;
-    float normal[3], uv[2], tangent[4]; /* contiguous: hashed and compared together */
+    float normal[3], uv[2], tangent[4]; /* contiguous: hashed and compared together (9 words) */
 } corner;
+_Static_assert(offsetof(corner, tangent) + sizeof(float[4]) - offsetof(corner, normal) == 36,
+               "corner_hash reads the attributes as 9 words");
 
 typedef struct vertex_table {
     uint32_t *slots; /* vertex index + 1, 0 empty */
     uint32_t capacity;
 } vertex_table;
 
+/* FNV-1a over the attributes' 32-bit words in 64 bits, then MurmurHash3's finaliser so that
+ * the low bits the table uses depend on every word (a byte at a time cost a tenth of arnaud.fbx's
+ * import). */
 static uint32_t corner_hash(const corner *c)
 {
-    uint32_t h = 2166136261u;
-    const unsigned char *b = (const unsigned char *)c->normal;
-    for (size_t i = 0; i < sizeof c->normal + sizeof c->uv + sizeof c->tangent; i++)
-        h = (h ^ b[i]) * 16777619u;
-    return (h ^ c->point) * 16777619u;
+    uint64_t h = 14695981039346656037u;
+    uint32_t w[9];
+    memcpy(w, c->normal, sizeof w);
+    for (int i = 0; i < 9; i++)
+        h = (h ^ w[i]) * 1099511628211u;
+    h = (h ^ c->point) * 1099511628211u;
+    h ^= h >> 33;
+    h *= 0xff51afd7ed558ccdu;
+    h ^= h >> 33;
+    return (uint32_t)h;
 }
 
 static bool corner_same(const corner *a, const corner *b)
@@ -1897,6 +1913,82 @@ static double bake_node_key_time(const void *context, double t)
     return t;
 }
 
+/* The local transform of property values v + e * w, as ten numbers, its rotation on the side
+ * of `near`'s. */
+static void local_along(const bake_node *n, const double v[P_COUNT][3], const double w[P_COUNT][3], double e,
+                        const double *near, double out[10])
+{
+    double x[P_COUNT][3];
+    for (int p = 0; p < P_COUNT; p++)
+        for (int c = 0; c < 3; c++)
+            x[p][c] = v[p][c] + e * w[p][c];
+    local_trs l;
+    local_from_values(n->s, n->model, (const double(*)[3])x, &l);
+    double d = l.q[0] * near[3] + l.q[1] * near[4] + l.q[2] * near[5] + l.q[3] * near[6];
+    for (int c = 0; c < 3; c++) {
+        out[c] = l.t[c];
+        out[7 + c] = l.s[c];
+    }
+    for (int c = 0; c < 4; c++)
+        out[3 + c] = d < 0 ? -l.q[c] : l.q[c];
+}
+
+/* The derivative of the local transform along property slopes w (per second): the transform
+ * is a smooth function of the property values, so a central difference over a small step of
+ * the values is exact to rounding (differences in time would carry the curves' kinks). */
+static void local_derivative(const bake_node *n, const double v[P_COUNT][3], const double w[P_COUNT][3],
+                             const double *near, double out[10])
+{
+    double size = 0;
+    for (int p = 0; p < P_COUNT; p++)
+        for (int c = 0; c < 3; c++)
+            size = fmax(size, fabs(w[p][c]));
+    if (!(size > 0)) {
+        memset(out, 0, 10 * sizeof *out);
+        return;
+    }
+    double e = 1e-4 / size, plus[10], minus[10]; /* a step of 1e-4 in the fastest value */
+    local_along(n, v, w, e, near, plus);
+    local_along(n, v, w, -e, near, minus);
+    for (int c = 0; c < 10; c++)
+        out[c] = (plus[c] - minus[c]) / (2 * e);
+}
+
+/* A key's one-sided derivatives from its curves' own slopes (fbx_curve_slopes_at), where the
+ * node's transform comes from one layer's curves (later layers blend nonlinearly: the baker
+ * takes differences for them). */
+static bool bake_node_derivatives(const void *context, double t, const double value[10], double in[10], double out[10])
+{
+    const bake_node *n = context;
+    const scene *s = n->s;
+    const fbx_object *o = &s->objects[n->model];
+    double v[P_COUNT][3], left[P_COUNT][3] = {{0}}, right[P_COUNT][3] = {{0}};
+    memcpy(v, s->statics[n->model].value, sizeof v);
+    bool smooth = true; /* the same slope on both sides, to rounding */
+    for (uint32_t b = o->first_binding; b < o->first_binding + o->binding_count; b++) {
+        const fbx_binding *bind = &s->bindings[b];
+        if (bind->stack != (uint32_t)n->stack || bind->prop >= P_COUNT)
+            continue;
+        if (bind->index != 0)
+            return false;
+        for (int c = 0; c < 3; c++) {
+            double *x = &v[bind->prop][c], *l = &left[bind->prop][c], *r = &right[bind->prop][c];
+            if (!isnan(bind->defaults[c]))
+                *x = bind->defaults[c];
+            if (bind->curves[c] >= 0 &&
+                !fbx_curve_slopes_at(&s->curves[bind->curves[c]], n->start + t, n->start, x, l, r))
+                return false;
+            smooth &= fabs(*l - *r) <= 1e-9 * fmax(1.0, fabs(*l));
+        }
+    }
+    local_derivative(n, (const double(*)[3])v, (const double(*)[3])left, value, in);
+    if (smooth)
+        memcpy(out, in, 10 * sizeof *out);
+    else
+        local_derivative(n, (const double(*)[3])v, (const double(*)[3])right, value, out);
+    return true;
+}
+
 static int compare_float(const void *a, const void *b)
 {
     float x = *(const float *)a, y = *(const float *)b;
@@ -2050,6 +2142,7 @@ static sinew_result build_clip(scene *s, uint32_t stack)
         bake_node node = {s, model, (int32_t)stack, start};
         bake_desc desc = {.eval = bake_node_eval,
                           .key_time = bake_node_key_time,
+                          .derivatives = bake_node_derivatives,
                           .context = &node,
                           .tol_t = FBX_BAKE_TOLERANCE * s->diagonal,
                           .tol_r = FBX_BAKE_TOLERANCE,

@@ -510,16 +510,9 @@ static uint32_t key_after(const fbx_curve *c, double t)
     return ((fbx_curve *)c)->hint = lo;
 }
 
-/* The curve between its first and last key. */
-static double eval_inside(const fbx_curve *c, double t)
+/* The segment a..b (a->time <= t < b->time) at t. */
+static double segment_value(const fbx_key *a, const fbx_key *b, double t)
 {
-    const fbx_key *keys = c->keys;
-    uint32_t lo = key_after(c, t);
-    if (lo == 0)
-        return keys[0].value;
-    if (lo == c->count)
-        return keys[c->count - 1].value;
-    const fbx_key *a = &keys[lo - 1], *b = &keys[lo];
     if (a->time == t)
         return a->value;
     double span = b->time - a->time, x = (t - a->time) / span;
@@ -536,6 +529,18 @@ static double eval_inside(const fbx_curve *c, double t)
         return u * u * u * a->value + 3 * (u * u * s * y1 + u * s * s * y2) + s * s * s * b->value;
     }
     }
+}
+
+/* The curve between its first and last key. */
+static double eval_inside(const fbx_curve *c, double t)
+{
+    const fbx_key *keys = c->keys;
+    uint32_t lo = key_after(c, t);
+    if (lo == 0)
+        return keys[0].value;
+    if (lo == c->count)
+        return keys[c->count - 1].value;
+    return segment_value(&keys[lo - 1], &keys[lo], t);
 }
 
 /* Before the first key or after the last: held, along the end key's tangent, or the keys
@@ -602,10 +607,94 @@ bool fbx_curve_key_near(const fbx_curve *c, double t, double clip_start, double 
 
 double fbx_curve_eval_at(const fbx_curve *c, double t, double clip_start, double fallback)
 {
+    if (c->count < 2)
+        return c->count ? c->keys[0].value : fallback;
+    /* fbx_curve_key_near and fbx_curve_eval with one look-up: a key the float clip time
+     * matches gives its value; the times between the ends fall in the segment found. */
+    const fbx_key *keys = c->keys;
+    uint32_t n = c->count, lo = key_after(c, t);
+    float ft = (float)(t - clip_start);
+    if (lo < n && (float)(keys[lo].time - clip_start) == ft)
+        return keys[lo].value;
+    if (lo > 0 && (float)(keys[lo - 1].time - clip_start) == ft)
+        return keys[lo - 1].value;
+    if (!(t >= keys[0].time && t <= keys[n - 1].time)) /* NaN too */
+        return fbx_curve_eval(c, t, fallback);
+    return segment_value(&keys[lo - 1], &keys[lo], t);
+}
+
+/* The value and slope (per second) of the segment a..b at x (a fraction of it, 0..1), as
+ * eval_inside gives the value; false where its time handle has no length there (the slope
+ * is then a limit sinew does not take). */
+static bool segment_slope(const fbx_key *a, const fbx_key *b, double x, double *value, double *slope)
+{
+    double span = b->time - a->time;
+    switch (a->interp) {
+    case FBX_INTERP_CONSTANT_PREV:
+    case FBX_INTERP_CONSTANT_NEXT:
+        *value = a->interp == FBX_INTERP_CONSTANT_PREV || x <= 0 ? a->value : b->value;
+        *slope = 0;
+        return true;
+    case FBX_INTERP_LINEAR:
+        *value = a->value * (1.0 - x) + b->value * x;
+        *slope = (b->value - a->value) / span;
+        return true;
+    default: {
+        double x1 = a->right_dx / span, x2 = 1.0 - b->left_dx / span;
+        double s = x <= 0 ? 0 : x >= 1 ? 1 : bezier_parameter(x, x1, x2), u = 1 - s;
+        double y1 = a->value + a->right_dy, y2 = b->value - b->left_dy;
+        *value = u * u * u * a->value + 3 * (u * u * s * y1 + u * s * s * y2) + s * s * s * b->value;
+        /* d/ds of the Bezier's time (as a fraction of the span) and value */
+        double dx = 3 * u * u * x1 + 6 * u * s * (x2 - x1) + 3 * s * s * (1 - x2);
+        double dy = 3 * u * u * (y1 - a->value) + 6 * u * s * (y2 - y1) + 3 * s * s * (b->value - y2);
+        if (!(dx > 1e-9))
+            return false;
+        *slope = dy / (dx * span);
+        return true;
+    }
+    }
+}
+
+/* The slope beyond an end key: zero where the curve holds its end value. */
+static bool end_slope(const fbx_curve *c, bool pre, double *slope)
+{
+    fbx_extrapolation e = pre ? c->pre : c->post;
+    *slope = 0;
+    return e.mode == FBX_EXTRAPOLATE_CONSTANT || e.repeat == 0;
+}
+
+bool fbx_curve_slopes_at(const fbx_curve *c, double t, double clip_start, double *value, double *left, double *right)
+{
+    *left = *right = 0;
+    if (c->count == 0)
+        return true;
+    const fbx_key *keys = c->keys;
+    uint32_t n = c->count;
+    *value = keys[0].value;
+    if (n == 1)
+        return true;
     double key;
-    if (c->count > 1 && fbx_curve_key_near(c, t, clip_start, &key))
+    if (fbx_curve_key_near(c, t, clip_start, &key))
         t = key;
-    return fbx_curve_eval(c, t, fallback);
+    if (t < keys[0].time || t > keys[n - 1].time) {
+        *value = fbx_curve_eval(c, t, *value);
+        return end_slope(c, t < keys[0].time, left) && end_slope(c, t < keys[0].time, right);
+    }
+    uint32_t lo = key_after(c, t);
+    if (lo > 0 && keys[lo - 1].time == t) { /* at key k: each side's segment */
+        uint32_t k = lo - 1;
+        double ignored;
+        *value = keys[k].value;
+        bool ok_left = k == 0 ? end_slope(c, true, left) : segment_slope(&keys[k - 1], &keys[k], 1.0, &ignored, left);
+        bool ok_right =
+            k + 1 == n ? end_slope(c, false, right) : segment_slope(&keys[k], &keys[k + 1], 0.0, &ignored, right);
+        return ok_left && ok_right;
+    }
+    const fbx_key *a = &keys[lo - 1], *b = &keys[lo];
+    if (!segment_slope(a, b, (t - a->time) / (b->time - a->time), value, left))
+        return false;
+    *right = *left;
+    return true;
 }
 
 bool fbx_curve_step(const fbx_curve *c, uint32_t k, bool *after_key)

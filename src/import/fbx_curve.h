@@ -84,6 +84,13 @@ double fbx_curve_eval_at(const fbx_curve *c, double t, double clip_start, double
  * them); *key gets its time (seconds). */
 bool fbx_curve_key_near(const fbx_curve *c, double t, double clip_start, double *key);
 
+/* The curve's value (as fbx_curve_eval_at gives it; *value is left alone for a curve without
+ * keys) and one-sided slopes (value per second) at t, matched to a key as fbx_curve_eval_at
+ * matches it: at a key, the slope of the segment before it (*left) and after it (*right);
+ * inside a segment, its slope twice. False where no exact slope is given (a Bezier handle
+ * without length, extrapolation along a slope or by cycles): take differences then. */
+bool fbx_curve_slopes_at(const fbx_curve *c, double t, double clip_start, double *value, double *left, double *right);
+
 /* Whether the segment that starts at key k is a step, and when its value changes: the time
  * just before key k + 1 (constant-previous) or just after key k (constant-next). */
 bool fbx_curve_step(const fbx_curve *c, uint32_t k, bool *after_key);

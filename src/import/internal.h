@@ -233,6 +233,9 @@ typedef struct bake_desc {
     /* Optional: the exact clip time of the file's key that `time` (a float clip time) stands
      * for, or `time` itself: a key's derivatives are taken around where it really is. */
     double (*key_time)(const void *context, double time);
+    /* Optional: the one-sided derivatives (per second, rotation on the side of `value`) at
+     * that key time from the file's own slopes; false to take differences of eval instead. */
+    bool (*derivatives)(const void *context, double time, const double value[10], double in[10], double out[10]);
     const void *context;
     double tol_t, tol_r, tol_s; /* translation (file units), rotation (rad), relative scale */
     uint64_t *budget;           /* keys the whole clip may still add by halving */
