@@ -7,7 +7,7 @@ set -euo pipefail
 
 packages=(
   build-essential cmake pkg-config clang-format
-  libassimp-dev libcglm-dev libcjson-dev libjsmn-dev libcmocka-dev libxml2-dev zlib1g-dev
+  libassimp-dev libcglm-dev libcjson-dev libjsmn-dev libcmocka-dev libxml2-dev zlib1g-dev libdeflate-dev
   libepoxy-dev libegl-dev libegl-mesa0 libgl1-mesa-dri libstb-dev libmeshoptimizer-dev
   libgtk-4-dev xvfb xauth ffmpeg
   python3-numpy python3-cffi python3-pytest python3-distributed
