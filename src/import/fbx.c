@@ -1989,10 +1989,36 @@ static bool bake_node_derivatives(const void *context, double t, const double va
     return true;
 }
 
-static int compare_float(const void *a, const void *b)
+/* Sorts n clip times (finite, >= 0: their bits sort as integers) by their bytes, least
+ * significant first; false when out of memory. A node's curves give some hundreds of times,
+ * mostly the same ones again: qsort's comparisons were 6% of walk.fbx's import. */
+static bool sort_times(float *t, uint32_t n)
 {
-    float x = *(const float *)a, y = *(const float *)b;
-    return x < y ? -1 : x > y;
+    uint32_t *a = malloc((size_t)(n ? n : 1) * 2 * sizeof *a), *b = a + n;
+    if (!a)
+        return false;
+    for (uint32_t i = 0; i < n; i++) {
+        float f = t[i] + 0.0f; /* -0 as +0 */
+        memcpy(&a[i], &f, sizeof f);
+    }
+    for (int shift = 0; shift < 32; shift += 8) {
+        uint32_t count[257] = {0};
+        for (uint32_t i = 0; i < n; i++)
+            count[(a[i] >> shift & 0xFF) + 1]++;
+        if (n == 0 || count[(a[0] >> shift & 0xFF) + 1] == n) /* one value of this byte: in order */
+            continue;
+        for (int k = 0; k < 256; k++)
+            count[k + 1] += count[k];
+        for (uint32_t i = 0; i < n; i++)
+            b[count[a[i] >> shift & 0xFF]++] = a[i];
+        uint32_t *swap = a;
+        a = b;
+        b = swap;
+    }
+    for (uint32_t i = 0; i < n; i++)
+        memcpy(&t[i], &a[i], sizeof t[i]);
+    free(a < b ? a : b);
+    return true;
 }
 
 /* A growing list of clip times (seconds, as the runtime's floats). */
@@ -2054,11 +2080,10 @@ sinew_result fbx_object_key_times(const scene *s, uint32_t model, int32_t stack,
                 fbx_curve_key_times(&s->curves[curves[k]], start, start + duration, FBX_MAX_CYCLE_KEYS, push_key_time,
                                     &l);
     }
-    if (l.failed) {
+    if (l.failed || !sort_times(l.t, l.count)) {
         free(l.t);
         return SINEW_ERROR_OUT_OF_MEMORY;
     }
-    qsort(l.t, l.count, sizeof *l.t, compare_float);
     uint32_t u = 0;
     for (uint32_t i = 0; i < l.count; i++)
         if (u == 0 || l.t[i] != l.t[u - 1])

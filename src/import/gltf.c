@@ -102,27 +102,30 @@ static void place(char *out, size_t size, const char *format, ...)
     va_list ap;
     va_start(ap, format);
     size_t n = 0;
-    for (const char *f = format; *f && n + 1 < size; f++) {
+    for (const char *f = format; *f && n + 1 < size;) {
+        const char *run;
+        size_t len;
+        char digits[12];
         if (f[0] == '%' && f[1] == 'd') {
             int v = va_arg(ap, int);
-            char digits[12];
-            int k = 0;
             unsigned u = v < 0 ? 0u - (unsigned)v : (unsigned)v;
+            size_t k = sizeof digits;
             do
-                digits[k++] = (char)('0' + u % 10);
+                digits[--k] = (char)('0' + u % 10);
             while (u /= 10);
             if (v < 0)
-                digits[k++] = '-';
-            while (k && n + 1 < size)
-                out[n++] = digits[--k];
-            f++;
+                digits[--k] = '-';
+            run = digits + k, len = sizeof digits - k, f += 2;
         } else if (f[0] == '%' && f[1] == 's') {
-            for (const char *s = va_arg(ap, const char *); *s && n + 1 < size; s++)
-                out[n++] = *s;
-            f++;
+            run = va_arg(ap, const char *), len = strlen(run), f += 2;
         } else {
-            out[n++] = *f;
+            const char *pct = strchr(f + 1, '%');
+            run = f, len = pct ? (size_t)(pct - f) : strlen(f), f += len;
         }
+        if (len > size - 1 - n)
+            len = size - 1 - n;
+        memcpy(out + n, run, len);
+        n += len;
     }
     out[n] = 0;
     va_end(ap);

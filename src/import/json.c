@@ -321,7 +321,7 @@ const json_node *json_get(const json_node *object, const char *key)
     const json_node *v;
     JSON_FOR_EACH(v, object)
     {
-        if (strcmp(v[-1].string, key) == 0)
+        if (v[-1].string[0] == key[0] && strcmp(v[-1].string, key) == 0)
             return v;
     }
     return NULL;
