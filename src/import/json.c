@@ -62,8 +62,11 @@ static char *put_utf8(char *out, unsigned cp)
  * with *bad at the offending byte. */
 static bool unescape(char *text, int start, int end, int *bad)
 {
-    char *out = text + start;
-    for (int i = start; i < end; i++) {
+    int plain = start; /* most strings (keys, names) have no escape: nothing to move */
+    while (plain < end && (unsigned char)text[plain] >= 0x20 && text[plain] != '\\')
+        plain++;
+    char *out = text + plain;
+    for (int i = plain; i < end; i++) {
         unsigned char c = (unsigned char)text[i];
         if (c < 0x20) {
             *bad = i;
