@@ -54,6 +54,7 @@
 #include "xml.h" /* libxml2, loaded on first use */
 
 #include "../core/internal.h"
+#include "decimal.h"
 #include "internal.h"
 #include "sinew/anim.h"
 #include "alloc.h" /* last: the readers' allocations are the import's (alloc.h) */
@@ -244,8 +245,13 @@ static sinew_result parse_numbers(collada *c, const xmlNode *el, double *out, ui
             p++;
         if (!*p)
             break;
-        char *end;
-        double v = strtod_l(p, &end, c->c_locale);
+        size_t len = 0; /* a number ends at white space (xs:list) */
+        while (p[len] && p[len] != ' ' && p[len] != '\t' && p[len] != '\n' && p[len] != '\r')
+            len++;
+        double v;
+        char *end = (char *)p + len;
+        if (decimal_exact(p, len, &v) <= 0) /* the rest of xs:double ("+1", ".5", "1e400", "INF"): strtod */
+            v = strtod_l(p, &end, c->c_locale);
         if (end == p || !isfinite(v)) {
             int length = (int)strcspn(p, " \t\r\n");
             r = end == p ? fail(c, el, "\"%.*s\" is not a number", length < 20 ? length : 20, p)

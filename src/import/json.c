@@ -11,6 +11,7 @@
 #include <jsmn.h>
 
 #include "../core/internal.h"
+#include "decimal.h"
 #include "json.h"
 #include "alloc.h" /* last: the readers' allocations are the import's (alloc.h) */
 
@@ -138,55 +139,13 @@ static bool literal(const char *p, int n, json_node *node)
     return false;
 }
 
-/* A JSON number (RFC 8259: -? int frac? exp?, nothing else) of len bytes at p. Up to 15
- * significant digits and a power of ten within 10^22 (most numbers of a glTF file) are exact
- * as one product or quotient of two exactly representable doubles, correctly rounded
- * (Clinger's fast path); the others go to strtod in the C locale. */
+/* A JSON number (RFC 8259: -? int frac? exp?, nothing else) of len bytes at p: Clinger's fast
+ * path where it is exact (decimal.h), else strtod in the C locale. */
 static bool number(const char *p, int len, double *out)
 {
-    static const double POW10[23] = {1e0,  1e1,  1e2,  1e3,  1e4,  1e5,  1e6,  1e7,  1e8,  1e9,  1e10, 1e11,
-                                     1e12, 1e13, 1e14, 1e15, 1e16, 1e17, 1e18, 1e19, 1e20, 1e21, 1e22};
-    int i = 0, digits = 0, scale = 0;
-    bool negative = i < len && p[i] == '-';
-    uint64_t mantissa = 0;
-    i += negative;
-    if (i >= len || p[i] < '0' || p[i] > '9' || (p[i] == '0' && i + 1 < len && p[i + 1] >= '0' && p[i + 1] <= '9'))
-        return false;
-    for (; i < len && p[i] >= '0' && p[i] <= '9'; i++)
-        if (digits < 19 && (digits || p[i] != '0'))
-            mantissa = mantissa * 10 + (uint64_t)(p[i] - '0'), digits++;
-        else if (digits)
-            scale++, digits++; /* past 19 digits: counted, not kept (strtod takes it) */
-    if (i < len && p[i] == '.') {
-        if (++i >= len || p[i] < '0' || p[i] > '9')
-            return false;
-        for (; i < len && p[i] >= '0' && p[i] <= '9'; i++)
-            if (digits < 19 && (digits || p[i] != '0'))
-                mantissa = mantissa * 10 + (uint64_t)(p[i] - '0'), digits++, scale--;
-            else if (digits)
-                digits++;
-            else
-                scale--;
-    }
-    int exponent = 0;
-    if (i < len && (p[i] == 'e' || p[i] == 'E')) {
-        bool minus = ++i < len && p[i] == '-';
-        i += i < len && (p[i] == '-' || p[i] == '+');
-        if (i >= len || p[i] < '0' || p[i] > '9')
-            return false;
-        for (; i < len && p[i] >= '0' && p[i] <= '9'; i++)
-            exponent = exponent < 100000 ? exponent * 10 + (p[i] - '0') : exponent;
-        exponent = minus ? -exponent : exponent;
-    }
-    if (i != len)
-        return false;
-    int e = scale + exponent;
-    if (digits <= 15 && e >= -22 && e <= 22) {
-        double v = (double)mantissa;
-        v = e < 0 ? v / POW10[-e] : v * POW10[e];
-        *out = negative ? -v : v;
-        return true;
-    }
+    int r = decimal_exact(p, (size_t)len, out);
+    if (r != 0)
+        return r > 0;
     char *end = NULL;
     *out = strtod_l(p, &end, c_locale);
     return end == p + len;
