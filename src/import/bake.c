@@ -50,11 +50,14 @@ static void bake_eval(const bake *b, double t, const double *near, double out[10
  * halving added a third more keys to make up for it). One-sided even where in and out agree:
  * keyed curves are C1 at their keys but their second derivative jumps there, which a central
  * difference carries as an error of h * (jump) / 4 (tried: 70% more keys). */
-static void bake_key_at(const bake *b, double t, double h, const double *near, bake_key *k)
+static void bake_key_at(const bake *b, double t, double h, const double *near, const double *known, bake_key *k)
 {
     double f1[10], f2[10], g1[10], g2[10];
     k->time = (float)t;
-    bake_eval(b, t, near, k->value);
+    if (known) /* the value at t, evaluated already (rotation on near's side) */
+        memcpy(k->value, known, sizeof k->value);
+    else
+        bake_eval(b, t, near, k->value);
     if (b->d->key_time)
         t = b->d->key_time(b->d->context, t);
     if (b->d->derivatives && b->d->derivatives(b->d->context, t, k->value, k->in, k->out))
@@ -111,29 +114,51 @@ static bool within(const bake *b, const double got[10], const double exact[10])
     return true;
 }
 
+/* The float clip time halfway between x and y (rounded). */
+static float midpoint(double x, double y)
+{
+    return (float)(x + (y - x) / 2);
+}
+
 /* Adds keys after a up to and including c (a is already there): halves the interval where
- * the Hermite curve of the two keys strays from the exact transform. */
-static void bake_interval(bake *b, const bake_key *a, const bake_key *c, int depth)
+ * the Hermite curve of the two keys strays from the exact transform at its quarters. The
+ * quarters are the middles of the halves, as float times, so that a halved interval's three
+ * exact points are the new key's value and its halves' middles (`known_mid`: the exact
+ * transform at the middle, rotation on a's side, or NULL): a halving evaluates three points
+ * where it used to evaluate six. */
+static void bake_interval(bake *b, const bake_key *a, const bake_key *c, int depth, const double *known_mid)
 {
     double ta = a->time, tc = c->time;
-    float mid = (float)(ta + (tc - ta) / 2);
-    bool splittable = depth<BAKE_MAX_DEPTH && * b->d->budget> 0 && mid > ta && mid < tc;
-    bool fine = true;
-    for (int k = 1; k <= 3 && fine && splittable; k++) {
-        double u = k / 4.0, exact[10], got[10];
-        bake_eval(b, ta + (tc - ta) * u, a->value, exact);
-        hermite10(a, c, u, got);
-        fine = within(b, got, exact);
+    float mid = midpoint(ta, tc);
+    if (!(depth<BAKE_MAX_DEPTH && * b->d->budget> 0 && mid > ta && mid < tc)) {
+        bake_push(b, c);
+        return;
     }
-    if (fine || !splittable) {
+    double at[3] = {midpoint(ta, mid), mid, midpoint(mid, tc)}, exact[3][10];
+    bool fine = true;
+    for (int k = 0; k < 3; k++) {
+        double got[10];
+        if (k == 1 && known_mid)
+            memcpy(exact[1], known_mid, sizeof exact[1]);
+        else
+            bake_eval(b, at[k], a->value, exact[k]);
+        hermite10(a, c, (at[k] - ta) / (tc - ta), got);
+        fine = fine && within(b, got, exact[k]);
+    }
+    if (fine) {
         bake_push(b, c);
         return;
     }
     (*b->d->budget)--;
     bake_key m;
-    bake_key_at(b, mid, fmin(1e-4, (tc - ta) / 8), a->value, &m);
-    bake_interval(b, a, &m, depth + 1);
-    bake_interval(b, &m, c, depth + 1);
+    bake_key_at(b, mid, fmin(1e-4, (tc - ta) / 8), a->value, exact[1], &m);
+    bake_interval(b, a, &m, depth + 1, exact[0]);
+    double side = 0;
+    for (int i = 3; i < 7; i++)
+        side += exact[2][i] * m.value[i];
+    for (int i = 3; i < 7 && side < 0; i++) /* on m's side, as bake_eval would put it */
+        exact[2][i] = -exact[2][i];
+    bake_interval(b, &m, c, depth + 1, exact[2]);
 }
 
 /* True when a channel's keys all hold the rest value and do not move. */
@@ -199,11 +224,11 @@ bool bake_track(const bake_desc *d, const float *times, uint32_t n, const sinew_
          * float apart has none to speak of, and a key's own step is kept out of them. */
         double gap = fmin(k > 0 ? times[k] - times[k - 1] : INFINITY, k + 1 < n ? times[k + 1] - times[k] : INFINITY);
         double h = fmin(1e-4, (isfinite(gap) ? gap : 1.0) / 8);
-        bake_key_at(&b, times[k], h > 0 ? h : 1e-7, k ? prev.value : NULL, &next);
+        bake_key_at(&b, times[k], h > 0 ? h : 1e-7, k ? prev.value : NULL, NULL, &next);
         if (k == 0)
             bake_push(&b, &next);
         else
-            bake_interval(&b, &prev, &next, 0);
+            bake_interval(&b, &prev, &next, 0, NULL);
         prev = next;
     }
     bool ok = !b.failed && fill_track(track, &b, rest);
