@@ -239,10 +239,11 @@ static void index_ids(collada *c, xmlNode *n)
 }
 
 /* Numbers of an element's text (at most `max`; *count gets how many), in the C locale. */
-static sinew_result parse_numbers(collada *c, const xmlNode *el, double *out, uint32_t max, uint32_t *count)
+/* The numbers of `text`, an element's text. */
+static sinew_result parse_text(collada *c, const xmlNode *el, const char *text, double *out, uint32_t max,
+                               uint32_t *count)
 {
-    xmlChar *text = xmlNodeGetContent(el);
-    const char *p = text ? (const char *)text : "";
+    const char *p = text ? text : "";
     uint32_t n = 0;
     sinew_result r = SINEW_OK;
     for (;;) {
@@ -270,8 +271,15 @@ static sinew_result parse_numbers(collada *c, const xmlNode *el, double *out, ui
         out[n++] = v;
         p = end;
     }
-    xmlFree(text);
     *count = n;
+    return r;
+}
+
+static sinew_result parse_numbers(collada *c, const xmlNode *el, double *out, uint32_t max, uint32_t *count)
+{
+    xmlChar *text = xmlNodeGetContent(el);
+    sinew_result r = parse_text(c, el, (const char *)text, out, max, count);
+    xmlFree(text);
     return r;
 }
 
@@ -280,12 +288,14 @@ static sinew_result numbers_of(collada *c, const xmlNode *el, double **out, uint
 {
     xmlChar *text = xmlNodeGetContent(el);
     size_t len = text ? strlen((const char *)text) : 0;
-    xmlFree(text);
     uint32_t max = (uint32_t)(len / 2 + 1);
     *out = malloc(max * sizeof **out);
-    if (!*out)
+    if (!*out) {
+        xmlFree(text);
         return oom(c);
-    sinew_result r = parse_numbers(c, el, *out, max, count);
+    }
+    sinew_result r = parse_text(c, el, (const char *)text, *out, max, count);
+    xmlFree(text);
     if (r) {
         free(*out);
         *out = NULL;
