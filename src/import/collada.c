@@ -251,12 +251,14 @@ static sinew_result parse_text(collada *c, const xmlNode *el, const char *text, 
             p++;
         if (!*p)
             break;
-        size_t len = 0; /* a number ends at white space (xs:list) */
-        while (p[len] && p[len] != ' ' && p[len] != '\t' && p[len] != '\n' && p[len] != '\r')
-            len++;
         double v;
-        char *end = (char *)p + len;
-        if (decimal_exact(p, len, &v) <= 0) /* the rest of xs:double ("+1", ".5", "1e400", "INF"): strtod */
+        const char *fast = p;
+        char *end;
+        /* a number ends at white space (xs:list); the rest of xs:double ("+1", ".5", "1e400", "INF"): strtod */
+        if (decimal_scan(p, &fast, &v) > 0 &&
+            (!*fast || *fast == ' ' || *fast == '\t' || *fast == '\n' || *fast == '\r'))
+            end = (char *)fast;
+        else
             v = strtod_l(p, &end, c->c_locale);
         if (end == p || !isfinite(v)) {
             int length = (int)strcspn(p, " \t\r\n");
