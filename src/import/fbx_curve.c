@@ -673,16 +673,18 @@ bool fbx_curve_slopes_at(const fbx_curve *c, double t, double clip_start, double
     *value = keys[0].value;
     if (n == 1)
         return true;
-    double key;
-    if (fbx_curve_key_near(c, t, clip_start, &key))
-        t = key;
-    if (t < keys[0].time || t > keys[n - 1].time) {
+    /* matched to a key as fbx_curve_eval_at matches, with the same one look-up */
+    uint32_t lo = key_after(c, t), k = n;
+    float ft = (float)(t - clip_start);
+    if (lo < n && (float)(keys[lo].time - clip_start) == ft)
+        k = lo;
+    else if (lo > 0 && (float)(keys[lo - 1].time - clip_start) == ft)
+        k = lo - 1;
+    if (k == n && !(t >= keys[0].time && t <= keys[n - 1].time)) {
         *value = fbx_curve_eval(c, t, *value);
         return end_slope(c, t < keys[0].time, left) && end_slope(c, t < keys[0].time, right);
     }
-    uint32_t lo = key_after(c, t);
-    if (lo > 0 && keys[lo - 1].time == t) { /* at key k: each side's segment */
-        uint32_t k = lo - 1;
+    if (k < n) { /* at key k: each side's segment */
         double ignored;
         *value = keys[k].value;
         bool ok_left = k == 0 ? end_slope(c, true, left) : segment_slope(&keys[k - 1], &keys[k], 1.0, &ignored, left);
