@@ -207,12 +207,36 @@ void import_free(void *ptr)
 typedef struct arena_chunk {
     struct arena_chunk *next;
     size_t size, used; /* bytes after the header */
+    size_t filled;     /* a mapped chunk: bytes after the header whose pages are filled in */
     bool mapped;
 } arena_chunk;
 #define ARENA_HEADER ((sizeof(arena_chunk) + 15) & ~(size_t)15)
 #define ARENA_FIRST ((size_t)64 << 10)
 #define ARENA_LARGEST ((size_t)4 << 20)
 #define ARENA_MAP ((size_t)256 << 10)
+#define ARENA_FILL ((size_t)256 << 10) /* a mapped chunk's pages are filled in this many bytes at a time */
+
+/* Fills in the pages of a mapped chunk up to `need` bytes after its header, a window at a time
+ * (one madvise instead of a page fault a page; at most a window ahead of what is used: the
+ * chunks double, and filling a whole 4 MB chunk of which a document used 0.7 MB zeroed 3.3 MB
+ * for nothing, a tenth of walk.fbx's import). */
+static void chunk_fill(arena_chunk *c, size_t need)
+{
+    if (!c->mapped || need <= c->filled)
+        return;
+    size_t end = (need + ARENA_FILL - 1) / ARENA_FILL * ARENA_FILL;
+    end = end < c->size ? end : c->size;
+    uintptr_t page = 4096, from = ((uintptr_t)c + ARENA_HEADER + c->filled) & ~(page - 1),
+              to = ((uintptr_t)c + ARENA_HEADER + end + page - 1) & ~(page - 1);
+#ifdef MADV_POPULATE_WRITE
+    if (to > from)
+        madvise((void *)from, to - from, MADV_POPULATE_WRITE); /* older kernels: EINVAL, pages fault in */
+#else
+    (void)from;
+    (void)to;
+#endif
+    c->filled = end;
+}
 
 static arena_chunk *chunk_new(size_t size)
 {
@@ -222,7 +246,7 @@ static arena_chunk *chunk_new(size_t size)
     arena_chunk *c = NULL;
     bool mapped = total >= ARENA_MAP;
     if (mapped) {
-        void *p = mmap(NULL, total, PROT_READ | PROT_WRITE, MAP_PRIVATE | MAP_ANONYMOUS | MAP_POPULATE, -1, 0);
+        void *p = mmap(NULL, total, PROT_READ | PROT_WRITE, MAP_PRIVATE | MAP_ANONYMOUS, -1, 0);
         c = p == MAP_FAILED ? NULL : p;
     } else {
         c = calloc(1, total);
@@ -247,6 +271,7 @@ void *import_arena_take(import_arena *arena, size_t bytes)
     if (head && head->size - head->used >= bytes) {
         void *p = (unsigned char *)head + ARENA_HEADER + head->used;
         head->used += bytes;
+        chunk_fill(head, head->used);
         return p;
     }
     size_t grown = head ? head->size * 2 : ARENA_FIRST;
@@ -257,6 +282,7 @@ void *import_arena_take(import_arena *arena, size_t bytes)
     if (!c)
         return NULL;
     c->used = bytes;
+    chunk_fill(c, bytes);
     if (own && head) { /* behind the current chunk, which keeps its room */
         c->next = head->next;
         head->next = c;
