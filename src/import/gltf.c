@@ -528,8 +528,24 @@ static sinew_result view_span(gltf *g, int view, long long offset, long long cou
 
 /* Accessor `index` as doubles (count * components, malloc'd), with `want` components
  * (SCALAR 1, VECn n, MAT4 16) and a component type among `types` (a 0-terminated list). */
-static sinew_result read_accessor(gltf *g, int index, const char *use, int want, const long long *types, double **out,
-                                  uint32_t *out_count)
+/* Element i of an accessor's output: a double, or a float (esize 4: the value rounded once). */
+static inline void put(void *v, size_t esize, size_t i, double x)
+{
+    if (esize == 4)
+        ((float *)v)[i] = (float)x;
+    else
+        ((double *)v)[i] = x;
+}
+
+static inline bool finite_at(const void *v, size_t esize, size_t i)
+{
+    return esize == 4 ? isfinite(((const float *)v)[i]) : isfinite(((const double *)v)[i]);
+}
+
+/* read_accessor() into doubles (esize 8) or floats (esize 4: animation keys, which the model
+ * keeps as floats: a float accessor is then copied, not widened and narrowed again). */
+static sinew_result read_accessor_as(gltf *g, int index, const char *use, int want, const long long *types,
+                                     size_t esize, void **out, uint32_t *out_count)
 {
     *out = NULL;
     char where[96];
@@ -565,7 +581,7 @@ static sinew_result read_accessor(gltf *g, int index, const char *use, int want,
     long long column_bytes = (want >= 9 && csize < 4) ? (((long long)csize * column + 3) & ~3LL) : csize * column;
     if (want >= 9)
         elem = column_bytes * (want / column);
-    double *v = malloc((size_t)count * (size_t)comps * sizeof *v);
+    void *v = malloc((size_t)count * (size_t)comps * esize);
     if (!v)
         return oom(g);
     int view;
@@ -575,7 +591,7 @@ static sinew_result read_accessor(gltf *g, int index, const char *use, int want,
     }
     if (view < 0) {
         for (long long i = 0; i < count * comps; i++)
-            v[i] = 0;
+            put(v, esize, (size_t)i, 0.0);
     } else {
         const unsigned char *base;
         long long stride;
@@ -583,21 +599,23 @@ static sinew_result read_accessor(gltf *g, int index, const char *use, int want,
             free(v);
             return r;
         }
-        if (ctype == 5126 && column_bytes == (long long)csize * column) /* floats, no padded matrix columns */
+        if (ctype == 5126 && column_bytes == (long long)csize * column && esize == 4 && stride == elem)
+            memcpy(v, base, (size_t)count * (size_t)elem);                   /* floats, packed, into floats */
+        else if (ctype == 5126 && column_bytes == (long long)csize * column) /* floats, no padded matrix columns */
             for (long long i = 0; i < count; i++) {
                 const unsigned char *e = base + stride * i;
                 for (int c = 0; c < comps; c++) {
                     float f;
                     memcpy(&f, e + 4 * c, 4);
-                    v[i * comps + c] = f;
+                    put(v, esize, (size_t)(i * comps + c), f);
                 }
             }
         else
             for (long long i = 0; i < count; i++)
                 for (int c = 0; c < comps; c++)
-                    v[i * comps + c] =
+                    put(v, esize, (size_t)(i * comps + c),
                         component(base + stride * i + column_bytes * (c / column) + (long long)csize * (c % column),
-                                  ctype, normalized);
+                                  ctype, normalized));
     }
     const json_node *sparse = json_get(a, "sparse");
     if (sparse) {
@@ -635,17 +653,24 @@ static sinew_result read_accessor(gltf *g, int index, const char *use, int want,
                 return fail_at(g, "%s: index %.0f is not below the accessor's count %lld", sw, at, count);
             }
             for (int c = 0; c < comps; c++)
-                v[(long long)at * comps + c] = component(vb + vs * k + (long long)csize * c, ctype, normalized);
+                put(v, esize, (size_t)((long long)at * comps + c),
+                    component(vb + vs * k + (long long)csize * c, ctype, normalized));
         }
     }
     for (long long i = 0; i < count * comps; i++)
-        if (!isfinite(v[i])) {
+        if (!finite_at(v, esize, (size_t)i)) {
             free(v);
             return fail_at(g, "%s: element %lld is not a finite number", where, i / comps);
         }
     *out = v;
     *out_count = (uint32_t)count;
     return SINEW_OK;
+}
+
+static sinew_result read_accessor(gltf *g, int index, const char *use, int want, const long long *types, double **out,
+                                  uint32_t *out_count)
+{
+    return read_accessor_as(g, index, use, want, types, sizeof **out, (void **)out, out_count);
 }
 
 static const long long FLOAT_ONLY[] = {5126, 0};
@@ -1483,8 +1508,7 @@ static const long long ROTATION_TYPES[] = {5126, 5120, 5121, 5122, 5123, 0};
 /* A sampler's interpolation, input times (checked ascending) and output values (`elements`
  * elements of `comps` components a key, three times that for CUBICSPLINE), malloc'd. */
 static sinew_result read_sampler(gltf *g, const json_node *s, const char *sw, int comps, uint32_t elements,
-                                 const long long *types, uint32_t *interp, double **times, uint32_t *nt,
-                                 double **values)
+                                 const long long *types, uint32_t *interp, float **times, uint32_t *nt, float **values)
 {
     const char *how = string_at(s, "interpolation");
     *interp = !how || strcmp(how, "LINEAR") == 0 ? SINEW_INTERP_LINEAR
@@ -1501,10 +1525,10 @@ static sinew_result read_sampler(gltf *g, const json_node *s, const char *sw, in
     uint32_t nv = 0;
     char use[96];
     place(use, sizeof use, "%s input", sw);
-    if ((r = read_accessor(g, input, use, 1, FLOAT_ONLY, times, nt)))
+    if ((r = read_accessor_as(g, input, use, 1, FLOAT_ONLY, sizeof **times, (void **)times, nt)))
         return r;
     place(use, sizeof use, "%s output", sw);
-    if ((r = read_accessor(g, output, use, comps, types, values, &nv))) {
+    if ((r = read_accessor_as(g, output, use, comps, types, sizeof **values, (void **)values, &nv))) {
         free(*times);
         *times = NULL;
         return r;
@@ -1513,7 +1537,8 @@ static sinew_result read_sampler(gltf *g, const json_node *s, const char *sw, in
     uint64_t want = (uint64_t)*nt * per_key * elements;
     for (uint32_t k = 0; k < *nt && !r; k++)
         if ((*times)[k] < 0 || (k > 0 && (*times)[k] <= (*times)[k - 1]))
-            r = fail_at(g, "%s input: key %u at %g s is negative or not after the key before it", sw, k, (*times)[k]);
+            r = fail_at(g, "%s input: key %u at %g s is negative or not after the key before it", sw, k,
+                        (double)(*times)[k]);
     if (!r && nv != want)
         r = fail_at(g, "%s: %u output values for %u keys (%s needs %llu a key)", sw, nv, *nt, how ? how : "LINEAR",
                     (unsigned long long)(want / (*nt ? *nt : 1)));
@@ -1536,7 +1561,7 @@ static sinew_result read_weights(gltf *g, int node, const json_node *s, const ch
                    ? SINEW_OK
                    : oom(g);
     uint32_t interp, nt;
-    double *times = NULL, *values = NULL;
+    float *times = NULL, *values = NULL;
     sinew_result r = read_sampler(g, s, sw, 1, n, ROTATION_TYPES, &interp, &times, &nt, &values);
     if (r)
         return r;
@@ -1559,10 +1584,10 @@ static sinew_result read_weights(gltf *g, int node, const json_node *s, const ch
             break;
         }
         for (uint32_t k = 0; k < nt; k++) {
-            tr->keys.times[k] = (float)times[k];
-            clip->duration = fmaxf(clip->duration, (float)times[k]);
+            tr->keys.times[k] = times[k];
+            clip->duration = fmaxf(clip->duration, times[k]);
             for (uint32_t e = 0; e < per_key; e++) /* key k's in-tangents, values, out-tangents */
-                tr->keys.values[k * per_key + e] = (float)values[((size_t)k * per_key + e) * n + t];
+                tr->keys.values[k * per_key + e] = values[((size_t)k * per_key + e) * n + t];
         }
     }
     free(times);
@@ -1602,12 +1627,11 @@ static sinew_result read_channel(gltf *g, int a, int c, const json_node *channel
         return read_weights(g, node, s, sw, clip);
     int width = kind == SINEW_CHANNEL_ROTATION ? 4 : 3;
     uint32_t interp, nt = 0;
-    double *times = NULL, *values = NULL;
+    float *times = NULL, *values = NULL;
     r = read_sampler(g, s, sw, width, 1, kind == SINEW_CHANNEL_ROTATION ? ROTATION_TYPES : FLOAT_ONLY, &interp, &times,
                      &nt, &values);
     if (r)
         return r;
-    uint32_t nv = nt * (interp == SINEW_INTERP_CUBIC ? 3 : 1);
     raw_track *track = NULL;
     uint32_t at = g->node_of[node];
     for (uint32_t t = 0; t < clip->track_count && !r; t++)
@@ -1620,21 +1644,14 @@ static sinew_result read_channel(gltf *g, int a, int c, const json_node *channel
     raw_channel *ch = r ? NULL : &track->channels[kind];
     if (ch && ch->count)
         r = fail_at(g, "%s: a second channel for the %s of node %d", where, path, node);
-    if (!r) {
-        ch->times = malloc((size_t)nt * sizeof *ch->times);
-        ch->values = malloc((size_t)nv * (size_t)width * sizeof *ch->values);
-        if (!ch->times || !ch->values)
-            r = oom(g);
-    }
-    if (!r) {
+    if (!r) { /* the channel keeps the sampler's arrays */
         ch->interp = interp;
         ch->count = nt;
-        for (uint32_t k = 0; k < nt; k++) {
-            ch->times[k] = (float)times[k];
-            clip->duration = fmaxf(clip->duration, (float)times[k]);
-        }
-        for (size_t k = 0; k < (size_t)nv * (size_t)width; k++)
-            ch->values[k] = (float)values[k];
+        ch->times = times;
+        ch->values = values;
+        times = values = NULL;
+        for (uint32_t k = 0; k < nt; k++)
+            clip->duration = fmaxf(clip->duration, ch->times[k]);
     }
     free(times);
     free(values);
