@@ -1057,22 +1057,14 @@ static sinew_result attribute(gltf *g, const json_node *attrs, const char *name,
     place(use, sizeof use, "%s %s", where, name);
     int index;
     sinew_result r = index_at(g, attrs, name, where, g->accessors.count, true, &index);
-    double *v = NULL;
+    float *f = NULL; /* read as the floats the mesh keeps (each value rounded once, as before) */
     uint32_t count = 0;
-    if (r || (r = read_accessor(g, index, use, want, types, &v, &count)))
+    if (r || (r = read_accessor_as(g, index, use, want, types, sizeof *f, (void **)&f, &count)))
         return r;
     if (vertex_count != UINT32_MAX && count != vertex_count) {
-        free(v);
+        free(f);
         return fail_at(g, "%s: %s has %u elements for the primitive's %u vertices", where, name, count, vertex_count);
     }
-    float *f = malloc((size_t)count * (size_t)want * sizeof *f);
-    if (!f) {
-        free(v);
-        return oom(g);
-    }
-    for (size_t i = 0; i < (size_t)count * (size_t)want; i++)
-        f[i] = (float)v[i];
-    free(v);
     *out = f;
     return SINEW_OK;
 }
