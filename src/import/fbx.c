@@ -397,9 +397,14 @@ fbx_object *fbx_linked(const scene *s, const fbx_object *o, int kind, bool child
  * (`Property: name, type, flags, values...`) block, or NULL. */
 const fbx_node *fbx_find_p(const fbx_node *props, const char *name)
 {
+    /* the property's name (its first value) first: most children differ in length or first byte */
+    size_t n = strlen(name);
     for (uint32_t i = 0; props && i < props->child_count; i++) {
         const fbx_node *p = &props->children[i];
-        if ((fbx_named(p, "P") || fbx_named(p, "Property")) && fbx_str_is(p, 0, name))
+        const fbx_value *v = p->value_count ? &p->values[0] : NULL;
+        if (!v || v->type != FBX_STRING || v->count != n || (n && v->s[0] != name[0]) || memcmp(v->s, name, n) != 0)
+            continue;
+        if ((p->name_len == 1 && p->name[0] == 'P') || (p->name_len == 8 && memcmp(p->name, "Property", 8) == 0))
             return p;
     }
     return NULL;
