@@ -28,18 +28,31 @@ typedef struct bake {
     bool failed;
 } bake;
 
+/* Ten numbers whose rotation (3..6) is put on the side of `near`'s (NULL: left as it is). */
+static void rotation_beside(double ten[10], const double *near)
+{
+    double d = near ? ten[3] * near[3] + ten[4] * near[4] + ten[5] * near[5] + ten[6] * near[6] : 1.0;
+    for (int c = 3; c < 7 && d < 0; c++)
+        ten[c] = -ten[c];
+}
+
+void bake_trs_ten(const bake_trs *l, const double *near, double out[10])
+{
+    for (int c = 0; c < 3; c++) {
+        out[c] = l->t[c];
+        out[7 + c] = l->s[c];
+    }
+    for (int c = 0; c < 4; c++)
+        out[3 + c] = l->q[c];
+    rotation_beside(out, near);
+}
+
 /* The local transform at clip time `t` as ten numbers, its rotation on the side of `near`'s. */
 static void bake_eval(const bake *b, double t, const double *near, double out[10])
 {
     bake_trs l;
     b->d->eval(b->d->context, t, &l);
-    double d = near ? l.q[0] * near[3] + l.q[1] * near[4] + l.q[2] * near[5] + l.q[3] * near[6] : 1.0;
-    for (int c = 0; c < 3; c++) {
-        out[c] = l.t[c];
-        out[7 + c] = l.s[c];
-    }
-    for (int c = 0; c < 4; c++)
-        out[3 + c] = d < 0 ? -l.q[c] : l.q[c];
+    bake_trs_ten(&l, near, out);
 }
 
 /* A key at `t`: its value (rotation on the side of `near`) and its derivatives from each side
@@ -153,11 +166,7 @@ static void bake_interval(bake *b, const bake_key *a, const bake_key *c, int dep
     bake_key m;
     bake_key_at(b, mid, fmin(1e-4, (tc - ta) / 8), a->value, exact[1], &m);
     bake_interval(b, a, &m, depth + 1, exact[0]);
-    double side = 0;
-    for (int i = 3; i < 7; i++)
-        side += exact[2][i] * m.value[i];
-    for (int i = 3; i < 7 && side < 0; i++) /* on m's side, as bake_eval would put it */
-        exact[2][i] = -exact[2][i];
+    rotation_beside(exact[2], m.value); /* on m's side, as bake_eval would put it */
     bake_interval(b, &m, c, depth + 1, exact[2]);
 }
 

@@ -833,9 +833,7 @@ double fbx_animated_value(const scene *s, uint32_t o, int prop, int32_t stack, d
 
 /* ---- transforms ----------------------------------------------------------------------- */
 
-typedef struct local_trs {
-    double t[3], q[4], s[3];
-} local_trs;
+typedef bake_trs local_trs; /* translation, rotation (x, y, z, w), scale, in doubles */
 
 /* A node's local transform at time t (seconds) of `stack` (-1: the rest pose):
  * T * Roff * Rp * Rpre * R * Rpost^-1 * Rp^-1 * Soff * Sp * S * Sp^-1, which is exactly a
@@ -1894,11 +1892,7 @@ typedef struct bake_node {
 static void bake_node_eval(const void *context, double t, bake_trs *out)
 {
     const bake_node *n = context;
-    local_trs l;
-    node_local(n->s, n->model, n->stack, n->start + t, n->start, &l);
-    memcpy(out->t, l.t, sizeof out->t);
-    memcpy(out->q, l.q, sizeof out->q);
-    memcpy(out->s, l.s, sizeof out->s);
+    node_local(n->s, n->model, n->stack, n->start + t, n->start, out);
 }
 
 /* The clip time of the node's key that the float clip time t stands for (fbx_curve_eval_at
@@ -1929,13 +1923,7 @@ static void local_along(const bake_node *n, const double v[P_COUNT][3], const do
             x[p][c] = v[p][c] + e * w[p][c];
     local_trs l;
     local_from_values(n->s, n->model, (const double(*)[3])x, &l);
-    double d = l.q[0] * near[3] + l.q[1] * near[4] + l.q[2] * near[5] + l.q[3] * near[6];
-    for (int c = 0; c < 3; c++) {
-        out[c] = l.t[c];
-        out[7 + c] = l.s[c];
-    }
-    for (int c = 0; c < 4; c++)
-        out[3 + c] = d < 0 ? -l.q[c] : l.q[c];
+    bake_trs_ten(&l, near, out);
 }
 
 /* The derivative of the local transform along property slopes w (per second): the transform

@@ -510,6 +510,29 @@ static uint32_t key_after(const fbx_curve *c, double t)
     return ((fbx_curve *)c)->hint = lo;
 }
 
+/* The value of the Bezier segment a..b at its parameter s. */
+__attribute__((always_inline)) static inline double bezier_value(const fbx_key *a, const fbx_key *b, double s)
+{
+    double u = 1 - s, y1 = a->value + a->right_dy, y2 = b->value - b->left_dy;
+    return u * u * u * a->value + 3 * (u * u * s * y1 + u * s * s * y2) + s * s * s * b->value;
+}
+
+/* The key whose clip time is the float clip time of t (fbx_curve_key_near's match), or count
+ * when none; *after gets key_after(t). One look-up serves the match and the segment. */
+__attribute__((always_inline)) static inline uint32_t key_matched(const fbx_curve *c, double t, double clip_start,
+                                                                  uint32_t *after)
+{
+    const fbx_key *keys = c->keys;
+    uint32_t n = c->count, lo = key_after(c, t);
+    float ft = (float)(t - clip_start);
+    *after = lo;
+    if (lo < n && (float)(keys[lo].time - clip_start) == ft)
+        return lo;
+    if (lo > 0 && (float)(keys[lo - 1].time - clip_start) == ft)
+        return lo - 1;
+    return n;
+}
+
 /* The segment a..b (a->time <= t < b->time) at t. */
 static double segment_value(const fbx_key *a, const fbx_key *b, double t)
 {
@@ -523,11 +546,8 @@ static double segment_value(const fbx_key *a, const fbx_key *b, double t)
         return b->value;
     case FBX_INTERP_LINEAR:
         return a->value * (1.0 - x) + b->value * x;
-    default: {
-        double s = bezier_parameter(x, a->right_dx / span, 1.0 - b->left_dx / span), u = 1 - s;
-        double y1 = a->value + a->right_dy, y2 = b->value - b->left_dy;
-        return u * u * u * a->value + 3 * (u * u * s * y1 + u * s * s * y2) + s * s * s * b->value;
-    }
+    default:
+        return bezier_value(a, b, bezier_parameter(x, a->right_dx / span, 1.0 - b->left_dx / span));
     }
 }
 
@@ -594,14 +614,10 @@ bool fbx_curve_key_near(const fbx_curve *c, double t, double clip_start, double 
 {
     if (c->count == 0)
         return false;
-    float ft = (float)(t - clip_start);
-    uint32_t lo = key_after(c, t);
-    if (lo < c->count && (float)(c->keys[lo].time - clip_start) == ft)
-        *key = c->keys[lo].time;
-    else if (lo > 0 && (float)(c->keys[lo - 1].time - clip_start) == ft)
-        *key = c->keys[lo - 1].time;
-    else
+    uint32_t lo, k = key_matched(c, t, clip_start, &lo);
+    if (k == c->count)
         return false;
+    *key = c->keys[k].time;
     return true;
 }
 
@@ -612,12 +628,9 @@ double fbx_curve_eval_at(const fbx_curve *c, double t, double clip_start, double
     /* fbx_curve_key_near and fbx_curve_eval with one look-up: a key the float clip time
      * matches gives its value; the times between the ends fall in the segment found. */
     const fbx_key *keys = c->keys;
-    uint32_t n = c->count, lo = key_after(c, t);
-    float ft = (float)(t - clip_start);
-    if (lo < n && (float)(keys[lo].time - clip_start) == ft)
-        return keys[lo].value;
-    if (lo > 0 && (float)(keys[lo - 1].time - clip_start) == ft)
-        return keys[lo - 1].value;
+    uint32_t n = c->count, lo, k = key_matched(c, t, clip_start, &lo);
+    if (k < n)
+        return keys[k].value;
     if (!(t >= keys[0].time && t <= keys[n - 1].time)) /* NaN too */
         return fbx_curve_eval(c, t, fallback);
     return segment_value(&keys[lo - 1], &keys[lo], t);
@@ -643,7 +656,7 @@ static bool segment_slope(const fbx_key *a, const fbx_key *b, double x, double *
         double x1 = a->right_dx / span, x2 = 1.0 - b->left_dx / span;
         double s = x <= 0 ? 0 : x >= 1 ? 1 : bezier_parameter(x, x1, x2), u = 1 - s;
         double y1 = a->value + a->right_dy, y2 = b->value - b->left_dy;
-        *value = u * u * u * a->value + 3 * (u * u * s * y1 + u * s * s * y2) + s * s * s * b->value;
+        *value = bezier_value(a, b, s);
         /* d/ds of the Bezier's time (as a fraction of the span) and value */
         double dx = 3 * u * u * x1 + 6 * u * s * (x2 - x1) + 3 * s * s * (1 - x2);
         double dy = 3 * u * u * (y1 - a->value) + 6 * u * s * (y2 - y1) + 3 * s * s * (b->value - y2);
@@ -673,13 +686,7 @@ bool fbx_curve_slopes_at(const fbx_curve *c, double t, double clip_start, double
     *value = keys[0].value;
     if (n == 1)
         return true;
-    /* matched to a key as fbx_curve_eval_at matches, with the same one look-up */
-    uint32_t lo = key_after(c, t), k = n;
-    float ft = (float)(t - clip_start);
-    if (lo < n && (float)(keys[lo].time - clip_start) == ft)
-        k = lo;
-    else if (lo > 0 && (float)(keys[lo - 1].time - clip_start) == ft)
-        k = lo - 1;
+    uint32_t lo, k = key_matched(c, t, clip_start, &lo); /* as fbx_curve_eval_at matches */
     if (k == n && !(t >= keys[0].time && t <= keys[n - 1].time)) {
         *value = fbx_curve_eval(c, t, *value);
         return end_slope(c, t < keys[0].time, left) && end_slope(c, t < keys[0].time, right);

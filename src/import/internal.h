@@ -228,6 +228,10 @@ typedef struct bake_trs {
     double t[3], q[4], s[3];
 } bake_trs;
 
+/* A local transform as the baker's ten numbers (translation 0..2, rotation 3..6 as x, y, z, w,
+ * scale 7..9), its rotation on the side of `near`'s ten (NULL: as it is). */
+void bake_trs_ten(const bake_trs *l, const double *near, double out[10]);
+
 typedef struct bake_desc {
     void (*eval)(const void *context, double time, bake_trs *out); /* exact, at clip time (s) */
     /* Optional: the exact clip time of the file's key that `time` (a float clip time) stands
