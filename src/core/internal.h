@@ -256,6 +256,7 @@ typedef struct skin_call {
     const sinew_mesh *mesh; /* &view: the mesh with the desc's input arrays in place of its own */
     sinew_mesh view;
     const float *records;
+    uint32_t record_count; /* entries of records (and dq_records): the palette's */
     bool dqs;
     const float *dq_records; /* SINEW_SKIN_MIXED: the DQ records (records are the linear ones) */
     const float *mix;        /* SINEW_SKIN_MIXED: mesh->dq_weights */

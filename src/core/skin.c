@@ -166,6 +166,7 @@ static sinew_result check_skin(const sinew_skin_desc *desc, skin_call *call, sin
                                   desc->first + i / k, joints[i], desc->palette_count);
     call->mesh = mesh;
     call->records = dqs ? desc->dq_palette[0].real : desc->palette[0].m;
+    call->record_count = desc->palette_count;
     call->dqs = dqs;
     call->dq_records = mixed ? desc->dq_palette[0].real : NULL;
     call->mix = mixed ? mesh->dq_weights : NULL;

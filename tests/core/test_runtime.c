@@ -304,6 +304,28 @@ static void test_skin_simd_matches_scalar(void **state)
                     assert_true(worst_t <= 2e-6);
                 }
         }
+        /* AVX-512 copies a palette that is not 64-byte aligned before skinning out-of-order
+         * influences: the same records, so the same bits as from an aligned palette */
+        {
+            size_t bytes = skin->joint_count * sizeof *palette;
+            char *block = aligned_alloc(64, bytes + 64);
+            sinew_mat4 *aligned = (sinew_mat4 *)block, *offset = (sinew_mat4 *)(block + 16);
+            memcpy(aligned, palette, bytes);
+            memset(a, 0, n * 12 * sizeof(float));
+            memset(b, 0, n * 12 * sizeof(float));
+            sinew_skin_desc sd = {.mesh = &mesh,
+                                  .palette = aligned,
+                                  .palette_count = skin->joint_count,
+                                  .out_positions = a,
+                                  .out_normals = a + 3,
+                                  .out_stride = 48};
+            assert_int_equal(sinew_skin_vertices(&sd, NULL), SINEW_OK);
+            memmove(offset, palette, bytes);
+            sd.palette = offset, sd.out_positions = b, sd.out_normals = b + 3;
+            assert_int_equal(sinew_skin_vertices(&sd, NULL), SINEW_OK);
+            assert_memory_equal(a, b, n * 12 * sizeof(float));
+            free(block);
+        }
         mesh.joints = m->meshes[0].joints;
         mesh.weights = m->meshes[0].weights;
         free(mixed_joints);
