@@ -92,16 +92,6 @@ static dmat euler_matrix(const double degrees[3], int order)
     return m;
 }
 
-/* The inverse (transpose) of an XYZ Euler rotation's matrix. */
-static dmat inverse_rotation(const double degrees[3])
-{
-    dmat r = euler_matrix(degrees, 0), inverse = dmat_identity();
-    for (int i = 0; i < 3; i++)
-        for (int j = 0; j < 3; j++)
-            inverse.m[i * 4 + j] = r.m[j * 4 + i];
-    return inverse;
-}
-
 /* The Euler angles (degrees, applied in `order`) of the rotation of a unit quaternion
  * (x, y, z, w); in gimbal lock the first angle is 0. */
 static void quat_euler(const double q[4], int order, double out[3])
@@ -148,6 +138,42 @@ static void quat_mul(const double a[4], const double b[4], double out[4])
         a[3] * b[0] + a[0] * b[3] + a[1] * b[2] - a[2] * b[1], a[3] * b[1] - a[0] * b[2] + a[1] * b[3] + a[2] * b[0],
         a[3] * b[2] + a[0] * b[1] - a[1] * b[0] + a[2] * b[3], a[3] * b[3] - a[0] * b[0] - a[1] * b[1] - a[2] * b[2]};
     memcpy(out, r, sizeof r);
+}
+
+/* The unit quaternion (x, y, z, w) of Euler angles in degrees applied in `order`, as
+ * euler_matrix() rotates: each axis's half-angle quaternion multiplied on the left. */
+static void euler_rotation(const double degrees[3], int order, double q[4])
+{
+    static const int axes[6][3] = {{0, 1, 2}, {0, 2, 1}, {1, 2, 0}, {1, 0, 2}, {2, 0, 1}, {2, 1, 0}};
+    if (order < 0 || order > 5)
+        order = 0;
+    q[0] = q[1] = q[2] = 0.0, q[3] = 1.0;
+    for (int k = 0; k < 3; k++) {
+        int axis = axes[order][k];
+        if (degrees[axis] == 0.0)
+            continue;
+        double half = degrees[axis] * (M_PI / 360.0), c = cos(half), sn = sin(half);
+        double e[4] = {0, 0, 0, c};
+        e[axis] = sn;
+        quat_mul(e, q, q);
+    }
+}
+
+/* q with the sign dmat_quat() gives the rotation (w positive where the matrix's trace is,
+ * else the component of the largest diagonal element), normalised. */
+static void quat_canonical(double q[4])
+{
+    double xx = q[0] * q[0], yy = q[1] * q[1], zz = q[2] * q[2], ww = q[3] * q[3];
+    double n = xx + yy + zz + ww;
+    double m00 = n - 2 * (yy + zz), m11 = n - 2 * (xx + zz), m22 = n - 2 * (xx + yy);
+    int pick = m00 + m11 + m22 > 0 ? 3 : m00 > m11 && m00 > m22 ? 0 : m11 > m22 ? 1 : 2;
+    double scale = n > 0 ? 1.0 / sqrt(n) : 0.0;
+    if (q[pick] < 0)
+        scale = -scale;
+    for (int c = 0; c < 4; c++)
+        q[c] *= scale;
+    if (n <= 0)
+        q[3] = 1.0;
 }
 
 /* Spherical interpolation from a to b (the shorter way), unit quaternions. */
@@ -498,8 +524,10 @@ static void read_statics(scene *s, uint32_t model)
     st->order = prop_int(o, "RotationOrder", 0);
     if (s->legacy && !o->props)
         read_channel_defaults(o->node, st);
-    st->pre = euler_matrix(st->value[P_PRE_ROTATION], 0);
-    st->post_inverse = inverse_rotation(st->value[P_POST_ROTATION]);
+    euler_rotation(st->value[P_PRE_ROTATION], 0, st->pre);
+    euler_rotation(st->value[P_POST_ROTATION], 0, st->post_inverse);
+    for (int c = 0; c < 3; c++)
+        st->post_inverse[c] = -st->post_inverse[c];
 }
 
 /* ---- animation ------------------------------------------------------------------------ */
@@ -843,28 +871,44 @@ static void local_from_values(const scene *s, uint32_t model, const double v[P_C
     const double *t = v[P_TRANSLATION], *r = v[P_ROTATION], *sc = v[P_SCALING], *roff = v[P_ROTATION_OFFSET];
     const double *rp = v[P_ROTATION_PIVOT], *soff = v[P_SCALING_OFFSET], *sp = v[P_SCALING_PIVOT];
     const double *pre = v[P_PRE_ROTATION], *post = v[P_POST_ROTATION];
-    int order = s->statics[model].order;
-    dmat rot = euler_matrix(r, order);
     const fbx_static *st = &s->statics[model];
+    /* the rotation as quaternions (Rpre R Rpost^-1): half the work of the matrices */
+    double q[4];
+    euler_rotation(r, st->order, q);
     if (pre[0] != 0 || pre[1] != 0 || pre[2] != 0) {
-        dmat rpre = memcmp(pre, st->value[P_PRE_ROTATION], sizeof st->value[0]) == 0 ? st->pre : euler_matrix(pre, 0);
-        rot = dmat_mul(&rpre, &rot);
+        double qpre[4];
+        if (memcmp(pre, st->value[P_PRE_ROTATION], sizeof st->value[0]) == 0)
+            memcpy(qpre, st->pre, sizeof qpre);
+        else
+            euler_rotation(pre, 0, qpre);
+        quat_mul(qpre, q, q);
     }
     if (post[0] != 0 || post[1] != 0 || post[2] != 0) {
-        dmat rpost_inv = memcmp(post, st->value[P_POST_ROTATION], sizeof st->value[0]) == 0 ? st->post_inverse
-                                                                                            : inverse_rotation(post);
-        rot = dmat_mul(&rot, &rpost_inv);
+        double qpost[4];
+        if (memcmp(post, st->value[P_POST_ROTATION], sizeof st->value[0]) == 0) {
+            memcpy(qpost, st->post_inverse, sizeof qpost);
+        } else {
+            euler_rotation(post, 0, qpost);
+            for (int c = 0; c < 3; c++)
+                qpost[c] = -qpost[c];
+        }
+        quat_mul(q, qpost, q);
     }
-    double inner[3], a[3], b[3];
-    for (int c = 0; c < 3; c++)
+    quat_canonical(q);
+    memcpy(out->q, q, sizeof q);
+    double inner[3];
+    for (int c = 0; c < 3; c++) {
         inner[c] = soff[c] + sp[c] - sc[c] * sp[c];
-    for (int row = 0; row < 3; row++) {
-        a[row] = rot.m[row] * rp[0] + rot.m[4 + row] * rp[1] + rot.m[8 + row] * rp[2];
-        b[row] = rot.m[row] * inner[0] + rot.m[4 + row] * inner[1] + rot.m[8 + row] * inner[2];
-        out->t[row] = t[row] + roff[row] + rp[row] - a[row] + b[row];
-        out->s[row] = sc[row];
+        out->t[c] = t[c] + roff[c] + rp[c];
+        out->s[c] = sc[c];
     }
-    dmat_quat(&rot, out->q);
+    /* pivots and offsets: the rotation applied to (inner - rp), where there are any */
+    double d[3] = {inner[0] - rp[0], inner[1] - rp[1], inner[2] - rp[2]};
+    if (d[0] != 0 || d[1] != 0 || d[2] != 0) {
+        dmat rot = dmat_from_trs((double[3]){0, 0, 0}, q, (double[3]){1, 1, 1});
+        for (int row = 0; row < 3; row++)
+            out->t[row] += rot.m[row] * d[0] + rot.m[4 + row] * d[1] + rot.m[8 + row] * d[2];
+    }
 }
 
 static void node_local(const scene *s, uint32_t model, int32_t stack, double t_seconds, double clip_start,

@@ -113,9 +113,10 @@ typedef struct fbx_binding {
 typedef struct fbx_static {
     double value[P_COUNT][3];
     int order; /* rotation order */
-    /* value[]'s pre-rotation and inverse post-rotation matrices, made once: node_local() takes
-     * them while the animated values are the same (nearly always: they are rarely animated) */
-    dmat pre, post_inverse;
+    /* value[]'s pre-rotation and inverse post-rotation quaternions, made once: node_local()
+     * takes them while the animated values are the same (nearly always: they are rarely
+     * animated) */
+    double pre[4], post_inverse[4];
 } fbx_static;
 
 typedef struct scene {
