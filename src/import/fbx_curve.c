@@ -113,11 +113,11 @@ static void set_handles(fbx_key *k, double prev_time, double next_time, double s
     k->left_dx = k->left_dy = k->right_dx = k->right_dy = 0;
     if (k->time > prev_time) {
         k->left_dx = weight_left * (k->time - prev_time);
-        k->left_dy = k->left_dx * slope_left;
+        k->left_dy = (float)(k->left_dx * slope_left);
     }
     if (next_time > k->time) {
         k->right_dx = weight_right * (next_time - k->time);
-        k->right_dy = k->right_dx * slope_right;
+        k->right_dy = (float)(k->right_dx * slope_right);
     }
 }
 

@@ -23,11 +23,16 @@ typedef enum fbx_interp {
     FBX_INTERP_CUBIC
 } fbx_interp;
 
+/* 48 bytes (56 with double heights): a baked file's curves hold tens of thousands of keys.
+ * The handles' heights are floats, as the file's slopes are; their widths stay doubles, so
+ * that the default third of a segment stays exact and its Bezier stays linear in time (the
+ * time's parameter is then found without a Newton step). */
 typedef struct fbx_key {
     double time; /* seconds */
     double value;
-    double left_dx, left_dy, right_dx, right_dy; /* Bezier handles, relative to the key */
-    uint8_t interp;                              /* fbx_interp of the segment after this key */
+    double left_dx, right_dx; /* Bezier handles, relative to the key: widths (seconds) */
+    float left_dy, right_dy;  /* and heights */
+    uint8_t interp;           /* fbx_interp of the segment after this key */
 } fbx_key;
 
 typedef enum fbx_extrapolation_mode {
