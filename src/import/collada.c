@@ -277,27 +277,43 @@ static sinew_result parse_text(collada *c, const xmlNode *el, const char *text, 
     return r;
 }
 
+/* An element's text: its one text child's own, where it has one (a number array's is most of
+ * a COLLADA file: not copied), else a copy (*copy set: xmlFree it). */
+static const char *text_of(const xmlNode *el, xmlChar **copy)
+{
+    const xmlNode *t = el ? el->children : NULL;
+    *copy = NULL;
+    if (t && !t->next && (t->type == XML_TEXT_NODE || t->type == XML_CDATA_SECTION_NODE) && t->content)
+        return (const char *)t->content;
+    if (el && !el->children)
+        return "";
+    *copy = xmlNodeGetContent(el);
+    return (const char *)*copy;
+}
+
 static sinew_result parse_numbers(collada *c, const xmlNode *el, double *out, uint32_t max, uint32_t *count)
 {
-    xmlChar *text = xmlNodeGetContent(el);
-    sinew_result r = parse_text(c, el, (const char *)text, out, max, count);
-    xmlFree(text);
+    xmlChar *copy;
+    const char *text = text_of(el, &copy);
+    sinew_result r = parse_text(c, el, text, out, max, count);
+    xmlFree(copy);
     return r;
 }
 
 /* All numbers of an element's text (malloc'd). */
 static sinew_result numbers_of(collada *c, const xmlNode *el, double **out, uint32_t *count)
 {
-    xmlChar *text = xmlNodeGetContent(el);
-    size_t len = text ? strlen((const char *)text) : 0;
+    xmlChar *copy;
+    const char *text = text_of(el, &copy);
+    size_t len = text ? strlen(text) : 0;
     uint32_t max = (uint32_t)(len / 2 + 1);
     *out = malloc(max * sizeof **out);
     if (!*out) {
-        xmlFree(text);
+        xmlFree(copy);
         return oom(c);
     }
-    sinew_result r = parse_text(c, el, (const char *)text, *out, max, count);
-    xmlFree(text);
+    sinew_result r = parse_text(c, el, text, *out, max, count);
+    xmlFree(copy);
     if (r) {
         free(*out);
         *out = NULL;
