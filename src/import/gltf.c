@@ -78,6 +78,16 @@ typedef struct gltf {
     bool *has_uv_transform;
     int32_t *morph_first;  /* by glTF node: the model channel of its mesh's target 0, or -1 */
     uint32_t *morph_count; /* by glTF node: its mesh's targets */
+    /* Samplers' input times read already (checked), by accessor: exporters give every channel of
+     * a clip the same input (robot.glb: 1806 samplers, 8 inputs), read again for each it was a
+     * third of the import. The most recent INPUT_CACHE, each owned here. */
+#define INPUT_CACHE 16
+    struct {
+        int accessor; /* -1: empty */
+        float *times;
+        uint32_t count;
+    } inputs[INPUT_CACHE];
+    uint32_t input_next;
 } gltf;
 
 /* ---- errors and JSON ------------------------------------------------------------------ */
@@ -1516,9 +1526,20 @@ static sinew_result read_sampler(gltf *g, const json_node *s, const char *sw, in
         return r;
     uint32_t nv = 0;
     char use[96];
-    place(use, sizeof use, "%s input", sw);
-    if ((r = read_accessor_as(g, input, use, 1, FLOAT_ONLY, sizeof **times, (void **)times, nt)))
-        return r;
+    int cached = -1;
+    for (int i = 0; i < INPUT_CACHE && cached < 0; i++)
+        if (g->inputs[i].times && g->inputs[i].accessor == input)
+            cached = i;
+    if (cached >= 0) {
+        *nt = g->inputs[cached].count;
+        if (!(*times = malloc((size_t)*nt * sizeof **times)))
+            return oom(g);
+        memcpy(*times, g->inputs[cached].times, (size_t)*nt * sizeof **times);
+    } else {
+        place(use, sizeof use, "%s input", sw);
+        if ((r = read_accessor_as(g, input, use, 1, FLOAT_ONLY, sizeof **times, (void **)times, nt)))
+            return r;
+    }
     place(use, sizeof use, "%s output", sw);
     if ((r = read_accessor_as(g, output, use, comps, types, sizeof **values, (void **)values, &nv))) {
         free(*times);
@@ -1538,6 +1559,16 @@ static sinew_result read_sampler(gltf *g, const json_node *s, const char *sw, in
         free(*times);
         free(*values);
         *times = *values = NULL;
+    } else if (cached < 0) { /* keep a copy (none when out of memory: it is only a cache) */
+        uint32_t slot = g->input_next++ % INPUT_CACHE;
+        float *copy = malloc((size_t)(*nt ? *nt : 1) * sizeof *copy);
+        if (copy) {
+            free(g->inputs[slot].times);
+            memcpy(copy, *times, (size_t)*nt * sizeof *copy);
+            g->inputs[slot].accessor = input;
+            g->inputs[slot].times = copy;
+            g->inputs[slot].count = *nt;
+        }
     }
     return r;
 }
@@ -1735,6 +1766,8 @@ sinew_result raw_model_from_gltf(const char *path, const unsigned char *bytes, s
     free(g.has_uv_transform);
     free(g.morph_first);
     free(g.morph_count);
+    for (int i = 0; i < INPUT_CACHE; i++)
+        free(g.inputs[i].times);
     const table *tables[] = {&g.accessors, &g.views,    &g.nodes,  &g.meshes,       &g.skins,
                              &g.materials, &g.textures, &g.images, &g.buffer_items, &g.animations};
     for (size_t i = 0; i < sizeof tables / sizeof tables[0]; i++)
