@@ -1861,7 +1861,9 @@ static int32_t *used_slots(const mesh_source *src, uint32_t *count)
     uint32_t n = 0;
     for (uint32_t p = 0; slots && p < src->polygon_count; p++) {
         int32_t slot = src->corners[src->polygon_start[p]].material;
-        if (slot >= 0 && src->polygon_start[p + 1] - src->polygon_start[p] >= 3)
+        /* runs of one slot once: polygons come grouped by material (sorting every polygon's
+         * slot was 7% of arnaud.fbx's import) */
+        if (slot >= 0 && src->polygon_start[p + 1] - src->polygon_start[p] >= 3 && (n == 0 || slots[n - 1] != slot))
             slots[n++] = slot;
     }
     if (slots)
