@@ -476,29 +476,8 @@ SKIN_BLOCKS(3)
 SKIN_BLOCKS(4)
 SKIN_BLOCKS(8)
 
-/* Records copied to 64-byte alignment when the caller's are not and the copy pays: a vertex
- * whose joints differ from its neighbours' loads four 64-byte records, and one that crosses a
- * cache line costs two (out-of-order influences skin 15% faster aligned). On the stack, so
- * at most ALIGNED_RECORDS of them. */
-#define ALIGNED_RECORDS 256
-
-AVX512_FN static void sinew_skin_avx512_aligned(const skin_call *c);
-
-AVX512_FN void sinew_skin_avx512(const skin_call *c)
-{
-    if (((uintptr_t)c->records & 63) != 0 && c->record_count <= ALIGNED_RECORDS && c->count >= 64 &&
-        c->count >= c->record_count) {
-        _Alignas(64) float aligned[ALIGNED_RECORDS * 16];
-        memcpy(aligned, c->records, (size_t)c->record_count * 16 * sizeof(float));
-        skin_call copy = *c;
-        copy.records = aligned;
-        sinew_skin_avx512_aligned(&copy);
-        return;
-    }
-    sinew_skin_avx512_aligned(c);
-}
-
-AVX512_FN static void sinew_skin_avx512_aligned(const skin_call *c)
+/* The block loop for the call's influence count and method. */
+AVX512_FN static void dispatch_blocks(const skin_call *c)
 {
     static void (*const lbs[9])(const skin_call *) = {[1] = skin_blocks_lbs_1,
                                                       [2] = skin_blocks_lbs_2,
@@ -516,6 +495,26 @@ AVX512_FN static void sinew_skin_avx512_aligned(const skin_call *c)
         fn(c);
     else
         skin_blocks(c, k, c->dqs); /* 5, 6, 7 or more than 8: the count is read at run time */
+}
+
+/* Records copied to 64-byte alignment when the caller's are not and the copy pays: a vertex
+ * whose joints differ from its neighbours' loads four 64-byte records, and one that crosses a
+ * cache line costs two (out-of-order influences skin 15% faster aligned). On the stack, so
+ * at most ALIGNED_RECORDS of them. */
+#define ALIGNED_RECORDS 256
+
+AVX512_FN void sinew_skin_avx512(const skin_call *c)
+{
+    if (((uintptr_t)c->records & 63) != 0 && c->record_count <= ALIGNED_RECORDS && c->count >= 64 &&
+        c->count >= c->record_count) {
+        _Alignas(64) float aligned[ALIGNED_RECORDS * 16];
+        memcpy(aligned, c->records, (size_t)c->record_count * 16 * sizeof(float));
+        skin_call copy = *c;
+        copy.records = aligned;
+        dispatch_blocks(&copy);
+        return;
+    }
+    dispatch_blocks(c);
 }
 
 /* ---- AVX2 + FMA ---- */

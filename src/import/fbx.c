@@ -64,16 +64,21 @@ static void dmat_point(const dmat *a, const double p[3], double out[3])
         out[r] = a->m[r] * p[0] + a->m[4 + r] * p[1] + a->m[8 + r] * p[2] + a->m[12 + r];
 }
 
-/* Rotation matrix of Euler angles in degrees applied in `order` (FBX: 0 XYZ = X first,
- * then Y, then Z; 1 XZY, 2 YZX, 3 YXZ, 4 ZXY, 5 ZYX; 6 spheric XYZ is taken as XYZ). */
-static dmat euler_matrix(const double degrees[3], int order)
+/* The axes of FBX's rotation orders, in the order they are applied (0 XYZ = X first, then Y,
+ * then Z; 1 XZY, 2 YZX, 3 YXZ, 4 ZXY, 5 ZYX; 6 spheric XYZ and anything else is taken as XYZ). */
+static const int *euler_axes(int order)
 {
     static const int axes[6][3] = {{0, 1, 2}, {0, 2, 1}, {1, 2, 0}, {1, 0, 2}, {2, 0, 1}, {2, 1, 0}};
-    if (order < 0 || order > 5)
-        order = 0;
+    return axes[order < 0 || order > 5 ? 0 : order];
+}
+
+/* Rotation matrix of Euler angles in degrees applied in `order` (euler_axes()). */
+static dmat euler_matrix(const double degrees[3], int order)
+{
+    const int *axes = euler_axes(order);
     double r[9] = {1, 0, 0, 0, 1, 0, 0, 0, 1}; /* 3x3, column-major */
     for (int k = 0; k < 3; k++) {
-        int axis = axes[order][k];
+        int axis = axes[k];
         if (degrees[axis] == 0.0)
             continue;
         double a = degrees[axis] * (M_PI / 180.0), c = cos(a), sn = sin(a);
@@ -96,16 +101,14 @@ static dmat euler_matrix(const double degrees[3], int order)
  * (x, y, z, w); in gimbal lock the first angle is 0. */
 static void quat_euler(const double q[4], int order, double out[3])
 {
-    static const int axes[6][3] = {{0, 1, 2}, {0, 2, 1}, {1, 2, 0}, {1, 0, 2}, {2, 0, 1}, {2, 1, 0}};
-    if (order < 0 || order > 5)
-        order = 0;
+    const int *axes = euler_axes(order);
     double r[3][3]; /* r[row][col] */
     dmat m = dmat_from_trs((double[3]){0, 0, 0}, q, (double[3]){1, 1, 1});
     for (int row = 0; row < 3; row++)
         for (int col = 0; col < 3; col++)
             r[row][col] = m.m[col * 4 + row];
     /* R = R_k(c) R_j(b) R_i(a), i applied first; e: +1 for an even permutation of XYZ */
-    int i = axes[order][0], j = axes[order][1], k = axes[order][2];
+    int i = axes[0], j = axes[1], k = axes[2];
     double e = (j == (i + 1) % 3) ? 1.0 : -1.0;
     double sb = -e * r[k][i];
     double a, b, c;
@@ -126,12 +129,6 @@ static void quat_euler(const double q[4], int order, double out[3])
         out[n] = angles[n] * (180.0 / M_PI);
 }
 
-static void euler_quat(const double degrees[3], int order, double q[4])
-{
-    dmat m = euler_matrix(degrees, order);
-    dmat_quat(&m, q);
-}
-
 static void quat_mul(const double a[4], const double b[4], double out[4])
 {
     double r[4] = {
@@ -144,12 +141,10 @@ static void quat_mul(const double a[4], const double b[4], double out[4])
  * euler_matrix() rotates: each axis's half-angle quaternion multiplied on the left. */
 static void euler_rotation(const double degrees[3], int order, double q[4])
 {
-    static const int axes[6][3] = {{0, 1, 2}, {0, 2, 1}, {1, 2, 0}, {1, 0, 2}, {2, 0, 1}, {2, 1, 0}};
-    if (order < 0 || order > 5)
-        order = 0;
+    const int *axes = euler_axes(order);
     q[0] = q[1] = q[2] = 0.0, q[3] = 1.0;
     for (int k = 0; k < 3; k++) {
-        int axis = axes[order][k];
+        int axis = axes[k];
         if (degrees[axis] == 0.0)
             continue;
         double half = degrees[axis] * (M_PI / 360.0), c = cos(half), sn = sin(half);
@@ -157,6 +152,14 @@ static void euler_rotation(const double degrees[3], int order, double q[4])
         e[axis] = sn;
         quat_mul(e, q, q);
     }
+}
+
+/* The inverse of a post-rotation (XYZ Euler angles in degrees): its quaternion's conjugate. */
+static void post_rotation_inverse(const double degrees[3], double q[4])
+{
+    euler_rotation(degrees, 0, q);
+    for (int c = 0; c < 3; c++)
+        q[c] = -q[c];
 }
 
 /* q with the sign dmat_quat() gives the rotation (w positive where the matrix's trace is,
@@ -525,9 +528,7 @@ static void read_statics(scene *s, uint32_t model)
     if (s->legacy && !o->props)
         read_channel_defaults(o->node, st);
     euler_rotation(st->value[P_PRE_ROTATION], 0, st->pre);
-    euler_rotation(st->value[P_POST_ROTATION], 0, st->post_inverse);
-    for (int c = 0; c < 3; c++)
-        st->post_inverse[c] = -st->post_inverse[c];
+    post_rotation_inverse(st->value[P_POST_ROTATION], st->post_inverse);
 }
 
 /* ---- animation ------------------------------------------------------------------------ */
@@ -773,8 +774,8 @@ static void combine_layer(const fbx_layer *l, double weight, int prop, int order
                 out[c] *= pow_signed(v[c], weight);
         } else if (rotation) {
             double a[4], b[4], id[4] = {0, 0, 0, 1};
-            euler_quat(out, order, a);
-            euler_quat(v, order, b);
+            euler_rotation(out, order, a);
+            euler_rotation(v, order, b);
             quat_slerp(id, b, weight, b);
             quat_mul(a, b, a);
             quat_euler(a, order, out);
@@ -788,8 +789,8 @@ static void combine_layer(const fbx_layer *l, double weight, int prop, int order
                 out[c] = pow_signed(out[c], 1.0 - weight) * pow_signed(v[c], weight);
         } else if (rotation) {
             double a[4], b[4];
-            euler_quat(out, order, a);
-            euler_quat(v, order, b);
+            euler_rotation(out, order, a);
+            euler_rotation(v, order, b);
             quat_slerp(a, b, weight, a);
             quat_euler(a, order, out);
         } else {
@@ -885,13 +886,10 @@ static void local_from_values(const scene *s, uint32_t model, const double v[P_C
     }
     if (post[0] != 0 || post[1] != 0 || post[2] != 0) {
         double qpost[4];
-        if (memcmp(post, st->value[P_POST_ROTATION], sizeof st->value[0]) == 0) {
+        if (memcmp(post, st->value[P_POST_ROTATION], sizeof st->value[0]) == 0)
             memcpy(qpost, st->post_inverse, sizeof qpost);
-        } else {
-            euler_rotation(post, 0, qpost);
-            for (int c = 0; c < 3; c++)
-                qpost[c] = -qpost[c];
-        }
+        else
+            post_rotation_inverse(post, qpost);
         quat_mul(q, qpost, q);
     }
     quat_canonical(q);

@@ -83,8 +83,8 @@ typedef struct gltf {
      * third of the import. The most recent INPUT_CACHE, each owned here. */
 #define INPUT_CACHE 16
     struct {
-        int accessor; /* -1: empty */
-        float *times;
+        int accessor;
+        float *times; /* NULL: an empty slot */
         uint32_t count;
     } inputs[INPUT_CACHE];
     uint32_t input_next;
