@@ -55,12 +55,30 @@ bool sinew_lazy_load(sinew_lazy_library *library, char *why, size_t why_size);
  * instead of a fault a page, which costs microseconds on a virtual machine); nothing for a block
  * under 256 KiB, or where the kernel cannot. */
 void sinew_prefault(void *p, size_t size);
+/* A large block in 2 MB pages where the kernel gives them (transparent huge pages, asked for with
+ * MADV_HUGEPAGE): a first touch costs a fault a 2 MB page instead of a 4 KiB one (on a virtual
+ * machine with shadow page tables, some microseconds each: 1.4 MB read from a file and checked
+ * cost 3 ms in 4 KiB pages, 0.5 ms in 2 MB ones). The first `populate` bytes are filled in at
+ * once. The mapping is `size` rounded up to 2 MB, so it is for blocks of about a megabyte and
+ * more. NULL when it cannot be mapped or 64 blocks are live already: the caller mallocs instead.
+ * Such a block is freed with sinew_pages_free(), which says false for any other pointer (then the
+ * caller frees it as it came), or sinew_block_free() (the block or a malloc'd pointer).
+ * sinew_pages_length() is the mapping's length, 0 for any other pointer. */
+void *sinew_pages_alloc(size_t size, size_t populate);
+bool sinew_pages_free(void *p);
+size_t sinew_pages_length(const void *p);
+void sinew_block_free(void *p);
 
-/* sinew_model_from_blob() for malloc'd bytes the model then owns (freed with it) instead of
- * copying them, when `allocator` is NULL (with an allocator they are copied, and stay the
- * caller's). On failure the bytes stay the caller's. */
+/* sinew_model_from_blob() for malloc'd (or sinew_pages_alloc'd) bytes the model then owns (freed
+ * with it) instead of copying them, when `allocator` is NULL (with an allocator they are copied,
+ * and stay the caller's). On failure the bytes stay the caller's. */
 sinew_result sinew_model_adopt_blob(void *bytes, size_t size, const char *name, const sinew_allocator *allocator,
                                     sinew_model **out, sinew_error *error);
+
+/* A model blob this long or longer, read from a .sinew file or built by an import, is kept in
+ * 2 MB pages (sinew_pages_alloc): under 2 MB more than its length, for a megabyte's pages
+ * touched at a fault each (twice for a file's bytes: the kernel's copy, then the checks). */
+#define MODEL_PAGES_MIN ((size_t)1 << 20)
 
 #define BLOB_MAGIC "SINEW\r\n\x1a"
 #define BLOB_VERSION 4u

@@ -1,9 +1,11 @@
-/* A library loaded on first use (internal.h: sinew_lazy_load), and pages filled in ahead
- * (sinew_prefault): what a process start and its first large buffers cost. */
+/* A library loaded on first use (internal.h: sinew_lazy_load), pages filled in ahead
+ * (sinew_prefault) and large blocks in 2 MB pages (sinew_pages_alloc): what a process start and
+ * its first large buffers cost. */
 #include <dlfcn.h>
 #include <pthread.h>
 #include <stdint.h>
 #include <stdio.h>
+#include <stdlib.h>
 #include <sys/mman.h>
 
 #include "internal.h"
@@ -44,4 +46,98 @@ void sinew_prefault(void *p, size_t size)
     (void)p;
     (void)size;
 #endif
+}
+
+/* ---- large blocks in 2 MB pages ---------------------------------------------------------- */
+
+#define HUGE_PAGE ((size_t)2 << 20)
+#define PAGE_BLOCKS 64 /* live at once, in the process; past that, blocks are malloc'd */
+
+static struct {
+    void *start;
+    size_t length;
+} page_blocks[PAGE_BLOCKS];
+static pthread_mutex_t page_lock = PTHREAD_MUTEX_INITIALIZER;
+
+void *sinew_pages_alloc(size_t size, size_t populate)
+{
+#if defined(MADV_HUGEPAGE)
+    if (!size || size > SIZE_MAX / 2)
+        return NULL;
+    size_t length = (size + HUGE_PAGE - 1) & ~(HUGE_PAGE - 1);
+    /* a mapping a huge page longer, trimmed to the 2 MB boundaries inside it */
+    unsigned char *map = mmap(NULL, length + HUGE_PAGE, PROT_READ | PROT_WRITE, MAP_PRIVATE | MAP_ANONYMOUS, -1, 0);
+    if (map == MAP_FAILED)
+        return NULL;
+    unsigned char *start = (unsigned char *)(((uintptr_t)map + HUGE_PAGE - 1) & ~(uintptr_t)(HUGE_PAGE - 1));
+    if (start > map)
+        munmap(map, (size_t)(start - map));
+    if (map + HUGE_PAGE > start)
+        munmap(start + length, (size_t)(map + HUGE_PAGE - start));
+    pthread_mutex_lock(&page_lock);
+    size_t slot = 0;
+    while (slot < PAGE_BLOCKS && page_blocks[slot].start)
+        slot++;
+    if (slot < PAGE_BLOCKS)
+        page_blocks[slot].start = start, page_blocks[slot].length = length;
+    pthread_mutex_unlock(&page_lock);
+    if (slot == PAGE_BLOCKS) {
+        munmap(start, length);
+        return NULL;
+    }
+    madvise(start, length, MADV_HUGEPAGE); /* where the kernel has no transparent huge pages: 4 KiB pages */
+#ifdef MADV_POPULATE_WRITE
+    populate = populate < size ? populate : size;
+    if (populate)
+        madvise(start, (populate + 4095) & ~(size_t)4095, MADV_POPULATE_WRITE);
+#else
+    (void)populate;
+#endif
+    return start;
+#else
+    (void)size;
+    (void)populate;
+    return NULL;
+#endif
+}
+
+/* The slot of a block of sinew_pages_alloc(), or PAGE_BLOCKS; called with page_lock held. */
+static size_t page_slot(const void *p)
+{
+    size_t slot = 0;
+    while (slot < PAGE_BLOCKS && page_blocks[slot].start != p)
+        slot++;
+    return slot;
+}
+
+size_t sinew_pages_length(const void *p)
+{
+    if (!p || ((uintptr_t)p & (HUGE_PAGE - 1))) /* not 2 MB aligned: not one (the common case, no lock) */
+        return 0;
+    pthread_mutex_lock(&page_lock);
+    size_t slot = page_slot(p), length = slot < PAGE_BLOCKS ? page_blocks[slot].length : 0;
+    pthread_mutex_unlock(&page_lock);
+    return length;
+}
+
+bool sinew_pages_free(void *p)
+{
+    if (!p || ((uintptr_t)p & (HUGE_PAGE - 1)))
+        return false;
+    pthread_mutex_lock(&page_lock);
+    size_t slot = page_slot(p), length = 0;
+    if (slot < PAGE_BLOCKS) {
+        length = page_blocks[slot].length;
+        page_blocks[slot].start = NULL;
+    }
+    pthread_mutex_unlock(&page_lock);
+    if (length)
+        munmap(p, length);
+    return length != 0;
+}
+
+void sinew_block_free(void *p)
+{
+    if (!sinew_pages_free(p))
+        free(p);
 }

@@ -57,7 +57,8 @@ typedef struct model_block {
     sinew_allocator allocator;
     const unsigned char *blob;
     size_t blob_size;
-    void *owned;      /* the blob, when it is a malloc'd block of its own (adopted: not copied) */
+    void *owned;      /* the blob, when it is a block of its own (adopted: not copied): malloc'd or
+                       * sinew_pages_alloc'd, freed by sinew_block_free */
     uint32_t version; /* of the blob: an older one adds a warning */
 } model_block;
 
@@ -835,19 +836,24 @@ sinew_result sinew_model_load(const char *path, const sinew_allocator *allocator
         fclose(f);
         return sinew_fail(error, SINEW_ERROR_IO, "%s: cannot read: not a regular file", path);
     }
-    void *bytes = malloc(n ? (size_t)n : 1);
+    /* A blob of a megabyte and more in 2 MB pages: the model keeps it (without an allocator), and
+     * reading it and checking its checksum touch every page. */
+    void *bytes = (size_t)n >= MODEL_PAGES_MIN ? sinew_pages_alloc((size_t)n, (size_t)n) : NULL;
+    if (!bytes)
+        bytes = malloc(n ? (size_t)n : 1);
     if (!bytes) {
         fclose(f);
         return sinew_fail(error, SINEW_ERROR_OUT_OF_MEMORY, "%s: out of memory for %ld bytes", path, n);
     }
-    sinew_prefault(bytes, (size_t)n);
+    if (!sinew_pages_length(bytes))
+        sinew_prefault(bytes, (size_t)n);
     size_t got = fread(bytes, 1, (size_t)n, f);
     bool failed = ferror(f);
     fclose(f);
     sinew_result result = failed ? sinew_fail(error, SINEW_ERROR_IO, "%s: cannot read: %s", path, strerror(errno))
                                  : open_blob(bytes, got, path, path, true, allocator, out, error);
     if (result != SINEW_OK || allocator) /* else the model keeps the bytes (adopted) */
-        free(bytes);
+        sinew_block_free(bytes);
     return result;
 }
 
@@ -865,7 +871,7 @@ void sinew_model_free(sinew_model *model)
     model_block *b = (model_block *)model;
     void *owned = b->owned;
     b->allocator.free(b, b->allocator.user);
-    free(owned);
+    sinew_block_free(owned);
 }
 
 int32_t sinew_model_find_node(const sinew_model *model, const char *name)

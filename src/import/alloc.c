@@ -10,6 +10,7 @@
 #include <sys/mman.h>
 #include <time.h>
 
+#include "../core/internal.h" /* sinew_pages_alloc */
 #include "internal.h"
 
 typedef struct import_alloc {
@@ -176,8 +177,36 @@ void *import_calloc(size_t count, size_t size)
     return p;
 }
 
+void *import_large_alloc(size_t size, size_t pages_from)
+{
+    const size_t huge = (size_t)2 << 20;
+    bool pages = size >= pages_from && size <= SIZE_MAX - huge;
+    if (!allowed(current, pages ? (size + huge - 1) & ~(huge - 1) : size))
+        return NULL;
+    void *p = pages ? sinew_pages_alloc(size, size) : NULL;
+    if (p) {
+        if (current)
+            charge(current, sinew_pages_length(p));
+        return p;
+    }
+    p = malloc(size ? size : 1);
+    took(current, p);
+    if (p)
+        sinew_prefault(p, size);
+    return p;
+}
+
 void *import_realloc(void *ptr, size_t size)
 {
+    if (sinew_pages_length(ptr)) { /* a block in 2 MB pages: into a malloc'd one */
+        void *p = import_malloc(size ? size : 1);
+        if (p) {
+            size_t old = sinew_pages_length(ptr);
+            memcpy(p, ptr, old < size ? old : size);
+            import_free(ptr);
+        }
+        return p;
+    }
     size_t old = ptr ? malloc_usable_size(ptr) : 0;
     if (!allowed(current, size > old ? size - old : 0))
         return NULL;
@@ -198,6 +227,13 @@ char *import_strdup(const char *text)
 
 void import_free(void *ptr)
 {
+    size_t pages = sinew_pages_length(ptr);
+    if (pages) {
+        if (current)
+            discharge(current, pages);
+        sinew_pages_free(ptr);
+        return;
+    }
     gave(current, ptr);
     free(ptr);
 }
@@ -208,7 +244,8 @@ typedef struct arena_chunk {
     struct arena_chunk *next;
     size_t size, used; /* bytes after the header */
     size_t filled;     /* a mapped chunk: bytes after the header whose pages are filled in */
-    bool mapped;
+    bool mapped;       /* mmap'd (256 KiB and more) */
+    bool pages;        /* in 2 MB pages (sinew_pages_alloc: IMPORT_PAGES_MIN and more) */
 } arena_chunk;
 #define ARENA_HEADER ((sizeof(arena_chunk) + 15) & ~(size_t)15)
 #define ARENA_FIRST ((size_t)64 << 10)
@@ -244,8 +281,11 @@ static arena_chunk *chunk_new(size_t size)
     if (!allowed(current, total))
         return NULL;
     arena_chunk *c = NULL;
-    bool mapped = total >= ARENA_MAP;
-    if (mapped) {
+    bool mapped = total >= ARENA_MAP, pages = total >= IMPORT_PAGES_MIN;
+    if (pages && (c = sinew_pages_alloc(total, 0))) {
+        /* filled in as below, a window at a time: the first touch of each 2 MB fills it */
+    } else if (mapped) {
+        pages = false;
         void *p = mmap(NULL, total, PROT_READ | PROT_WRITE, MAP_PRIVATE | MAP_ANONYMOUS, -1, 0);
         c = p == MAP_FAILED ? NULL : p;
     } else {
@@ -258,7 +298,7 @@ static arena_chunk *chunk_new(size_t size)
     }
     if (current)
         charge(current, total);
-    *c = (arena_chunk){.size = size, .mapped = mapped};
+    *c = (arena_chunk){.size = size, .mapped = mapped, .pages = pages};
     return c;
 }
 
@@ -300,7 +340,9 @@ void import_arena_free(import_arena *arena)
         size_t total = ARENA_HEADER + c->size;
         if (current)
             discharge(current, total);
-        if (c->mapped)
+        if (c->pages)
+            sinew_pages_free(c);
+        else if (c->mapped)
             munmap(c, total);
         else
             free(c);

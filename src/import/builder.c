@@ -1549,10 +1549,9 @@ sinew_result raw_model_write(const raw_model *m, void **bytes, size_t *size, sin
     free(w.pool);
     w.pool = NULL;
     if (!w.failed) {
-        w = (writer){.capacity = w.size, .bytes = malloc(w.size ? w.size : 1)};
+        w = (writer){.capacity = w.size,
+                     .bytes = import_large_alloc(w.size, m->blob_in_pages ? MODEL_PAGES_MIN : SIZE_MAX)};
         w.failed = !w.bytes;
-        if (w.bytes)
-            sinew_prefault(w.bytes, w.capacity);
     }
     if (!w.failed)
         write_tables(&w, m, head, &h);

@@ -97,11 +97,11 @@ bool import_read_file(const char *path, unsigned char **bytes, size_t *size)
     bool ok = fseek(f, 0, SEEK_END) == 0;
     long n = ok ? ftell(f) : -1;
     ok = n >= 0 && fseek(f, 0, SEEK_SET) == 0;
-    unsigned char *buf = ok ? malloc((size_t)n + 1) : NULL;
+    /* A large file's pages in one call, not a fault a page; in 2 MB pages from IMPORT_PAGES_MIN. (Not the
+     * file mapped: a file truncated while mapped ends the process with SIGBUS, and sinew-view --watch
+     * reads files being rewritten.) */
+    unsigned char *buf = ok ? import_large_alloc((size_t)n + 1, IMPORT_PAGES_MIN) : NULL;
     bool starved = ok && !buf;
-    if (buf) /* a large file's pages in one call, not a fault a page. (Not mapped: a file truncated while
-              * mapped ends the process with SIGBUS, and sinew-view --watch reads files being rewritten.) */
-        sinew_prefault(buf, (size_t)n);
     ok = buf && fread(buf, 1, (size_t)n, f) == (size_t)n;
     int why = starved ? ENOMEM : errno; /* what failed, not what fclose() leaves */
     fclose(f);
@@ -437,6 +437,7 @@ static sinew_result import_bytes(const unsigned char *bytes, size_t size, const 
     void *blob = NULL;
     size_t blob_size = 0;
     if (result == SINEW_OK) {
+        raw.blob_in_pages = true; /* adopted below */
         result = raw_model_build(&raw, &blob, &blob_size, error);
         raw_model_free(&raw);
     }
@@ -496,8 +497,8 @@ static sinew_result raw_model_read(const char *path, reader_choice choice, raw_m
     return result;
 }
 
-static sinew_result blob_of(const sinew_import_desc *desc, reader_choice choice, void **bytes, size_t *size,
-                            sinew_error *error);
+static sinew_result blob_of(const sinew_import_desc *desc, reader_choice choice, bool adopted, void **bytes,
+                            size_t *size, sinew_error *error);
 
 sinew_result sinew_import_blob_desc(const sinew_import_desc *desc, void **bytes, size_t *size, sinew_error *error)
 {
@@ -506,12 +507,13 @@ sinew_result sinew_import_blob_desc(const sinew_import_desc *desc, void **bytes,
     *bytes = NULL;
     *size = 0;
     sinew_result result = check_path(desc->path, error);
-    return result ? result : blob_of(desc, choose_reader(desc->path, desc->assimp), bytes, size, error);
+    return result ? result : blob_of(desc, choose_reader(desc->path, desc->assimp), false, bytes, size, error);
 }
 
-/* sinew_import_blob_desc() for a checked path and its reader. */
-static sinew_result blob_of(const sinew_import_desc *desc, reader_choice choice, void **bytes, size_t *size,
-                            sinew_error *error)
+/* sinew_import_blob_desc() for a checked path and its reader; `adopted`: the caller's model will
+ * own the bytes (then they may be in 2 MB pages, else malloc'd). */
+static sinew_result blob_of(const sinew_import_desc *desc, reader_choice choice, bool adopted, void **bytes,
+                            size_t *size, sinew_error *error)
 {
     if (!choice.read && !choice.refusal && !import_assimp_reader) /* Assimp: only the helper links it */
         return import_blob_in_helper(desc, bytes, size, error);
@@ -523,6 +525,7 @@ static sinew_result blob_of(const sinew_import_desc *desc, reader_choice choice,
     import_alloc_begin(&state, own_limit(desc, file_size), own_seconds(desc), desc->progress, desc->progress_user);
     raw_model raw;
     if ((result = raw_model_read(desc->path, choice, &raw, error)) == SINEW_OK) {
+        raw.blob_in_pages = adopted;
         result = raw_model_build(&raw, bytes, size, error);
         raw_model_free(&raw);
     }
@@ -610,7 +613,7 @@ static sinew_result import_file(const sinew_import_desc *desc, sinew_model **out
         return sinew_fail(error, SINEW_ERROR_CANCELLED, "%s: the import was cancelled", desc->path);
     void *bytes = NULL;
     size_t size = 0;
-    if ((result = blob_of(desc, choice, &bytes, &size, error)))
+    if ((result = blob_of(desc, choice, true, &bytes, &size, error)))
         return result;
     result = sinew_model_adopt_blob(bytes, size, desc->path, desc->allocator, out, error);
     if (result != SINEW_OK || desc->allocator) /* else the model's now */

@@ -147,7 +147,9 @@ typedef struct raw_model {
     uint32_t pool_count;
     raw_key_pool *pools;
     uint32_t warning_count;
-    bool warning_lost; /* raw_model_warn() ran out of memory: the build fails rather than lose it */
+    bool warning_lost;  /* raw_model_warn() ran out of memory: the build fails rather than lose it */
+    bool blob_in_pages; /* raw_model_write: a blob of MODEL_PAGES_MIN and more may be in 2 MB pages
+                         * (sinew_pages_alloc; for a model that adopts it; import_free frees it) */
     char **warnings;
     const struct sinew_muscle_set *muscles; /* borrowed, not freed: stored with the model, or NULL */
 } raw_model;
@@ -256,9 +258,11 @@ bool bake_track(const bake_desc *d, const float *times, uint32_t n, const sinew_
  * when it has none. False when out of memory. */
 bool raw_model_rest_diagonal(const raw_model *model, double *diagonal);
 
-/* Reads a whole file into *bytes (malloc'd, with a NUL byte after the end); false when it
- * cannot be read. */
+/* Reads a whole file into *bytes (with a NUL byte after the end; import_free frees it: a file
+ * of IMPORT_PAGES_MIN and more is in 2 MB pages, others are malloc'd); false when it cannot be
+ * read. */
 bool import_read_file(const char *path, unsigned char **bytes, size_t *size);
+void import_free(void *ptr); /* alloc.h's free, for sources that do not include it */
 
 /* Writes a whole file or nothing: into a temporary file beside `path`, renamed over it once
  * every byte is written and closed (a target that is not a regular file, such as /dev/stdout,
@@ -402,11 +406,21 @@ void import_alloc_begin(import_alloc_state *state, uint64_t limit, double second
                         bool (*progress)(float fraction, void *user), void *progress_user);
 bool import_late(void);
 void import_alloc_end(import_alloc_state *state, import_alloc_result *result);
+/* A large block about to be written whole, counted as the import's: in 2 MB pages
+ * (sinew_pages_alloc, counted as its whole mapping) when it has `pages_from` bytes or more, else
+ * (or when it cannot be mapped) malloc'd with its pages filled in at once (sinew_prefault);
+ * import_free frees it; NULL when refused. On a virtual machine with shadow page tables each first
+ * touch of a 4 KiB page costs some microseconds, and a file's bytes are touched twice (the
+ * kernel's copy, then the reader), so the import's large buffers (a file's bytes, JSON text and
+ * nodes, the arena's chunks) are in 2 MB pages from IMPORT_PAGES_MIN: a 2 MB page zeroes at
+ * most 4 times the bytes asked for, cheaper than the faults it saves. */
+#define IMPORT_PAGES_MIN ((size_t)512 << 10)
+void *import_large_alloc(size_t size, size_t pages_from);
 /* An arena of the import: what is taken is zeroed and 16-byte aligned, and stays until the whole
  * arena is freed. Its chunks (64 KiB, doubling to 4 MiB; a large request gets its own) count
  * against the import's limit as one allocation each; those of 256 KiB and more are mapped with
- * their pages filled in at once (MAP_POPULATE), which on a virtual machine costs a fraction of
- * a fault a page. */
+ * their pages filled in a window at a time (MADV_POPULATE_WRITE), which on a virtual machine
+ * costs a fraction of a fault a page; those of IMPORT_PAGES_MIN and more in 2 MB pages. */
 typedef struct import_arena {
     void *head;
 } import_arena;

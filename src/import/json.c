@@ -12,6 +12,7 @@
 
 #include "../core/internal.h"
 #include "decimal.h"
+#include "internal.h" /* import_large_alloc */
 #include "json.h"
 #include "alloc.h" /* last: the readers' allocations are the import's (alloc.h) */
 
@@ -211,9 +212,10 @@ sinew_result json_parse(const char *source, size_t size, json_doc *doc, size_t *
         *why = "larger than 2 GB";
         return SINEW_ERROR_FORMAT;
     }
-    if (!c_locale || !(doc->text = malloc(size + 1)))
+    if (!c_locale)
         return SINEW_ERROR_OUT_OF_MEMORY;
-    sinew_prefault(doc->text, size);
+    if (!(doc->text = import_large_alloc(size + 1, IMPORT_PAGES_MIN)))
+        return SINEW_ERROR_OUT_OF_MEMORY;
     memcpy(doc->text, source, size);
     doc->text[size] = '\0';
     /* tokens: a guess from the size (glTF files run 6 to 8 bytes a token; pages not written are
@@ -241,10 +243,9 @@ sinew_result json_parse(const char *source, size_t size, json_doc *doc, size_t *
         *error_offset = parser.pos < size ? parser.pos : size;
         *why = n == 0 ? "no value" : n == JSMN_ERROR_PART ? "it ends inside a value" : "an unexpected character";
         result = SINEW_ERROR_FORMAT;
-    } else if (!(doc->root = malloc((size_t)n * sizeof *doc->root))) {
+    } else if (!(doc->root = import_large_alloc((size_t)n * sizeof *doc->root, IMPORT_PAGES_MIN))) {
         result = SINEW_ERROR_OUT_OF_MEMORY;
     } else {
-        sinew_prefault(doc->root, (size_t)n * sizeof *doc->root);
         if (!convert(doc->text, size, tokens, n, doc->root, error_offset, why))
             result = SINEW_ERROR_FORMAT;
     }

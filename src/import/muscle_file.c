@@ -487,7 +487,7 @@ sinew_result sinew_muscle_set_read(const char *path, sinew_muscle_set **out, sin
     if (!import_read_file(path, &bytes, &size))
         return sinew_fail(error, SINEW_ERROR_IO, "%s: cannot read the muscle file: %s", path, strerror(errno));
     sinew_result result = sinew_muscle_set_parse((const char *)bytes, size, path, out, error);
-    free(bytes);
+    import_free(bytes); /* import_read_file's */
     return result;
 }
 
@@ -544,6 +544,6 @@ sinew_result sinew_arm_read(const char *path, sinew_arm_desc *out, sinew_error *
     cJSON *root = parse_json((const char *)bytes, size, path, error);
     sinew_result result = root ? read_arm(&r, root, out) : SINEW_ERROR_FORMAT;
     cJSON_Delete(root);
-    free(bytes);
+    import_free(bytes);
     return result;
 }

@@ -137,7 +137,7 @@ static sinew_result read_name_map(const char *path, const sinew_model *target, c
     if (!import_read_file(path, &text, &size))
         return sinew_fail(error, SINEW_ERROR_IO, "%s: cannot read the name map", path);
     cJSON *root = cJSON_ParseWithLength((const char *)text, size);
-    free(text);
+    import_free(text); /* import_read_file's */
     if (!cJSON_IsObject(root)) {
         cJSON_Delete(root);
         return sinew_fail(error, SINEW_ERROR_FORMAT, "%s: a name map is a JSON object {\"source\": \"target\", ...}",

@@ -1,6 +1,8 @@
 /* The .sinew runtime format: CRC-32C paths agree, save/load round trip with muscles, the
- * directory's tags (unknown skipped, duplicates and wrong sizes refused), and every prefix
- * and changed byte of a file refused with a message naming it. */
+ * directory's tags (unknown skipped, duplicates and wrong sizes refused), every prefix and
+ * changed byte of a file refused with a message naming it, and large blobs kept in 2 MB pages. */
+#include <stdint.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -23,6 +25,92 @@ static void test_crc32c_paths_agree(void **state)
             assert_int_equal(sinew_crc32c(0, buf + start, n), sinew_crc32c_scalar(0, buf + start, n));
     /* Continuing a checksum equals taking it in one go. */
     assert_int_equal(sinew_crc32c(sinew_crc32c(0, buf, 1000), buf + 1000, 3099), sinew_crc32c_scalar(0, buf, 4099));
+}
+
+/* sinew_pages_alloc: 2 MB aligned and rounded, told apart from malloc'd pointers, 64 live at most. */
+static void test_blocks_in_2mb_pages(void **state)
+{
+    (void)state;
+    const size_t huge = (size_t)2 << 20;
+    unsigned char *p = sinew_pages_alloc(3 * huge - 5, 1000);
+    assert_non_null(p);
+    assert_int_equal((uintptr_t)p % huge, 0);
+    assert_int_equal(sinew_pages_length(p), 3 * huge);
+    memset(p, 0x5a, 3 * huge - 5);
+    assert_true(sinew_pages_free(p));
+    void *m = malloc(64);
+    assert_int_equal(sinew_pages_length(m), 0);
+    assert_false(sinew_pages_free(m));
+    sinew_block_free(m); /* a malloc'd pointer: freed as one */
+    assert_false(sinew_pages_free(NULL));
+    assert_int_equal(sinew_pages_length(NULL), 0);
+
+    void *blocks[70];
+    size_t got = 0;
+    for (size_t i = 0; i < 70; i++)
+        got += (blocks[i] = sinew_pages_alloc(huge, 0)) != NULL;
+    assert_int_equal(got, 64); /* then the callers malloc */
+    for (size_t i = 0; i < 70; i++)
+        if (blocks[i])
+            sinew_block_free(blocks[i]);
+    p = sinew_pages_alloc(huge, huge); /* a slot free again */
+    assert_non_null(p);
+    sinew_block_free(p);
+}
+
+static void *plain_alloc(size_t size, void *user)
+{
+    ++*(int *)user;
+    return malloc(size);
+}
+
+static void plain_free(void *p, void *user)
+{
+    --*(int *)user;
+    free(p);
+}
+
+/* A .sinew file of a megabyte and more is read into 2 MB pages the model keeps (without an
+ * allocator; with one it is copied into the allocator's memory), and reads back the same. */
+static void test_large_file_in_pages(void **state)
+{
+    (void)state;
+    sinew_error error = {0};
+    sinew_model *model = NULL;
+    if (sinew_synthetic_model(&(sinew_synthetic_desc){.vertices = 30000}, &model, &error) != SINEW_OK)
+        fail_msg("%s", error.message);
+    char out[4096];
+    tmp_path("large.sinew", out, sizeof out);
+    assert_int_equal(sinew_model_save(model, NULL, out, &error), SINEW_OK);
+    const void *bytes;
+    size_t size;
+    sinew_model_blob(model, &bytes, &size);
+    assert_true(size >= MODEL_PAGES_MIN);
+
+    sinew_model *back = NULL;
+    if (sinew_model_load(out, NULL, &back, &error) != SINEW_OK)
+        fail_msg("%s", error.message);
+    const void *kept;
+    size_t kept_size;
+    sinew_model_blob(back, &kept, &kept_size);
+    assert_int_equal(kept_size, size);
+    assert_true(sinew_pages_length(kept) >= kept_size);
+    assert_memory_equal(back->meshes[0].positions, model->meshes[0].positions,
+                        model->meshes[0].vertex_count * 3 * sizeof(float));
+    sinew_model_free(back);
+
+    int live = 0;
+    sinew_allocator counting = {.alloc = plain_alloc, .free = plain_free, .user = &live};
+    if (sinew_model_load(out, &counting, &back, &error) != SINEW_OK)
+        fail_msg("%s", error.message);
+    sinew_model_blob(back, &kept, &kept_size);
+    assert_int_equal(sinew_pages_length(kept), 0);
+    assert_memory_equal(back->meshes[0].positions, model->meshes[0].positions,
+                        model->meshes[0].vertex_count * 3 * sizeof(float));
+    sinew_model_free(back);
+    assert_int_equal(live, 0);
+    sinew_model_free(model);
+    remove(out);
 }
 
 static sinew_model *fixture_with_muscles(sinew_muscle_set **set)
@@ -214,10 +302,9 @@ static void test_every_prefix_and_changed_byte_of_a_file(void **state)
 int main(void)
 {
     const struct CMUnitTest tests[] = {
-        cmocka_unit_test(test_crc32c_paths_agree),
-        cmocka_unit_test(test_save_load_round_trip),
-        cmocka_unit_test(test_directory_tags),
-        cmocka_unit_test(test_every_prefix_and_changed_byte_of_a_file),
+        cmocka_unit_test(test_crc32c_paths_agree),  cmocka_unit_test(test_blocks_in_2mb_pages),
+        cmocka_unit_test(test_large_file_in_pages), cmocka_unit_test(test_save_load_round_trip),
+        cmocka_unit_test(test_directory_tags),      cmocka_unit_test(test_every_prefix_and_changed_byte_of_a_file),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
