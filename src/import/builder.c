@@ -1025,6 +1025,33 @@ static uint32_t writer_put(writer *w, const void *data, size_t bytes)
     return (uint32_t)at;
 }
 
+/* Room for `bytes` at the next 16-byte boundary, written by the caller through writer_at()
+ * (what writer_put copies, without a copy to copy from); BLOB_NONE for nothing. */
+static uint32_t writer_space(writer *w, size_t bytes)
+{
+    if (w->failed || bytes == 0)
+        return BLOB_NONE;
+    size_t at = (w->size + BLOB_ALIGN - 1) & ~(size_t)(BLOB_ALIGN - 1);
+    w->too_big = w->too_big || at + bytes > UINT32_MAX;
+    if (w->measure && !w->too_big) {
+        w->size = at + bytes;
+        return (uint32_t)at;
+    }
+    if (at + bytes > UINT32_MAX || !writer_reserve(&w->bytes, &w->capacity, at + bytes)) {
+        w->failed = true;
+        return BLOB_NONE;
+    }
+    memset(w->bytes + w->size, 0, at - w->size);
+    w->size = at + bytes;
+    return (uint32_t)at;
+}
+
+/* Where writer_space's room is, until the next put; NULL while measuring or for nothing. */
+static void *writer_at(const writer *w, uint32_t offset)
+{
+    return w->measure || w->failed || offset == BLOB_NONE ? NULL : w->bytes + offset;
+}
+
 static uint32_t writer_string(writer *w, const char *text)
 {
     if (!text || w->failed)
@@ -1269,35 +1296,48 @@ static bool write_pooled_clip(writer *w, const raw_clip *clip, uint32_t index, c
 }
 
 /* One clip: every channel's times and values concatenated (its weight tracks' after its
- * node tracks'), tracks pointing into them. */
+ * node tracks'), tracks pointing into them; the keys are copied straight into the blob. */
 static bool write_clip(writer *w, const raw_clip *clip, uint32_t index, blob_clip *out, weight_table *weights)
 {
+    sinew_track *tracks = calloc(clip->track_count ? clip->track_count : 1, sizeof *tracks);
+    if (!tracks)
+        return false;
     size_t time_count = 0, value_count = 0;
-    for (uint32_t t = 0; t < clip->track_count; t++)
+    for (uint32_t t = 0; t < clip->track_count; t++) {
+        tracks[t].node = clip->tracks[t].node;
         for (int k = 0; k < SINEW_CHANNEL_COUNT; k++) {
             const raw_channel *ch = &clip->tracks[t].channels[k];
+            tracks[t].channels[k] = (sinew_channel){ch->count, ch->count ? ch->interp : SINEW_INTERP_LINEAR,
+                                                    (uint32_t)time_count, (uint32_t)value_count};
             time_count += ch->count;
             value_count += (size_t)ch->count * sinew_channel_stride(k, ch->interp);
         }
+    }
+    size_t node_times = time_count, node_values = value_count;
     for (uint32_t t = 0; t < clip->weight_track_count; t++) {
         const raw_channel *ch = &clip->weight_tracks[t].keys;
         time_count += ch->count;
         value_count += (size_t)ch->count * sinew_channel_stride(SINEW_CHANNEL_WEIGHT, ch->interp);
     }
-    if (time_count > UINT32_MAX / 4 || value_count > UINT32_MAX / 4)
+    if (time_count > UINT32_MAX / 4 || value_count > UINT32_MAX / 4) {
+        free(tracks);
         return false;
-    float *times = malloc((time_count ? time_count : 1) * sizeof(float));
-    float *values = malloc((value_count ? value_count : 1) * sizeof(float));
-    sinew_track *tracks = calloc(clip->track_count ? clip->track_count : 1, sizeof *tracks);
-    bool ok = times && values && tracks;
+    }
+    *out = (blob_clip){
+        .name = writer_string(w, clip->name),
+        .duration = clip->duration,
+        .start = clip->start,
+        .tracks = {writer_put(w, tracks, clip->track_count * sizeof *tracks), clip->track_count},
+        .times = {writer_space(w, time_count * sizeof(float)), (uint32_t)time_count},
+        .values = {writer_space(w, value_count * sizeof(float)), (uint32_t)value_count},
+    };
+    free(tracks);
+    float *times = writer_at(w, out->times.offset), *values = writer_at(w, out->values.offset);
     size_t at_time = 0, at_value = 0;
-    for (uint32_t t = 0; ok && t < clip->track_count; t++) {
-        tracks[t].node = clip->tracks[t].node;
+    for (uint32_t t = 0; times && values && t < clip->track_count; t++)
         for (int k = 0; k < SINEW_CHANNEL_COUNT; k++) {
             const raw_channel *ch = &clip->tracks[t].channels[k];
             size_t n_values = (size_t)ch->count * sinew_channel_stride(k, ch->interp);
-            tracks[t].channels[k] = (sinew_channel){ch->count, ch->count ? ch->interp : SINEW_INTERP_LINEAR,
-                                                    (uint32_t)at_time, (uint32_t)at_value};
             if (ch->count) {
                 memcpy(times + at_time, ch->times, ch->count * sizeof(float));
                 memcpy(values + at_value, ch->values, n_values * sizeof(float));
@@ -1305,7 +1345,9 @@ static bool write_clip(writer *w, const raw_clip *clip, uint32_t index, blob_cli
             at_time += ch->count;
             at_value += n_values;
         }
-    }
+    at_time = node_times;
+    at_value = node_values;
+    bool ok = true;
     for (uint32_t t = 0; ok && t < clip->weight_track_count; t++) {
         const raw_channel *ch = &clip->weight_tracks[t].keys;
         size_t n_values = (size_t)ch->count * sinew_channel_stride(SINEW_CHANNEL_WEIGHT, ch->interp);
@@ -1313,7 +1355,7 @@ static bool write_clip(writer *w, const raw_clip *clip, uint32_t index, blob_cli
             index,
             clip->weight_tracks[t].channel,
             {ch->count, ch->count ? ch->interp : SINEW_INTERP_LINEAR, (uint32_t)at_time, (uint32_t)at_value}};
-        if (ch->count) {
+        if (ch->count && times && values) {
             memcpy(times + at_time, ch->times, ch->count * sizeof(float));
             memcpy(values + at_value, ch->values, n_values * sizeof(float));
         }
@@ -1321,19 +1363,6 @@ static bool write_clip(writer *w, const raw_clip *clip, uint32_t index, blob_cli
         at_value += n_values;
         ok = ch->count == 0 || weight_table_push(weights, &bt);
     }
-    if (ok) {
-        *out = (blob_clip){
-            .name = writer_string(w, clip->name),
-            .duration = clip->duration,
-            .start = clip->start,
-            .tracks = {writer_put(w, tracks, clip->track_count * sizeof *tracks), clip->track_count},
-            .times = {writer_put(w, times, time_count * sizeof(float)), (uint32_t)time_count},
-            .values = {writer_put(w, values, value_count * sizeof(float)), (uint32_t)value_count},
-        };
-    }
-    free(times);
-    free(values);
-    free(tracks);
     return ok;
 }
 
