@@ -261,7 +261,8 @@ static void chunk_fill(arena_chunk *c, size_t need)
 {
     if (!c->mapped || need <= c->filled)
         return;
-    size_t end = (need + ARENA_FILL - 1) / ARENA_FILL * ARENA_FILL;
+    size_t window = c->pages ? (size_t)2 << 20 : ARENA_FILL; /* a 2 MB page is filled whole */
+    size_t end = (need + window - 1) / window * window;
     end = end < c->size ? end : c->size;
     uintptr_t page = 4096, from = ((uintptr_t)c + ARENA_HEADER + c->filled) & ~(page - 1),
               to = ((uintptr_t)c + ARENA_HEADER + end + page - 1) & ~(page - 1);
@@ -277,11 +278,14 @@ static void chunk_fill(arena_chunk *c, size_t need)
 
 static arena_chunk *chunk_new(size_t size)
 {
+    const size_t huge = (size_t)2 << 20;
     size_t total = ARENA_HEADER + size;
+    bool mapped = total >= ARENA_MAP, pages = total >= IMPORT_PAGES_MIN && total <= SIZE_MAX - huge;
+    if (pages) /* the whole mapping is the chunk's (a 512 KiB chunk has 2 MB), and counted */
+        total = (total + huge - 1) & ~(huge - 1);
     if (!allowed(current, total))
         return NULL;
     arena_chunk *c = NULL;
-    bool mapped = total >= ARENA_MAP, pages = total >= IMPORT_PAGES_MIN;
     if (pages && (c = sinew_pages_alloc(total, 0))) {
         /* filled in as below, a window at a time: the first touch of each 2 MB fills it */
     } else if (mapped) {
@@ -298,7 +302,7 @@ static arena_chunk *chunk_new(size_t size)
     }
     if (current)
         charge(current, total);
-    *c = (arena_chunk){.size = size, .mapped = mapped, .pages = pages};
+    *c = (arena_chunk){.size = total - ARENA_HEADER, .mapped = mapped, .pages = pages};
     return c;
 }
 
@@ -314,11 +318,12 @@ void *import_arena_take(import_arena *arena, size_t bytes)
         chunk_fill(head, head->used);
         return p;
     }
-    size_t grown = head ? head->size * 2 : ARENA_FIRST;
+    /* chunks of 64 KiB, 128 KiB, ... with their headers: a chunk in 2 MB pages fills its pages */
+    size_t grown = head ? (ARENA_HEADER + head->size) * 2 : ARENA_FIRST;
     if (grown > ARENA_LARGEST)
         grown = ARENA_LARGEST;
     bool own = bytes >= grown / 4;
-    arena_chunk *c = chunk_new(own ? bytes : grown);
+    arena_chunk *c = chunk_new(own ? bytes : grown - ARENA_HEADER);
     if (!c)
         return NULL;
     c->used = bytes;
