@@ -3,6 +3,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "../core/internal.h"
 #include "gl.h"
 
 #include "sinew/headless.h"
@@ -105,6 +106,23 @@ static bool open_context(sinew_headless *h, char *tried, size_t tried_size)
     return false;
 }
 
+/* libepoxy ends the process (abort) when it cannot open libEGL.so.1, or libOpenGL.so.0 or
+ * libGL.so.1 for desktop GL's functions: they are looked for first, so that a machine without
+ * them (a GPU driver without glvnd, a container with only the driver's own libraries) gets an
+ * error. Each is loaded once and stays loaded, as libepoxy then loads them itself. */
+static sinew_lazy_library libegl = {.soname = "libEGL.so.1"}, libopengl = {.soname = "libOpenGL.so.0"},
+                          libgl = {.soname = "libGL.so.1"};
+
+static bool egl_libraries(char *why, size_t size)
+{
+    if (!sinew_lazy_load(&libegl, why, size))
+        return false;
+    if (sinew_lazy_load(&libopengl, NULL, 0) || sinew_lazy_load(&libgl, NULL, 0))
+        return true;
+    snprintf(why, size, "cannot load libOpenGL.so.0 or libGL.so.1");
+    return false;
+}
+
 static GLuint renderbuffer(int samples, GLenum format, int width, int height)
 {
     GLuint rb = 0;
@@ -154,6 +172,11 @@ sinew_result sinew_headless_create(const sinew_headless_desc *desc, sinew_headle
     char why[256];
     if (!render_gl_load(why, sizeof why))
         return sinew_fail(error, SINEW_ERROR_GRAPHICS, "no OpenGL: %s", why);
+    if (!egl_libraries(why, sizeof why))
+        return sinew_fail(error, SINEW_ERROR_GRAPHICS,
+                          "no OpenGL through EGL: %s (install libegl1 and libopengl0 with Mesa's EGL, "
+                          "libegl-mesa0, or a GPU driver's)",
+                          why);
     sinew_headless *h = calloc(1, sizeof *h);
     if (!h)
         return sinew_fail(error, SINEW_ERROR_OUT_OF_MEMORY, "out of memory");
