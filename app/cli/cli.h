@@ -99,7 +99,8 @@ typedef struct cli_scene {
     int width, height;
     uint8_t *pixels; /* width * height * 4, top row first */
     const char *gl_name;
-    app_crowd crowd; /* count 0: no crowd */
+    uint32_t warnings_printed; /* the renderer's warnings printed so far (a crowd's come at its first draw) */
+    app_crowd crowd;           /* count 0: no crowd */
     sinew_jobs *jobs;
 } cli_scene;
 

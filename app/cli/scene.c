@@ -23,6 +23,13 @@ static bool resolve_joint(const sinew_model *m, const char *name, const char *op
     return true;
 }
 
+/* The renderer's warnings not printed yet. */
+static void print_warnings(cli_scene *s)
+{
+    for (; s->warnings_printed < sinew_renderer_warning_count(s->renderer); s->warnings_printed++)
+        fprintf(stderr, "sinew: warning: %s\n", sinew_renderer_warning(s->renderer, s->warnings_printed));
+}
+
 static int open_graphics(cli_scene *s, const cli_scene_desc *d)
 {
     sinew_error error = {0};
@@ -36,8 +43,7 @@ static int open_graphics(cli_scene *s, const cli_scene_desc *d)
         cli_error("%s: %s", s->model->source, error.message);
         return error.kind == SINEW_ERROR_GRAPHICS ? EXIT_UNAVAILABLE : EXIT_BAD_INPUT;
     }
-    for (uint32_t i = 0; i < sinew_renderer_warning_count(s->renderer); i++)
-        fprintf(stderr, "sinew: warning: %s\n", sinew_renderer_warning(s->renderer, i));
+    print_warnings(s);
     if (d->hdri && sinew_renderer_set_environment(s->renderer, d->hdri, &error) != SINEW_OK) {
         cli_error("%s", error.message);
         return EXIT_BAD_INPUT;
@@ -206,6 +212,7 @@ bool cli_scene_draw(cli_scene *s, double time)
         cli_error("%s: %s", s->model->source, error.message);
         return false;
     }
+    print_warnings(s);
     return true;
 }
 

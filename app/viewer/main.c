@@ -283,6 +283,13 @@ static gboolean on_tick(GtkWidget *widget, GdkFrameClock *clock, gpointer data)
         v->status_due = false;
         show_status(v);
     }
+    /* the renderer's warnings (textures it could not read; a crowd without levels of detail, at its
+     * first draw), logged here rather than in the draw, as the status is */
+    for (; v->renderer && v->renderer_warnings < sinew_renderer_warning_count(v->renderer); v->renderer_warnings++) {
+        char line[1024]; /* the renderer's warnings name the model where it matters */
+        snprintf(line, sizeof line, "warning: %s", sinew_renderer_warning(v->renderer, v->renderer_warnings));
+        panels_log(v, line);
+    }
     if (v->window_shot && !v->load && !v->press && v->frames_drawn > 2) { /* panels laid out by now */
         save_window(v);
         v->window_shot = NULL;
@@ -840,8 +847,10 @@ static void on_realize(GtkGLArea *area, gpointer data)
         v->exit_code = 3;
         return;
     }
-    if (v->scene.model && !v->renderer)
+    if (v->scene.model && !v->renderer) {
         view_make_renderer(v, &v->scene, &v->renderer);
+        v->renderer_warnings = 0;
+    }
     show_status(v);
 }
 
@@ -851,6 +860,7 @@ static void on_unrealize(GtkGLArea *area, gpointer data)
     gtk_gl_area_make_current(area);
     sinew_renderer_free(v->renderer);
     v->renderer = NULL;
+    v->renderer_warnings = 0;
     msaa_release(v);
 }
 

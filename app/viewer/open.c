@@ -81,6 +81,7 @@ static bool adopt_scene(viewer *v, app_scene *incoming)
     if (renderer) /* make_renderer left the area's context current */
         sinew_renderer_free(v->renderer);
     v->renderer = renderer;
+    v->renderer_warnings = 0;
     app_crowd_close(&v->crowd); /* of the old model: remade for the new one when shown */
     app_scene_close(&v->scene);
     v->scene = *incoming;

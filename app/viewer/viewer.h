@@ -162,6 +162,7 @@ typedef struct viewer {
     bool closing;                 /* the window is being closed: widgets are going away */
     double quit_after;            /* --quit-after: seconds, 0 for never */
     bool status_due;              /* the status bar's figures changed in a draw: shown at the next tick */
+    uint32_t renderer_warnings;   /* the renderer's warnings logged so far (0 for each new renderer) */
     int32_t selected;             /* node, -1 for none */
     sinew_render_options options;
     bool updating;    /* widgets are being set from the state: their signals change nothing */

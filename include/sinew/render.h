@@ -159,7 +159,9 @@ void sinew_renderer_free(sinew_renderer *renderer);
  * the environment in use. */
 sinew_result sinew_renderer_set_environment(sinew_renderer *renderer, const char *path, sinew_error *error);
 
-/* Warnings from create (unreadable textures, skins skinned on the CPU). */
+/* Warnings from create (unreadable textures, skins skinned on the CPU), and from the first
+ * crowd drawn when its levels of detail cannot be made (meshoptimizer not installed): the
+ * count grows then, so a program that printed them may look again after drawing. */
 uint32_t sinew_renderer_warning_count(const sinew_renderer *renderer);
 const char *sinew_renderer_warning(const sinew_renderer *renderer, uint32_t index);
 

@@ -123,8 +123,11 @@ typedef struct render_lod {
 } render_lod;
 
 /* The levels of a mesh: *indices gets the whole list (through the allocator; NULL when the
- * mesh is too small to simplify, every level then the full list). False when out of memory. */
-bool render_lod_build(const sinew_mesh *mesh, const sinew_allocator *allocator, uint32_t **indices, render_lod *lod);
+ * mesh is too small to simplify, every level then the full list). False when out of memory.
+ * When meshoptimizer cannot be loaded every level is the full list too, and `why` (may be NULL)
+ * says so; else it is left as it is. */
+bool render_lod_build(const sinew_mesh *mesh, const sinew_allocator *allocator, uint32_t **indices, render_lod *lod,
+                      char *why, size_t why_size);
 /* A level on its own vertices: the mesh's vertices its triangles use, in the order they are
  * first used, every array remapped (positions, normals, UVs, tangents, joints, weights), so
  * that a renderer which shades every vertex of a draw (Mesa's llvmpipe does) shades only

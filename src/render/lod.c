@@ -77,13 +77,15 @@ static size_t simplify(const sinew_mesh *mesh, const float *shape, int level, si
     return n;
 }
 
-bool render_lod_build(const sinew_mesh *mesh, const sinew_allocator *allocator, uint32_t **indices, render_lod *lod)
+bool render_lod_build(const sinew_mesh *mesh, const sinew_allocator *allocator, uint32_t **indices, render_lod *lod,
+                      char *why, size_t why_size)
 {
     *indices = NULL;
     for (int l = 0; l < RENDER_LOD_LEVELS; l++)
         lod->first[l] = 0, lod->count[l] = mesh->index_count;
     lod->far_error = 0.0f;
-    if (mesh->index_count / 3 < LOD_MIN_TRIANGLES || !mesh->positions || !sinew_lazy_load(&meshoptimizer, NULL, 0))
+    if (mesh->index_count / 3 < LOD_MIN_TRIANGLES || !mesh->positions ||
+        !sinew_lazy_load(&meshoptimizer, why, why ? why_size : 0))
         return true;
     /* the full list, then each level's, one after another */
     size_t room = (size_t)mesh->index_count * 2 + 1;

@@ -122,7 +122,8 @@ struct sinew_renderer {
     GLuint overlay_vao, overlay_buffer, quad_indices;
     char (*warnings)[WARNING_SIZE];
     uint32_t warning_count, warning_capacity;
-    uint64_t frame; /* counts draws, so a mesh is skinned on the CPU once a frame */
+    bool lod_warned; /* the warning that crowds are drawn without levels of detail was given */
+    uint64_t frame;  /* counts draws, so a mesh is skinned on the CPU once a frame */
     char gl_name[256];
 };
 
@@ -538,7 +539,7 @@ sinew_result sinew_renderer_create(const sinew_renderer_desc *desc, sinew_render
         if (m->meshes[i].target_count > max_targets)
             max_targets = m->meshes[i].target_count;
     }
-    uint32_t warnings = m->material_count + m->skin_count + m->mesh_count + 1;
+    uint32_t warnings = m->material_count + m->skin_count + m->mesh_count + 2; /* + crowds without levels */
     uint32_t muscle_vertices = 0, muscle_indices = 0;
     for (uint32_t i = 0; desc->muscles && i < desc->muscles->muscle_count; i++) {
         uint32_t v, n;
@@ -1453,10 +1454,15 @@ static sinew_result crowd_lods(sinew_renderer *r, const sinew_mesh *mesh, render
     if (rm->lod_built)
         return SINEW_OK;
     uint32_t *indices;
-    if (!render_lod_build(mesh, &r->allocator, &indices, &rm->lod))
+    char why[300] = "";
+    if (!render_lod_build(mesh, &r->allocator, &indices, &rm->lod, why, sizeof why))
         return sinew_fail(error, SINEW_ERROR_OUT_OF_MEMORY, "%s: out of memory simplifying mesh \"%s\"",
                           r->model->source, mesh->name);
     rm->lod_built = true;
+    if (why[0] && !r->lod_warned) { /* once: every mesh is drawn whole, and crowds cost many times more */
+        r->lod_warned = true;
+        warn(r, "crowds are drawn without levels of detail (every character whole): %s", why);
+    }
     if (!indices)
         return SINEW_OK;
     glBindVertexArray(rm->vao_static); /* the element buffer is the VAOs' state: both share it */

@@ -38,7 +38,7 @@ static void test_levels_of_the_demo(void **state)
     assert_non_null(staff);
     uint32_t *indices = NULL;
     render_lod lod;
-    assert_true(render_lod_build(body, &ALLOCATOR, &indices, &lod));
+    assert_true(render_lod_build(body, &ALLOCATOR, &indices, &lod, NULL, 0));
     assert_non_null(indices);
     print_message("demo body: %u triangles; levels %u, %u, %u\n", lod.count[0] / 3, lod.count[1] / 3, lod.count[2] / 3,
                   lod.count[3] / 3);
@@ -73,7 +73,7 @@ static void test_levels_of_the_demo(void **state)
     assert_true(lod.far_error > 0.0f && lod.far_error <= 0.1f);
     lod_free(indices, NULL);
     /* a small mesh keeps one level */
-    assert_true(render_lod_build(staff, &ALLOCATOR, &indices, &lod));
+    assert_true(render_lod_build(staff, &ALLOCATOR, &indices, &lod, NULL, 0));
     assert_null(indices);
     for (int l = 0; l < RENDER_LOD_LEVELS; l++)
         assert_int_equal(lod.count[l], staff->index_count);
