@@ -319,7 +319,7 @@ void *import_arena_take(import_arena *arena, size_t bytes)
         return p;
     }
     /* chunks of 64 KiB, 128 KiB, ... with their headers: a chunk in 2 MB pages fills its pages */
-    size_t grown = head ? (ARENA_HEADER + head->size) * 2 : ARENA_FIRST;
+    size_t grown = head ? (ARENA_HEADER + head->size) * 2 : arena->first > ARENA_FIRST ? arena->first : ARENA_FIRST;
     if (grown > ARENA_LARGEST)
         grown = ARENA_LARGEST;
     bool own = bytes >= grown / 4;
@@ -336,6 +336,14 @@ void *import_arena_take(import_arena *arena, size_t bytes)
         arena->head = c;
     }
     return (unsigned char *)c + ARENA_HEADER;
+}
+
+void import_arena_expect(import_arena *arena, size_t bytes)
+{
+    size_t first = ARENA_FIRST;
+    while (first < bytes && first < ARENA_LARGEST)
+        first *= 2;
+    arena->first = first;
 }
 
 void import_arena_free(import_arena *arena)

@@ -1276,7 +1276,7 @@ static sinew_result read_polygons(scene *s, const fbx_object *g, mesh_source *sr
     src->normals = normals.mapping != MAP_NONE;
     src->uvs = uvs.mapping != MAP_NONE;
     src->tangents = tangents.mapping != MAP_NONE && src->normals;
-    src->corners = malloc((idx_count ? idx_count : 1) * sizeof *src->corners);
+    src->corners = import_large_alloc((idx_count ? idx_count : 1) * sizeof *src->corners, IMPORT_PAGES_MIN);
     src->polygon_start = malloc((idx_count + 1) * sizeof *src->polygon_start);
     if (!src->corners || !src->polygon_start)
         return fbx_oom(s);
@@ -1711,7 +1711,7 @@ static sinew_result emit_mesh(scene *s, const mesh_source *src, const fbx_object
     }
     if ((uint64_t)triangles * 3 > UINT32_MAX / 2)
         return fbx_fail_data(s, "mesh has too many triangles", g);
-    corner *verts = malloc((triangles ? triangles * 3 : 1) * sizeof *verts);
+    corner *verts = import_large_alloc((triangles ? triangles * 3 : 1) * sizeof *verts, IMPORT_PAGES_MIN);
     vertex_table table = {0};
     table.capacity = 16;
     while (table.capacity < triangles * 6)

@@ -732,6 +732,7 @@ bool fbx_sniff(const unsigned char *bytes, size_t size)
 sinew_result fbx_parse(const unsigned char *bytes, size_t size, const char *path, fbx_doc *doc, sinew_error *error)
 {
     memset(doc, 0, sizeof *doc);
+    import_arena_expect(&doc->arena, size <= SIZE_MAX / 2 ? size * 2 : size); /* walk.fbx (0.98 MB): 2.8 MB */
     parser ps = {.doc = doc, .bytes = bytes, .size = size, .path = path, .error = error, .budget = budget_for(size)};
     bool binary = size >= FBX_BINARY_MAGIC_SIZE && memcmp(bytes, FBX_BINARY_MAGIC, FBX_BINARY_MAGIC_SIZE) == 0;
     if (binary && size < FBX_BINARY_HEADER_SIZE)

@@ -423,8 +423,13 @@ void *import_large_alloc(size_t size, size_t pages_from);
  * costs a fraction of a fault a page; those of IMPORT_PAGES_MIN and more in 2 MB pages. */
 typedef struct import_arena {
     void *head;
+    size_t first; /* the first chunk's size when more than 64 KiB (import_arena_expect) */
 } import_arena;
 void *import_arena_take(import_arena *arena, size_t bytes);
+/* The arena will hold about `bytes` (a document read from a file of half that): its first chunk
+ * is that large (a power of two, at most 4 MiB), instead of growing to it from 64 KiB a chunk
+ * at a time, each chunk's pages faulted in afresh. */
+void import_arena_expect(import_arena *arena, size_t bytes);
 void import_arena_free(import_arena *arena);
 /* Tests: imports on this thread fail their allocation number `fail_at` (1 first; 0: none), and
  * how many allocations the last import made. */
