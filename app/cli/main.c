@@ -98,6 +98,7 @@ int main(int argc, char **argv)
      * `sinew info`: 0.81 of the time). A command runs once and exits: nothing to trim. */
     mallopt(M_MMAP_THRESHOLD, 32 << 20);
     mallopt(M_TRIM_THRESHOLD, 64 << 20);
+    cli_import.warm_heap = true; /* the heap keeps what is freed (above): app_warm_heap */
     if (argc < 2) {
         fputs(usage, stderr);
         return EXIT_USAGE;
