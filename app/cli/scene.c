@@ -23,11 +23,31 @@ static bool resolve_joint(const sinew_model *m, const char *name, const char *op
     return true;
 }
 
+/* Whether this warning was printed before in this process (a command that makes several scenes,
+ * `bench crowd` one a run, would say the same thing again each time). */
+static bool printed_before(const char *text)
+{
+    static uint64_t seen[64];
+    static size_t seen_count;
+    uint64_t h = 1469598103934665603ull;
+    for (const unsigned char *c = (const unsigned char *)text; *c; c++)
+        h = (h ^ *c) * 1099511628211ull;
+    for (size_t i = 0; i < seen_count; i++)
+        if (seen[i] == h)
+            return true;
+    if (seen_count < sizeof seen / sizeof *seen)
+        seen[seen_count++] = h;
+    return false;
+}
+
 /* The renderer's warnings not printed yet. */
 static void print_warnings(cli_scene *s)
 {
-    for (; s->warnings_printed < sinew_renderer_warning_count(s->renderer); s->warnings_printed++)
-        fprintf(stderr, "sinew: warning: %s\n", sinew_renderer_warning(s->renderer, s->warnings_printed));
+    for (; s->warnings_printed < sinew_renderer_warning_count(s->renderer); s->warnings_printed++) {
+        const char *text = sinew_renderer_warning(s->renderer, s->warnings_printed);
+        if (!printed_before(text))
+            fprintf(stderr, "sinew: warning: %s\n", text);
+    }
 }
 
 static int open_graphics(cli_scene *s, const cli_scene_desc *d)
