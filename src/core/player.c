@@ -544,7 +544,7 @@ static sinew_result player_time(const sinew_player *p, const void *out, uint32_t
 sinew_result sinew_player_sample(sinew_player *p, float time, sinew_wrap wrap, sinew_transform *locals,
                                  uint32_t local_count, sinew_error *error)
 {
-    float t;
+    float t = 0.0f; /* set by player_time when it succeeds (GCC cannot see that a failure is non-zero) */
     sinew_result r = player_time(p, locals, local_count, time, wrap, "sinew_player_sample", &t, error);
     if (r != SINEW_OK)
         return r;
@@ -557,7 +557,7 @@ sinew_result sinew_player_sample(sinew_player *p, float time, sinew_wrap wrap, s
 sinew_result sinew_player_update(sinew_player *p, float time, sinew_wrap wrap, const sinew_mat4 *root,
                                  sinew_mat4 *worlds, uint32_t world_count, sinew_error *error)
 {
-    float t;
+    float t = 0.0f; /* set by player_time when it succeeds (GCC cannot see that a failure is non-zero) */
     sinew_result r = player_time(p, worlds, world_count, time, wrap, "sinew_player_update", &t, error);
     if (r != SINEW_OK)
         return r;
@@ -569,7 +569,7 @@ sinew_result sinew_player_update(sinew_player *p, float time, sinew_wrap wrap, c
 sinew_result sinew_player_advance(sinew_player *p, float time, sinew_wrap wrap, sinew_soa_pose *pose,
                                   sinew_error *error)
 {
-    float t;
+    float t = 0.0f; /* set by player_time when it succeeds (GCC cannot see that a failure is non-zero) */
     sinew_result r = player_time(p, pose, p ? p->layout->node_count : 0, time, wrap, "sinew_player_advance", &t, error);
     if (r != SINEW_OK)
         return r;
