@@ -1004,29 +1004,8 @@ static bool writer_reserve(unsigned char **buf, size_t *capacity, size_t need)
     return true;
 }
 
-/* Appends bytes at the next 16-byte boundary; returns their offset (BLOB_NONE for nothing). */
-static uint32_t writer_put(writer *w, const void *data, size_t bytes)
-{
-    if (w->failed || !data || bytes == 0)
-        return BLOB_NONE;
-    size_t at = (w->size + BLOB_ALIGN - 1) & ~(size_t)(BLOB_ALIGN - 1);
-    w->too_big = w->too_big || at + bytes > UINT32_MAX;
-    if (w->measure && !w->too_big) {
-        w->size = at + bytes;
-        return (uint32_t)at;
-    }
-    if (at + bytes > UINT32_MAX || !writer_reserve(&w->bytes, &w->capacity, at + bytes)) {
-        w->failed = true;
-        return BLOB_NONE;
-    }
-    memset(w->bytes + w->size, 0, at - w->size);
-    memcpy(w->bytes + at, data, bytes);
-    w->size = at + bytes;
-    return (uint32_t)at;
-}
-
 /* Room for `bytes` at the next 16-byte boundary, written by the caller through writer_at()
- * (what writer_put copies, without a copy to copy from); BLOB_NONE for nothing. */
+ * (or by writer_put); BLOB_NONE for nothing. */
 static uint32_t writer_space(writer *w, size_t bytes)
 {
     if (w->failed || bytes == 0)
@@ -1050,6 +1029,18 @@ static uint32_t writer_space(writer *w, size_t bytes)
 static void *writer_at(const writer *w, uint32_t offset)
 {
     return w->measure || w->failed || offset == BLOB_NONE ? NULL : w->bytes + offset;
+}
+
+/* Appends bytes at the next 16-byte boundary; returns their offset (BLOB_NONE for nothing). */
+static uint32_t writer_put(writer *w, const void *data, size_t bytes)
+{
+    if (!data)
+        return BLOB_NONE;
+    uint32_t at = writer_space(w, bytes);
+    void *room = writer_at(w, at);
+    if (room)
+        memcpy(room, data, bytes);
+    return at;
 }
 
 static uint32_t writer_string(writer *w, const char *text)
@@ -1295,6 +1286,16 @@ static bool write_pooled_clip(writer *w, const raw_clip *clip, uint32_t index, c
     return ok;
 }
 
+/* A channel's keys into the blob's times and values (NULL while measuring) at its offsets. */
+static void copy_keys(float *times, float *values, const raw_channel *ch, int kind, const sinew_channel *at)
+{
+    if (!times || !values || !ch->count)
+        return;
+    memcpy(times + at->first_key, ch->times, ch->count * sizeof(float));
+    memcpy(values + at->first_value, ch->values,
+           (size_t)ch->count * sinew_channel_stride(kind, ch->interp) * sizeof(float));
+}
+
 /* One clip: every channel's times and values concatenated (its weight tracks' after its
  * node tracks'), tracks pointing into them; the keys are copied straight into the blob. */
 static bool write_clip(writer *w, const raw_clip *clip, uint32_t index, blob_clip *out, weight_table *weights)
@@ -1313,7 +1314,7 @@ static bool write_clip(writer *w, const raw_clip *clip, uint32_t index, blob_cli
             value_count += (size_t)ch->count * sinew_channel_stride(k, ch->interp);
         }
     }
-    size_t node_times = time_count, node_values = value_count;
+    size_t node_times = time_count, node_values = value_count; /* where the weight tracks' keys start */
     for (uint32_t t = 0; t < clip->weight_track_count; t++) {
         const raw_channel *ch = &clip->weight_tracks[t].keys;
         time_count += ch->count;
@@ -1331,36 +1332,21 @@ static bool write_clip(writer *w, const raw_clip *clip, uint32_t index, blob_cli
         .times = {writer_space(w, time_count * sizeof(float)), (uint32_t)time_count},
         .values = {writer_space(w, value_count * sizeof(float)), (uint32_t)value_count},
     };
-    free(tracks);
     float *times = writer_at(w, out->times.offset), *values = writer_at(w, out->values.offset);
-    size_t at_time = 0, at_value = 0;
-    for (uint32_t t = 0; times && values && t < clip->track_count; t++)
-        for (int k = 0; k < SINEW_CHANNEL_COUNT; k++) {
-            const raw_channel *ch = &clip->tracks[t].channels[k];
-            size_t n_values = (size_t)ch->count * sinew_channel_stride(k, ch->interp);
-            if (ch->count) {
-                memcpy(times + at_time, ch->times, ch->count * sizeof(float));
-                memcpy(values + at_value, ch->values, n_values * sizeof(float));
-            }
-            at_time += ch->count;
-            at_value += n_values;
-        }
-    at_time = node_times;
-    at_value = node_values;
+    for (uint32_t t = 0; t < clip->track_count; t++)
+        for (int k = 0; k < SINEW_CHANNEL_COUNT; k++)
+            copy_keys(times, values, &clip->tracks[t].channels[k], k, &tracks[t].channels[k]);
+    free(tracks);
     bool ok = true;
-    for (uint32_t t = 0; ok && t < clip->weight_track_count; t++) {
+    for (uint32_t t = 0; ok && t < clip->weight_track_count; t++) { /* after the node tracks' keys */
         const raw_channel *ch = &clip->weight_tracks[t].keys;
-        size_t n_values = (size_t)ch->count * sinew_channel_stride(SINEW_CHANNEL_WEIGHT, ch->interp);
         blob_weight_track bt = {
             index,
             clip->weight_tracks[t].channel,
-            {ch->count, ch->count ? ch->interp : SINEW_INTERP_LINEAR, (uint32_t)at_time, (uint32_t)at_value}};
-        if (ch->count && times && values) {
-            memcpy(times + at_time, ch->times, ch->count * sizeof(float));
-            memcpy(values + at_value, ch->values, n_values * sizeof(float));
-        }
-        at_time += ch->count;
-        at_value += n_values;
+            {ch->count, ch->count ? ch->interp : SINEW_INTERP_LINEAR, (uint32_t)node_times, (uint32_t)node_values}};
+        copy_keys(times, values, ch, SINEW_CHANNEL_WEIGHT, &bt.keys);
+        node_times += ch->count;
+        node_values += (size_t)ch->count * sinew_channel_stride(SINEW_CHANNEL_WEIGHT, ch->interp);
         ok = ch->count == 0 || weight_table_push(weights, &bt);
     }
     return ok;
