@@ -63,11 +63,17 @@ void sinew_prefault(void *p, size_t size);
  * more. NULL when it cannot be mapped or 64 blocks are live already: the caller mallocs instead.
  * Such a block is freed with sinew_pages_free(), which says false for any other pointer (then the
  * caller frees it as it came), or sinew_block_free() (the block or a malloc'd pointer).
- * sinew_pages_length() is the mapping's length, 0 for any other pointer. */
+ * sinew_pages_length() is the mapping's length, 0 for any other pointer; sinew_pages_rounded()
+ * the length a block of `size` bytes maps (0 for none or too large a size). */
 void *sinew_pages_alloc(size_t size, size_t populate);
 bool sinew_pages_free(void *p);
 size_t sinew_pages_length(const void *p);
+size_t sinew_pages_rounded(size_t size);
 void sinew_block_free(void *p);
+/* A block about to be written whole: in 2 MB pages (filled in) when it has `pages_from` bytes or
+ * more and they can be had, else malloc'd with its pages filled in (sinew_prefault); freed by
+ * sinew_block_free. NULL when out of memory. */
+void *sinew_large_alloc(size_t size, size_t pages_from);
 
 /* sinew_model_from_blob() for malloc'd (or sinew_pages_alloc'd) bytes the model then owns (freed
  * with it) instead of copying them, when `allocator` is NULL (with an allocator they are copied,

@@ -59,12 +59,17 @@ static struct {
 } page_blocks[PAGE_BLOCKS];
 static pthread_mutex_t page_lock = PTHREAD_MUTEX_INITIALIZER;
 
+size_t sinew_pages_rounded(size_t size)
+{
+    return size && size <= SIZE_MAX / 2 ? (size + HUGE_PAGE - 1) & ~(HUGE_PAGE - 1) : 0;
+}
+
 void *sinew_pages_alloc(size_t size, size_t populate)
 {
 #if defined(MADV_HUGEPAGE)
-    if (!size || size > SIZE_MAX / 2)
+    size_t length = sinew_pages_rounded(size);
+    if (!length)
         return NULL;
-    size_t length = (size + HUGE_PAGE - 1) & ~(HUGE_PAGE - 1);
     /* a mapping a huge page longer, trimmed to the 2 MB boundaries inside it */
     unsigned char *map = mmap(NULL, length + HUGE_PAGE, PROT_READ | PROT_WRITE, MAP_PRIVATE | MAP_ANONYMOUS, -1, 0);
     if (map == MAP_FAILED)
@@ -134,6 +139,14 @@ bool sinew_pages_free(void *p)
     if (length)
         munmap(p, length);
     return length != 0;
+}
+
+void *sinew_large_alloc(size_t size, size_t pages_from)
+{
+    void *p = size >= pages_from ? sinew_pages_alloc(size, size) : NULL;
+    if (!p && (p = malloc(size ? size : 1)))
+        sinew_prefault(p, size);
+    return p;
 }
 
 void sinew_block_free(void *p)

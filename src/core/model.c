@@ -838,15 +838,11 @@ sinew_result sinew_model_load(const char *path, const sinew_allocator *allocator
     }
     /* A blob of a megabyte and more in 2 MB pages: the model keeps it (without an allocator), and
      * reading it and checking its checksum touch every page. */
-    void *bytes = (size_t)n >= MODEL_PAGES_MIN ? sinew_pages_alloc((size_t)n, (size_t)n) : NULL;
-    if (!bytes)
-        bytes = malloc(n ? (size_t)n : 1);
+    void *bytes = sinew_large_alloc((size_t)n, MODEL_PAGES_MIN);
     if (!bytes) {
         fclose(f);
         return sinew_fail(error, SINEW_ERROR_OUT_OF_MEMORY, "%s: out of memory for %ld bytes", path, n);
     }
-    if (!sinew_pages_length(bytes))
-        sinew_prefault(bytes, (size_t)n);
     size_t got = fread(bytes, 1, (size_t)n, f);
     bool failed = ferror(f);
     fclose(f);

@@ -179,30 +179,25 @@ void *import_calloc(size_t count, size_t size)
 
 void *import_large_alloc(size_t size, size_t pages_from)
 {
-    const size_t huge = (size_t)2 << 20;
-    bool pages = size >= pages_from && size <= SIZE_MAX - huge;
-    if (!allowed(current, pages ? (size + huge - 1) & ~(huge - 1) : size))
+    size_t mapped = size >= pages_from ? sinew_pages_rounded(size) : 0; /* counted as the whole mapping */
+    if (!allowed(current, mapped ? mapped : size))
         return NULL;
-    void *p = pages ? sinew_pages_alloc(size, size) : NULL;
-    if (p) {
-        if (current)
-            charge(current, sinew_pages_length(p));
-        return p;
-    }
-    p = malloc(size ? size : 1);
-    took(current, p);
-    if (p)
-        sinew_prefault(p, size);
+    void *p = sinew_large_alloc(size, mapped ? pages_from : SIZE_MAX);
+    size_t pages = sinew_pages_length(p);
+    if (!pages)
+        took(current, p);
+    else if (current)
+        charge(current, pages);
     return p;
 }
 
 void *import_realloc(void *ptr, size_t size)
 {
-    if (sinew_pages_length(ptr)) { /* a block in 2 MB pages: into a malloc'd one */
+    size_t pages = sinew_pages_length(ptr);
+    if (pages) { /* a block in 2 MB pages: into a malloc'd one */
         void *p = import_malloc(size ? size : 1);
         if (p) {
-            size_t old = sinew_pages_length(ptr);
-            memcpy(p, ptr, old < size ? old : size);
+            memcpy(p, ptr, pages < size ? pages : size);
             import_free(ptr);
         }
         return p;
@@ -278,11 +273,10 @@ static void chunk_fill(arena_chunk *c, size_t need)
 
 static arena_chunk *chunk_new(size_t size)
 {
-    const size_t huge = (size_t)2 << 20;
-    size_t total = ARENA_HEADER + size;
-    bool mapped = total >= ARENA_MAP, pages = total >= IMPORT_PAGES_MIN && total <= SIZE_MAX - huge;
+    size_t total = ARENA_HEADER + size, rounded = total >= IMPORT_PAGES_MIN ? sinew_pages_rounded(total) : 0;
+    bool mapped = total >= ARENA_MAP, pages = rounded != 0;
     if (pages) /* the whole mapping is the chunk's (a 512 KiB chunk has 2 MB), and counted */
-        total = (total + huge - 1) & ~(huge - 1);
+        total = rounded;
     if (!allowed(current, total))
         return NULL;
     arena_chunk *c = NULL;

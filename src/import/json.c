@@ -212,9 +212,7 @@ sinew_result json_parse(const char *source, size_t size, json_doc *doc, size_t *
         *why = "larger than 2 GB";
         return SINEW_ERROR_FORMAT;
     }
-    if (!c_locale)
-        return SINEW_ERROR_OUT_OF_MEMORY;
-    if (!(doc->text = import_large_alloc(size + 1, IMPORT_PAGES_MIN)))
+    if (!c_locale || !(doc->text = import_large_alloc(size + 1, IMPORT_PAGES_MIN)))
         return SINEW_ERROR_OUT_OF_MEMORY;
     memcpy(doc->text, source, size);
     doc->text[size] = '\0';
