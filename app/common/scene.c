@@ -236,6 +236,19 @@ sinew_result app_arm_model(const app_arm_spec *spec, sinew_model **out, sinew_er
     return result;
 }
 
+#define WARM_HUGE ((uintptr_t)2 << 20)
+
+/* Fills in [from, to) of the heap, asking for huge pages on it first. */
+static void warm_range(uintptr_t from, uintptr_t to)
+{
+    if (to <= from)
+        return;
+    madvise((void *)from, to - from, MADV_HUGEPAGE); /* where there are none: no harm */
+#ifdef MADV_POPULATE_WRITE
+    madvise((void *)from, to - from, MADV_POPULATE_WRITE);
+#endif
+}
+
 void app_warm_heap(const char *path)
 {
     static const char *const in_process[] = {".fbx", ".gltf", ".glb", ".dae", ".iqm"};
@@ -246,20 +259,27 @@ void app_warm_heap(const char *path)
     struct stat st;
     if (!native || stat(path, &st) != 0 || !S_ISREG(st.st_mode) || st.st_size < (64 << 10))
         return;
-    /* four times the file, at least 4 MiB (a 2 MB page inside it) and at most 24 MiB */
+    /* four times the file, at least 4 MiB and at most 24 MiB, in whole 2 MB pages */
     size_t bytes = (size_t)st.st_size * 4;
     bytes = bytes < ((size_t)4 << 20) ? (size_t)4 << 20 : bytes > ((size_t)24 << 20) ? (size_t)24 << 20 : bytes;
+    bytes = (bytes + WARM_HUGE - 1) & ~(WARM_HUGE - 1);
+    /* Only whole 2 MB pages are filled in: a 4 KiB page costs about as much to fault in as a
+     * 2 MB one here. The heap's top is first moved to a 2 MB boundary by a block that is kept
+     * and never touched (its pages stay unmapped), so that what the import allocates next
+     * starts inside the first filled 2 MB page. */
+    unsigned char *probe = malloc(bytes + WARM_HUGE);
+    if (!probe)
+        return;
+    uintptr_t at = (uintptr_t)probe, head = ((at + WARM_HUGE - 1) & ~(WARM_HUGE - 1)) - at;
+    free(probe);
+    static void *volatile kept[4]; /* the pads, for the life of the process (volatile: kept by the compiler too) */
+    static size_t pads;
+    if (head >= 64 && pads < sizeof kept / sizeof *kept)
+        kept[pads++] = malloc(head - 2 * sizeof(size_t)); /* a chunk's size is its request and 8, in 16s */
     unsigned char *block = malloc(bytes);
     if (!block)
         return;
-    const uintptr_t page = 4096;
-    uintptr_t from = ((uintptr_t)block + page - 1) & ~(page - 1), to = ((uintptr_t)block + bytes) & ~(page - 1);
-    if (to > from) {
-        madvise((void *)from, to - from, MADV_HUGEPAGE); /* where there are none: no harm */
-#ifdef MADV_POPULATE_WRITE
-        madvise((void *)from, to - from, MADV_POPULATE_WRITE);
-#endif
-    }
+    warm_range(((uintptr_t)block + WARM_HUGE - 1) & ~(WARM_HUGE - 1), ((uintptr_t)block + bytes) & ~(WARM_HUGE - 1));
     free(block);
 }
 

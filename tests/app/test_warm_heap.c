@@ -1,10 +1,36 @@
 /* app_warm_heap(): the CLI's heap made ready before an import. Paths that are missing, folders,
  * small files and formats read by Assimp are left alone; a warmed import gives the same model. */
+#include <stdint.h>
 #include <stdlib.h>
 #include <string.h>
+#if defined(__GLIBC__)
+#include <malloc.h>
+#endif
 
 #include "helpers.h"
 #include "scene.h"
+
+/* With glibc's heap set as the CLI sets it, what is allocated after the warming starts at a 2 MB
+ * boundary: the filled-in 2 MB pages, not the 4 KiB pages before them. (First, while the heap
+ * has no freed blocks that could serve the request instead.) */
+static void test_heap_top_on_a_huge_page(void **state)
+{
+    (void)state;
+#if defined(__GLIBC__) && !defined(__SANITIZE_ADDRESS__)
+    char path[1024];
+    if (!testdata_path("gltf-samples/Fox.glb", path, sizeof path))
+        skip();
+    mallopt(M_MMAP_THRESHOLD, 32 << 20);
+    mallopt(M_TRIM_THRESHOLD, 64 << 20);
+    app_warm_heap(path);
+    unsigned char *p = malloc(64 << 10);
+    assert_non_null(p);
+    assert_int_equal((uintptr_t)p & (((uintptr_t)2 << 20) - 1), 0);
+    free(p);
+#else
+    skip();
+#endif
+}
 
 static void test_nothing_to_warm(void **state)
 {
@@ -50,6 +76,7 @@ static void test_same_model_warmed(void **state)
 int main(void)
 {
     const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_heap_top_on_a_huge_page),
         cmocka_unit_test(test_nothing_to_warm),
         cmocka_unit_test(test_same_model_warmed),
     };
