@@ -55,7 +55,7 @@ __attribute__((target("sse4.2"))) static uint32_t crc32c_sse42(uint32_t crc, con
 uint32_t sinew_crc32c(uint32_t crc, const void *bytes, size_t size)
 {
 #ifdef SINEW_HAVE_SSE42_CRC
-    if (__builtin_cpu_supports("sse4.2"))
+    if (sinew_cpu_has(SINEW_CPU_SSE42))
         return crc32c_sse42(crc, bytes, size);
 #endif
     return sinew_crc32c_scalar(crc, bytes, size);

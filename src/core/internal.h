@@ -51,6 +51,17 @@ typedef struct sinew_lazy_library {
     char failure[256];
 } sinew_lazy_library;
 bool sinew_lazy_load(sinew_lazy_library *library, char *why, size_t why_size);
+/* What the processor and the system let this process use: read from what the C library found at
+ * start (glibc 2.33's <sys/platform/x86.h>) rather than __builtin_cpu_supports(), whose first use
+ * runs libgcc's own CPUID sweep at every process start (0.1 ms on a virtual machine, where CPUID
+ * traps); __builtin_cpu_supports() where the C library has no such header. False off x86-64. */
+typedef enum sinew_cpu_feature {
+    SINEW_CPU_SSE42,    /* SSE 4.2 (CRC-32C) */
+    SINEW_CPU_AVX2_FMA, /* AVX2 and FMA */
+    SINEW_CPU_AVX512,   /* AVX-512 F and DQ */
+    SINEW_CPU_AVX512BW,
+} sinew_cpu_feature;
+bool sinew_cpu_has(sinew_cpu_feature feature);
 /* Fills in the pages of a large block about to be written whole (MADV_POPULATE_WRITE: one call
  * instead of a fault a page, which costs microseconds on a virtual machine); nothing for a block
  * under 256 KiB, or where the kernel cannot. */

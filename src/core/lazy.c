@@ -7,6 +7,12 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <sys/mman.h>
+#if defined(__x86_64__) && defined(__has_include)
+#if __has_include(<sys/platform/x86.h>)
+#include <sys/platform/x86.h>
+#define SINEW_LIBC_CPU_FEATURES 1
+#endif
+#endif
 
 #include "internal.h"
 
@@ -33,6 +39,38 @@ bool sinew_lazy_load(sinew_lazy_library *library, char *why, size_t why_size)
     if (!loaded && why && why_size)
         snprintf(why, why_size, "%s", library->failure);
     return loaded;
+}
+
+bool sinew_cpu_has(sinew_cpu_feature feature)
+{
+#if defined(SINEW_LIBC_CPU_FEATURES)
+    switch (feature) {
+    case SINEW_CPU_SSE42:
+        return CPU_FEATURE_ACTIVE(SSE4_2);
+    case SINEW_CPU_AVX2_FMA:
+        return CPU_FEATURE_ACTIVE(AVX2) && CPU_FEATURE_ACTIVE(FMA);
+    case SINEW_CPU_AVX512:
+        return CPU_FEATURE_ACTIVE(AVX512F) && CPU_FEATURE_ACTIVE(AVX512DQ);
+    case SINEW_CPU_AVX512BW:
+        return CPU_FEATURE_ACTIVE(AVX512BW);
+    }
+    return false;
+#elif defined(__x86_64__) && defined(__GNUC__)
+    switch (feature) {
+    case SINEW_CPU_SSE42:
+        return __builtin_cpu_supports("sse4.2");
+    case SINEW_CPU_AVX2_FMA:
+        return __builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma");
+    case SINEW_CPU_AVX512:
+        return __builtin_cpu_supports("avx512f") && __builtin_cpu_supports("avx512dq");
+    case SINEW_CPU_AVX512BW:
+        return __builtin_cpu_supports("avx512bw");
+    }
+    return false;
+#else
+    (void)feature;
+    return false;
+#endif
 }
 
 void sinew_prefault(void *p, size_t size)

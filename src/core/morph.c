@@ -238,7 +238,7 @@ __attribute__((target("avx2,fma"))) static void add_deltas_avx2(const uint32_t *
 
 static bool have_avx2(void)
 {
-    return __builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma");
+    return sinew_cpu_has(SINEW_CPU_AVX2_FMA);
 }
 #endif
 

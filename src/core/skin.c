@@ -102,9 +102,9 @@ largest_index_avx512(const uint16_t *joints, size_t n) LARGEST_INDEX_BODY
     static uint16_t largest_index(const uint16_t *joints, size_t n)
 {
 #if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__)
-    if (__builtin_cpu_supports("avx512bw"))
+    if (sinew_cpu_has(SINEW_CPU_AVX512BW))
         return largest_index_avx512(joints, n);
-    if (__builtin_cpu_supports("avx2"))
+    if (sinew_cpu_has(SINEW_CPU_AVX2_FMA))
         return largest_index_avx2(joints, n);
 #endif
     return largest_index_plain(joints, n);
@@ -314,9 +314,9 @@ sinew_isa sinew_skin_isa(const skin_call *c)
 {
     sinew_isa best = SINEW_ISA_SCALAR;
 #if defined(__x86_64__) && defined(__GNUC__)
-    if (__builtin_cpu_supports("avx512f") && __builtin_cpu_supports("avx512dq"))
+    if (sinew_cpu_has(SINEW_CPU_AVX512))
         best = SINEW_ISA_AVX512;
-    else if (__builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma"))
+    else if (sinew_cpu_has(SINEW_CPU_AVX2_FMA))
         best = SINEW_ISA_AVX2;
 #endif
     if (best > isa_limit)

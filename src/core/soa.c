@@ -36,7 +36,7 @@ static uint32_t soa_stride(uint32_t node_count)
 bool sinew_soa_simd_supported(void)
 {
 #ifdef SOA_X86
-    return __builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma");
+    return sinew_cpu_has(SINEW_CPU_AVX2_FMA);
 #else
     return false;
 #endif
