@@ -253,16 +253,25 @@ void app_warm_heap(const char *path)
 {
     static const char *const in_process[] = {".fbx", ".gltf", ".glb", ".dae", ".iqm"};
     const char *dot = strrchr(path, '.');
-    bool native = false;
+    bool native = false, runtime = dot && strcasecmp(dot, ".sinew") == 0;
     for (size_t i = 0; dot && i < sizeof in_process / sizeof *in_process; i++)
         native = native || strcasecmp(dot, in_process[i]) == 0;
     struct stat st;
-    if (!native || stat(path, &st) != 0 || !S_ISREG(st.st_mode) || st.st_size < (64 << 10))
+    if (!(native || runtime) || stat(path, &st) != 0 || !S_ISREG(st.st_mode) || st.st_size < (64 << 10))
         return;
-    /* four times the file, at least 4 MiB and at most 24 MiB, in whole 2 MB pages */
-    size_t bytes = (size_t)st.st_size * 4;
-    bytes = bytes < ((size_t)4 << 20) ? (size_t)4 << 20 : bytes > ((size_t)24 << 20) ? (size_t)24 << 20 : bytes;
-    bytes = (bytes + WARM_HUGE - 1) & ~(WARM_HUGE - 1);
+    size_t bytes;
+    if (runtime) {
+        /* a .sinew file of 1 MiB or more is read into 2 MB pages by sinew_model_load(); a
+         * smaller one into malloc'd memory, which one 2 MB page holds with the model */
+        if (st.st_size >= (1 << 20))
+            return;
+        bytes = WARM_HUGE;
+    } else {
+        /* four times the file, at least 4 MiB and at most 24 MiB, in whole 2 MB pages */
+        bytes = (size_t)st.st_size * 4;
+        bytes = bytes < ((size_t)4 << 20) ? (size_t)4 << 20 : bytes > ((size_t)24 << 20) ? (size_t)24 << 20 : bytes;
+        bytes = (bytes + WARM_HUGE - 1) & ~(WARM_HUGE - 1);
+    }
     /* Only whole 2 MB pages are filled in: a 4 KiB page costs about as much to fault in as a
      * 2 MB one here. The heap's top is first moved to a 2 MB boundary by a block that is kept
      * and never touched (its pages stay unmapped), so that what the import allocates next
