@@ -1,6 +1,7 @@
 /* The .sinew runtime format: CRC-32C paths agree, save/load round trip with muscles, the
  * directory's tags (unknown skipped, duplicates and wrong sizes refused), every prefix and
  * changed byte of a file refused with a message naming it, and large blobs kept in 2 MB pages. */
+#include <math.h>
 #include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -253,6 +254,57 @@ static void test_directory_tags(void **state)
     sinew_muscle_set_free(set);
 }
 
+/* A copy of `blob` with the float at `at` set to `value` and the checksum fixed: loading it must
+ * fail with SINEW_ERROR_FORMAT saying the track keys are wrong. */
+static void expect_bad_key(const void *blob, size_t size, const float *at, float value)
+{
+    size_t offset = (size_t)((const unsigned char *)at - (const unsigned char *)blob);
+    assert_true(offset + sizeof value <= size);
+    unsigned char *copy = malloc(size);
+    assert_non_null(copy);
+    memcpy(copy, blob, size);
+    memcpy(copy + offset, &value, sizeof value);
+    blob_file_header f;
+    memcpy(&f, copy, sizeof f);
+    f.checksum = sinew_blob_checksum(copy, size);
+    memcpy(copy, &f, sizeof f);
+    sinew_model *m = NULL;
+    sinew_error error = {0};
+    assert_int_equal(sinew_model_from_blob(copy, size, "keys", NULL, &m, &error), SINEW_ERROR_FORMAT);
+    assert_non_null(strstr(error.message, "track keys"));
+    free(copy);
+}
+
+/* Long channels are checked a block of 64 floats at a time: a key time that goes back, or a time
+ * or value that is not finite, is found in any block and in the tail after the last. */
+static void test_long_channel_keys_checked(void **state)
+{
+    (void)state;
+    sinew_model *model = NULL;
+    sinew_error error = {0};
+    sinew_synthetic_desc desc = {.joints = 4, .vertices = 64, .duration = 10.0f, .keys_per_second = 30.0f};
+    if (sinew_synthetic_model(&desc, &model, &error) != SINEW_OK)
+        fail_msg("%s", error.message);
+    const void *blob;
+    size_t size;
+    sinew_model_blob(model, &blob, &size);
+    const sinew_clip *clip = &model->clips[0];
+    const sinew_channel *ch = &clip->tracks[0].channels[SINEW_CHANNEL_ROTATION];
+    assert_true(ch->key_count > 200);
+    const float *times = clip->times + ch->first_key, *values = clip->values + ch->first_value;
+    sinew_model *same = NULL;
+    assert_int_equal(sinew_model_from_blob(blob, size, "as built", NULL, &same, &error), SINEW_OK);
+    sinew_model_free(same);
+    const uint32_t keys[] = {1, 63, 64, 65, 100, 128, 129, ch->key_count - 1};
+    for (size_t i = 0; i < sizeof keys / sizeof *keys; i++) {
+        uint32_t k = keys[i];
+        expect_bad_key(blob, size, &times[k], times[k - 1] - 0.01f);
+        expect_bad_key(blob, size, &times[k], INFINITY);
+        expect_bad_key(blob, size, &values[4 * k + 2], NAN);
+    }
+    sinew_model_free(model);
+}
+
 /* Every prefix of a small .sinew file and every byte of it changed, read through the file
  * loader, is refused with a message naming the file; nothing crashes or leaks (ASan run). */
 static void test_every_prefix_and_changed_byte_of_a_file(void **state)
@@ -302,9 +354,13 @@ static void test_every_prefix_and_changed_byte_of_a_file(void **state)
 int main(void)
 {
     const struct CMUnitTest tests[] = {
-        cmocka_unit_test(test_crc32c_paths_agree),  cmocka_unit_test(test_blocks_in_2mb_pages),
-        cmocka_unit_test(test_large_file_in_pages), cmocka_unit_test(test_save_load_round_trip),
-        cmocka_unit_test(test_directory_tags),      cmocka_unit_test(test_every_prefix_and_changed_byte_of_a_file),
+        cmocka_unit_test(test_crc32c_paths_agree),
+        cmocka_unit_test(test_blocks_in_2mb_pages),
+        cmocka_unit_test(test_large_file_in_pages),
+        cmocka_unit_test(test_save_load_round_trip),
+        cmocka_unit_test(test_directory_tags),
+        cmocka_unit_test(test_every_prefix_and_changed_byte_of_a_file),
+        cmocka_unit_test(test_long_channel_keys_checked),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
