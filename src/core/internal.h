@@ -88,9 +88,11 @@ void *sinew_large_alloc(size_t size, size_t pages_from);
 
 /* sinew_model_from_blob() for malloc'd (or sinew_pages_alloc'd) bytes the model then owns (freed
  * with it) instead of copying them, when `allocator` is NULL (with an allocator they are copied,
- * and stay the caller's). On failure the bytes stay the caller's. */
-sinew_result sinew_model_adopt_blob(void *bytes, size_t size, const char *name, const sinew_allocator *allocator,
-                                    sinew_model **out, sinew_error *error);
+ * and stay the caller's). On failure the bytes stay the caller's. `built`: the bytes are what
+ * this process's builder just wrote (raw_model_build), so their checksum, which the builder took
+ * over them, is not taken again; every other check is made. */
+sinew_result sinew_model_adopt_blob(void *bytes, size_t size, bool built, const char *name,
+                                    const sinew_allocator *allocator, sinew_model **out, sinew_error *error);
 
 /* A model blob this long or longer, read from a .sinew file or built by an import, is kept in
  * 2 MB pages (sinew_pages_alloc): under 2 MB more than its length, for a megabyte's pages

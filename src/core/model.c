@@ -214,7 +214,7 @@ static sinew_result read_directory(reader *r, const blob_file_header *f, blob_he
 /* Checks the header, the directory and that every top-level table fits in the blob, before
  * anything is allocated from its counts (the check_* functions below rely on it). Reads
  * the header and directory through copies (the bytes may be unaligned). */
-static sinew_result check_header(reader *r, blob_header *h)
+static sinew_result check_header(reader *r, blob_header *h, bool checksum)
 {
     blob_file_header f;
     if (r->size < sizeof f)
@@ -234,7 +234,7 @@ static sinew_result check_header(reader *r, blob_header *h)
         return sinew_fail(r->error, SINEW_ERROR_FORMAT, "%s: truncated model data (%zu bytes of %llu)", r->name,
                           r->size, (unsigned long long)f.size);
 #ifndef FUZZING_BUILD_MODE_UNSAFE_FOR_PRODUCTION /* the fuzzer's mutants get past it to the checks below */
-    if (sinew_blob_checksum(r->bytes, r->size) != f.checksum)
+    if (checksum && sinew_blob_checksum(r->bytes, r->size) != f.checksum)
         return sinew_fail(r->error, SINEW_ERROR_FORMAT, "%s: checksum mismatch: the model data is corrupted", r->name);
 #endif
     sinew_result result = read_directory(r, &f, h);
@@ -789,7 +789,7 @@ static void fill_model(model_block *b, const reader *r, unsigned char *tables)
 
 /* from_blob and load: `file` is the .sinew path the bytes came from, or NULL. */
 static sinew_result open_blob(const void *bytes, size_t size, const char *name, const char *file, bool adopt,
-                              const sinew_allocator *allocator, sinew_model **out, sinew_error *error)
+                              bool built, const sinew_allocator *allocator, sinew_model **out, sinew_error *error)
 {
     *out = NULL;
     if (!name)
@@ -803,7 +803,7 @@ static sinew_result open_blob(const void *bytes, size_t size, const char *name, 
     size_t head = (sizeof(model_block) + BLOB_ALIGN - 1) & ~(size_t)(BLOB_ALIGN - 1);
     blob_header header;
     reader early = {.bytes = bytes, .size = size, .name = name, .error = error};
-    sinew_result result = check_header(&early, &header);
+    sinew_result result = check_header(&early, &header, !built);
     if (result)
         return result;
     size_t tables = tables_size(&header) + (file ? (strlen(file) + BLOB_ALIGN) & ~(size_t)(BLOB_ALIGN - 1) : 0);
@@ -845,13 +845,13 @@ sinew_result sinew_model_from_blob(const void *bytes, size_t size, const char *n
 {
     if (!out || (!bytes && size))
         return sinew_fail(error, SINEW_ERROR_INVALID_ARGUMENT, "sinew_model_from_blob: NULL argument");
-    return open_blob(bytes, size, name, NULL, false, allocator, out, error);
+    return open_blob(bytes, size, name, NULL, false, false, allocator, out, error);
 }
 
-sinew_result sinew_model_adopt_blob(void *bytes, size_t size, const char *name, const sinew_allocator *allocator,
-                                    sinew_model **out, sinew_error *error)
+sinew_result sinew_model_adopt_blob(void *bytes, size_t size, bool built, const char *name,
+                                    const sinew_allocator *allocator, sinew_model **out, sinew_error *error)
 {
-    return open_blob(bytes, size, name, NULL, true, allocator, out, error);
+    return open_blob(bytes, size, name, NULL, true, built, allocator, out, error);
 }
 
 sinew_result sinew_model_load(const char *path, const sinew_allocator *allocator, sinew_model **out, sinew_error *error)
@@ -878,7 +878,7 @@ sinew_result sinew_model_load(const char *path, const sinew_allocator *allocator
     bool failed = ferror(f);
     fclose(f);
     sinew_result result = failed ? sinew_fail(error, SINEW_ERROR_IO, "%s: cannot read: %s", path, strerror(errno))
-                                 : open_blob(bytes, got, path, path, true, allocator, out, error);
+                                 : open_blob(bytes, got, path, path, true, false, allocator, out, error);
     if (result != SINEW_OK || allocator) /* else the model keeps the bytes (adopted) */
         sinew_block_free(bytes);
     return result;

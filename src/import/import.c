@@ -444,7 +444,7 @@ static sinew_result import_bytes(const unsigned char *bytes, size_t size, const 
     import_alloc_end(&state, &used);
     result = allocation_outcome(result, &used, name, desc, error);
     if (result == SINEW_OK) {
-        result = sinew_model_adopt_blob(blob, blob_size, name, allocator, out, error);
+        result = sinew_model_adopt_blob(blob, blob_size, true, name, allocator, out, error);
         if (result == SINEW_OK && !allocator)
             blob = NULL;                                               /* the model's now */
         if (result != SINEW_OK && result != SINEW_ERROR_OUT_OF_MEMORY) /* the builder wrote what it cannot read */
@@ -615,7 +615,8 @@ static sinew_result import_file(const sinew_import_desc *desc, sinew_model **out
     size_t size = 0;
     if ((result = blob_of(desc, choice, true, &bytes, &size, error)))
         return result;
-    result = sinew_model_adopt_blob(bytes, size, desc->path, desc->allocator, out, error);
+    /* built here: the helper's blobs, whose checksum says they came through whole, went above */
+    result = sinew_model_adopt_blob(bytes, size, choice.read != NULL, desc->path, desc->allocator, out, error);
     if (result != SINEW_OK || desc->allocator) /* else the model's now */
         free(bytes);
     return result;
