@@ -236,6 +236,8 @@ static sinew_result check_header(reader *r, blob_header *h, bool checksum)
 #ifndef FUZZING_BUILD_MODE_UNSAFE_FOR_PRODUCTION /* the fuzzer's mutants get past it to the checks below */
     if (checksum && sinew_blob_checksum(r->bytes, r->size) != f.checksum)
         return sinew_fail(r->error, SINEW_ERROR_FORMAT, "%s: checksum mismatch: the model data is corrupted", r->name);
+#else
+    (void)checksum;
 #endif
     sinew_result result = read_directory(r, &f, h);
     if (result)
