@@ -56,7 +56,8 @@ bool sinew_lazy_load(sinew_lazy_library *library, char *why, size_t why_size);
  * runs libgcc's own CPUID sweep at every process start (0.1 ms on a virtual machine, where CPUID
  * traps); __builtin_cpu_supports() where the C library has no such header. False off x86-64. */
 typedef enum sinew_cpu_feature {
-    SINEW_CPU_SSE42,    /* SSE 4.2 (CRC-32C) */
+    SINEW_CPU_SSE42, /* SSE 4.2 (CRC-32C) */
+    SINEW_CPU_AVX2,
     SINEW_CPU_AVX2_FMA, /* AVX2 and FMA */
     SINEW_CPU_AVX512,   /* AVX-512 F and DQ */
     SINEW_CPU_AVX512BW,

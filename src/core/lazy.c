@@ -41,36 +41,31 @@ bool sinew_lazy_load(sinew_lazy_library *library, char *why, size_t why_size)
     return loaded;
 }
 
+/* A feature by glibc's name and by GCC's. */
+#if defined(SINEW_LIBC_CPU_FEATURES)
+#define CPU_HAS(libc, gcc) CPU_FEATURE_ACTIVE(libc)
+#elif defined(__x86_64__) && defined(__GNUC__)
+#define CPU_HAS(libc, gcc) __builtin_cpu_supports(gcc)
+#endif
+
 bool sinew_cpu_has(sinew_cpu_feature feature)
 {
-#if defined(SINEW_LIBC_CPU_FEATURES)
+#ifdef CPU_HAS
     switch (feature) {
     case SINEW_CPU_SSE42:
-        return CPU_FEATURE_ACTIVE(SSE4_2);
+        return CPU_HAS(SSE4_2, "sse4.2");
+    case SINEW_CPU_AVX2:
+        return CPU_HAS(AVX2, "avx2");
     case SINEW_CPU_AVX2_FMA:
-        return CPU_FEATURE_ACTIVE(AVX2) && CPU_FEATURE_ACTIVE(FMA);
+        return CPU_HAS(AVX2, "avx2") && CPU_HAS(FMA, "fma");
     case SINEW_CPU_AVX512:
-        return CPU_FEATURE_ACTIVE(AVX512F) && CPU_FEATURE_ACTIVE(AVX512DQ);
+        return CPU_HAS(AVX512F, "avx512f") && CPU_HAS(AVX512DQ, "avx512dq");
     case SINEW_CPU_AVX512BW:
-        return CPU_FEATURE_ACTIVE(AVX512BW);
+        return CPU_HAS(AVX512BW, "avx512bw");
     }
-    return false;
-#elif defined(__x86_64__) && defined(__GNUC__)
-    switch (feature) {
-    case SINEW_CPU_SSE42:
-        return __builtin_cpu_supports("sse4.2");
-    case SINEW_CPU_AVX2_FMA:
-        return __builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma");
-    case SINEW_CPU_AVX512:
-        return __builtin_cpu_supports("avx512f") && __builtin_cpu_supports("avx512dq");
-    case SINEW_CPU_AVX512BW:
-        return __builtin_cpu_supports("avx512bw");
-    }
-    return false;
-#else
+#endif
     (void)feature;
     return false;
-#endif
 }
 
 void sinew_prefault(void *p, size_t size)

@@ -104,7 +104,7 @@ largest_index_avx512(const uint16_t *joints, size_t n) LARGEST_INDEX_BODY
 #if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__)
     if (sinew_cpu_has(SINEW_CPU_AVX512BW))
         return largest_index_avx512(joints, n);
-    if (sinew_cpu_has(SINEW_CPU_AVX2_FMA))
+    if (sinew_cpu_has(SINEW_CPU_AVX2))
         return largest_index_avx2(joints, n);
 #endif
     return largest_index_plain(joints, n);
