@@ -238,6 +238,12 @@ sinew_result app_arm_model(const app_arm_spec *spec, sinew_model **out, sinew_er
 
 #define WARM_HUGE ((uintptr_t)2 << 20)
 
+/* x rounded up to a 2 MB boundary. */
+static uintptr_t huge_up(uintptr_t x)
+{
+    return (x + WARM_HUGE - 1) & ~(WARM_HUGE - 1);
+}
+
 /* Fills in [from, to) of the heap, asking for huge pages on it first. */
 static void warm_range(uintptr_t from, uintptr_t to)
 {
@@ -270,7 +276,7 @@ void app_warm_heap(const char *path)
         /* four times the file, at least 4 MiB and at most 24 MiB, in whole 2 MB pages */
         bytes = (size_t)st.st_size * 4;
         bytes = bytes < ((size_t)4 << 20) ? (size_t)4 << 20 : bytes > ((size_t)24 << 20) ? (size_t)24 << 20 : bytes;
-        bytes = (bytes + WARM_HUGE - 1) & ~(WARM_HUGE - 1);
+        bytes = huge_up(bytes);
     }
     /* Only whole 2 MB pages are filled in: a 4 KiB page costs about as much to fault in as a
      * 2 MB one here. The heap's top is first moved to a 2 MB boundary by a block that is kept
@@ -279,7 +285,7 @@ void app_warm_heap(const char *path)
     unsigned char *probe = malloc(bytes + WARM_HUGE);
     if (!probe)
         return;
-    uintptr_t at = (uintptr_t)probe, head = ((at + WARM_HUGE - 1) & ~(WARM_HUGE - 1)) - at;
+    uintptr_t head = huge_up((uintptr_t)probe) - (uintptr_t)probe;
     free(probe);
     static void *volatile kept[4]; /* the pads, for the life of the process (volatile: kept by the compiler too) */
     static size_t pads;
@@ -288,7 +294,7 @@ void app_warm_heap(const char *path)
     unsigned char *block = malloc(bytes);
     if (!block)
         return;
-    warm_range(((uintptr_t)block + WARM_HUGE - 1) & ~(WARM_HUGE - 1), ((uintptr_t)block + bytes) & ~(WARM_HUGE - 1));
+    warm_range(huge_up((uintptr_t)block), ((uintptr_t)block + bytes) & ~(WARM_HUGE - 1));
     free(block);
 }
 
