@@ -139,7 +139,13 @@ static void test_progress_and_cancel(void **state)
         skip();
     sinew_error error = {0};
     progress_log log = {.cancel_at = 0.4, .start = now()};
-    sinew_import_desc desc = {.path = path, .assimp = true, .progress = note_progress, .progress_user = &log};
+    /* (with room enough that the cancel, not the default memory limit of a small file, stops it:
+     * Assimp allocates 65 MB/s on one machine here and 900 on another) */
+    sinew_import_desc desc = {.path = path,
+                              .assimp = true,
+                              .memory_limit = (uint64_t)4 << 30,
+                              .progress = note_progress,
+                              .progress_user = &log};
     sinew_result r = import_with(&desc, &error);
     double took = now() - log.start;
     expect(r, SINEW_ERROR_CANCELLED, &error, path, "cancelled");
@@ -236,7 +242,8 @@ static void test_killed_from_outside(void **state)
     pthread_t killer;
     pthread_create(&killer, NULL, kill_children, NULL);
     sinew_error error = {0};
-    sinew_result r = import_with(&(sinew_import_desc){.path = path, .assimp = true, .timeout = 30}, &error);
+    sinew_result r = import_with(
+        &(sinew_import_desc){.path = path, .assimp = true, .timeout = 30, .memory_limit = (uint64_t)4 << 30}, &error);
     pthread_join(killer, NULL);
     expect(r, SINEW_ERROR_IMPORTER, &error, path, "killed from outside (signal 9");
     assert_no_children();
