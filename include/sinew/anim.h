@@ -122,7 +122,7 @@ typedef struct sinew_skin_desc {
  * Mixed: with a = mesh->dq_weights[v] (NULL: 0), (1 - a) * linear + a * dual quaternion,
  * normals and tangents renormalised (a vertex at 0 or 1 takes one path alone, SIMD included).
  * The SIMD paths (AVX-512: 16 vertices at a time in structure-of-arrays registers; AVX2+FMA:
- * linear blend of positions and normals) are chosen at run time and give the results of
+ * 8 at a time; both every method and output) are chosen at run time and give the results of
  * sinew_skin_vertices_scalar() within 2e-6. Different ranges may be skinned on different
  * threads at once. A palette (or dq_palette) aligned to 64 bytes is read in place; AVX-512
  * copies one that is not, of up to 256 joints, to 16 KB of the stack first when the range is

@@ -310,8 +310,8 @@ typedef enum sinew_isa { SINEW_ISA_SCALAR, SINEW_ISA_AVX2, SINEW_ISA_AVX512 } si
 sinew_isa sinew_skin_isa(const skin_call *call);
 sinew_isa sinew_skin_set_isa_limit(sinew_isa limit);
 
-/* The SIMD kernels (skin_x86.c): AVX-512 does everything the reference does; AVX2+FMA
- * linear blend of positions and normals. */
+/* The SIMD kernels, each doing everything the reference does: AVX-512 (skin_x86.c) 16
+ * vertices at a time, AVX2+FMA (skin_avx2.c) 8 at a time. */
 void sinew_skin_avx512(const skin_call *call);
 void sinew_skin_avx2(const skin_call *call);
 

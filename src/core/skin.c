@@ -321,8 +321,9 @@ sinew_isa sinew_skin_isa(const skin_call *c)
 #endif
     if (best > isa_limit)
         best = isa_limit;
-    /* the AVX2 kernel does linear blend of positions and normals only */
-    if (best == SINEW_ISA_AVX2 && c && (c->dqs || c->out_t))
+    /* the AVX2 kernel pads a range's end for at most SINEW_MAX_INFLUENCES influences (a
+     * model's meshes have no more; one built by hand might) */
+    if (best == SINEW_ISA_AVX2 && c && c->mesh->influence_count > SINEW_MAX_INFLUENCES)
         best = SINEW_ISA_SCALAR;
     return best;
 }

@@ -6,14 +6,14 @@
  *      an influence; the influence count is a compile-time constant for 1 to 8 (no branch);
  *   2. transpose: the 16 blended records become 16 registers of one element for 16
  *      vertices (structure of arrays: unpacks and 128-bit shuffles);
- *   3. math in SoA registers: positions, the cofactor normal transform (exact, no
- *      approximation: it costs fewer instructions than blending a second palette),
- *      tangents, or the dual-quaternion rotation and translation after the scale/shear;
- *      rsqrt14 plus a Newton step where the reference divides by a square root;
+ *   3. math in SoA registers (skin_soa.h, shared with the AVX2 kernel): positions, the
+ *      cofactor normal transform (exact, no approximation: it costs fewer instructions than
+ *      blending a second palette), tangents, or the dual-quaternion rotation and
+ *      translation after the scale/shear; rsqrt14 plus a Newton step where the reference
+ *      divides by a square root;
  *   4. positions and normals are read and written as xyz triples by two-register permutes
  *      when the output stride is 12, by scatters otherwise (interleaved vertex buffers).
- * AVX2+FMA (sinew_skin_avx2): linear blend of positions and normals a vertex at a time, the
- * blended matrix's columns in two 8-float registers (for processors without AVX-512).
+ * AVX2+FMA (skin_avx2.c): the same steps 8 vertices at a time, for processors without AVX-512.
  * tests/core/test_runtime.c holds both within 2e-6 of skin.c's reference. */
 #include <math.h>
 #include <string.h>
@@ -295,86 +295,22 @@ AVX512 void store_vertices(const triples *t, float *base, size_t stride, uint32_
         _mm512_mask_i32scatter_ps(base + 3, m, at, *w, 1);
 }
 
-/* 1 / |v| (0 for a zero vector): rsqrt14 and one Newton step. */
-AVX512 __m512 inverse_length4(__m512 x, __m512 y, __m512 z, __m512 w);
-
-AVX512 __m512 inverse_length(__m512 x, __m512 y, __m512 z)
-{
-    return inverse_length4(x, y, z, _mm512_setzero_ps());
-}
-
-/* 1 / |q| for a 4-vector (0 for zero). */
-AVX512 __m512 inverse_length4(__m512 x, __m512 y, __m512 z, __m512 w)
-{
-    __m512 len2 = _mm512_fmadd_ps(w, w, _mm512_fmadd_ps(x, x, _mm512_fmadd_ps(y, y, _mm512_mul_ps(z, z))));
-    __m512 r = _mm512_rsqrt14_ps(len2);
-    __m512 half_len2 = _mm512_mul_ps(_mm512_set1_ps(0.5f), len2);
-    r = _mm512_mul_ps(r, _mm512_fnmadd_ps(_mm512_mul_ps(half_len2, r), r, _mm512_set1_ps(1.5f)));
-    return _mm512_maskz_mov_ps(_mm512_cmp_ps_mask(len2, _mm512_setzero_ps(), _CMP_GT_OQ), r);
-}
-
-AVX512 __m512 sign_of(__m512 x)
-{
-    return _mm512_and_ps(x, _mm512_set1_ps(-0.0f));
-}
-
-/* A 3x3 matrix in SoA registers, m[column][row]. */
-typedef struct soa3 {
-    __m512 m[3][3];
-} soa3;
-
-AVX512 void apply3(const soa3 *a, const __m512 v[3], __m512 out[3])
-{
-#pragma GCC unroll 16
-    for (int r = 0; r < 3; r++)
-        out[r] = _mm512_fmadd_ps(a->m[0][r], v[0], _mm512_fmadd_ps(a->m[1][r], v[1], _mm512_mul_ps(a->m[2][r], v[2])));
-}
-
-/* Cofactor matrix of a (det * a^-T) and det. */
-AVX512 __m512 cofactor3(const soa3 *a, soa3 *out)
-{
-#pragma GCC unroll 16
-    for (int c = 0; c < 3; c++)
-#pragma GCC unroll 16
-        for (int r = 0; r < 3; r++) {
-            int c1 = (c + 1) % 3, c2 = (c + 2) % 3, r1 = (r + 1) % 3, r2 = (r + 2) % 3;
-            out->m[c][r] = _mm512_fmsub_ps(a->m[c1][r1], a->m[c2][r2], _mm512_mul_ps(a->m[c1][r2], a->m[c2][r1]));
-        }
-    return _mm512_fmadd_ps(a->m[0][0], out->m[0][0],
-                           _mm512_fmadd_ps(a->m[0][1], out->m[0][1], _mm512_mul_ps(a->m[0][2], out->m[0][2])));
-}
-
-/* Normalises v in place, times -1 where `sign` has its sign bit. */
-AVX512 void normalize_signed(__m512 v[3], __m512 sign)
-{
-    __m512 r = _mm512_xor_ps(inverse_length(v[0], v[1], v[2]), sign);
-#pragma GCC unroll 16
-    for (int c = 0; c < 3; c++)
-        v[c] = _mm512_mul_ps(v[c], r);
-}
-
-/* q.xyz x v for SoA vectors. */
-AVX512 void cross_soa(const __m512 a[3], const __m512 b[3], __m512 out[3])
-{
-    __m512 x = _mm512_fmsub_ps(a[1], b[2], _mm512_mul_ps(a[2], b[1]));
-    __m512 y = _mm512_fmsub_ps(a[2], b[0], _mm512_mul_ps(a[0], b[2]));
-    __m512 z = _mm512_fmsub_ps(a[0], b[1], _mm512_mul_ps(a[1], b[0]));
-    out[0] = x, out[1] = y, out[2] = z;
-}
-
-/* v + 2 q.xyz x (q.xyz x v + q.w v), in place. */
-AVX512 void rotate_soa(const __m512 q[4], __m512 v[3])
-{
-    __m512 t[3], u[3];
-    cross_soa(q, v, t);
-#pragma GCC unroll 16
-    for (int c = 0; c < 3; c++)
-        t[c] = _mm512_fmadd_ps(q[3], v[c], t[c]);
-    cross_soa(q, t, u);
-#pragma GCC unroll 16
-    for (int c = 0; c < 3; c++)
-        v[c] = _mm512_fmadd_ps(_mm512_set1_ps(2.0f), u[c], v[c]);
-}
+/* The SoA math (skin_soa.h) on 16 lanes; rsqrt14 is the estimate its Newton step refines. */
+#define SOA_VEC __m512
+#define SOA_FN AVX512
+#define SOA_NAME(x) x##_16
+#define SOA_ADD _mm512_add_ps
+#define SOA_MUL _mm512_mul_ps
+#define SOA_XOR _mm512_xor_ps
+#define SOA_AND _mm512_and_ps
+#define SOA_FMADD _mm512_fmadd_ps
+#define SOA_FMSUB _mm512_fmsub_ps
+#define SOA_FNMADD _mm512_fnmadd_ps
+#define SOA_SET1 _mm512_set1_ps
+#define SOA_ZERO _mm512_setzero_ps
+#define SOA_RSQRT _mm512_rsqrt14_ps
+#define SOA_KEEP_POSITIVE(x, r) _mm512_maskz_mov_ps(_mm512_cmp_ps_mask((x), _mm512_setzero_ps(), _CMP_GT_OQ), (r))
+#include "skin_soa.h"
 
 /* Tangent w components of n vertices (stride 4 floats), gathered. */
 AVX512 __m512 load_tangents(const float *t, uint32_t n, __m512 xyz[3])
@@ -403,58 +339,15 @@ AVX512 void skin_block(const skin_call *c, const triples *tr, uint32_t v, uint32
     if (c->out_t)
         t_w = load_tangents(&mesh->tangents[(size_t)v * 4], n, t_in);
     size_t at = (size_t)v * c->stride;
-    /* the linear part a and translation t; for DQS also the rotation q applied after a */
-    soa3 a, cof;
-    __m512 t[3], q[4];
-    if (!dqs) {
-#pragma GCC unroll 16
-        for (int col = 0; col < 3; col++)
-#pragma GCC unroll 16
-            for (int row = 0; row < 3; row++)
-                a.m[col][row] = e[col * 4 + row];
-#pragma GCC unroll 16
-        for (int row = 0; row < 3; row++)
-            t[row] = e[12 + row];
-    } else {
-        /* normalised by the real part's length; S (xx yy zz xy xz yz) in e[8 .. 13] */
-        __m512 inv = inverse_length4(e[0], e[1], e[2], e[3]), d[4];
-#pragma GCC unroll 16
-        for (int i = 0; i < 4; i++)
-            q[i] = _mm512_mul_ps(e[i], inv), d[i] = _mm512_mul_ps(e[4 + i], inv);
-        __m512 sxx = e[8], syy = e[9], szz = e[10], sxy = e[11], sxz = e[12], syz = e[13];
-        a = (soa3){{{sxx, sxy, sxz}, {sxy, syy, syz}, {sxz, syz, szz}}};
-        /* translation 2 (q.w d.xyz - d.w q.xyz + q.xyz x d.xyz) */
-        cross_soa(q, d, t);
-#pragma GCC unroll 16
-        for (int i = 0; i < 3; i++)
-            t[i] = _mm512_mul_ps(_mm512_set1_ps(2.0f),
-                                 _mm512_add_ps(t[i], _mm512_fmsub_ps(q[3], d[i], _mm512_mul_ps(d[3], q[i]))));
-    }
-    __m512 out[3], det = _mm512_setzero_ps();
-    apply3(&a, p, out);
-    if (dqs)
-        rotate_soa(q, out);
-#pragma GCC unroll 16
-    for (int i = 0; i < 3; i++)
-        out[i] = _mm512_add_ps(out[i], t[i]);
-    store_vertices(tr, (float *)((char *)c->out_p + at), c->stride, n, out, NULL);
-    if (c->out_n || c->out_t)
-        det = cofactor3(&a, &cof);
-    if (c->out_n) {
-        apply3(&cof, n_in, out);
-        normalize_signed(out, sign_of(det));
-        if (dqs)
-            rotate_soa(q, out);
-        store_vertices(tr, (float *)((char *)c->out_n + at), c->stride, n, out, NULL);
-    }
-    if (c->out_t) {
-        apply3(&a, t_in, out);
-        normalize_signed(out, _mm512_setzero_ps());
-        if (dqs)
-            rotate_soa(q, out);
-        __m512 w = _mm512_xor_ps(t_w, sign_of(det));
-        store_vertices(tr, (float *)((char *)c->out_t + at), c->stride, n, out, &w);
-    }
+    __m512 out_p[3], out_n[3] = {_mm512_setzero_ps(), _mm512_setzero_ps(), _mm512_setzero_ps()},
+                     out_t[3] = {_mm512_setzero_ps(), _mm512_setzero_ps(), _mm512_setzero_ps()},
+                     out_w = _mm512_setzero_ps();
+    skin_math_16(e, dqs, p, c->out_n ? n_in : NULL, c->out_t ? t_in : NULL, t_w, out_p, out_n, out_t, &out_w);
+    store_vertices(tr, (float *)((char *)c->out_p + at), c->stride, n, out_p, NULL);
+    if (c->out_n)
+        store_vertices(tr, (float *)((char *)c->out_n + at), c->stride, n, out_n, NULL);
+    if (c->out_t)
+        store_vertices(tr, (float *)((char *)c->out_t + at), c->stride, n, out_t, &out_w);
 }
 
 /* Every block of the range, with the influence count k and the method known at compile
@@ -525,63 +418,4 @@ AVX512_FN void sinew_skin_avx512(const skin_call *c)
     dispatch_blocks(c);
 }
 
-/* ---- AVX2 + FMA ---- */
-
-#define YZX(v) _mm_shuffle_ps((v), (v), _MM_SHUFFLE(3, 0, 2, 1))
-
-/* a x b given a, b and their yzx rotations. */
-__attribute__((target("avx2,fma"))) static inline __m128 cross(__m128 a, __m128 a_yzx, __m128 b, __m128 b_yzx)
-{
-    __m128 t = _mm_fmsub_ps(a, b_yzx, _mm_mul_ps(a_yzx, b));
-    return YZX(t);
-}
-
-__attribute__((target("avx2,fma"))) void sinew_skin_avx2(const skin_call *c)
-{
-    const sinew_mesh *mesh = c->mesh;
-    const uint32_t k = mesh->influence_count;
-    const float *palette = c->records;
-    const __m128 zero = _mm_setzero_ps();
-    for (uint32_t v = c->first; v < c->first + c->count; v++) {
-        const uint16_t *joints = &mesh->joints[(size_t)v * k];
-        const float *weights = &mesh->weights[(size_t)v * k];
-        /* columns 0|1 and 2|3 of the blended matrix */
-        const float *m = palette + (size_t)joints[0] * 16;
-        __m256 w = _mm256_broadcast_ss(&weights[0]);
-        __m256 c01 = _mm256_mul_ps(w, _mm256_loadu_ps(m));
-        __m256 c23 = _mm256_mul_ps(w, _mm256_loadu_ps(m + 8));
-        for (uint32_t i = 1; i < k && weights[i] != 0.0f; i++) {
-            m = palette + (size_t)joints[i] * 16;
-            w = _mm256_broadcast_ss(&weights[i]);
-            c01 = _mm256_fmadd_ps(w, _mm256_loadu_ps(m), c01);
-            c23 = _mm256_fmadd_ps(w, _mm256_loadu_ps(m + 8), c23);
-        }
-        __m128 c0 = _mm256_castps256_ps128(c01), c1 = _mm256_extractf128_ps(c01, 1);
-        __m128 c2 = _mm256_castps256_ps128(c23), c3 = _mm256_extractf128_ps(c23, 1);
-        const float *p = &mesh->positions[(size_t)v * 3];
-        __m128 pos = _mm_fmadd_ps(c2, _mm_broadcast_ss(p + 2),
-                                  _mm_fmadd_ps(c1, _mm_broadcast_ss(p + 1), _mm_fmadd_ps(c0, _mm_broadcast_ss(p), c3)));
-        float *out_p = (float *)((char *)c->out_p + (size_t)v * c->stride);
-        _mm_storel_pi((__m64 *)out_p, pos);
-        _mm_store_ss(out_p + 2, _mm_movehl_ps(pos, pos));
-        if (!c->out_n)
-            continue;
-        /* cofactor columns k0 = c1 x c2, k1 = c2 x c0, k2 = c0 x c1; n' = sign(det) K n */
-        __m128 c0r = YZX(c0), c1r = YZX(c1), c2r = YZX(c2);
-        __m128 k0 = cross(c1, c1r, c2, c2r), k1 = cross(c2, c2r, c0, c0r), k2 = cross(c0, c0r, c1, c1r);
-        const float *n = &mesh->normals[(size_t)v * 3];
-        __m128 nv = _mm_fmadd_ps(k2, _mm_broadcast_ss(n + 2),
-                                 _mm_fmadd_ps(k1, _mm_broadcast_ss(n + 1), _mm_mul_ps(k0, _mm_broadcast_ss(n))));
-        __m128 det = _mm_dp_ps(c0, k0, 0x7f);
-        __m128 len2 = _mm_dp_ps(nv, nv, 0x7f);
-        __m128 r = _mm_rsqrt_ps(len2); /* one Newton step: r * (1.5 - 0.5 * len2 * r * r) */
-        r = _mm_mul_ps(r, _mm_fnmadd_ps(_mm_mul_ps(_mm_mul_ps(_mm_set1_ps(0.5f), len2), r), r, _mm_set1_ps(1.5f)));
-        r = _mm_and_ps(r, _mm_cmpgt_ps(len2, zero));
-        r = _mm_xor_ps(r, _mm_and_ps(det, _mm_set1_ps(-0.0f))); /* the sign of det */
-        nv = _mm_mul_ps(nv, r);
-        float *out_n = (float *)((char *)c->out_n + (size_t)v * c->stride);
-        _mm_storel_pi((__m64 *)out_n, nv);
-        _mm_store_ss(out_n + 2, _mm_movehl_ps(nv, nv));
-    }
-}
 #endif
