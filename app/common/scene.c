@@ -273,9 +273,11 @@ void app_warm_heap(const char *path)
             return;
         bytes = WARM_HUGE;
     } else {
-        /* four times the file, at least 4 MiB and at most 24 MiB, in whole 2 MB pages */
+        /* four times the file, at least one 2 MB page and at most 24 MiB, in whole 2 MB pages
+         * (a second page for a small file costs more to zero than its faults would: Fox.glb
+         * 3.2 ms against 3.8 with 4 MiB where faults are cheap, the same where they are not) */
         bytes = (size_t)st.st_size * 4;
-        bytes = bytes < ((size_t)4 << 20) ? (size_t)4 << 20 : bytes > ((size_t)24 << 20) ? (size_t)24 << 20 : bytes;
+        bytes = bytes < WARM_HUGE ? WARM_HUGE : bytes > ((size_t)24 << 20) ? (size_t)24 << 20 : bytes;
         bytes = huge_up(bytes);
     }
     /* Only whole 2 MB pages are filled in: a 4 KiB page costs about as much to fault in as a
