@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # Installs the Debian packages sinew needs to build and test, and nothing when they are all there
 # (GTK 4 for sinew-view, Xvfb to test it without a display, ffmpeg for videos and previews,
+# SIMDe's portable AVX-512 headers to test the AVX-512 kernel on processors without it,
 # Python 3 with numpy, cffi, pytest and Dask distributed for the binding and `sinew batch`).
 # Uses apt-get directly as root, through sudo otherwise. Safe to run again.
 set -euo pipefail
@@ -9,7 +10,7 @@ packages=(
   build-essential cmake pkg-config clang-format
   libassimp-dev libcglm-dev libcjson-dev libjsmn-dev libcmocka-dev libxml2-dev zlib1g-dev libdeflate-dev
   libepoxy-dev libegl-dev libegl-mesa0 libgl1-mesa-dri libstb-dev libmeshoptimizer-dev
-  libgtk-4-dev xvfb xauth ffmpeg
+  libgtk-4-dev xvfb xauth ffmpeg libsimde-dev
   python3-numpy python3-cffi python3-pytest python3-distributed
 )
 

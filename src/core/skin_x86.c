@@ -21,10 +21,18 @@
 #include "internal.h"
 
 #if defined(__x86_64__) && defined(__GNUC__)
+#ifdef SINEW_SKIN_AVX512_EMULATED
+/* tests/core/test_skin_avx512.c builds this file against SIMDe's portable AVX-512, so that the
+ * kernel is tested on processors without it */
+#include "avx512_emulated.h"
+#define AVX512_TARGET
+#else
 #include <immintrin.h>
+#define AVX512_TARGET __attribute__((target("avx512f,avx512dq")))
+#endif
 
-#define AVX512 __attribute__((target("avx512f,avx512dq"))) static inline __attribute__((always_inline))
-#define AVX512_FN __attribute__((target("avx512f,avx512dq")))
+#define AVX512 AVX512_TARGET static inline __attribute__((always_inline))
+#define AVX512_FN AVX512_TARGET
 
 /* ---- AVX-512 ---- */
 
