@@ -124,8 +124,8 @@ typedef struct sinew_skin_desc {
  * The SIMD paths (AVX-512: 16 vertices at a time in structure-of-arrays registers; AVX2+FMA:
  * 8 at a time; both every method and output) are chosen at run time and give the results of
  * sinew_skin_vertices_scalar() within 2e-6. Different ranges may be skinned on different
- * threads at once. A palette (or dq_palette) aligned to 64 bytes is read in place; AVX-512
- * copies one that is not, of up to 256 joints, to 16 KB of the stack first when the range is
+ * threads at once. A palette (or dq_palette) aligned to 64 bytes is read in place; the SIMD
+ * paths copy one that is not, of up to 256 joints, to 16 KB of the stack first when the range is
  * at least 64 vertices and one a joint (a record that crosses a cache line costs two loads). */
 sinew_result sinew_skin_vertices(const sinew_skin_desc *desc, sinew_error *error);
 

@@ -406,23 +406,9 @@ AVX512_FN static void dispatch_blocks(const skin_call *c)
         skin_blocks(c, k, c->dqs); /* 5, 6, 7 or more than 8: the count is read at run time */
 }
 
-/* Records copied to 64-byte alignment when the caller's are not and the copy pays: a vertex
- * whose joints differ from its neighbours' loads four 64-byte records, and one that crosses a
- * cache line costs two (out-of-order influences skin 15% faster aligned). On the stack, so
- * at most ALIGNED_RECORDS of them. */
-#define ALIGNED_RECORDS 256
-
+/* (skin.c copies records that are not 64-byte aligned to the stack first, where that pays) */
 AVX512_FN void sinew_skin_avx512(const skin_call *c)
 {
-    if (((uintptr_t)c->records & 63) != 0 && c->record_count <= ALIGNED_RECORDS && c->count >= 64 &&
-        c->count >= c->record_count) {
-        _Alignas(64) float aligned[ALIGNED_RECORDS * 16];
-        memcpy(aligned, c->records, (size_t)c->record_count * 16 * sizeof(float));
-        skin_call copy = *c;
-        copy.records = aligned;
-        dispatch_blocks(&copy);
-        return;
-    }
     dispatch_blocks(c);
 }
 

@@ -304,7 +304,7 @@ static void test_skin_simd_matches_scalar(void **state)
                     assert_true(worst_t <= 2e-6);
                 }
         }
-        /* AVX-512 copies a palette that is not 64-byte aligned before skinning out-of-order
+        /* the SIMD paths copy a palette that is not 64-byte aligned before skinning out-of-order
          * influences: the same records, so the same bits as from an aligned palette */
         {
             size_t bytes = skin->joint_count * sizeof *palette;

@@ -4,7 +4,7 @@
  * it natively where it can). Linear blend and dual quaternions, 1-5 and 8 influences, the
  * synthetic mesh's runs of shared joints and its influences dealt out of order, interleaved
  * outputs with tangents and packed positions, ranges that start and end mid-block, and a
- * palette that is not 64-byte aligned (the kernel copies it: the same bits). */
+ * palette that is not 64-byte aligned (the same bits). */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -144,8 +144,9 @@ static void test_avx512_kernel_matches_scalar(void **state)
     }
 }
 
-/* A palette one float off 64-byte alignment is copied to aligned memory first (a range of 64
- * vertices or more): the same results as from the aligned one, bit for bit. */
+/* A palette one float off 64-byte alignment (which skin.c copies to aligned memory before
+ * calling the kernel, but a kernel must read either way): the same results as from the aligned
+ * one, bit for bit. */
 static void test_unaligned_palette_same_bits(void **state)
 {
     (void)state;
