@@ -97,6 +97,27 @@ double worlds_difference(const sinew_mat4 *a, const sinew_mat4 *b, uint32_t n)
     return worst;
 }
 
+double floats_difference(const float *a, const float *b, size_t n)
+{
+    double worst = 0.0;
+    for (size_t i = 0; i < n; i++)
+        worst = fmax(worst, fabs((double)a[i] - b[i]));
+    return worst;
+}
+
+void influences_out_of_order(const sinew_mesh *mesh, uint16_t **joints, float **weights)
+{
+    uint32_t k = mesh->influence_count, n = mesh->vertex_count;
+    *joints = malloc((size_t)n * k * sizeof **joints);
+    *weights = malloc((size_t)n * k * sizeof **weights);
+    assert_true(*joints && *weights);
+    for (uint32_t v = 0; v < n; v++) {
+        uint32_t from = (uint32_t)(((uint64_t)v * 7919u) % n);
+        memcpy(*joints + (size_t)v * k, mesh->joints + (size_t)from * k, k * sizeof **joints);
+        memcpy(*weights + (size_t)v * k, mesh->weights + (size_t)from * k, k * sizeof **weights);
+    }
+}
+
 sinew_model *demo_humanoid(void)
 {
     sinew_model *m = NULL;

@@ -41,6 +41,11 @@ sinew_transform *pose_locals(const sinew_model *model, const sinew_clip *clip, f
 double pose_difference(const sinew_transform *a, const sinew_transform *b, uint32_t n);
 /* Largest difference between two sets of n matrices, element by element. */
 double worlds_difference(const sinew_mat4 *a, const sinew_mat4 *b, uint32_t n);
+/* Largest difference between two arrays of n floats. */
+double floats_difference(const float *a, const float *b, size_t n);
+/* A skinned mesh's influences dealt out of order (malloc'd): vertex v takes those of vertex
+ * v * 7919 mod n, so that no block of neighbours shares its joints. */
+void influences_out_of_order(const sinew_mesh *mesh, uint16_t **joints, float **weights);
 /* The demo humanoid (fails the test when it cannot be made). */
 sinew_model *demo_humanoid(void);
 /* World matrices of a model at time t of clip (NULL: rest), malloc'd. */

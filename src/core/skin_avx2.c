@@ -19,6 +19,7 @@
 #include <string.h>
 
 #include "internal.h"
+#include "skin_dispatch.h"
 
 #if defined(__x86_64__) && defined(__GNUC__)
 #include <immintrin.h>
@@ -328,40 +329,7 @@ AVX2 void skin_blocks(const skin_call *c, uint32_t k, bool dqs)
         skin_tail(c, v, end - v, k, dqs);
 }
 
-#define SKIN_BLOCKS(k)                                                                                                 \
-    AVX2_FN static void skin_blocks_lbs_##k(const skin_call *c)                                                        \
-    {                                                                                                                  \
-        skin_blocks(c, k, false);                                                                                      \
-    }                                                                                                                  \
-    AVX2_FN static void skin_blocks_dqs_##k(const skin_call *c)                                                        \
-    {                                                                                                                  \
-        skin_blocks(c, k, true);                                                                                       \
-    }
-SKIN_BLOCKS(1)
-SKIN_BLOCKS(2)
-SKIN_BLOCKS(3)
-SKIN_BLOCKS(4)
-SKIN_BLOCKS(8)
-
-/* The block loop for the call's influence count (at most SINEW_MAX_INFLUENCES: skin.c sends
- * no other here) and method. */
-AVX2_FN void sinew_skin_avx2(const skin_call *c)
-{
-    static void (*const lbs[9])(const skin_call *) = {[1] = skin_blocks_lbs_1,
-                                                      [2] = skin_blocks_lbs_2,
-                                                      [3] = skin_blocks_lbs_3,
-                                                      [4] = skin_blocks_lbs_4,
-                                                      [8] = skin_blocks_lbs_8};
-    static void (*const dqs[9])(const skin_call *) = {[1] = skin_blocks_dqs_1,
-                                                      [2] = skin_blocks_dqs_2,
-                                                      [3] = skin_blocks_dqs_3,
-                                                      [4] = skin_blocks_dqs_4,
-                                                      [8] = skin_blocks_dqs_8};
-    uint32_t k = c->mesh->influence_count;
-    void (*fn)(const skin_call *) = (c->dqs ? dqs : lbs)[k];
-    if (fn)
-        fn(c);
-    else
-        skin_blocks(c, k, c->dqs); /* 5, 6 or 7: the count is read at run time */
-}
+/* The entry point (skin_dispatch.h): influence counts up to SINEW_MAX_INFLUENCES (skin.c sends
+ * no other here; skin_tail pads for that many). */
+SKIN_KERNEL(AVX2_FN, sinew_skin_avx2)
 #endif

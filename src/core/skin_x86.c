@@ -19,6 +19,7 @@
 #include <string.h>
 
 #include "internal.h"
+#include "skin_dispatch.h"
 
 #if defined(__x86_64__) && defined(__GNUC__)
 #ifdef SINEW_SKIN_AVX512_EMULATED
@@ -370,46 +371,8 @@ AVX512 void skin_blocks(const skin_call *c, uint32_t k, bool dqs)
         skin_block(c, &tr, v, end - v, k, dqs);
 }
 
-#define SKIN_BLOCKS(k)                                                                                                 \
-    AVX512_FN static void skin_blocks_lbs_##k(const skin_call *c)                                                      \
-    {                                                                                                                  \
-        skin_blocks(c, k, false);                                                                                      \
-    }                                                                                                                  \
-    AVX512_FN static void skin_blocks_dqs_##k(const skin_call *c)                                                      \
-    {                                                                                                                  \
-        skin_blocks(c, k, true);                                                                                       \
-    }
-SKIN_BLOCKS(1)
-SKIN_BLOCKS(2)
-SKIN_BLOCKS(3)
-SKIN_BLOCKS(4)
-SKIN_BLOCKS(8)
-
-/* The block loop for the call's influence count and method. */
-AVX512_FN static void dispatch_blocks(const skin_call *c)
-{
-    static void (*const lbs[9])(const skin_call *) = {[1] = skin_blocks_lbs_1,
-                                                      [2] = skin_blocks_lbs_2,
-                                                      [3] = skin_blocks_lbs_3,
-                                                      [4] = skin_blocks_lbs_4,
-                                                      [8] = skin_blocks_lbs_8};
-    static void (*const dqs[9])(const skin_call *) = {[1] = skin_blocks_dqs_1,
-                                                      [2] = skin_blocks_dqs_2,
-                                                      [3] = skin_blocks_dqs_3,
-                                                      [4] = skin_blocks_dqs_4,
-                                                      [8] = skin_blocks_dqs_8};
-    uint32_t k = c->mesh->influence_count;
-    void (*fn)(const skin_call *) = k < 9 ? (c->dqs ? dqs : lbs)[k] : NULL;
-    if (fn)
-        fn(c);
-    else
-        skin_blocks(c, k, c->dqs); /* 5, 6, 7 or more than 8: the count is read at run time */
-}
-
-/* (skin.c copies records that are not 64-byte aligned to the stack first, where that pays) */
-AVX512_FN void sinew_skin_avx512(const skin_call *c)
-{
-    dispatch_blocks(c);
-}
+/* The entry point (skin_dispatch.h); skin.c copies records that are not 64-byte aligned to
+ * the stack first, where that pays. */
+SKIN_KERNEL(AVX512_FN, sinew_skin_avx512)
 
 #endif

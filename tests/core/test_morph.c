@@ -87,14 +87,6 @@ static void free_big_mesh(big_mesh *b)
     free(b->offsets);
 }
 
-static double largest_difference(const float *a, const float *b, size_t n)
-{
-    double worst = 0.0;
-    for (size_t i = 0; i < n; i++)
-        worst = fmax(worst, fabs((double)a[i] - b[i]));
-    return worst;
-}
-
 /* 50,000 vertices, 50 targets, 5 of them with weight: the SIMD path within 1e-6 of the scalar
  * reference, positions, normals and tangents; two ranges give what the whole does; the scalar
  * reference equals a plain sum. */
@@ -122,10 +114,10 @@ static void test_simd_equals_scalar(void **state)
     assert_int_equal(sinew_morph_vertices(&d, NULL), SINEW_OK);
     d.first = 20011, d.count = 0;
     assert_int_equal(sinew_morph_vertices(&d, NULL), SINEW_OK);
-    assert_true(largest_difference(p[0], p[1], (size_t)n * 3) < 1e-6);
-    assert_true(largest_difference(nrm[0], nrm[1], (size_t)n * 3) < 1e-6);
-    assert_true(largest_difference(tan[0], tan[1], (size_t)n * 4) < 1e-6);
-    assert_true(largest_difference(p[1], p[2], (size_t)n * 3) == 0.0);
+    assert_true(floats_difference(p[0], p[1], (size_t)n * 3) < 1e-6);
+    assert_true(floats_difference(nrm[0], nrm[1], (size_t)n * 3) < 1e-6);
+    assert_true(floats_difference(tan[0], tan[1], (size_t)n * 4) < 1e-6);
+    assert_true(floats_difference(p[1], p[2], (size_t)n * 3) == 0.0);
     /* the reference is the plain weighted sum */
     double worst = 0.0;
     for (uint32_t v = 0; v < n; v += 997) {
@@ -282,7 +274,7 @@ static void test_mixed_skinning(void **state)
     assert_int_equal(sinew_skin_vertices_scalar(&d, NULL), SINEW_OK);
     d.out_positions = out[3];
     assert_int_equal(sinew_skin_vertices(&d, NULL), SINEW_OK);
-    assert_true(largest_difference(out[2], out[3], n * 3) < 2e-6);
+    assert_true(floats_difference(out[2], out[3], n * 3) < 2e-6);
     for (uint32_t v = 0; v < n; v++)
         for (int c = 0; c < 3; c++) {
             float want = dq[v] == 0.0f   ? out[0][v * 3 + c]
@@ -291,14 +283,14 @@ static void test_mixed_skinning(void **state)
             assert_float_equal(out[2][v * 3 + c], want, 2e-6);
         }
     /* the differences are not trivially zero: the two methods disagree on these vertices */
-    assert_true(largest_difference(out[0], out[1], n * 3) > 1e-3);
+    assert_true(floats_difference(out[0], out[1], n * 3) > 1e-3);
     /* morphed input in place of the mesh's: every vertex moved by +1 in x moves the output */
     float *moved = malloc(n * 3 * sizeof(float));
     for (uint32_t i = 0; i < n * 3; i++)
         moved[i] = pos[i] + (i % 3 == 0 ? 1.0f : 0.0f);
     d.method = SINEW_SKIN_LINEAR, d.positions = moved, d.out_positions = out[4];
     assert_int_equal(sinew_skin_vertices(&d, NULL), SINEW_OK);
-    assert_true(largest_difference(out[0], out[4], n * 3) > 0.5);
+    assert_true(floats_difference(out[0], out[4], n * 3) > 0.5);
     /* MIXED without a DQ palette is refused */
     sinew_error error = {0};
     d.method = SINEW_SKIN_MIXED, d.dq_palette = NULL;

@@ -230,15 +230,9 @@ static void test_skin_simd_matches_scalar(void **state)
         sinew_mesh mesh = m->meshes[0];
         float *tangents = test_tangents(&mesh);
         mesh.tangents = tangents;
-        /* the influences dealt out of order: vertex v takes those of vertex v * 7919 mod n */
-        uint32_t k = mesh.influence_count, count = mesh.vertex_count;
-        uint16_t *mixed_joints = malloc((size_t)count * k * sizeof *mixed_joints);
-        float *mixed_weights = malloc((size_t)count * k * sizeof *mixed_weights);
-        for (uint32_t v = 0; v < count; v++) {
-            uint32_t from = (uint32_t)(((uint64_t)v * 7919u) % count);
-            memcpy(mixed_joints + (size_t)v * k, mesh.joints + (size_t)from * k, k * sizeof *mixed_joints);
-            memcpy(mixed_weights + (size_t)v * k, mesh.weights + (size_t)from * k, k * sizeof *mixed_weights);
-        }
+        uint16_t *mixed_joints;
+        float *mixed_weights;
+        influences_out_of_order(&mesh, &mixed_joints, &mixed_weights);
         const sinew_skin *skin = &m->skins[0];
         sinew_mat4 *worlds = pose_worlds(m, &m->clips[0], 0.37f);
         sinew_mat4 *palette = malloc(skin->joint_count * sizeof *palette);

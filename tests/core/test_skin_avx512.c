@@ -26,24 +26,20 @@ typedef struct case_mesh {
 } case_mesh;
 
 /* The synthetic character with `influences`, tangents, its influences also dealt out of order
- * (vertex v takes those of v * 7919 mod n), and a palette with a mirrored and a squashed joint. */
+ * (influences_out_of_order), and a palette with a mirrored and a squashed joint. */
 static void make_case(uint32_t influences, case_mesh *c)
 {
     sinew_synthetic_desc d = {.joints = 64, .vertices = 3000, .influences = influences, .keyed_trs = true};
     assert_int_equal(sinew_synthetic_model(&d, &c->model, NULL), SINEW_OK);
     c->mesh = c->model->meshes[0];
-    uint32_t n = c->mesh.vertex_count, k = c->mesh.influence_count;
+    uint32_t n = c->mesh.vertex_count;
     c->tangents = malloc((size_t)n * 4 * sizeof(float));
-    c->mixed_joints = malloc((size_t)n * k * sizeof *c->mixed_joints);
-    c->mixed_weights = malloc((size_t)n * k * sizeof *c->mixed_weights);
     for (uint32_t v = 0; v < n; v++) {
         float a = 0.37f * (float)v;
         float t[4] = {cosf(a), sinf(a), 0.3f, (v & 1) ? -1.0f : 1.0f};
         memcpy(c->tangents + (size_t)v * 4, t, sizeof t);
-        uint32_t from = (uint32_t)(((uint64_t)v * 7919u) % n);
-        memcpy(c->mixed_joints + (size_t)v * k, c->mesh.joints + (size_t)from * k, k * sizeof *c->mixed_joints);
-        memcpy(c->mixed_weights + (size_t)v * k, c->mesh.weights + (size_t)from * k, k * sizeof *c->mixed_weights);
     }
+    influences_out_of_order(&c->mesh, &c->mixed_joints, &c->mixed_weights);
     c->mesh.tangents = c->tangents;
     const sinew_skin *skin = &c->model->skins[0];
     c->joints = skin->joint_count;
@@ -67,15 +63,6 @@ static void free_case(case_mesh *c)
     free(c->palette);
     free(c->dq);
     sinew_model_free(c->model);
-}
-
-/* Largest difference between two arrays of floats. */
-static double largest_difference(const float *a, const float *b, size_t n)
-{
-    double worst = 0.0;
-    for (size_t i = 0; i < n; i++)
-        worst = fmax(worst, fabs((double)a[i] - b[i]));
-    return worst;
 }
 
 /* One call of the emulated kernel against the reference over the same range and outputs:
@@ -110,7 +97,7 @@ static double against_reference(const case_mesh *c, const sinew_mesh *mesh, bool
                          .out_tangents = full ? want + 6 : NULL,
                          .out_stride = stride * sizeof(float)};
     assert_int_equal(sinew_skin_vertices_scalar(&d, NULL), SINEW_OK);
-    double worst = largest_difference(got, want, n);
+    double worst = floats_difference(got, want, n);
     for (size_t v = 0; full && v < mesh->vertex_count; v++)
         assert_true(got[v * 12 + 10] == 0.0f && got[v * 12 + 11] == 0.0f); /* padding untouched */
     assert_true(got[0] == 0.0f && got[n - 1] == 0.0f);                     /* outside the range untouched */
