@@ -256,8 +256,11 @@ static void chunk_fill(arena_chunk *c, size_t need)
 {
     if (!c->mapped || need <= c->filled)
         return;
-    size_t window = c->pages ? (size_t)2 << 20 : ARENA_FILL; /* a 2 MB page is filled whole */
-    size_t end = (need + window - 1) / window * window;
+    /* windows from the chunk's start, which is at a page boundary (a 2 MB page is filled whole:
+     * windows counted from after the header ended a header's length into the next 2 MB page,
+     * and the kernel filled and zeroed all of that page for its first 4 KiB) */
+    size_t window = c->pages ? (size_t)2 << 20 : ARENA_FILL;
+    size_t end = (ARENA_HEADER + need + window - 1) / window * window - ARENA_HEADER;
     end = end < c->size ? end : c->size;
     uintptr_t page = 4096, from = ((uintptr_t)c + ARENA_HEADER + c->filled) & ~(page - 1),
               to = ((uintptr_t)c + ARENA_HEADER + end + page - 1) & ~(page - 1);
