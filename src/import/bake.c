@@ -25,6 +25,7 @@ typedef struct bake {
     const bake_desc *d;
     uint32_t count, capacity;
     bake_key *keys;
+    double chord; /* the distance of two unit quaternions tol_r apart */
     bool failed;
 } bake;
 
@@ -114,11 +115,16 @@ static void hermite10(const bake_key *a, const bake_key *c, double u, double out
         out[i] /= n;
 }
 
-/* Whether the interpolation of a..c is within the tolerances of the exact transform. */
+/* Whether the interpolation of a..c is within the tolerances of the exact transform. The
+ * rotations' angle apart is 4 asin(|got - exact| / 2), the unit quaternions on one side: their
+ * distance is held to `chord` (an acos of their dot product loses half its digits there). */
 static bool within(const bake *b, const double got[10], const double exact[10])
 {
-    double d = fabs(got[3] * exact[3] + got[4] * exact[4] + got[5] * exact[5] + got[6] * exact[6]);
-    if (2 * acos(fmin(d, 1.0)) > b->d->tol_r)
+    double d = got[3] * exact[3] + got[4] * exact[4] + got[5] * exact[5] + got[6] * exact[6];
+    double side = d < 0 ? -1.0 : 1.0, chord = 0;
+    for (int c = 3; c < 7; c++)
+        chord += (got[c] - side * exact[c]) * (got[c] - side * exact[c]);
+    if (chord > b->chord * b->chord)
         return false;
     for (int k = 0; k < 3; k++)
         if (fabs(got[k] - exact[k]) > b->d->tol_t ||
@@ -222,7 +228,7 @@ static bool fill_track(raw_track *track, const bake *b, const sinew_transform *r
 
 bool bake_track(const bake_desc *d, const float *times, uint32_t n, const sinew_transform *rest, raw_track *track)
 {
-    bake b = {.d = d};
+    bake b = {.d = d, .chord = 2 * sin(d->tol_r / 4)};
     bake_key prev, next;
     for (uint32_t k = 0; k < n && !b.failed; k++) {
         if (import_late()) { /* past the import's deadline: stop as for a failed allocation */

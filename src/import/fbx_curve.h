@@ -33,6 +33,8 @@ typedef struct fbx_key {
     double left_dx, right_dx; /* Bezier handles, relative to the key: widths (seconds) */
     float left_dy, right_dy;  /* and heights */
     uint8_t interp;           /* fbx_interp of the segment after this key */
+    bool uniform;             /* a Bezier segment after this key whose time handles are at its thirds:
+                                 its parameter is its time fraction (fbx_curve.c, mark_uniform) */
 } fbx_key;
 
 typedef enum fbx_extrapolation_mode {
