@@ -61,7 +61,7 @@
 
 #define DAE_MAX_NODES (1u << 20) /* nodes after <instance_node> copies */
 #define DAE_MAX_DEPTH 2048       /* node nesting (libxml2 parses 2048 levels with XML_PARSE_HUGE) */
-#define DAE_BAKE_TOLERANCE 2e-7  /* as the FBX reader's: rad, relative scale, of the scene's size */
+#define DAE_BAKE_TOLERANCE 1e-6  /* as the FBX reader's: rad, relative scale, of the scene's size */
 
 enum { KEY_STEP, KEY_LINEAR, KEY_BEZIER, KEY_HERMITE };
 
