@@ -243,7 +243,7 @@ static void index_ids(collada *c, xmlNode *n)
 static sinew_result parse_text(collada *c, const xmlNode *el, const char *text, double *out, uint32_t max,
                                uint32_t *count)
 {
-    const char *p = text ? text : "";
+    const char *p = text ? text : "", *limit = p + strlen(p);
     uint32_t n = 0;
     sinew_result r = SINEW_OK;
     for (;;) {
@@ -255,7 +255,7 @@ static sinew_result parse_text(collada *c, const xmlNode *el, const char *text, 
         const char *fast = p;
         char *end;
         /* a number ends at white space (xs:list); the rest of xs:double ("+1", ".5", "1e400", "INF"): strtod */
-        if (decimal_scan(p, &fast, &v) > 0 &&
+        if (decimal_scan_within(p, limit, &fast, &v) > 0 &&
             (!*fast || *fast == ' ' || *fast == '\t' || *fast == '\n' || *fast == '\r'))
             end = (char *)fast;
         else

@@ -9,6 +9,7 @@
 #include <stdbool.h>
 #include <stddef.h>
 #include <stdint.h>
+#include <string.h>
 
 /* The number in JSON's grammar (RFC 8259: -? int frac? exp?) that starts at p, in text that a
  * byte other than a digit, '.', 'e', 'E', '+' or '-' ends (a NUL terminator does): *end is
@@ -61,6 +62,60 @@ static inline int decimal_scan(const char *p, const char **end, double *out)
     v = e < 0 ? v / POW10[-e] : v * POW10[e];
     *out = negative ? -v : v;
     return 1;
+}
+
+/* The number of digits that start the 8 bytes of w (read little-endian from text), 0..8. A
+ * byte is a digit when, XORed with '0', it is under 10: its high nibble clear before and after
+ * adding 6. A carry out of a byte that is not a digit reaches only the bytes after it. */
+static inline int decimal_run8(uint64_t w)
+{
+    uint64_t x = w ^ 0x3030303030303030u;
+    uint64_t bad = (x | (x + 0x0606060606060606u)) & 0xF0F0F0F0F0F0F0F0u;
+    return bad ? __builtin_ctzll(bad) / 8 : 8;
+}
+
+/* The value of the first n (1..8) digits of w: they are moved to the top bytes (zeros before
+ * them) and paired, then the pairs paired, then the quads: three multiplications. */
+static inline uint64_t decimal_value8(uint64_t w, int n)
+{
+    uint64_t v = (w - 0x3030303030303030u) << (8 * (8 - n));
+    v = (v * 10 + (v >> 8)) & 0x00FF00FF00FF00FFu;
+    v = (v * 100 + (v >> 16)) & 0x0000FFFF0000FFFFu;
+    return (v * 10000 + (v >> 32)) & 0xFFFFFFFFu;
+}
+
+/* decimal_scan for text that can be read up to `limit` (its NUL, say): a number of at most 7
+ * digits, a point and at most 8 (what exporters write: "-0.5161436") is read 8 bytes at a time,
+ * with a branch a part instead of one a byte (the COLLADA reader's number arrays: a third of the
+ * time they took); anything else as decimal_scan reads it. The same results (test_json). */
+static inline int decimal_scan_within(const char *p, const char *limit, const char **end, double *out)
+{
+    static const uint64_t SCALE[9] = {1, 10, 100, 1000, 10000, 100000, 1000000, 10000000, 100000000};
+    static const double POW10[9] = {1e0, 1e1, 1e2, 1e3, 1e4, 1e5, 1e6, 1e7, 1e8};
+    if (limit - p >= 24) { /* the reads below stay within p + 18 */
+        const char *s = p + (*p == '-');
+        uint64_t w, f;
+        memcpy(&w, s, sizeof w);
+        int whole = decimal_run8(w), fraction = 0;
+        if (whole >= 1 && whole <= 7 && !(s[0] == '0' && whole > 1)) {
+            uint64_t mantissa = decimal_value8(w, whole);
+            s += whole;
+            if (*s == '.') {
+                memcpy(&f, s + 1, sizeof f);
+                fraction = decimal_run8(f);
+                mantissa = fraction ? mantissa * SCALE[fraction] + decimal_value8(f, fraction) : 0;
+                s += 1 + fraction;
+            }
+            bool plain = s[-1] != '.' && *s != '.' && *s != 'e' && *s != 'E' && !(*s >= '0' && *s <= '9');
+            if (plain) {
+                double v = (double)mantissa / POW10[fraction];
+                *out = *p == '-' ? -v : v;
+                *end = s;
+                return 1;
+            }
+        }
+    }
+    return decimal_scan(p, end, out);
 }
 
 /* The len bytes at p (inside NUL-terminated text) as one number in JSON's grammar: as

@@ -11,6 +11,7 @@
 
 #include <cmocka.h>
 
+#include "import/decimal.h"
 #include "import/json.h"
 
 /* The number in "[text]" (jsmn, strict, wants an array or object at the top). */
@@ -102,6 +103,38 @@ static void test_numbers_as_strtod(void **state)
     }
 }
 
+/* decimal_scan_within (the COLLADA reader's number arrays) gives decimal_scan's answer, end
+ * and bits on numbers of every shape, followed by what ends a number and what does not. */
+static void test_scan_within(void **state)
+{
+    (void)state;
+    static const char *const after[] = {" ", "\n", "", ".", "e5", "E-2", "x", "5", ".5", "-"};
+    char text[128];
+    uint64_t seed = 777;
+    for (int i = 0; i < 300000; i++) {
+        seed = seed * 6364136223846793005u + 1442695040888963407u;
+        int whole = (int)((seed >> 33) % 10), fraction = (int)((seed >> 37) % 11) - 1, n = 0;
+        if (seed & 1)
+            text[n++] = '-';
+        uint64_t r = seed;
+        for (int d = 0; d < whole; d++, r = r * 6364136223846793005u + 1)
+            text[n++] = (char)('0' + (r >> 60) % 10);
+        if (fraction >= 0)
+            text[n++] = '.';
+        for (int d = 0; d < fraction; d++, r = r * 6364136223846793005u + 1)
+            text[n++] = (char)('0' + (r >> 60) % 10);
+        n += snprintf(text + n, sizeof text - (size_t)n, "%s", after[(seed >> 41) % 10]);
+        memset(text + n, (seed >> 45) & 1 ? ' ' : '7', sizeof text - (size_t)n - 1); /* readable beyond */
+        text[sizeof text - 1] = 0;
+        const char *end_a = NULL, *end_b = NULL;
+        double a = 0, b = 0;
+        int ra = decimal_scan_within(text, text + sizeof text - 1, &end_a, &a), rb = decimal_scan(text, &end_b, &b);
+        if (ra != rb || (ra >= 0 && end_a != end_b) || (ra > 0 && memcmp(&a, &b, sizeof a) != 0))
+            fail_msg("\"%.*s\": %d %.17g (%td) against %d %.17g (%td)", n, text, ra, a, end_a - text, rb, b,
+                     end_b - text);
+    }
+}
+
 static void test_not_numbers(void **state)
 {
     (void)state;
@@ -120,6 +153,7 @@ int main(void)
     setlocale(LC_ALL, "C");
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_numbers_as_strtod),
+        cmocka_unit_test(test_scan_within),
         cmocka_unit_test(test_not_numbers),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
