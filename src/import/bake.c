@@ -68,12 +68,14 @@ static void bake_key_at(const bake *b, double t, double h, const double *near, c
 {
     double f1[10], f2[10], g1[10], g2[10];
     k->time = (float)t;
+    double at = b->d->key_time ? b->d->key_time(b->d->context, t) : t;
+    if (!known && b->d->key && b->d->key(b->d->context, at, near, k->value, k->in, k->out))
+        return;
     if (known) /* the value at t, evaluated already (rotation on near's side) */
         memcpy(k->value, known, sizeof k->value);
     else
         bake_eval(b, t, near, k->value);
-    if (b->d->key_time)
-        t = b->d->key_time(b->d->context, t);
+    t = at;
     if (b->d->derivatives && b->d->derivatives(b->d->context, t, k->value, k->in, k->out))
         return;
     bake_eval(b, t - h, k->value, f1);

@@ -242,6 +242,10 @@ typedef struct bake_desc {
     /* Optional: the one-sided derivatives (per second, rotation on the side of `value`) at
      * that key time from the file's own slopes; false to take differences of eval instead. */
     bool (*derivatives)(const void *context, double time, const double value[10], double in[10], double out[10]);
+    /* Optional: the transform at that key time (rotation on the side of `near`, which may be
+     * NULL) and its derivatives as `derivatives` gives them, in one pass; false to evaluate it
+     * and take its derivatives apart. */
+    bool (*key)(const void *context, double time, const double *near, double value[10], double in[10], double out[10]);
     const void *context;
     double tol_t, tol_r, tol_s; /* translation (file units), rotation (rad), relative scale */
     uint64_t *budget;           /* keys the whole clip may still add by halving */
