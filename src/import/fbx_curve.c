@@ -300,8 +300,10 @@ const char *fbx_curve_read(const fbx_node *node, const fbx_curve_source *src, fb
                         bias_left = bias_right;
                     slope_left = auto_slope(prev_time, t, next_time, prev_value, v, next_value, weight_left,
                                             weight_right, bias_left, f);
-                    slope_right = auto_slope(prev_time, t, next_time, prev_value, v, next_value, weight_left,
-                                             weight_right, bias_right, f);
+                    slope_right = bias_right == bias_left
+                                      ? slope_left /* the same slope: most keys have no bias */
+                                      : auto_slope(prev_time, t, next_time, prev_value, v, next_value, weight_left,
+                                                   weight_right, bias_right, f);
                 } else if (has_prev) {
                     slope_left = slope_right = auto_slope_end(prev_time, t, prev_value, v, bias_left, f);
                 } else if (has_next) {
