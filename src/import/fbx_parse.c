@@ -18,6 +18,7 @@
 #include <libdeflate.h>
 
 #include "../core/internal.h"
+#include "decimal.h"
 #include "fbx_internal.h"
 #include "alloc.h" /* last: the readers' allocations are the import's (alloc.h) */
 
@@ -441,10 +442,20 @@ static sinew_result bad_line(parser *ps, const char *what)
                          ps->line, what);
 }
 
+/* The bytes of a bare word or number: letters, digits and _ | - . + (a table: the tokenizer asks
+ * once a byte). */
+static const bool word_chars[256] = {
+    ['_'] = 1, ['|'] = 1, ['-'] = 1, ['.'] = 1, ['+'] = 1, ['0'] = 1, ['1'] = 1, ['2'] = 1, ['3'] = 1, ['4'] = 1,
+    ['5'] = 1, ['6'] = 1, ['7'] = 1, ['8'] = 1, ['9'] = 1, ['a'] = 1, ['b'] = 1, ['c'] = 1, ['d'] = 1, ['e'] = 1,
+    ['f'] = 1, ['g'] = 1, ['h'] = 1, ['i'] = 1, ['j'] = 1, ['k'] = 1, ['l'] = 1, ['m'] = 1, ['n'] = 1, ['o'] = 1,
+    ['p'] = 1, ['q'] = 1, ['r'] = 1, ['s'] = 1, ['t'] = 1, ['u'] = 1, ['v'] = 1, ['w'] = 1, ['x'] = 1, ['y'] = 1,
+    ['z'] = 1, ['A'] = 1, ['B'] = 1, ['C'] = 1, ['D'] = 1, ['E'] = 1, ['F'] = 1, ['G'] = 1, ['H'] = 1, ['I'] = 1,
+    ['J'] = 1, ['K'] = 1, ['L'] = 1, ['M'] = 1, ['N'] = 1, ['O'] = 1, ['P'] = 1, ['Q'] = 1, ['R'] = 1, ['S'] = 1,
+    ['T'] = 1, ['U'] = 1, ['V'] = 1, ['W'] = 1, ['X'] = 1, ['Y'] = 1, ['Z'] = 1};
+
 static bool word_char(unsigned char c)
 {
-    return (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') || c == '_' || c == '|' ||
-           c == '-' || c == '.' || c == '+';
+    return word_chars[c];
 }
 
 static void next_token(parser *ps)
@@ -471,11 +482,9 @@ static void next_token(parser *ps)
         return;
     }
     unsigned char c = b[ps->pos];
-    static const char singles[] = "{},*";
-    static const int single_kinds[] = {T_OPEN, T_CLOSE, T_COMMA, T_STAR};
-    const char *s = c ? strchr(singles, c) : NULL;
-    if (s) {
-        ps->tok = single_kinds[s - singles];
+    int single = c == '{' ? T_OPEN : c == '}' ? T_CLOSE : c == ',' ? T_COMMA : c == '*' ? T_STAR : T_END;
+    if (single != T_END) {
+        ps->tok = single;
         ps->pos++;
         return;
     }
@@ -512,11 +521,44 @@ static void next_token(parser *ps)
     ps->tok = (c >= '0' && c <= '9') || c == '-' || c == '+' || c == '.' ? T_NUMBER : T_WORD;
 }
 
-static bool number_value(const char *text, size_t len, fbx_value *v)
+/* A number token: a whole number (no '.', 'e' or 'E') as FBX_INT, else FBX_REAL; false when the
+ * token is not all one number. Whole numbers of up to 18 digits and the decimals
+ * decimal_scan_within reads exactly (nearly all of an ASCII file's: read in place where the file
+ * goes on for 24 bytes) take no strtoll or strtod, which were a third of
+ * maya_slime_7500_ascii.fbx's import; the same values. `limit`: the file's end. */
+static bool number_value(const char *text, size_t len, const char *limit, fbx_value *v)
 {
+    size_t sign = len && (text[0] == '-' || text[0] == '+'), digits = 0;
+    bool point = false;
+    for (size_t k = sign; k < len; k++) {
+        digits += text[k] >= '0' && text[k] <= '9';
+        point = point || text[k] == '.' || text[k] == 'e' || text[k] == 'E';
+    }
+    if (!point && digits == len - sign && digits >= 1 && digits <= 18) {
+        int64_t whole = 0;
+        for (size_t k = sign; k < len; k++)
+            whole = whole * 10 + (text[k] - '0');
+        v->type = FBX_INT;
+        v->i = text[0] == '-' ? -whole : whole;
+        v->d = (double)v->i;
+        return true;
+    }
     char buf[64];
     if (len >= sizeof buf)
         return false;
+    const char *at = text, *stop = NULL;
+    if (limit - text < 24 || text + len >= limit) { /* at the file's end: a copy that ends */
+        memcpy(buf, text, len);
+        buf[len] = 0;
+        at = buf, limit = buf + len;
+    }
+    double d;
+    if (point && decimal_scan_within(at, limit, &stop, &d) == 1 && stop == at + len) {
+        v->type = FBX_REAL;
+        v->d = d;
+        v->i = d > -9.2e18 && d < 9.2e18 ? (int64_t)d : 0;
+        return true;
+    }
     memcpy(buf, text, len);
     buf[len] = 0;
     char *end = NULL;
@@ -537,8 +579,8 @@ static sinew_result ascii_array(parser *ps, fbx_value *v)
 {
     next_token(ps);
     fbx_value count = {0};
-    if (ps->tok != T_NUMBER || !number_value(ps->tok_text, ps->tok_len, &count) || count.type != FBX_INT ||
-        count.i < 0 || count.i > UINT32_MAX)
+    if (ps->tok != T_NUMBER || !number_value(ps->tok_text, ps->tok_len, (const char *)ps->bytes + ps->size, &count) ||
+        count.type != FBX_INT || count.i < 0 || count.i > UINT32_MAX)
         return bad_line(ps, "array count after '*' is not a whole number");
     next_token(ps);
     if (ps->tok != T_OPEN)
@@ -559,7 +601,7 @@ static sinew_result ascii_array(parser *ps, fbx_value *v)
     next_token(ps);
     while (ps->tok == T_NUMBER) {
         fbx_value n = {0};
-        if (!number_value(ps->tok_text, ps->tok_len, &n))
+        if (!number_value(ps->tok_text, ps->tok_len, (const char *)ps->bytes + ps->size, &n))
             return bad_line(ps, "array element is not a number");
         v->reals |= n.type == FBX_REAL;
         if ((result = grow_array(ps, (void **)&v->a, v->count, &capacity, 1, sizeof(double))))
@@ -599,7 +641,7 @@ static sinew_result ascii_node(parser *ps, fbx_node *node)
                 return result;
         } else {
             if (ps->tok == T_NUMBER) {
-                if (!number_value(ps->tok_text, ps->tok_len, v))
+                if (!number_value(ps->tok_text, ps->tok_len, (const char *)ps->bytes + ps->size, v))
                     return bad_line(ps, "value is not a number");
             } else {
                 v->type = FBX_STRING;
