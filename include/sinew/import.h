@@ -11,7 +11,7 @@
  * FBX is evaluated as Maya, 3ds Max and MotionBuilder evaluate it: pivots, offsets, pre- and
  * post-rotation, rotation order, geometric transforms, each node's inherit type (kept in
  * model->node_inherit), Bezier curves with weights and automatic tangents. Its clips are
- * baked to cubic keys that equal the curves at every key and stay within 2e-7 (radians,
+ * baked to cubic keys that equal the curves at every key and stay within 1e-6 (radians,
  * relative scale, and of the scene's size for translation) in between. A file that looks
  * like FBX, glTF or COLLADA, or is named so, is never handed to Assimp unless desc->assimp
  * asks for it.
