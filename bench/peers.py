@@ -14,7 +14,9 @@ on every reader alike:
 
 plus `sinew --help` and an empty C program (what a process that does nothing costs here). It
 prints each reader's median and min-max in milliseconds and the ratios issue 31 sets goals on:
-sinew / ufbx --bake (goal 1.3), sinew / cgltf (1.3), sinew / assimp (0.5); and the import
+sinew / ufbx --bake (goal 1.3), sinew / cgltf (1.3), sinew / assimp (0.5), each as the ratio of
+the medians and, paired, as the median of each round's own ratio (steadier where the machine
+swings between modes within a run); and the import
 without the process, in MB/s of the file: sinew's from memory through the Python binding
 (sinew.load_bytes, best of --runs), the peers' as their median less the empty program's
 (goal: sinew at least 0.8 of ufbx --bake and of cgltf).
@@ -138,6 +140,9 @@ def main():
                 if mine in med and peer in med:
                     key = (mine + " / " + peer).replace(" ", "_").replace("--", "").replace("/", "over")
                     entry[key] = med[mine] / med[peer]
+                    # the median of each round's own ratio: the two ran seconds apart, so a swing of
+                    # the machine between its fast and slow modes falls on both
+                    entry["paired_" + key] = statistics.median(a / b for a, b in zip(times[mine], times[peer]))
         # in the library: MB/s of the file, sinew from memory, the peers without their process start
         mine = in_library_ms(args.sinew, path, args.runs)
         speeds = {}
@@ -161,8 +166,8 @@ def main():
         print(f"\n{e['file']} ({e['bytes'] / 1e6:.2f} MB)")
         for k, m in e["median_ms"].items():
             print(f"  {k:18s} {m:7.1f} ms  ({e['min_ms'][k]:.1f}-{e['max_ms'][k]:.1f})")
-        ratios = [f"{k.replace('_over_', ' / ').replace('_', ' ')} {v:.2f}" for k, v in e.items()
-                  if "_over_" in k and not k.startswith("in_library")]
+        ratios = [f"{k.replace('_over_', ' / ').replace('_', ' ')} {v:.2f} (paired {e['paired_' + k]:.2f})"
+                  for k, v in e.items() if "_over_" in k and not k.startswith(("in_library", "paired_"))]
         if ratios:
             print("  " + ", ".join(ratios))
         speeds = e["in_library_mb_s"]
