@@ -17,9 +17,9 @@ prints each reader's median and min-max in milliseconds and the ratios issue 31 
 sinew / ufbx --bake (goal 1.3), sinew / cgltf (1.3), sinew / assimp (0.5), each as the ratio of
 the medians and, paired, as the median of each round's own ratio (steadier where the machine
 swings between modes within a run); and the import
-without the process, in MB/s of the file: sinew's from memory through the Python binding
-(sinew.load_bytes, best of --runs), the peers' as their median less the empty program's
-(goal: sinew at least 0.8 of ufbx --bake and of cgltf).
+without the process, in MB/s of the file, each the best of --runs from memory in one process,
+all three timed by bench/peers_inproc.c (built here against the build's libsinew and
+../shared/peers; goal: sinew at least 0.8 of ufbx --bake and of cgltf).
 
     bench/peers.py [--sinew build/sinew] [--runs 7] [--testdata ../shared/testdata] [--json] [FILE...]
 """
@@ -36,7 +36,7 @@ DEFAULT_FILES = ["ozz/pab/walk.fbx", "ozz/pab/arnaud.fbx", "ufbx/motionbuilder_s
                  "raylib/robot.glb", "gltf-samples/Fox.glb", "blender/robot_walk.dae"]
 
 
-def build_peers(shared):
+def build_peers(shared, sinew):
     out = os.environ.get("OUT", "/tmp/peers")
     subprocess.run(["bash", os.path.join(shared, "peers", "build.sh")], check=True, stdout=subprocess.DEVNULL,
                    env=dict(os.environ, OUT=out))
@@ -44,7 +44,29 @@ def build_peers(shared):
     with open(empty + ".c", "w") as f:
         f.write("int main(void) { return 0; }\n")
     subprocess.run(["cc", "-O2", empty + ".c", "-o", empty], check=True)
-    return os.path.join(out, "ufbx_load"), os.path.join(out, "cgltf_load"), empty, out
+    # the imports from memory, for the in-library column (bench/peers_inproc.c), against the build's
+    # libsinew beside `sinew` and the peers' sources
+    peers = os.path.join(shared, "peers")
+    build = os.path.dirname(os.path.abspath(sinew))
+    inproc = os.path.join(out, "peers_inproc")
+    r = subprocess.run(["cc", "-O2", "-I" + os.path.join(HERE, "..", "include"), "-I" + os.path.join(peers, "ufbx"),
+                        "-I" + os.path.join(peers, "cgltf"), os.path.join(HERE, "peers_inproc.c"),
+                        os.path.join(peers, "ufbx", "ufbx.c"), "-L" + build, "-Wl,-rpath," + build, "-lsinew", "-lm",
+                        "-o", inproc])
+    return os.path.join(out, "ufbx_load"), os.path.join(out, "cgltf_load"), empty, out, \
+        inproc if r.returncode == 0 else None
+
+
+def in_library_ms(inproc, reader, path, runs):
+    """Best milliseconds of a reader's import from memory in one process, the first run left out (sinew:
+    sinew_import_memory; ufbx: load + bake; cgltf: parse + buffers + validate); None where it fails."""
+    if not inproc:
+        return None
+    r = subprocess.run([inproc, reader, path, str(runs)], capture_output=True, text=True)
+    try:
+        return float(r.stdout) if r.returncode == 0 else None
+    except ValueError:
+        return None
 
 
 def converted(sinew, path, folder):
@@ -53,32 +75,6 @@ def converted(sinew, path, folder):
     r = subprocess.run([sinew, "convert", path, out], stdout=subprocess.DEVNULL,
                        stderr=subprocess.DEVNULL)
     return out if r.returncode == 0 and os.path.exists(out) else None
-
-
-def in_library_ms(sinew, path, runs):
-    """Best milliseconds of sinew.load_bytes() on the file's bytes, in this process (no process start, no file
-    read): the library's import from memory."""
-    library = os.path.join(os.path.dirname(os.path.abspath(sinew)), "libsinew.so")  # the build's, as built
-    if not os.path.exists(library):
-        return None
-    os.environ.setdefault("SINEW_LIBRARY", os.path.realpath(library))
-    package = os.path.join(HERE, "..", "python")
-    if package not in sys.path:
-        sys.path.insert(0, package)
-    import time
-    try:
-        import sinew as binding
-    except ImportError as e:  # numpy or cffi missing: Debian's python3 has them
-        print(f"in-library timing left out: {e}", file=sys.stderr)
-        return None
-    data = open(path, "rb").read()
-    best = None
-    for _ in range(runs + 1):
-        t = time.perf_counter()
-        binding.load_bytes(data, name=path)
-        ms = (time.perf_counter() - t) * 1000.0
-        best = ms if best is None else min(best, ms)
-    return best
 
 
 def readers_for(path, sinew, ufbx, cgltf, assimp, dot_sinew):
@@ -115,7 +111,7 @@ def main():
     ap.add_argument("files", nargs="*", help="files to open (default: six shared FBX, glTF and COLLADA models)")
     args = ap.parse_args()
     shared = os.path.dirname(os.path.normpath(args.testdata))
-    ufbx, cgltf, empty, folder = build_peers(shared)
+    ufbx, cgltf, empty, folder, inproc = build_peers(shared, args.sinew)
     assimp = shutil.which("assimp")
     files = args.files or [os.path.join(args.testdata, f) for f in DEFAULT_FILES]
     report = {"runs": args.runs, "files": []}
@@ -144,13 +140,15 @@ def main():
                     # the machine between its fast and slow modes falls on both
                     entry["paired_" + key] = statistics.median(a / b for a, b in zip(times[mine], times[peer]))
         # in the library: MB/s of the file, sinew from memory, the peers without their process start
-        mine = in_library_ms(args.sinew, path, args.runs)
+        mine = in_library_ms(inproc, "sinew", path, args.runs)
         speeds = {}
         if mine:
             speeds["sinew"] = size / 1e6 / (mine / 1000.0)
         for peer in ("ufbx --bake", "cgltf"):
-            if peer in med and med[peer] > report["empty_process_ms"]:
-                speeds[peer] = size / 1e6 / ((med[peer] - report["empty_process_ms"]) / 1000.0)
+            if peer in med:
+                ms = in_library_ms(inproc, peer.split()[0], path, args.runs)
+                if ms:
+                    speeds[peer] = size / 1e6 / (ms / 1000.0)
         entry["in_library_mb_s"] = speeds
         for peer in ("ufbx --bake", "cgltf"):
             if "sinew" in speeds and peer in speeds:
