@@ -702,6 +702,30 @@ static bool segment_slope(const fbx_key *a, const fbx_key *b, double x, double *
     }
 }
 
+/* The slope (per second) of the segment a..b at b (at_b) or at a, as segment_slope gives it there:
+ * a Bezier's handle's own height over its width (the bakers ask at every key; the Bezier at
+ * its end parameter is that ratio, without the curve's value and the sums that round). */
+static bool end_of_segment_slope(const fbx_key *a, const fbx_key *b, bool at_b, double *slope)
+{
+    double span = b->time - a->time;
+    switch (a->interp) {
+    case FBX_INTERP_CONSTANT_PREV:
+    case FBX_INTERP_CONSTANT_NEXT:
+        *slope = 0;
+        return true;
+    case FBX_INTERP_LINEAR:
+        *slope = (b->value - a->value) / span;
+        return true;
+    default: {
+        double width = at_b ? b->left_dx : a->right_dx, height = at_b ? b->left_dy : a->right_dy;
+        if (!(3 * width / span > 1e-9)) /* segment_slope's limit, in the same units */
+            return false;
+        *slope = height / width;
+        return true;
+    }
+    }
+}
+
 /* The slope beyond an end key: zero where the curve holds its end value. */
 static bool end_slope(const fbx_curve *c, bool pre, double *slope)
 {
@@ -726,11 +750,10 @@ bool fbx_curve_slopes_at(const fbx_curve *c, double t, double clip_start, double
         return end_slope(c, t < keys[0].time, left) && end_slope(c, t < keys[0].time, right);
     }
     if (k < n) { /* at key k: each side's segment */
-        double ignored;
         *value = keys[k].value;
-        bool ok_left = k == 0 ? end_slope(c, true, left) : segment_slope(&keys[k - 1], &keys[k], 1.0, &ignored, left);
+        bool ok_left = k == 0 ? end_slope(c, true, left) : end_of_segment_slope(&keys[k - 1], &keys[k], true, left);
         bool ok_right =
-            k + 1 == n ? end_slope(c, false, right) : segment_slope(&keys[k], &keys[k + 1], 0.0, &ignored, right);
+            k + 1 == n ? end_slope(c, false, right) : end_of_segment_slope(&keys[k], &keys[k + 1], false, right);
         return ok_left && ok_right;
     }
     const fbx_key *a = &keys[lo - 1], *b = &keys[lo];
