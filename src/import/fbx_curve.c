@@ -704,26 +704,19 @@ static bool segment_slope(const fbx_key *a, const fbx_key *b, double x, double *
 
 /* The slope (per second) of the segment a..b at b (at_b) or at a, as segment_slope gives it there:
  * a Bezier's handle's own height over its width (the bakers ask at every key; the Bezier at
- * its end parameter is that ratio, without the curve's value and the sums that round). */
+ * its end parameter is that ratio, without the curve's value and the sums that round). Held and
+ * straight segments as segment_slope takes them. */
 static bool end_of_segment_slope(const fbx_key *a, const fbx_key *b, bool at_b, double *slope)
 {
-    double span = b->time - a->time;
-    switch (a->interp) {
-    case FBX_INTERP_CONSTANT_PREV:
-    case FBX_INTERP_CONSTANT_NEXT:
-        *slope = 0;
-        return true;
-    case FBX_INTERP_LINEAR:
-        *slope = (b->value - a->value) / span;
-        return true;
-    default: {
-        double width = at_b ? b->left_dx : a->right_dx, height = at_b ? b->left_dy : a->right_dy;
-        if (!(3 * width / span > 1e-9)) /* segment_slope's limit, in the same units */
-            return false;
-        *slope = height / width;
-        return true;
+    if (a->interp != FBX_INTERP_CUBIC) {
+        double ignored;
+        return segment_slope(a, b, at_b ? 1.0 : 0.0, &ignored, slope);
     }
-    }
+    double width = at_b ? b->left_dx : a->right_dx, height = at_b ? b->left_dy : a->right_dy;
+    if (!(3 * width / (b->time - a->time) > 1e-9)) /* segment_slope's limit, in the same units */
+        return false;
+    *slope = height / width;
+    return true;
 }
 
 /* The slope beyond an end key: zero where the curve holds its end value. */
