@@ -871,6 +871,24 @@ double fbx_animated_value(const scene *s, uint32_t o, int prop, int32_t stack, d
 
 typedef bake_trs local_trs; /* translation, rotation (x, y, z, w), scale, in doubles */
 
+/* The quaternion of a pre-rotation (post: the inverse of a post-rotation) of `degrees`, the
+ * node's static one made once where the value is it; false, and the identity, where it is 0. */
+static bool pre_post_rotation(const fbx_static *st, const double degrees[3], bool post, double q[4])
+{
+    if (degrees[0] == 0 && degrees[1] == 0 && degrees[2] == 0) {
+        q[0] = q[1] = q[2] = 0, q[3] = 1;
+        return false;
+    }
+    int prop = post ? P_POST_ROTATION : P_PRE_ROTATION;
+    if (memcmp(degrees, st->value[prop], sizeof st->value[0]) == 0)
+        memcpy(q, post ? st->post_inverse : st->pre, 4 * sizeof *q);
+    else if (post)
+        post_rotation_inverse(degrees, q);
+    else
+        euler_rotation(degrees, 0, q);
+    return true;
+}
+
 /* A node's local transform at time t (seconds) of `stack` (-1: the rest pose):
  * T * Roff * Rp * Rpre * R * Rpost^-1 * Rp^-1 * Soff * Sp * S * Sp^-1, which is exactly a
  * translation, the rotation Rpre * R * Rpost^-1 and the scale S. */
@@ -883,22 +901,11 @@ static void local_from_values(const scene *s, uint32_t model, const double v[P_C
     /* the rotation as quaternions (Rpre R Rpost^-1): half the work of the matrices */
     double q[4];
     euler_rotation(r, st->order, q);
-    if (pre[0] != 0 || pre[1] != 0 || pre[2] != 0) {
-        double qpre[4];
-        if (memcmp(pre, st->value[P_PRE_ROTATION], sizeof st->value[0]) == 0)
-            memcpy(qpre, st->pre, sizeof qpre);
-        else
-            euler_rotation(pre, 0, qpre);
+    double qpre[4], qpost[4];
+    if (pre_post_rotation(st, pre, false, qpre))
         quat_mul(qpre, q, q);
-    }
-    if (post[0] != 0 || post[1] != 0 || post[2] != 0) {
-        double qpost[4];
-        if (memcmp(post, st->value[P_POST_ROTATION], sizeof st->value[0]) == 0)
-            memcpy(qpost, st->post_inverse, sizeof qpost);
-        else
-            post_rotation_inverse(post, qpost);
+    if (pre_post_rotation(st, post, true, qpost))
         quat_mul(q, qpost, q);
-    }
     quat_canonical(q);
     memcpy(out->q, q, sizeof q);
     double inner[3];
@@ -2029,20 +2036,9 @@ static bool local_derivative_exact(const bake_node *n, const double v[P_COUNT][3
         de[k][i] = c * (M_PI / 360.0), de[k][3] = -sn * (M_PI / 360.0);
     }
     /* q = pre * e2 e1 e0 * post^-1 and its partial derivatives by the three angles */
-    double pre[4] = {0, 0, 0, 1}, post[4] = {0, 0, 0, 1}, q[4], partial[3][4];
-    const double *vp = v[P_PRE_ROTATION], *vq = v[P_POST_ROTATION];
-    if (vp[0] != 0 || vp[1] != 0 || vp[2] != 0) {
-        if (memcmp(vp, st->value[P_PRE_ROTATION], sizeof st->value[0]) == 0)
-            memcpy(pre, st->pre, sizeof pre);
-        else
-            euler_rotation(vp, 0, pre);
-    }
-    if (vq[0] != 0 || vq[1] != 0 || vq[2] != 0) {
-        if (memcmp(vq, st->value[P_POST_ROTATION], sizeof st->value[0]) == 0)
-            memcpy(post, st->post_inverse, sizeof post);
-        else
-            post_rotation_inverse(vq, post);
-    }
+    double pre[4], post[4], q[4], partial[3][4];
+    pre_post_rotation(st, v[P_PRE_ROTATION], false, pre);
+    pre_post_rotation(st, v[P_POST_ROTATION], true, post);
     for (int k = -1; k < 3; k++) {
         double *r = k < 0 ? q : partial[k];
         memcpy(r, pre, sizeof pre);
