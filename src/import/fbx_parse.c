@@ -521,13 +521,15 @@ static void next_token(parser *ps)
     ps->tok = (c >= '0' && c <= '9') || c == '-' || c == '+' || c == '.' ? T_NUMBER : T_WORD;
 }
 
-/* A number token: a whole number (no '.', 'e' or 'E') as FBX_INT, else FBX_REAL; false when the
- * token is not all one number. Whole numbers of up to 18 digits and the decimals
- * decimal_scan_within reads exactly (nearly all of an ASCII file's: read in place where the file
- * goes on for 24 bytes) take no strtoll or strtod, which were a third of
- * maya_slime_7500_ascii.fbx's import; the same values. `limit`: the file's end. */
-static bool number_value(const char *text, size_t len, const char *limit, fbx_value *v)
+/* The current token as a number: a whole number (no '.', 'e' or 'E') as FBX_INT, else
+ * FBX_REAL; false when the token is not all one number. Whole numbers of up to 18 digits and the
+ * decimals decimal_scan_within reads exactly (nearly all of an ASCII file's: read in place where
+ * the file goes on for 24 bytes) take no strtoll or strtod, which were a third of
+ * maya_slime_7500_ascii.fbx's import; the same values. */
+static bool number_value(const parser *ps, fbx_value *v)
 {
+    const char *text = ps->tok_text, *limit = (const char *)ps->bytes + ps->size;
+    size_t len = ps->tok_len;
     size_t sign = len && (text[0] == '-' || text[0] == '+'), digits = 0;
     bool point = false;
     for (size_t k = sign; k < len; k++) {
@@ -559,7 +561,7 @@ static bool number_value(const char *text, size_t len, const char *limit, fbx_va
         v->i = d > -9.2e18 && d < 9.2e18 ? (int64_t)d : 0;
         return true;
     }
-    memcpy(buf, text, len);
+    memcpy(buf, text, len); /* strtod and strtoll want the token to end */
     buf[len] = 0;
     char *end = NULL;
     if (!strpbrk(buf, ".eE")) {
@@ -579,8 +581,8 @@ static sinew_result ascii_array(parser *ps, fbx_value *v)
 {
     next_token(ps);
     fbx_value count = {0};
-    if (ps->tok != T_NUMBER || !number_value(ps->tok_text, ps->tok_len, (const char *)ps->bytes + ps->size, &count) ||
-        count.type != FBX_INT || count.i < 0 || count.i > UINT32_MAX)
+    if (ps->tok != T_NUMBER || !number_value(ps, &count) || count.type != FBX_INT || count.i < 0 ||
+        count.i > UINT32_MAX)
         return bad_line(ps, "array count after '*' is not a whole number");
     next_token(ps);
     if (ps->tok != T_OPEN)
@@ -601,7 +603,7 @@ static sinew_result ascii_array(parser *ps, fbx_value *v)
     next_token(ps);
     while (ps->tok == T_NUMBER) {
         fbx_value n = {0};
-        if (!number_value(ps->tok_text, ps->tok_len, (const char *)ps->bytes + ps->size, &n))
+        if (!number_value(ps, &n))
             return bad_line(ps, "array element is not a number");
         v->reals |= n.type == FBX_REAL;
         if ((result = grow_array(ps, (void **)&v->a, v->count, &capacity, 1, sizeof(double))))
@@ -641,7 +643,7 @@ static sinew_result ascii_node(parser *ps, fbx_node *node)
                 return result;
         } else {
             if (ps->tok == T_NUMBER) {
-                if (!number_value(ps->tok_text, ps->tok_len, (const char *)ps->bytes + ps->size, v))
+                if (!number_value(ps, v))
                     return bad_line(ps, "value is not a number");
             } else {
                 v->type = FBX_STRING;
