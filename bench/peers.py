@@ -16,10 +16,10 @@ plus `sinew --help` and an empty C program (what a process that does nothing cos
 prints each reader's median and min-max in milliseconds and the ratios issue 31 sets goals on:
 sinew / ufbx --bake (goal 1.3), sinew / cgltf (1.3), sinew / assimp (0.5), each as the ratio of
 the medians and, paired, as the median of each round's own ratio (steadier where the machine
-swings between modes within a run); and the import
-without the process, in MB/s of the file, each the best of --runs from memory in one process,
-all three timed by bench/peers_inproc.c (built here against the build's libsinew and
-../shared/peers; goal: sinew at least 0.8 of ufbx --bake and of cgltf).
+swings between modes within a run); and the import without the process, in MB/s of the file,
+each the best of --runs from memory in one process, all three timed by bench/peers_inproc.c
+(built here against the build's libsinew and ../shared/peers; goal: sinew at least 0.8 of
+ufbx --bake and of cgltf).
 
     bench/peers.py [--sinew build/sinew] [--runs 7] [--testdata ../shared/testdata] [--json] [FILE...]
 """

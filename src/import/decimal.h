@@ -86,8 +86,8 @@ static inline uint64_t decimal_value8(uint64_t w, int n)
 
 /* decimal_scan for text that can be read up to `limit` (its NUL, say): a number of at most 7
  * digits, a point and at most 8 (what exporters write: "-0.5161436") is read 8 bytes at a time,
- * with a branch a part instead of one a byte (the COLLADA reader's number arrays: a third of the
- * time they took); anything else as decimal_scan reads it. The same results (test_json). */
+ * with a branch a part instead of one a byte (COLLADA's number arrays: a third of the time they
+ * took; ASCII FBX's numbers); anything else as decimal_scan reads it. The same results (test_json). */
 static inline int decimal_scan_within(const char *p, const char *limit, const char **end, double *out)
 {
     static const uint64_t SCALE[9] = {1, 10, 100, 1000, 10000, 100000, 1000000, 10000000, 100000000};

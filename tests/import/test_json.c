@@ -103,7 +103,7 @@ static void test_numbers_as_strtod(void **state)
     }
 }
 
-/* decimal_scan_within (the COLLADA reader's number arrays) gives decimal_scan's answer, end
+/* decimal_scan_within (COLLADA's number arrays, ASCII FBX's numbers) gives decimal_scan's answer, end
  * and bits on numbers of every shape, followed by what ends a number and what does not. */
 static void test_scan_within(void **state)
 {
