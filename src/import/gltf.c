@@ -88,13 +88,16 @@ typedef struct gltf {
         uint32_t count;
     } inputs[INPUT_CACHE];
     uint32_t input_next;
+    struct place_label *labels; /* the innermost open label (label_open) */
 } gltf;
 
 /* ---- errors and JSON ------------------------------------------------------------------ */
 
 static sinew_result fail_at(gltf *g, const char *format, ...) __attribute__((format(printf, 2, 3)));
+static void labels_write(gltf *g);
 static sinew_result fail_at(gltf *g, const char *format, ...)
 {
+    labels_write(g); /* before the arguments, which may be their texts, are read */
     char what[512];
     va_list ap;
     va_start(ap, format);
@@ -104,8 +107,7 @@ static sinew_result fail_at(gltf *g, const char *format, ...)
 }
 
 /* A place in the file for messages ("accessors[3] (animations[0].samplers[2] input)"): only
- * %d and %s, a tenth of snprintf's cost (a file of 1,800 animation channels formats some 15,000
- * of them, nearly all never shown). Truncated to `size`. */
+ * %d and %s, a tenth of snprintf's cost. Truncated to `size`. */
 static void place(char *out, size_t size, const char *format, ...) __attribute__((format(printf, 3, 4)));
 static void place(char *out, size_t size, const char *format, ...)
 {
@@ -141,6 +143,66 @@ static void place(char *out, size_t size, const char *format, ...)
     va_end(ap);
 }
 
+/* A place written only if a message needs it. The reader formats one for each animation channel,
+ * sampler, accessor and buffer view it reads (robot.glb: some 9,000, an eighth of its import), and
+ * nearly none is ever shown. label_open() gives the text's buffer, empty until fail_at() (or
+ * labels_write()) writes every open label into its buffer, outer ones first (an inner label's %s
+ * may be an outer one's text); label_close() before the label's scope ends. The format takes %d
+ * twice at most (a, then b) and %s once (s). */
+typedef struct place_label {
+    char text[128];
+    const char *format, *s;
+    int a, b;
+    struct place_label *outer;
+} place_label;
+
+static const char *label_open(gltf *g, place_label *l, const char *format, int a, int b, const char *s)
+{
+    l->text[0] = 0;
+    l->format = format, l->a = a, l->b = b, l->s = s;
+    l->outer = g->labels;
+    g->labels = l;
+    return l->text;
+}
+
+static void label_close(gltf *g, const place_label *l)
+{
+    g->labels = l->outer;
+}
+
+static void label_write(place_label *l)
+{
+    if (!l)
+        return;
+    label_write(l->outer);
+    const char *f = l->format;
+    int pct = 0;
+    for (const char *p = f; (p = strchr(p, '%')); p += 2)
+        pct = pct * 4 + (p[1] == 'd' ? 1 : 2); /* the conversions in order, two bits each */
+    switch (pct) {                             /* the shapes the reader uses */
+    case 1:
+        place(l->text, sizeof l->text, f, l->a);
+        break;
+    case 2:
+        place(l->text, sizeof l->text, f, l->s);
+        break;
+    case 1 * 4 + 1:
+        place(l->text, sizeof l->text, f, l->a, l->b);
+        break;
+    case 1 * 4 + 2:
+        place(l->text, sizeof l->text, f, l->a, l->s);
+        break;
+    default:
+        place(l->text, sizeof l->text, "%s", f);
+        break;
+    }
+}
+
+static void labels_write(gltf *g)
+{
+    label_write(g->labels);
+}
+
 static sinew_result oom(gltf *g)
 {
     return sinew_fail(g->error, SINEW_ERROR_OUT_OF_MEMORY, "%s: out of memory while reading glTF", g->path);
@@ -160,11 +222,11 @@ static const json_node *member(const json_node *object, const char *key, int typ
     return item;
 }
 
-/* An integer member in [lo, hi]; `fallback` when absent. */
-static sinew_result int_at(gltf *g, const json_node *object, const char *key, const char *where, long long lo,
+/* An integer member `key` (`item`, found already: NULL when absent) in [lo, hi]; `fallback` when
+ * absent. */
+static sinew_result int_of(gltf *g, const json_node *item, const char *key, const char *where, long long lo,
                            long long hi, long long fallback, long long *out)
 {
-    const json_node *item = json_get(object, key);
     *out = fallback; /* also when refused: callers' variables are never read uninitialised */
     if (!item)
         return SINEW_OK;
@@ -175,18 +237,32 @@ static sinew_result int_at(gltf *g, const json_node *object, const char *key, co
     return SINEW_OK;
 }
 
-/* An index member into an array of `count`; -1 when absent and not required. */
-static sinew_result index_at(gltf *g, const json_node *object, const char *key, const char *where, int count,
+/* The same by its key. */
+static sinew_result int_at(gltf *g, const json_node *object, const char *key, const char *where, long long lo,
+                           long long hi, long long fallback, long long *out)
+{
+    return int_of(g, json_get(object, key), key, where, lo, hi, fallback, out);
+}
+
+/* An index member `key` (`item`, found already) into an array of `count`; -1 when absent and not
+ * required. */
+static sinew_result index_of(gltf *g, const json_node *item, const char *key, const char *where, int count,
                              bool required, int *out)
 {
-    if (required && !json_get(object, key))
+    if (required && !item)
         return fail_at(g, "%s: no \"%s\"", where, key);
     long long v;
-    sinew_result r = int_at(g, object, key, where, 0, count > 0 ? count - 1 : -1, -1, &v);
+    sinew_result r = int_of(g, item, key, where, 0, count > 0 ? count - 1 : -1, -1, &v);
     if (r && count == 0)
         return fail_at(g, "%s.%s: refers to an element of an array the file does not have", where, key);
     *out = (int)v;
     return r;
+}
+
+static sinew_result index_at(gltf *g, const json_node *object, const char *key, const char *where, int count,
+                             bool required, int *out)
+{
+    return index_of(g, json_get(object, key), key, where, count, required, out);
 }
 
 /* `n` finite numbers of an array member (exactly n); `fallback` when absent. */
@@ -504,19 +580,20 @@ static double component(const unsigned char *p, long long type, bool normalized)
 
 /* Where `count` elements of `elem` bytes (every `stride`) live: view `view` of the file
  * at `offset`; checked against the view and the buffer. */
-static sinew_result view_span(gltf *g, int view, long long offset, long long count, long long elem, bool strided,
-                              const char *where, const unsigned char **base, long long *stride)
+static sinew_result view_span_in(gltf *g, const char *vw, int view, long long offset, long long count, long long elem,
+                                 bool strided, const char *where, const unsigned char **base, long long *stride)
 {
-    char vw[64];
-    place(vw, sizeof vw, "bufferViews[%d]", view);
-    const json_node *v = item(&g->views, view);
+    static const json_key KEYS[] = {JSON_KEY("buffer"), JSON_KEY("byteOffset"), JSON_KEY("byteLength"),
+                                    JSON_KEY("byteStride")};
+    const json_node *field[4];
+    json_pick(item(&g->views, view), KEYS, 4, field);
     int buffer;
     long long voff, vlen, vstride;
     sinew_result r;
-    if ((r = index_at(g, v, "buffer", vw, g->buffer_count, true, &buffer)) ||
-        (r = int_at(g, v, "byteOffset", vw, 0, (long long)1 << 40, 0, &voff)) ||
-        (r = int_at(g, v, "byteLength", vw, 1, (long long)1 << 40, -1, &vlen)) ||
-        (r = int_at(g, v, "byteStride", vw, 4, 252, 0, &vstride)))
+    if ((r = index_of(g, field[0], "buffer", vw, g->buffer_count, true, &buffer)) ||
+        (r = int_of(g, field[1], "byteOffset", vw, 0, (long long)1 << 40, 0, &voff)) ||
+        (r = int_of(g, field[2], "byteLength", vw, 1, (long long)1 << 40, -1, &vlen)) ||
+        (r = int_of(g, field[3], "byteStride", vw, 4, 252, 0, &vstride)))
         return r;
     if (vlen < 0)
         return fail_at(g, "%s: no byteLength", vw);
@@ -534,6 +611,16 @@ static sinew_result view_span(gltf *g, int view, long long offset, long long cou
                        vlen);
     *base = b->bytes + voff + offset;
     return SINEW_OK;
+}
+
+static sinew_result view_span(gltf *g, int view, long long offset, long long count, long long elem, bool strided,
+                              const char *where, const unsigned char **base, long long *stride)
+{
+    place_label vw;
+    sinew_result r = view_span_in(g, label_open(g, &vw, "bufferViews[%d]", view, 0, NULL), view, offset, count, elem,
+                                  strided, where, base, stride);
+    label_close(g, &vw);
+    return r;
 }
 
 /* Accessor `index` as doubles (count * components, malloc'd), with `want` components
@@ -554,34 +641,38 @@ static inline bool finite_at(const void *v, size_t esize, size_t i)
 
 /* read_accessor() into doubles (esize 8) or floats (esize 4: animation keys, which the model
  * keeps as floats: a float accessor is then copied, not widened and narrowed again). */
-static sinew_result read_accessor_as(gltf *g, int index, const char *use, int want, const long long *types,
+static sinew_result read_accessor_in(gltf *g, int index, const char *where, int want, const long long *types,
                                      size_t esize, void **out, uint32_t *out_count)
 {
     *out = NULL;
-    char where[96];
-    place(where, sizeof where, "accessors[%d] (%s)", index, use);
     const json_node *a = item(&g->accessors, index);
     if (!json_is_object(a))
         return fail_at(g, "%s: not an object", where);
-    int comps = type_components(string_at(a, "type"));
+    enum { TYPE, COMPONENT_TYPE, COUNT, BYTE_OFFSET, NORMALIZED, BUFFER_VIEW, SPARSE, KEY_COUNT };
+    static const json_key KEYS[KEY_COUNT] = {JSON_KEY("type"),       JSON_KEY("componentType"), JSON_KEY("count"),
+                                             JSON_KEY("byteOffset"), JSON_KEY("normalized"),    JSON_KEY("bufferView"),
+                                             JSON_KEY("sparse")};
+    const json_node *field[KEY_COUNT];
+    json_pick(a, KEYS, KEY_COUNT, field);
+    const char *type = json_is_string(field[TYPE]) ? field[TYPE]->string : NULL;
+    int comps = type_components(type);
     long long ctype, count, offset;
     sinew_result r;
-    if ((r = int_at(g, a, "componentType", where, 5120, 5126, -1, &ctype)) ||
-        (r = int_at(g, a, "count", where, 1, GLTF_MAX_COUNT, -1, &count)) ||
-        (r = int_at(g, a, "byteOffset", where, 0, (long long)1 << 40, 0, &offset)))
+    if ((r = int_of(g, field[COMPONENT_TYPE], "componentType", where, 5120, 5126, -1, &ctype)) ||
+        (r = int_of(g, field[COUNT], "count", where, 1, GLTF_MAX_COUNT, -1, &count)) ||
+        (r = int_of(g, field[BYTE_OFFSET], "byteOffset", where, 0, (long long)1 << 40, 0, &offset)))
         return r;
     if (count < 0)
         return fail_at(g, "%s: no count", where);
     if (comps != want)
-        return fail_at(g, "%s: type \"%s\" where %d components a element are needed", where,
-                       string_at(a, "type") ? string_at(a, "type") : "(none)", want);
+        return fail_at(g, "%s: type \"%s\" where %d components a element are needed", where, type ? type : "(none)",
+                       want);
     bool allowed = false;
     for (const long long *t = types; *t; t++)
         allowed |= *t == ctype;
     if (!allowed || !component_size(ctype))
         return fail_at(g, "%s: componentType %lld is not allowed here", where, ctype);
-    const json_node *norm = json_get(a, "normalized");
-    bool normalized = json_is_true(norm);
+    bool normalized = json_is_true(field[NORMALIZED]);
     if (normalized && (ctype == 5126 || ctype == 5125))
         return fail_at(g, "%s: normalized with componentType %lld", where, ctype);
     int csize = component_size(ctype);
@@ -595,7 +686,7 @@ static sinew_result read_accessor_as(gltf *g, int index, const char *use, int wa
     if (!v)
         return oom(g);
     int view;
-    if ((r = index_at(g, a, "bufferView", where, g->views.count, false, &view))) {
+    if ((r = index_of(g, field[BUFFER_VIEW], "bufferView", where, g->views.count, false, &view))) {
         free(v);
         return r;
     }
@@ -627,9 +718,10 @@ static sinew_result read_accessor_as(gltf *g, int index, const char *use, int wa
                         component(base + stride * i + column_bytes * (c / column) + (long long)csize * (c % column),
                                   ctype, normalized));
     }
-    const json_node *sparse = json_get(a, "sparse");
+    const json_node *sparse = field[SPARSE];
     if (sparse) {
-        char sw[128];
+        char sw[160];
+        labels_write(g); /* `where` (rare: the text now) */
         place(sw, sizeof sw, "%s.sparse", where);
         long long n, itype, ioff, voff;
         int iview, vview;
@@ -675,6 +767,16 @@ static sinew_result read_accessor_as(gltf *g, int index, const char *use, int wa
     *out = v;
     *out_count = (uint32_t)count;
     return SINEW_OK;
+}
+
+static sinew_result read_accessor_as(gltf *g, int index, const char *use, int want, const long long *types,
+                                     size_t esize, void **out, uint32_t *out_count)
+{
+    place_label where;
+    sinew_result r = read_accessor_in(g, index, label_open(g, &where, "accessors[%d] (%s)", index, 0, use), want, types,
+                                      esize, out, out_count);
+    label_close(g, &where);
+    return r;
 }
 
 static sinew_result read_accessor(gltf *g, int index, const char *use, int want, const long long *types, double **out,
@@ -1512,7 +1614,10 @@ static const long long ROTATION_TYPES[] = {5126, 5120, 5121, 5122, 5123, 0};
 static sinew_result read_sampler(gltf *g, const json_node *s, const char *sw, int comps, uint32_t elements,
                                  const long long *types, uint32_t *interp, float **times, uint32_t *nt, float **values)
 {
-    const char *how = string_at(s, "interpolation");
+    static const json_key KEYS[] = {JSON_KEY("interpolation"), JSON_KEY("input"), JSON_KEY("output")};
+    const json_node *field[3];
+    json_pick(s, KEYS, 3, field);
+    const char *how = json_is_string(field[0]) ? field[0]->string : NULL;
     *interp = !how || strcmp(how, "LINEAR") == 0 ? SINEW_INTERP_LINEAR
               : strcmp(how, "STEP") == 0         ? SINEW_INTERP_STEP
               : strcmp(how, "CUBICSPLINE") == 0  ? SINEW_INTERP_CUBIC
@@ -1521,11 +1626,11 @@ static sinew_result read_sampler(gltf *g, const json_node *s, const char *sw, in
         return fail_at(g, "%s.interpolation: \"%s\" is not LINEAR, STEP or CUBICSPLINE", sw, how);
     int input, output;
     sinew_result r;
-    if ((r = index_at(g, s, "input", sw, g->accessors.count, true, &input)) ||
-        (r = index_at(g, s, "output", sw, g->accessors.count, true, &output)))
+    if ((r = index_of(g, field[1], "input", sw, g->accessors.count, true, &input)) ||
+        (r = index_of(g, field[2], "output", sw, g->accessors.count, true, &output)))
         return r;
     uint32_t nv = 0;
-    char use[96];
+    place_label use;
     int cached = -1;
     for (int i = 0; i < INPUT_CACHE && cached < 0; i++)
         if (g->inputs[i].times && g->inputs[i].accessor == input)
@@ -1536,19 +1641,23 @@ static sinew_result read_sampler(gltf *g, const json_node *s, const char *sw, in
             return oom(g);
         memcpy(*times, g->inputs[cached].times, (size_t)*nt * sizeof **times);
     } else {
-        place(use, sizeof use, "%s input", sw);
-        if ((r = read_accessor_as(g, input, use, 1, FLOAT_ONLY, sizeof **times, (void **)times, nt)))
+        r = read_accessor_as(g, input, label_open(g, &use, "%s input", 0, 0, sw), 1, FLOAT_ONLY, sizeof **times,
+                             (void **)times, nt);
+        label_close(g, &use);
+        if (r)
             return r;
     }
-    place(use, sizeof use, "%s output", sw);
-    if ((r = read_accessor_as(g, output, use, comps, types, sizeof **values, (void **)values, &nv))) {
+    r = read_accessor_as(g, output, label_open(g, &use, "%s output", 0, 0, sw), comps, types, sizeof **values,
+                         (void **)values, &nv);
+    label_close(g, &use);
+    if (r) {
         free(*times);
         *times = NULL;
         return r;
     }
     uint32_t per_key = *interp == SINEW_INTERP_CUBIC ? 3 : 1;
     uint64_t want = (uint64_t)*nt * per_key * elements;
-    for (uint32_t k = 0; k < *nt && !r; k++)
+    for (uint32_t k = 0; k < *nt && !r && cached < 0; k++) /* a cached input was checked when read */
         if ((*times)[k] < 0 || (k > 0 && (*times)[k] <= (*times)[k - 1]))
             r = fail_at(g, "%s input: key %u at %g s is negative or not after the key before it", sw, k,
                         (double)(*times)[k]);
@@ -1578,7 +1687,7 @@ static sinew_result read_sampler(gltf *g, const json_node *s, const char *sw, in
 static sinew_result read_weights(gltf *g, int node, const json_node *s, const char *sw, raw_clip *clip)
 {
     uint32_t n = g->morph_count[node];
-    if (n == 0)
+    if (n == 0 && (labels_write(g), true))
         return raw_model_warn(g->m, "%s: %s animates the morph weights of node %d, whose mesh has no morph targets",
                               g->path, sw, node)
                    ? SINEW_OK
@@ -1606,9 +1715,10 @@ static sinew_result read_weights(gltf *g, int node, const json_node *s, const ch
             r = oom(g);
             break;
         }
+        if (nt) /* the times rise (read_sampler) */
+            clip->duration = fmaxf(clip->duration, times[nt - 1]);
         for (uint32_t k = 0; k < nt; k++) {
             tr->keys.times[k] = times[k];
-            clip->duration = fmaxf(clip->duration, times[k]);
             for (uint32_t e = 0; e < per_key; e++) /* key k's in-tangents, values, out-tangents */
                 tr->keys.values[k * per_key + e] = values[((size_t)k * per_key + e) * n + t];
         }
@@ -1619,21 +1729,25 @@ static sinew_result read_weights(gltf *g, int node, const json_node *s, const ch
 }
 
 /* One channel: its sampler's keys as a raw channel of the node's track. */
-static sinew_result read_channel(gltf *g, int a, int c, const json_node *channel, const table *samplers, raw_clip *clip)
+static sinew_result read_channel_in(gltf *g, int a, const char *where, const json_node *channel, const table *samplers,
+                                    raw_clip *clip)
 {
-    char where[80];
-    place(where, sizeof where, "animations[%d].channels[%d]", a, c);
-    const json_node *target = json_get(channel, "target");
+    static const json_key CHANNEL_KEYS[] = {JSON_KEY("target"), JSON_KEY("sampler")};
+    static const json_key TARGET_KEYS[] = {JSON_KEY("node"), JSON_KEY("path")};
+    const json_node *field[2], *aim[2];
+    json_pick(channel, CHANNEL_KEYS, 2, field);
+    const json_node *target = field[0];
     int node, sampler;
     sinew_result r;
     if (!json_is_object(target))
         return fail_at(g, "%s: no target", where);
-    if ((r = index_at(g, channel, "sampler", where, samplers->count, true, &sampler)) ||
-        (r = index_at(g, target, "node", where, g->node_count, false, &node)))
+    json_pick(target, TARGET_KEYS, 2, aim);
+    if ((r = index_of(g, field[1], "sampler", where, samplers->count, true, &sampler)) ||
+        (r = index_of(g, aim[0], "node", where, g->node_count, false, &node)))
         return r;
     if (node < 0)
         return SINEW_OK; /* targets something an extension defines */
-    const char *path = string_at(target, "path");
+    const char *path = json_is_string(aim[1]) ? aim[1]->string : NULL;
     int kind = !path                              ? -2
                : strcmp(path, "translation") == 0 ? SINEW_CHANNEL_TRANSLATION
                : strcmp(path, "rotation") == 0    ? SINEW_CHANNEL_ROTATION
@@ -1644,15 +1758,19 @@ static sinew_result read_channel(gltf *g, int a, int c, const json_node *channel
         return fail_at(g, "%s.target.path: \"%s\" is not translation, rotation, scale or weights", where,
                        path ? path : "(none)");
     const json_node *s = item(samplers, sampler);
-    char sw[64];
-    place(sw, sizeof sw, "animations[%d].samplers[%d]", a, sampler);
-    if (kind == -1)
-        return read_weights(g, node, s, sw, clip);
+    place_label sampler_label;
+    const char *sw = label_open(g, &sampler_label, "animations[%d].samplers[%d]", a, sampler, NULL);
+    if (kind == -1) {
+        r = read_weights(g, node, s, sw, clip);
+        label_close(g, &sampler_label);
+        return r;
+    }
     int width = kind == SINEW_CHANNEL_ROTATION ? 4 : 3;
     uint32_t interp, nt = 0;
     float *times = NULL, *values = NULL;
     r = read_sampler(g, s, sw, width, 1, kind == SINEW_CHANNEL_ROTATION ? ROTATION_TYPES : FLOAT_ONLY, &interp, &times,
                      &nt, &values);
+    label_close(g, &sampler_label);
     if (r)
         return r;
     raw_track *track = NULL;
@@ -1673,11 +1791,20 @@ static sinew_result read_channel(gltf *g, int a, int c, const json_node *channel
         ch->times = times;
         ch->values = values;
         times = values = NULL;
-        for (uint32_t k = 0; k < nt; k++)
-            clip->duration = fmaxf(clip->duration, ch->times[k]);
+        if (nt) /* the times rise (read_sampler) */
+            clip->duration = fmaxf(clip->duration, ch->times[nt - 1]);
     }
     free(times);
     free(values);
+    return r;
+}
+
+static sinew_result read_channel(gltf *g, int a, int c, const json_node *channel, const table *samplers, raw_clip *clip)
+{
+    place_label where;
+    sinew_result r = read_channel_in(g, a, label_open(g, &where, "animations[%d].channels[%d]", a, c, NULL), channel,
+                                     samplers, clip);
+    label_close(g, &where);
     return r;
 }
 

@@ -60,9 +60,9 @@ static char *put_utf8(char *out, unsigned cp)
     return out;
 }
 
-/* The string text[start, end) unescaped in place and NUL-terminated (it only shrinks); false
- * with *bad at the offending byte. */
-static bool unescape(char *text, int start, int end, int *bad)
+/* The string text[start, end) unescaped in place and NUL-terminated (it only shrinks), its
+ * length in *length; false with *bad at the offending byte. */
+static bool unescape(char *text, int start, int end, int *bad, uint32_t *length)
 {
     int plain = start; /* most strings (keys, names) have no escape: nothing to move */
     while (plain < end && (unsigned char)text[plain] >= 0x20 && text[plain] != '\\')
@@ -114,6 +114,7 @@ static bool unescape(char *text, int start, int end, int *bad)
         }
     }
     *out = '\0';
+    *length = (uint32_t)(out - (text + start));
     return true;
 }
 
@@ -132,11 +133,11 @@ static bool literal(const char *p, int n, json_node *node)
         const char *word;
         json_type type;
     } WORDS[] = {{"true", JSON_TRUE}, {"false", JSON_FALSE}, {"null", JSON_NULL}};
-    for (int w = 0; w < 3; w++)
-        if ((size_t)n == strlen(WORDS[w].word) && memcmp(p, WORDS[w].word, (size_t)n) == 0) {
-            node->type = (uint8_t)WORDS[w].type;
-            return true;
-        }
+    int w = p[0] == 't' ? 0 : p[0] == 'f' ? 1 : p[0] == 'n' ? 2 : -1; /* numbers: none */
+    if (w >= 0 && (size_t)n == strlen(WORDS[w].word) && memcmp(p, WORDS[w].word, (size_t)n) == 0) {
+        node->type = (uint8_t)WORDS[w].type;
+        return true;
+    }
     return false;
 }
 
@@ -171,7 +172,7 @@ static bool convert(char *text, size_t size, const jsmntok_t *tok, int n, json_n
                 return false;
             }
             int at;
-            if (!unescape(text, t->start, t->end, &at)) {
+            if (!unescape(text, t->start, t->end, &at, &node->count)) {
                 *bad = (size_t)at;
                 *why = "a control character inside a string";
                 return false;
@@ -286,6 +287,28 @@ const json_node *json_get(const json_node *object, const char *key)
             return v;
     }
     return NULL;
+}
+
+void json_pick(const json_node *object, const json_key *keys, int n, const json_node **out)
+{
+    for (int k = 0; k < n; k++)
+        out[k] = NULL;
+    if (!object || object->type != JSON_OBJECT)
+        return;
+    const json_node *v;
+    JSON_FOR_EACH(v, object)
+    {
+        const json_node *name = &v[-1];
+        uint32_t length = name->count;
+        if (length == 0)
+            continue;
+        for (int k = 0; k < n; k++) /* the length and the last byte tell most names apart without a call */
+            if (length == keys[k].length && name->string[length - 1] == keys[k].name[length - 1] && !out[k] &&
+                memcmp(name->string, keys[k].name, length) == 0) {
+                out[k] = v;
+                break;
+            }
+    }
 }
 
 const json_node *json_item(const json_node *array, int i)

@@ -32,7 +32,7 @@ typedef enum json_type {
 typedef struct json_node {
     uint8_t type;    /* json_type */
     uint32_t span;   /* nodes in its subtree, itself included */
-    uint32_t count;  /* an array's elements, an object's members; 0 otherwise */
+    uint32_t count;  /* an array's elements, an object's members, a string's bytes; 0 otherwise */
     uint32_t offset; /* where it starts in the text (bytes) */
     union {
         double number;
@@ -52,6 +52,22 @@ void json_free(json_doc *doc);
 
 /* An object's member by key (the first of that name), NULL when absent or not an object. */
 const json_node *json_get(const json_node *object, const char *key);
+
+/* A key for json_pick: JSON_KEY("count") gives its length with it. */
+typedef struct json_key {
+    const char *name;
+    uint32_t length;
+} json_key;
+#define JSON_KEY(literal)                                                                                              \
+    {                                                                                                                  \
+        literal, sizeof(literal) - 1                                                                                   \
+    }
+
+/* Several members of an object in one pass over it: out[k] is the first member named keys[k],
+ * or NULL (all NULL when `object` is not an object). Names are told apart by their lengths
+ * first. What an object read whole uses instead of a json_get() a key, each a walk of the
+ * members (a glTF accessor has up to nine, and a file thousands of accessors). */
+void json_pick(const json_node *object, const json_key *keys, int n, const json_node **out);
 /* An array's element i (walks), NULL past the end. */
 const json_node *json_item(const json_node *array, int i);
 /* The first element (array) or member value (object), and the one after `child`; NULL at the end. */
