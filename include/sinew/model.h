@@ -81,7 +81,10 @@ typedef enum sinew_inherit {
  * values[first_value ...], 3 floats a key for translation/scale and 4 for rotation,
  * three times that for SINEW_INTERP_CUBIC (in-tangent, value, out-tangent), five times for
  * SINEW_INTERP_BEZIER (value, in time, in value, out time, out value).
- * key_count 0 means "not animated": the node's rest value is used. */
+ * key_count 0 means "not animated": the node's rest value is used. Channels with the same key
+ * times share them (the same first_key): an importer writes each run of times once (a glTF
+ * sampler input that many channels use, a baked FBX node's keys), so time_count may be less
+ * than the channels' key_counts added up. */
 typedef struct sinew_channel {
     uint32_t key_count;
     uint32_t interp; /* sinew_interp */

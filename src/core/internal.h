@@ -67,6 +67,12 @@ bool sinew_cpu_has(sinew_cpu_feature feature);
  * instead of a fault a page, which costs microseconds on a virtual machine); nothing for a block
  * under 256 KiB, or where the kernel cannot. */
 void sinew_prefault(void *p, size_t size);
+
+/* Whether every float is finite (its exponent bits not all ones), and whether finite times never
+ * go down: blocks at a time without exits, which the compiler vectorises (the blob's checks and
+ * the builder's). */
+bool sinew_floats_finite(const float *values, uint64_t count);
+bool sinew_times_ascending(const float *times, uint32_t count);
 /* A large block in 2 MB pages where the kernel gives them (transparent huge pages, asked for with
  * MADV_HUGEPAGE): a first touch costs a fault a 2 MB page instead of a 4 KiB one (on a virtual
  * machine with shadow page tables, some microseconds each: 1.4 MB read from a file and checked

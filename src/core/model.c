@@ -137,8 +137,7 @@ static bool string_ok(const reader *r, uint32_t offset, bool optional)
  * of its elements' (a loop without exits, which the compiler vectorises), looked at after it. */
 #define FLOAT_BLOCK 64
 
-/* Whether every float is finite (its exponent bits not all ones). */
-static bool floats_finite(const float *values, uint64_t count)
+bool sinew_floats_finite(const float *values, uint64_t count)
 {
     uint64_t i = 0;
     for (; i + FLOAT_BLOCK <= count; i += FLOAT_BLOCK) {
@@ -157,8 +156,7 @@ static bool floats_finite(const float *values, uint64_t count)
     return true;
 }
 
-/* Whether finite times never go down. */
-static bool times_ascending(const float *times, uint32_t count)
+bool sinew_times_ascending(const float *times, uint32_t count)
 {
     uint32_t k = 1;
     for (; k + FLOAT_BLOCK <= count; k += FLOAT_BLOCK) {
@@ -266,7 +264,7 @@ static sinew_result check_nodes(reader *r)
         if (parents[i] < -1 || parents[i] >= (int32_t)i)
             return corrupt(r, "node parent is not before its child");
     }
-    if (n && !floats_finite((const float *)rest, (uint64_t)n * 10))
+    if (n && !sinew_floats_finite((const float *)rest, (uint64_t)n * 10))
         return corrupt(r, "node rest transform is not finite");
     const uint8_t *inherit = h->node_inherit.count ? array_at(r, h->node_inherit.offset, n) : NULL;
     for (uint32_t i = 0; inherit && i < n; i++)
@@ -291,7 +289,7 @@ static sinew_result check_skins(reader *r)
             if (joints[j] >= h->node_names.count)
                 return corrupt(r, "skin joint is not a node");
         if (skin->joints.count &&
-            !floats_finite(array_at(r, skin->inverse_bind.offset, 1), (uint64_t)skin->joints.count * 16))
+            !sinew_floats_finite(array_at(r, skin->inverse_bind.offset, 1), (uint64_t)skin->joints.count * 16))
             return corrupt(r, "inverse bind matrix is not finite");
     }
     return SINEW_OK;
@@ -308,9 +306,10 @@ static bool mesh_arrays_ok(const reader *r, const blob_mesh *m, uint32_t joint_l
     if (m->influence_count &&
         (!range_ok(r, m->joints, v * m->influence_count, 2) || !range_ok(r, m->weights, v * m->influence_count, 4)))
         return false;
-    if (v && (!floats_finite(array_at(r, m->positions, v), v * 3) || !floats_finite(array_at(r, m->normals, v), v * 3)))
+    if (v && (!sinew_floats_finite(array_at(r, m->positions, v), v * 3) ||
+              !sinew_floats_finite(array_at(r, m->normals, v), v * 3)))
         return false;
-    if (v && m->uvs != BLOB_NONE && !floats_finite(array_at(r, m->uvs, v), v * 2))
+    if (v && m->uvs != BLOB_NONE && !sinew_floats_finite(array_at(r, m->uvs, v), v * 2))
         return false;
     const uint32_t *indices = array_at(r, m->indices, m->index_count);
     for (uint32_t i = 0; i < m->index_count; i++)
@@ -350,12 +349,12 @@ static sinew_result check_meshes(reader *r)
     for (uint32_t i = 0; tangents && i < h->meshes.count; i++) {
         uint64_t v = meshes[i].vertex_count;
         if (tangents[i] != BLOB_NONE &&
-            (!range_ok(r, tangents[i], v, 16) || (v && !floats_finite(array_at(r, tangents[i], v), v * 4))))
+            (!range_ok(r, tangents[i], v, 16) || (v && !sinew_floats_finite(array_at(r, tangents[i], v), v * 4))))
             return corrupt(r, "mesh tangents");
     }
     const blob_material *materials = array_at(r, h->materials.offset, h->materials.count);
     for (uint32_t i = 0; i < h->materials.count; i++)
-        if (!string_ok(r, materials[i].name, false) || !floats_finite(materials[i].base_color, 4) ||
+        if (!string_ok(r, materials[i].name, false) || !sinew_floats_finite(materials[i].base_color, 4) ||
             !texture_ok(r, &materials[i].base_color_map))
             return corrupt(r, "material");
     if (h->materials_pbr.count && h->materials_pbr.count != h->materials.count)
@@ -365,7 +364,7 @@ static sinew_result check_meshes(reader *r)
         bool maps_ok = true;
         for (int k = 0; k < SINEW_MAP_COUNT - 1; k++)
             maps_ok &= texture_ok(r, &pbr[i].maps[k]);
-        if (!maps_ok || !floats_finite(&pbr[i].metallic, 7) || pbr[i].flags > 1)
+        if (!maps_ok || !sinew_floats_finite(&pbr[i].metallic, 7) || pbr[i].flags > 1)
             return corrupt(r, "material PBR parameters");
     }
     const blob_instance *instances = array_at(r, h->instances.offset, h->instances.count);
@@ -375,7 +374,9 @@ static sinew_result check_meshes(reader *r)
     return SINEW_OK;
 }
 
-static bool channel_ok(const reader *r, const blob_clip *c, const sinew_channel *ch, int kind)
+/* `*checked`: the times range last found good (first key << 32 | count), which channels sharing
+ * their times (the builder writes them once) do not check again. */
+static bool channel_ok(const reader *r, const blob_clip *c, const sinew_channel *ch, int kind, uint64_t *checked)
 {
     if (ch->key_count == 0)
         return true;
@@ -388,8 +389,13 @@ static bool channel_ok(const reader *r, const blob_clip *c, const sinew_channel 
     /* The keys the channel takes (clips may share longer arrays: each checks its own). */
     const float *times = (const float *)array_at(r, c->times.offset, c->times.count) + ch->first_key;
     const float *values = (const float *)array_at(r, c->values.offset, c->values.count) + ch->first_value;
-    if (!floats_finite(times, ch->key_count) || !floats_finite(values, ch->key_count * stride) ||
-        !times_ascending(times, ch->key_count))
+    uint64_t range = (uint64_t)ch->first_key << 32 | ch->key_count;
+    if (range != *checked) {
+        if (!sinew_floats_finite(times, ch->key_count) || !sinew_times_ascending(times, ch->key_count))
+            return false;
+        *checked = range;
+    }
+    if (!sinew_floats_finite(values, ch->key_count * stride))
         return false;
     if (ch->interp == SINEW_INTERP_BEZIER)
         return sinew_bezier_times_ok(times, values, ch->key_count, sinew_channel_width(kind));
@@ -409,11 +415,12 @@ static sinew_result check_clips(reader *r)
             !range_ok(r, c->times.offset, c->times.count, 4) || !range_ok(r, c->values.offset, c->values.count, 4))
             return corrupt(r, "clip arrays out of bounds");
         const sinew_track *tracks = array_at(r, c->tracks.offset, c->tracks.count);
+        uint64_t checked = UINT64_MAX;
         for (uint32_t t = 0; t < c->tracks.count; t++) {
             if (tracks[t].node >= h->node_names.count || (t > 0 && tracks[t].node <= tracks[t - 1].node))
                 return corrupt(r, "track node");
             for (int kind = 0; kind < SINEW_CHANNEL_COUNT; kind++)
-                if (!channel_ok(r, c, &tracks[t].channels[kind], kind))
+                if (!channel_ok(r, c, &tracks[t].channels[kind], kind, &checked))
                     return corrupt(r, "track keys");
         }
     }
@@ -474,9 +481,9 @@ static sinew_result check_deformers(reader *r)
         for (uint64_t k = 0; k < n; k++)
             if (v[k] >= meshes[t->mesh].vertex_count || (k > 0 && v[k] <= v[k - 1]))
                 return corrupt(r, "morph target vertices");
-        if (n && (!floats_finite(array_at(r, t->positions, n), n * 3) ||
-                  (t->normals != BLOB_NONE && !floats_finite(array_at(r, t->normals, n), n * 3)) ||
-                  (t->tangents != BLOB_NONE && !floats_finite(array_at(r, t->tangents, n), n * 3))))
+        if (n && (!sinew_floats_finite(array_at(r, t->positions, n), n * 3) ||
+                  (t->normals != BLOB_NONE && !sinew_floats_finite(array_at(r, t->normals, n), n * 3)) ||
+                  (t->tangents != BLOB_NONE && !sinew_floats_finite(array_at(r, t->tangents, n), n * 3))))
             return corrupt(r, "morph target offsets");
     }
     /* every instance's channels lie within the model's */
@@ -494,7 +501,8 @@ static sinew_result check_deformers(reader *r)
         if (t->clip >= h->clips.count || t->channel >= h->morph_channels.count ||
             (i > 0 && (t->clip < tracks[i - 1].clip ||
                        (t->clip == tracks[i - 1].clip && t->channel <= tracks[i - 1].channel))) ||
-            t->keys.interp == SINEW_INTERP_BEZIER || !channel_ok(r, &clips[t->clip], &t->keys, SINEW_CHANNEL_WEIGHT))
+            t->keys.interp == SINEW_INTERP_BEZIER ||
+            !channel_ok(r, &clips[t->clip], &t->keys, SINEW_CHANNEL_WEIGHT, &(uint64_t){UINT64_MAX}))
             return corrupt(r, "weight track");
     }
     const blob_cache *caches = array_at(r, h->caches.offset, h->caches.count);
@@ -506,15 +514,15 @@ static sinew_result check_deformers(reader *r)
         if (!range_ok(r, c->times, c->frame_count, 4) || !range_ok(r, c->positions, values, 4))
             return corrupt(r, "vertex cache arrays");
         const float *times = array_at(r, c->times, c->frame_count);
-        if (!floats_finite(times, c->frame_count) ||
-            (values && !floats_finite(array_at(r, c->positions, values), values)))
+        if (!sinew_floats_finite(times, c->frame_count) ||
+            (values && !sinew_floats_finite(array_at(r, c->positions, values), values)))
             return corrupt(r, "vertex cache values");
         for (uint32_t k = 1; k < c->frame_count; k++)
             if (!(times[k] > times[k - 1]))
                 return corrupt(r, "vertex cache times");
     }
     const float *timeline = array_at(r, h->clip_timeline.offset, h->clip_timeline.count);
-    if (timeline && !floats_finite(timeline, h->clip_timeline.count))
+    if (timeline && !sinew_floats_finite(timeline, h->clip_timeline.count))
         return corrupt(r, "clip timeline");
     for (uint32_t i = 1; timeline && i < h->clip_timeline.count; i += 2)
         if (timeline[i] < 0.0f)
@@ -550,7 +558,7 @@ static sinew_result check_muscles(reader *r)
         for (int k = 0; k < 3; k++)
             near = near && fabsf(m->origin_offset[k]) <= SINEW_MUSCLE_MAX_MAGNITUDE &&
                    fabsf(m->insertion_offset[k]) <= SINEW_MUSCLE_MAX_MAGNITUDE;
-        if (!near || !floats_finite(m->color, 3))
+        if (!near || !sinew_floats_finite(m->color, 3))
             return corrupt(r, "muscle attachment");
         if (!numbers_ok(r, m->radii, m->node_count, true) || !numbers_ok(r, m->coefficients, m->node_count, false))
             return corrupt(r, "muscle radii or coefficients");

@@ -235,14 +235,6 @@ void raw_model_free(raw_model *m)
 
 /* ---- validation and repair -------------------------------------------------------------- */
 
-static bool all_finite(const float *v, size_t n)
-{
-    for (size_t i = 0; i < n; i++)
-        if (!isfinite(v[i]))
-            return false;
-    return true;
-}
-
 static sinew_result oom(const raw_model *m, sinew_error *error)
 {
     return sinew_fail(error, SINEW_ERROR_OUT_OF_MEMORY, "%s: out of memory while building the model", m->source);
@@ -254,7 +246,7 @@ static sinew_result check_nodes(const raw_model *m, sinew_error *error)
         if (m->node_parents[i] < -1 || m->node_parents[i] >= (int32_t)i)
             return sinew_fail(error, SINEW_ERROR_DATA, "%s: node \"%s\" comes before its parent", m->source,
                               m->node_names[i]);
-        if (!all_finite(&m->node_rest[i].translation[0], 10))
+        if (!sinew_floats_finite(&m->node_rest[i].translation[0], 10))
             return sinew_fail(error, SINEW_ERROR_DATA,
                               "%s: node \"%s\" has a transform that is not finite (NaN or Inf)", m->source,
                               m->node_names[i]);
@@ -267,7 +259,7 @@ static sinew_result check_nodes(const raw_model *m, sinew_error *error)
         for (uint32_t j = 0; j < skin->joint_count; j++) {
             if (skin->joints[j] >= m->node_count)
                 return sinew_fail(error, SINEW_ERROR_DATA, "%s: skin joint %u is not a node", m->source, j);
-            if (!all_finite(skin->inverse_bind[j].m, 16))
+            if (!sinew_floats_finite(skin->inverse_bind[j].m, 16))
                 return sinew_fail(error, SINEW_ERROR_DATA,
                                   "%s: the inverse bind matrix of joint \"%s\" is not finite (NaN or Inf)", m->source,
                                   m->node_names[skin->joints[j]]);
@@ -390,7 +382,16 @@ static sinew_result fix_influences(raw_model *m, uint32_t mesh_index, sinew_erro
             if (weights[i] > 0.0f)
                 scratch[n++] = (influence){joints[i], weights[i]};
         }
-        qsort(scratch, n, sizeof *scratch, by_weight_desc);
+        if (n <= 16) /* the usual four to eight: in place, without qsort's calls (the same order) */
+            for (uint32_t i = 1; i < n; i++) {
+                influence x = scratch[i];
+                uint32_t j = i;
+                for (; j > 0 && by_weight_desc(&x, &scratch[j - 1]) < 0; j--)
+                    scratch[j] = scratch[j - 1];
+                scratch[j] = x;
+            }
+        else
+            qsort(scratch, n, sizeof *scratch, by_weight_desc);
         if (n > SINEW_MAX_INFLUENCES) {
             n = SINEW_MAX_INFLUENCES;
             truncated++;
@@ -445,14 +446,14 @@ static sinew_result fix_mesh(raw_model *m, uint32_t index, sinew_error *error)
 {
     raw_mesh *mesh = &m->meshes[index];
     size_t v = mesh->vertex_count;
-    if (!all_finite(mesh->positions, v * 3))
+    if (!sinew_floats_finite(mesh->positions, v * 3))
         return sinew_fail(error, SINEW_ERROR_DATA,
                           "%s: mesh \"%s\" has vertex positions that are not finite (NaN or Inf)", m->source,
                           mesh->name);
-    if (mesh->uvs && !all_finite(mesh->uvs, v * 2))
+    if (mesh->uvs && !sinew_floats_finite(mesh->uvs, v * 2))
         return sinew_fail(error, SINEW_ERROR_DATA, "%s: mesh \"%s\" has texture coordinates that are not finite",
                           m->source, mesh->name);
-    if (mesh->tangents && !all_finite(mesh->tangents, v * 4))
+    if (mesh->tangents && !sinew_floats_finite(mesh->tangents, v * 4))
         return sinew_fail(error, SINEW_ERROR_DATA, "%s: mesh \"%s\" has tangents that are not finite", m->source,
                           mesh->name);
     if (mesh->index_count % 3 != 0)
@@ -466,7 +467,7 @@ static sinew_result fix_mesh(raw_model *m, uint32_t index, sinew_error *error)
         return sinew_fail(error, SINEW_ERROR_DATA, "%s: mesh \"%s\" names a missing material", m->source, mesh->name);
     if (mesh->skin < -1 || mesh->skin >= (int32_t)m->skin_count)
         return sinew_fail(error, SINEW_ERROR_DATA, "%s: mesh \"%s\" names a missing skin", m->source, mesh->name);
-    bool recompute = !mesh->normals || !all_finite(mesh->normals, v * 3);
+    bool recompute = !mesh->normals || !sinew_floats_finite(mesh->normals, v * 3);
     if (!mesh->normals && !(mesh->normals = malloc((v ? v : 1) * 3 * sizeof(float))))
         return oom(m, error);
     if (recompute && !compute_normals(mesh))
@@ -492,12 +493,9 @@ static int by_time(const void *a, const void *b)
     return x->index < y->index ? -1 : (x->index > y->index); /* stable */
 }
 
-/* Puts keys in time order (stable) when they are not. */
-static bool sort_keys(raw_channel *ch, uint32_t stride)
+/* Puts keys out of time order (`sorted` false) in order, stably. */
+static bool sort_keys(raw_channel *ch, uint32_t stride, bool sorted)
 {
-    bool sorted = true;
-    for (uint32_t k = 1; k < ch->count && sorted; k++)
-        sorted = ch->times[k] >= ch->times[k - 1];
     if (sorted)
         return true;
     key_order *order = malloc(ch->count * sizeof *order);
@@ -591,15 +589,13 @@ static sinew_result fix_clip(raw_model *m, raw_clip *clip, sinew_error *error)
             }
             owned = true;
             uint32_t stride = sinew_channel_stride(kind, ch->interp);
-            if (ch->interp > SINEW_INTERP_BEZIER || !all_finite(ch->times, ch->count) ||
-                !all_finite(ch->values, (size_t)ch->count * stride))
+            if (ch->interp > SINEW_INTERP_BEZIER || !sinew_floats_finite(ch->times, ch->count) ||
+                !sinew_floats_finite(ch->values, (size_t)ch->count * stride))
                 return sinew_fail(error, SINEW_ERROR_DATA,
                                   "%s: clip \"%s\": the %s keys of node \"%s\" are not finite (NaN or Inf)", m->source,
                                   clip->name, channel_names[kind], m->node_names[track->node]);
-            bool was_sorted = true;
-            for (uint32_t k = 1; k < ch->count && was_sorted; k++)
-                was_sorted = ch->times[k] >= ch->times[k - 1];
-            if (!sort_keys(ch, stride))
+            bool was_sorted = sinew_times_ascending(ch->times, ch->count);
+            if (!sort_keys(ch, stride, was_sorted))
                 return oom(m, error);
             unsorted += !was_sorted;
             if (ch->interp == SINEW_INTERP_BEZIER &&
@@ -632,16 +628,14 @@ static sinew_result fix_clip(raw_model *m, raw_clip *clip, sinew_error *error)
                               "order, or is in a clip that shares its keys",
                               m->source, clip->name);
         uint32_t stride = sinew_channel_stride(SINEW_CHANNEL_WEIGHT, ch->interp);
-        if (ch->interp > SINEW_INTERP_CUBIC || !all_finite(ch->times, ch->count) ||
-            !all_finite(ch->values, (size_t)ch->count * stride))
+        if (ch->interp > SINEW_INTERP_CUBIC || !sinew_floats_finite(ch->times, ch->count) ||
+            !sinew_floats_finite(ch->values, (size_t)ch->count * stride))
             return sinew_fail(error, SINEW_ERROR_DATA,
                               "%s: clip \"%s\": the weight keys of morph channel \"%s\" are not finite or of an "
                               "unknown interpolation",
                               m->source, clip->name, m->morph_channels[wt->channel].name);
-        bool was_sorted = true;
-        for (uint32_t k = 1; k < ch->count && was_sorted; k++)
-            was_sorted = ch->times[k] >= ch->times[k - 1];
-        if (!sort_keys(ch, stride))
+        bool was_sorted = sinew_times_ascending(ch->times, ch->count);
+        if (!sort_keys(ch, stride, was_sorted))
             return oom(m, error);
         unsorted += !was_sorted;
         /* weights far outside 0..1 are kept, and said: a file scaled in percent, or a broken rig */
@@ -698,7 +692,7 @@ static sinew_result fix_target(raw_model *m, const raw_mesh *mesh, raw_morph_tar
     float **attributes[3] = {&t->positions, &t->normals, &t->tangents};
     bool finite = isfinite(t->full_weight) && t->full_weight != 0.0f && t->positions;
     for (int a = 0; a < 3; a++)
-        finite = finite && (!*attributes[a] || all_finite(*attributes[a], (size_t)t->delta_count * 3));
+        finite = finite && (!*attributes[a] || sinew_floats_finite(*attributes[a], (size_t)t->delta_count * 3));
     if (!finite)
         return sinew_fail(error, SINEW_ERROR_DATA,
                           "%s: mesh \"%s\": morph target \"%s\" has offsets that are not finite or a full weight of 0",
@@ -810,8 +804,8 @@ static sinew_result fix_deformers(raw_model *m, uint32_t index, sinew_error *err
                               mesh->name);
     raw_vertex_cache *c = mesh->cache;
     if (c) {
-        bool ok = c->frame_count > 0 && all_finite(c->times, c->frame_count) &&
-                  all_finite(c->positions, (size_t)c->frame_count * mesh->vertex_count * 3);
+        bool ok = c->frame_count > 0 && sinew_floats_finite(c->times, c->frame_count) &&
+                  sinew_floats_finite(c->positions, (size_t)c->frame_count * mesh->vertex_count * 3);
         for (uint32_t k = 1; ok && k < c->frame_count; k++)
             ok = c->times[k] > c->times[k - 1];
         if (!ok)
@@ -1287,30 +1281,70 @@ static bool write_pooled_clip(writer *w, const raw_clip *clip, uint32_t index, c
 }
 
 /* A channel's keys into the blob's times and values (NULL while measuring) at its offsets. */
-static void copy_keys(float *times, float *values, const raw_channel *ch, int kind, const sinew_channel *at)
+/* A channel's keys into the clip's arrays; its times only when `times_too` (not another
+ * channel's, which it shares). */
+static void copy_keys(float *times, float *values, const raw_channel *ch, int kind, const sinew_channel *at,
+                      bool times_too)
 {
     if (!times || !values || !ch->count)
         return;
-    memcpy(times + at->first_key, ch->times, ch->count * sizeof(float));
+    if (times_too)
+        memcpy(times + at->first_key, ch->times, ch->count * sizeof(float));
     memcpy(values + at->first_value, ch->values,
            (size_t)ch->count * sinew_channel_stride(kind, ch->interp) * sizeof(float));
 }
 
+/* The times of the channels written last, for channels with the same times to share them. */
+#define SHARED_TIMES 4
+typedef struct recent_times {
+    const float *times;
+    uint32_t count, first_key;
+} recent_times;
+
+/* Where a channel's times start in the clip's array: a recent channel's, when they are the same
+ * times (glTF samplers share an input: robot.glb's 1,806 channels have 8 inputs; a baked FBX node's
+ * channels share their key times), else `*time_count`, which then grows. */
+static uint32_t place_times(recent_times *recent, uint32_t *next, const float *times, uint32_t count,
+                            size_t *time_count, bool *fresh)
+{
+    for (int i = 0; i < SHARED_TIMES; i++)
+        if (recent[i].times && recent[i].count == count &&
+            (recent[i].times == times || memcmp(recent[i].times, times, count * sizeof *times) == 0)) {
+            *fresh = false;
+            return recent[i].first_key;
+        }
+    recent[*next % SHARED_TIMES] = (recent_times){times, count, (uint32_t)*time_count};
+    (*next)++;
+    *fresh = true;
+    uint32_t at = (uint32_t)*time_count;
+    *time_count += count;
+    return at;
+}
+
 /* One clip: every channel's times and values concatenated (its weight tracks' after its
- * node tracks'), tracks pointing into them; the keys are copied straight into the blob. */
+ * node tracks'; channels with the same times share them), tracks pointing into them; the keys
+ * are copied straight into the blob. */
 static bool write_clip(writer *w, const raw_clip *clip, uint32_t index, blob_clip *out, weight_table *weights)
 {
     sinew_track *tracks = calloc(clip->track_count ? clip->track_count : 1, sizeof *tracks);
-    if (!tracks)
+    bool *fresh = calloc(clip->track_count ? (size_t)clip->track_count * SINEW_CHANNEL_COUNT : 1, sizeof *fresh);
+    if (!tracks || !fresh) {
+        free(tracks);
+        free(fresh);
         return false;
+    }
     size_t time_count = 0, value_count = 0;
+    recent_times recent[SHARED_TIMES] = {{0}};
+    uint32_t next = 0;
     for (uint32_t t = 0; t < clip->track_count; t++) {
         tracks[t].node = clip->tracks[t].node;
         for (int k = 0; k < SINEW_CHANNEL_COUNT; k++) {
             const raw_channel *ch = &clip->tracks[t].channels[k];
-            tracks[t].channels[k] = (sinew_channel){ch->count, ch->count ? ch->interp : SINEW_INTERP_LINEAR,
-                                                    (uint32_t)time_count, (uint32_t)value_count};
-            time_count += ch->count;
+            bool *f = &fresh[(size_t)t * SINEW_CHANNEL_COUNT + (size_t)k];
+            uint32_t first_key =
+                ch->count ? place_times(recent, &next, ch->times, ch->count, &time_count, f) : (uint32_t)time_count;
+            tracks[t].channels[k] = (sinew_channel){ch->count, ch->count ? ch->interp : SINEW_INTERP_LINEAR, first_key,
+                                                    (uint32_t)value_count};
             value_count += (size_t)ch->count * sinew_channel_stride(k, ch->interp);
         }
     }
@@ -1322,6 +1356,7 @@ static bool write_clip(writer *w, const raw_clip *clip, uint32_t index, blob_cli
     }
     if (time_count > UINT32_MAX / 4 || value_count > UINT32_MAX / 4) {
         free(tracks);
+        free(fresh);
         return false;
     }
     *out = (blob_clip){
@@ -1335,8 +1370,10 @@ static bool write_clip(writer *w, const raw_clip *clip, uint32_t index, blob_cli
     float *times = writer_at(w, out->times.offset), *values = writer_at(w, out->values.offset);
     for (uint32_t t = 0; t < clip->track_count; t++)
         for (int k = 0; k < SINEW_CHANNEL_COUNT; k++)
-            copy_keys(times, values, &clip->tracks[t].channels[k], k, &tracks[t].channels[k]);
+            copy_keys(times, values, &clip->tracks[t].channels[k], k, &tracks[t].channels[k],
+                      fresh[(size_t)t * SINEW_CHANNEL_COUNT + (size_t)k]);
     free(tracks);
+    free(fresh);
     bool ok = true;
     for (uint32_t t = 0; ok && t < clip->weight_track_count; t++) { /* after the node tracks' keys */
         const raw_channel *ch = &clip->weight_tracks[t].keys;
@@ -1344,7 +1381,7 @@ static bool write_clip(writer *w, const raw_clip *clip, uint32_t index, blob_cli
             index,
             clip->weight_tracks[t].channel,
             {ch->count, ch->count ? ch->interp : SINEW_INTERP_LINEAR, (uint32_t)node_times, (uint32_t)node_values}};
-        copy_keys(times, values, ch, SINEW_CHANNEL_WEIGHT, &bt.keys);
+        copy_keys(times, values, ch, SINEW_CHANNEL_WEIGHT, &bt.keys, true);
         node_times += ch->count;
         node_values += (size_t)ch->count * sinew_channel_stride(SINEW_CHANNEL_WEIGHT, ch->interp);
         ok = ch->count == 0 || weight_table_push(weights, &bt);
