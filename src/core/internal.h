@@ -80,7 +80,9 @@ bool sinew_times_ascending(const float *times, uint32_t count);
  * once. The mapping is `size` rounded up to 2 MB, so it is for blocks of about a megabyte and
  * more. NULL when it cannot be mapped or 64 blocks are live already: the caller mallocs instead.
  * Such a block is freed with sinew_pages_free(), which says false for any other pointer (then the
- * caller frees it as it came), or sinew_block_free() (the block or a malloc'd pointer).
+ * caller frees it as it came), or sinew_block_free() (the block or a malloc'd pointer). A freed
+ * block may be kept (up to 32 MB of them, MADV_FREE) for sinew_large_alloc() to give again;
+ * sinew_pages_alloc() itself always maps fresh, zeroed pages.
  * sinew_pages_length() is the mapping's length, 0 for any other pointer; sinew_pages_rounded()
  * the length a block of `size` bytes maps (0 for none or too large a size). */
 void *sinew_pages_alloc(size_t size, size_t populate);
@@ -89,8 +91,9 @@ size_t sinew_pages_length(const void *p);
 size_t sinew_pages_rounded(size_t size);
 void sinew_block_free(void *p);
 /* A block about to be written whole: in 2 MB pages (filled in) when it has `pages_from` bytes or
- * more and they can be had, else malloc'd with its pages filled in (sinew_prefault); freed by
- * sinew_block_free. NULL when out of memory. */
+ * more and they can be had (a kept block of the same length first, its contents undefined),
+ * else malloc'd with its pages filled in (sinew_prefault); freed by sinew_block_free. NULL when
+ * out of memory. */
 void *sinew_large_alloc(size_t size, size_t pages_from);
 
 /* sinew_model_from_blob() for malloc'd (or sinew_pages_alloc'd) bytes the model then owns (freed

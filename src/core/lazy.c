@@ -95,6 +95,17 @@ static struct {
 } page_blocks[PAGE_BLOCKS];
 static pthread_mutex_t page_lock = PTHREAD_MUTEX_INITIALIZER;
 
+/* Blocks freed and kept for the next sinew_large_alloc() of the same length: an engine or a batch
+ * importing file after file otherwise has the kernel map and zero the same 2 MB pages again for
+ * each (a tenth of robot.glb's import from memory). Kept as MADV_FREE, so the kernel may take their
+ * pages back when it needs memory (a reuse then faults in fresh ones); at most CACHED_BYTES. */
+#define CACHED_BLOCKS 4
+#define CACHED_BYTES ((size_t)32 << 20)
+static struct {
+    void *start;
+    size_t length;
+} cached[CACHED_BLOCKS];
+
 size_t sinew_pages_rounded(size_t size)
 {
     return size && size <= SIZE_MAX / 2 ? (size + HUGE_PAGE - 1) & ~(HUGE_PAGE - 1) : 0;
@@ -142,6 +153,57 @@ void *sinew_pages_alloc(size_t size, size_t populate)
 #endif
 }
 
+/* A kept block of exactly `length` bytes, live again, or NULL; its contents are whatever they are. */
+static void *cached_take(size_t length)
+{
+    void *start = NULL;
+    pthread_mutex_lock(&page_lock);
+    size_t slot = 0;
+    while (slot < PAGE_BLOCKS && page_blocks[slot].start)
+        slot++;
+    for (size_t i = 0; i < CACHED_BLOCKS && slot < PAGE_BLOCKS && !start; i++)
+        if (cached[i].start && cached[i].length == length) {
+            start = cached[i].start;
+            cached[i].start = NULL;
+            page_blocks[slot].start = start, page_blocks[slot].length = length;
+        }
+    pthread_mutex_unlock(&page_lock);
+    return start;
+}
+
+/* Keeps a block no longer live for cached_take(), or says false. */
+static bool cached_keep(void *start, size_t length)
+{
+#ifdef MADV_FREE
+    pthread_mutex_lock(&page_lock);
+    size_t kept = 0, free_slot = CACHED_BLOCKS;
+    for (size_t i = 0; i < CACHED_BLOCKS; i++) {
+        kept += cached[i].start ? cached[i].length : 0;
+        if (!cached[i].start)
+            free_slot = i;
+    }
+    bool keep = free_slot < CACHED_BLOCKS && length <= CACHED_BYTES - kept;
+    if (keep) /* reserved: only this thread writes the slot, after the madvise */
+        cached[free_slot].length = 0, cached[free_slot].start = start;
+    pthread_mutex_unlock(&page_lock);
+    if (!keep)
+        return false;
+    /* before it can be taken again: a later MADV_FREE would drop what a new owner wrote */
+    bool lazy = madvise(start, length, MADV_FREE) == 0;
+    pthread_mutex_lock(&page_lock);
+    if (lazy)
+        cached[free_slot].length = length;
+    else
+        cached[free_slot].start = NULL;
+    pthread_mutex_unlock(&page_lock);
+    return lazy;
+#else
+    (void)start;
+    (void)length;
+    return false;
+#endif
+}
+
 /* The slot of a block of sinew_pages_alloc(), or PAGE_BLOCKS; called with page_lock held. */
 static size_t page_slot(const void *p)
 {
@@ -172,14 +234,21 @@ bool sinew_pages_free(void *p)
         page_blocks[slot].start = NULL;
     }
     pthread_mutex_unlock(&page_lock);
-    if (length)
+    if (length && !cached_keep(p, length))
         munmap(p, length);
     return length != 0;
 }
 
 void *sinew_large_alloc(size_t size, size_t pages_from)
 {
-    void *p = size >= pages_from ? sinew_pages_alloc(size, size) : NULL;
+    void *p = NULL;
+    if (size >= pages_from && (p = cached_take(sinew_pages_rounded(size)))) {
+#ifdef MADV_POPULATE_WRITE
+        madvise(p, (size + 4095) & ~(size_t)4095, MADV_POPULATE_WRITE); /* pages the kernel took back */
+#endif
+        return p;
+    }
+    p = size >= pages_from ? sinew_pages_alloc(size, size) : NULL;
     if (!p && (p = malloc(size ? size : 1)))
         sinew_prefault(p, size);
     return p;
