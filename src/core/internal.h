@@ -73,6 +73,7 @@ void sinew_prefault(void *p, size_t size);
  * the builder's). */
 bool sinew_floats_finite(const float *values, uint64_t count);
 bool sinew_times_ascending(const float *times, uint32_t count);
+
 /* A large block in 2 MB pages where the kernel gives them (transparent huge pages, asked for with
  * MADV_HUGEPAGE): a first touch costs a fault a 2 MB page instead of a 4 KiB one (on a virtual
  * machine with shadow page tables, some microseconds each: 1.4 MB read from a file and checked

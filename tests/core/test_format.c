@@ -59,6 +59,34 @@ static void test_blocks_in_2mb_pages(void **state)
     sinew_block_free(p);
 }
 
+/* A freed block is kept for the next sinew_large_alloc() of its length; sinew_pages_alloc() (the
+ * import's arena, which counts on zeroed pages) always maps fresh ones. */
+static void test_freed_blocks_kept(void **state)
+{
+    (void)state;
+    const size_t huge = (size_t)2 << 20;
+    unsigned char *p = sinew_large_alloc(3 * huge - 5, huge);
+    assert_non_null(p);
+    assert_int_equal(sinew_pages_length(p), 3 * huge);
+    memset(p, 0x5a, 3 * huge - 5);
+    sinew_block_free(p);
+    unsigned char *fresh = sinew_pages_alloc(3 * huge, 0);
+    assert_non_null(fresh);
+    assert_ptr_not_equal(fresh, p);
+    for (size_t i = 0; i < 3 * huge; i += 4096)
+        assert_int_equal(fresh[i] | fresh[i + 4095], 0);
+    unsigned char *again = sinew_large_alloc(3 * huge - 100, huge); /* the same length: the kept block */
+    assert_ptr_equal(again, p);
+    assert_int_equal(sinew_pages_length(again), 3 * huge);
+    memset(again, 1, 3 * huge - 100);                         /* writable */
+    unsigned char *other = sinew_large_alloc(huge + 1, huge); /* another length: mapped anew */
+    assert_non_null(other);
+    assert_ptr_not_equal(other, p);
+    sinew_block_free(other);
+    sinew_block_free(again);
+    sinew_block_free(fresh);
+}
+
 static void *plain_alloc(size_t size, void *user)
 {
     ++*(int *)user;
@@ -356,6 +384,7 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_crc32c_paths_agree),
         cmocka_unit_test(test_blocks_in_2mb_pages),
+        cmocka_unit_test(test_freed_blocks_kept),
         cmocka_unit_test(test_large_file_in_pages),
         cmocka_unit_test(test_save_load_round_trip),
         cmocka_unit_test(test_directory_tags),

@@ -46,6 +46,22 @@ static void test_unnamed_nodes(void **state)
     assert_near(locals[2].rotation[2], z / len, 1e-6, "cubic rotation z at 1/4");
     assert_near(locals[2].translation[1], 1.25, 1e-6, "linear translation at 1/4");
     assert_near(locals[2].scale[0], 1, 0, "step scale holds");
+    /* the three samplers share one input: the clip keeps its two times once, and so does a
+     * .sinew file of the model */
+    for (int pass = 0; pass < 2; pass++) {
+        const sinew_clip *clip = &m->clips[0];
+        assert_int_equal(clip->time_count, 2);
+        for (int k = 0; k < SINEW_CHANNEL_COUNT; k++)
+            assert_int_equal(track_of(clip, 2)->channels[k].first_key, 0);
+        void *bytes = NULL;
+        size_t size = 0;
+        sinew_model *back = NULL;
+        assert_int_equal(sinew_model_write_blob(m, NULL, &bytes, &size, NULL), SINEW_OK);
+        assert_int_equal(sinew_model_from_blob(bytes, size, "round trip", NULL, &back, NULL), SINEW_OK);
+        free(bytes);
+        sinew_model_free(m);
+        m = back;
+    }
     sinew_model_free(m);
 }
 
