@@ -24,6 +24,13 @@ static void test_crc32c_paths_agree(void **state)
     for (size_t start = 0; start < 9; start++)
         for (size_t n = 0; n + start <= sizeof buf; n += n < 40 ? 1 : 397)
             assert_int_equal(sinew_crc32c(0, buf + start, n), sinew_crc32c_scalar(0, buf + start, n));
+    /* Past three runs of 8 KiB the instruction path takes three at once and joins them. */
+    static unsigned char big[3 * 8192 * 2 + 4099];
+    for (size_t i = 0; i < sizeof big; i++)
+        big[i] = (unsigned char)(i * 2654435761u >> 13);
+    const size_t sizes[] = {3 * 8192 - 1, 3 * 8192, 3 * 8192 + 5, 6 * 8192, sizeof big - 3, sizeof big};
+    for (size_t i = 0; i < sizeof sizes / sizeof sizes[0]; i++)
+        assert_int_equal(sinew_crc32c(7, big + 3, sizes[i] - 3), sinew_crc32c_scalar(7, big + 3, sizes[i] - 3));
     /* Continuing a checksum equals taking it in one go. */
     assert_int_equal(sinew_crc32c(sinew_crc32c(0, buf, 1000), buf + 1000, 3099), sinew_crc32c_scalar(0, buf, 4099));
 }
