@@ -589,8 +589,9 @@ static sinew_result fix_clip(raw_model *m, raw_clip *clip, sinew_error *error)
             }
             owned = true;
             uint32_t stride = sinew_channel_stride(kind, ch->interp);
-            if (ch->interp > SINEW_INTERP_BEZIER || !sinew_floats_finite(ch->times, ch->count) ||
-                !sinew_floats_finite(ch->values, (size_t)ch->count * stride))
+            if (ch->interp > SINEW_INTERP_BEZIER ||
+                (!ch->finite && (!sinew_floats_finite(ch->times, ch->count) ||
+                                 !sinew_floats_finite(ch->values, (size_t)ch->count * stride))))
                 return sinew_fail(error, SINEW_ERROR_DATA,
                                   "%s: clip \"%s\": the %s keys of node \"%s\" are not finite (NaN or Inf)", m->source,
                                   clip->name, channel_names[kind], m->node_names[track->node]);
@@ -628,8 +629,9 @@ static sinew_result fix_clip(raw_model *m, raw_clip *clip, sinew_error *error)
                               "order, or is in a clip that shares its keys",
                               m->source, clip->name);
         uint32_t stride = sinew_channel_stride(SINEW_CHANNEL_WEIGHT, ch->interp);
-        if (ch->interp > SINEW_INTERP_CUBIC || !sinew_floats_finite(ch->times, ch->count) ||
-            !sinew_floats_finite(ch->values, (size_t)ch->count * stride))
+        if (ch->interp > SINEW_INTERP_CUBIC ||
+            (!ch->finite && (!sinew_floats_finite(ch->times, ch->count) ||
+                             !sinew_floats_finite(ch->values, (size_t)ch->count * stride))))
             return sinew_fail(error, SINEW_ERROR_DATA,
                               "%s: clip \"%s\": the weight keys of morph channel \"%s\" are not finite or of an "
                               "unknown interpolation",

@@ -759,10 +759,12 @@ static sinew_result read_accessor_in(gltf *g, int index, const char *where, int 
                     component(vb + vs * k + (long long)csize * c, ctype, normalized));
         }
     }
-    for (long long i = 0; i < count * comps; i++)
-        if (!finite_at(v, esize, (size_t)i)) {
+    size_t n = (size_t)count * (size_t)comps;
+    bool finite = esize == 4 ? sinew_floats_finite(v, n) : true; /* floats a block at a time */
+    for (size_t i = 0; i < n && (esize != 4 || !finite); i++)    /* doubles, or where the bad one is */
+        if (!finite_at(v, esize, i)) {
             free(v);
-            return fail_at(g, "%s: element %lld is not a finite number", where, i / comps);
+            return fail_at(g, "%s: element %zu is not a finite number", where, i / (size_t)comps);
         }
     *out = v;
     *out_count = (uint32_t)count;
@@ -1709,6 +1711,7 @@ static sinew_result read_weights(gltf *g, int node, const json_node *s, const ch
         tr->channel = (uint32_t)g->morph_first[node] + t;
         tr->keys.interp = interp;
         tr->keys.count = nt;
+        tr->keys.finite = true; /* copied from checked accessors */
         tr->keys.times = malloc(((size_t)nt + 1) * sizeof *tr->keys.times);
         tr->keys.values = malloc(((size_t)nt * per_key + 1) * sizeof *tr->keys.values);
         if (!tr->keys.times || !tr->keys.values) {
@@ -1790,6 +1793,7 @@ static sinew_result read_channel_in(gltf *g, int a, const char *where, const jso
         ch->count = nt;
         ch->times = times;
         ch->values = values;
+        ch->finite = true; /* read_accessor_in checked */
         times = values = NULL;
         if (nt) /* the times rise (read_sampler) */
             clip->duration = fmaxf(clip->duration, ch->times[nt - 1]);

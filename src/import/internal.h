@@ -24,6 +24,7 @@ typedef struct raw_channel {
     float *values;   /* sinew_channel_stride(kind, interp) floats a key */
     uint32_t pool;   /* 0: the arrays above; else 1 + index into raw_model.pools */
     uint32_t first_key, first_value;
+    bool finite; /* the reader found every time and value finite: the builder does not look again */
 } raw_channel;
 
 typedef struct raw_track {

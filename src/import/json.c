@@ -64,7 +64,15 @@ static char *put_utf8(char *out, unsigned cp)
  * length in *length; false with *bad at the offending byte. */
 static bool unescape(char *text, int start, int end, int *bad, uint32_t *length)
 {
-    int plain = start; /* most strings (keys, names) have no escape: nothing to move */
+    int plain = start;                     /* most strings (keys, names) have no escape: nothing to move */
+    for (; plain + 8 <= end; plain += 8) { /* eight bytes at a time while none is below 0x20 or a \ */
+        uint64_t w;
+        memcpy(&w, text + plain, 8);
+        const uint64_t ones = 0x0101010101010101u, highs = 0x8080808080808080u;
+        uint64_t backslash = w ^ (ones * '\\');
+        if (((w - ones * 0x20) & ~w & highs) | ((backslash - ones) & ~backslash & highs))
+            break; /* the byte loop below finds which */
+    }
     while (plain < end && (unsigned char)text[plain] >= 0x20 && text[plain] != '\\')
         plain++;
     char *out = text + plain;
@@ -289,6 +297,15 @@ const json_node *json_get(const json_node *object, const char *key)
     return NULL;
 }
 
+/* memcmp(a, b, n) == 0 for the few bytes of a key, without a call */
+static inline bool same_bytes(const char *a, const char *b, uint32_t n)
+{
+    uint32_t i = 0;
+    while (i < n && a[i] == b[i])
+        i++;
+    return i == n;
+}
+
 void json_pick(const json_node *object, const json_key *keys, int n, const json_node **out)
 {
     for (int k = 0; k < n; k++)
@@ -304,7 +321,7 @@ void json_pick(const json_node *object, const json_key *keys, int n, const json_
             continue;
         for (int k = 0; k < n; k++) /* the length and the last byte tell most names apart without a call */
             if (length == keys[k].length && name->string[length - 1] == keys[k].name[length - 1] && !out[k] &&
-                memcmp(name->string, keys[k].name, length) == 0) {
+                same_bytes(name->string, keys[k].name, length)) {
                 out[k] = v;
                 break;
             }
