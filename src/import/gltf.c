@@ -231,7 +231,7 @@ static sinew_result int_of(gltf *g, const json_node *item, const char *key, cons
     if (!item)
         return SINEW_OK;
     double v = json_is_number(item) ? item->number : NAN;
-    if (!(v >= (double)lo && v <= (double)hi) || v != floor(v))
+    if (!(v >= (double)lo && v <= (double)hi) || v != (double)(long long)v) /* in range: no overflow */
         return fail_at(g, "%s.%s: not an integer from %lld to %lld", where, key, lo, hi);
     *out = (long long)v;
     return SINEW_OK;

@@ -269,21 +269,6 @@ void json_free(json_doc *doc)
     *doc = (json_doc){0};
 }
 
-const json_node *json_first(const json_node *parent)
-{
-    if (!parent || parent->count == 0)
-        return NULL;
-    return parent->type == JSON_OBJECT ? parent + 2 : parent->type == JSON_ARRAY ? parent + 1 : NULL;
-}
-
-const json_node *json_after(const json_node *parent, const json_node *child)
-{
-    const json_node *next = child + child->span, *end = parent + parent->span;
-    if (parent->type == JSON_OBJECT)
-        next++; /* over the key */
-    return next < end ? next : NULL;
-}
-
 const json_node *json_get(const json_node *object, const char *key)
 {
     if (!object || object->type != JSON_OBJECT)
@@ -301,6 +286,13 @@ const json_node *json_get(const json_node *object, const char *key)
 static inline bool same_bytes(const char *a, const char *b, uint32_t n)
 {
     uint32_t i = 0;
+    for (; i + 8 <= n; i += 8) { /* both have n bytes and a NUL */
+        uint64_t x, y;
+        memcpy(&x, a + i, 8);
+        memcpy(&y, b + i, 8);
+        if (x != y)
+            return false;
+    }
     while (i < n && a[i] == b[i])
         i++;
     return i == n;

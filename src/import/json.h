@@ -71,8 +71,19 @@ void json_pick(const json_node *object, const json_key *keys, int n, const json_
 /* An array's element i (walks), NULL past the end. */
 const json_node *json_item(const json_node *array, int i);
 /* The first element (array) or member value (object), and the one after `child`; NULL at the end. */
-const json_node *json_first(const json_node *parent);
-const json_node *json_after(const json_node *parent, const json_node *child);
+static inline const json_node *json_first(const json_node *parent)
+{
+    if (!parent || parent->count == 0)
+        return NULL;
+    return parent->type == JSON_OBJECT ? parent + 2 : parent->type == JSON_ARRAY ? parent + 1 : NULL;
+}
+static inline const json_node *json_after(const json_node *parent, const json_node *child)
+{
+    const json_node *next = child + child->span, *end = parent + parent->span;
+    if (parent->type == JSON_OBJECT)
+        next++; /* over the key */
+    return next < end ? next : NULL;
+}
 #define JSON_FOR_EACH(value, parent)                                                                                   \
     for ((value) = json_first(parent); (value); (value) = json_after((parent), (value)))
 
