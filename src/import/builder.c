@@ -295,7 +295,8 @@ static bool compute_normals(raw_mesh *mesh)
         double len = sqrt(p[0] * p[0] + p[1] * p[1] + p[2] * p[2]);
         float *n = &mesh->normals[v * 3];
         if (len > 0.0 && isfinite(len)) {
-            n[0] = (float)(p[0] / len), n[1] = (float)(p[1] / len), n[2] = (float)(p[2] / len);
+            double inv = 1.0 / len; /* one division, not three (the same floats on every shared model) */
+            n[0] = (float)(p[0] * inv), n[1] = (float)(p[1] * inv), n[2] = (float)(p[2] * inv);
         } else {
             n[0] = 0.0f, n[1] = 1.0f, n[2] = 0.0f;
         }

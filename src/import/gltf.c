@@ -1378,20 +1378,12 @@ static sinew_result read_primitive(gltf *g, int mesh, int k, int skin, raw_mesh 
     uint32_t n = 0;
     {
         int index;
-        double *v;
         char use[160];
         place(use, sizeof use, "%s POSITION", where);
         if ((r = index_at(g, attrs, "POSITION", where, g->accessors.count, true, &index)) ||
-            (r = read_accessor(g, index, use, 3, POSITION_TYPES, &v, &n)))
+            (r = read_accessor_as(g, index, use, 3, POSITION_TYPES, sizeof *out->positions, (void **)&out->positions,
+                                  &n))) /* floats, each rounded once */
             return r;
-        out->positions = malloc((size_t)n * 3 * sizeof *out->positions);
-        if (!out->positions) {
-            free(v);
-            return oom(g);
-        }
-        for (size_t i = 0; i < (size_t)n * 3; i++)
-            out->positions[i] = (float)v[i];
-        free(v);
     }
     out->vertex_count = n;
     if ((r = attribute(g, attrs, "NORMAL", where, 3, NORMAL_TYPES, n, &out->normals)) ||
