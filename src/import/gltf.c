@@ -144,7 +144,7 @@ static void place(char *out, size_t size, const char *format, ...)
 }
 
 /* A place written only if a message needs it. The reader formats one for each animation channel,
- * sampler, accessor and buffer view it reads (robot.glb: some 9,000, an eighth of its import), and
+ * sampler, accessor and buffer view it reads (robot.glb: some 9,000, 6% of its import), and
  * nearly none is ever shown. label_open() gives the text's buffer, empty until fail_at() (or
  * labels_write()) writes every open label into its buffer, outer ones first (an inner label's %s
  * may be an outer one's text); label_close() before the label's scope ends. The format takes %d
