@@ -17,9 +17,10 @@ prints each reader's median and min-max in milliseconds and the ratios issue 31 
 sinew / ufbx --bake (goal 1.3), sinew / cgltf (1.3), sinew / assimp (0.5), each as the ratio of
 the medians and, paired, as the median of each round's own ratio (steadier where the machine
 swings between modes within a run); and the import without the process, in MB/s of the file,
-each the best of --runs from memory in one process, all three timed by bench/peers_inproc.c
-(built here against the build's libsinew and ../shared/peers; goal: sinew at least 0.8 of
-ufbx --bake and of cgltf).
+each the best of --runs from memory in one process, all timed by bench/peers_inproc.c (built
+here against the build's libsinew and ../shared/peers; goal: sinew at least 0.8 of ufbx --bake
+and of cgltf), with cgltf also timed unpacking every accessor into floats (cgltf-decode: cgltf
+itself decodes none, where sinew decodes and checks them all).
 
     bench/peers.py [--sinew build/sinew] [--runs 7] [--testdata ../shared/testdata] [--json] [FILE...]
 """
@@ -144,13 +145,14 @@ def main():
         speeds = {}
         if mine:
             speeds["sinew"] = size / 1e6 / (mine / 1000.0)
-        for peer in ("ufbx --bake", "cgltf"):
-            if peer in med:
+        # cgltf-decode: cgltf with every accessor unpacked into floats, as sinew decodes them all
+        for peer in ("ufbx --bake", "cgltf", "cgltf-decode"):
+            if peer.replace("-decode", "") in med:
                 ms = in_library_ms(inproc, peer.split()[0], path, args.runs)
                 if ms:
                     speeds[peer] = size / 1e6 / (ms / 1000.0)
         entry["in_library_mb_s"] = speeds
-        for peer in ("ufbx --bake", "cgltf"):
+        for peer in ("ufbx --bake", "cgltf", "cgltf-decode"):
             if "sinew" in speeds and peer in speeds:
                 entry["in_library_sinew_over_" + peer.replace(" --", "_")] = speeds["sinew"] / speeds[peer]
         report["files"].append(entry)
