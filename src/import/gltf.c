@@ -639,6 +639,49 @@ static inline bool finite_at(const void *v, size_t esize, size_t i)
     return esize == 4 ? isfinite(((const float *)v)[i]) : isfinite(((const double *)v)[i]);
 }
 
+/* `count` elements of `comps` integer components of type `ctype` (no matrix padding) at `base`,
+ * every `stride` bytes, into v as component() reads them, a loop for each type. */
+static void decode_integers(void *v, size_t esize, const unsigned char *base, long long stride, long long count,
+                            int comps, long long ctype, bool normalized)
+{
+#define DECODE(SIZE, EXPR)                                                                                             \
+    for (long long i = 0; i < count; i++)                                                                              \
+        for (int c = 0; c < comps; c++) {                                                                              \
+            const unsigned char *p = base + stride * i + (SIZE)*c;                                                     \
+            put(v, esize, (size_t)(i * comps + c), (EXPR));                                                            \
+        }
+    switch (ctype) {
+    case 5120:
+        if (normalized)
+            DECODE(1, fmax((int8_t)p[0] / 127.0, -1.0))
+        else
+            DECODE(1, (int8_t)p[0])
+        break;
+    case 5121:
+        if (normalized)
+            DECODE(1, p[0] / 255.0)
+        else
+            DECODE(1, p[0])
+        break;
+    case 5122:
+        if (normalized)
+            DECODE(2, fmax((int16_t)(uint16_t)(p[0] | p[1] << 8) / 32767.0, -1.0))
+        else
+            DECODE(2, (int16_t)(uint16_t)(p[0] | p[1] << 8))
+        break;
+    case 5123:
+        if (normalized)
+            DECODE(2, (uint16_t)(p[0] | p[1] << 8) / 65535.0)
+        else
+            DECODE(2, (uint16_t)(p[0] | p[1] << 8))
+        break;
+    default: /* 5125 (5126 is read before this) */
+        DECODE(4, component(p, ctype, normalized))
+        break;
+    }
+#undef DECODE
+}
+
 /* read_accessor() into doubles (esize 8) or floats (esize 4: animation keys, which the model
  * keeps as floats: a float accessor is then copied, not widened and narrowed again). */
 static sinew_result read_accessor_in(gltf *g, int index, const char *where, int want, const long long *types,
@@ -711,6 +754,8 @@ static sinew_result read_accessor_in(gltf *g, int index, const char *where, int 
                     put(v, esize, (size_t)(i * comps + c), f);
                 }
             }
+        else if (want < 9) /* integers of one type a loop (a switch an element cost a skinned mesh's joints) */
+            decode_integers(v, esize, base, stride, count, comps, ctype, normalized);
         else
             for (long long i = 0; i < count; i++)
                 for (int c = 0; c < comps; c++)
