@@ -32,7 +32,10 @@
  * with sinew_model_free(). While reading, every allocation of sinew's readers and builder is
  * counted against the import's own byte limit (desc->memory_limit), and any that fails fails
  * the import with SINEW_ERROR_OUT_OF_MEMORY: never a partial model (the tests fail each
- * allocation in turn over the shared models, as ufbx's runner does).
+ * allocation in turn over the shared models, as ufbx's runner does). Large blocks in 2 MB pages
+ * that an import or a model frees (the file's bytes, JSON, blobs) are kept by the process, up to
+ * four and 32 MB, as MADV_FREE (the kernel takes them back when it needs memory), for the next
+ * import: a program importing file after file does not have the same pages zeroed for each.
  * Errors: SINEW_ERROR_IO (missing, directory, unreadable), SINEW_ERROR_FORMAT (empty,
  * unknown format, truncated), SINEW_ERROR_IMPORTER (Assimp refused; the helper crashed or was
  * killed from outside: the signal is named, and its last stderr lines quoted),
