@@ -257,31 +257,27 @@ static void warm_range(uintptr_t from, uintptr_t to)
 
 void app_warm_heap(const char *path)
 {
+    /* Not .sinew files: one of 1 MiB or more is read into 2 MB pages by sinew_model_load(), a
+     * smaller one into a malloc'd buffer whose pages it fills in with one call (sinew_prefault),
+     * and the model beside it touches a few pages more. A 2 MB page warmed for them cost more
+     * than it saved where faults are cheap (Fox.glb.sinew 0.72-0.85 of the time without,
+     * arnaud.fbx.sinew 0.88-0.95, walk.fbx.sinew 0.96). */
     static const char *const in_process[] = {".fbx", ".gltf", ".glb", ".dae", ".iqm"};
     const char *dot = strrchr(path, '.');
-    bool native = false, runtime = dot && strcasecmp(dot, ".sinew") == 0;
+    bool native = false;
     for (size_t i = 0; dot && i < sizeof in_process / sizeof *in_process; i++)
         native = native || strcasecmp(dot, in_process[i]) == 0;
     struct stat st;
-    if (!(native || runtime) || stat(path, &st) != 0 || !S_ISREG(st.st_mode) || st.st_size < (64 << 10))
+    if (!native || stat(path, &st) != 0 || !S_ISREG(st.st_mode) || st.st_size < (64 << 10))
         return;
-    size_t bytes;
-    if (runtime) {
-        /* a .sinew file of 1 MiB or more is read into 2 MB pages by sinew_model_load(); a
-         * smaller one into malloc'd memory, which one 2 MB page holds with the model */
-        if (st.st_size >= (1 << 20))
-            return;
-        bytes = WARM_HUGE;
-    } else {
-        /* twice the file in whole 2 MB pages, rounded down, at least one and at most 24 MiB: the
-         * readers' heap grows by 1.4 (robot.glb) to 3.9 times (Fox.glb) the file, beside their
-         * arena, and a page zeroed for nothing costs more than the faults of what spills past
-         * the warmed pages where faults are cheap (robot.glb 0.91 of the time with one page
-         * against four times the file's four pages; walk.fbx 0.98, robot_walk.dae the same) */
-        bytes = (size_t)st.st_size * 2;
-        bytes = bytes > ((size_t)24 << 20) ? (size_t)24 << 20 : bytes & ~(WARM_HUGE - 1);
-        bytes = bytes < WARM_HUGE ? WARM_HUGE : bytes;
-    }
+    /* twice the file in whole 2 MB pages, rounded down, at least one and at most 24 MiB: the
+     * readers' heap grows by 1.4 (robot.glb) to 3.9 times (Fox.glb) the file, beside their
+     * arena, and a page zeroed for nothing costs more than the faults of what spills past
+     * the warmed pages where faults are cheap (robot.glb 0.91 of the time with one page
+     * against four times the file's four pages; walk.fbx 0.98, robot_walk.dae the same) */
+    size_t bytes = (size_t)st.st_size * 2;
+    bytes = bytes > ((size_t)24 << 20) ? (size_t)24 << 20 : bytes & ~(WARM_HUGE - 1);
+    bytes = bytes < WARM_HUGE ? WARM_HUGE : bytes;
     /* Only whole 2 MB pages are filled in: a 4 KiB page costs about as much to fault in as a
      * 2 MB one here. The heap's top is first moved to a 2 MB boundary by a block that is kept
      * and never touched (its pages stay unmapped), so that what the import allocates next

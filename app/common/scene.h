@@ -27,11 +27,12 @@ typedef struct app_import_options {
     bool warm_heap;        /* a program that imports a file and exits (the CLI): app_warm_heap first */
 } app_import_options;
 /* Before an in-process import of `path` (FBX, glTF, COLLADA, IQM) of 64 KiB or more: takes a
- * block of four times its size (2 to 24 MiB, whole 2 MB pages) from the heap, starting at a 2 MB
+ * block of twice its size (2 to 24 MiB, whole 2 MB pages) from the heap, starting at a 2 MB
  * boundary, has it in huge pages and filled in, and frees it, so that the import's small blocks
  * (libxml2's tree, a glTF's channels) come from the heap's top already faulted in, a fault a 2 MB
- * page instead of a 4 KiB one. A .sinew file of 64 KiB to 1 MiB gets one 2 MB page (larger ones
- * are read into their own 2 MB pages by the library). Only for a process whose heap keeps what is
+ * page instead of a 4 KiB one. A .sinew file is left alone (the library fills in the pages of
+ * the buffer it reads one into, and a 2 MB page warmed beside it cost more than it saved). Only
+ * for a process whose heap keeps what is
  * freed (the CLI sets M_TRIM_THRESHOLD and M_MMAP_THRESHOLD above that size) and that exits soon
  * after: it changes the program's heap, which the library leaves alone, and keeps up to 2 MB of
  * untouched address space below the block. */

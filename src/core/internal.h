@@ -65,7 +65,7 @@ typedef enum sinew_cpu_feature {
 bool sinew_cpu_has(sinew_cpu_feature feature);
 /* Fills in the pages of a large block about to be written whole (MADV_POPULATE_WRITE: one call
  * instead of a fault a page, which costs microseconds on a virtual machine); nothing for a block
- * under 256 KiB, or where the kernel cannot. */
+ * under 64 KiB, or where the kernel cannot. */
 void sinew_prefault(void *p, size_t size);
 
 /* Whether every float is finite (its exponent bits not all ones), and whether finite times never

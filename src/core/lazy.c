@@ -76,7 +76,7 @@ void sinew_prefault(void *p, size_t size)
 #ifdef MADV_POPULATE_WRITE
     const uintptr_t page = 4096;
     uintptr_t start = ((uintptr_t)p + page - 1) & ~(page - 1), end = ((uintptr_t)p + size) & ~(page - 1);
-    if (size >= ((size_t)256 << 10) && end > start)
+    if (size >= ((size_t)64 << 10) && end > start)
         madvise((void *)start, end - start, MADV_POPULATE_WRITE); /* older kernels: EINVAL, no harm */
 #else
     (void)p;
