@@ -535,7 +535,7 @@ static int type_components(const char *type)
     return 0;
 }
 
-static int component_size(long long type)
+static inline int component_size(long long type)
 {
     switch (type) {
     case 5120:
@@ -553,7 +553,7 @@ static int component_size(long long type)
 }
 
 /* One component: the stored number, or a normalised integer as glTF defines it. */
-static double component(const unsigned char *p, long long type, bool normalized)
+static inline double component(const unsigned char *p, long long type, bool normalized)
 {
     switch (type) {
     case 5120:
@@ -644,39 +644,26 @@ static inline bool finite_at(const void *v, size_t esize, size_t i)
 static void decode_integers(void *v, size_t esize, const unsigned char *base, long long stride, long long count,
                             int comps, long long ctype, bool normalized)
 {
-#define DECODE(SIZE, EXPR)                                                                                             \
+#define DECODE(TYPE)                                                                                                   \
     for (long long i = 0; i < count; i++)                                                                              \
-        for (int c = 0; c < comps; c++) {                                                                              \
-            const unsigned char *p = base + stride * i + (SIZE)*c;                                                     \
-            put(v, esize, (size_t)(i * comps + c), (EXPR));                                                            \
-        }
-    switch (ctype) {
+        for (int c = 0; c < comps; c++)                                                                                \
+            put(v, esize, (size_t)(i * comps + c),                                                                     \
+                component(base + stride * i + (long long)component_size(TYPE) * c, TYPE, normalized));
+    switch (ctype) { /* component() inlined with its type known: its switch folds away */
     case 5120:
-        if (normalized)
-            DECODE(1, fmax((int8_t)p[0] / 127.0, -1.0))
-        else
-            DECODE(1, (int8_t)p[0])
+        DECODE(5120)
         break;
     case 5121:
-        if (normalized)
-            DECODE(1, p[0] / 255.0)
-        else
-            DECODE(1, p[0])
+        DECODE(5121)
         break;
     case 5122:
-        if (normalized)
-            DECODE(2, fmax((int16_t)(uint16_t)(p[0] | p[1] << 8) / 32767.0, -1.0))
-        else
-            DECODE(2, (int16_t)(uint16_t)(p[0] | p[1] << 8))
+        DECODE(5122)
         break;
     case 5123:
-        if (normalized)
-            DECODE(2, (uint16_t)(p[0] | p[1] << 8) / 65535.0)
-        else
-            DECODE(2, (uint16_t)(p[0] | p[1] << 8))
+        DECODE(5123)
         break;
     default: /* 5125 (5126 is read before this) */
-        DECODE(4, component(p, ctype, normalized))
+        DECODE(5125)
         break;
     }
 #undef DECODE
