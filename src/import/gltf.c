@@ -1713,11 +1713,13 @@ static sinew_result read_sampler(gltf *g, const json_node *s, const char *sw, in
 static sinew_result read_weights(gltf *g, int node, const json_node *s, const char *sw, raw_clip *clip)
 {
     uint32_t n = g->morph_count[node];
-    if (n == 0 && (labels_write(g), true))
+    if (n == 0) {
+        labels_write(g); /* `sw` is a label's text */
         return raw_model_warn(g->m, "%s: %s animates the morph weights of node %d, whose mesh has no morph targets",
                               g->path, sw, node)
                    ? SINEW_OK
                    : oom(g);
+    }
     uint32_t interp, nt;
     float *times = NULL, *values = NULL;
     sinew_result r = read_sampler(g, s, sw, 1, n, ROTATION_TYPES, &interp, &times, &nt, &values);
