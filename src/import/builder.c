@@ -494,11 +494,9 @@ static int by_time(const void *a, const void *b)
     return x->index < y->index ? -1 : (x->index > y->index); /* stable */
 }
 
-/* Puts keys out of time order (`sorted` false) in order, stably. */
-static bool sort_keys(raw_channel *ch, uint32_t stride, bool sorted)
+/* Puts keys that are out of time order in order, stably. */
+static bool sort_keys(raw_channel *ch, uint32_t stride)
 {
-    if (sorted)
-        return true;
     key_order *order = malloc(ch->count * sizeof *order);
     float *values = malloc((size_t)ch->count * stride * sizeof(float));
     if (!order || !values) {
@@ -597,7 +595,7 @@ static sinew_result fix_clip(raw_model *m, raw_clip *clip, sinew_error *error)
                                   "%s: clip \"%s\": the %s keys of node \"%s\" are not finite (NaN or Inf)", m->source,
                                   clip->name, channel_names[kind], m->node_names[track->node]);
             bool was_sorted = sinew_times_ascending(ch->times, ch->count);
-            if (!sort_keys(ch, stride, was_sorted))
+            if (!was_sorted && !sort_keys(ch, stride))
                 return oom(m, error);
             unsorted += !was_sorted;
             if (ch->interp == SINEW_INTERP_BEZIER &&
@@ -638,7 +636,7 @@ static sinew_result fix_clip(raw_model *m, raw_clip *clip, sinew_error *error)
                               "unknown interpolation",
                               m->source, clip->name, m->morph_channels[wt->channel].name);
         bool was_sorted = sinew_times_ascending(ch->times, ch->count);
-        if (!sort_keys(ch, stride, was_sorted))
+        if (!was_sorted && !sort_keys(ch, stride))
             return oom(m, error);
         unsorted += !was_sorted;
         /* weights far outside 0..1 are kept, and said: a file scaled in percent, or a broken rig */
@@ -1283,9 +1281,8 @@ static bool write_pooled_clip(writer *w, const raw_clip *clip, uint32_t index, c
     return ok;
 }
 
-/* A channel's keys into the blob's times and values (NULL while measuring) at its offsets. */
-/* A channel's keys into the clip's arrays; its times only when `times_too` (not another
- * channel's, which it shares). */
+/* A channel's keys into the blob's times and values (NULL while measuring) at its offsets; its
+ * times only when `times_too` (not when they are another channel's, which it shares). */
 static void copy_keys(float *times, float *values, const raw_channel *ch, int kind, const sinew_channel *at,
                       bool times_too)
 {
@@ -1308,17 +1305,14 @@ typedef struct recent_times {
  * times (glTF samplers share an input: robot.glb's 1,806 channels have 8 inputs; a baked FBX node's
  * channels share their key times), else `*time_count`, which then grows. */
 static uint32_t place_times(recent_times *recent, uint32_t *next, const float *times, uint32_t count,
-                            size_t *time_count, bool *fresh)
+                            size_t *time_count)
 {
     for (int i = 0; i < SHARED_TIMES; i++)
         if (recent[i].times && recent[i].count == count &&
-            (recent[i].times == times || memcmp(recent[i].times, times, count * sizeof *times) == 0)) {
-            *fresh = false;
+            (recent[i].times == times || memcmp(recent[i].times, times, count * sizeof *times) == 0))
             return recent[i].first_key;
-        }
     recent[*next % SHARED_TIMES] = (recent_times){times, count, (uint32_t)*time_count};
     (*next)++;
-    *fresh = true;
     uint32_t at = (uint32_t)*time_count;
     *time_count += count;
     return at;
@@ -1330,12 +1324,8 @@ static uint32_t place_times(recent_times *recent, uint32_t *next, const float *t
 static bool write_clip(writer *w, const raw_clip *clip, uint32_t index, blob_clip *out, weight_table *weights)
 {
     sinew_track *tracks = calloc(clip->track_count ? clip->track_count : 1, sizeof *tracks);
-    bool *fresh = calloc(clip->track_count ? (size_t)clip->track_count * SINEW_CHANNEL_COUNT : 1, sizeof *fresh);
-    if (!tracks || !fresh) {
-        free(tracks);
-        free(fresh);
+    if (!tracks)
         return false;
-    }
     size_t time_count = 0, value_count = 0;
     recent_times recent[SHARED_TIMES] = {{0}};
     uint32_t next = 0;
@@ -1343,9 +1333,8 @@ static bool write_clip(writer *w, const raw_clip *clip, uint32_t index, blob_cli
         tracks[t].node = clip->tracks[t].node;
         for (int k = 0; k < SINEW_CHANNEL_COUNT; k++) {
             const raw_channel *ch = &clip->tracks[t].channels[k];
-            bool *f = &fresh[(size_t)t * SINEW_CHANNEL_COUNT + (size_t)k];
             uint32_t first_key =
-                ch->count ? place_times(recent, &next, ch->times, ch->count, &time_count, f) : (uint32_t)time_count;
+                ch->count ? place_times(recent, &next, ch->times, ch->count, &time_count) : (uint32_t)time_count;
             tracks[t].channels[k] = (sinew_channel){ch->count, ch->count ? ch->interp : SINEW_INTERP_LINEAR, first_key,
                                                     (uint32_t)value_count};
             value_count += (size_t)ch->count * sinew_channel_stride(k, ch->interp);
@@ -1359,7 +1348,6 @@ static bool write_clip(writer *w, const raw_clip *clip, uint32_t index, blob_cli
     }
     if (time_count > UINT32_MAX / 4 || value_count > UINT32_MAX / 4) {
         free(tracks);
-        free(fresh);
         return false;
     }
     *out = (blob_clip){
@@ -1371,12 +1359,17 @@ static bool write_clip(writer *w, const raw_clip *clip, uint32_t index, blob_cli
         .values = {writer_space(w, value_count * sizeof(float)), (uint32_t)value_count},
     };
     float *times = writer_at(w, out->times.offset), *values = writer_at(w, out->values.offset);
+    /* place_times put each new run of times at the end of those placed before, in this order: a
+     * channel whose run starts at the end of the times written so far is the one that placed it */
+    size_t written = 0;
     for (uint32_t t = 0; t < clip->track_count; t++)
-        for (int k = 0; k < SINEW_CHANNEL_COUNT; k++)
-            copy_keys(times, values, &clip->tracks[t].channels[k], k, &tracks[t].channels[k],
-                      fresh[(size_t)t * SINEW_CHANNEL_COUNT + (size_t)k]);
+        for (int k = 0; k < SINEW_CHANNEL_COUNT; k++) {
+            const raw_channel *ch = &clip->tracks[t].channels[k];
+            bool placed = ch->count && tracks[t].channels[k].first_key == written;
+            written += placed ? ch->count : 0;
+            copy_keys(times, values, ch, k, &tracks[t].channels[k], placed);
+        }
     free(tracks);
-    free(fresh);
     bool ok = true;
     for (uint32_t t = 0; ok && t < clip->weight_track_count; t++) { /* after the node tracks' keys */
         const raw_channel *ch = &clip->weight_tracks[t].keys;
