@@ -111,6 +111,28 @@ size_t sinew_pages_rounded(size_t size)
     return size && size <= SIZE_MAX / 2 ? (size + HUGE_PAGE - 1) & ~(HUGE_PAGE - 1) : 0;
 }
 
+/* The slot of a block of sinew_pages_alloc() (of NULL: a free slot), or PAGE_BLOCKS; called with
+ * page_lock held. */
+static size_t page_slot(const void *p)
+{
+    size_t slot = 0;
+    while (slot < PAGE_BLOCKS && page_blocks[slot].start != p)
+        slot++;
+    return slot;
+}
+
+/* The first `size` bytes of a block's pages filled in (one call instead of a fault a page). */
+static void fill_in(void *start, size_t size)
+{
+#ifdef MADV_POPULATE_WRITE
+    if (size)
+        madvise(start, (size + 4095) & ~(size_t)4095, MADV_POPULATE_WRITE);
+#else
+    (void)start;
+    (void)size;
+#endif
+}
+
 void *sinew_pages_alloc(size_t size, size_t populate)
 {
 #if defined(MADV_HUGEPAGE)
@@ -127,9 +149,7 @@ void *sinew_pages_alloc(size_t size, size_t populate)
     if (map + HUGE_PAGE > start)
         munmap(start + length, (size_t)(map + HUGE_PAGE - start));
     pthread_mutex_lock(&page_lock);
-    size_t slot = 0;
-    while (slot < PAGE_BLOCKS && page_blocks[slot].start)
-        slot++;
+    size_t slot = page_slot(NULL);
     if (slot < PAGE_BLOCKS)
         page_blocks[slot].start = start, page_blocks[slot].length = length;
     pthread_mutex_unlock(&page_lock);
@@ -138,13 +158,7 @@ void *sinew_pages_alloc(size_t size, size_t populate)
         return NULL;
     }
     madvise(start, length, MADV_HUGEPAGE); /* where the kernel has no transparent huge pages: 4 KiB pages */
-#ifdef MADV_POPULATE_WRITE
-    populate = populate < size ? populate : size;
-    if (populate)
-        madvise(start, (populate + 4095) & ~(size_t)4095, MADV_POPULATE_WRITE);
-#else
-    (void)populate;
-#endif
+    fill_in(start, populate < size ? populate : size);
     return start;
 #else
     (void)size;
@@ -158,9 +172,7 @@ static void *cached_take(size_t length)
 {
     void *start = NULL;
     pthread_mutex_lock(&page_lock);
-    size_t slot = 0;
-    while (slot < PAGE_BLOCKS && page_blocks[slot].start)
-        slot++;
+    size_t slot = page_slot(NULL);
     for (size_t i = 0; i < CACHED_BLOCKS && slot < PAGE_BLOCKS && !start; i++)
         if (cached[i].start && cached[i].length == length) {
             start = cached[i].start;
@@ -204,15 +216,6 @@ static bool cached_keep(void *start, size_t length)
 #endif
 }
 
-/* The slot of a block of sinew_pages_alloc(), or PAGE_BLOCKS; called with page_lock held. */
-static size_t page_slot(const void *p)
-{
-    size_t slot = 0;
-    while (slot < PAGE_BLOCKS && page_blocks[slot].start != p)
-        slot++;
-    return slot;
-}
-
 size_t sinew_pages_length(const void *p)
 {
     if (!p || ((uintptr_t)p & (HUGE_PAGE - 1))) /* not 2 MB aligned: not one (the common case, no lock) */
@@ -242,13 +245,10 @@ bool sinew_pages_free(void *p)
 void *sinew_large_alloc(size_t size, size_t pages_from)
 {
     void *p = NULL;
-    if (size >= pages_from && (p = cached_take(sinew_pages_rounded(size)))) {
-#ifdef MADV_POPULATE_WRITE
-        madvise(p, (size + 4095) & ~(size_t)4095, MADV_POPULATE_WRITE); /* pages the kernel took back */
-#endif
-        return p;
-    }
-    p = size >= pages_from ? sinew_pages_alloc(size, size) : NULL;
+    if (size >= pages_from && (p = cached_take(sinew_pages_rounded(size))))
+        fill_in(p, size); /* pages the kernel took back */
+    else if (size >= pages_from)
+        p = sinew_pages_alloc(size, size);
     if (!p && (p = malloc(size ? size : 1)))
         sinew_prefault(p, size);
     return p;
