@@ -45,18 +45,20 @@ golden: build
 FUZZ_SECONDS ?= 60
 fuzz: deps
 	@cmake -S . -B build-fuzz -DCMAKE_C_COMPILER=clang -DSINEW_FUZZ=ON -DSINEW_TESTS=OFF -DCMAKE_BUILD_TYPE=RelWithDebInfo >/dev/null
-	@cmake --build build-fuzz -j $(JOBS) --target fuzz_model fuzz_fbx fuzz_gltf fuzz_collada fuzz_iqm fuzz_muscles fuzz_reply fuzz_player
-	@mkdir -p build-fuzz/corpus-muscles build-fuzz/seeds-muscles build-fuzz/corpus-reply build-fuzz/corpus-player build-fuzz/corpus-model build-fuzz/corpus-fbx build-fuzz/seeds-fbx build-fuzz/corpus-gltf build-fuzz/seeds-gltf build-fuzz/corpus-collada build-fuzz/seeds-collada build-fuzz/corpus-iqm build-fuzz/seeds-iqm
+	@cmake --build build-fuzz -j $(JOBS) --target fuzz_model fuzz_fbx fuzz_gltf fuzz_collada fuzz_iqm fuzz_bvh fuzz_muscles fuzz_reply fuzz_player
+	@mkdir -p build-fuzz/corpus-muscles build-fuzz/seeds-muscles build-fuzz/corpus-reply build-fuzz/corpus-player build-fuzz/corpus-model build-fuzz/corpus-fbx build-fuzz/seeds-fbx build-fuzz/corpus-gltf build-fuzz/seeds-gltf build-fuzz/corpus-collada build-fuzz/seeds-collada build-fuzz/corpus-iqm build-fuzz/seeds-iqm build-fuzz/corpus-bvh build-fuzz/seeds-bvh
 	@cp tests/fixtures/*.fbx build-fuzz/seeds-fbx/
 	@cp tests/fixtures/*.gltf tests/fixtures/*.glb build-fuzz/seeds-gltf/
 	@cp tests/fixtures/*.dae build-fuzz/seeds-collada/
 	@cp tests/fixtures/*.iqm build-fuzz/seeds-iqm/
+	@cp tests/fixtures/*.bvh build-fuzz/seeds-bvh/
 	@cp tests/fixtures/*.json data/*.json build-fuzz/seeds-muscles/
 	@cd build-fuzz && ./fuzz_model -max_total_time=$(FUZZ_SECONDS) -max_len=65536 corpus-model ../fuzz/corpus
 	@cd build-fuzz && ./fuzz_fbx -max_total_time=$(FUZZ_SECONDS) -max_len=65536 -timeout=10 -rss_limit_mb=4096 corpus-fbx seeds-fbx
 	@cd build-fuzz && ./fuzz_gltf -max_total_time=$(FUZZ_SECONDS) -max_len=65536 -timeout=10 -rss_limit_mb=4096 corpus-gltf seeds-gltf
 	@cd build-fuzz && ./fuzz_collada -max_total_time=$(FUZZ_SECONDS) -max_len=65536 -timeout=10 -rss_limit_mb=4096 corpus-collada seeds-collada
 	@cd build-fuzz && ./fuzz_iqm -max_total_time=$(FUZZ_SECONDS) -max_len=65536 -timeout=10 -rss_limit_mb=4096 corpus-iqm seeds-iqm
+	@cd build-fuzz && ./fuzz_bvh -max_total_time=$(FUZZ_SECONDS) -max_len=65536 -timeout=10 -rss_limit_mb=4096 corpus-bvh seeds-bvh
 	@cd build-fuzz && ./fuzz_muscles -max_total_time=$(FUZZ_SECONDS) -max_len=65536 -timeout=10 corpus-muscles seeds-muscles
 	@cd build-fuzz && ./fuzz_reply -max_total_time=$(FUZZ_SECONDS) -max_len=65536 -timeout=10 corpus-reply ../fuzz/corpus
 	@cd build-fuzz && ./fuzz_player -max_total_time=$(FUZZ_SECONDS) -max_len=65536 -timeout=10 corpus-player ../fuzz/corpus

@@ -34,7 +34,7 @@ import sys
 from timing import HERE, process_args, run_ms
 
 DEFAULT_FILES = ["ozz/pab/walk.fbx", "ozz/pab/arnaud.fbx", "ufbx/motionbuilder_sausage_rrss_7700_binary.fbx",
-                 "raylib/robot.glb", "gltf-samples/Fox.glb", "blender/robot_walk.dae"]
+                 "raylib/robot.glb", "gltf-samples/Fox.glb", "blender/robot_walk.dae", "assimp/BVH/01_01.bvh"]
 
 
 def build_peers(shared, sinew):
@@ -109,7 +109,7 @@ def measure(rows, runs):
 
 def main():
     ap = process_args(__doc__)
-    ap.add_argument("files", nargs="*", help="files to open (default: six shared FBX, glTF and COLLADA models)")
+    ap.add_argument("files", nargs="*", help="files to open (default: seven shared FBX, glTF, COLLADA and BVH models)")
     args = ap.parse_args()
     shared = os.path.dirname(os.path.normpath(args.testdata))
     ufbx, cgltf, empty, folder, inproc = build_peers(shared, args.sinew)

@@ -262,7 +262,7 @@ void app_warm_heap(const char *path)
      * and the model beside it touches a few pages more. A 2 MB page warmed for them cost more
      * than it saved where faults are cheap (Fox.glb.sinew 0.72-0.85 of the time without,
      * arnaud.fbx.sinew 0.88-0.95, walk.fbx.sinew 0.96). */
-    static const char *const in_process[] = {".fbx", ".gltf", ".glb", ".dae", ".iqm"};
+    static const char *const in_process[] = {".fbx", ".gltf", ".glb", ".dae", ".iqm", ".bvh"};
     const char *dot = strrchr(path, '.');
     bool native = false;
     for (size_t i = 0; dot && i < sizeof in_process / sizeof *in_process; i++)

@@ -26,7 +26,7 @@ typedef struct app_import_options {
     uint64_t memory_limit; /* sinew_import_desc.memory_limit */
     bool warm_heap;        /* a program that imports a file and exits (the CLI): app_warm_heap first */
 } app_import_options;
-/* Before an in-process import of `path` (FBX, glTF, COLLADA, IQM) of 64 KiB or more: takes a
+/* Before an in-process import of `path` (FBX, glTF, COLLADA, IQM, BVH) of 64 KiB or more: takes a
  * block of twice its size (2 to 24 MiB, whole 2 MB pages) from the heap, starting at a 2 MB
  * boundary, has it in huge pages and filled in, and frees it, so that the import's small blocks
  * (libxml2's tree, a glTF's channels) come from the heap's top already faulted in, a fault a 2 MB

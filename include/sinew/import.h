@@ -1,8 +1,8 @@
 /* sinew/import.h — reading animated characters from files.
  *
- * What: sinew_import() reads FBX 5.x, 6.x and 7.x (binary and ASCII), glTF 2.0 (.gltf, .glb) and COLLADA
- * 1.4/1.5 (.dae) with sinew's own readers and any other format Assimp reads (BVH, .x, MD5,
- * SMD, IQM, 3DS, OBJ, ...), and builds a runtime sinew_model: the skeleton from the node
+ * What: sinew_import() reads FBX 5.x, 6.x and 7.x (binary and ASCII), glTF 2.0 (.gltf, .glb), COLLADA
+ * 1.4/1.5 (.dae), IQM and BVH with sinew's own readers and any other format Assimp reads (.x, MD5,
+ * SMD, 3DS, OBJ, ...), and builds a runtime sinew_model: the skeleton from the node
  * hierarchy, every mesh and skin, materials, every clip in seconds, Y up, metres.
  * COLLADA: joints bound by SID under the instance's <skeleton>, transform stacks evaluated in
  * order, STEP/LINEAR keys kept, BEZIER/HERMITE curves and Euler-angle channels baked to cubic
@@ -88,7 +88,7 @@ typedef struct sinew_import_desc {
      * external parts (a glTF's .bin buffers, an FBX's vertex caches, a COLLADA clip library), `path`
      * as the reader resolved it against the model's folder. Return true with *bytes (from malloc:
      * sinew frees it) and *size, or false: the file is missing. With a callback, sinew_import()
-     * reads in this process with sinew's own readers (FBX, glTF, COLLADA, IQM, .sinew; Assimp's
+     * reads in this process with sinew's own readers (FBX, glTF, COLLADA, IQM, BVH, .sinew; Assimp's
      * formats need files: SINEW_ERROR_UNSUPPORTED). NULL: the file system. */
     bool (*read_file)(const char *path, void **bytes, size_t *size, void *user);
     void *read_user;
@@ -98,8 +98,8 @@ sinew_result sinew_import(const sinew_import_desc *desc, sinew_model **out, sine
 
 /* Imports a model from bytes in memory, in this process, with sinew's own readers: an engine's
  * asset loader, a file inside an archive, a fuzzer. `format` names it as its file extension would
- * ("fbx", "gltf", "glb", "dae", "iqm", "sinew"), or NULL: desc->path's extension, else told from the bytes. `desc` may
- * be NULL; desc->path names the model in messages and is the folder its external parts are found in (through
+ * ("fbx", "gltf", "glb", "dae", "iqm", "bvh", "sinew"), or NULL: desc->path's extension, else told from the bytes.
+ * `desc` may be NULL; desc->path names the model in messages and is the folder its external parts are found in (through
  * desc->read_file when given; NULL path: "(memory).FORMAT", parts in the working folder); desc->allocator makes the
  * model; desc->progress is asked once. The bytes are only read, and may go when it returns. SINEW_ERROR_UNSUPPORTED for
  * bytes of another format (Assimp's need files), else the errors of sinew_import(). */

@@ -428,7 +428,7 @@ def load(path: Union[str, os.PathLike], *, timeout: Optional[float] = None, memo
 
     timeout: seconds the import may take (default 120, TimeLimitError past it); memory: bytes it
     may use (default 256 MiB and 64 times the file's size, at most half the machine's memory;
-    MemoryLimitError). sinew's own readers (FBX, glTF, COLLADA, IQM, .sinew) run in this process
+    MemoryLimitError). sinew's own readers (FBX, glTF, COLLADA, IQM, BVH, .sinew) run in this process
     under both; Assimp's formats in the `sinew-import` helper process. isolate reads every format
     in the helper (files from strangers: a crash in a reader then raises an Error instead of
     ending Python); assimp reads with Assimp even a format sinew reads itself."""
@@ -447,7 +447,7 @@ def load(path: Union[str, os.PathLike], *, timeout: Optional[float] = None, memo
 
 def load_bytes(data: bytes, format: Optional[str] = None, *, name: Optional[str] = None) -> Model:
     """Imports a model from bytes in memory (an archive member, a download), in this process, with
-    sinew's own readers: format "fbx", "gltf", "glb", "dae", "iqm" or "sinew", or None: from
+    sinew's own readers: format "fbx", "gltf", "glb", "dae", "iqm", "bvh" or "sinew", or None: from
     `name`'s extension, else told from the bytes. `name` names the model in errors and is the
     folder a .gltf's .bin files are looked for in. Assimp's formats need a file (load())."""
     error = ffi.new("sinew_error *")

@@ -229,9 +229,15 @@ def test_load_bytes(testdata):
     assert a.joints.names == b.joints.names and [c.name for c in a.clips] == [c.name for c in b.clips]
     assert np.array_equal(a.world("Walk", times=[0.3]), b.world("Walk", times=[0.3]))
     assert sinew.load_bytes(data).joints.names == a.joints.names  # told from the bytes
-    with pytest.raises(sinew.UnsupportedError) as e:
+    with pytest.raises(sinew.UnsupportedError) as e:  # Assimp's formats are read from files
+        sinew.load_bytes(b"xof 0303txt 0032\nFrame Root {\n}\n", "x")
+    assert e.value.kind == "unsupported" and e.value.file == "(memory).x"
+    with open(model_path(testdata, "assimp/BVH/01_01.bvh"), "rb") as f:
+        bvh = f.read()
+    assert sinew.load_bytes(bvh).joints.names == sinew.load(model_path(testdata, "assimp/BVH/01_01.bvh")).joints.names
+    with pytest.raises(sinew.FormatError) as e:
         sinew.load_bytes(b"HIERARCHY\nROOT Hips\n", "bvh")
-    assert e.value.kind == "unsupported" and e.value.file == "(memory).bvh"
+    assert e.value.file == "(memory).bvh" and "line 3" in str(e.value)
     with pytest.raises(sinew.FormatError) as e:
         sinew.load_bytes(data[:100], name="cut.glb")
     assert "cut.glb" in str(e.value) and e.value.file == "cut.glb"
@@ -302,7 +308,7 @@ def test_importer_keeps_one_helper(testdata, tmp_path):
             a, b = sinew.load(path), importer.load(path)
             assert np.array_equal(a.world(0, times=[0.1]), b.world(0, times=[0.1])) and a.joints.names == b.joints.names
             pid = pid or importer.helper_pid
-            assert importer.helper_pid == pid > 0  # the BVH went to Assimp's helper, this one stayed
+            assert importer.helper_pid == pid > 0  # every file went to the one helper, which stayed
         from test_batch import hanging_file
         with pytest.raises(sinew.LimitError):
             sinew.Importer(timeout=1.0, isolate=True).load(hanging_file(testdata, tmp_path))

@@ -1,5 +1,5 @@
 /* The lean import helper's Assimp: sinew-import links sinew's own readers only (FBX, glTF,
- * COLLADA, IQM, .sinew), so that it starts in a few milliseconds; a file that needs Assimp
+ * COLLADA, IQM, BVH, .sinew), so that it starts in a few milliseconds; a file that needs Assimp
  * makes it become sinew-import-assimp (beside it) with the same arguments. exec keeps the
  * process: its pid (the parent's deadline), its memory limit, its parent-death signal and its
  * pipes stay, so the parent sees one helper either way. */

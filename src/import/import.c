@@ -1,5 +1,5 @@
 /* sinew_import: checks the path, reads a .sinew file directly, or picks the reader (sinew's
- * own for FBX, glTF, COLLADA and IQM, Assimp for the rest) and runs it: sinew's own in this
+ * own for FBX, glTF, COLLADA, IQM and BVH, Assimp for the rest) and runs it: sinew's own in this
  * process under the import's byte limit and deadline (or in the import helper when the desc
  * asks to isolate it), Assimp always in the helper (isolate.c), which libsinew never links;
  * then turns the blob made into a runtime model.
@@ -288,7 +288,7 @@ static bool has_extension(const char *path, const char *ext)
 typedef sinew_result (*file_reader)(const char *path, const unsigned char *bytes, size_t size, raw_model *model,
                                     sinew_error *error);
 
-/* sinew's own readers for the formats it reads itself (FBX, glTF, COLLADA, IQM), Assimp for the
+/* sinew's own readers for the formats it reads itself (FBX, glTF, COLLADA, IQM, BVH), Assimp for the
  * rest. A file that looks like one of them, or is named so, is never handed to Assimp. A NULL
  * reader with a refusal: the name promises a format the bytes are not. */
 typedef struct reader_choice {
@@ -318,6 +318,10 @@ static reader_choice choose_reader(const char *path, bool assimp)
         return (reader_choice){NULL, NULL, "not an IQM file (it does not start with \"INTERQUAKEMODEL\")"};
     if (collada_sniff(head, head_size) || has_extension(path, ".dae"))
         return (reader_choice){raw_model_from_collada, "sinew's COLLADA reader", NULL};
+    if (bvh_sniff(head, head_size))
+        return (reader_choice){raw_model_from_bvh, "sinew's BVH reader", NULL};
+    if (has_extension(path, ".bvh"))
+        return (reader_choice){NULL, NULL, "not a BVH file (it does not start with HIERARCHY)"};
     return (reader_choice){NULL, "Assimp", NULL};
 }
 
@@ -337,11 +341,10 @@ static reader_choice choose_memory_reader(const unsigned char *bytes, size_t siz
         const char *name;
         file_reader read;
         const char *reader;
-    } BY_NAME[] = {{"fbx", raw_model_from_fbx, "sinew's FBX reader"},
-                   {"gltf", raw_model_from_gltf, "sinew's glTF reader"},
-                   {"glb", raw_model_from_gltf, "sinew's glTF reader"},
-                   {"dae", raw_model_from_collada, "sinew's COLLADA reader"},
-                   {"iqm", raw_model_from_iqm, "sinew's IQM reader"}};
+    } BY_NAME[] = {
+        {"fbx", raw_model_from_fbx, "sinew's FBX reader"},   {"gltf", raw_model_from_gltf, "sinew's glTF reader"},
+        {"glb", raw_model_from_gltf, "sinew's glTF reader"}, {"dae", raw_model_from_collada, "sinew's COLLADA reader"},
+        {"iqm", raw_model_from_iqm, "sinew's IQM reader"},   {"bvh", raw_model_from_bvh, "sinew's BVH reader"}};
     if (format) {
         const char *f = format[0] == '.' ? format + 1 : format;
         for (size_t i = 0; i < sizeof BY_NAME / sizeof *BY_NAME; i++)
@@ -358,6 +361,8 @@ static reader_choice choose_memory_reader(const unsigned char *bytes, size_t siz
         return (reader_choice){raw_model_from_iqm, "sinew's IQM reader", NULL};
     if (collada_sniff(bytes, head))
         return (reader_choice){raw_model_from_collada, "sinew's COLLADA reader", NULL};
+    if (bvh_sniff(bytes, head))
+        return (reader_choice){raw_model_from_bvh, "sinew's BVH reader", NULL};
     return (reader_choice){NULL, NULL, NULL};
 }
 
@@ -415,12 +420,13 @@ static sinew_result import_bytes(const unsigned char *bytes, size_t size, const 
     reader_choice choice = choose_memory_reader(bytes, size, format);
     if (!choice.read)
         return format
-                   ? sinew_fail(error, SINEW_ERROR_UNSUPPORTED,
-                                "%s: from memory sinew reads fbx, gltf, glb, dae, iqm and sinew, not \"%s\" (Assimp's "
-                                "formats are read from files: sinew_import())",
-                                name, format)
+                   ? sinew_fail(
+                         error, SINEW_ERROR_UNSUPPORTED,
+                         "%s: from memory sinew reads fbx, gltf, glb, dae, iqm, bvh and sinew, not \"%s\" (Assimp's "
+                         "formats are read from files: sinew_import())",
+                         name, format)
                    : sinew_fail(error, SINEW_ERROR_UNSUPPORTED,
-                                "%s: not FBX, glTF, COLLADA, IQM or .sinew bytes (Assimp's formats are read from "
+                                "%s: not FBX, glTF, COLLADA, IQM, BVH or .sinew bytes (Assimp's formats are read from "
                                 "files: sinew_import())",
                                 name);
     if (desc && desc->progress && !desc->progress(-1.0f, desc->progress_user))

@@ -376,6 +376,14 @@ sinew_result raw_model_from_collada(const char *path, const unsigned char *bytes
 sinew_result raw_model_from_iqm(const char *path, const unsigned char *bytes, size_t size, raw_model *model,
                                 sinew_error *error);
 
+/* Reads a BVH motion capture file (its bytes already in memory) with sinew's own reader (bvh.c):
+ * every joint and End Site a node of the skeleton, the frames one clip of a key a frame. */
+sinew_result raw_model_from_bvh(const char *path, const unsigned char *bytes, size_t size, raw_model *model,
+                                sinew_error *error);
+
+/* True when the text starts with HIERARCHY (after a byte order mark and white space). */
+bool bvh_sniff(const unsigned char *head, size_t size);
+
 /* True when the bytes start an IQM file ("INTERQUAKEMODEL\0"). */
 bool iqm_sniff(const unsigned char *head, size_t size);
 

@@ -1,5 +1,5 @@
 /* The allocation-failure sweep, as ufbx's test runner does it: every shared model sinew reads
- * itself (FBX, glTF, COLLADA, IQM under ../shared/testdata, with the fixtures), imported in process
+ * itself (FBX, glTF, COLLADA, IQM, BVH under ../shared/testdata, with the fixtures), imported in process
  * once to count its allocations, then again failing allocation k for a sample of k (every k for a
  * small count; else the first few, the last few and evenly spaced ones between, within a budget
  * of 40,000 failing imports shared by the files, 12,000 under AddressSanitizer;
@@ -26,7 +26,7 @@ static int compare(const void *a, const void *b)
 
 static bool native(const char *name)
 {
-    static const char *const ext[] = {".fbx", ".glb", ".gltf", ".dae", ".iqm"};
+    static const char *const ext[] = {".fbx", ".glb", ".gltf", ".dae", ".iqm", ".bvh"};
     size_t n = strlen(name);
     for (size_t i = 0; i < sizeof ext / sizeof *ext; i++) {
         size_t e = strlen(ext[i]);
