@@ -1,25 +1,26 @@
 /* Biovision Hierarchy (.bvh) motion capture files, read by sinew (CMU's motion library and what
  * MotionBuilder, Blender and most capture systems export).
  *
- * What a file holds: HIERARCHY, then one or more ROOTs, each a tree of JOINTs in braces; a
- * joint has an OFFSET (x y z, its position in its parent) and CHANNELS (a count, then that many
- * of Xposition Yposition Zposition Xrotation Yrotation Zrotation, in any order); a leaf may hold
- * an "End Site" with an OFFSET only (where the last bone ends). Then MOTION, "Frames: N",
- * "Frame Time: seconds", and N frames of numbers: every joint's channels, in the order the
- * joints and their channels were declared.
+ * What a file holds: HIERARCHY, then one or more ROOTs, each a tree of JOINTs in braces; a joint
+ * has an OFFSET (x y z, its position in its parent) and CHANNELS (a count, then that many of
+ * Xposition Yposition Zposition Xrotation Yrotation Zrotation, in any order; some exporters add
+ * Xscale Yscale Zscale); a leaf may hold an "End Site" with an OFFSET only (where the last bone
+ * ends). Then MOTION, "Frames: N", "Frame Time: seconds", and N frames of numbers: every joint's
+ * channels, in the order the joints and their channels were declared.
  *
  * How sinew takes it:
  * - every ROOT, JOINT and End Site is a node, all of them the skeleton's joints (a skin with no
- *   mesh); an End Site is named "EndSite_" and its joint's name (as Assimp names it), so that
- *   the last bone of each chain has its length. Names are the rest of the ROOT or JOINT line
- *   (spaces kept). The rest pose is the OFFSETs with no rotation.
+ *   mesh); an End Site is named "EndSite_" and its joint's name (as Assimp names it; a joint's
+ *   second End Site "EndSite_NAME_2"), so that the last bone of each chain has its length. Names
+ *   are the rest of the ROOT or JOINT line (spaces kept). The rest pose is the OFFSETs, unrotated.
  * - the frames are one clip, "Motion", a linear key a frame at `Frame Time` apart (its frame
  *   rate the inverse, rounded to a whole number within 1%). A joint's rotation channels are
  *   Euler angles in degrees applied in the order written: "Zrotation Xrotation Yrotation" is
  *   Rz * Rx * Ry (intrinsic Z, then X, then Y), as every reader takes them. Its position
  *   channels give its position in its parent, in place of the OFFSET's coordinates they name (as
  *   Blender, Assimp and MotionBuilder read them; three.js adds them to the OFFSET, which is the
- *   same for CMU's roots, whose OFFSETs are zero). A channel that does not change is one key.
+ *   same for CMU's roots, whose OFFSETs are zero). Scale channels are the joint's scale. A
+ *   channel that does not change is one key.
  * - the file's units and axes are kept (BVH has no unit; nearly every file is Y up).
  * - keywords are read in any case; numbers may be written as C writes them ("+1", ".5", "1.").
  *   A file that ends before its last frame keeps the whole frames it has, with a warning.
@@ -42,12 +43,13 @@
 #define MAX_DEPTH 1024u          /* nested joints: deeper is a hostile file, not a skeleton */
 #define MAX_CHANNELS_A_JOINT 64u /* 6 in practice; a count past this is not a BVH file */
 
-enum { CH_XPOS, CH_YPOS, CH_ZPOS, CH_XROT, CH_YROT, CH_ZROT };
+enum { CH_XPOS, CH_YPOS, CH_ZPOS, CH_XROT, CH_YROT, CH_ZROT, CH_XSCALE, CH_YSCALE, CH_ZSCALE, CH_KINDS };
 
 typedef struct bvh_joint {
     uint32_t first_channel, channel_count; /* into bvh.channels */
     bool end_site;
-    bool position, rotation; /* has a position / rotation channel */
+    bool position, rotation, scale; /* has a position / rotation / scale channel */
+    uint32_t end_sites;             /* End Sites below it so far (the second is named "EndSite_NAME_2") */
 } bvh_joint;
 
 typedef struct bvh {
@@ -210,15 +212,17 @@ static sinew_result read_channels(bvh *b, uint32_t node)
         return bad(b, "CHANNELS given twice, or in an End Site");
     if (count != floor(count) || count < 0 || count > MAX_CHANNELS_A_JOINT)
         return bad(b, "a CHANNELS count that is not a whole number from 0 to 64");
-    static const char *const NAMES[6] = {"Xposition", "Yposition", "Zposition", "Xrotation", "Yrotation", "Zrotation"};
+    static const char *const NAMES[CH_KINDS] = {"Xposition", "Yposition", "Zposition", "Xrotation", "Yrotation",
+                                                "Zrotation", "Xscale",    "Yscale",    "Zscale"};
     for (uint32_t c = 0; c < (uint32_t)count; c++) {
         const char *t;
         size_t n = token(b, &t);
         int kind = -1;
-        for (int k = 0; k < 6 && kind < 0; k++)
+        for (int k = 0; k < CH_KINDS && kind < 0; k++)
             kind = is(t, n, NAMES[k]) ? k : -1;
         if (kind < 0)
-            return n ? bad(b, "\"%.*s\" is not a BVH channel (Xposition ... Zrotation)", quoted(n), t)
+            return n ? bad(b, "\"%.*s\" is not a BVH channel (Xposition ... Zrotation, Xscale ... Zscale)", quoted(n),
+                           t)
                      : bad(b, "the file ends in a CHANNELS list");
         if (b->channel_count == b->channel_capacity) {
             uint32_t cap = b->channel_capacity ? b->channel_capacity * 2 : 256;
@@ -231,7 +235,8 @@ static sinew_result read_channels(bvh *b, uint32_t node)
         b->channels[b->channel_count++] = (uint8_t)kind;
         j->channel_count++;
         j->position |= kind <= CH_ZPOS;
-        j->rotation |= kind >= CH_XROT;
+        j->rotation |= kind >= CH_XROT && kind <= CH_ZROT;
+        j->scale |= kind >= CH_XSCALE;
     }
     return SINEW_OK;
 }
@@ -263,10 +268,13 @@ static sinew_result read_hierarchy(bvh *b)
                     r = bad(b, "\"End %.*s\" where \"End Site\" should be", quoted(s), site);
                 else if (top < 0)
                     r = bad(b, "an End Site outside every joint");
-                else if (!(name = malloc(strlen(b->m->node_names[top]) + 9)))
+                else if (!(name = malloc(strlen(b->m->node_names[top]) + 20)))
                     r = oom(b);
-                else
-                    snprintf(name, strlen(b->m->node_names[top]) + 9, "EndSite_%s", b->m->node_names[top]);
+                else if (b->joints[top].end_sites++ == 0)
+                    snprintf(name, strlen(b->m->node_names[top]) + 20, "EndSite_%s", b->m->node_names[top]);
+                else /* a second End Site of one joint: a name of its own */
+                    snprintf(name, strlen(b->m->node_names[top]) + 20, "EndSite_%s_%u", b->m->node_names[top],
+                             b->joints[top].end_sites);
             } else if (is(t, n, "JOINT") && top < 0) {
                 r = bad(b, "a JOINT outside every ROOT");
             } else if (is(t, n, "ROOT") && top >= 0) {
@@ -393,7 +401,8 @@ static sinew_result read_frames(bvh *b, uint32_t declared, uint32_t frames, doub
         raw_track *track = &clip->tracks[clip->track_count++];
         track->node = j;
         if ((joint->position && !even_channel(&track->channels[SINEW_CHANNEL_TRANSLATION], frames, 3, frame_time)) ||
-            (joint->rotation && !even_channel(&track->channels[SINEW_CHANNEL_ROTATION], frames, 4, frame_time)))
+            (joint->rotation && !even_channel(&track->channels[SINEW_CHANNEL_ROTATION], frames, 4, frame_time)) ||
+            (joint->scale && !even_channel(&track->channels[SINEW_CHANNEL_SCALE], frames, 3, frame_time)))
             r = oom(b);
     }
     uint32_t read = 0;
@@ -417,14 +426,16 @@ static sinew_result read_frames(bvh *b, uint32_t declared, uint32_t frames, doub
             raw_track *track = &clip->tracks[track_of[j]];
             double t[3] = {m->node_rest[j].translation[0], m->node_rest[j].translation[1],
                            m->node_rest[j].translation[2]};
-            double q[4] = {0, 0, 0, 1};
+            double q[4] = {0, 0, 0, 1}, scale[3] = {1, 1, 1};
             for (uint32_t i = 0; i < joint->channel_count; i++) {
                 int kind = b->channels[joint->first_channel + i];
                 double v = row[joint->first_channel + i];
                 if (kind <= CH_ZPOS)
                     t[kind] = v;
-                else
+                else if (kind <= CH_ZROT)
                     turn(q, kind - CH_XROT, v);
+                else
+                    scale[kind - CH_XSCALE] = v;
             }
             if (joint->position)
                 for (int i = 0; i < 3; i++)
@@ -432,6 +443,9 @@ static sinew_result read_frames(bvh *b, uint32_t declared, uint32_t frames, doub
             if (joint->rotation)
                 for (int i = 0; i < 4; i++)
                     track->channels[SINEW_CHANNEL_ROTATION].values[(size_t)read * 4 + i] = (float)q[i];
+            if (joint->scale)
+                for (int i = 0; i < 3; i++)
+                    track->channels[SINEW_CHANNEL_SCALE].values[(size_t)read * 3 + i] = (float)scale[i];
         }
     }
     if (!r && read < declared) {
@@ -451,6 +465,7 @@ static sinew_result read_frames(bvh *b, uint32_t declared, uint32_t frames, doub
     for (uint32_t i = 0; i < clip->track_count && !r; i++) {
         one_key_if_constant(&clip->tracks[i].channels[SINEW_CHANNEL_TRANSLATION], 3);
         one_key_if_constant(&clip->tracks[i].channels[SINEW_CHANNEL_ROTATION], 4);
+        one_key_if_constant(&clip->tracks[i].channels[SINEW_CHANNEL_SCALE], 3);
     }
     clip->duration = read ? (float)((read - 1) * frame_time) : 0.0f;
     if (!r && read == 0) { /* no whole frame: no clip */

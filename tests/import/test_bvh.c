@@ -174,6 +174,21 @@ static void test_files_in_the_wild(void **state)
     free(w);
     sinew_model_free(m);
 
+    /* scale channels (some exporters write them) and a joint with two End Sites, each named */
+    static const char scaled[] = "HIERARCHY\nROOT s\n{\nOFFSET 0 0 0\nCHANNELS 2 Yrotation Xscale\n"
+                                 "End Site\n{\nOFFSET 1 0 0\n}\nEnd Site\n{\nOFFSET 0 1 0\n}\n}\n"
+                                 "MOTION\nFrames: 2\nFrame Time: 1\n0 1\n90 2\n";
+    if (from_text(scaled, sizeof scaled - 1, &m, &error) != SINEW_OK)
+        fail_msg("%s", error.message);
+    assert_string_equal(m->node_names[1], "EndSite_s");
+    assert_string_equal(m->node_names[2], "EndSite_s_2");
+    w = pose_worlds(m, &m->clips[0], 1.0f); /* x scaled by 2, then turned 90 degrees about y: (2, 0, 0) -> (0, 0, -2) */
+    assert_near(w[1].m[12], 0.0, 1e-6, "the scaled End Site turned");
+    assert_near(w[1].m[14], -2.0, 1e-6, "the scaled End Site turned");
+    assert_near(w[2].m[13], 1.0, 1e-6, "the End Site above, not scaled");
+    free(w);
+    sinew_model_free(m);
+
     /* a MOTION cut short: the whole frames kept, with a warning; numbers past the last frame: a warning */
     char text[512];
     snprintf(text, sizeof text, "%s", SMALL);
@@ -207,7 +222,7 @@ static void test_broken_files(void **state)
         uint32_t line;
     } cases[] = {
         {"HIERARCHY", "HIERARCHX", "a BVH file starts with HIERARCHY", 1},
-        {"CHANNELS 1 Zrotation", "CHANNELS 1 Wrotation", "\"Wrotation\" is not a BVH channel", 9},
+        {"CHANNELS 1 Zrotation", "CHANNELS 1 Wrotation", "\"Wrotation\" is not a BVH channel (Xposition", 9},
         {"CHANNELS 1 Zrotation", "CHANNELS 1.5 Zrotation", "not a whole number from 0 to 64", 9},
         {"CHANNELS 1 Zrotation", "CHANNELS 99 Zrotation", "not a whole number from 0 to 64", 9},
         {"OFFSET 0 1 0\nCH", "OFFSET 0 1x 0\nCH", "\"1x\" is not a number", 8},
