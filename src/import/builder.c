@@ -155,6 +155,33 @@ bool raw_model_moved_nodes(const raw_model *m, const bool *excluded, bool *out)
     return true;
 }
 
+bool raw_model_grow_nodes(raw_model *m, uint32_t capacity)
+{
+    char **names = realloc(m->node_names, capacity * sizeof *names);
+    if (names)
+        m->node_names = names;
+    int32_t *parents = realloc(m->node_parents, capacity * sizeof *parents);
+    if (parents)
+        m->node_parents = parents;
+    sinew_transform *rest = realloc(m->node_rest, capacity * sizeof *rest);
+    if (rest)
+        m->node_rest = rest;
+    return names && parents && rest;
+}
+
+bool raw_model_joints_from(raw_model *m, uint32_t first)
+{
+    bool *joint = calloc(m->node_count ? m->node_count : 1, sizeof *joint);
+    uint32_t added = 0;
+    if (!joint)
+        return false;
+    for (uint32_t i = first; i < m->node_count; i++)
+        joint[i] = true;
+    bool ok = raw_model_add_skeleton(m, joint, &added);
+    free(joint);
+    return ok;
+}
+
 bool raw_model_add_skeleton(raw_model *m, const bool *joint, uint32_t *added)
 {
     *added = 0;

@@ -165,19 +165,11 @@ static sinew_result add_node(bvh *b, int32_t parent, char *name, bool end_site)
     raw_model *m = b->m;
     if (m->node_count == b->joint_capacity) {
         uint32_t cap = b->joint_capacity ? b->joint_capacity * 2 : 64;
-        char **names = realloc(m->node_names, cap * sizeof *names);
-        if (names)
-            m->node_names = names;
-        int32_t *parents = realloc(m->node_parents, cap * sizeof *parents);
-        if (parents)
-            m->node_parents = parents;
-        sinew_transform *rest = realloc(m->node_rest, cap * sizeof *rest);
-        if (rest)
-            m->node_rest = rest;
+        bool grown = raw_model_grow_nodes(m, cap);
         bvh_joint *joints = realloc(b->joints, cap * sizeof *joints);
         if (joints)
             b->joints = joints;
-        if (!names || !parents || !rest || !joints) {
+        if (!grown || !joints) {
             free(name);
             return oom(b);
         }
@@ -527,16 +519,8 @@ sinew_result raw_model_from_bvh(const char *path, const unsigned char *bytes, si
         else
             r = read_frames(&b, (uint32_t)frames, can, frame_time);
     }
-    if (!r) { /* every node is a joint: the skeleton, with no mesh bound to it */
-        bool *joint = malloc(model->node_count * sizeof *joint);
-        uint32_t added = 0;
-        if (joint)
-            for (uint32_t i = 0; i < model->node_count; i++)
-                joint[i] = true;
-        if (!joint || !raw_model_add_skeleton(model, joint, &added))
-            r = oom(&b);
-        free(joint);
-    }
+    if (!r && !raw_model_joints_from(model, 0)) /* every node is a joint: a skeleton with no mesh bound to it */
+        r = oom(&b);
     free(copy);
     free(b.joints);
     free(b.channels);

@@ -520,19 +520,11 @@ static sinew_result push_node(collada *c, const char *name, int32_t parent, xmlN
         return fail_kind(c, el, SINEW_ERROR_LIMIT, "more than %u nodes (with <instance_node> copies)", DAE_MAX_NODES);
     if (m->node_count == c->node_cap) {
         uint32_t cap = c->node_cap ? c->node_cap * 2 : 64;
-        char **names = realloc(m->node_names, cap * sizeof *names);
-        if (names)
-            m->node_names = names;
-        int32_t *parents = realloc(m->node_parents, cap * sizeof *parents);
-        if (parents)
-            m->node_parents = parents;
-        sinew_transform *rest = realloc(m->node_rest, cap * sizeof *rest);
-        if (rest)
-            m->node_rest = rest;
+        bool grown = raw_model_grow_nodes(m, cap);
         xmlNode **els = realloc(c->node_el, cap * sizeof *els);
         if (els)
             c->node_el = els;
-        if (!names || !parents || !rest || !els)
+        if (!grown || !els)
             return oom(c);
         c->node_cap = cap;
     }

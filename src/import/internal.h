@@ -179,6 +179,14 @@ char *raw_strdup(const char *text);
  * sites). `out` holds node_count entries. False when out of memory. */
 bool raw_model_moved_nodes(const raw_model *model, const bool *excluded, bool *out);
 
+/* Grows the node arrays (names, parents, rest) to hold `capacity` nodes; false when out of
+ * memory (those grown are kept, the model stays freeable). */
+bool raw_model_grow_nodes(raw_model *model, uint32_t capacity);
+
+/* A skeleton of nodes [first, node_count) as raw_model_add_skeleton() adds it; false when out
+ * of memory. */
+bool raw_model_joints_from(raw_model *model, uint32_t first);
+
 /* Adds a skin with no mesh whose joints are the nodes with joint[n] set (identity inverse
  * binds: nothing is bound to it), so that they count as joints; *added is how many (0: no
  * skin added). False when out of memory (the model unchanged). */

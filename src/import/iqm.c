@@ -605,16 +605,9 @@ sinew_result raw_model_from_iqm(const char *path, const unsigned char *bytes, si
         r = build_meshes(&q);
     if (!r)
         r = build_clips(&q);
-    if (!r && model->skin_count == 0 && q.joint_count) { /* joints no mesh is bound to: a skeleton all the same */
-        bool *joint = calloc(model->node_count, sizeof *joint);
-        uint32_t added = 0;
-        if (joint)
-            for (uint32_t i = 1; i < model->node_count; i++)
-                joint[i] = true;
-        if (!joint || !raw_model_add_skeleton(model, joint, &added))
-            r = oom(&q);
-        free(joint);
-    }
+    /* joints no mesh is bound to: a skeleton all the same (the root turns Z up to Y up) */
+    if (!r && model->skin_count == 0 && q.joint_count && !raw_model_joints_from(model, 1))
+        r = oom(&q);
     if (r)
         raw_model_free(model);
     return r;
