@@ -137,8 +137,9 @@ static sinew_result number(bvh *b, double *out)
     return n ? number_of(b, t, n, out) : bad(b, "the file ends where a number should be");
 }
 
-/* A joint's name: the rest of its line, white space around it (and a '{' after it) left out. */
-static sinew_result name_of(bvh *b, const char *keyword, char **out)
+/* A joint's name: the rest of its line, white space around it (and a '{' after it) left out;
+ * `empty` is the error when there is none. */
+static sinew_result name_of(bvh *b, const char *empty, char **out)
 {
     const char *p = b->p;
     while (p < b->end && (*p == ' ' || *p == '\t'))
@@ -151,7 +152,7 @@ static sinew_result name_of(bvh *b, const char *keyword, char **out)
         e--;
     b->p = p;
     if (e == s)
-        return bad(b, "%s without a name", keyword);
+        return bad(b, "%s", empty);
     if (!(*out = malloc((size_t)(e - s) + 1)))
         return oom(b);
     memcpy(*out, s, (size_t)(e - s));
@@ -180,6 +181,31 @@ static sinew_result add_node(bvh *b, int32_t parent, char *name, bool end_site)
     m->node_parents[n] = parent;
     m->node_rest[n] = (sinew_transform){.rotation = {0, 0, 0, 1}, .scale = {1, 1, 1}};
     b->joints[n] = (bvh_joint){.first_channel = b->channel_count, .end_site = end_site};
+    return SINEW_OK;
+}
+
+/* An End Site's name ("End" read): the rest of the line is "Site" (its '{' may follow at once). */
+static sinew_result end_site_name(bvh *b, int32_t top, char **out)
+{
+    char *site;
+    sinew_result r = name_of(b, "\"End\" where \"End Site\" should be", &site);
+    if (r)
+        return r;
+    if (strcasecmp(site, "Site") != 0)
+        r = bad(b, "\"End %.40s\" where \"End Site\" should be", site);
+    free(site);
+    if (r)
+        return r;
+    if (top < 0)
+        return bad(b, "an End Site outside every joint");
+    const char *joint = b->m->node_names[top];
+    size_t size = strlen(joint) + 20;
+    if (!(*out = malloc(size)))
+        return oom(b);
+    if (b->joints[top].end_sites++ == 0)
+        snprintf(*out, size, "EndSite_%s", joint);
+    else /* a second End Site of one joint: a name of its own */
+        snprintf(*out, size, "EndSite_%s_%u", joint, b->joints[top].end_sites);
     return SINEW_OK;
 }
 
@@ -254,25 +280,13 @@ static sinew_result read_hierarchy(bvh *b)
             bool end_site = is(t, n, "End");
             char *name = NULL;
             if (end_site) {
-                const char *site;
-                size_t s = token(b, &site);
-                if (!is(site, s, "Site"))
-                    r = bad(b, "\"End %.*s\" where \"End Site\" should be", quoted(s), site);
-                else if (top < 0)
-                    r = bad(b, "an End Site outside every joint");
-                else if (!(name = malloc(strlen(b->m->node_names[top]) + 20)))
-                    r = oom(b);
-                else if (b->joints[top].end_sites++ == 0)
-                    snprintf(name, strlen(b->m->node_names[top]) + 20, "EndSite_%s", b->m->node_names[top]);
-                else /* a second End Site of one joint: a name of its own */
-                    snprintf(name, strlen(b->m->node_names[top]) + 20, "EndSite_%s_%u", b->m->node_names[top],
-                             b->joints[top].end_sites);
+                r = end_site_name(b, top, &name);
             } else if (is(t, n, "JOINT") && top < 0) {
                 r = bad(b, "a JOINT outside every ROOT");
             } else if (is(t, n, "ROOT") && top >= 0) {
                 r = bad(b, "a ROOT inside a joint (a '}' is missing before it)");
             } else {
-                r = name_of(b, is(t, n, "ROOT") ? "ROOT" : "JOINT", &name);
+                r = name_of(b, is(t, n, "ROOT") ? "ROOT without a name" : "JOINT without a name", &name);
             }
             if (!r && depth == MAX_DEPTH) {
                 free(name);

@@ -174,9 +174,10 @@ static void test_files_in_the_wild(void **state)
     free(w);
     sinew_model_free(m);
 
-    /* scale channels (some exporters write them) and a joint with two End Sites, each named */
+    /* scale channels (some exporters write them) and a joint with two End Sites, each named (the
+     * second's brace on its line) */
     static const char scaled[] = "HIERARCHY\nROOT s\n{\nOFFSET 0 0 0\nCHANNELS 2 Yrotation Xscale\n"
-                                 "End Site\n{\nOFFSET 1 0 0\n}\nEnd Site\n{\nOFFSET 0 1 0\n}\n}\n"
+                                 "End Site\n{\nOFFSET 1 0 0\n}\nEnd Site{\nOFFSET 0 1 0\n}\n}\n"
                                  "MOTION\nFrames: 2\nFrame Time: 1\n0 1\n90 2\n";
     if (from_text(scaled, sizeof scaled - 1, &m, &error) != SINEW_OK)
         fail_msg("%s", error.message);
@@ -234,6 +235,7 @@ static void test_broken_files(void **state)
         {"ROOT a", "JOINT a", "a JOINT outside every ROOT", 2},
         {"ROOT a", "ROOT ", "ROOT without a name", 2},
         {"End Site", "End Sight", "\"End Sight\" where \"End Site\" should be", 10},
+        {"End Site", "End", "\"End\" where \"End Site\" should be", 10},
         {"MOTION", "MOTIONS", "\"MOTIONS\" in the HIERARCHY", 16},
         {"MOTION\nFrames: 2\nFrame Time: 0.1\n0 0 0 0\n1 0 0 90\n", "", "the file ends in its HIERARCHY", 16},
         {"Frames: 2", "Frames: -2", "not a whole number of frames", 17},
