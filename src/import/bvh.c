@@ -119,7 +119,7 @@ static bool is(const char *t, size_t n, const char *word)
 static sinew_result number_of(bvh *b, const char *t, size_t n, double *out)
 {
     const char *stop;
-    if (decimal_scan(t, &stop, out) != 1 || stop != t + n) {
+    if (decimal_scan_within(t, b->end, &stop, out) != 1 || stop != t + n) {
         char *e;
         *out = strtod(t, &e); /* the wider grammar: "+1", ".5", "1.", more digits; the text ends in a NUL */
         if (e != t + n)
@@ -128,6 +128,28 @@ static sinew_result number_of(bvh *b, const char *t, size_t n, double *out)
     if (!(fabs(*out) <= FLT_MAX))
         return bad(b, "\"%.*s\" is not a finite number a float holds", quoted(n), t);
     return SINEW_OK;
+}
+
+/* The next number of a frame, read where it starts (no token found first: a frame's numbers are
+ * most of a file); *ended when the text has ended instead. */
+static sinew_result frame_number(bvh *b, double *out, bool *ended)
+{
+    const char *p = b->p;
+    for (; p < b->end && space(*p); p++)
+        b->line += *p == '\n';
+    b->p = p;
+    *ended = p == b->end || !*p;
+    if (*ended)
+        return SINEW_OK;
+    const char *stop;
+    if (decimal_scan_within(p, b->end, &stop, out) == 1 && (stop == b->end || !*stop || space(*stop)) &&
+        fabs(*out) <= FLT_MAX) {
+        b->p = stop;
+        return SINEW_OK;
+    }
+    const char *t;
+    size_t n = token(b, &t);
+    return number_of(b, t, n, out);
 }
 
 static sinew_result number(bvh *b, double *out)
@@ -416,13 +438,10 @@ static sinew_result read_frames(bvh *b, uint32_t declared, uint32_t frames, doub
         if ((read & 255) == 255 && import_late())
             r = oom(b); /* the import reports its deadline */
         uint32_t c = 0;
-        for (; c < b->channel_count && !r; c++) {
-            const char *t;
-            size_t n = token(b, &t);
-            if (!n) /* the file ends inside this frame */
-                break;
-            r = number_of(b, t, n, &row[c]);
-        }
+        bool ended = false;
+        for (; c < b->channel_count && !r && !ended; c++)
+            r = frame_number(b, &row[c], &ended);
+        c -= ended; /* the file ends inside this frame */
         if (r || c < b->channel_count)
             break;
         for (uint32_t j = 0; j < m->node_count; j++) {

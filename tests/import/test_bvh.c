@@ -1,4 +1,4 @@
-/* sinew's BVH reader: the hand-made fixture (tests/fixtures/two_bone.bvh: channels in mixed orders,
+/* sinew's BVH reader: the hand-made fixture (tests/fixtures/mixed_channels.bvh: channels in mixed orders,
  * position channels on a joint below the root, a joint that does not move, End Sites) posed at
  * each frame against rotation matrices multiplied here in the channels' order; what files in the
  * wild do (lower case, CRLF, a byte order mark, braces on the joint's line, names with spaces,
@@ -88,7 +88,7 @@ static void test_fixture(void **state)
 {
     (void)state;
     char path[1024];
-    sinew_model *m = load_or_fail(fixture_path("two_bone.bvh", path, sizeof path));
+    sinew_model *m = load_or_fail(fixture_path("mixed_channels.bvh", path, sizeof path));
     static const char *const names[6] = {"hips", "thigh", "shin", "EndSite_shin", "still", "EndSite_still"};
     assert_int_equal(m->node_count, 6);
     for (int j = 0; j < 6; j++) {
@@ -268,7 +268,7 @@ static void test_every_prefix(void **state)
     (void)state;
     char src[1024];
     size_t size;
-    char *bytes = read_file(fixture_path("two_bone.bvh", src, sizeof src), &size);
+    char *bytes = read_file(fixture_path("mixed_channels.bvh", src, sizeof src), &size);
     size_t last = size;
     while (last > 0 && strchr(" \t\r\n", bytes[last - 1]))
         last--;
@@ -293,7 +293,8 @@ static void test_every_prefix(void **state)
         warned_about += said;
         sinew_model_free(m);
     }
-    print_message("two_bone.bvh: %u of %zu prefixes refused, %u read with a warning\n", refused, size, warned_about);
+    print_message("mixed_channels.bvh: %u of %zu prefixes refused, %u read with a warning\n", refused, size,
+                  warned_about);
     free(bytes);
 }
 

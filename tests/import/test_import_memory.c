@@ -47,7 +47,7 @@ static void test_every_native_format(void **state)
         {"two_bone_ascii.fbx", NULL, false},    {"two_bone.dae", "dae", false},
         {"two_bone_anim.iqm", NULL, false},     {"two_bone_cubic.gltf", "gltf", false},
         {"blender/robot_walk.dae", NULL, true}, {"assimp/BVH/01_01.bvh", NULL, true},
-        {"two_bone.bvh", "bvh", false},
+        {"mixed_channels.bvh", "bvh", false},
     };
     for (size_t i = 0; i < sizeof cases / sizeof *cases; i++) {
         char path[1024];
