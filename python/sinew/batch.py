@@ -13,7 +13,8 @@ and SHA-256; with --skin the deformed vertices (T,V,3) and triangles; with --pre
 beside it and a contact sheet of every clip in OUTDIR/contact-sheet.png.
 
 OUTDIR/manifest.jsonl has a row per file: status (ok, cached, failed), error text and kind,
-clips, frames, joints, vertices, seconds taken. Each file is imported in sinew's helper
+clips, frames, joints, vertices, seconds taken, warnings. The run ends by printing the failed
+files' errors and the first 20 warnings (a file cut short, weights renormalised, ...). Each file is imported in sinew's helper
 process with a deadline (--timeout) and a memory limit (--memory): a bad, hanging or huge file
 is a failed row, never the end of the run. Outputs are written through temporary files renamed
 into place, and a file is recorded as done only when all its outputs are: a rerun skips files
@@ -373,6 +374,9 @@ def _client(args):
     return Client(cluster), cluster
 
 
+WARNINGS_SHOWN = 20  # warning lines a run prints at its end (the manifest has them all)
+
+
 def run(args) -> int:
     from dask.distributed import as_completed
 
@@ -458,15 +462,23 @@ def run(args) -> int:
         except (OSError, RuntimeError) as e:
             print("sinew batch: no contact sheet: %s" % e, file=sys.stderr)
     failed = [r for r in ordered if r["status"] == "failed"]
+    warned = [r for r in ordered if r["status"] == "ok" and r["warnings"]]
     if not args.quiet:
         for r in failed:  # the library's messages name the file already
             text = r["error"] if r["file"] in (r["error"] or "") else "%s: %s" % (r["file"], r["error"])
             print("sinew batch: %s" % text, file=sys.stderr)
+        # the files read with warnings (frames lost, weights renormalised ...): the first few here,
+        # every one in the manifest; an unchanged file's were said when it was read
+        lines = [w if r["file"] in w else "%s: %s" % (r["file"], w) for r in warned for w in r["warnings"]]
+        for text in lines[:WARNINGS_SHOWN]:
+            print("sinew batch: warning: %s" % text, file=sys.stderr)
+        if len(lines) > WARNINGS_SHOWN:
+            print("sinew batch: %d more warnings, in the manifest" % (len(lines) - WARNINGS_SHOWN), file=sys.stderr)
         done = sum(r["status"] == "ok" for r in ordered)
         cached = sum(r["status"] == "cached" for r in ordered)
-        print("sinew batch: %d files: %d done, %d unchanged, %d failed%s; manifest %s" % (
-            len(ordered), done, cached, len(failed), ", interrupted" if interrupted else "",
-            os.path.join(outdir, "manifest.jsonl")), file=sys.stderr)
+        print("sinew batch: %d files: %d done%s, %d unchanged, %d failed%s; manifest %s" % (
+            len(ordered), done, " (%d with warnings)" % len(warned) if warned else "", cached, len(failed),
+            ", interrupted" if interrupted else "", os.path.join(outdir, "manifest.jsonl")), file=sys.stderr)
     if interrupted:
         return EXIT_INTERRUPTED
     return EXIT_BAD_INPUT if failed else EXIT_OK

@@ -290,6 +290,23 @@ def test_preview_and_contact_sheet(testdata, tmp_path):
     assert sheet[:8] == b"\x89PNG\r\n\x1a\n"
 
 
+def test_warnings_reach_the_user(testdata, tmp_path):
+    """A file read with warnings says so at the end of the run, not only in the manifest; a run
+    with many says how many more the manifest holds."""
+    lib = tmp_path / "lib"
+    lib.mkdir()
+    data = open(os.path.join(testdata, "assimp/BVH/01_01.bvh"), "rb").read()
+    for i in range(22):  # cut inside its MOTION: the whole frames kept, with a warning
+        (lib / ("cut%02d.bvh" % i)).write_bytes(data[: len(data) // 2 + 1000 * i])
+    done = batch(str(lib), "-o", str(tmp_path / "out"), "--workers", "1", "--fps", "10", check=0)
+    shown = [line for line in done.stderr.splitlines() if line.startswith("sinew batch: warning: ")]
+    assert len(shown) == 20 and all("cut" in line and "frames (the" in line for line in shown)
+    assert "sinew batch: 2 more warnings, in the manifest" in done.stderr
+    assert "22 files: 22 done (22 with warnings)" in done.stderr
+    rows = manifest(str(tmp_path / "out"))
+    assert all(r["warnings"] and "ends after" in r["warnings"][0] for r in rows)
+
+
 def test_usage_errors(tmp_path):
     assert batch("-o", str(tmp_path)).returncode == 1
     done = batch(str(tmp_path / "nothing-here"), "-o", str(tmp_path / "o"))
