@@ -17,10 +17,10 @@
  *   rate the inverse, rounded to a whole number within 1%). A joint's rotation channels are
  *   Euler angles in degrees applied in the order written: "Zrotation Xrotation Yrotation" is
  *   Rz * Rx * Ry (intrinsic Z, then X, then Y), as every reader takes them. Its position
- *   channels give its position in its parent, in place of the OFFSET's coordinates they name (as
- *   Blender, Assimp and MotionBuilder read them; three.js adds them to the OFFSET, which is the
- *   same for CMU's roots, whose OFFSETs are zero). Scale channels are the joint's scale. A
- *   channel that does not change is one key.
+ *   channels give its position in its parent, in place of the OFFSET's coordinates they name
+ *   (as Blender and Assimp read them; three.js adds them to the OFFSET, which is the same for
+ *   CMU's roots, whose OFFSETs are zero). Scale channels are the joint's scale. A channel that
+ *   does not change is one key.
  * - the file's units and axes are kept (BVH has no unit; nearly every file is Y up).
  * - keywords are read in any case; numbers may be written as C writes them ("+1", ".5", "1.").
  *   A file that ends before its last frame keeps the whole frames it has, with a warning.
