@@ -115,6 +115,14 @@ double view_frame_rate(const viewer *v)
     return v->play.frame_rate > 0.0 ? v->play.frame_rate : FRAME_RATE;
 }
 
+/* The frame at `time` (s): a thousandth of a frame short of one counts as it (a float time or
+ * duration of a long clip is off by more than that of a millionth: 01_01.bvh's last key, 2,751
+ * frames at 120.0005 fps, is at frame 2750.99994). */
+static double frame_at(const viewer *v, double time)
+{
+    return floor(time * view_frame_rate(v) + 1e-3);
+}
+
 void view_update_timeline(viewer *v)
 {
     if (!v->scale)
@@ -165,13 +173,13 @@ void view_show_time(viewer *v)
     char text[128];
     double rate = view_frame_rate(v);
     snprintf(text, sizeof text, "%6.3f / %.3f s   frame %d / %d at %g fps", v->play.time, view_duration(v),
-             (int)floor(v->play.time * rate + 1e-6), (int)floor(view_duration(v) * rate + 1e-6), rate);
+             (int)frame_at(v, v->play.time), (int)frame_at(v, view_duration(v)), rate);
     gtk_label_set_text(GTK_LABEL(v->time_label), text);
     v->updating = true;
     gtk_range_set_value(GTK_RANGE(v->scale), v->play.time);
     if (v->frame_spin) {
-        gtk_spin_button_set_range(GTK_SPIN_BUTTON(v->frame_spin), 0.0, floor(view_duration(v) * rate + 1e-6));
-        gtk_spin_button_set_value(GTK_SPIN_BUTTON(v->frame_spin), floor(v->play.time * rate + 1e-6));
+        gtk_spin_button_set_range(GTK_SPIN_BUTTON(v->frame_spin), 0.0, frame_at(v, view_duration(v)));
+        gtk_spin_button_set_value(GTK_SPIN_BUTTON(v->frame_spin), frame_at(v, v->play.time));
     }
     v->updating = false;
 }
@@ -975,8 +983,7 @@ static gboolean on_key(GtkEventControllerKey *controller, guint key, guint code,
     case ACTION_NEXT_FRAME:
         set_playing(v, false);
         /* from the frame the time is in (3.034 s at 24 fps is in frame 72: on to 73, back to 71) */
-        set_time(v, (floor(v->play.time * view_frame_rate(v) + 1e-6) + (action == ACTION_NEXT_FRAME ? 1 : -1)) /
-                        view_frame_rate(v));
+        set_time(v, (frame_at(v, v->play.time) + (action == ACTION_NEXT_FRAME ? 1 : -1)) / view_frame_rate(v));
         return TRUE;
     case ACTION_FIRST:
         set_time(v, 0.0);

@@ -269,7 +269,9 @@ class Clip:
         fps = float(fps or self.frame_rate)
         if not fps > 0:
             raise ArgumentError("fps must be positive, not %r" % fps)
-        count = int(np.floor(self.duration * fps + 1e-4)) + 1
+        # a thousandth of a frame short of the end counts as the end: a long clip's float duration
+        # (2,751 frames at 120.0005 fps: 2750.99994) is off by more than rounding in frames
+        count = int(np.floor(self.duration * fps + 1e-3)) + 1
         return (np.arange(count, dtype=np.float64) / fps).astype(np.float32)
 
     def sample(self, times: Optional[Sequence[float]] = None, fps: Optional[float] = None,

@@ -221,6 +221,17 @@ def test_truncated_file_is_an_error(testdata, tmp_path):
     assert "cut.fbx" in str(e.value)
 
 
+def test_motion_capture_frames_on_its_keys(testdata):
+    """A BVH clip's frame rate is its Frame Time's inverse as written (CMU's 0.0083333 s: 120.0005),
+    so its frames at that rate are its keys, all 2,752 of them: at 120 they would drift off the keys
+    and miss the last."""
+    clip = sinew.load(model_path(testdata, "assimp/BVH/01_01.bvh")).clips[0]
+    assert abs(clip.frame_rate - 1 / 0.0083333) < 1e-3
+    times = clip.times()
+    assert len(times) == 2752 and abs(times[-1] - clip.duration) < 1e-5
+    assert np.abs(times - np.arange(2752) * 0.0083333).max() < 1e-5
+
+
 def test_load_bytes(testdata):
     path = model_path(testdata, "gltf-samples/Fox.glb")
     with open(path, "rb") as f:

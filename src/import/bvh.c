@@ -14,7 +14,7 @@
  *   second End Site "EndSite_NAME_2"), so that the last bone of each chain has its length. Names
  *   are the rest of the ROOT or JOINT line (spaces kept). The rest pose is the OFFSETs, unrotated.
  * - the frames are one clip, "Motion", a linear key a frame at `Frame Time` apart (its frame
- *   rate the inverse, rounded to a whole number within 1%). A joint's rotation channels are
+ *   rate the inverse, as written). A joint's rotation channels are
  *   Euler angles in degrees applied in the order written: "Zrotation Xrotation Yrotation" is
  *   Rz * Rx * Ry (intrinsic Z, then X, then Y), as every reader takes them. Its position
  *   channels give its position in its parent, in place of the OFFSET's coordinates they name
@@ -497,8 +497,10 @@ static sinew_result read_frames(bvh *b, uint32_t declared, uint32_t frames, doub
         raw_clip_free(clip);
         m->clip_count = 0;
     }
-    double rate = 1.0 / frame_time;
-    clip->frame_rate = (float)(fabs(rate - round(rate)) <= 0.01 * rate ? round(rate) : rate);
+    /* the rate as written, not rounded (CMU's 0.0083333 s is 120.0005 a second): sampling at the
+     * clip's frame rate then lands on its keys, the last included, where 120 would drift off them
+     * (by 1% of a frame at 01_01.bvh's end) and miss the last */
+    clip->frame_rate = (float)(1.0 / frame_time);
     free(row);
     free(track_of);
     return r;
