@@ -1216,10 +1216,10 @@ static void on_open(GtkButton *button, gpointer data)
                                                                GTK_FILE_CHOOSER_ACTION_OPEN, "_Open", "_Cancel");
     GtkFileFilter *models = gtk_file_filter_new();
     gtk_file_filter_set_name(models, "Animated models");
-    static const char *const patterns[] = {"*.dae", "*.gltf", "*.glb",   "*.fbx", "*.bvh", "*.x", "*.md5mesh",
-                                           "*.smd", "*.iqm",  "*.sinew", "*.DAE", "*.FBX", "*.X"};
-    for (size_t i = 0; i < sizeof patterns / sizeof patterns[0]; i++)
-        gtk_file_filter_add_pattern(models, patterns[i]);
+    /* suffixes match in any case (GTK 4.4): WALK.BVH as walk.bvh */
+    static const char *const suffixes[] = {"dae", "gltf", "glb", "fbx", "bvh", "x", "md5mesh", "smd", "iqm", "sinew"};
+    for (size_t i = 0; i < sizeof suffixes / sizeof suffixes[0]; i++)
+        gtk_file_filter_add_suffix(models, suffixes[i]);
     gtk_file_chooser_add_filter(GTK_FILE_CHOOSER(dialog), models);
     GtkFileFilter *all = gtk_file_filter_new();
     gtk_file_filter_set_name(all, "All files");
