@@ -36,6 +36,7 @@
 #include <string.h>
 #include <strings.h>
 
+#include "../core/internal.h" /* sinew_channel_width */
 #include "decimal.h"
 #include "internal.h"
 #include "alloc.h" /* last: the readers' allocations are the import's (alloc.h) */
@@ -43,13 +44,17 @@
 #define MAX_DEPTH 1024u          /* nested joints: deeper is a hostile file, not a skeleton */
 #define MAX_CHANNELS_A_JOINT 64u /* 6 in practice; a count past this is not a BVH file */
 
+/* A channel's kind: CH_* / 3 is its SINEW_CHANNEL_* (translation, rotation, scale), CH_* % 3 its axis. */
 enum { CH_XPOS, CH_YPOS, CH_ZPOS, CH_XROT, CH_YROT, CH_ZROT, CH_XSCALE, CH_YSCALE, CH_ZSCALE, CH_KINDS };
+_Static_assert(CH_XPOS / 3 == SINEW_CHANNEL_TRANSLATION && CH_XROT / 3 == SINEW_CHANNEL_ROTATION &&
+                   CH_XSCALE / 3 == SINEW_CHANNEL_SCALE,
+               "CH_* / 3 is the SINEW_CHANNEL_* kind");
 
 typedef struct bvh_joint {
     uint32_t first_channel, channel_count; /* into bvh.channels */
     bool end_site;
-    bool position, rotation, scale; /* has a position / rotation / scale channel */
-    uint32_t end_sites;             /* End Sites below it so far (the second is named "EndSite_NAME_2") */
+    bool has[SINEW_CHANNEL_COUNT]; /* a channel of each kind (translation, rotation, scale) */
+    uint32_t end_sites;            /* End Sites below it so far (the second is named "EndSite_NAME_2") */
 } bvh_joint;
 
 typedef struct bvh {
@@ -96,13 +101,26 @@ static bool space(char c)
     return c == ' ' || c == '\t' || c == '\r' || c == '\n' || c == '\v' || c == '\f';
 }
 
-/* The next token (a run of bytes that are not white space): its start and length; 0 at the end. */
-static size_t token(bvh *b, const char **start)
+/* Past the white space at b->p, counting its lines. */
+static void skip_space(bvh *b)
 {
     const char *p = b->p;
     for (; p < b->end && space(*p); p++)
         b->line += *p == '\n';
-    const char *s = p;
+    b->p = p;
+}
+
+/* A UTF-8 byte order mark's length at the start of `text`: 3 or 0. */
+static size_t bom_length(const unsigned char *text, size_t size)
+{
+    return size >= 3 && memcmp(text, "\xEF\xBB\xBF", 3) == 0 ? 3 : 0;
+}
+
+/* The next token (a run of bytes that are not white space): its start and length; 0 at the end. */
+static size_t token(bvh *b, const char **start)
+{
+    skip_space(b);
+    const char *p = b->p, *s = p;
     while (p < b->end && !space(*p) && *p)
         p++;
     b->p = p;
@@ -134,10 +152,8 @@ static sinew_result number_of(bvh *b, const char *t, size_t n, double *out)
  * most of a file); *ended when the text has ended instead. */
 static sinew_result frame_number(bvh *b, double *out, bool *ended)
 {
+    skip_space(b);
     const char *p = b->p;
-    for (; p < b->end && space(*p); p++)
-        b->line += *p == '\n';
-    b->p = p;
     *ended = p == b->end || !*p;
     if (*ended)
         return SINEW_OK;
@@ -274,9 +290,7 @@ static sinew_result read_channels(bvh *b, uint32_t node)
         }
         b->channels[b->channel_count++] = (uint8_t)kind;
         j->channel_count++;
-        j->position |= kind <= CH_ZPOS;
-        j->rotation |= kind >= CH_XROT && kind <= CH_ZROT;
-        j->scale |= kind >= CH_XSCALE;
+        j->has[kind / 3] = true;
     }
     return SINEW_OK;
 }
@@ -382,12 +396,12 @@ static void turn(double q[4], int axis, double degrees)
     q[0] = x, q[1] = y, q[2] = z, q[3] = w;
 }
 
-/* A channel of `keys` keys a frame apart, times filled in, values left for the caller. */
-static bool even_channel(raw_channel *c, uint32_t keys, uint32_t width, double frame_time)
+/* A channel of `kind` with `keys` keys a frame apart, times filled in, values left for the caller. */
+static bool even_channel(raw_channel *c, int kind, uint32_t keys, double frame_time)
 {
     *c = (raw_channel){.interp = SINEW_INTERP_LINEAR, .count = keys, .finite = true};
     c->times = malloc(((size_t)keys + 1) * sizeof *c->times);
-    c->values = malloc(((size_t)keys + 1) * width * sizeof *c->values);
+    c->values = malloc(((size_t)keys + 1) * sinew_channel_width(kind) * sizeof *c->values);
     if (!c->times || !c->values)
         return false;
     for (uint32_t k = 0; k < keys; k++)
@@ -395,9 +409,10 @@ static bool even_channel(raw_channel *c, uint32_t keys, uint32_t width, double f
     return true;
 }
 
-/* A channel whose keys are all the same becomes one key. */
-static void one_key_if_constant(raw_channel *c, uint32_t width)
+/* A channel of `kind` whose keys are all the same becomes one key. */
+static void one_key_if_constant(raw_channel *c, int kind)
 {
+    uint32_t width = sinew_channel_width(kind);
     for (uint32_t k = 1; k < c->count; k++)
         if (memcmp(c->values + (size_t)k * width, c->values, width * sizeof(float)) != 0)
             return;
@@ -428,10 +443,9 @@ static sinew_result read_frames(bvh *b, uint32_t declared, uint32_t frames, doub
         track_of[j] = clip->track_count;
         raw_track *track = &clip->tracks[clip->track_count++];
         track->node = j;
-        if ((joint->position && !even_channel(&track->channels[SINEW_CHANNEL_TRANSLATION], frames, 3, frame_time)) ||
-            (joint->rotation && !even_channel(&track->channels[SINEW_CHANNEL_ROTATION], frames, 4, frame_time)) ||
-            (joint->scale && !even_channel(&track->channels[SINEW_CHANNEL_SCALE], frames, 3, frame_time)))
-            r = oom(b);
+        for (int k = 0; k < SINEW_CHANNEL_COUNT && !r; k++)
+            if (joint->has[k] && !even_channel(&track->channels[k], k, frames, frame_time))
+                r = oom(b);
     }
     uint32_t read = 0;
     for (; read < frames && !r; read++) {
@@ -449,28 +463,21 @@ static sinew_result read_frames(bvh *b, uint32_t declared, uint32_t frames, doub
             if (!joint->channel_count)
                 continue;
             raw_track *track = &clip->tracks[track_of[j]];
-            double t[3] = {m->node_rest[j].translation[0], m->node_rest[j].translation[1],
-                           m->node_rest[j].translation[2]};
-            double q[4] = {0, 0, 0, 1}, scale[3] = {1, 1, 1};
+            const float *rest = m->node_rest[j].translation;
+            double value[SINEW_CHANNEL_COUNT][4] = {{rest[0], rest[1], rest[2]}, {0, 0, 0, 1}, {1, 1, 1}};
             for (uint32_t i = 0; i < joint->channel_count; i++) {
                 int kind = b->channels[joint->first_channel + i];
                 double v = row[joint->first_channel + i];
-                if (kind <= CH_ZPOS)
-                    t[kind] = v;
-                else if (kind <= CH_ZROT)
-                    turn(q, kind - CH_XROT, v);
-                else
-                    scale[kind - CH_XSCALE] = v;
+                if (kind / 3 == SINEW_CHANNEL_ROTATION)
+                    turn(value[SINEW_CHANNEL_ROTATION], kind % 3, v);
+                else /* a position replaces the OFFSET's coordinate; a scale, 1 */
+                    value[kind / 3][kind % 3] = v;
             }
-            if (joint->position)
-                for (int i = 0; i < 3; i++)
-                    track->channels[SINEW_CHANNEL_TRANSLATION].values[(size_t)read * 3 + i] = (float)t[i];
-            if (joint->rotation)
-                for (int i = 0; i < 4; i++)
-                    track->channels[SINEW_CHANNEL_ROTATION].values[(size_t)read * 4 + i] = (float)q[i];
-            if (joint->scale)
-                for (int i = 0; i < 3; i++)
-                    track->channels[SINEW_CHANNEL_SCALE].values[(size_t)read * 3 + i] = (float)scale[i];
+            for (int k = 0; k < SINEW_CHANNEL_COUNT; k++) {
+                uint32_t width = sinew_channel_width(k);
+                for (uint32_t i = 0; joint->has[k] && i < width; i++)
+                    track->channels[k].values[(size_t)read * width + i] = (float)value[k][i];
+            }
         }
     }
     if (!r && read < declared) {
@@ -488,9 +495,8 @@ static sinew_result read_frames(bvh *b, uint32_t declared, uint32_t frames, doub
                         frames))
         r = oom(b);
     for (uint32_t i = 0; i < clip->track_count && !r; i++) {
-        one_key_if_constant(&clip->tracks[i].channels[SINEW_CHANNEL_TRANSLATION], 3);
-        one_key_if_constant(&clip->tracks[i].channels[SINEW_CHANNEL_ROTATION], 4);
-        one_key_if_constant(&clip->tracks[i].channels[SINEW_CHANNEL_SCALE], 3);
+        for (int k = 0; k < SINEW_CHANNEL_COUNT; k++)
+            one_key_if_constant(&clip->tracks[i].channels[k], k);
     }
     clip->duration = read ? (float)((read - 1) * frame_time) : 0.0f;
     if (!r && read == 0) { /* no whole frame: no clip */
@@ -508,7 +514,7 @@ static sinew_result read_frames(bvh *b, uint32_t declared, uint32_t frames, doub
 
 bool bvh_sniff(const unsigned char *head, size_t size)
 {
-    size_t i = size >= 3 && memcmp(head, "\xEF\xBB\xBF", 3) == 0 ? 3 : 0; /* a UTF-8 byte order mark */
+    size_t i = bom_length(head, size);
     while (i < size && space((char)head[i]))
         i++;
     return size - i >= 9 && strncasecmp((const char *)head + i, "HIERARCHY", 9) == 0 &&
@@ -530,8 +536,7 @@ sinew_result raw_model_from_bvh(const char *path, const unsigned char *bytes, si
         copy[size] = 0;
     }
     const char *text = copy ? copy : (const char *)bytes;
-    size_t bom = size >= 3 && memcmp(text, "\xEF\xBB\xBF", 3) == 0 ? 3 : 0;
-    b.p = text + bom;
+    b.p = text + bom_length((const unsigned char *)text, size);
     b.end = text + size;
     model->source = strdup(path);
     model->format = strdup("bvh");
