@@ -377,6 +377,11 @@ def _client(args):
 WARNINGS_SHOWN = 20  # warning lines a run prints at its end (the manifest has them all)
 
 
+def _naming(path, text):
+    """A message with its file's path before it, unless it names the file already (the library's do)."""
+    return text if path in (text or "") else "%s: %s" % (path, text)
+
+
 def run(args) -> int:
     from dask.distributed import as_completed
 
@@ -464,12 +469,11 @@ def run(args) -> int:
     failed = [r for r in ordered if r["status"] == "failed"]
     warned = [r for r in ordered if r["status"] == "ok" and r["warnings"]]
     if not args.quiet:
-        for r in failed:  # the library's messages name the file already
-            text = r["error"] if r["file"] in (r["error"] or "") else "%s: %s" % (r["file"], r["error"])
-            print("sinew batch: %s" % text, file=sys.stderr)
+        for r in failed:
+            print("sinew batch: %s" % _naming(r["file"], r["error"]), file=sys.stderr)
         # the files read with warnings (frames lost, weights renormalised ...): the first few here,
         # every one in the manifest; an unchanged file's were said when it was read
-        lines = [w if r["file"] in w else "%s: %s" % (r["file"], w) for r in warned for w in r["warnings"]]
+        lines = [_naming(r["file"], w) for r in warned for w in r["warnings"]]
         for text in lines[:WARNINGS_SHOWN]:
             print("sinew batch: warning: %s" % text, file=sys.stderr)
         if len(lines) > WARNINGS_SHOWN:
