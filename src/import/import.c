@@ -337,32 +337,23 @@ static sinew_result named(sinew_result result, const char *path, sinew_error *er
  * what the bytes look like. */
 static reader_choice choose_memory_reader(const unsigned char *bytes, size_t size, const char *format)
 {
+    /* by name, and told from the bytes in this order (a .gltf's JSON has no mark of its own) */
     static const struct {
         const char *name;
         file_reader read;
         const char *reader;
-    } BY_NAME[] = {
-        {"fbx", raw_model_from_fbx, "sinew's FBX reader"},   {"gltf", raw_model_from_gltf, "sinew's glTF reader"},
-        {"glb", raw_model_from_gltf, "sinew's glTF reader"}, {"dae", raw_model_from_collada, "sinew's COLLADA reader"},
-        {"iqm", raw_model_from_iqm, "sinew's IQM reader"},   {"bvh", raw_model_from_bvh, "sinew's BVH reader"}};
-    if (format) {
-        const char *f = format[0] == '.' ? format + 1 : format;
-        for (size_t i = 0; i < sizeof BY_NAME / sizeof *BY_NAME; i++)
-            if (strcasecmp(f, BY_NAME[i].name) == 0)
-                return (reader_choice){BY_NAME[i].read, BY_NAME[i].reader, NULL};
-        return (reader_choice){NULL, NULL, NULL};
-    }
+        bool (*sniff)(const unsigned char *head, size_t size);
+    } FORMATS[] = {{"fbx", raw_model_from_fbx, "sinew's FBX reader", fbx_sniff},
+                   {"gltf", raw_model_from_gltf, "sinew's glTF reader", NULL},
+                   {"glb", raw_model_from_gltf, "sinew's glTF reader", gltf_sniff},
+                   {"iqm", raw_model_from_iqm, "sinew's IQM reader", iqm_sniff},
+                   {"dae", raw_model_from_collada, "sinew's COLLADA reader", collada_sniff},
+                   {"bvh", raw_model_from_bvh, "sinew's BVH reader", bvh_sniff}};
+    const char *f = format && format[0] == '.' ? format + 1 : format;
     size_t head = size < 1024 ? size : 1024;
-    if (fbx_sniff(bytes, head))
-        return (reader_choice){raw_model_from_fbx, "sinew's FBX reader", NULL};
-    if (gltf_sniff(bytes, head))
-        return (reader_choice){raw_model_from_gltf, "sinew's glTF reader", NULL};
-    if (iqm_sniff(bytes, head))
-        return (reader_choice){raw_model_from_iqm, "sinew's IQM reader", NULL};
-    if (collada_sniff(bytes, head))
-        return (reader_choice){raw_model_from_collada, "sinew's COLLADA reader", NULL};
-    if (bvh_sniff(bytes, head))
-        return (reader_choice){raw_model_from_bvh, "sinew's BVH reader", NULL};
+    for (size_t i = 0; i < sizeof FORMATS / sizeof *FORMATS; i++)
+        if (f ? strcasecmp(f, FORMATS[i].name) == 0 : FORMATS[i].sniff && FORMATS[i].sniff(bytes, head))
+            return (reader_choice){FORMATS[i].read, FORMATS[i].reader, NULL};
     return (reader_choice){NULL, NULL, NULL};
 }
 
