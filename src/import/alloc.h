@@ -6,8 +6,8 @@
  * its readers hold (malloc_usable_size, so memory freed by plain free() elsewhere, or given by a
  * caller's read_file callback, mixes safely), refuses an allocation past its byte limit, and can
  * be told to fail its k-th allocation (the allocation-failure sweep of the tests, as ufbx's
- * runner does). Outside an import these are malloc and friends. What libxml2, cJSON (muscle files)
- * and Assimp allocate themselves is not counted. When the sweep finds a failure, build alloc.c with
+ * runner does). Outside an import these are malloc and friends. What libxml2 and Assimp allocate
+ * themselves is not counted. When the sweep finds a failure, build alloc.c with
  * -DSINEW_ALLOC_TRACE -rdynamic: the failed allocation prints its call stack on stderr. */
 #ifndef SINEW_IMPORT_ALLOC_H
 #define SINEW_IMPORT_ALLOC_H

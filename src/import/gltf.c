@@ -385,7 +385,7 @@ static sinew_result load_document(gltf *g)
     }
     size_t offset;
     const char *why;
-    sinew_result parsed = json_parse(text, text_size, &g->doc, &offset, &why);
+    sinew_result parsed = json_parse(text, text_size, false, &g->doc, &offset, &why);
     if (parsed == SINEW_ERROR_OUT_OF_MEMORY)
         return oom(g);
     g->json = g->doc.root;

@@ -161,6 +161,91 @@ static bool number(const char *p, int len, double *out)
     return end == p + len;
 }
 
+/* The first comma or colon in text[from, to), else to: eight bytes at a time over the indents of
+ * pretty-printed files. */
+static int next_separator(const char *text, int from, int to)
+{
+    const uint64_t ones = 0x0101010101010101u, highs = 0x8080808080808080u;
+    for (; from + 8 <= to; from += 8) {
+        uint64_t w, comma, colon;
+        memcpy(&w, text + from, 8);
+        comma = w ^ (ones * ','), colon = w ^ (ones * ':');
+        if (((comma - ones) & ~comma & highs) | ((colon - ones) & ~colon & highs))
+            break; /* the byte loop below finds which */
+    }
+    while (from < to && text[from] != ',' && text[from] != ':')
+        from++;
+    return from;
+}
+
+/* A key (a string member of an object) that jsmn gave no value: what a gap without its colon or
+ * a colon without its value means after one. */
+static bool dangling_key(const jsmntok_t *tok, const jsmntok_t *t)
+{
+    return t->type == JSMN_STRING && t->size == 0 && t->parent >= 0 && tok[t->parent].type == JSMN_OBJECT;
+}
+
+/* The commas and colons jsmn does not check, in the gap before token i (i == n: after the last):
+ * after an object's or array's opening bracket nothing, after a key one colon, after a sibling
+ * one comma (closing brackets between), after the last token nothing; nothing inside an empty
+ * object or array either. False with *bad and *why at the first that is missing, doubled or out
+ * of place. (A string with a value that is not a key is convert()'s to refuse.) */
+static bool gap_ok(const char *text, size_t size, const jsmntok_t *tok, int i, int n, size_t *bad, const char **why)
+{
+    const jsmntok_t *p = &tok[i - 1];
+    int from, to = i < n ? tok[i].start - (tok[i].type == JSMN_STRING) : (int)size;
+    char want = 0;
+    if (i < n && tok[i].parent < 0) {
+        *bad = (size_t)to;
+        *why = "more than one value at the top level";
+        return false;
+    } else if (i < n && tok[i].parent == i - 1) { /* a key's value, or an object's or array's first child */
+        if (p->type == JSMN_PRIMITIVE) {
+            *bad = (size_t)p->end; /* jsmn took a colon after a value */
+            *why = "a colon out of place";
+            return false;
+        }
+        from = p->type == JSMN_STRING ? p->end + 1 : p->start + 1;
+        want = p->type == JSMN_STRING ? ':' : 0;
+    } else { /* after a value, its subtree and the brackets closing after it */
+        if ((p->type == JSMN_OBJECT || p->type == JSMN_ARRAY) && p->size == 0) {
+            int inside = next_separator(text, p->start + 1, p->end - 1);
+            if (inside < p->end - 1) {
+                *bad = (size_t)inside;
+                *why = "a separator without a value";
+                return false;
+            }
+        }
+        from = p->type == JSMN_STRING ? p->end + 1 : p->end;
+        want = i < n ? ',' : 0;
+    }
+    if (to - from == (want != 0) && (!want || text[from] == want))
+        return true; /* most gaps: the separator alone, or nothing */
+    int k = next_separator(text, from, to);
+    if (k == to ? !want : text[k] == want && (k = next_separator(text, k + 1, to)) == to)
+        return true; /* the separator wanted, and no other */
+    if (dangling_key(tok, p)) {
+        *bad = after_key(text, size, p->end);
+        *why = "a member without a value";
+    } else if (k == to) {
+        *bad = (size_t)to;
+        *why = want == ',' ? "a comma missing before this value" : "a colon missing before this value";
+    } else {
+        *bad = (size_t)k;
+        *why = text[k] == ',' ? "a comma without a value" : "a colon out of place";
+    }
+    return false;
+}
+
+/* gap_ok() before every token and after the last. */
+static bool separators(const char *text, size_t size, const jsmntok_t *tok, int n, size_t *bad, const char **why)
+{
+    for (int i = 1; i <= n; i++)
+        if (!gap_ok(text, size, tok, i, n, bad, why))
+            return false;
+    return true;
+}
+
 /* The tokens as nodes; false with *bad and *why when a token is not JSON. */
 static bool convert(char *text, size_t size, const jsmntok_t *tok, int n, json_node *nodes, size_t *bad,
                     const char **why)
@@ -174,9 +259,14 @@ static bool convert(char *text, size_t size, const jsmntok_t *tok, int n, json_n
             node->count = (uint32_t)t->size;
         } else if (t->type == JSMN_STRING) {
             bool key = t->parent >= 0 && tok[t->parent].type == JSMN_OBJECT;
-            if (key && t->size != 1) {
+            if (key && t->size != 1) { /* more than one: a comma missing (jsmn made the next member its value) */
                 *bad = after_key(text, size, t->end);
                 *why = "a member without a value";
+                return false;
+            }
+            if (!key && t->size != 0) { /* ["a": 1] */
+                *bad = (size_t)t->end + 1;
+                *why = "a colon out of place";
                 return false;
             }
             int at;
@@ -211,7 +301,8 @@ static bool convert(char *text, size_t size, const jsmntok_t *tok, int n, json_n
     return true;
 }
 
-sinew_result json_parse(const char *source, size_t size, json_doc *doc, size_t *error_offset, const char **why)
+sinew_result json_parse(const char *source, size_t size, bool by_hand, json_doc *doc, size_t *error_offset,
+                        const char **why)
 {
     *doc = (json_doc){0};
     *error_offset = 0;
@@ -253,7 +344,8 @@ sinew_result json_parse(const char *source, size_t size, json_doc *doc, size_t *
     } else if (!(doc->root = import_large_alloc((size_t)n * sizeof *doc->root, IMPORT_PAGES_MIN))) {
         result = SINEW_ERROR_OUT_OF_MEMORY;
     } else {
-        if (!convert(doc->text, size, tokens, n, doc->root, error_offset, why))
+        if ((by_hand && !separators(doc->text, size, tokens, n, error_offset, why)) ||
+            !convert(doc->text, size, tokens, n, doc->root, error_offset, why))
             result = SINEW_ERROR_FORMAT;
     }
     free(tokens);

@@ -1,13 +1,13 @@
-/* JSON for the glTF reader: jsmn's flat tokenizer (the one cgltf uses), then one pass that
- * turns its tokens into one array of nodes: strings unescaped in place and NUL-terminated,
- * numbers read exactly (Clinger's fast path, else strtod in the C locale), each node knowing how many nodes its
- * subtree holds, so that an object's members and an array's elements are found by stepping over
- * subtrees: no allocation a value, no pointers to chase.
+/* JSON for the library's readers (glTF, muscle files, name maps): jsmn's flat tokenizer (the one
+ * cgltf uses), then one pass that turns its tokens into one array of nodes: strings unescaped in
+ * place and NUL-terminated, numbers read exactly (Clinger's fast path, else strtod in the C
+ * locale), each node knowing how many nodes its subtree holds, so that an object's members and an
+ * array's elements are found by stepping over subtrees: no allocation a value, no pointers to chase.
  *
  * Stricter than jsmn alone: a member without a value, a literal other than true, false or null,
  * a number outside RFC 8259's grammar (01, 1., .5, +1, 0x10, inf), more than one top-level value
- * and a control character in a string are refused with the byte offset. (jsmn still lets a missing comma between values
- * pass, as cgltf does.) */
+ * and a control character in a string are refused with the byte offset; in text written by hand
+ * (json_parse's by_hand), a comma or colon missing, doubled or out of place too. */
 #ifndef SINEW_IMPORT_JSON_H
 #define SINEW_IMPORT_JSON_H
 
@@ -46,8 +46,13 @@ typedef struct json_doc {
 } json_doc;
 
 /* Parses `size` bytes of JSON. SINEW_ERROR_FORMAT with *error_offset (bytes into the text) and
- * `why` when it is not JSON, SINEW_ERROR_OUT_OF_MEMORY, else SINEW_OK. Free with json_free(). */
-sinew_result json_parse(const char *text, size_t size, json_doc *doc, size_t *error_offset, const char **why);
+ * `why` when it is not JSON, SINEW_ERROR_OUT_OF_MEMORY, else SINEW_OK. Free with json_free().
+ * by_hand: text people write (muscle files, name maps), whose commas and colons are checked too,
+ * where jsmn reads [1 2] as [1, 2] and lets [1,,2] and [1,] pass. A program's output (glTF) is
+ * left to jsmn, as cgltf leaves it: the check cost 3-5% of a glTF file's import, for files that
+ * read as their writer meant. */
+sinew_result json_parse(const char *text, size_t size, bool by_hand, json_doc *doc, size_t *error_offset,
+                        const char **why);
 void json_free(json_doc *doc);
 
 /* An object's member by key (the first of that name), NULL when absent or not an object. */

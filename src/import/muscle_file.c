@@ -1,9 +1,8 @@
-/* Muscle files: JSON through cJSON, validated field by field; errors point at the line and
- * column of the offending field, found by walking the text along the field's path (cJSON
- * keeps no positions).
+/* Muscle files: JSON through the library's reader (json.h), validated field by field; errors
+ * name the field's path and point at the line and column where its value starts (or, for a
+ * missing field, its object).
  *
- * Index: positions in the text - error messages - field readers - sizing and copying into
- * one block - public functions.
+ * Index: error messages - field readers - sizing and copying into one block - public functions.
  */
 #include <errno.h>
 #include <math.h>
@@ -13,14 +12,11 @@
 #include <string.h>
 #include <sys/stat.h>
 
-#include <cjson/cJSON.h>
-
 #include "../core/internal.h"
 #include "internal.h"
+#include "json.h"
 #include "sinew/arm.h"
 #include "sinew/muscle_file.h"
-
-/* ---- positions in the text --------------------------------------------------------------- */
 
 /* One step of a path into the document: an object key, or an array index when key is NULL. */
 typedef struct path_step {
@@ -28,88 +24,15 @@ typedef struct path_step {
     int index;
 } path_step;
 
-static size_t skip_space(const char *t, size_t n, size_t p)
-{
-    while (p < n && (t[p] == ' ' || t[p] == '\t' || t[p] == '\n' || t[p] == '\r'))
-        p++;
-    return p;
-}
-
-/* p at the opening quote; returns just past the closing one. */
-static size_t skip_string(const char *t, size_t n, size_t p)
-{
-    for (p++; p < n && t[p] != '"'; p++)
-        if (t[p] == '\\')
-            p++;
-    return p < n ? p + 1 : n;
-}
-
-static size_t skip_value(const char *t, size_t n, size_t p)
-{
-    p = skip_space(t, n, p);
-    if (p >= n)
-        return n;
-    if (t[p] == '"')
-        return skip_string(t, n, p);
-    if (t[p] == '{' || t[p] == '[') {
-        int depth = 0;
-        for (; p < n; p++) {
-            if (t[p] == '"') {
-                p = skip_string(t, n, p) - 1;
-            } else if (t[p] == '{' || t[p] == '[') {
-                depth++;
-            } else if ((t[p] == '}' || t[p] == ']') && --depth == 0) {
-                return p + 1;
-            }
-        }
-        return n;
-    }
-    while (p < n && !strchr(",]} \t\r\n", t[p]))
-        p++;
-    return p;
-}
-
-/* Offset of the value (or, for a missing last key, of its object) at `path`. */
-static size_t locate(const char *t, size_t n, const path_step *path, int depth)
-{
-    size_t p = skip_space(t, n, 0);
-    for (int d = 0; d < depth && p < n; d++) {
-        char open = path[d].key ? '{' : '[';
-        if (t[p] != open)
-            return p;
-        size_t container = p;
-        p = skip_space(t, n, p + 1);
-        bool found = false;
-        for (int i = 0; p < n && t[p] != (open == '{' ? '}' : ']'); i++) {
-            if (open == '{') {
-                size_t key = p + 1, key_end = skip_string(t, n, p);
-                size_t len = key_end - key - 1;
-                found = strlen(path[d].key) == len && strncmp(t + key, path[d].key, len) == 0;
-                p = skip_space(t, n, key_end);
-                p = skip_space(t, n, p + 1); /* past ':' */
-            } else {
-                found = i == path[d].index;
-            }
-            if (found)
-                break;
-            p = skip_space(t, n, skip_value(t, n, p));
-            if (p < n && t[p] == ',')
-                p = skip_space(t, n, p + 1);
-        }
-        if (!found)
-            return container;
-    }
-    return p;
-}
-
 /* ---- messages ---------------------------------------------------------------------------- */
 
 typedef struct reader {
     const char *text;
-    size_t size;
     const char *name;
     sinew_error *error;
+    const json_node *root;
     path_step path[8];
+    const json_node *at[8]; /* the value at each step of the path; NULL where it is missing */
     int depth;
 } reader;
 
@@ -145,18 +68,26 @@ static sinew_result field_error(const reader *r, const char *format, ...)
     vsnprintf(what, sizeof what, format, args);
     va_end(args);
     describe_path(r, where, sizeof where);
-    int line, column;
-    line_column(r->text, locate(r->text, r->size, r->path, r->depth), &line, &column);
+    const json_node *at = r->root; /* the deepest value on the path that is there */
+    for (int d = r->depth - 1; d >= 0; d--)
+        if (r->at[d]) {
+            at = r->at[d];
+            break;
+        }
+    int line, column; /* a string's offset is past its opening quote */
+    line_column(r->text, at->offset - (at->type == JSON_STRING), &line, &column);
     return sinew_fail(r->error, SINEW_ERROR_DATA, "%s:%d:%d: %s: %s", r->name, line, column, where, what);
 }
 
-static void push_key(reader *r, const char *key)
+static void push_key(reader *r, const char *key, const json_node *value)
 {
+    r->at[r->depth] = value;
     r->path[r->depth++] = (path_step){key, 0};
 }
 
-static void push_index(reader *r, int index)
+static void push_index(reader *r, int index, const json_node *value)
 {
+    r->at[r->depth] = value;
     r->path[r->depth++] = (path_step){NULL, index};
 }
 
@@ -167,47 +98,49 @@ static void push_index(reader *r, int index)
 #define MAX_MAGNITUDE SINEW_MUSCLE_MAX_MAGNITUDE
 
 /* Reads a number array of exactly `count` (count > 0) or of 2..max entries (count 0). */
-static sinew_result read_numbers(reader *r, const cJSON *array, uint32_t count, uint32_t max, double *out,
+static sinew_result read_numbers(reader *r, const json_node *array, uint32_t count, uint32_t max, double *out,
                                  uint32_t *got)
 {
-    if (!cJSON_IsArray(array))
+    if (!json_is_array(array))
         return field_error(r, "expected an array of numbers");
-    uint32_t n = (uint32_t)cJSON_GetArraySize(array);
+    uint32_t n = (uint32_t)json_size(array);
     if (count ? n != count : (n < 2 || n > max))
         return count ? field_error(r, "expected %u numbers, found %u", count, n)
                      : field_error(r, "expected 2 to %u numbers (a muscle has at least 2 nodes), found %u", max, n);
     uint32_t i = 0;
-    for (const cJSON *v = array->child; v; v = v->next, i++) {
-        push_index(r, (int)i);
-        if (!cJSON_IsNumber(v) || !isfinite(v->valuedouble))
+    const json_node *v;
+    JSON_FOR_EACH(v, array)
+    {
+        push_index(r, (int)i, v);
+        if (!json_is_number(v) || !isfinite(v->number))
             return field_error(r, "expected a number");
-        if (fabs(v->valuedouble) > MAX_MAGNITUDE)
-            return field_error(r, "%g is out of range (at most %g either way)", v->valuedouble, MAX_MAGNITUDE);
+        if (fabs(v->number) > MAX_MAGNITUDE)
+            return field_error(r, "%g is out of range (at most %g either way)", v->number, MAX_MAGNITUDE);
         r->depth--;
-        out[i] = v->valuedouble;
+        out[i++] = v->number;
     }
     if (got)
         *got = n;
     return SINEW_OK;
 }
 
-static sinew_result read_attachment(reader *r, const cJSON *o, sinew_muscle_attachment *a, const char **joint)
+static sinew_result read_attachment(reader *r, const json_node *o, sinew_muscle_attachment *a, const char **joint)
 {
-    if (!cJSON_IsObject(o))
+    if (!json_is_object(o))
         return field_error(r, "expected {\"joint\": NAME, \"offset\": [x, y, z]}");
     *joint = NULL;
-    const cJSON *j = cJSON_GetObjectItemCaseSensitive(o, "joint");
+    const json_node *j = json_get(o, "joint");
     if (j) {
-        push_key(r, "joint");
-        if (!cJSON_IsString(j) || !j->valuestring[0])
+        push_key(r, "joint", j);
+        if (!json_is_string(j) || !j->string[0])
             return field_error(r, "expected a joint name");
         r->depth--;
-        *joint = j->valuestring;
+        *joint = j->string;
     }
     double offset[3] = {0, 0, 0};
-    const cJSON *off = cJSON_GetObjectItemCaseSensitive(o, "offset");
+    const json_node *off = json_get(o, "offset");
     if (off) {
-        push_key(r, "offset");
+        push_key(r, "offset", off);
         sinew_result result = read_numbers(r, off, 3, 3, offset, NULL);
         if (result != SINEW_OK)
             return result;
@@ -218,10 +151,10 @@ static sinew_result read_attachment(reader *r, const cJSON *o, sinew_muscle_atta
     return SINEW_OK;
 }
 
-static sinew_result read_color(reader *r, const cJSON *c, float out[3])
+static sinew_result read_color(reader *r, const json_node *c, float out[3])
 {
-    if (cJSON_IsString(c)) {
-        const char *s = c->valuestring[0] == '#' ? c->valuestring + 1 : c->valuestring;
+    if (json_is_string(c)) {
+        const char *s = c->string[0] == '#' ? c->string + 1 : c->string;
         if (strlen(s) == 6 && strspn(s, "0123456789abcdefABCDEF") == 6) {
             unsigned long rgb = strtoul(s, NULL, 16);
             for (int i = 0; i < 3; i++)
@@ -246,6 +179,7 @@ static sinew_result read_color(reader *r, const cJSON *c, float out[3])
 typedef struct muscle_draft {
     sinew_muscle_def def;
     const char *origin_joint, *insertion_joint;
+    const json_node *name_node; /* where the name is, for messages */
     double radii[SINEW_MUSCLE_MAX_NODES], coefficients[SINEW_MUSCLE_MAX_NODES];
 } muscle_draft;
 
@@ -277,28 +211,29 @@ static sinew_result check_unique_names(reader *r, muscle_draft *drafts, uint32_t
     free(order);
     if (later == count)
         return SINEW_OK;
-    push_index(r, (int)later);
-    push_key(r, "name");
+    push_index(r, (int)later, NULL);
+    push_key(r, "name", drafts[later].name_node);
     return field_error(r, "\"%s\" is already the name of muscle %u", drafts[later].def.name, first);
 }
 
-static sinew_result read_muscle(reader *r, const cJSON *m, muscle_draft *d)
+static sinew_result read_muscle(reader *r, const json_node *m, muscle_draft *d)
 {
     memset(d, 0, sizeof *d);
     d->def.segments = 16;
     d->def.color[0] = 0.69f, d->def.color[1] = 0.23f, d->def.color[2] = 0.18f;
-    if (!cJSON_IsObject(m))
+    if (!json_is_object(m))
         return field_error(r, "expected a muscle object");
-    const cJSON *name = cJSON_GetObjectItemCaseSensitive(m, "name");
-    push_key(r, "name");
-    if (!cJSON_IsString(name) || !name->valuestring[0])
+    const json_node *name = json_get(m, "name");
+    push_key(r, "name", name);
+    if (!json_is_string(name) || !name->string[0])
         return field_error(r, name ? "expected a non-empty name" : "missing: every muscle needs a name");
     r->depth--;
-    d->def.name = name->valuestring;
+    d->def.name = name->string;
+    d->name_node = name;
     static const char *const ends[2] = {"origin", "insertion"};
     for (int e = 0; e < 2; e++) {
-        const cJSON *o = cJSON_GetObjectItemCaseSensitive(m, ends[e]);
-        push_key(r, ends[e]);
+        const json_node *o = json_get(m, ends[e]);
+        push_key(r, ends[e], o);
         if (!o)
             return field_error(r, "missing: every muscle needs an origin and an insertion");
         sinew_result result =
@@ -307,48 +242,48 @@ static sinew_result read_muscle(reader *r, const cJSON *m, muscle_draft *d)
             return result;
         r->depth--;
     }
-    const cJSON *radii = cJSON_GetObjectItemCaseSensitive(m, "radii");
-    push_key(r, "radii");
+    const json_node *radii = json_get(m, "radii");
+    push_key(r, "radii", radii);
     if (!radii)
         return field_error(r, "missing: the rest radius of every node");
     sinew_result result = read_numbers(r, radii, 0, SINEW_MUSCLE_MAX_NODES, d->radii, &d->def.node_count);
     if (result != SINEW_OK)
         return result;
     for (uint32_t i = 0; i < d->def.node_count; i++) {
-        push_index(r, (int)i);
+        push_index(r, (int)i, json_item(radii, (int)i));
         if (!(d->radii[i] > 0.0))
             return field_error(r, "radius %g must be greater than 0", d->radii[i]);
         r->depth--;
     }
     r->depth--;
-    const cJSON *coefficients = cJSON_GetObjectItemCaseSensitive(m, "coefficients");
-    push_key(r, "coefficients");
+    const json_node *coefficients = json_get(m, "coefficients");
+    push_key(r, "coefficients", coefficients);
     if (!coefficients)
         return field_error(r, "missing: a growth coefficient for every node");
     result = read_numbers(r, coefficients, d->def.node_count, d->def.node_count, d->coefficients, NULL);
     if (result != SINEW_OK)
         return result;
     r->depth--;
-    const cJSON *rest = cJSON_GetObjectItemCaseSensitive(m, "rest_length");
+    const json_node *rest = json_get(m, "rest_length");
     if (rest) {
-        push_key(r, "rest_length");
-        if (!cJSON_IsNumber(rest) || !(rest->valuedouble > 0.0) || !(rest->valuedouble <= MAX_MAGNITUDE))
+        push_key(r, "rest_length", rest);
+        if (!json_is_number(rest) || !(rest->number > 0.0) || !(rest->number <= MAX_MAGNITUDE))
             return field_error(r, "expected a length greater than 0 and at most %g", MAX_MAGNITUDE);
         r->depth--;
-        d->def.rest_length = rest->valuedouble;
+        d->def.rest_length = rest->number;
     }
-    const cJSON *segments = cJSON_GetObjectItemCaseSensitive(m, "segments");
+    const json_node *segments = json_get(m, "segments");
     if (segments) {
-        push_key(r, "segments");
-        if (!cJSON_IsNumber(segments) || segments->valuedouble != floor(segments->valuedouble) ||
-            segments->valuedouble < 3 || segments->valuedouble > 256)
+        push_key(r, "segments", segments);
+        if (!json_is_number(segments) || segments->number != floor(segments->number) || segments->number < 3 ||
+            segments->number > 256)
             return field_error(r, "expected a whole number of segments, 3..256");
         r->depth--;
-        d->def.segments = (uint32_t)segments->valuedouble;
+        d->def.segments = (uint32_t)segments->number;
     }
-    const cJSON *color = cJSON_GetObjectItemCaseSensitive(m, "color");
+    const json_node *color = json_get(m, "color");
     if (color) {
-        push_key(r, "color");
+        push_key(r, "color", color);
         result = read_color(r, color, d->def.color);
         if (result != SINEW_OK)
             return result;
@@ -415,42 +350,62 @@ static sinew_result build_set(const char *name, const muscle_draft *drafts, uint
 
 /* ---- public ----------------------------------------------------------------------------------- */
 
-/* Parses NUL-terminated text; NULL with a FILE:LINE:COLUMN error when it is not JSON. */
-static cJSON *parse_json(const char *text, size_t size, const char *name, sinew_error *error)
+/* Parses `size` bytes of JSON into *doc (SINEW_OK), else a FILE:LINE:COLUMN error. */
+static sinew_result parse_json(const char *text, size_t size, const char *name, json_doc *doc, sinew_error *error)
 {
-    const char *end = NULL;
-    cJSON *root = cJSON_ParseWithOpts(text, &end, true);
-    if (!root) {
+    size_t at = 0;
+    const char *why = "";
+    sinew_result result = json_parse(text, size, true, doc, &at, &why);
+    if (result == SINEW_ERROR_OUT_OF_MEMORY)
+        return sinew_fail(error, result, "%s: out of memory", name);
+    if (result != SINEW_OK) {
         int line, column;
-        size_t at = end && end >= text ? (size_t)(end - text) : 0;
         line_column(text, at > size ? size : at, &line, &column);
-        sinew_fail(error, SINEW_ERROR_FORMAT, "%s:%d:%d: not valid JSON here", name, line, column);
+        return sinew_fail(error, result, "%s:%d:%d: not valid JSON here: %s", name, line, column, why);
     }
-    return root;
+    return SINEW_OK;
 }
 
-static sinew_result read_document(reader *r, const cJSON *root, sinew_muscle_set **out)
+static sinew_result read_muscles(reader *r, void *out)
 {
-    const cJSON *muscles = cJSON_GetObjectItemCaseSensitive(root, "muscles");
-    push_key(r, "muscles");
-    if (!cJSON_IsObject(root) || !cJSON_IsArray(muscles) || cJSON_GetArraySize(muscles) == 0)
+    const json_node *root = r->root, *muscles = json_get(root, "muscles");
+    push_key(r, "muscles", muscles);
+    if (!json_is_object(root) || !json_is_array(muscles) || json_size(muscles) == 0)
         return field_error(r, "expected {\"muscles\": [ ... ]} with at least one muscle");
-    uint32_t count = (uint32_t)cJSON_GetArraySize(muscles);
+    uint32_t count = (uint32_t)json_size(muscles);
     muscle_draft *drafts = calloc(count, sizeof *drafts);
     if (!drafts)
         return sinew_fail(r->error, SINEW_ERROR_OUT_OF_MEMORY, "%s: out of memory", r->name);
     sinew_result result = SINEW_OK;
     uint32_t i = 0;
-    for (const cJSON *m = muscles->child; m && result == SINEW_OK; m = m->next, i++) {
-        push_index(r, (int)i);
-        result = read_muscle(r, m, &drafts[i]);
+    const json_node *m;
+    JSON_FOR_EACH(m, muscles)
+    {
+        push_index(r, (int)i, m);
+        result = read_muscle(r, m, &drafts[i++]);
         r->depth = 1;
+        if (result != SINEW_OK)
+            break;
     }
     if (result == SINEW_OK)
         result = check_unique_names(r, drafts, count);
     if (result == SINEW_OK)
-        result = build_set(r->name, drafts, count, out, r->error);
+        result = build_set(r->name, drafts, count, (sinew_muscle_set **)out, r->error);
     free(drafts);
+    return result;
+}
+
+/* The document in `text` read by `read` (muscles or the arm). */
+static sinew_result read_json(const char *text, size_t size, const char *name,
+                              sinew_result (*read)(reader *r, void *out), void *out, sinew_error *error)
+{
+    json_doc doc;
+    sinew_result result = parse_json(text, size, name, &doc, error);
+    if (result != SINEW_OK)
+        return result;
+    reader r = {.text = text, .name = name, .error = error, .root = doc.root};
+    result = read(&r, out);
+    json_free(&doc);
     return result;
 }
 
@@ -460,19 +415,7 @@ sinew_result sinew_muscle_set_parse(const char *text, size_t size, const char *n
     if (!out || (!text && size))
         return sinew_fail(error, SINEW_ERROR_INVALID_ARGUMENT, "sinew_muscle_set_parse: no text or no output");
     *out = NULL;
-    name = name ? name : "muscles";
-    char *copy = malloc(size + 1); /* cJSON wants a terminated string */
-    if (!copy)
-        return sinew_fail(error, SINEW_ERROR_OUT_OF_MEMORY, "%s: out of memory", name);
-    if (size)
-        memcpy(copy, text, size);
-    copy[size] = '\0';
-    reader r = {.text = copy, .size = size, .name = name, .error = error};
-    cJSON *root = parse_json(copy, size, name, error);
-    sinew_result result = root ? read_document(&r, root, out) : SINEW_ERROR_FORMAT;
-    cJSON_Delete(root);
-    free(copy);
-    return result;
+    return read_json(text ? text : "", size, name ? name : "muscles", read_muscles, out, error);
 }
 
 sinew_result sinew_muscle_set_read(const char *path, sinew_muscle_set **out, sinew_error *error)
@@ -501,29 +444,30 @@ void sinew_muscle_path_for(const char *model_path, char *out, size_t size)
 
 /* ---- the arm's distances ------------------------------------------------------------------- */
 
-static sinew_result read_arm(reader *r, const cJSON *root, sinew_arm_desc *out)
+static sinew_result read_arm(reader *r, void *out_arm)
 {
+    sinew_arm_desc *out = out_arm;
     static const char *const names[5] = {"free_to_origin", "origin_to_elbow", "elbow_to_insertion", "insertion_to_free",
                                          "rod_radius"};
     double *fields[5] = {&out->free_to_origin, &out->origin_to_elbow, &out->elbow_to_insertion, &out->insertion_to_free,
                          &out->rod_radius};
-    const cJSON *arm = cJSON_GetObjectItemCaseSensitive(root, "arm");
-    push_key(r, "arm");
-    if (!cJSON_IsObject(root) || !cJSON_IsObject(arm))
+    const json_node *root = r->root, *arm = json_get(root, "arm");
+    push_key(r, "arm", arm);
+    if (!json_is_object(root) || !json_is_object(arm))
         return field_error(r, "expected {\"arm\": {\"free_to_origin\": .., \"origin_to_elbow\": .., "
                               "\"elbow_to_insertion\": .., \"insertion_to_free\": ..}}");
     for (int i = 0; i < 5; i++) {
-        const cJSON *v = cJSON_GetObjectItemCaseSensitive(arm, names[i]);
-        push_key(r, names[i]);
+        const json_node *v = json_get(arm, names[i]);
+        push_key(r, names[i], v);
         if (!v && i == 4) {
             r->depth--;
             continue;
         }
         if (!v)
             return field_error(r, "missing: the arm needs its four distances");
-        if (!cJSON_IsNumber(v) || !(v->valuedouble > 0.0) || !isfinite(v->valuedouble))
+        if (!json_is_number(v) || !(v->number > 0.0) || !isfinite(v->number))
             return field_error(r, "expected a distance greater than 0");
-        *fields[i] = v->valuedouble;
+        *fields[i] = v->number;
         r->depth--;
     }
     return SINEW_OK;
@@ -540,10 +484,7 @@ sinew_result sinew_arm_read(const char *path, sinew_arm_desc *out, sinew_error *
         return sinew_fail(error, SINEW_ERROR_IO, "%s: not a regular file (the arm file is JSON text)", path);
     if (!import_read_file(path, &bytes, &size))
         return sinew_fail(error, SINEW_ERROR_IO, "%s: cannot read the arm file", path);
-    reader r = {.text = (const char *)bytes, .size = size, .name = path, .error = error};
-    cJSON *root = parse_json((const char *)bytes, size, path, error);
-    sinew_result result = root ? read_arm(&r, root, out) : SINEW_ERROR_FORMAT;
-    cJSON_Delete(root);
+    sinew_result result = read_json((const char *)bytes, size, path, read_arm, out, error);
     import_free(bytes);
     return result;
 }

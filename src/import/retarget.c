@@ -18,9 +18,9 @@
 #include <string.h>
 
 #include <cglm/cglm.h>
-#include <cjson/cJSON.h>
 
 #include "internal.h"
+#include "json.h"
 #include "sinew/anim.h"
 
 #define CANONICAL_LEN 32
@@ -136,30 +136,37 @@ static sinew_result read_name_map(const char *path, const sinew_model *target, c
     unsigned char *text = NULL;
     if (!import_read_file(path, &text, &size))
         return sinew_fail(error, SINEW_ERROR_IO, "%s: cannot read the name map", path);
-    cJSON *root = cJSON_ParseWithLength((const char *)text, size);
+    json_doc doc = {0};
+    size_t at = 0;
+    const char *why = "";
+    sinew_result parsed = json_parse((const char *)text, size, true, &doc, &at, &why);
     import_free(text); /* import_read_file's */
-    if (!cJSON_IsObject(root)) {
-        cJSON_Delete(root);
-        return sinew_fail(error, SINEW_ERROR_FORMAT, "%s: a name map is a JSON object {\"source\": \"target\", ...}",
-                          path);
+    if (parsed == SINEW_ERROR_OUT_OF_MEMORY)
+        return sinew_fail(error, parsed, "%s: out of memory", path);
+    if (parsed != SINEW_OK || !json_is_object(doc.root)) {
+        json_free(&doc);
+        return sinew_fail(error, SINEW_ERROR_FORMAT,
+                          "%s: a name map is a JSON object {\"source\": \"target\", ...}%s%s", path,
+                          parsed != SINEW_OK ? ": " : "", parsed != SINEW_OK ? why : "");
     }
     sinew_result r = SINEW_OK;
-    const cJSON *e;
-    cJSON_ArrayForEach(e, root)
+    const json_node *e;
+    JSON_FOR_EACH(e, doc.root)
     {
-        int32_t s = sinew_model_find_node(source, e->string);
-        int32_t t = cJSON_IsString(e) ? sinew_model_find_node(target, e->valuestring) : -1;
-        if (!cJSON_IsString(e))
-            r = sinew_fail(error, SINEW_ERROR_FORMAT, "%s: \"%s\": the target name is not a string", path, e->string);
+        const char *name = e[-1].string; /* the member's key */
+        int32_t s = sinew_model_find_node(source, name);
+        int32_t t = json_is_string(e) ? sinew_model_find_node(target, e->string) : -1;
+        if (!json_is_string(e))
+            r = sinew_fail(error, SINEW_ERROR_FORMAT, "%s: \"%s\": the target name is not a string", path, name);
         else if (s < 0 || t < 0)
-            r = sinew_fail(error, SINEW_ERROR_DATA, "%s: \"%s\" -> \"%s\": %s has no node \"%s\"", path, e->string,
-                           e->valuestring, s < 0 ? source->source : target->source, s < 0 ? e->string : e->valuestring);
+            r = sinew_fail(error, SINEW_ERROR_DATA, "%s: \"%s\" -> \"%s\": %s has no node \"%s\"", path, name,
+                           e->string, s < 0 ? source->source : target->source, s < 0 ? name : e->string);
         else
             match[t] = s;
         if (r)
             break;
     }
-    cJSON_Delete(root);
+    json_free(&doc);
     return r;
 }
 

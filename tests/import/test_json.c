@@ -1,5 +1,6 @@
-/* The glTF reader's JSON: numbers read exactly as strtod reads them (the fast path and the
- * rest), and what RFC 8259 does not call a number refused. */
+/* The library's JSON (json.h): numbers read exactly as strtod reads them (the fast path and the
+ * rest), what RFC 8259 does not call a number refused, and documents whose commas and colons
+ * are wrong. */
 #include <locale.h>
 #include <setjmp.h>
 #include <stdarg.h>
@@ -22,7 +23,7 @@ static double parse_one(const char *number, bool *ok)
     json_doc doc = {0};
     size_t at = 0;
     const char *why = NULL;
-    *ok = json_parse(text, strlen(text), &doc, &at, &why) == SINEW_OK && doc.root->count == 1 &&
+    *ok = json_parse(text, strlen(text), false, &doc, &at, &why) == SINEW_OK && doc.root->count == 1 &&
           doc.root[1].type == JSON_NUMBER;
     double v = *ok ? doc.root[1].number : 0.0;
     json_free(&doc);
@@ -148,6 +149,72 @@ static void test_not_numbers(void **state)
     }
 }
 
+/* Whole documents written by hand: what RFC 8259 allows is read, the rest refused at the byte
+ * named (jsmn alone lets a missing comma, a doubled or trailing one and a stray colon pass). A
+ * program's JSON (glTF) is read as jsmn reads it, except where that would misplace a value. */
+static void test_documents(void **state)
+{
+    (void)state;
+    static const char *const good[] = {"[]",
+                                       "{}",
+                                       " [ 1 , 2 ] ",
+                                       "{\"a\": [1, {\"b\": []}], \"c\": {}}",
+                                       "[[], [[]], {}, \"x\", true]",
+                                       "{\"a\":\"b\",\"c\":[1,2]}\n",
+                                       "[\"a,b:c\", \"[\"]"};
+    for (size_t i = 0; i < sizeof good / sizeof good[0]; i++) {
+        json_doc doc = {0};
+        size_t at = 0;
+        const char *why = NULL;
+        if (json_parse(good[i], strlen(good[i]), true, &doc, &at, &why) != SINEW_OK)
+            fail_msg("'%s' refused at %zu: %s", good[i], at, why);
+        json_free(&doc);
+    }
+    static const struct {
+        const char *text;
+        size_t at; /* where the message points */
+    } bad[] = {
+        {"[1 2]", 3},
+        {"[1,,2]", 3},
+        {"[1,2,]", 4},
+        {"[,1]", 1},
+        {"[,]", 1},
+        {"{,}", 1},
+        {"{\"a\":1,}", 6},
+        {"{\"a\":1 \"b\":2}", 7},
+        {"{\"a\"::1}", 5},
+        {"[1:2]", 1},
+        {"[\"a\":1]", 4},
+        {"[[1],,[2]]", 5},
+        {"{\"a\":[1,2,]}", 9},
+        {"[[1] [2]]", 5},
+        {"[1]]", 3},
+        {"[1] [2]", 4},
+        {"[1],[2]", 4},
+        {"{\"a\" 1}", 5},
+    };
+    for (size_t i = 0; i < sizeof bad / sizeof bad[0]; i++) {
+        json_doc doc = {0};
+        size_t at = 0;
+        const char *why = NULL;
+        if (json_parse(bad[i].text, strlen(bad[i].text), true, &doc, &at, &why) == SINEW_OK)
+            fail_msg("'%s' was read", bad[i].text);
+        if (at != bad[i].at)
+            fail_msg("'%s' refused at %zu (%s), expected %zu", bad[i].text, at, why, bad[i].at);
+        assert_null(doc.root);
+    }
+    json_doc doc = {0};
+    size_t at = 0;
+    const char *why = NULL;
+    assert_int_equal(json_parse("[1 2,]", 6, false, &doc, &at, &why), SINEW_OK);
+    assert_int_equal(doc.root->count, 2);
+    json_free(&doc);
+    static const char *const misplaced[] = {"{\"a\":1 \"b\":2}", "[\"a\":1]", "{\"a\" 1}"};
+    for (size_t i = 0; i < sizeof misplaced / sizeof misplaced[0]; i++)
+        if (json_parse(misplaced[i], strlen(misplaced[i]), false, &doc, &at, &why) == SINEW_OK)
+            fail_msg("'%s' was read", misplaced[i]);
+}
+
 int main(void)
 {
     setlocale(LC_ALL, "C");
@@ -155,6 +222,7 @@ int main(void)
         cmocka_unit_test(test_numbers_as_strtod),
         cmocka_unit_test(test_scan_within),
         cmocka_unit_test(test_not_numbers),
+        cmocka_unit_test(test_documents),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
