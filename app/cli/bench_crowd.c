@@ -10,8 +10,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include <cjson/cJSON.h>
-
+#include "cjson.h"
 #include "cli.h"
 
 static const char crowd_usage[] =
@@ -220,10 +219,7 @@ static void print_json(const crowd_args *a, const cli_scene *s, const crowd_run 
         cJSON_AddNumberToObject(item, "submit_ms", runs[r].submit_ms);
         cJSON_AddItemToArray(list, item);
     }
-    char *text = cJSON_Print(o);
-    puts(text);
-    free(text);
-    cJSON_Delete(o);
+    cli_json_print(o, true);
 }
 
 int bench_crowd(int argc, char **argv)

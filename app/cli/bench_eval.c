@@ -9,8 +9,7 @@
 #include <string.h>
 #include <unistd.h>
 
-#include <cjson/cJSON.h>
-
+#include "cjson.h"
 #include "cli.h"
 
 static int batches = 5;         /* --quick: 1 */
@@ -1032,10 +1031,7 @@ int bench_eval(int argc, char **argv)
             cJSON_AddStringToObject(o, "import_file", import);
         }
         cJSON_AddStringToObject(o, "machine", machine);
-        char *text = cJSON_Print(o);
-        puts(text);
-        free(text);
-        cJSON_Delete(o);
+        cli_json_print(o, true);
         return EXIT_OK;
     }
     printf("machine: %s\n\n", machine);

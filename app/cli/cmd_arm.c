@@ -5,8 +5,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include <cjson/cJSON.h>
-
+#include "cjson.h"
 #include "cli.h"
 
 static const char arm_usage[] =
@@ -108,10 +107,7 @@ static void print_arm(const arm_args *a, double angle, const sinew_muscle_pose *
         cJSON *o = cJSON_CreateObject();
         cJSON_AddNumberToObject(o, "elbow_angle", angle * 180.0 / M_PI);
         cJSON_AddItemToObject(o, "muscle", cli_muscle_pose_json(p));
-        char *text = cJSON_Print(o);
-        puts(text);
-        free(text);
-        cJSON_Delete(o);
+        cli_json_print(o, true);
         return;
     }
     printf("elbow angle:  %.6g degrees\n", angle * 180.0 / M_PI);

@@ -3,8 +3,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include <cjson/cJSON.h>
-
+#include "cjson.h"
 #include "cli.h"
 
 #define MUSCLE_USAGE                                                                                                   \
@@ -163,10 +162,7 @@ static int bench_render(int argc, char **argv)
             cJSON_AddNumberToObject(r, "cpu_skinning_fps", 1.0 / spf[k][1]);
             cJSON_AddItemToArray(runs, r);
         }
-        char *text = cJSON_Print(o);
-        puts(text);
-        free(text);
-        cJSON_Delete(o);
+        cli_json_print(o, true);
         return EXIT_OK;
     }
     printf("model:   %s (%u vertices, %u joints)\n", source, vertices, joints);

@@ -2,8 +2,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include <cjson/cJSON.h>
-
+#include "cjson.h"
 #include "cli.h"
 
 static const char info_usage[] =
@@ -407,16 +406,10 @@ int cmd_info(int argc, char **argv)
     sinew_model *model = cli_load_model(path);
     if (!model)
         return EXIT_BAD_INPUT;
-    if (json) {
-        cJSON *root = info_json(model);
-        char *text = cJSON_Print(root);
-        if (text)
-            puts(text);
-        free(text);
-        cJSON_Delete(root);
-    } else {
+    if (json)
+        cli_json_print(info_json(model), true);
+    else
         print_text(model);
-    }
     sinew_model_free(model);
     return EXIT_OK;
 }

@@ -4,8 +4,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include <cjson/cJSON.h>
-
+#include "cjson.h"
 #include "cli.h"
 
 static const char muscle_usage[] =
@@ -51,10 +50,7 @@ static void print_json(const sinew_muscle_def *m, const sinew_muscle_state *st, 
     cJSON *open = cJSON_AddArrayToObject(o, "valid_length_open");
     cJSON_AddItemToArray(open, cJSON_CreateBool(range->min_open));
     cJSON_AddItemToArray(open, cJSON_CreateBool(range->max_open));
-    char *text = cJSON_Print(o);
-    puts(text);
-    free(text);
-    cJSON_Delete(o);
+    cli_json_print(o, true);
 }
 
 static void print_text(const sinew_muscle_def *m, const sinew_muscle_state *st, const double *radii,

@@ -5,8 +5,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include <cjson/cJSON.h>
-
+#include "cjson.h"
 #include "cli.h"
 
 static const char pose_usage[] =
@@ -380,13 +379,10 @@ int cmd_pose(int argc, char **argv)
         if (o.mesh_out && code == EXIT_OK)
             code = write_obj(&scene, scratch, scratch_size, o.mesh_out);
     }
-    if (root && code == EXIT_OK) {
-        char *text = cJSON_PrintUnformatted(root);
-        if (text)
-            puts(text);
-        free(text);
-    }
-    cJSON_Delete(root);
+    if (root && code == EXIT_OK)
+        cli_json_print(root, false);
+    else if (root) /* not loaded where there is no JSON */
+        cJSON_Delete(root);
     free(scratch);
     app_scene_close(&scene);
     return code;

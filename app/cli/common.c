@@ -8,8 +8,7 @@
 #include <time.h>
 #include <unistd.h>
 
-#include <cjson/cJSON.h>
-
+#include "cjson.h"
 #include "cli.h"
 
 void cli_error(const char *format, ...)

@@ -57,6 +57,16 @@ for a in libsinew.a libsinew_core.a; do
     others=$(nm -g --defined-only "$libdir/$a" | awk 'NF == 3 {print $3}' | grep -v '^sinew_' || true)
     if [ -n "$others" ]; then echo "$a has global symbols other than sinew_*: $others"; exit 1; fi
 done
+echo "== a start loads only what every command needs"
+# cJSON (the CLI's --json output), libxml2 (COLLADA), libepoxy (rendering), meshoptimizer (crowds'
+# levels of detail) and Assimp (its helper) are loaded when first used, never at start
+for f in "$prefix/bin/sinew" "$libdir/libsinew.so"; do
+    needed=$(objdump -p "$f" | awk '$1 == "NEEDED" {print $2}')
+    for lazy in libcjson libxml2 libepoxy libmeshoptimizer libassimp; do
+        if echo "$needed" | grep -q "^$lazy"; then echo "$f links $lazy, which it loads on first use"; exit 1; fi
+    done
+    echo "$(basename "$f"): $(echo $needed)"
+done
 echo "== version and soname follow the ABI"
 version=$(grep -oE 'SINEW_VERSION_STRING "[0-9.]+"' "$prefix/include/sinew/version.h" | grep -oE '[0-9.]+')
 soname=$(objdump -p "$libdir/libsinew.so" | awk '$1 == "SONAME" {print $2}')
