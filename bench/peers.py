@@ -3,7 +3,8 @@
 
 Builds the peer loaders of ../shared/peers (ufbx 0.23 for FBX, cgltf 1.15 for glTF; `build.sh`)
 and times whole processes on the same files, runs interleaved so that the machine's noise falls
-on every reader alike:
+on every reader alike (sinew with the open readers in one set of rounds, and with its helper and
+Assimp in another, whose heavy processes would leave the caches cold for the next):
 
     sinew info FILE -q                      the default: sinew's reader in the sinew process
     sinew info FILE -q  (isolated)          SINEW_IMPORT_ISOLATE=1: in the sinew-import helper
@@ -79,27 +80,30 @@ def converted(sinew, path, folder):
 
 
 def readers_for(path, sinew, ufbx, cgltf, assimp, dot_sinew):
-    """(name, command, extra environment) of every reader of this file."""
+    """(name, command, extra environment) of every reader of this file, in two groups timed apart:
+    sinew against the open readers, and sinew against the heavy processes (its helper, Assimp)."""
     ext = os.path.splitext(path)[1].lower()
-    rows = [("sinew", [sinew, "info", path, "-q"], {}),
-            ("sinew isolated", [sinew, "info", path, "-q"], {"SINEW_IMPORT_ISOLATE": "1"})]
+    mine = ("sinew", [sinew, "info", path, "-q"], {})
+    light = [mine]
     if dot_sinew:
-        rows += [("sinew .sinew", [sinew, "info", dot_sinew, "-q"], {})]
+        light += [("sinew .sinew", [sinew, "info", dot_sinew, "-q"], {})]
     if ext == ".fbx":
-        rows += [("ufbx", [ufbx, path], {}), ("ufbx --bake", [ufbx, path, "--bake"], {})]
+        light += [("ufbx", [ufbx, path], {}), ("ufbx --bake", [ufbx, path, "--bake"], {})]
     if ext in (".gltf", ".glb"):
-        rows += [("cgltf", [cgltf, path], {})]
+        light += [("cgltf", [cgltf, path], {})]
+    heavy = [mine, ("sinew isolated", [sinew, "info", path, "-q"], {"SINEW_IMPORT_ISOLATE": "1"})]
     if assimp:
-        rows += [("assimp", [assimp, "info", path], {})]
-    return rows
+        heavy += [("assimp", [assimp, "info", path], {})]
+    return light, heavy
 
 
 def measure(rows, runs):
-    """Interleaved: each round runs every reader once, in turn."""
+    """Interleaved: each round runs every reader once, in turn, starting one further along each round,
+    so that every reader follows every other equally often."""
     times = {name: [] for name, _, _ in rows}
     failed = set()
-    for _ in range(runs + 1):  # the first round warms the page cache and is dropped
-        for name, cmd, extra in rows:
+    for r in range(runs + 1):  # the first round warms the page cache and is dropped
+        for name, cmd, extra in rows[r % len(rows):] + rows[:r % len(rows)]:
             ms, code = run_ms(cmd, dict(os.environ, **extra))
             if code != 0:
                 failed.add(name)
@@ -124,22 +128,33 @@ def main():
         if not os.path.exists(path):
             print(f"{path}: missing", file=sys.stderr)
             continue
-        rows = readers_for(path, args.sinew, ufbx, cgltf, assimp, converted(args.sinew, path, folder))
-        times, failed = measure(rows, args.runs)
+        # Two groups of rounds: a process of Assimp (8-70 ms) or of the helper leaves the caches cold
+        # for the next, which weighs most on the largest program: with Assimp in the same rounds,
+        # sinew took 1.6x cgltf's time on Fox.glb, against 1.35x without.
+        light, heavy = readers_for(path, args.sinew, ufbx, cgltf, assimp, converted(args.sinew, path, folder))
+        times, failed = measure(light, args.runs)
+        heavy_times, heavy_failed = measure(heavy, args.runs)
+        failed |= heavy_failed
+        times.update({name: t for name, t in heavy_times.items() if name != "sinew"})
         size = os.path.getsize(path)
         entry = {"file": os.path.relpath(path, args.testdata), "bytes": size,
                  "median_ms": {k: statistics.median(v) for k, v in times.items()},
                  "min_ms": {k: min(v) for k, v in times.items()}, "max_ms": {k: max(v) for k, v in times.items()},
                  "failed": sorted(failed)}
         med = entry["median_ms"]
-        for mine in ("sinew", "sinew isolated"):
-            for peer in ("ufbx --bake", "cgltf", "assimp"):
-                if mine in med and peer in med:
-                    key = (mine + " / " + peer).replace(" ", "_").replace("--", "").replace("/", "over")
-                    entry[key] = med[mine] / med[peer]
-                    # the median of each round's own ratio: the two ran seconds apart, so a swing of
-                    # the machine between its fast and slow modes falls on both
-                    entry["paired_" + key] = statistics.median(a / b for a, b in zip(times[mine], times[peer]))
+        for mine, peer in (("sinew", "ufbx --bake"), ("sinew", "cgltf"), ("sinew", "assimp"),
+                           ("sinew isolated", "assimp")):
+            group = heavy_times if peer == "assimp" else times  # sinew's own times in the peer's rounds
+            if mine in group and peer in group:
+                key = (mine + " / " + peer).replace(" ", "_").replace("--", "").replace("/", "over")
+                entry[key] = statistics.median(group[mine]) / statistics.median(group[peer])
+                # the median of each round's own ratio: the two ran seconds apart, so a swing of
+                # the machine between its fast and slow modes falls on both
+                entry["paired_" + key] = statistics.median(a / b for a, b in zip(group[mine], group[peer]))
+        if "sinew" in heavy_times:
+            entry["median_ms"]["sinew, Assimp set"] = statistics.median(heavy_times["sinew"])
+            entry["min_ms"]["sinew, Assimp set"] = min(heavy_times["sinew"])
+            entry["max_ms"]["sinew, Assimp set"] = max(heavy_times["sinew"])
         # in the library: MB/s of the file, sinew from memory, the peers without their process start
         mine = in_library_ms(inproc, "sinew", path, args.runs)
         speeds = {}
