@@ -405,6 +405,25 @@ static void test_info_json_and_text(void **state)
     run_free(&r);
 }
 
+/* cJSON is loaded when a command first writes JSON: text output never needs it, and a libcjson
+ * that lacks its functions stops --json with a message and exit 3. */
+static void test_json_library_loaded_on_use(void **state)
+{
+    (void)state;
+    char path[1024];
+    fixture_path("two_bone_cubic.gltf", path, sizeof path);
+    const char *const env[] = {"LD_LIBRARY_PATH=" NO_CJSON_DIR, NULL};
+    run_result r = RUN_ENV(env, "info", path);
+    assert_int_equal(r.code, 0);
+    assert_non_null(strstr(r.out, "tip_joint  [joint]"));
+    run_free(&r);
+    r = RUN_ENV(env, "info", path, "--json");
+    assert_int_equal(r.code, 3);
+    assert_non_null(strstr(r.err, "libcjson.so.1 lacks cJSON_"));
+    assert_int_equal(r.out_size, 0);
+    run_free(&r);
+}
+
 /* An FBX file's inherit types, in JSON and in the tree; SINEW_IMPORTER=assimp reads it
  * through Assimp instead (which has no inherit types). */
 static void test_info_fbx_inherit(void **state)
@@ -907,6 +926,7 @@ int main(void)
         cmocka_unit_test(test_pose_json),
         cmocka_unit_test(test_pose_mesh_obj),
         cmocka_unit_test(test_info_json_and_text),
+        cmocka_unit_test(test_json_library_loaded_on_use),
         cmocka_unit_test(test_info_fbx_inherit),
         cmocka_unit_test(test_pose_without_animation),
         cmocka_unit_test(test_pose_pairs_agree),
