@@ -31,7 +31,7 @@ static void load(void)
     }
     for (int i = 0; i < CLI_CJSON_SYMBOLS; i++)
         if (!(loaded.symbol[i] = dlsym(handle, names[i]))) {
-            snprintf(failure, sizeof failure, "%s lacks %s", SINEW_CJSON_SONAME, names[i]);
+            snprintf(failure, sizeof failure, "%s, which --json output needs, lacks %s", SINEW_CJSON_SONAME, names[i]);
             return;
         }
     ready = true;

@@ -419,7 +419,7 @@ static void test_json_library_loaded_on_use(void **state)
     run_free(&r);
     r = RUN_ENV(env, "info", path, "--json");
     assert_int_equal(r.code, 3);
-    assert_non_null(strstr(r.err, "libcjson.so.1 lacks cJSON_"));
+    assert_non_null(strstr(r.err, "libcjson.so.1, which --json output needs, lacks cJSON_"));
     assert_int_equal(r.out_size, 0);
     run_free(&r);
 }
