@@ -63,6 +63,11 @@ typedef enum sinew_cpu_feature {
     SINEW_CPU_AVX512BW,
 } sinew_cpu_feature;
 bool sinew_cpu_has(sinew_cpu_feature feature);
+/* Up to `size` bytes from fd into buf, as many as there are (a read may return fewer; EINTR is
+ * retried); errno set when a read fails. What the file readers use instead of stdio, whose
+ * fopen, fseek and fread cost four system calls more a file (its size asked twice, a seek to
+ * the end and back), about 2 us each on a virtual machine. */
+size_t sinew_read_fully(int fd, void *buf, size_t size);
 /* Fills in the pages of a large block about to be written whole (MADV_POPULATE_WRITE: one call
  * instead of a fault a page, which costs microseconds on a virtual machine); nothing for a block
  * under 64 KiB, or where the kernel cannot. */

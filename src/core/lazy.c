@@ -1,12 +1,14 @@
 /* A library loaded on first use (internal.h: sinew_lazy_load), pages filled in ahead
- * (sinew_prefault) and large blocks in 2 MB pages (sinew_pages_alloc): what a process start and
- * its first large buffers cost. */
+ * (sinew_prefault), large blocks in 2 MB pages (sinew_pages_alloc) and files read without stdio
+ * (sinew_read_fully): what a process start and its first large buffers cost. */
 #include <dlfcn.h>
+#include <errno.h>
 #include <pthread.h>
 #include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <sys/mman.h>
+#include <unistd.h>
 #if defined(__x86_64__) && defined(__has_include)
 #if __has_include(<sys/platform/x86.h>)
 #include <sys/platform/x86.h>
@@ -69,6 +71,20 @@ bool sinew_cpu_has(sinew_cpu_feature feature)
 #endif
     (void)feature;
     return false;
+}
+
+size_t sinew_read_fully(int fd, void *buf, size_t size)
+{
+    size_t got = 0;
+    while (got < size) {
+        ssize_t r = read(fd, (char *)buf + got, size - got);
+        if (r < 0 && errno == EINTR)
+            continue;
+        if (r <= 0)
+            break;
+        got += (size_t)r;
+    }
+    return got;
 }
 
 void sinew_prefault(void *p, size_t size)

@@ -8,10 +8,14 @@
  *   sinew_model_load ...... the same from a file, read straight into that allocation
  */
 #include <errno.h>
+#include <fcntl.h>
 #include <math.h>
+#include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
+#include <unistd.h>
 
 #include "internal.h"
 #include "sinew/muscle.h"
@@ -869,25 +873,28 @@ sinew_result sinew_model_load(const char *path, const sinew_allocator *allocator
     if (!path || !out)
         return sinew_fail(error, SINEW_ERROR_INVALID_ARGUMENT, "sinew_model_load: NULL argument");
     *out = NULL;
-    FILE *f = fopen(path, "rb");
-    if (!f)
+    int fd = open(path, O_RDONLY | O_CLOEXEC);
+    if (fd < 0)
         return sinew_fail(error, SINEW_ERROR_IO, "%s: cannot open: %s", path, strerror(errno));
-    long n = fseek(f, 0, SEEK_END) == 0 ? ftell(f) : -1;
-    if (n < 0 || fseek(f, 0, SEEK_SET) != 0) {
-        fclose(f);
+    struct stat st;
+    if (fstat(fd, &st) != 0 || !S_ISREG(st.st_mode) || (uint64_t)st.st_size >= SIZE_MAX) {
+        close(fd);
         return sinew_fail(error, SINEW_ERROR_IO, "%s: cannot read: not a regular file", path);
     }
+    size_t n = (size_t)st.st_size;
     /* A blob of a megabyte and more in 2 MB pages: the model keeps it (without an allocator), and
      * reading it and checking its checksum touch every page. */
-    void *bytes = sinew_large_alloc((size_t)n, MODEL_PAGES_MIN);
+    void *bytes = sinew_large_alloc(n, MODEL_PAGES_MIN);
     if (!bytes) {
-        fclose(f);
-        return sinew_fail(error, SINEW_ERROR_OUT_OF_MEMORY, "%s: out of memory for %ld bytes", path, n);
+        close(fd);
+        return sinew_fail(error, SINEW_ERROR_OUT_OF_MEMORY, "%s: out of memory for %zu bytes", path, n);
     }
-    size_t got = fread(bytes, 1, (size_t)n, f);
-    bool failed = ferror(f);
-    fclose(f);
-    sinew_result result = failed ? sinew_fail(error, SINEW_ERROR_IO, "%s: cannot read: %s", path, strerror(errno))
+    errno = 0;
+    size_t got = sinew_read_fully(fd, bytes, n);
+    bool failed = got < n && errno != 0;
+    int why = errno;
+    close(fd);
+    sinew_result result = failed ? sinew_fail(error, SINEW_ERROR_IO, "%s: cannot read: %s", path, strerror(why))
                                  : open_blob(bytes, got, path, path, true, false, allocator, out, error);
     if (result != SINEW_OK || allocator) /* else the model keeps the bytes (adopted) */
         sinew_block_free(bytes);

@@ -46,19 +46,31 @@ static sinew_result check_path(const char *path, sinew_error *error)
 /* The first bytes of a file (fewer when it is shorter; 0 when it cannot be read). */
 static size_t read_head(const char *path, unsigned char *head, size_t size)
 {
-    FILE *f = fopen(path, "rb");
-    if (!f)
+    int fd = open(path, O_RDONLY | O_CLOEXEC);
+    if (fd < 0)
         return 0;
-    size_t n = fread(head, 1, size, f);
-    fclose(f);
+    size_t n = sinew_read_fully(fd, head, size);
+    close(fd);
     return n;
 }
 
-/* A .sinew file, by its magic (whatever its name): read by sinew_model_load(), not Assimp. */
-static bool is_sinew_file(const char *path)
+/* A file's first bytes, read once for both questions below. */
+typedef struct file_head {
+    unsigned char bytes[1024];
+    size_t size;
+} file_head;
+
+static file_head head_of(const char *path)
 {
-    unsigned char magic[8];
-    return read_head(path, magic, sizeof magic) == sizeof magic && memcmp(magic, BLOB_MAGIC, sizeof magic) == 0;
+    file_head h;
+    h.size = read_head(path, h.bytes, sizeof h.bytes);
+    return h;
+}
+
+/* A .sinew file, by its magic (whatever its name): read by sinew_model_load(), not Assimp. */
+static bool is_sinew_file(const file_head *h)
+{
+    return h->size >= sizeof BLOB_MAGIC - 1 && memcmp(h->bytes, BLOB_MAGIC, sizeof BLOB_MAGIC - 1) == 0;
 }
 
 /* The file callback of the import running on this thread (sinew_import_desc.read_file), if any:
@@ -86,25 +98,28 @@ bool import_read_file(const char *path, unsigned char **bytes, size_t *size)
         *size = n;
         return true;
     }
+    int fd = open(path, O_RDONLY | O_CLOEXEC | O_NONBLOCK); /* a FIFO's open would wait for a writer */
+    if (fd < 0)
+        return false;
     struct stat st;
-    if (stat(path, &st) == 0 && !S_ISREG(st.st_mode)) {
+    if (fstat(fd, &st) != 0 || !S_ISREG(st.st_mode)) {
+        close(fd);
         errno = EINVAL; /* a FIFO or device would block or never end */
         return false;
     }
-    FILE *f = fopen(path, "rb");
-    if (!f)
-        return false;
-    bool ok = fseek(f, 0, SEEK_END) == 0;
-    long n = ok ? ftell(f) : -1;
-    ok = n >= 0 && fseek(f, 0, SEEK_SET) == 0;
+    bool ok = (uint64_t)st.st_size < SIZE_MAX;
+    size_t n = ok ? (size_t)st.st_size : 0;
     /* A large file's pages in one call, not a fault a page; in 2 MB pages from IMPORT_PAGES_MIN. (Not the
      * file mapped: a file truncated while mapped ends the process with SIGBUS, and sinew-view --watch
      * reads files being rewritten.) */
-    unsigned char *buf = ok ? import_large_alloc((size_t)n + 1, IMPORT_PAGES_MIN) : NULL;
+    unsigned char *buf = ok ? import_large_alloc(n + 1, IMPORT_PAGES_MIN) : NULL;
     bool starved = ok && !buf;
-    ok = buf && fread(buf, 1, (size_t)n, f) == (size_t)n;
-    int why = starved ? ENOMEM : errno; /* what failed, not what fclose() leaves */
-    fclose(f);
+    errno = 0;
+    size_t got = buf ? sinew_read_fully(fd, buf, n) : 0;
+    ok = buf && got == n;
+    /* what failed, not what close() leaves: a file cut short while read reads as an I/O error */
+    int why = starved ? ENOMEM : !ok && errno == 0 ? (buf ? EIO : EINVAL) : errno;
+    close(fd);
     if (!ok) {
         free(buf);
         errno = why;
@@ -297,12 +312,12 @@ typedef struct reader_choice {
     const char *refusal;
 } reader_choice;
 
-static reader_choice choose_reader(const char *path, bool assimp)
+static reader_choice choose_reader(const char *path, const file_head *h, bool assimp)
 {
     if (assimp)
         return (reader_choice){NULL, "Assimp", NULL};
-    unsigned char head[1024];
-    size_t head_size = read_head(path, head, sizeof head);
+    const unsigned char *head = h->bytes;
+    size_t head_size = h->size;
     if (fbx_sniff(head, head_size))
         return (reader_choice){raw_model_from_fbx, "sinew's FBX reader", NULL};
     if (has_extension(path, ".fbx"))
@@ -471,7 +486,8 @@ sinew_result sinew_import_memory(const void *bytes, size_t size, const char *for
 
 const char *import_reader_name(const char *path, bool assimp)
 {
-    reader_choice choice = choose_reader(path, assimp);
+    file_head head = head_of(path);
+    reader_choice choice = choose_reader(path, &head, assimp);
     return choice.name ? choice.name : "the importer";
 }
 
@@ -504,7 +520,10 @@ sinew_result sinew_import_blob_desc(const sinew_import_desc *desc, void **bytes,
     *bytes = NULL;
     *size = 0;
     sinew_result result = check_path(desc->path, error);
-    return result ? result : blob_of(desc, choose_reader(desc->path, desc->assimp), false, bytes, size, error);
+    if (result)
+        return result;
+    file_head head = head_of(desc->path);
+    return blob_of(desc, choose_reader(desc->path, &head, desc->assimp), false, bytes, size, error);
 }
 
 /* sinew_import_blob_desc() for a checked path and its reader; `adopted`: the caller's model will
@@ -561,8 +580,9 @@ static sinew_result session_load(sinew_import_session *session, const char *path
     one.path = path;
     /* what the session's helper does not do: .sinew files, imports not isolated, Assimp's formats
      * (the lean helper execs another program for them: one helper for that file) */
-    reader_choice choice = choose_reader(path, false);
-    if (!d->isolate || d->assimp || is_sinew_file(path) || (!choice.read && !choice.refusal))
+    file_head head = head_of(path);
+    reader_choice choice = choose_reader(path, &head, false);
+    if (!d->isolate || d->assimp || is_sinew_file(&head) || (!choice.read && !choice.refusal))
         return sinew_import(&one, out, error);
     sinew_result result = check_path(path, error);
     if (result)
@@ -601,9 +621,10 @@ static sinew_result import_file(const sinew_import_desc *desc, sinew_model **out
     sinew_result result = check_path(desc->path, error);
     if (result)
         return result;
-    if (is_sinew_file(desc->path))
+    file_head head = head_of(desc->path);
+    if (is_sinew_file(&head))
         return sinew_model_load(desc->path, desc->allocator, out, error);
-    reader_choice choice = choose_reader(desc->path, desc->assimp);
+    reader_choice choice = choose_reader(desc->path, &head, desc->assimp);
     if (desc->isolate || (!choice.read && !choice.refusal)) /* asked for, or Assimp's */
         return import_in_helper(desc, out, error);
     if (desc->progress && !desc->progress(-1.0f, desc->progress_user))
