@@ -25,45 +25,56 @@
 #include "sinew/import.h"
 #include "alloc.h" /* last: the readers' allocations are the import's (alloc.h) */
 
-static sinew_result check_path(const char *path, sinew_error *error)
-{
-    struct stat st;
-    if (stat(path, &st) != 0)
-        return sinew_fail(error, SINEW_ERROR_IO, "%s: cannot open: %s", path, strerror(errno));
-    if (S_ISDIR(st.st_mode))
-        return sinew_fail(error, SINEW_ERROR_IO, "%s: is a directory, not a model file", path);
-    if (!S_ISREG(st.st_mode))
-        return sinew_fail(error, SINEW_ERROR_IO, "%s: not a regular file", path);
-    FILE *f = fopen(path, "rb");
-    if (!f)
-        return sinew_fail(error, SINEW_ERROR_IO, "%s: cannot read: %s", path, strerror(errno));
-    fclose(f);
-    if (st.st_size == 0)
-        return sinew_fail(error, SINEW_ERROR_FORMAT, "%s: the file is empty", path);
-    return SINEW_OK;
-}
-
-/* The first bytes of a file (fewer when it is shorter; 0 when it cannot be read). */
-static size_t read_head(const char *path, unsigned char *head, size_t size)
-{
-    int fd = open(path, O_RDONLY | O_CLOEXEC);
-    if (fd < 0)
-        return 0;
-    size_t n = sinew_read_fully(fd, head, size);
-    close(fd);
-    return n;
-}
-
-/* A file's first bytes, read once for both questions below. */
+/* A file's first bytes and its size, read once for the questions below: is it a .sinew file,
+ * which reader reads it, how much memory may its import take. */
 typedef struct file_head {
     unsigned char bytes[1024];
-    size_t size;
+    size_t size;        /* of bytes[] read: fewer when the file is shorter, 0 when it cannot be read */
+    uint64_t file_size; /* 0 where not known */
 } file_head;
 
+/* The file at `path` opened once: SINEW_OK with its head, else why it cannot be imported (not
+ * there, not readable, a directory or other file that is not regular, empty). */
+static sinew_result check_path(const char *path, file_head *head, sinew_error *error)
+{
+    head->size = 0;
+    head->file_size = 0;
+    struct stat st;
+    int fd = open(path, O_RDONLY | O_CLOEXEC | O_NONBLOCK); /* a FIFO's open would wait for a writer */
+    if (fd < 0) {
+        int why = errno;
+        if (stat(path, &st) != 0)
+            return sinew_fail(error, SINEW_ERROR_IO, "%s: cannot open: %s", path, strerror(errno));
+        if (S_ISDIR(st.st_mode))
+            return sinew_fail(error, SINEW_ERROR_IO, "%s: is a directory, not a model file", path);
+        return sinew_fail(error, SINEW_ERROR_IO, "%s: cannot read: %s", path, strerror(why));
+    }
+    sinew_result result = SINEW_OK;
+    if (fstat(fd, &st) != 0)
+        result = sinew_fail(error, SINEW_ERROR_IO, "%s: cannot open: %s", path, strerror(errno));
+    else if (S_ISDIR(st.st_mode))
+        result = sinew_fail(error, SINEW_ERROR_IO, "%s: is a directory, not a model file", path);
+    else if (!S_ISREG(st.st_mode))
+        result = sinew_fail(error, SINEW_ERROR_IO, "%s: not a regular file", path);
+    else if (st.st_size == 0)
+        result = sinew_fail(error, SINEW_ERROR_FORMAT, "%s: the file is empty", path);
+    else {
+        head->size = sinew_read_fully(fd, head->bytes, sizeof head->bytes);
+        head->file_size = (uint64_t)st.st_size;
+    }
+    close(fd);
+    return result;
+}
+
+/* The head of a file not checked (a session's, which may come through the caller's read_file). */
 static file_head head_of(const char *path)
 {
-    file_head h;
-    h.size = read_head(path, h.bytes, sizeof h.bytes);
+    file_head h = {.size = 0, .file_size = 0};
+    int fd = open(path, O_RDONLY | O_CLOEXEC | O_NONBLOCK);
+    if (fd >= 0) {
+        h.size = sinew_read_fully(fd, h.bytes, sizeof h.bytes);
+        close(fd);
+    }
     return h;
 }
 
@@ -510,8 +521,8 @@ static sinew_result raw_model_read(const char *path, reader_choice choice, raw_m
     return result;
 }
 
-static sinew_result blob_of(const sinew_import_desc *desc, reader_choice choice, bool adopted, void **bytes,
-                            size_t *size, sinew_error *error);
+static sinew_result blob_of(const sinew_import_desc *desc, reader_choice choice, uint64_t file_size, bool adopted,
+                            void **bytes, size_t *size, sinew_error *error);
 
 sinew_result sinew_import_blob_desc(const sinew_import_desc *desc, void **bytes, size_t *size, sinew_error *error)
 {
@@ -519,23 +530,21 @@ sinew_result sinew_import_blob_desc(const sinew_import_desc *desc, void **bytes,
         return sinew_fail(error, SINEW_ERROR_INVALID_ARGUMENT, "sinew_import_blob: NULL argument");
     *bytes = NULL;
     *size = 0;
-    sinew_result result = check_path(desc->path, error);
+    file_head head;
+    sinew_result result = check_path(desc->path, &head, error);
     if (result)
         return result;
-    file_head head = head_of(desc->path);
-    return blob_of(desc, choose_reader(desc->path, &head, desc->assimp), false, bytes, size, error);
+    return blob_of(desc, choose_reader(desc->path, &head, desc->assimp), head.file_size, false, bytes, size, error);
 }
 
-/* sinew_import_blob_desc() for a checked path and its reader; `adopted`: the caller's model will
- * own the bytes (then they may be in 2 MB pages, else malloc'd). */
-static sinew_result blob_of(const sinew_import_desc *desc, reader_choice choice, bool adopted, void **bytes,
-                            size_t *size, sinew_error *error)
+/* sinew_import_blob_desc() for a checked path, its reader and its size (check_path()); `adopted`:
+ * the caller's model will own the bytes (then they may be in 2 MB pages, else malloc'd). */
+static sinew_result blob_of(const sinew_import_desc *desc, reader_choice choice, uint64_t file_size, bool adopted,
+                            void **bytes, size_t *size, sinew_error *error)
 {
     if (!choice.read && !choice.refusal && !import_assimp_reader) /* Assimp: only the helper links it */
         return import_blob_in_helper(desc, bytes, size, error);
     sinew_result result;
-    struct stat st;
-    uint64_t file_size = stat(desc->path, &st) == 0 ? (uint64_t)st.st_size : 0;
     import_alloc_state state;
     import_alloc_result used;
     import_alloc_begin(&state, own_limit(desc, file_size), own_seconds(desc), desc->progress, desc->progress_user);
@@ -584,7 +593,7 @@ static sinew_result session_load(sinew_import_session *session, const char *path
     reader_choice choice = choose_reader(path, &head, false);
     if (!d->isolate || d->assimp || is_sinew_file(&head) || (!choice.read && !choice.refusal))
         return sinew_import(&one, out, error);
-    sinew_result result = check_path(path, error);
+    sinew_result result = check_path(path, &head, error);
     if (result)
         return result;
     if (d->progress && !d->progress(-1.0f, d->progress_user))
@@ -618,10 +627,10 @@ static sinew_result import_file(const sinew_import_desc *desc, sinew_model **out
         free(bytes);
         return result;
     }
-    sinew_result result = check_path(desc->path, error);
+    file_head head;
+    sinew_result result = check_path(desc->path, &head, error);
     if (result)
         return result;
-    file_head head = head_of(desc->path);
     if (is_sinew_file(&head))
         return sinew_model_load(desc->path, desc->allocator, out, error);
     reader_choice choice = choose_reader(desc->path, &head, desc->assimp);
@@ -631,7 +640,7 @@ static sinew_result import_file(const sinew_import_desc *desc, sinew_model **out
         return sinew_fail(error, SINEW_ERROR_CANCELLED, "%s: the import was cancelled", desc->path);
     void *bytes = NULL;
     size_t size = 0;
-    if ((result = blob_of(desc, choice, true, &bytes, &size, error)))
+    if ((result = blob_of(desc, choice, head.file_size, true, &bytes, &size, error)))
         return result;
     /* built here: the helper's blobs, whose checksum says they came through whole, went above */
     result = sinew_model_adopt_blob(bytes, size, choice.read != NULL, desc->path, desc->allocator, out, error);
