@@ -497,7 +497,9 @@ sinew_result sinew_import_memory(const void *bytes, size_t size, const char *for
 
 const char *import_reader_name(const char *path, bool assimp)
 {
-    file_head head = head_of(path);
+    file_head head = {.size = 0, .file_size = 0};
+    if (!assimp) /* Assimp's, whatever the file holds */
+        head = head_of(path);
     reader_choice choice = choose_reader(path, &head, assimp);
     return choice.name ? choice.name : "the importer";
 }
