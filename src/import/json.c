@@ -64,17 +64,23 @@ static char *put_utf8(char *out, unsigned cp)
  * length in *length; false with *bad at the offending byte. */
 static bool unescape(char *text, int start, int end, int *bad, uint32_t *length)
 {
-    int plain = start;                     /* most strings (keys, names) have no escape: nothing to move */
-    for (; plain + 8 <= end; plain += 8) { /* eight bytes at a time while none is below 0x20 or a \ */
+    /* Most strings (keys, names) have no escape: nothing to move. Eight bytes at a time to the
+     * first below 0x20 or a \ (a borrow only runs upwards, so the lowest byte flagged is one); the
+     * last word reads past the string (its quote, the text's 8 bytes of padding), where a flag
+     * means there is none. */
+    int plain = start;
+    const uint64_t ones = 0x0101010101010101u, highs = 0x8080808080808080u;
+    for (; plain < end; plain += 8) {
         uint64_t w;
         memcpy(&w, text + plain, 8);
-        const uint64_t ones = 0x0101010101010101u, highs = 0x8080808080808080u;
         uint64_t backslash = w ^ (ones * '\\');
-        if (((w - ones * 0x20) & ~w & highs) | ((backslash - ones) & ~backslash & highs))
-            break; /* the byte loop below finds which */
+        uint64_t hit = ((w - ones * 0x20) & ~w & highs) | ((backslash - ones) & ~backslash & highs);
+        if (hit) {
+            plain += __builtin_ctzll(hit) / 8;
+            break;
+        }
     }
-    while (plain < end && (unsigned char)text[plain] >= 0x20 && text[plain] != '\\')
-        plain++;
+    plain = plain < end ? plain : end;
     char *out = text + plain;
     for (int i = plain; i < end; i++) {
         unsigned char c = (unsigned char)text[i];
@@ -312,10 +318,10 @@ sinew_result json_parse(const char *source, size_t size, bool by_hand, json_doc 
         *why = "larger than 2 GB";
         return SINEW_ERROR_FORMAT;
     }
-    if (!c_locale || !(doc->text = import_large_alloc(size + 1, IMPORT_PAGES_MIN)))
+    if (!c_locale || !(doc->text = import_large_alloc(size + 8, IMPORT_PAGES_MIN)))
         return SINEW_ERROR_OUT_OF_MEMORY;
     memcpy(doc->text, source, size);
-    doc->text[size] = '\0';
+    memset(doc->text + size, 0, 8); /* a NUL, and bytes for unescape()'s last word to read */
     /* tokens: a guess from the size (glTF files run 6 to 8 bytes a token; pages not written are
      * never touched), doubled while jsmn asks for more (it goes on where it stopped) */
     jsmn_parser parser;

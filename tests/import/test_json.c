@@ -215,14 +215,50 @@ static void test_documents(void **state)
             fail_msg("'%s' was read", misplaced[i]);
 }
 
+/* Strings read eight bytes at a time: an escape or a control character at every place around a
+ * word's edge, in strings of 0 to 19 bytes (the last word masked past the string's end). */
+static void test_strings_around_words(void **state)
+{
+    (void)state;
+    static const char *const escaped[] = {"\\n", "\\\"", "\\\\", "\\u00e9", "\\ud83d\\ude00", "x"};
+    static const char *const meant[] = {"\n", "\"", "\\", "\xc3\xa9", "\xf0\x9f\x98\x80", "x"};
+    for (int len = 0; len < 20; len++)
+        for (int at = 0; at <= len; at++)
+            for (int e = 0; e < 6; e++) {
+                char plain[32] = {0}, doc[96], want[64];
+                for (int i = 0; i < len; i++)
+                    plain[i] = (char)('a' + i % 26);
+                snprintf(doc, sizeof doc, "[\"%.*s%s%s\"]", at, plain, escaped[e], plain + at);
+                snprintf(want, sizeof want, "%.*s%s%s", at, plain, meant[e], plain + at);
+                json_doc d = {0};
+                size_t off = 0;
+                const char *why = NULL;
+                if (json_parse(doc, strlen(doc), false, &d, &off, &why) != SINEW_OK)
+                    fail_msg("'%s' refused at %zu: %s", doc, off, why);
+                if (strcmp(d.root[1].string, want) != 0 || d.root[1].count != strlen(want))
+                    fail_msg("'%s' read as '%s'", doc, d.root[1].string);
+                json_free(&d);
+            }
+    for (int len = 1; len < 20; len++)
+        for (int at = 0; at < len; at++) {
+            char doc[32];
+            int n = snprintf(doc, sizeof doc, "[\"%.*s\"]", len, "bbbbbbbbbbbbbbbbbbbb");
+            doc[2 + at] = '\t';
+            json_doc d = {0};
+            size_t off = 0;
+            const char *why = NULL;
+            assert_int_equal(json_parse(doc, (size_t)n, false, &d, &off, &why), SINEW_ERROR_FORMAT);
+            assert_int_equal(off, 2 + at);
+        }
+}
+
 int main(void)
 {
     setlocale(LC_ALL, "C");
     const struct CMUnitTest tests[] = {
-        cmocka_unit_test(test_numbers_as_strtod),
-        cmocka_unit_test(test_scan_within),
-        cmocka_unit_test(test_not_numbers),
-        cmocka_unit_test(test_documents),
+        cmocka_unit_test(test_numbers_as_strtod),    cmocka_unit_test(test_scan_within),
+        cmocka_unit_test(test_not_numbers),          cmocka_unit_test(test_documents),
+        cmocka_unit_test(test_strings_around_words),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
