@@ -68,6 +68,10 @@ bool sinew_cpu_has(sinew_cpu_feature feature);
  * fopen, fseek and fread cost four system calls more a file (its size asked twice, a seek to
  * the end and back), about 2 us each on a virtual machine. */
 size_t sinew_read_fully(int fd, void *buf, size_t size);
+/* `path` opened for reading when it is a regular file: the descriptor, its size in *size. -1 with
+ * errno from open(), or with EINVAL (nothing left open) when it is something else: a directory,
+ * a FIFO (opened without waiting for a writer, O_NONBLOCK), a device. */
+int sinew_open_regular(const char *path, uint64_t *size);
 /* Fills in the pages of a large block about to be written whole (MADV_POPULATE_WRITE: one call
  * instead of a fault a page, which costs microseconds on a virtual machine); nothing for a block
  * under 64 KiB, or where the kernel cannot. */

@@ -8,13 +8,10 @@
  *   sinew_model_load ...... the same from a file, read straight into that allocation
  */
 #include <errno.h>
-#include <fcntl.h>
 #include <math.h>
-#include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <sys/stat.h>
 #include <unistd.h>
 
 #include "internal.h"
@@ -873,15 +870,13 @@ sinew_result sinew_model_load(const char *path, const sinew_allocator *allocator
     if (!path || !out)
         return sinew_fail(error, SINEW_ERROR_INVALID_ARGUMENT, "sinew_model_load: NULL argument");
     *out = NULL;
-    int fd = open(path, O_RDONLY | O_CLOEXEC);
+    uint64_t file_size;
+    int fd = sinew_open_regular(path, &file_size);
+    if (fd < 0 && errno == EINVAL)
+        return sinew_fail(error, SINEW_ERROR_IO, "%s: cannot read: not a regular file", path);
     if (fd < 0)
         return sinew_fail(error, SINEW_ERROR_IO, "%s: cannot open: %s", path, strerror(errno));
-    struct stat st;
-    if (fstat(fd, &st) != 0 || !S_ISREG(st.st_mode) || (uint64_t)st.st_size >= SIZE_MAX) {
-        close(fd);
-        return sinew_fail(error, SINEW_ERROR_IO, "%s: cannot read: not a regular file", path);
-    }
-    size_t n = (size_t)st.st_size;
+    size_t n = (size_t)file_size;
     /* A blob of a megabyte and more in 2 MB pages: the model keeps it (without an allocator), and
      * reading it and checking its checksum touch every page. */
     void *bytes = sinew_large_alloc(n, MODEL_PAGES_MIN);

@@ -39,42 +39,36 @@ static sinew_result check_path(const char *path, file_head *head, sinew_error *e
 {
     head->size = 0;
     head->file_size = 0;
-    struct stat st;
-    int fd = open(path, O_RDONLY | O_CLOEXEC | O_NONBLOCK); /* a FIFO's open would wait for a writer */
-    if (fd < 0) {
+    uint64_t file_size;
+    int fd = sinew_open_regular(path, &file_size);
+    if (fd < 0) { /* what it is, only now that it cannot be read */
         int why = errno;
+        struct stat st;
         if (stat(path, &st) != 0)
             return sinew_fail(error, SINEW_ERROR_IO, "%s: cannot open: %s", path, strerror(errno));
         if (S_ISDIR(st.st_mode))
             return sinew_fail(error, SINEW_ERROR_IO, "%s: is a directory, not a model file", path);
+        if (!S_ISREG(st.st_mode))
+            return sinew_fail(error, SINEW_ERROR_IO, "%s: not a regular file", path);
         return sinew_fail(error, SINEW_ERROR_IO, "%s: cannot read: %s", path, strerror(why));
     }
     sinew_result result = SINEW_OK;
-    if (fstat(fd, &st) != 0)
-        result = sinew_fail(error, SINEW_ERROR_IO, "%s: cannot open: %s", path, strerror(errno));
-    else if (S_ISDIR(st.st_mode))
-        result = sinew_fail(error, SINEW_ERROR_IO, "%s: is a directory, not a model file", path);
-    else if (!S_ISREG(st.st_mode))
-        result = sinew_fail(error, SINEW_ERROR_IO, "%s: not a regular file", path);
-    else if (st.st_size == 0)
+    if (file_size == 0) {
         result = sinew_fail(error, SINEW_ERROR_FORMAT, "%s: the file is empty", path);
-    else {
+    } else {
         head->size = sinew_read_fully(fd, head->bytes, sizeof head->bytes);
-        head->file_size = (uint64_t)st.st_size;
+        head->file_size = file_size;
     }
     close(fd);
     return result;
 }
 
-/* The head of a file not checked (a session's, which may come through the caller's read_file). */
+/* The head of a file not checked (a session's, which may come through the caller's read_file):
+ * nothing read where check_path() would refuse it. */
 static file_head head_of(const char *path)
 {
-    file_head h = {.size = 0, .file_size = 0};
-    int fd = open(path, O_RDONLY | O_CLOEXEC | O_NONBLOCK);
-    if (fd >= 0) {
-        h.size = sinew_read_fully(fd, h.bytes, sizeof h.bytes);
-        close(fd);
-    }
+    file_head h;
+    check_path(path, &h, NULL);
     return h;
 }
 
@@ -109,17 +103,12 @@ bool import_read_file(const char *path, unsigned char **bytes, size_t *size)
         *size = n;
         return true;
     }
-    int fd = open(path, O_RDONLY | O_CLOEXEC | O_NONBLOCK); /* a FIFO's open would wait for a writer */
+    uint64_t file_size;
+    int fd = sinew_open_regular(path, &file_size); /* EINVAL: a FIFO or device would block or never end */
     if (fd < 0)
         return false;
-    struct stat st;
-    if (fstat(fd, &st) != 0 || !S_ISREG(st.st_mode)) {
-        close(fd);
-        errno = EINVAL; /* a FIFO or device would block or never end */
-        return false;
-    }
-    bool ok = (uint64_t)st.st_size < SIZE_MAX;
-    size_t n = ok ? (size_t)st.st_size : 0;
+    bool ok = file_size < SIZE_MAX;
+    size_t n = ok ? (size_t)file_size : 0;
     /* A large file's pages in one call, not a fault a page; in 2 MB pages from IMPORT_PAGES_MIN. (Not the
      * file mapped: a file truncated while mapped ends the process with SIGBUS, and sinew-view --watch
      * reads files being rewritten.) */
