@@ -60,21 +60,34 @@ static char *put_utf8(char *out, unsigned cp)
     return out;
 }
 
+/* The bytes of a word (8 bytes of text, the first in the lowest) that are `c`, or below `n` (at most
+ * 0x80), flagged in their high bits. A byte's borrow only runs upwards, so the lowest flag is
+ * always a byte wanted (those above it may not be). */
+static inline uint64_t bytes_equal(uint64_t w, unsigned char c)
+{
+    const uint64_t ones = 0x0101010101010101u, highs = 0x8080808080808080u;
+    uint64_t x = w ^ (ones * c);
+    return (x - ones) & ~x & highs;
+}
+
+static inline uint64_t bytes_below(uint64_t w, unsigned char n)
+{
+    const uint64_t ones = 0x0101010101010101u, highs = 0x8080808080808080u;
+    return (w - ones * n) & ~w & highs;
+}
+
 /* The string text[start, end) unescaped in place and NUL-terminated (it only shrinks), its
  * length in *length; false with *bad at the offending byte. */
 static bool unescape(char *text, int start, int end, int *bad, uint32_t *length)
 {
     /* Most strings (keys, names) have no escape: nothing to move. Eight bytes at a time to the
-     * first below 0x20 or a \ (a borrow only runs upwards, so the lowest byte flagged is one); the
-     * last word reads past the string (its quote, the text's 8 bytes of padding), where a flag
-     * means there is none. */
+     * first below 0x20 or a \; the last word reads past the string (its quote, the text's 8 bytes
+     * of padding), where a flag means there is none. */
     int plain = start;
-    const uint64_t ones = 0x0101010101010101u, highs = 0x8080808080808080u;
     for (; plain < end; plain += 8) {
         uint64_t w;
         memcpy(&w, text + plain, 8);
-        uint64_t backslash = w ^ (ones * '\\');
-        uint64_t hit = ((w - ones * 0x20) & ~w & highs) | ((backslash - ones) & ~backslash & highs);
+        uint64_t hit = bytes_below(w, 0x20) | bytes_equal(w, '\\');
         if (hit) {
             plain += __builtin_ctzll(hit) / 8;
             break;
@@ -168,20 +181,19 @@ static bool number(const char *p, int len, double *out)
 }
 
 /* The first comma or colon in text[from, to), else to: eight bytes at a time over the indents of
- * pretty-printed files. */
+ * pretty-printed files, the last word read past `to` (at worst into the text's padding). */
 static int next_separator(const char *text, int from, int to)
 {
-    const uint64_t ones = 0x0101010101010101u, highs = 0x8080808080808080u;
-    for (; from + 8 <= to; from += 8) {
-        uint64_t w, comma, colon;
+    for (; from < to; from += 8) {
+        uint64_t w;
         memcpy(&w, text + from, 8);
-        comma = w ^ (ones * ','), colon = w ^ (ones * ':');
-        if (((comma - ones) & ~comma & highs) | ((colon - ones) & ~colon & highs))
-            break; /* the byte loop below finds which */
+        uint64_t hit = bytes_equal(w, ',') | bytes_equal(w, ':');
+        if (hit) {
+            from += __builtin_ctzll(hit) / 8;
+            break;
+        }
     }
-    while (from < to && text[from] != ',' && text[from] != ':')
-        from++;
-    return from;
+    return from < to ? from : to;
 }
 
 /* A key (a string member of an object) that jsmn gave no value: what a gap without its colon or
@@ -321,7 +333,7 @@ sinew_result json_parse(const char *source, size_t size, bool by_hand, json_doc 
     if (!c_locale || !(doc->text = import_large_alloc(size + 8, IMPORT_PAGES_MIN)))
         return SINEW_ERROR_OUT_OF_MEMORY;
     memcpy(doc->text, source, size);
-    memset(doc->text + size, 0, 8); /* a NUL, and bytes for unescape()'s last word to read */
+    memset(doc->text + size, 0, 8); /* a NUL, and bytes for the scans' last words to read */
     /* tokens: a guess from the size (glTF files run 6 to 8 bytes a token; pages not written are
      * never touched), doubled while jsmn asks for more (it goes on where it stopped) */
     jsmn_parser parser;
