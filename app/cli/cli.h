@@ -92,8 +92,7 @@ typedef struct cli_scene {
     sinew_camera camera;
     bool frame_all; /* the camera spec left the distance to framing */
     app_camera_placement placement;
-    bool tracking; /* track_centre holds the last tracked centre */
-    float track_centre[3];
+    app_follow follow; /* --track */
     sinew_render_options frame_options;
     sinew_wrap wrap;
     int width, height;

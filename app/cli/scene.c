@@ -199,20 +199,9 @@ bool cli_scene_frame_all(cli_scene *s, double from, double to)
 
 bool cli_scene_track(cli_scene *s, double time)
 {
-    float lo[3], hi[3];
     if (!cli_scene_pose(s, time))
         return false;
-    if (!app_scene_bounds(&s->scene, s->renderer, time, time, 1, s->wrap, lo, hi))
-        return true;
-    float *moved = s->camera.mode == SINEW_CAMERA_ORBIT ? s->camera.target : s->camera.position;
-    for (int k = 0; k < 3; k++) {
-        float centre = 0.5f * (lo[k] + hi[k]);
-        float delta = centre - s->track_centre[k];
-        if (s->tracking)
-            moved[k] += delta;
-        s->track_centre[k] = centre;
-    }
-    s->tracking = true;
+    app_scene_follow(&s->scene, s->renderer, time, s->wrap, &s->follow, &s->camera);
     return true;
 }
 

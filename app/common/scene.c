@@ -709,6 +709,22 @@ bool app_scene_bounds(app_scene *s, sinew_renderer *renderer, double from, doubl
     return false;
 }
 
+void app_scene_follow(app_scene *s, sinew_renderer *renderer, double time, sinew_wrap wrap, app_follow *follow,
+                      sinew_camera *camera)
+{
+    float lo[3], hi[3];
+    if (!app_scene_bounds(s, renderer, time, time, 1, wrap, lo, hi))
+        return;
+    float *moved = !camera ? NULL : camera->mode == SINEW_CAMERA_ORBIT ? camera->target : camera->position;
+    for (int k = 0; k < 3; k++) {
+        float centre = 0.5f * (lo[k] + hi[k]);
+        if (moved && follow->noted)
+            moved[k] += centre - follow->centre[k];
+        follow->centre[k] = centre;
+    }
+    follow->noted = true;
+}
+
 float app_scene_ground(app_scene *s, sinew_renderer *renderer, int samples)
 {
     float lo[3], hi[3];

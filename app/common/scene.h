@@ -200,6 +200,16 @@ sinew_frame app_scene_frame(const app_scene *scene, const sinew_camera *camera, 
  * from == to); false when nothing has extent (lo/hi then hold -1..1). Leaves the scene posed at `to`. */
 bool app_scene_bounds(app_scene *scene, sinew_renderer *renderer, double from, double to, int samples, sinew_wrap wrap,
                       float lo[3], float hi[3]);
+/* The camera following the model (`sinew render --track`, sinew-view's Follow): the orbit camera's
+ * target, or the fly camera's position, moves by as much as the centre of the posed bounds at
+ * `time` moved since the centre was last noted; with `camera` NULL, or the first time, the centre
+ * is only noted. Nothing moves when the pose has no extent. Leaves the scene posed at `time`. */
+typedef struct app_follow {
+    bool noted;
+    float centre[3];
+} app_follow;
+void app_scene_follow(app_scene *scene, sinew_renderer *renderer, double time, sinew_wrap wrap, app_follow *follow,
+                      sinew_camera *camera);
 /* Where the ground grid goes: the lowest posed point over the whole clip (the rest pose
  * without one), `samples` times; 0 when nothing has extent. Leaves the scene posed at the clip's end. */
 float app_scene_ground(app_scene *scene, sinew_renderer *renderer, int samples);

@@ -337,7 +337,8 @@ static gboolean on_tick(GtkWidget *widget, GdkFrameClock *clock, gpointer data)
         g_free(v->sliders);
         v->sliders = NULL; /* the camera stays, as it does when a hand moves a slider */
     }
-    if (v->press && !v->load) { /* --press: once the file is open, before the screenshot is drawn */
+    if (v->press && !v->load && v->look.framed) { /* --press: once the file is open and drawn, before the
+                                                     screenshot, as a hand would */
         char **names = g_strsplit(v->press, ",", -1);
         v->press = NULL;
         for (int i = 0; names[i]; i++) {
@@ -426,6 +427,21 @@ static void frame_all(viewer *v)
         v->look.placement.has_position = v->look.placement.has_focal = false;
     }
     v->look.keep_now = CAMERA_FRAME; /* the next framing (F, a crowd) frames all */
+    app_scene_follow(&v->scene, v->renderer, v->play.time, SINEW_WRAP_CLAMP, &v->look.followed, NULL);
+}
+
+void view_set_follow(viewer *v, bool on)
+{
+    v->look.follow = on;
+    v->look.follow_given = false; /* the user's choice from now on: saved */
+    if (on && v->renderer && v->scene.model)
+        app_scene_follow(&v->scene, v->renderer, v->play.time, SINEW_WRAP_CLAMP, &v->look.followed, NULL);
+    if (v->look.follow_check) {
+        v->updating = true;
+        gtk_check_button_set_active(GTK_CHECK_BUTTON(v->look.follow_check), on);
+        v->updating = false;
+    }
+    view_redraw(v);
 }
 
 void view_toggle_crowd(viewer *v, bool on)
@@ -790,6 +806,9 @@ static gboolean on_render(GtkGLArea *area, GdkGLContext *context, gpointer data)
         frame_all(v);
         v->look.framed = true;
     }
+    bool crowd = v->crowd_on && crowd_ready(v);
+    if (v->look.follow && !crowd) /* the camera moves with the model before the frame takes it */
+        app_scene_follow(&v->scene, v->renderer, v->play.time, SINEW_WRAP_CLAMP, &v->look.followed, &v->look.camera);
     sinew_error error = {0};
     sinew_frame frame = app_scene_frame(&v->scene, &v->look.camera, &v->options, width, height);
     if (v->scene.ops.root_motion && v->pose.path_segments) { /* the root-motion path on the ground */
@@ -799,7 +818,7 @@ static gboolean on_render(GtkGLArea *area, GdkGLContext *context, gpointer data)
         frame.line_count = v->pose.path_segments;
         frame.line_color[0] = 1.0f, frame.line_color[1] = 0.75f, frame.line_color[2] = 0.2f;
     }
-    if (v->crowd_on && crowd_ready(v)) {
+    if (crowd) {
         app_crowd_pose(&v->crowd, v->play.time);
         frame.crowd_count = v->crowd.count;
         frame.crowd_worlds = v->crowd.worlds;
@@ -1024,6 +1043,9 @@ static gboolean on_key(GtkEventControllerKey *controller, guint key, guint code,
     }
     case ACTION_CROWD:
         view_toggle_crowd(v, !v->crowd_on);
+        return TRUE;
+    case ACTION_FOLLOW:
+        view_set_follow(v, !v->look.follow);
         return TRUE;
     case ACTION_HELP:
         fill_help(v);
@@ -1500,9 +1522,10 @@ static const char usage[] =
     "drag rotates, shift-drag or middle-drag pans, the wheel zooms, F frames all; Tab switches to the fly\n"
     "camera (W/A/S/D, Q/E, drag to look) and back. Keys 1-9, 0 and M toggle the display switches (see the\n"
     "Display panel), Shift+H hides the meshes, K cycles the skinning method (as the file says, linear blend,\n"
-    "dual quaternion), C a crowd of the model. H shows every key; F12 saves a numbered screenshot, F9 records\n"
-    "the clip to MP4 (ffmpeg); keypad 1/3/7 look from the front, side and\n"
-    "top, keypad 5 switches to a parallel projection, R resets the view; Page Up/Down open the previous/next\n"
+    "dual quaternion), C a crowd of the model, T has the camera follow the model (a capture that walks away\n"
+    "stays in view). H shows every key; F12 saves a numbered screenshot, F9 records the clip to MP4\n"
+    "(ffmpeg); keypad 1/3/7 look from the front, side and top, keypad 5 switches to a parallel projection,\n"
+    "R resets the view; Page Up/Down open the previous/next\n"
     "file in the folder; the clip list's play mode \"All clips\" plays them in turn. Settings:\n"
     "~/.config/sinew/settings.ini ([display], [view], [window], [files], [keys]); the options below override them for\n"
     "the run.\n"
@@ -1513,6 +1536,8 @@ static const char usage[] =
     "  --size WxH            the window's size (default: as last closed, else 1200x760)\n"
     "  --panel NAME          the side panel's page shown first: hierarchy, display, shape-keys (each morph\n"
     "                        channel's weight live, a check and slider to set it by hand) or log\n"
+    "  --track               the camera follows the model (its posed centre), as key T switches and as\n"
+    "                        `sinew render --track` does\n"
     "  --crowd N             shows N characters of the model on a grid, each at its own time (key C\n"
     "                        toggles a crowd of 100, or of N)\n"
     "  --blend C:W,C:W, --additive C:W, --crossfade A,B,T, --ik JOINT:X,Y,Z, --root-motion\n"
@@ -1529,7 +1554,7 @@ static const char usage_more[] =
     "  --screenshot-window OUT.png  writes the whole window (the view and the side panel) once drawn\n"
     "  --screenshot-dir DIR  where F12 writes FILE-001.png, ... and F9 records FILE-001.mp4, ... (default: the\n"
     "                        Pictures and Videos folders, else home)\n"
-    "  --press KEYS          presses keys (GDK names, comma-separated: h,KP_1,F12) once FILE is open\n"
+    "  --press KEYS          presses keys (GDK names, comma-separated: h,KP_1,F12) once FILE is open and drawn\n"
     "  --camera-position X,Y,Z, --camera-focal-point X,Y,Z\n"
     "                        the eye and the point it looks at and orbits (world metres, as f3d's)\n"
     "  --fov DEG             vertical field of view (default 45)\n"
@@ -1582,6 +1607,8 @@ int main(int argc, char **argv)
             v.quit_after_screenshot = true;
         } else if (strcmp(argv[i], "--watch") == 0) {
             v.watch = true;
+        } else if (strcmp(argv[i], "--track") == 0) {
+            v.look.follow = v.look.follow_given = true;
         } else if (argv[i][0] == '-' && i + 1 < argc) {
             const char *o = argv[i], *value = argv[++i];
             bool frame = true;

@@ -221,6 +221,13 @@ static void on_crowd(GtkCheckButton *check, gpointer data)
         view_toggle_crowd(v, gtk_check_button_get_active(check));
 }
 
+static void on_follow(GtkCheckButton *check, gpointer data)
+{
+    viewer *v = data;
+    if (!v->updating)
+        view_set_follow(v, gtk_check_button_get_active(check));
+}
+
 static void on_camera_mode(GObject *dropdown, GParamSpec *pspec, gpointer data)
 {
     (void)pspec;
@@ -356,6 +363,13 @@ static GtkWidget *display_page(viewer *v)
     v->camera_list = gtk_drop_down_new_from_strings(cameras);
     g_signal_connect(v->camera_list, "notify::selected", G_CALLBACK(on_camera_mode), v);
     gtk_box_append(GTK_BOX(box), v->camera_list);
+    snprintf(label, sizeof label, "follow the model   (%s)", gdk_keyval_name(v->keys[ACTION_FOLLOW].key));
+    v->look.follow_check = gtk_check_button_new_with_label(label);
+    gtk_check_button_set_active(GTK_CHECK_BUTTON(v->look.follow_check), v->look.follow);
+    gtk_widget_set_tooltip_text(v->look.follow_check,
+                                "The camera moves with the model's centre: a capture that walks away stays in view");
+    g_signal_connect(v->look.follow_check, "toggled", G_CALLBACK(on_follow), v);
+    gtk_box_append(GTK_BOX(box), v->look.follow_check);
     gtk_box_append(GTK_BOX(box), gtk_label_new("Keys and mouse"));
     static const char *const maps[] = {"sinew", "Blender", NULL};
     v->key_map_list = gtk_drop_down_new_from_strings(maps);

@@ -6,7 +6,8 @@
  *   [window]   width, height
  *   [files]    last-folder (where Open… starts), recent (the last 10 files opened)
  *   [view]     key-map (sinew or blender), samples (anti-aliasing: 1 off, 2..16; default 4), hdri
- *              (the environment file for physically based shading; empty: the built-in studio)
+ *              (the environment file for physically based shading; empty: the built-in studio),
+ *              follow (true: the camera follows the model)
  *   [keys]     action=key, keys as GDK names them (space, Left, F1, a, ...): the keys rebound
  *              (earlier versions wrote every key; meshes=h, H's old default, is read as unset)
  */
@@ -50,6 +51,7 @@ static const view_key default_keys[ACTION_COUNT] = {
     [ACTION_PREVIOUS_FILE] = {"previous-file", NULL, "Page_Up", 0},
     [ACTION_NEXT_FILE] = {"next-file", NULL, "Page_Down", 0},
     [ACTION_RECORD] = {"record", NULL, "F9", 0},
+    [ACTION_FOLLOW] = {"follow", NULL, "t", 0},
     [ACTION_FORWARD] = {"fly-forward", NULL, "w", 0},
     [ACTION_BACK] = {"fly-back", NULL, "s", 0},
     [ACTION_LEFT] = {"fly-left", NULL, "a", 0},
@@ -162,6 +164,11 @@ void settings_load(viewer *v)
     if (!samples_error && samples >= 1 && samples <= 16)
         v->samples = samples;
     g_clear_error(&samples_error);
+    GError *follow_error = NULL;
+    gboolean follow = g_key_file_get_boolean(file, "view", "follow", &follow_error);
+    if (!follow_error)
+        v->look.follow = follow;
+    g_clear_error(&follow_error);
     char *hdri = g_key_file_get_string(file, "view", "hdri", NULL);
     if (hdri && hdri[0])
         v->hdri = hdri;
@@ -214,6 +221,8 @@ bool settings_save(viewer *v)
         g_key_file_set_integer(file, "view", "samples", v->samples);
     if (!v->hdri_given)
         g_key_file_set_string(file, "view", "hdri", v->hdri ? v->hdri : "");
+    if (!v->look.follow_given)
+        g_key_file_set_boolean(file, "view", "follow", v->look.follow);
     /* only the keys the user rebound: the others follow the defaults of later versions */
     for (int a = 0; a < ACTION_COUNT; a++)
         if (v->keys[a].key == default_key_of(v->key_map, a))

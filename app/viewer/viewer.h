@@ -24,7 +24,7 @@ typedef enum view_action {
     ACTION_NORMALS, ACTION_GRID, ACTION_AXES, ACTION_JOINT_NAMES, ACTION_JOINT_AXES, ACTION_MUSCLES, ACTION_MESHES,
     ACTION_SKIN_METHOD, ACTION_CROWD, ACTION_PREVIOUS_KEY, ACTION_NEXT_KEY, ACTION_HELP, ACTION_SCREENSHOT,
     ACTION_VIEW_FRONT, ACTION_VIEW_SIDE, ACTION_VIEW_TOP, ACTION_ORTHOGRAPHIC, ACTION_RESET_VIEW, ACTION_PREVIOUS_FILE,
-    ACTION_NEXT_FILE, ACTION_RECORD,
+    ACTION_NEXT_FILE, ACTION_RECORD, ACTION_FOLLOW,
     ACTION_FORWARD, ACTION_BACK, ACTION_LEFT, ACTION_RIGHT, ACTION_DOWN, ACTION_UP, ACTION_COUNT
 } view_action;
 /* clang-format on */
@@ -68,6 +68,11 @@ typedef struct view_look {
     enum { CAMERA_FRAME, CAMERA_KEEP_GIVEN, CAMERA_KEEP_ALL } camera_keep, keep_now;
     app_camera_placement placement; /* --camera-position, --camera-focal-point: at the first framing */
     bool framed;
+    /* Follow (key T, --track, settings [view] follow): the camera moves with the posed model's
+     * centre, from where it was when the view was framed or Follow turned on */
+    bool follow, follow_given;
+    app_follow followed;
+    GtkWidget *follow_check;
     bool held[ACTION_COUNT]; /* fly keys held down */
     double drag_x, drag_y;
 } view_look;
@@ -187,8 +192,9 @@ void view_recent_changed(viewer *v); /* rebuilds the Recent menu */
 
 double view_duration(const viewer *v); /* of the clip playing; 0 for the rest pose */
 void view_toggle_crowd(viewer *v, bool on);
-double view_frame_rate(const viewer *v); /* of the clip: frame numbers and Left/Right steps */
-void view_update_timeline(viewer *v);    /* the scrub bar's range and key ticks */
+void view_set_follow(viewer *v, bool on); /* Follow: from the model's centre now */
+double view_frame_rate(const viewer *v);  /* of the clip: frame numbers and Left/Right steps */
+void view_update_timeline(viewer *v);     /* the scrub bar's range and key ticks */
 void view_show_time(viewer *v);
 
 /* open.c */
