@@ -372,6 +372,32 @@ sinew_result json_parse(const char *source, size_t size, bool by_hand, json_doc 
     return result;
 }
 
+void json_line_column(const char *text, size_t offset, int *line, int *column)
+{
+    *line = 1, *column = 1;
+    for (size_t i = 0; i < offset; i++) {
+        if (text[i] == '\n')
+            (*line)++, *column = 1;
+        else
+            (*column)++;
+    }
+}
+
+sinew_result json_parse_named(const char *text, size_t size, const char *name, json_doc *doc, sinew_error *error)
+{
+    size_t at = 0;
+    const char *why = "";
+    sinew_result result = json_parse(text, size, true, doc, &at, &why);
+    if (result == SINEW_ERROR_OUT_OF_MEMORY)
+        return sinew_fail(error, result, "%s: out of memory", name);
+    if (result != SINEW_OK) {
+        int line, column;
+        json_line_column(text, at > size ? size : at, &line, &column);
+        return sinew_fail(error, result, "%s:%d:%d: not valid JSON here: %s", name, line, column, why);
+    }
+    return SINEW_OK;
+}
+
 void json_free(json_doc *doc)
 {
     free(doc->root);

@@ -54,6 +54,11 @@ typedef struct json_doc {
 sinew_result json_parse(const char *text, size_t size, bool by_hand, json_doc *doc, size_t *error_offset,
                         const char **why);
 void json_free(json_doc *doc);
+/* json_parse() of text a person writes (by_hand), named `name` in errors: a broken document is
+ * SINEW_ERROR_FORMAT "NAME:LINE:COLUMN: not valid JSON here: WHY", no memory "NAME: out of memory". */
+sinew_result json_parse_named(const char *text, size_t size, const char *name, json_doc *doc, sinew_error *error);
+/* The line and column (each from 1; a column counts bytes) of byte `offset` of `text`. */
+void json_line_column(const char *text, size_t offset, int *line, int *column);
 
 /* An object's member by key (the first of that name), NULL when absent or not an object. */
 const json_node *json_get(const json_node *object, const char *key);

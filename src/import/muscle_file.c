@@ -48,17 +48,6 @@ static void describe_path(const reader *r, char *out, size_t size)
     }
 }
 
-static void line_column(const char *t, size_t offset, int *line, int *column)
-{
-    *line = 1, *column = 1;
-    for (size_t i = 0; i < offset; i++) {
-        if (t[i] == '\n')
-            (*line)++, *column = 1;
-        else
-            (*column)++;
-    }
-}
-
 static sinew_result field_error(const reader *r, const char *format, ...) __attribute__((format(printf, 2, 3)));
 static sinew_result field_error(const reader *r, const char *format, ...)
 {
@@ -75,7 +64,7 @@ static sinew_result field_error(const reader *r, const char *format, ...)
             break;
         }
     int line, column; /* a string's offset is past its opening quote */
-    line_column(r->text, at->offset - (at->type == JSON_STRING), &line, &column);
+    json_line_column(r->text, at->offset - (at->type == JSON_STRING), &line, &column);
     return sinew_fail(r->error, SINEW_ERROR_DATA, "%s:%d:%d: %s: %s", r->name, line, column, where, what);
 }
 
@@ -350,22 +339,6 @@ static sinew_result build_set(const char *name, const muscle_draft *drafts, uint
 
 /* ---- public ----------------------------------------------------------------------------------- */
 
-/* Parses `size` bytes of JSON into *doc (SINEW_OK), else a FILE:LINE:COLUMN error. */
-static sinew_result parse_json(const char *text, size_t size, const char *name, json_doc *doc, sinew_error *error)
-{
-    size_t at = 0;
-    const char *why = "";
-    sinew_result result = json_parse(text, size, true, doc, &at, &why);
-    if (result == SINEW_ERROR_OUT_OF_MEMORY)
-        return sinew_fail(error, result, "%s: out of memory", name);
-    if (result != SINEW_OK) {
-        int line, column;
-        line_column(text, at > size ? size : at, &line, &column);
-        return sinew_fail(error, result, "%s:%d:%d: not valid JSON here: %s", name, line, column, why);
-    }
-    return SINEW_OK;
-}
-
 static sinew_result read_muscles(reader *r, void *out)
 {
     const json_node *root = r->root, *muscles = json_get(root, "muscles");
@@ -400,7 +373,7 @@ static sinew_result read_json(const char *text, size_t size, const char *name,
                               sinew_result (*read)(reader *r, void *out), void *out, sinew_error *error)
 {
     json_doc doc;
-    sinew_result result = parse_json(text, size, name, &doc, error);
+    sinew_result result = json_parse_named(text, size, name, &doc, error);
     if (result != SINEW_OK)
         return result;
     reader r = {.text = text, .name = name, .error = error, .root = doc.root};

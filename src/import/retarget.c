@@ -128,7 +128,8 @@ static void canonical_of(const family *f, const char *name, char *out)
         canonical_in(f->rest, name, out);
 }
 
-/* The name map file: {"source name": "target name", ...}; target node -> source node. */
+/* The name map file: {"source name": "target name", ...}; target node -> source node. Errors
+ * name the file, and the line and column of a member that is wrong. */
 static sinew_result read_name_map(const char *path, const sinew_model *target, const sinew_model *source,
                                   int32_t *match, sinew_error *error)
 {
@@ -137,36 +138,31 @@ static sinew_result read_name_map(const char *path, const sinew_model *target, c
     if (!import_read_file(path, &text, &size))
         return sinew_fail(error, SINEW_ERROR_IO, "%s: cannot read the name map", path);
     json_doc doc = {0};
-    size_t at = 0;
-    const char *why = "";
-    sinew_result parsed = json_parse((const char *)text, size, true, &doc, &at, &why);
-    import_free(text); /* import_read_file's */
-    if (parsed == SINEW_ERROR_OUT_OF_MEMORY)
-        return sinew_fail(error, parsed, "%s: out of memory", path);
-    if (parsed != SINEW_OK || !json_is_object(doc.root)) {
-        json_free(&doc);
-        return sinew_fail(error, SINEW_ERROR_FORMAT,
-                          "%s: a name map is a JSON object {\"source\": \"target\", ...}%s%s", path,
-                          parsed != SINEW_OK ? ": " : "", parsed != SINEW_OK ? why : "");
-    }
-    sinew_result r = SINEW_OK;
-    const json_node *e;
-    JSON_FOR_EACH(e, doc.root)
+    sinew_result r = json_parse_named((const char *)text, size, path, &doc, error);
+    if (r == SINEW_OK && !json_is_object(doc.root))
+        r = sinew_fail(error, SINEW_ERROR_FORMAT, "%s: a name map is a JSON object {\"source\": \"target\", ...}",
+                       path);
+    const json_node *members = r == SINEW_OK ? doc.root : NULL, *e;
+    JSON_FOR_EACH(e, members)
     {
         const char *name = e[-1].string; /* the member's key */
+        int line, column;
+        json_line_column((const char *)text, e[-1].offset - 1, &line, &column); /* its opening quote */
         int32_t s = sinew_model_find_node(source, name);
         int32_t t = json_is_string(e) ? sinew_model_find_node(target, e->string) : -1;
         if (!json_is_string(e))
-            r = sinew_fail(error, SINEW_ERROR_FORMAT, "%s: \"%s\": the target name is not a string", path, name);
+            r = sinew_fail(error, SINEW_ERROR_FORMAT, "%s:%d:%d: \"%s\": the target name is not a string", path, line,
+                           column, name);
         else if (s < 0 || t < 0)
-            r = sinew_fail(error, SINEW_ERROR_DATA, "%s: \"%s\" -> \"%s\": %s has no node \"%s\"", path, name,
-                           e->string, s < 0 ? source->source : target->source, s < 0 ? name : e->string);
+            r = sinew_fail(error, SINEW_ERROR_DATA, "%s:%d:%d: \"%s\" -> \"%s\": %s has no node \"%s\"", path, line,
+                           column, name, e->string, s < 0 ? source->source : target->source, s < 0 ? name : e->string);
         else
             match[t] = s;
         if (r)
             break;
     }
     json_free(&doc);
+    import_free(text); /* import_read_file's */
     return r;
 }
 

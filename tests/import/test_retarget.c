@@ -216,11 +216,25 @@ static void test_name_maps(void **state)
         sinew_retarget(&(sinew_retarget_desc){.target = demo, .source = demo, .name_map = map}, &out, &error),
         SINEW_ERROR_DATA);
     assert_non_null(strstr(error.message, "Tail"));
-    assert_non_null(strstr(error.message, "names.json"));
+    assert_non_null(strstr(error.message, "names.json:1:2: \"Head\" -> \"Tail\""));
     write_file(map, "[1,2]", 5);
     assert_int_equal(
         sinew_retarget(&(sinew_retarget_desc){.target = demo, .source = demo, .name_map = map}, &out, &error),
         SINEW_ERROR_FORMAT);
+    assert_non_null(strstr(error.message, "a name map is a JSON object"));
+    /* broken JSON and a member that is not a string: where, as muscle files say it */
+    const char *broken = "{\n  \"Head\": \"Neck\"\n  \"Neck\": \"Head\"\n}";
+    write_file(map, broken, strlen(broken));
+    assert_int_equal(
+        sinew_retarget(&(sinew_retarget_desc){.target = demo, .source = demo, .name_map = map}, &out, &error),
+        SINEW_ERROR_FORMAT);
+    assert_non_null(strstr(error.message, "names.json:3:3: not valid JSON here: a comma missing"));
+    const char *number = "{\"Head\": \"Neck\",\n \"Neck\": 7}";
+    write_file(map, number, strlen(number));
+    assert_int_equal(
+        sinew_retarget(&(sinew_retarget_desc){.target = demo, .source = demo, .name_map = map}, &out, &error),
+        SINEW_ERROR_FORMAT);
+    assert_non_null(strstr(error.message, "names.json:2:2: \"Neck\": the target name is not a string"));
     sinew_model_free(demo);
 }
 
