@@ -20,7 +20,7 @@ static const char render_usage[] =
     "  --from A --to B     a sequence from A to B seconds, both included (default: the whole clip)\n"
     "  --fps N             frames per second of the sequence (default 30)\n"
     "  --loop              wrap times outside the clip instead of clamping\n"
-    "  --track             the camera follows the model (its posed centre) through a sequence\n"
+    "  --track             the camera follows the clip's root (a capture's hips) over the ground\n"
     "  --turntable [DEG]   the camera turns DEG degrees (default 360) around the model over a sequence\n"
     "  --size WxH          image size in pixels (default 1280x720)\n"
     "  --samples N         multisampling (default 4, 1 = off, at most 16; clamped to what OpenGL offers)\n"

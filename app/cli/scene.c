@@ -201,7 +201,7 @@ bool cli_scene_track(cli_scene *s, double time)
 {
     if (!cli_scene_pose(s, time))
         return false;
-    app_scene_follow(&s->scene, s->renderer, time, s->wrap, &s->follow, &s->camera);
+    app_scene_follow(&s->scene, time, s->wrap, &s->follow, &s->camera);
     return true;
 }
 

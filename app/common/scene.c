@@ -709,19 +709,25 @@ bool app_scene_bounds(app_scene *s, sinew_renderer *renderer, double from, doubl
     return false;
 }
 
-void app_scene_follow(app_scene *s, sinew_renderer *renderer, double time, sinew_wrap wrap, app_follow *follow,
-                      sinew_camera *camera)
+void app_scene_follow(app_scene *s, double time, sinew_wrap wrap, app_follow *follow, sinew_camera *camera)
 {
-    float lo[3], hi[3];
-    if (!app_scene_bounds(s, renderer, time, time, 1, wrap, lo, hi))
-        return;
-    float *moved = !camera ? NULL : camera->mode == SINEW_CAMERA_ORBIT ? camera->target : camera->position;
-    for (int k = 0; k < 3; k++) {
-        float centre = 0.5f * (lo[k] + hi[k]);
-        if (moved && follow->noted)
-            moved[k] += centre - follow->centre[k];
-        follow->centre[k] = centre;
+    if (!camera || !follow->noted || follow->clip != s->clip) { /* (again) from here */
+        sinew_root_motion root;
+        follow->noted = false;
+        follow->clip = s->clip;
+        follow->node = s->model && s->clip && sinew_root_motion_init(s->model, s->clip, -1, &root, NULL) == SINEW_OK &&
+                               root.node < s->model->node_count
+                           ? (int32_t)root.node
+                           : -1;
+        camera = NULL;
     }
+    if (follow->node < 0 || app_scene_pose(s, time, wrap, NULL) != SINEW_OK)
+        return;
+    const float *at = &s->worlds[follow->node].m[12];
+    float *moved = !camera ? NULL : camera->mode == SINEW_CAMERA_ORBIT ? camera->target : camera->position;
+    for (int k = 0; moved && k < 3; k += 2) /* over the ground: x and z */
+        moved[k] += at[k] - follow->at[k];
+    memcpy(follow->at, at, sizeof follow->at);
     follow->noted = true;
 }
 

@@ -201,15 +201,19 @@ sinew_frame app_scene_frame(const app_scene *scene, const sinew_camera *camera, 
 bool app_scene_bounds(app_scene *scene, sinew_renderer *renderer, double from, double to, int samples, sinew_wrap wrap,
                       float lo[3], float hi[3]);
 /* The camera following the model (`sinew render --track`, sinew-view's Follow): the orbit camera's
- * target, or the fly camera's position, moves by as much as the centre of the posed bounds at
- * `time` moved since the centre was last noted; with `camera` NULL, or the first time, the centre
- * is only noted. Nothing moves when the pose has no extent. Leaves the scene posed at `time`. */
+ * target, or the fly camera's position, moves over the ground as far as the clip's root moved since
+ * it was last noted. The root is the node --root-motion takes (the topmost node the clip
+ * translates, a skin's joint where there is one: a capture's hips), so that the camera does not
+ * sway with the arms and legs, stays still for a clip that goes nowhere, and lets a jump go up
+ * in the view. With `camera` NULL, the first time, or a new clip, the root is only noted; a clip
+ * that translates no node moves nothing. Leaves the scene posed at `time`. */
 typedef struct app_follow {
     bool noted;
-    float centre[3];
+    const sinew_clip *clip; /* the clip `node` is the root of */
+    int32_t node;           /* -1: none */
+    float at[3];            /* where it was (world) */
 } app_follow;
-void app_scene_follow(app_scene *scene, sinew_renderer *renderer, double time, sinew_wrap wrap, app_follow *follow,
-                      sinew_camera *camera);
+void app_scene_follow(app_scene *scene, double time, sinew_wrap wrap, app_follow *follow, sinew_camera *camera);
 /* Where the ground grid goes: the lowest posed point over the whole clip (the rest pose
  * without one), `samples` times; 0 when nothing has extent. Leaves the scene posed at the clip's end. */
 float app_scene_ground(app_scene *scene, sinew_renderer *renderer, int samples);

@@ -427,7 +427,7 @@ static void frame_all(viewer *v)
         v->look.placement.has_position = v->look.placement.has_focal = false;
     }
     v->look.keep_now = CAMERA_FRAME; /* the next framing (F, a crowd) frames all */
-    app_scene_follow(&v->scene, v->renderer, v->play.time, SINEW_WRAP_CLAMP, &v->look.followed, NULL);
+    app_scene_follow(&v->scene, v->play.time, SINEW_WRAP_CLAMP, &v->look.followed, NULL);
 }
 
 void view_set_follow(viewer *v, bool on)
@@ -435,7 +435,7 @@ void view_set_follow(viewer *v, bool on)
     v->look.follow = on;
     v->look.follow_given = false; /* the user's choice from now on: saved */
     if (on && v->renderer && v->scene.model)
-        app_scene_follow(&v->scene, v->renderer, v->play.time, SINEW_WRAP_CLAMP, &v->look.followed, NULL);
+        app_scene_follow(&v->scene, v->play.time, SINEW_WRAP_CLAMP, &v->look.followed, NULL);
     if (v->look.follow_check) {
         v->updating = true;
         gtk_check_button_set_active(GTK_CHECK_BUTTON(v->look.follow_check), on);
@@ -808,7 +808,7 @@ static gboolean on_render(GtkGLArea *area, GdkGLContext *context, gpointer data)
     }
     bool crowd = v->crowd_on && crowd_ready(v);
     if (v->look.follow && !crowd) /* the camera moves with the model before the frame takes it */
-        app_scene_follow(&v->scene, v->renderer, v->play.time, SINEW_WRAP_CLAMP, &v->look.followed, &v->look.camera);
+        app_scene_follow(&v->scene, v->play.time, SINEW_WRAP_CLAMP, &v->look.followed, &v->look.camera);
     sinew_error error = {0};
     sinew_frame frame = app_scene_frame(&v->scene, &v->look.camera, &v->options, width, height);
     if (v->scene.ops.root_motion && v->pose.path_segments) { /* the root-motion path on the ground */
@@ -1536,8 +1536,8 @@ static const char usage[] =
     "  --size WxH            the window's size (default: as last closed, else 1200x760)\n"
     "  --panel NAME          the side panel's page shown first: hierarchy, display, shape-keys (each morph\n"
     "                        channel's weight live, a check and slider to set it by hand) or log\n"
-    "  --track               the camera follows the model (its posed centre), as key T switches and as\n"
-    "                        `sinew render --track` does\n"
+    "  --track               the camera follows the clip's root over the ground (the node --root-motion\n"
+    "                        takes: a capture's hips), as key T switches and `sinew render --track` does\n"
     "  --crowd N             shows N characters of the model on a grid, each at its own time (key C\n"
     "                        toggles a crowd of 100, or of N)\n"
     "  --blend C:W,C:W, --additive C:W, --crossfade A,B,T, --ik JOINT:X,Y,Z, --root-motion\n"

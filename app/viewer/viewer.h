@@ -68,8 +68,8 @@ typedef struct view_look {
     enum { CAMERA_FRAME, CAMERA_KEEP_GIVEN, CAMERA_KEEP_ALL } camera_keep, keep_now;
     app_camera_placement placement; /* --camera-position, --camera-focal-point: at the first framing */
     bool framed;
-    /* Follow (key T, --track, settings [view] follow): the camera moves with the posed model's
-     * centre, from where it was when the view was framed or Follow turned on */
+    /* Follow (key T, --track, settings [view] follow): the camera moves over the ground with the
+     * clip's root, from where it was when the view was framed or Follow turned on */
     bool follow, follow_given;
     app_follow followed;
     GtkWidget *follow_check;

@@ -675,6 +675,74 @@ static void test_frame_sequence_and_video(void **state)
     }
 }
 
+/* --track: the camera follows the clip's root over the ground. A skeleton whose hips walk 3 m
+ * along x and that does nothing else looks the same at the sequence's end as at its start;
+ * untracked it has left the view. The demo's wave does not move its hips: tracked, its frames
+ * are the untracked ones (the camera does not sway with the arm). */
+static void test_track(void **state)
+{
+    (void)state;
+    char bvh[1024], pattern[1024], first[1024], last[1024], dae[1100], dir[1024];
+    tmp_path("walk-away.bvh", bvh, sizeof bvh);
+    const char *text = "HIERARCHY\nROOT Hips\n{\n  OFFSET 0 0 0\n"
+                       "  CHANNELS 6 Xposition Yposition Zposition Zrotation Xrotation Yrotation\n"
+                       "  JOINT Chest\n  {\n    OFFSET 0 50 0\n    CHANNELS 3 Zrotation Xrotation Yrotation\n"
+                       "    End Site\n    {\n      OFFSET 0 40 0\n    }\n  }\n}\n"
+                       "MOTION\nFrames: 2\nFrame Time: 1.0\n"
+                       "0 90 0 0 0 0 0 0 0\n300 90 50 0 0 0 0 0 0\n";
+    write_file(bvh, text, strlen(text));
+    tmp_path("track-%d.png", pattern, sizeof pattern);
+    tmp_path("track-0.png", first, sizeof first);
+    tmp_path("track-2.png", last, sizeof last);
+    for (int tracked = 1; tracked >= 0; tracked--) {
+        const char *args[] = {
+            "render", bvh,  "--from",    "0",        "--to",        "1",  "--fps", "2",
+            "--size", SIZE, "--no-grid", "--camera", "orbit:20,15", "-o", pattern, tracked ? "--track" : NULL,
+            NULL};
+        run_result r = run_sinew(NULL, args);
+        assert_int_equal(r.code, 0);
+        run_free(&r);
+        image a = load_image(first), b = load_image(last);
+        long differing = 0;
+        /* tracked: the same picture (z moved too: x and z are the ground) */
+        assert_true(same_picture(&a, &b, &differing) == (tracked == 1));
+        free_image(&a);
+        free_image(&b);
+    }
+    /* in place, from the same camera: tracked or not, the same frames */
+    tmp_path("track-demo", dir, sizeof dir);
+    run_result r = RUN("demo", dir, "--force");
+    assert_int_equal(r.code, 0);
+    run_free(&r);
+    snprintf(dae, sizeof dae, "%s/humanoid.dae", dir);
+    image frames[2];
+    for (int tracked = 0; tracked < 2; tracked++) {
+        tmp_path(tracked ? "wave-t%d.png" : "wave-%d.png", pattern, sizeof pattern);
+        const char *args[] = {"render",    dae,
+                              "--clip",    "wave",
+                              "--from",    "0",
+                              "--to",      "1",
+                              "--fps",     "2",
+                              "--size",    SIZE,
+                              "--no-grid", "--camera-position",
+                              "1,1.5,4",   "--camera-focal-point",
+                              "0,1,0",     "-o",
+                              pattern,     tracked ? "--track" : NULL,
+                              NULL};
+        r = run_sinew(NULL, args);
+        assert_int_equal(r.code, 0);
+        run_free(&r);
+        tmp_path(tracked ? "wave-t2.png" : "wave-2.png", last, sizeof last);
+        frames[tracked] = load_image(last);
+    }
+    long differing = 0;
+    bool same = same_picture(&frames[0], &frames[1], &differing);
+    print_message("wave, tracked against untracked: %ld pixels differ\n", differing);
+    assert_true(same); /* (a pixel or two: the depth range follows the framing, over the start alone when tracked) */
+    free_image(&frames[0]);
+    free_image(&frames[1]);
+}
+
 /* -o chooses the format by its extension (JPEG here, not PNG bytes in a .jpg) and makes the
  * folders that are missing, for a frame pattern too (issue 16). */
 static void test_output_formats_and_folders(void **state)
@@ -919,6 +987,7 @@ int main(void)
         cmocka_unit_test(test_bone_only_file_shows_bones),
         cmocka_unit_test(test_embedded_texture),
         cmocka_unit_test(test_frame_sequence_and_video),
+        cmocka_unit_test(test_track),
         cmocka_unit_test(test_bad_input),
         cmocka_unit_test(test_bench_render_reports),
     };
