@@ -186,6 +186,11 @@ typedef struct sinew_mesh {
     const sinew_morph_target *targets; /* sorted by channel, then full weight */
     uint32_t morph_channel_count;      /* channels its targets use (largest channel + 1) */
     const sinew_vertex_cache *cache;   /* or NULL */
+    /* The file gave no normals and its format asks for faceted ones (glTF: "client implementations
+     * MUST calculate flat normals"): `normals` holds smooth ones computed for skinning and tools,
+     * and sinew's renderer shades each triangle flat. False when the file gave normals, or when
+     * its format smooths them (FBX, COLLADA, IQM: computed smooth, drawn smooth). */
+    bool flat_normals;
 } sinew_mesh;
 
 /* A mesh drawn at a node. Rigid meshes follow the node's world matrix; skinned meshes

@@ -226,7 +226,9 @@ class Joints:
 
 class Mesh:
     """One mesh of the model: name, positions (V,3) and normals (V,3) in mesh space,
-    triangles (F,3) uint32, the skin it uses (index or -1), its morph target names."""
+    triangles (F,3) uint32, the skin it uses (index or -1), its morph target names, and
+    flat_normals: the file gave no normals and its format asks for faceted ones (glTF); the
+    normals given here are then computed smooth, and sinew draws its triangles flat."""
 
     def __init__(self, mesh):
         v = mesh.vertex_count
@@ -238,6 +240,7 @@ class Mesh:
             if mesh.index_count else np.zeros((0, 3), np.uint32)
         self.skin = mesh.skin
         self.morph_targets = [_text(mesh.targets[t].name) for t in range(mesh.target_count)]
+        self.flat_normals = bool(mesh.flat_normals)
 
     def __repr__(self):
         return "<sinew.Mesh %r %d vertices, %d triangles>" % (self.name, self.vertex_count, len(self.triangles))

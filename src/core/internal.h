@@ -19,7 +19,8 @@
  * added deformers: MCHN (morph channels), MTGT (morph targets), IMRF (each instance's first
  * channel), WTRK (clips' weight tracks), VCCH (vertex caches), SKBL (skins' blend), MDQW (meshes'
  * dual-quaternion weights), CTLN (clips' place on the file's timeline); version 3 files are read
- * (they have none of these) with a warning. The checksum is CRC-32C (Castagnoli) of the whole blob
+ * (they have none of these) with a warning. Later minor additions to version 4: MFLT (meshes
+ * drawn with flat normals). The checksum is CRC-32C (Castagnoli) of the whole blob
  * computed with the checksum field set to 0.
  */
 #ifndef SINEW_CORE_INTERNAL_H
@@ -177,6 +178,7 @@ typedef struct blob_header {
     blob_span skin_blend;     /* SKBL uint32_t a skin: sinew_skin_blend; absent: all linear */
     blob_span mesh_dq;        /* MDQW uint32_t a mesh: offset of a float a vertex or BLOB_NONE; absent: none */
     blob_span clip_timeline;  /* CTLN two floats a clip: sinew_clip.timeline and frame_rate; absent: all 0 */
+    blob_span mesh_flat;      /* MFLT uint8_t a mesh: 1 sinew_mesh.flat_normals, else 0; absent: all 0 */
 } blob_header;
 
 /* One known section: its tag, where its span lives in blob_header, its element size. */

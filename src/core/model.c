@@ -44,6 +44,7 @@ const blob_section_kind sinew_blob_section_kinds[] = {
     SECTION("SKBL", skin_blend, uint32_t),
     SECTION("MDQW", mesh_dq, uint32_t),
     SECTION("CTLN", clip_timeline, float),
+    SECTION("MFLT", mesh_flat, uint8_t),
 };
 #undef SECTION
 const uint32_t sinew_blob_section_kind_count = sizeof sinew_blob_section_kinds / sizeof sinew_blob_section_kinds[0];
@@ -353,6 +354,12 @@ static sinew_result check_meshes(reader *r)
             (!range_ok(r, tangents[i], v, 16) || (v && !sinew_floats_finite(array_at(r, tangents[i], v), v * 4))))
             return corrupt(r, "mesh tangents");
     }
+    if (h->mesh_flat.count && h->mesh_flat.count != h->meshes.count)
+        return corrupt(r, "mesh flat normals table");
+    const uint8_t *flat = array_at(r, h->mesh_flat.offset, h->mesh_flat.count); /* NULL: none */
+    for (uint32_t i = 0; flat && i < h->meshes.count; i++)
+        if (flat[i] > 1)
+            return corrupt(r, "mesh flat normals");
     const blob_material *materials = array_at(r, h->materials.offset, h->materials.count);
     for (uint32_t i = 0; i < h->materials.count; i++)
         if (!string_ok(r, materials[i].name, false) || !sinew_floats_finite(materials[i].base_color, 4) ||
@@ -696,6 +703,7 @@ static void fill_model(model_block *b, const reader *r, unsigned char *tables)
     sinew_mesh *meshes = take(&cursor, m->mesh_count * sizeof(sinew_mesh));
     const blob_mesh *bmeshes = array_at(r, h->meshes.offset, m->mesh_count);
     const uint32_t *tangents = array_at(r, h->mesh_tangents.offset, h->mesh_tangents.count); /* NULL: none */
+    const uint8_t *flat = array_at(r, h->mesh_flat.offset, h->mesh_flat.count);
     for (uint32_t i = 0; i < m->mesh_count; i++) {
         const blob_mesh *bm = &bmeshes[i];
         uint64_t k = (uint64_t)bm->vertex_count * bm->influence_count;
@@ -713,6 +721,7 @@ static void fill_model(model_block *b, const reader *r, unsigned char *tables)
             .weights = array_at(r, bm->weights, k),
             .skin = bm->skin,
             .material = bm->material,
+            .flat_normals = flat && flat[i],
         };
     }
     m->meshes = meshes;

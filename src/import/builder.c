@@ -1161,6 +1161,21 @@ static blob_span write_mesh_tangents(writer *w, const raw_model *m)
     return span;
 }
 
+/* MFLT: a byte a mesh, 1 where it is drawn with flat normals; no section when none is. */
+static blob_span write_mesh_flat(writer *w, const raw_model *m)
+{
+    bool any = false;
+    for (uint32_t i = 0; i < m->mesh_count; i++)
+        any |= m->meshes[i].flat_normals;
+    if (!any)
+        return (blob_span){0, 0};
+    uint32_t at = writer_space(w, m->mesh_count);
+    uint8_t *flat = writer_at(w, at);
+    for (uint32_t i = 0; flat && i < m->mesh_count; i++)
+        flat[i] = m->meshes[i].flat_normals;
+    return (blob_span){at, m->mesh_count};
+}
+
 static blob_span write_skins(writer *w, const raw_model *m)
 {
     blob_skin *table = calloc(m->skin_count ? m->skin_count : 1, sizeof *table);
@@ -1603,6 +1618,7 @@ static void write_tables(writer *w, const raw_model *m, size_t head, blob_header
     h->skins = write_skins(w, m);
     h->meshes = write_meshes(w, m);
     h->mesh_tangents = write_mesh_tangents(w, m);
+    h->mesh_flat = write_mesh_flat(w, m);
     h->instances = write_instances(w, m, &h->instance_morph);
     write_deformers(w, m, h);
     h->materials = write_materials(w, m, &h->materials_pbr);

@@ -1423,6 +1423,12 @@ static sinew_result read_primitive(gltf *g, int mesh, int k, int skin, raw_mesh 
         (r = attribute(g, attrs, "TANGENT", where, 4, TANGENT_TYPES, n, &out->tangents)) ||
         (r = primitive_indices(g, prim, where, mode, n, out)) || (r = read_targets(g, gm, prim, where, out)))
         return r;
+    if (!out->normals) { /* "client implementations MUST calculate flat normals and the provided tangents (if
+                            present) MUST be ignored" (glTF 2.0, 3.7.2.1) */
+        out->flat_normals = true;
+        free(out->tangents);
+        out->tangents = NULL;
+    }
     /* The texture transform in glTF's UV space (v down), then v up as the runtime has it. */
     for (uint32_t i = 0; out->uvs && i < n; i++) {
         float u = out->uvs[i * 2], v = out->uvs[i * 2 + 1];

@@ -109,6 +109,7 @@ typedef struct raw_mesh {
     uint32_t target_count;
     raw_morph_target *targets;
     raw_vertex_cache *cache; /* or NULL */
+    bool flat_normals;       /* sinew_mesh.flat_normals: none given, and the format wants faceted ones */
 } raw_mesh;
 
 typedef struct raw_texture {

@@ -61,6 +61,7 @@ static void copy_mesh(const sinew_mesh *src, raw_mesh *dst, bool *ok)
         .influence_count = src->influence_count,
         .weights = copy_array(src->weights, k, sizeof(float), ok),
         .dq_weights = copy_array(src->dq_weights, v, sizeof(float), ok),
+        .flat_normals = src->flat_normals,
     };
     if (src->target_count) {
         dst->targets = calloc(src->target_count, sizeof *dst->targets);

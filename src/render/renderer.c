@@ -67,7 +67,7 @@ typedef struct mesh_uniforms {
         palette, morph, morph_count, morph_vertices, morph_texels, morph_target, morph_weight, heat_joint, heat_rigid,
         gouraud, key_dir, fill_dir, eye, base_color, use_texture, texture, mode, heat, override, normal_length,
         metallic, roughness, emissive, normal_scale, occlusion_strength, maps, map_mr, map_normal, map_occlusion,
-        map_emissive;
+        map_emissive, flat;
 } mesh_uniforms;
 
 struct sinew_renderer {
@@ -401,7 +401,7 @@ static void lookup_mesh_uniforms(GLuint program, mesh_uniforms *u)
     U(morph), U(morph_count), U(morph_vertices), U(morph_texels), U(morph_target), U(morph_weight);
     U(key_dir), U(fill_dir), U(eye), U(base_color), U(use_texture), U(texture), U(mode), U(heat), U(override);
     U(normal_length), U(metallic), U(roughness), U(emissive), U(normal_scale), U(occlusion_strength), U(maps);
-    U(map_mr), U(map_normal), U(map_occlusion), U(map_emissive);
+    U(map_mr), U(map_normal), U(map_occlusion), U(map_emissive), U(flat);
 #undef U
 }
 
@@ -945,6 +945,19 @@ static sinew_result prepare_instance(sinew_renderer *r, const mesh_uniforms *u, 
     return SINEW_OK;
 }
 
+static int shading_mode(const sinew_render_options *o)
+{
+    if (o->unlit)
+        return 0;
+    return o->shading == SINEW_SHADING_GOURAUD ? 2
+           : o->shading == SINEW_SHADING_FLAT  ? 3
+           : o->shading == SINEW_SHADING_PBR   ? 4
+                                               : 1;
+}
+
+/* The mesh's material, and its shading: the frame's, each triangle flat for a mesh whose file
+ * asks for flat normals (Phong and Gouraud become flat; physically based shading takes the
+ * triangle's normal). */
 static void set_material(sinew_renderer *r, const frame_state *fs, const sinew_mesh *mesh)
 {
     static const float CLAY[4] = {0.50f, 0.48f, 0.45f, 1.0f};
@@ -982,16 +995,13 @@ static void set_material(sinew_renderer *r, const frame_state *fs, const sinew_m
         glBindTexture(GL_TEXTURE_2D, maps[k]);
     }
     glActiveTexture(GL_TEXTURE0);
-}
-
-static int shading_mode(const sinew_render_options *o)
-{
-    if (o->unlit)
-        return 0;
-    return o->shading == SINEW_SHADING_GOURAUD ? 2
-           : o->shading == SINEW_SHADING_FLAT  ? 3
-           : o->shading == SINEW_SHADING_PBR   ? 4
-                                               : 1;
+    int mode = shading_mode(fs->o);
+    bool flat = mesh->flat_normals && mode != 0;
+    if (flat && (mode == 1 || mode == 2))
+        mode = 3;
+    glUniform1i(u->mode, mode);
+    glUniform1i(u->gouraud, mode == 2);
+    glUniform1i(u->flat, flat);
 }
 
 static bool instance_hidden(const sinew_render_options *o, uint32_t i)
@@ -1007,6 +1017,7 @@ static void begin_mesh_pass(sinew_renderer *r, const frame_state *fs, bool heat)
     int mode = shading_mode(fs->o);
     glUniform1i(u->mode, mode);
     glUniform1i(u->gouraud, mode == 2);
+    glUniform1i(u->flat, 0);
     glUniform1i(u->heat, heat);
 }
 
@@ -1137,6 +1148,7 @@ static sinew_result draw_muscles(sinew_renderer *r, const frame_state *fs, sinew
     int mode = !fs->o->unlit ? 2 : 0;
     glUniform1i(u->mode, mode);
     glUniform1i(u->gouraud, mode == 2);
+    glUniform1i(u->flat, 0);
     glUniform1i(u->heat, 0);
     glUniform1i(u->gpu_sets, 0);
     glUniform1i(u->heat_joint, -1);

@@ -1,7 +1,9 @@
 /* sinew's own glTF reader (src/import/gltf.c) on sinew's fixtures (tests/fixtures/make_gltf.py):
  * nodes by index whatever their names, each sampler's interpolation, KHR_mesh_quantization
  * and sparse accessors, KHR_texture_transform, and refusals that say where the file is wrong. */
+#define _GNU_SOURCE /* memmem */
 #include <math.h>
+#include <stddef.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -9,6 +11,7 @@
 #include <cjson/cJSON.h>
 
 #include "helpers.h"
+#include "core/internal.h"
 
 static const sinew_track *track_of(const sinew_clip *clip, uint32_t node)
 {
@@ -297,6 +300,67 @@ static void test_glb_header(void **state)
     free(bytes);
 }
 
+/* A primitive without NORMAL: glTF asks for flat normals ("client implementations MUST calculate
+ * flat normals", and ignore TANGENT): the mesh says so (flat_normals, kept by a .sinew file), its
+ * normals are still there (smooth, unit length, for skinning), and it has no tangents. With
+ * NORMAL it is as the file says. */
+static void test_missing_normals_are_flat(void **state)
+{
+    (void)state;
+    char src[1024], file[1024], saved[1024];
+    size_t size = 0;
+    char *text = (char *)read_file(fixture_path("two_bone_cubic.gltf", src, sizeof src), &size);
+    cJSON *doc = cJSON_ParseWithLength(text, size);
+    free(text);
+    assert_non_null(doc);
+    cJSON *prim = cJSON_GetArrayItem(
+        cJSON_GetObjectItem(cJSON_GetArrayItem(cJSON_GetObjectItem(doc, "meshes"), 0), "primitives"), 0);
+    cJSON *attrs = cJSON_GetObjectItem(prim, "attributes");
+    cJSON_DeleteItemFromObject(attrs, "NORMAL");
+    /* tangents to ignore: WEIGHTS_0's accessor is of VEC4 floats, one a vertex */
+    cJSON_AddNumberToObject(attrs, "TANGENT", cJSON_GetObjectItem(attrs, "WEIGHTS_0")->valueint);
+    char *out = cJSON_PrintUnformatted(doc);
+    write_file(tmp_path("no_normals.gltf", file, sizeof file), out, strlen(out));
+    free(out);
+    cJSON_Delete(doc);
+
+    sinew_model *with = load_or_fail(src), *without = load_or_fail(file);
+    assert_false(with->meshes[0].flat_normals);
+    const sinew_mesh *mesh = &without->meshes[0];
+    assert_true(mesh->flat_normals);
+    assert_null(mesh->tangents);
+    assert_non_null(mesh->normals);
+    for (uint32_t v = 0; v < mesh->vertex_count; v++) {
+        const float *n = &mesh->normals[v * 3];
+        assert_float_equal(n[0] * n[0] + n[1] * n[1] + n[2] * n[2], 1.0f, 1e-5f);
+    }
+    sinew_error error = {0};
+    assert_int_equal(sinew_model_save(without, NULL, tmp_path("no_normals.sinew", saved, sizeof saved), &error),
+                     SINEW_OK);
+    sinew_model *back = load_or_fail(saved);
+    assert_true(back->meshes[0].flat_normals);
+    sinew_model_free(back);
+    /* a flag other than 0 or 1 is refused */
+    unsigned char *bytes = read_file(saved, &size);
+    const unsigned char *tag = memmem(bytes, size, "MFLT", 4);
+    assert_non_null(tag);
+    uint32_t offset;
+    memcpy(&offset, tag + 4, 4);
+    bytes[offset] = 2;
+    uint32_t checksum = sinew_blob_checksum(bytes, size); /* so that the validation is what refuses it */
+    memcpy(bytes + offsetof(blob_file_header, checksum), &checksum, 4);
+    back = NULL;
+    assert_int_equal(sinew_model_from_blob(bytes, size, "edited", NULL, &back, &error), SINEW_ERROR_FORMAT);
+    assert_non_null(strstr(error.message, "flat normals"));
+    free(bytes);
+    assert_int_equal(sinew_model_save(with, NULL, saved, &error), SINEW_OK);
+    back = load_or_fail(saved);
+    assert_false(back->meshes[0].flat_normals);
+    sinew_model_free(back);
+    sinew_model_free(with);
+    sinew_model_free(without);
+}
+
 static void check_pbr_spheres(const sinew_model *m)
 {
     assert_int_equal(m->material_count, 4);
@@ -381,6 +445,7 @@ int main(void)
         cmocka_unit_test(test_embedded_images),
         cmocka_unit_test(test_pbr_materials),
         cmocka_unit_test(test_glb_header),
+        cmocka_unit_test(test_missing_normals_are_flat),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

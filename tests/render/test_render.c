@@ -539,6 +539,22 @@ static void test_animated_frames_differ_static_do_not(void **state)
     free_image(&b);
 }
 
+/* A glTF mesh without normals is drawn flat, as glTF asks ("client implementations MUST calculate
+ * flat normals"): Phong shading draws what --shading flat draws. */
+static void test_missing_normals_drawn_flat(void **state)
+{
+    (void)state;
+    char glb[1024];
+    if (!testdata_path("gltf-samples/RecursiveSkeletons.glb", glb, sizeof glb))
+        skip();
+    image phong = RENDER("no-normals.png", glb, "--size", SIZE);
+    image flat = RENDER("no-normals-flat.png", glb, "--size", SIZE, "--shading", "flat");
+    long differing = 0;
+    assert_true(same_picture(&phong, &flat, &differing));
+    free_image(&phong);
+    free_image(&flat);
+}
+
 /* A skeleton-only file shows bones without being asked: bone-coloured pixels appear. */
 static void test_bone_only_file_shows_bones(void **state)
 {
@@ -988,6 +1004,7 @@ int main(void)
         cmocka_unit_test(test_embedded_texture),
         cmocka_unit_test(test_frame_sequence_and_video),
         cmocka_unit_test(test_track),
+        cmocka_unit_test(test_missing_normals_drawn_flat),
         cmocka_unit_test(test_bad_input),
         cmocka_unit_test(test_bench_render_reports),
     };
