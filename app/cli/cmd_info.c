@@ -25,7 +25,8 @@ static const char info_usage[] =
     "           \"clips_sharing_keys\", \"tracks\", \"keys\": {...}, \"weight_tracks\": [{\"channel\", \"keys\"}]}],\n"
     "           \"morph_channels\": [{\"name\", \"default_weight\"}], meshes also give \"skin_method\"\n"
     "           (linear, dual_quaternion or mixed), \"flat_normals\" (the file gave no normals and asks for\n"
-    "           faceted ones, as glTF does: drawn flat), \"morph_targets\": [{\"name\", \"channel\", \"full_weight\",\n"
+    "           faceted ones, as glTF does: drawn flat), \"colors\" (vertex colours), \"morph_targets\": [{\"name\", "
+    "\"channel\", \"full_weight\",\n"
     "           \"vertices\", \"normals\", \"tangents\"}] and \"cache\": {\"frames\", \"from\", \"to\"} or null,\n"
     "           \"nodes\":\n"
     "           [{\"name\", \"parent\", \"joint\", \"inherit\"}], \"warnings\": [...]}\n"
@@ -188,6 +189,8 @@ static void print_text(const sinew_model *m)
             printf(", UVs");
         if (mesh->tangents)
             printf(", tangents");
+        if (mesh->colors)
+            printf(", vertex colours");
         if (mesh->flat_normals)
             printf(", no normals: drawn flat");
         if (mesh->material >= 0)
@@ -264,6 +267,7 @@ static cJSON *info_json(const sinew_model *m)
         cJSON_AddBoolToObject(o, "uvs", mesh->uvs != NULL);
         cJSON_AddBoolToObject(o, "tangents", mesh->tangents != NULL);
         cJSON_AddBoolToObject(o, "flat_normals", mesh->flat_normals);
+        cJSON_AddBoolToObject(o, "colors", mesh->colors != NULL);
         if (mesh->material >= 0)
             cJSON_AddStringToObject(o, "material", m->materials[mesh->material].name);
         else

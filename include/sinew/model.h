@@ -191,6 +191,9 @@ typedef struct sinew_mesh {
      * and sinew's renderer shades each triangle flat. False when the file gave normals, or when
      * its format smooths them (FBX, COLLADA, IQM: computed smooth, drawn smooth). */
     bool flat_normals;
+    /* 4 floats a vertex: linear RGBA that multiplies the material's base colour (glTF's COLOR_0,
+     * FBX's and COLLADA's vertex colours, converted from sRGB where the format stores that), or NULL */
+    const float *colors;
 } sinew_mesh;
 
 /* A mesh drawn at a node. Rigid meshes follow the node's world matrix; skinned meshes

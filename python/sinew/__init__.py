@@ -228,7 +228,8 @@ class Mesh:
     """One mesh of the model: name, positions (V,3) and normals (V,3) in mesh space,
     triangles (F,3) uint32, the skin it uses (index or -1), its morph target names, and
     flat_normals: the file gave no normals and its format asks for faceted ones (glTF); the
-    normals given here are then computed smooth, and sinew draws its triangles flat."""
+    normals given here are then computed smooth, and sinew draws its triangles flat. colors:
+    (V,4) linear RGBA vertex colours, or None."""
 
     def __init__(self, mesh):
         v = mesh.vertex_count
@@ -241,6 +242,7 @@ class Mesh:
         self.skin = mesh.skin
         self.morph_targets = [_text(mesh.targets[t].name) for t in range(mesh.target_count)]
         self.flat_normals = bool(mesh.flat_normals)
+        self.colors = _floats(mesh.colors, v * 4).reshape(-1, 4) if mesh.colors != ffi.NULL else None
 
     def __repr__(self):
         return "<sinew.Mesh %r %d vertices, %d triangles>" % (self.name, self.vertex_count, len(self.triangles))

@@ -40,7 +40,7 @@ typedef struct sinew_mesh {
     const float *uvs; const float *tangents; const uint32_t *indices; uint32_t influence_count;
     const uint16_t *joints; const float *weights; int32_t skin; int32_t material; const float *dq_weights;
     uint32_t target_count; const sinew_morph_target *targets; uint32_t morph_channel_count; const void *cache;
-    bool flat_normals;
+    bool flat_normals; const float *colors;
 } sinew_mesh;
 typedef struct sinew_instance { uint32_t mesh; uint32_t node; uint32_t morph_first; } sinew_instance;
 typedef struct sinew_morph_channel { const char *name; float default_weight; } sinew_morph_channel;

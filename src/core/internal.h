@@ -20,7 +20,7 @@
  * channel), WTRK (clips' weight tracks), VCCH (vertex caches), SKBL (skins' blend), MDQW (meshes'
  * dual-quaternion weights), CTLN (clips' place on the file's timeline); version 3 files are read
  * (they have none of these) with a warning. Later minor additions to version 4: MFLT (meshes
- * drawn with flat normals). The checksum is CRC-32C (Castagnoli) of the whole blob
+ * drawn with flat normals), MCOL (vertex colours). The checksum is CRC-32C (Castagnoli) of the whole blob
  * computed with the checksum field set to 0.
  */
 #ifndef SINEW_CORE_INTERNAL_H
@@ -179,6 +179,7 @@ typedef struct blob_header {
     blob_span mesh_dq;        /* MDQW uint32_t a mesh: offset of a float a vertex or BLOB_NONE; absent: none */
     blob_span clip_timeline;  /* CTLN two floats a clip: sinew_clip.timeline and frame_rate; absent: all 0 */
     blob_span mesh_flat;      /* MFLT uint8_t a mesh: 1 sinew_mesh.flat_normals, else 0; absent: all 0 */
+    blob_span mesh_colors;    /* MCOL uint32_t a mesh: offset of 4 floats a vertex or BLOB_NONE; absent: none */
 } blob_header;
 
 /* One known section: its tag, where its span lives in blob_header, its element size. */

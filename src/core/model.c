@@ -45,6 +45,7 @@ const blob_section_kind sinew_blob_section_kinds[] = {
     SECTION("MDQW", mesh_dq, uint32_t),
     SECTION("CTLN", clip_timeline, float),
     SECTION("MFLT", mesh_flat, uint8_t),
+    SECTION("MCOL", mesh_colors, uint32_t),
 };
 #undef SECTION
 const uint32_t sinew_blob_section_kind_count = sizeof sinew_blob_section_kinds / sizeof sinew_blob_section_kinds[0];
@@ -353,6 +354,15 @@ static sinew_result check_meshes(reader *r)
         if (tangents[i] != BLOB_NONE &&
             (!range_ok(r, tangents[i], v, 16) || (v && !sinew_floats_finite(array_at(r, tangents[i], v), v * 4))))
             return corrupt(r, "mesh tangents");
+    }
+    if (h->mesh_colors.count && h->mesh_colors.count != h->meshes.count)
+        return corrupt(r, "mesh colours table");
+    const uint32_t *colors = array_at(r, h->mesh_colors.offset, h->mesh_colors.count); /* NULL: none */
+    for (uint32_t i = 0; colors && i < h->meshes.count; i++) {
+        uint64_t v = meshes[i].vertex_count;
+        if (colors[i] != BLOB_NONE &&
+            (!range_ok(r, colors[i], v, 16) || (v && !sinew_floats_finite(array_at(r, colors[i], v), v * 4))))
+            return corrupt(r, "mesh colours");
     }
     if (h->mesh_flat.count && h->mesh_flat.count != h->meshes.count)
         return corrupt(r, "mesh flat normals table");
@@ -704,6 +714,7 @@ static void fill_model(model_block *b, const reader *r, unsigned char *tables)
     const blob_mesh *bmeshes = array_at(r, h->meshes.offset, m->mesh_count);
     const uint32_t *tangents = array_at(r, h->mesh_tangents.offset, h->mesh_tangents.count); /* NULL: none */
     const uint8_t *flat = array_at(r, h->mesh_flat.offset, h->mesh_flat.count);
+    const uint32_t *colors = array_at(r, h->mesh_colors.offset, h->mesh_colors.count);
     for (uint32_t i = 0; i < m->mesh_count; i++) {
         const blob_mesh *bm = &bmeshes[i];
         uint64_t k = (uint64_t)bm->vertex_count * bm->influence_count;
@@ -722,6 +733,7 @@ static void fill_model(model_block *b, const reader *r, unsigned char *tables)
             .skin = bm->skin,
             .material = bm->material,
             .flat_normals = flat && flat[i],
+            .colors = colors ? array_at(r, colors[i], bm->vertex_count) : NULL,
         };
     }
     m->meshes = meshes;

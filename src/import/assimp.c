@@ -548,6 +548,11 @@ static sinew_result read_mesh(context *c, const struct aiMesh *in, uint32_t inde
             out->uvs[i * 2 + 1] = in->mTextureCoords[0][i].y;
         }
     }
+    if (in->mColors[0]) { /* sRGB, as painting tools write them */
+        if (!(out->colors = malloc((v ? v : 1) * 4 * sizeof(float))))
+            return oom(c);
+        raw_colors_from_srgb(&in->mColors[0][0].r, 4, v, out->colors);
+    }
     /* Tangents as the file has them (no aiProcess_CalcTangentSpace); handedness from the
      * bitangent, which Assimp keeps along +v. */
     if (in->mTangents && in->mBitangents && in->mNormals) {

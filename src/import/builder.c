@@ -101,6 +101,17 @@ void raw_clip_free(raw_clip *clip)
     free(clip->name);
 }
 
+void raw_colors_from_srgb(const float *in, uint32_t stride, uint32_t n, float *out)
+{
+    for (uint32_t v = 0; v < n; v++) {
+        for (int k = 0; k < 3; k++) {
+            float c = in[(size_t)v * stride + (size_t)k];
+            out[(size_t)v * 4 + (size_t)k] = c <= 0.04045f ? c / 12.92f : powf((c + 0.055f) / 1.055f, 2.4f);
+        }
+        out[(size_t)v * 4 + 3] = stride > 3 ? in[(size_t)v * stride + 3] : 1.0f;
+    }
+}
+
 void raw_mesh_free(raw_mesh *mesh)
 {
     free(mesh->name);
@@ -108,6 +119,7 @@ void raw_mesh_free(raw_mesh *mesh)
     free(mesh->normals);
     free(mesh->uvs);
     free(mesh->tangents);
+    free(mesh->colors);
     free(mesh->indices);
     free(mesh->joints);
     free(mesh->weights);
@@ -483,6 +495,9 @@ static sinew_result fix_mesh(raw_model *m, uint32_t index, sinew_error *error)
                           m->source, mesh->name);
     if (mesh->tangents && !sinew_floats_finite(mesh->tangents, v * 4))
         return sinew_fail(error, SINEW_ERROR_DATA, "%s: mesh \"%s\" has tangents that are not finite", m->source,
+                          mesh->name);
+    if (mesh->colors && !sinew_floats_finite(mesh->colors, v * 4))
+        return sinew_fail(error, SINEW_ERROR_DATA, "%s: mesh \"%s\" has vertex colours that are not finite", m->source,
                           mesh->name);
     if (mesh->index_count % 3 != 0)
         return sinew_fail(error, SINEW_ERROR_DATA, "%s: mesh \"%s\" has %u indices, not whole triangles", m->source,
@@ -1161,6 +1176,26 @@ static blob_span write_mesh_tangents(writer *w, const raw_model *m)
     return span;
 }
 
+/* MCOL: a mesh's vertex colours offset (BLOB_NONE when it has none); no section when none has any. */
+static blob_span write_mesh_colors(writer *w, const raw_model *m)
+{
+    bool any = false;
+    for (uint32_t i = 0; i < m->mesh_count; i++)
+        any |= m->meshes[i].colors != NULL;
+    if (!any)
+        return (blob_span){0, 0};
+    uint32_t *offsets = malloc(m->mesh_count * sizeof *offsets);
+    if (!offsets) {
+        w->failed = true;
+        return (blob_span){BLOB_NONE, 0};
+    }
+    for (uint32_t i = 0; i < m->mesh_count; i++)
+        offsets[i] = writer_put(w, m->meshes[i].colors, (size_t)m->meshes[i].vertex_count * 16);
+    blob_span span = {writer_put(w, offsets, m->mesh_count * sizeof *offsets), m->mesh_count};
+    free(offsets);
+    return span;
+}
+
 /* MFLT: a byte a mesh, 1 where it is drawn with flat normals; no section when none is. */
 static blob_span write_mesh_flat(writer *w, const raw_model *m)
 {
@@ -1619,6 +1654,7 @@ static void write_tables(writer *w, const raw_model *m, size_t head, blob_header
     h->meshes = write_meshes(w, m);
     h->mesh_tangents = write_mesh_tangents(w, m);
     h->mesh_flat = write_mesh_flat(w, m);
+    h->mesh_colors = write_mesh_colors(w, m);
     h->instances = write_instances(w, m, &h->instance_morph);
     write_deformers(w, m, h);
     h->materials = write_materials(w, m, &h->materials_pbr);

@@ -790,42 +790,47 @@ typedef struct input {
     bool present;
 } input;
 
+#define INPUTS 4 /* a corner's inputs: position, normal, uv, colour */
+
 typedef struct vertex_table {
     uint32_t *slots; /* vertex + 1, 0 empty */
     uint32_t mask;
-    uint32_t *keys; /* 3 a vertex: position, normal, uv index */
+    uint32_t *keys; /* INPUTS a vertex: position, normal, uv, colour index */
     uint32_t count;
 } vertex_table;
 
-static int64_t vertex_for(vertex_table *t, const uint32_t key[3])
+static int64_t vertex_for(vertex_table *t, const uint32_t key[INPUTS])
 {
-    uint32_t h = (key[0] * 2654435761u) ^ (key[1] * 40503u + 0x9e3779b9u) ^ (key[2] * 2246822519u);
+    uint32_t h =
+        (key[0] * 2654435761u) ^ (key[1] * 40503u + 0x9e3779b9u) ^ (key[2] * 2246822519u) ^ (key[3] * 3266489917u);
     for (uint32_t i = h & t->mask;; i = (i + 1) & t->mask) {
         uint32_t s = t->slots[i];
         if (!s) {
             t->slots[i] = t->count + 1;
-            memcpy(&t->keys[t->count * 3], key, 3 * sizeof *key);
+            memcpy(&t->keys[t->count * INPUTS], key, INPUTS * sizeof *key);
             return t->count++;
         }
-        if (memcmp(&t->keys[(s - 1) * 3], key, 3 * sizeof *key) == 0)
+        if (memcmp(&t->keys[(s - 1) * INPUTS], key, INPUTS * sizeof *key) == 0)
             return s - 1;
     }
 }
 
-static void inputs_free(input in[3])
+static void inputs_free(input in[INPUTS])
 {
-    for (int i = 0; i < 3; i++)
+    for (int i = 0; i < INPUTS; i++)
         source_free(&in[i].src);
 }
 
-/* One input by semantic into in[0] position, in[1] normal, in[2] uv (the first set). */
-static sinew_result read_input(collada *c, xmlNode *el, int offset, input in[3])
+/* One input by semantic into in[0] position, in[1] normal, in[2] uv, in[3] colour (the first
+ * set of each). */
+static sinew_result read_input(collada *c, xmlNode *el, int offset, input in[INPUTS])
 {
     char semantic[64];
     attr(el, "semantic", semantic, sizeof semantic);
     int slot = strcmp(semantic, "POSITION") == 0   ? 0
                : strcmp(semantic, "NORMAL") == 0   ? 1
                : strcmp(semantic, "TEXCOORD") == 0 ? 2
+               : strcmp(semantic, "COLOR") == 0    ? 3
                                                    : -1;
     if (slot < 0 || in[slot].present)
         return SINEW_OK;
@@ -852,7 +857,7 @@ static sinew_result read_primitive(collada *c, xmlNode *el, const char *geometry
               named(el, "tristrips"));
     if (*skip)
         return SINEW_OK;
-    input in[3];
+    input in[INPUTS];
     memset(in, 0, sizeof in);
     int stride = 0;
     sinew_result r = SINEW_OK;
@@ -919,7 +924,7 @@ static sinew_result read_primitive(collada *c, xmlNode *el, const char *geometry
             uint32_t tris = size >= 3 ? size - 2 : 0;
             if (corner_count + tris * 3 > cap) {
                 cap = (corner_count + tris * 3) * 2 + 16;
-                uint32_t *grown = realloc(corners, (size_t)cap * 3 * sizeof *grown);
+                uint32_t *grown = realloc(corners, (size_t)cap * INPUTS * sizeof *grown);
                 if (!grown) {
                     r = oom(c);
                     break;
@@ -934,8 +939,8 @@ static sinew_result read_primitive(collada *c, xmlNode *el, const char *geometry
                     a = at, b2 = at + k + 1, d = at + k + 2;
                 uint32_t tri[3] = {a, b2, d};
                 for (int j = 0; j < 3 && !r; j++) {
-                    uint32_t *key = &corners[(size_t)(corner_count + (uint32_t)j) * 3];
-                    for (int s = 0; s < 3; s++) {
+                    uint32_t *key = &corners[(size_t)(corner_count + (uint32_t)j) * INPUTS];
+                    for (int s = 0; s < INPUTS; s++) {
                         if (!in[s].present) {
                             key[s] = 0;
                             continue;
@@ -960,13 +965,13 @@ static sinew_result read_primitive(collada *c, xmlNode *el, const char *geometry
         while (slots < corner_count * 2)
             slots *= 2;
         t.slots = calloc(slots, sizeof *t.slots);
-        t.keys = malloc((size_t)corner_count * 3 * sizeof *t.keys);
+        t.keys = malloc((size_t)corner_count * INPUTS * sizeof *t.keys);
         t.mask = slots - 1;
         out->mesh.indices = malloc((size_t)corner_count * sizeof *out->mesh.indices);
         if (!t.slots || !t.keys || !out->mesh.indices)
             r = oom(c);
         for (uint32_t i = 0; i < corner_count && !r; i++)
-            out->mesh.indices[i] = (uint32_t)vertex_for(&t, &corners[(size_t)i * 3]);
+            out->mesh.indices[i] = (uint32_t)vertex_for(&t, &corners[(size_t)i * INPUTS]);
         out->mesh.index_count = r ? 0 : corner_count;
     }
     free(corners);
@@ -977,11 +982,14 @@ static sinew_result read_primitive(collada *c, xmlNode *el, const char *geometry
         mm->positions = malloc((size_t)n * 3 * sizeof *mm->positions);
         mm->normals = in[1].present ? malloc((size_t)n * 3 * sizeof *mm->normals) : NULL;
         mm->uvs = in[2].present ? malloc((size_t)n * 2 * sizeof *mm->uvs) : NULL;
+        mm->colors = in[3].present ? malloc((size_t)n * 4 * sizeof *mm->colors) : NULL;
         out->position_of = malloc((size_t)n * sizeof *out->position_of);
-        if (!mm->positions || (in[1].present && !mm->normals) || (in[2].present && !mm->uvs) || !out->position_of)
+        if (!mm->positions || (in[1].present && !mm->normals) || (in[2].present && !mm->uvs) ||
+            (in[3].present && !mm->colors) || !out->position_of)
             r = oom(c);
+        uint32_t channels = in[3].src.stride >= 4 ? 4 : 3; /* RGB or RGBA */
         for (uint32_t v = 0; v < n && !r; v++) {
-            const uint32_t *key = &t.keys[(size_t)v * 3];
+            const uint32_t *key = &t.keys[(size_t)v * INPUTS];
             out->position_of[v] = key[0];
             for (int k = 0; k < 3; k++)
                 mm->positions[v * 3 + k] = (float)in[0].src.v[(size_t)key[0] * in[0].src.stride + (size_t)k];
@@ -989,6 +997,12 @@ static sinew_result read_primitive(collada *c, xmlNode *el, const char *geometry
                 mm->normals[v * 3 + k] = (float)in[1].src.v[(size_t)key[1] * in[1].src.stride + (size_t)k];
             for (int k = 0; k < 2 && mm->uvs; k++)
                 mm->uvs[v * 2 + k] = (float)in[2].src.v[(size_t)key[2] * in[2].src.stride + (size_t)k];
+            if (mm->colors) {
+                float rgba[4];
+                for (uint32_t k = 0; k < channels; k++)
+                    rgba[k] = (float)in[3].src.v[(size_t)key[3] * in[3].src.stride + k];
+                raw_colors_from_srgb(rgba, channels, 1, &mm->colors[(size_t)v * 4]);
+            }
         }
     }
     free(t.slots);

@@ -264,7 +264,7 @@ static void write_geometry(writer *wr, uint32_t index)
 {
     const sinew_mesh *mesh = &wr->model->meshes[index];
     char id[64];
-    static const char *const xyz[] = {"X", "Y", "Z"}, *const st[] = {"S", "T"};
+    static const char *const xyz[] = {"X", "Y", "Z"}, *const st[] = {"S", "T"}, *const rgba[] = {"R", "G", "B", "A"};
     start(wr, "geometry");
     attr(wr, "id", wr->ids[wr->model->node_count + index]);
     attr(wr, "name", mesh->name);
@@ -284,6 +284,14 @@ static void write_geometry(writer *wr, uint32_t index)
         snprintf(id, sizeof id, "mesh%u-uvs", index);
         float_source(wr, id, &t, mesh->vertex_count, 2, st, 2, "float");
     }
+    if (mesh->colors) { /* sRGB-encoded, as the reader (and other tools) take COLLADA's colours */
+        for (size_t i = 0; i < (size_t)mesh->vertex_count * 4; i++) {
+            float c = mesh->colors[i];
+            text_float(&t, i % 4 == 3 ? c : c <= 0.0031308f ? 12.92f * c : 1.055f * powf(c, 1.0f / 2.4f) - 0.055f);
+        }
+        snprintf(id, sizeof id, "mesh%u-colors", index);
+        float_source(wr, id, &t, mesh->vertex_count, 4, rgba, 4, "float");
+    }
     start(wr, "vertices");
     attrf(wr, "id", "mesh%u-vertices", index);
     snprintf(id, sizeof id, "mesh%u-positions", index);
@@ -300,6 +308,15 @@ static void write_geometry(writer *wr, uint32_t index)
         snprintf(id, sizeof id, "mesh%u-uvs", index);
         start(wr, "input");
         attr(wr, "semantic", "TEXCOORD");
+        attrf(wr, "source", "#%s", id);
+        attr(wr, "offset", "0");
+        attr(wr, "set", "0");
+        end(wr);
+    }
+    if (mesh->colors) {
+        snprintf(id, sizeof id, "mesh%u-colors", index);
+        start(wr, "input");
+        attr(wr, "semantic", "COLOR");
         attrf(wr, "source", "#%s", id);
         attr(wr, "offset", "0");
         attr(wr, "set", "0");

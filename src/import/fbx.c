@@ -1202,10 +1202,10 @@ typedef struct corner {
     uint32_t point;
     uint32_t polygon;
     int32_t material;
-    float normal[3], uv[2], tangent[4]; /* contiguous: hashed and compared together (9 words) */
+    float normal[3], uv[2], tangent[4], color[4]; /* contiguous: hashed and compared together (13 words) */
 } corner;
-_Static_assert(offsetof(corner, tangent) + sizeof(float[4]) - offsetof(corner, normal) == 36,
-               "corner_hash reads the attributes as 9 words");
+_Static_assert(offsetof(corner, color) + sizeof(float[4]) - offsetof(corner, normal) == 52,
+               "corner_hash reads the attributes as 13 words");
 
 typedef struct vertex_table {
     uint32_t *slots; /* vertex index + 1, 0 empty */
@@ -1218,9 +1218,9 @@ typedef struct vertex_table {
 static uint32_t corner_hash(const corner *c)
 {
     uint64_t h = 14695981039346656037u;
-    uint32_t w[9];
+    uint32_t w[13];
     memcpy(w, c->normal, sizeof w);
-    for (int i = 0; i < 9; i++)
+    for (int i = 0; i < 13; i++)
         h = (h ^ w[i]) * 1099511628211u;
     h = (h ^ c->point) * 1099511628211u;
     h ^= h >> 33;
@@ -1232,7 +1232,8 @@ static uint32_t corner_hash(const corner *c)
 static bool corner_same(const corner *a, const corner *b)
 {
     return a->point == b->point && memcmp(a->normal, b->normal, sizeof a->normal) == 0 &&
-           memcmp(a->uv, b->uv, sizeof a->uv) == 0 && memcmp(a->tangent, b->tangent, sizeof a->tangent) == 0;
+           memcmp(a->uv, b->uv, sizeof a->uv) == 0 && memcmp(a->tangent, b->tangent, sizeof a->tangent) == 0 &&
+           memcmp(a->color, b->color, sizeof a->color) == 0;
 }
 
 /* A corner's tangent from the tangent layer, its handedness from the binormal layer: +1 when
@@ -1263,7 +1264,7 @@ typedef struct mesh_source {
     uint32_t corner_count, polygon_count;
     corner *corners;
     uint32_t *polygon_start; /* polygon_count + 1 */
-    bool normals, uvs, tangents;
+    bool normals, uvs, tangents, colors;
 } mesh_source;
 
 static sinew_result read_polygons(scene *s, const fbx_object *g, mesh_source *src)
@@ -1279,9 +1280,10 @@ static sinew_result read_polygons(scene *s, const fbx_object *g, mesh_source *sr
         if (!isfinite(src->points[i]))
             return fbx_fail_data(s, "mesh has a vertex that is not finite", g);
     const double *idx = fbx_array(g->node, "PolygonVertexIndex", &idx_count);
-    layer_map normals, uvs, materials, tangents, binormals;
+    layer_map normals, uvs, materials, tangents, binormals, colors;
     sinew_result result;
     if ((result = layer_element(s, g, "LayerElementNormal", "Normals", "NormalsIndex", 3, &normals)) ||
+        (result = layer_element(s, g, "LayerElementColor", "Colors", "ColorIndex", 4, &colors)) ||
         (result = layer_element(s, g, "LayerElementUV", "UV", "UVIndex", 2, &uvs)) ||
         (result = layer_element(s, g, "LayerElementTangent", "Tangents", "TangentsIndex", 3, &tangents)) ||
         (result = layer_element(s, g, "LayerElementBinormal", "Binormals", "BinormalsIndex", 3, &binormals)) ||
@@ -1290,6 +1292,7 @@ static sinew_result read_polygons(scene *s, const fbx_object *g, mesh_source *sr
     src->normals = normals.mapping != MAP_NONE;
     src->uvs = uvs.mapping != MAP_NONE;
     src->tangents = tangents.mapping != MAP_NONE && src->normals;
+    src->colors = colors.mapping != MAP_NONE;
     src->corners = import_large_alloc((idx_count ? idx_count : 1) * sizeof *src->corners, IMPORT_PAGES_MIN);
     src->polygon_start = malloc((idx_count + 1) * sizeof *src->polygon_start);
     if (!src->corners || !src->polygon_start)
@@ -1312,12 +1315,15 @@ static sinew_result read_polygons(scene *s, const fbx_object *g, mesh_source *sr
         e = layer_at(&uvs, i, c->point, polygon, &bad);
         for (int k = 0; e >= 0 && k < 2; k++)
             c->uv[k] = (float)uvs.data[e * 2 + k];
+        e = src->colors ? layer_at(&colors, i, c->point, polygon, &bad) : -1;
+        for (int k = 0; e >= 0 && k < 4; k++)
+            c->color[k] = (float)colors.data[e * 4 + k];
         if (src->tangents)
             corner_tangent(c, &tangents, &binormals, i, polygon, &bad);
         e = materials.mapping == MAP_NONE ? -1 : layer_at(&materials, i, c->point, polygon, &bad);
         c->material = e >= 0 ? file_int(materials.data[e], -1) : 0;
         if (bad)
-            return fbx_fail_data(s, "mesh has a normal, UV, tangent or material index outside its array", g);
+            return fbx_fail_data(s, "mesh has a normal, UV, tangent, colour or material index outside its array", g);
         if (last) {
             src->polygon_start[polygon++] = start;
             start = i + 1;
@@ -1754,8 +1760,9 @@ static sinew_result emit_mesh(scene *s, const mesh_source *src, const fbx_object
     mesh->normals = src->normals ? malloc((vcount ? vcount : 1) * 3 * sizeof(float)) : NULL;
     mesh->uvs = src->uvs ? malloc((vcount ? vcount : 1) * 2 * sizeof(float)) : NULL;
     mesh->tangents = src->tangents ? malloc((vcount ? vcount : 1) * 4 * sizeof(float)) : NULL;
+    mesh->colors = src->colors ? malloc((vcount ? vcount : 1) * 4 * sizeof(float)) : NULL;
     if (!mesh->positions || (src->normals && !mesh->normals) || (src->uvs && !mesh->uvs) ||
-        (src->tangents && !mesh->tangents)) {
+        (src->tangents && !mesh->tangents) || (src->colors && !mesh->colors)) {
         free(verts);
         return fbx_oom(s);
     }
@@ -1787,6 +1794,8 @@ static sinew_result emit_mesh(scene *s, const mesh_source *src, const fbx_object
             mesh->uvs[v * 2] = c->uv[0];
             mesh->uvs[v * 2 + 1] = c->uv[1];
         }
+        if (mesh->colors)
+            raw_colors_from_srgb(c->color, 4, 1, &mesh->colors[v * 4]);
         if (mesh->tangents) { /* a direction on the surface: through the placement itself */
             double t[3], len = 0;
             for (int r = 0; r < 3; r++) {

@@ -1189,6 +1189,7 @@ static const long long NORMAL_TYPES[] = {5126, 5120, 5122, 0};
 static const long long TANGENT_TYPES[] = {5126, 5120, 5122, 0}; /* float, or normalised (quantization) */
 static const long long UV_TYPES[] = {5126, 5120, 5121, 5122, 5123, 0};
 static const long long JOINT_TYPES[] = {5121, 5123, 0};
+static const long long COLOR_TYPES[] = {5126, 5121, 5123, 0}; /* float, or normalised unsigned */
 static const long long WEIGHT_TYPES[] = {5126, 5121, 5123, 0};
 static const long long INDEX_TYPES[] = {5121, 5123, 5125, 0};
 
@@ -1212,6 +1213,36 @@ static sinew_result attribute(gltf *g, const json_node *attrs, const char *name,
         return fail_at(g, "%s: %s has %u elements for the primitive's %u vertices", where, name, count, vertex_count);
     }
     *out = f;
+    return SINEW_OK;
+}
+
+/* COLOR_0 (VEC3 or VEC4, linear, as glTF stores it) as RGBA: alpha 1 where the file gives none. */
+static sinew_result vertex_colors(gltf *g, const json_node *attrs, const char *where, uint32_t vertex_count,
+                                  float **out)
+{
+    *out = NULL;
+    int index;
+    sinew_result r = index_at(g, attrs, "COLOR_0", where, g->accessors.count, false, &index);
+    if (r || index < 0)
+        return r;
+    const json_node *type = json_get(item(&g->accessors, index), "type");
+    bool rgb = json_is_string(type) && strcmp(type->string, "VEC3") == 0;
+    float *c = NULL;
+    if ((r = attribute(g, attrs, "COLOR_0", where, rgb ? 3 : 4, COLOR_TYPES, vertex_count, &c)) || !rgb) {
+        *out = c;
+        return r;
+    }
+    float *rgba = malloc(((size_t)vertex_count + 1) * 4 * sizeof *rgba);
+    if (!rgba) {
+        free(c);
+        return oom(g);
+    }
+    for (uint32_t v = 0; v < vertex_count; v++) {
+        memcpy(&rgba[(size_t)v * 4], &c[(size_t)v * 3], 3 * sizeof *c);
+        rgba[(size_t)v * 4 + 3] = 1.0f;
+    }
+    free(c);
+    *out = rgba;
     return SINEW_OK;
 }
 
@@ -1421,6 +1452,7 @@ static sinew_result read_primitive(gltf *g, int mesh, int k, int skin, raw_mesh 
     if ((r = attribute(g, attrs, "NORMAL", where, 3, NORMAL_TYPES, n, &out->normals)) ||
         (r = attribute(g, attrs, "TEXCOORD_0", where, 2, UV_TYPES, n, &out->uvs)) ||
         (r = attribute(g, attrs, "TANGENT", where, 4, TANGENT_TYPES, n, &out->tangents)) ||
+        (r = vertex_colors(g, attrs, where, n, &out->colors)) ||
         (r = primitive_indices(g, prim, where, mode, n, out)) || (r = read_targets(g, gm, prim, where, out)))
         return r;
     if (!out->normals) { /* "client implementations MUST calculate flat normals and the provided tangents (if

@@ -110,6 +110,7 @@ typedef struct raw_mesh {
     raw_morph_target *targets;
     raw_vertex_cache *cache; /* or NULL */
     bool flat_normals;       /* sinew_mesh.flat_normals: none given, and the format wants faceted ones */
+    float *colors;           /* 4 a vertex, linear RGBA, or NULL */
 } raw_mesh;
 
 typedef struct raw_texture {
@@ -161,6 +162,10 @@ void raw_clip_free(raw_clip *clip);
 
 /* Frees what a raw mesh points to (not the mesh itself). */
 void raw_mesh_free(raw_mesh *mesh);
+/* Vertex colours that FBX, COLLADA, IQM and Assimp's formats store as painting tools write them,
+ * sRGB-encoded (three.js's and Blender's reading), as the linear RGBA raw_mesh.colors holds: `n`
+ * colours of `stride` components (3: alpha 1) from `in` into `out` (4 a colour). */
+void raw_colors_from_srgb(const float *in, uint32_t stride, uint32_t n, float *out);
 
 /* Every pointer in a raw model is from malloc/calloc (or NULL); this frees them all. */
 void raw_model_free(raw_model *model);

@@ -337,7 +337,7 @@ static sinew_result read_arrays(iqm *q)
     for (uint32_t i = 0; i < q->h[H_NUM_VERTEXARRAYS]; i++) {
         const unsigned char *p = q->b + q->h[H_OFS_VERTEXARRAYS] + (size_t)i * ARRAY_SIZE;
         uint32_t type = u32(p), format = u32(p + 8), size = u32(p + 12), offset = u32(p + 16);
-        if (type >= VA_KNOWN || type == VA_TANGENT || type == VA_COLOR)
+        if (type >= VA_KNOWN || type == VA_TANGENT)
             continue; /* custom arrays; tangents are made again (the flipped v turns their handedness) */
         static const char *const names[VA_KNOWN] = {"position",    "texture coordinate", "normal", "tangent",
                                                     "blend index", "blend weight",       "colour"};
@@ -384,6 +384,25 @@ static sinew_result build_mesh(iqm *q, uint32_t index, bool skinned)
         return oom(q);
     if (uv->present && !(mesh->uvs = malloc((size_t)count * 2 * sizeof(float) + 1)))
         return oom(q);
+    const vertex_array *color = &q->arrays[VA_COLOR];
+    if (color->present && !(mesh->colors = malloc((size_t)count * 4 * sizeof(float) + 1)))
+        return oom(q);
+    /* integer colours are normalised (IQM's usual ubyte4: 0..255) */
+    double full = color->format == F_UBYTE    ? 255.0
+                  : color->format == F_BYTE   ? 127.0
+                  : color->format == F_USHORT ? 65535.0
+                  : color->format == F_SHORT  ? 32767.0
+                  : color->format == F_UINT   ? 4294967295.0
+                  : color->format == F_INT    ? 2147483647.0
+                                              : 1.0;
+    for (uint32_t v = 0; mesh->colors && v < count; v++) {
+        float rgba[4];
+        for (uint32_t c = 0; c < 4; c++)
+            rgba[c] = c < color->size ? (float)fmin(fmax(array_value(q, color, first + v, c) / full, 0.0), 1.0)
+                      : c == 3        ? 1.0f
+                                      : 0.0f;
+        raw_colors_from_srgb(rgba, 4, 1, &mesh->colors[v * 4]);
+    }
     for (uint32_t v = 0; v < count; v++)
         for (uint32_t c = 0; c < 3; c++) {
             mesh->positions[v * 3 + c] = (float)array_value(q, pos, first + v, c);

@@ -62,6 +62,7 @@ static void copy_mesh(const sinew_mesh *src, raw_mesh *dst, bool *ok)
         .weights = copy_array(src->weights, k, sizeof(float), ok),
         .dq_weights = copy_array(src->dq_weights, v, sizeof(float), ok),
         .flat_normals = src->flat_normals,
+        .colors = copy_array(src->colors, v * 4, sizeof(float), ok),
     };
     if (src->target_count) {
         dst->targets = calloc(src->target_count, sizeof *dst->targets);

@@ -144,22 +144,25 @@ bool render_lod_compact(const sinew_mesh *mesh, const uint32_t *indices, uint32_
         return false;
     size_t used = meshopt.optimizeVertexFetchRemap(remap, indices, index_count, n);
     /* every array of the copy, 16-byte aligned, one after another */
-    const size_t sizes[] = {(size_t)index_count * 4, 12, 12, mesh->uvs ? 8 : 0, mesh->tangents ? 16 : 0, k * 2, k * 4};
+    const size_t sizes[] = {(size_t)index_count * 4, 12,    12,    mesh->uvs ? 8 : 0,
+                            mesh->tangents ? 16 : 0, k * 2, k * 4, mesh->colors ? 16 : 0};
+    enum { ARRAYS = sizeof sizes / sizeof sizes[0] };
     size_t total = ALIGN16(sizes[0]);
-    for (int a = 1; a < 7; a++)
+    for (int a = 1; a < ARRAYS; a++)
         total += ALIGN16(used * sizes[a]);
     unsigned char *block = allocator->alloc(total + 16, allocator->user);
     if (!block) {
         allocator->free(remap, allocator->user);
         return false;
     }
-    const void *from[] = {NULL, mesh->positions, mesh->normals, mesh->uvs, mesh->tangents, mesh->joints, mesh->weights};
-    void *to[7];
+    const void *from[ARRAYS] = {NULL,           mesh->positions, mesh->normals, mesh->uvs,
+                                mesh->tangents, mesh->joints,    mesh->weights, mesh->colors};
+    void *to[ARRAYS];
     unsigned char *at = block;
     to[0] = at;
     at += ALIGN16(sizes[0]);
     meshopt.remapIndexBuffer(to[0], indices, index_count, remap);
-    for (int a = 1; a < 7; a++) {
+    for (int a = 1; a < ARRAYS; a++) {
         to[a] = sizes[a] && from[a] ? at : NULL;
         if (to[a])
             meshopt.remapVertexBuffer(to[a], from[a], n, sizes[a], remap);
@@ -176,6 +179,7 @@ bool render_lod_compact(const sinew_mesh *mesh, const uint32_t *indices, uint32_
     out->tangents = to[4];
     out->joints = to[5];
     out->weights = to[6];
+    out->colors = to[7];
     *memory = block;
     return true;
 }

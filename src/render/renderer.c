@@ -31,6 +31,7 @@ enum {
     BUF_STREAM,
     BUF_DQ,
     BUF_MORPH,
+    BUF_COLOR,
     BUF_COUNT
 };
 
@@ -67,7 +68,7 @@ typedef struct mesh_uniforms {
         palette, morph, morph_count, morph_vertices, morph_texels, morph_target, morph_weight, heat_joint, heat_rigid,
         gouraud, key_dir, fill_dir, eye, base_color, use_texture, texture, mode, heat, override, normal_length,
         metallic, roughness, emissive, normal_scale, occlusion_strength, maps, map_mr, map_normal, map_occlusion,
-        map_emissive, flat;
+        map_emissive, flat, vertex_colors;
 } mesh_uniforms;
 
 struct sinew_renderer {
@@ -248,6 +249,10 @@ static void bind_shared_attributes(const render_mesh *rm)
         float_attribute(8, rm->buffers[BUF_DQ], 1, 0, 0);
     else
         glVertexAttrib1f(8, 0.0f);
+    if (rm->buffers[BUF_COLOR])
+        float_attribute(9, rm->buffers[BUF_COLOR], 4, 0, 0);
+    else
+        glVertexAttrib4f(9, 1.0f, 1.0f, 1.0f, 1.0f);
     for (int set = 0; set < 2; set++) {
         if (set < rm->influence_sets) {
             glBindBuffer(GL_ARRAY_BUFFER, rm->buffers[BUF_JOINTS0 + set]);
@@ -309,6 +314,8 @@ static void upload_mesh(render_mesh *rm, const sinew_mesh *mesh, void *scratch, 
         rm->buffers[BUF_UV] = make_buffer(GL_ARRAY_BUFFER, n * 8, mesh->uvs, GL_STATIC_DRAW);
     if (mesh->tangents)
         rm->buffers[BUF_TANGENT] = make_buffer(GL_ARRAY_BUFFER, n * 16, mesh->tangents, GL_STATIC_DRAW);
+    if (mesh->colors)
+        rm->buffers[BUF_COLOR] = make_buffer(GL_ARRAY_BUFFER, n * 16, mesh->colors, GL_STATIC_DRAW);
     upload_influences(rm, mesh, rm->influence_sets, scratch);
     glGenVertexArrays(1, &rm->vao_static);
     glBindVertexArray(rm->vao_static);
@@ -401,7 +408,7 @@ static void lookup_mesh_uniforms(GLuint program, mesh_uniforms *u)
     U(morph), U(morph_count), U(morph_vertices), U(morph_texels), U(morph_target), U(morph_weight);
     U(key_dir), U(fill_dir), U(eye), U(base_color), U(use_texture), U(texture), U(mode), U(heat), U(override);
     U(normal_length), U(metallic), U(roughness), U(emissive), U(normal_scale), U(occlusion_strength), U(maps);
-    U(map_mr), U(map_normal), U(map_occlusion), U(map_emissive), U(flat);
+    U(map_mr), U(map_normal), U(map_occlusion), U(map_emissive), U(flat), U(vertex_colors);
 #undef U
 }
 
@@ -980,6 +987,7 @@ static void set_material(sinew_renderer *r, const frame_state *fs, const sinew_m
         }
     }
     glUniform4fv(u->base_color, 1, color);
+    glUniform1i(u->vertex_colors, !fs->o->clay && mesh->colors); /* clay: the shape alone */
     glUniform1i(u->use_texture, maps[SINEW_MAP_BASE_COLOR] != 0);
     glUniform1f(u->metallic, metallic);
     glUniform1f(u->roughness, roughness);
@@ -1149,6 +1157,7 @@ static sinew_result draw_muscles(sinew_renderer *r, const frame_state *fs, sinew
     glUniform1i(u->mode, mode);
     glUniform1i(u->gouraud, mode == 2);
     glUniform1i(u->flat, 0);
+    glUniform1i(u->vertex_colors, 0);
     glUniform1i(u->heat, 0);
     glUniform1i(u->gpu_sets, 0);
     glUniform1i(u->heat_joint, -1);

@@ -799,6 +799,79 @@ static void test_clip_windows_everywhere(void **state)
 
 /* The library never prints: libxml2 reports encoding errors through its generic handler
  * (to stderr, whatever the parse options say); sinew quiets it and returns the error. */
+static double srgb_to_linear(double c)
+{
+    return c <= 0.04045 ? c / 12.92 : pow((c + 0.055) / 1.055, 2.4);
+}
+
+/* kwxport_test_vcolors.dae (a 3ds Max export): every triangle corner's COLOR, from its <p> and its
+ * source, is the colour of the vertex sinew made of that corner, taken from sRGB to linear (the
+ * reading of three.js and Blender); alpha 1 for RGB. sinew_model_write_collada() writes them back
+ * as sRGB, and reading that file gives the same colours. */
+static void test_vertex_colours_against_their_xml(void **state)
+{
+    (void)state;
+    char path[1024], written[1024];
+    if (!testdata_path("assimp/Collada/kwxport_test_vcolors.dae", path, sizeof path))
+        skip();
+    sinew_model *m = load_or_fail(path);
+    xmlDoc *doc = xmlReadFile(path, NULL, XML_PARSE_NONET);
+    assert_non_null(doc);
+    xmlNode *mesh_el = find_attr(xmlDocGetRootElement(doc), "id", "Box01-mesh");
+    assert_non_null(mesh_el);
+    uint32_t mesh = 0, checked = 0;
+    for (xmlNode *tri = first(first(mesh_el, "mesh") ? first(mesh_el, "mesh") : mesh_el, "triangles"); tri;
+         tri = tri->next) {
+        if (!is(tri, "triangles"))
+            continue;
+        assert_true(mesh < m->mesh_count);
+        const sinew_mesh *got = &m->meshes[mesh++];
+        assert_non_null(got->colors);
+        uint32_t stride = 0, color_offset = 0, count, n;
+        xmlNode *source = NULL;
+        for (xmlNode *in = tri->children; in; in = in->next) {
+            if (!is(in, "input"))
+                continue;
+            xmlChar *offset = xmlGetProp(in, (const xmlChar *)"offset");
+            uint32_t o = (uint32_t)atoi((const char *)offset);
+            xmlFree(offset);
+            stride = o + 1 > stride ? o + 1 : stride;
+            if (attr_is(in, "semantic", "COLOR"))
+                color_offset = o, source = by_url(doc, in, "source");
+        }
+        assert_non_null(source);
+        double *colors = source_numbers(source, &count), *p = numbers(first(tri, "p"), &n);
+        assert_int_equal(n / stride, got->index_count);
+        for (uint32_t c = 0; c < got->index_count; c++, checked++) {
+            uint32_t at = (uint32_t)p[c * stride + color_offset];
+            const float *rgba = &got->colors[got->indices[c] * 4];
+            for (int k = 0; k < 3; k++)
+                assert_float_equal(rgba[k], srgb_to_linear(colors[at * 3 + k]), 1e-6);
+            assert_float_equal(rgba[3], 1.0, 0.0);
+        }
+        free(colors);
+        free(p);
+    }
+    xmlFreeDoc(doc);
+    assert_int_equal(mesh, m->mesh_count);
+    assert_int_equal(checked, 36);
+
+    sinew_error error = {0};
+    assert_int_equal(sinew_model_write_collada(m, tmp_path("vcolors.dae", written, sizeof written), &error), SINEW_OK);
+    sinew_model *back = load_or_fail(written);
+    assert_int_equal(back->mesh_count, m->mesh_count);
+    for (uint32_t i = 0; i < m->mesh_count; i++) {
+        assert_non_null(back->meshes[i].colors);
+        assert_int_equal(back->meshes[i].index_count, m->meshes[i].index_count);
+        for (uint32_t c = 0; c < m->meshes[i].index_count; c++)
+            for (int k = 0; k < 4; k++)
+                assert_float_equal(back->meshes[i].colors[back->meshes[i].indices[c] * 4 + k],
+                                   m->meshes[i].colors[m->meshes[i].indices[c] * 4 + k], 1e-5);
+    }
+    sinew_model_free(back);
+    sinew_model_free(m);
+}
+
 static void test_encoding_errors_are_not_printed(void **state)
 {
     (void)state;
@@ -837,6 +910,7 @@ int main(void)
         cmocka_unit_test(test_clip_windows_fixture),
         cmocka_unit_test(test_clip_windows_everywhere),
         cmocka_unit_test(test_encoding_errors_are_not_printed),
+        cmocka_unit_test(test_vertex_colours_against_their_xml),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

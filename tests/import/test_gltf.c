@@ -361,6 +361,92 @@ static void test_missing_normals_are_flat(void **state)
     sinew_model_free(without);
 }
 
+/* COLOR_0, which multiplies the base colour: RGBA floats as they are (glTF's are linear), RGB
+ * unsigned bytes normalised (a 4-byte stride, as glTF aligns them) with alpha 1; kept by a
+ * .sinew file. Without COLOR_0 a mesh has none. */
+static void test_vertex_colours(void **state)
+{
+    (void)state;
+    char src[1024], file[1024], bin[1024], saved[1024];
+    size_t size = 0;
+    char *text = (char *)read_file(fixture_path("two_bone_cubic.gltf", src, sizeof src), &size);
+    cJSON *doc = cJSON_ParseWithLength(text, size);
+    free(text);
+    assert_non_null(doc);
+    cJSON *accessors = cJSON_GetObjectItem(doc, "accessors"), *views = cJSON_GetObjectItem(doc, "bufferViews");
+    uint32_t n = (uint32_t)cJSON_GetObjectItem(cJSON_GetArrayItem(accessors, 0), "count")->valueint;
+    /* the colours' buffer: n RGBA floats, then n RGB bytes each padded to 4 */
+    size_t bytes = (size_t)n * 16 + (size_t)n * 4;
+    unsigned char *data = calloc(1, bytes);
+    for (uint32_t v = 0; v < n; v++) {
+        float rgba[4] = {(float)v / (float)n, 0.5f, 1.0f - (float)v / (float)n, 0.25f};
+        memcpy(data + (size_t)v * 16, rgba, sizeof rgba);
+        data[(size_t)n * 16 + (size_t)v * 4] = (unsigned char)(v * 37);
+        data[(size_t)n * 16 + (size_t)v * 4 + 1] = 128;
+        data[(size_t)n * 16 + (size_t)v * 4 + 2] = 255;
+    }
+    write_file(tmp_path("colors.bin", bin, sizeof bin), data, bytes);
+    cJSON *buffer = cJSON_CreateObject();
+    cJSON_AddStringToObject(buffer, "uri", "colors.bin");
+    cJSON_AddNumberToObject(buffer, "byteLength", (double)bytes);
+    cJSON_AddItemToArray(cJSON_GetObjectItem(doc, "buffers"), buffer);
+    int buffer_index = cJSON_GetArraySize(cJSON_GetObjectItem(doc, "buffers")) - 1;
+    int first_view = cJSON_GetArraySize(views), first_accessor = cJSON_GetArraySize(accessors);
+    for (int k = 0; k < 2; k++) {
+        cJSON *view = cJSON_CreateObject(), *accessor = cJSON_CreateObject();
+        cJSON_AddNumberToObject(view, "buffer", buffer_index);
+        cJSON_AddNumberToObject(view, "byteOffset", k ? (double)n * 16 : 0);
+        cJSON_AddNumberToObject(view, "byteLength", k ? (double)n * 4 : (double)n * 16);
+        if (k)
+            cJSON_AddNumberToObject(view, "byteStride", 4);
+        cJSON_AddItemToArray(views, view);
+        cJSON_AddNumberToObject(accessor, "bufferView", first_view + k);
+        cJSON_AddNumberToObject(accessor, "componentType", k ? 5121 : 5126);
+        if (k)
+            cJSON_AddTrueToObject(accessor, "normalized");
+        cJSON_AddNumberToObject(accessor, "count", n);
+        cJSON_AddStringToObject(accessor, "type", k ? "VEC3" : "VEC4");
+        cJSON_AddItemToArray(accessors, accessor);
+    }
+    cJSON *attrs = cJSON_GetObjectItem(
+        cJSON_GetArrayItem(cJSON_GetObjectItem(cJSON_GetArrayItem(cJSON_GetObjectItem(doc, "meshes"), 0), "primitives"),
+                           0),
+        "attributes");
+    sinew_model *plain = load_or_fail(src);
+    assert_null(plain->meshes[0].colors);
+    sinew_model_free(plain);
+    for (int k = 0; k < 2; k++) {
+        cJSON_DeleteItemFromObject(attrs, "COLOR_0");
+        cJSON_AddNumberToObject(attrs, "COLOR_0", first_accessor + k);
+        char *out = cJSON_PrintUnformatted(doc);
+        write_file(tmp_path("colors.gltf", file, sizeof file), out, strlen(out));
+        free(out);
+        sinew_model *m = load_or_fail(file);
+        sinew_error error = {0};
+        assert_int_equal(sinew_model_save(m, NULL, tmp_path("colors.sinew", saved, sizeof saved), &error), SINEW_OK);
+        sinew_model *back = load_or_fail(saved);
+        for (int pass = 0; pass < 2; pass++) {
+            const sinew_mesh *mesh = &(pass ? back : m)->meshes[0];
+            assert_non_null(mesh->colors);
+            for (uint32_t v = 0; v < n; v++) {
+                const float *c = &mesh->colors[v * 4];
+                if (k == 0) {
+                    assert_memory_equal(c, data + (size_t)v * 16, 16);
+                } else {
+                    assert_float_equal(c[0], (float)(unsigned char)(v * 37) / 255.0f, 1e-7f);
+                    assert_float_equal(c[1], 128.0f / 255.0f, 1e-7f);
+                    assert_float_equal(c[2], 1.0f, 0.0f);
+                    assert_float_equal(c[3], 1.0f, 0.0f);
+                }
+            }
+        }
+        sinew_model_free(back);
+        sinew_model_free(m);
+    }
+    cJSON_Delete(doc);
+    free(data);
+}
+
 static void check_pbr_spheres(const sinew_model *m)
 {
     assert_int_equal(m->material_count, 4);
@@ -446,6 +532,7 @@ int main(void)
         cmocka_unit_test(test_pbr_materials),
         cmocka_unit_test(test_glb_header),
         cmocka_unit_test(test_missing_normals_are_flat),
+        cmocka_unit_test(test_vertex_colours),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -555,6 +555,31 @@ static void test_missing_normals_drawn_flat(void **state)
     free_image(&flat);
 }
 
+/* Vertex colours multiply the base colour (kwxport_test_vcolors.dae: a white cube painted red,
+ * green and yellow at corners): red pixels where the file paints red; none in clay
+ * (--no-materials), which shows the shape alone. */
+static void test_vertex_colours_drawn(void **state)
+{
+    (void)state;
+    char dae[1024];
+    if (!testdata_path("assimp/Collada/kwxport_test_vcolors.dae", dae, sizeof dae))
+        skip();
+    image painted = RENDER("vcolors.png", dae, "--size", SIZE);
+    image clay = RENDER("vcolors-clay.png", dae, "--size", SIZE, "--no-materials");
+    long red[2] = {0, 0};
+    const image *both[2] = {&painted, &clay};
+    for (int k = 0; k < 2; k++)
+        for (long i = 0; i < (long)both[k]->width * both[k]->height; i++) {
+            const unsigned char *p = &both[k]->rgb[i * 3];
+            red[k] += p[0] > 150 && p[1] < 80 && p[2] < 80;
+        }
+    print_message("red pixels: painted %ld, clay %ld\n", red[0], red[1]);
+    assert_true(red[0] > 500);
+    assert_int_equal(red[1], 0);
+    free_image(&painted);
+    free_image(&clay);
+}
+
 /* A skeleton-only file shows bones without being asked: bone-coloured pixels appear. */
 static void test_bone_only_file_shows_bones(void **state)
 {
@@ -1005,6 +1030,7 @@ int main(void)
         cmocka_unit_test(test_frame_sequence_and_video),
         cmocka_unit_test(test_track),
         cmocka_unit_test(test_missing_normals_drawn_flat),
+        cmocka_unit_test(test_vertex_colours_drawn),
         cmocka_unit_test(test_bad_input),
         cmocka_unit_test(test_bench_render_reports),
     };
