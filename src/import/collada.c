@@ -997,13 +997,12 @@ static sinew_result read_primitive(collada *c, xmlNode *el, const char *geometry
                 mm->normals[v * 3 + k] = (float)in[1].src.v[(size_t)key[1] * in[1].src.stride + (size_t)k];
             for (int k = 0; k < 2 && mm->uvs; k++)
                 mm->uvs[v * 2 + k] = (float)in[2].src.v[(size_t)key[2] * in[2].src.stride + (size_t)k];
-            if (mm->colors) {
-                float rgba[4];
-                for (uint32_t k = 0; k < channels; k++)
-                    rgba[k] = (float)in[3].src.v[(size_t)key[3] * in[3].src.stride + k];
-                raw_colors_from_srgb(rgba, channels, 1, &mm->colors[(size_t)v * 4]);
-            }
+            for (uint32_t k = 0; k < 4 && mm->colors; k++) /* sRGB: made linear below */
+                mm->colors[(size_t)v * 4 + k] =
+                    k < channels ? (float)in[3].src.v[(size_t)key[3] * in[3].src.stride + k] : 1.0f;
         }
+        if (!r && mm->colors)
+            raw_colors_from_srgb(mm->colors, 4, n, mm->colors);
     }
     free(t.slots);
     free(t.keys);

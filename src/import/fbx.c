@@ -1220,7 +1220,8 @@ static uint32_t corner_hash(const corner *c)
     uint64_t h = 14695981039346656037u;
     uint32_t w[13];
     memcpy(w, c->normal, sizeof w);
-    for (int i = 0; i < 13; i++)
+    int words = (w[9] | w[10] | w[11] | w[12]) ? 13 : 9; /* a mesh without colours: 9 words, as before */
+    for (int i = 0; i < words; i++)
         h = (h ^ w[i]) * 1099511628211u;
     h = (h ^ c->point) * 1099511628211u;
     h ^= h >> 33;
@@ -1795,7 +1796,7 @@ static sinew_result emit_mesh(scene *s, const mesh_source *src, const fbx_object
             mesh->uvs[v * 2 + 1] = c->uv[1];
         }
         if (mesh->colors)
-            raw_colors_from_srgb(c->color, 4, 1, &mesh->colors[v * 4]);
+            memcpy(&mesh->colors[v * 4], c->color, sizeof c->color); /* sRGB: made linear below */
         if (mesh->tangents) { /* a direction on the surface: through the placement itself */
             double t[3], len = 0;
             for (int r = 0; r < 3; r++) {
@@ -1808,6 +1809,8 @@ static sinew_result emit_mesh(scene *s, const mesh_source *src, const fbx_object
             mesh->tangents[v * 4 + 3] = mirrored ? -c->tangent[3] : c->tangent[3];
         }
     }
+    if (mesh->colors)
+        raw_colors_from_srgb(mesh->colors, 4, vcount, mesh->colors);
     if (skin) {
         uint32_t k = skin->max_influences ? skin->max_influences : 1;
         mesh->influence_count = k;

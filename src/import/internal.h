@@ -164,7 +164,8 @@ void raw_clip_free(raw_clip *clip);
 void raw_mesh_free(raw_mesh *mesh);
 /* Vertex colours that FBX, COLLADA, IQM and Assimp's formats store as painting tools write them,
  * sRGB-encoded (three.js's and Blender's reading), as the linear RGBA raw_mesh.colors holds: `n`
- * colours of `stride` components (3: alpha 1) from `in` into `out` (4 a colour). */
+ * colours of `stride` components (3: alpha 1) from `in` into `out` (4 a colour; `out` may be `in`
+ * when `stride` is 4). */
 void raw_colors_from_srgb(const float *in, uint32_t stride, uint32_t n, float *out);
 
 /* Every pointer in a raw model is from malloc/calloc (or NULL); this frees them all. */

@@ -395,14 +395,14 @@ static sinew_result build_mesh(iqm *q, uint32_t index, bool skinned)
                   : color->format == F_UINT   ? 4294967295.0
                   : color->format == F_INT    ? 2147483647.0
                                               : 1.0;
-    for (uint32_t v = 0; mesh->colors && v < count; v++) {
-        float rgba[4];
+    for (uint32_t v = 0; mesh->colors && v < count; v++)
         for (uint32_t c = 0; c < 4; c++)
-            rgba[c] = c < color->size ? (float)fmin(fmax(array_value(q, color, first + v, c) / full, 0.0), 1.0)
-                      : c == 3        ? 1.0f
-                                      : 0.0f;
-        raw_colors_from_srgb(rgba, 4, 1, &mesh->colors[v * 4]);
-    }
+            mesh->colors[v * 4 + c] = c < color->size
+                                          ? (float)fmin(fmax(array_value(q, color, first + v, c) / full, 0.0), 1.0)
+                                      : c == 3 ? 1.0f
+                                               : 0.0f;
+    if (mesh->colors)
+        raw_colors_from_srgb(mesh->colors, 4, count, mesh->colors);
     for (uint32_t v = 0; v < count; v++)
         for (uint32_t c = 0; c < 3; c++) {
             mesh->positions[v * 3 + c] = (float)array_value(q, pos, first + v, c);
