@@ -329,6 +329,21 @@ static bool mesh_arrays_ok(const reader *r, const blob_mesh *m, uint32_t joint_l
     return true;
 }
 
+/* MTAN, MCOL: absent, or an offset a mesh of 4 finite floats a vertex (BLOB_NONE: none). */
+static bool mesh_optional_ok(const reader *r, const blob_span *span, const blob_mesh *meshes, uint32_t mesh_count)
+{
+    if (span->count && span->count != mesh_count)
+        return false;
+    const uint32_t *offsets = array_at(r, span->offset, span->count); /* NULL: none */
+    for (uint32_t i = 0; offsets && i < mesh_count; i++) {
+        uint64_t v = meshes[i].vertex_count;
+        if (offsets[i] != BLOB_NONE &&
+            (!range_ok(r, offsets[i], v, 16) || (v && !sinew_floats_finite(array_at(r, offsets[i], v), v * 4))))
+            return false;
+    }
+    return true;
+}
+
 static sinew_result check_meshes(reader *r)
 {
     const blob_header *h = r->header;
@@ -346,24 +361,10 @@ static sinew_result check_meshes(reader *r)
         if (!mesh_arrays_ok(r, m, joint_limit))
             return corrupt(r, "mesh arrays");
     }
-    if (h->mesh_tangents.count && h->mesh_tangents.count != h->meshes.count)
-        return corrupt(r, "mesh tangents table");
-    const uint32_t *tangents = array_at(r, h->mesh_tangents.offset, h->mesh_tangents.count); /* NULL: none */
-    for (uint32_t i = 0; tangents && i < h->meshes.count; i++) {
-        uint64_t v = meshes[i].vertex_count;
-        if (tangents[i] != BLOB_NONE &&
-            (!range_ok(r, tangents[i], v, 16) || (v && !sinew_floats_finite(array_at(r, tangents[i], v), v * 4))))
-            return corrupt(r, "mesh tangents");
-    }
-    if (h->mesh_colors.count && h->mesh_colors.count != h->meshes.count)
-        return corrupt(r, "mesh colours table");
-    const uint32_t *colors = array_at(r, h->mesh_colors.offset, h->mesh_colors.count); /* NULL: none */
-    for (uint32_t i = 0; colors && i < h->meshes.count; i++) {
-        uint64_t v = meshes[i].vertex_count;
-        if (colors[i] != BLOB_NONE &&
-            (!range_ok(r, colors[i], v, 16) || (v && !sinew_floats_finite(array_at(r, colors[i], v), v * 4))))
-            return corrupt(r, "mesh colours");
-    }
+    if (!mesh_optional_ok(r, &h->mesh_tangents, meshes, h->meshes.count))
+        return corrupt(r, "mesh tangents");
+    if (!mesh_optional_ok(r, &h->mesh_colors, meshes, h->meshes.count))
+        return corrupt(r, "mesh colours");
     if (h->mesh_flat.count && h->mesh_flat.count != h->meshes.count)
         return corrupt(r, "mesh flat normals table");
     const uint8_t *flat = array_at(r, h->mesh_flat.offset, h->mesh_flat.count); /* NULL: none */

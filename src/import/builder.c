@@ -1166,12 +1166,14 @@ static blob_span write_meshes(writer *w, const raw_model *m)
     return span;
 }
 
-/* MTAN: a mesh's tangents offset (BLOB_NONE when it has none); no section when no mesh has any. */
-static blob_span write_mesh_tangents(writer *w, const raw_model *m)
+/* MTAN and MCOL: a table of an offset a mesh for the optional array of 4 floats a vertex at
+ * `field` of raw_mesh (tangents, colours), BLOB_NONE where a mesh has none; no section when no
+ * mesh has one. */
+static blob_span write_mesh_optional(writer *w, const raw_model *m, size_t field)
 {
     bool any = false;
     for (uint32_t i = 0; i < m->mesh_count; i++)
-        any |= m->meshes[i].tangents != NULL;
+        any |= *(float *const *)((const char *)&m->meshes[i] + field) != NULL;
     if (!any)
         return (blob_span){0, 0};
     uint32_t *offsets = malloc(m->mesh_count * sizeof *offsets);
@@ -1180,27 +1182,8 @@ static blob_span write_mesh_tangents(writer *w, const raw_model *m)
         return (blob_span){BLOB_NONE, 0};
     }
     for (uint32_t i = 0; i < m->mesh_count; i++)
-        offsets[i] = writer_put(w, m->meshes[i].tangents, (size_t)m->meshes[i].vertex_count * 16);
-    blob_span span = {writer_put(w, offsets, m->mesh_count * sizeof *offsets), m->mesh_count};
-    free(offsets);
-    return span;
-}
-
-/* MCOL: a mesh's vertex colours offset (BLOB_NONE when it has none); no section when none has any. */
-static blob_span write_mesh_colors(writer *w, const raw_model *m)
-{
-    bool any = false;
-    for (uint32_t i = 0; i < m->mesh_count; i++)
-        any |= m->meshes[i].colors != NULL;
-    if (!any)
-        return (blob_span){0, 0};
-    uint32_t *offsets = malloc(m->mesh_count * sizeof *offsets);
-    if (!offsets) {
-        w->failed = true;
-        return (blob_span){BLOB_NONE, 0};
-    }
-    for (uint32_t i = 0; i < m->mesh_count; i++)
-        offsets[i] = writer_put(w, m->meshes[i].colors, (size_t)m->meshes[i].vertex_count * 16);
+        offsets[i] = writer_put(w, *(float *const *)((const char *)&m->meshes[i] + field),
+                                (size_t)m->meshes[i].vertex_count * 16);
     blob_span span = {writer_put(w, offsets, m->mesh_count * sizeof *offsets), m->mesh_count};
     free(offsets);
     return span;
@@ -1662,9 +1645,9 @@ static void write_tables(writer *w, const raw_model *m, size_t head, blob_header
         h->node_inherit = (blob_span){writer_put(w, m->node_inherit, m->node_count), m->node_count};
     h->skins = write_skins(w, m);
     h->meshes = write_meshes(w, m);
-    h->mesh_tangents = write_mesh_tangents(w, m);
+    h->mesh_tangents = write_mesh_optional(w, m, offsetof(raw_mesh, tangents));
     h->mesh_flat = write_mesh_flat(w, m);
-    h->mesh_colors = write_mesh_colors(w, m);
+    h->mesh_colors = write_mesh_optional(w, m, offsetof(raw_mesh, colors));
     h->instances = write_instances(w, m, &h->instance_morph);
     write_deformers(w, m, h);
     h->materials = write_materials(w, m, &h->materials_pbr);

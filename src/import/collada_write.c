@@ -174,13 +174,16 @@ static void name_source(writer *wr, const char *id, text *names, uint32_t count,
     end(wr);
 }
 
-static void input(writer *wr, const char *semantic, const char *source, int offset)
+/* An <input semantic source [offset] [set]> (offset, set < 0: none). */
+static void input(writer *wr, const char *semantic, const char *source, int offset, int set)
 {
     start(wr, "input");
     attr(wr, "semantic", semantic);
     attrf(wr, "source", "#%s", source);
     if (offset >= 0)
         attrf(wr, "offset", "%d", offset);
+    if (set >= 0)
+        attrf(wr, "set", "%d", set);
     end(wr);
 }
 
@@ -295,32 +298,22 @@ static void write_geometry(writer *wr, uint32_t index)
     start(wr, "vertices");
     attrf(wr, "id", "mesh%u-vertices", index);
     snprintf(id, sizeof id, "mesh%u-positions", index);
-    input(wr, "POSITION", id, -1);
+    input(wr, "POSITION", id, -1, -1);
     end(wr);
     start(wr, "triangles");
     attr(wr, "material", "material");
     attrf(wr, "count", "%u", mesh->index_count / 3);
     snprintf(id, sizeof id, "mesh%u-vertices", index);
-    input(wr, "VERTEX", id, 0);
+    input(wr, "VERTEX", id, 0, -1);
     snprintf(id, sizeof id, "mesh%u-normals", index);
-    input(wr, "NORMAL", id, 0);
+    input(wr, "NORMAL", id, 0, -1);
     if (mesh->uvs) {
         snprintf(id, sizeof id, "mesh%u-uvs", index);
-        start(wr, "input");
-        attr(wr, "semantic", "TEXCOORD");
-        attrf(wr, "source", "#%s", id);
-        attr(wr, "offset", "0");
-        attr(wr, "set", "0");
-        end(wr);
+        input(wr, "TEXCOORD", id, 0, 0);
     }
     if (mesh->colors) {
         snprintf(id, sizeof id, "mesh%u-colors", index);
-        start(wr, "input");
-        attr(wr, "semantic", "COLOR");
-        attrf(wr, "source", "#%s", id);
-        attr(wr, "offset", "0");
-        attr(wr, "set", "0");
-        end(wr);
+        input(wr, "COLOR", id, 0, 0);
     }
     for (uint32_t i = 0; i < mesh->index_count; i++)
         text_uint(&t, mesh->indices[i]);
@@ -372,16 +365,16 @@ static void write_controller(writer *wr, uint32_t index)
     float_source(wr, id, &t, weights, 1, weight, 1, "float");
     start(wr, "joints");
     snprintf(id, sizeof id, "skin%u-joints", index);
-    input(wr, "JOINT", id, -1);
+    input(wr, "JOINT", id, -1, -1);
     snprintf(id, sizeof id, "skin%u-bind-poses", index);
-    input(wr, "INV_BIND_MATRIX", id, -1);
+    input(wr, "INV_BIND_MATRIX", id, -1, -1);
     end(wr);
     start(wr, "vertex_weights");
     attrf(wr, "count", "%u", mesh->vertex_count);
     snprintf(id, sizeof id, "skin%u-joints", index);
-    input(wr, "JOINT", id, 0);
+    input(wr, "JOINT", id, 0, -1);
     snprintf(id, sizeof id, "skin%u-weights", index);
-    input(wr, "WEIGHT", id, 1);
+    input(wr, "WEIGHT", id, 1, -1);
     start(wr, "vcount");
     body(wr, &counts);
     end(wr);
@@ -504,11 +497,11 @@ static void write_animation(writer *wr, uint32_t node, float *times, uint32_t ca
     start(wr, "sampler");
     attrf(wr, "id", "%s-anim-sampler", wr->ids[node]);
     snprintf(id, sizeof id, "%s-anim-input", wr->ids[node]);
-    input(wr, "INPUT", id, -1);
+    input(wr, "INPUT", id, -1, -1);
     snprintf(id, sizeof id, "%s-anim-output", wr->ids[node]);
-    input(wr, "OUTPUT", id, -1);
+    input(wr, "OUTPUT", id, -1, -1);
     snprintf(id, sizeof id, "%s-anim-interpolation", wr->ids[node]);
-    input(wr, "INTERPOLATION", id, -1);
+    input(wr, "INTERPOLATION", id, -1, -1);
     end(wr);
     start(wr, "channel");
     attrf(wr, "source", "#%s-anim-sampler", wr->ids[node]);
