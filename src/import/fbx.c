@@ -1602,8 +1602,9 @@ static int32_t material_of(scene *s, const fbx_object *model, int32_t slot)
 }
 
 /* A texture's file: each of its file names as written, then each by its name beside the model
- * (FBX files often keep the path of the machine that wrote them). */
-static char *resolve_texture(scene *s, const fbx_object *tex)
+ * (FBX files often keep the path of the machine that wrote them). `warn`: say so when none is
+ * found (not when the file embeds the image). */
+static char *resolve_texture(scene *s, const fbx_object *tex, bool warn)
 {
     static const char *const names[] = {"RelativeFilename", "FileName", "Filename"};
     char first[8192] = "", looked[8192];
@@ -1620,9 +1621,40 @@ static char *resolve_texture(scene *s, const fbx_object *tex)
             if (!first[0])
                 snprintf(first, sizeof first, "%s", name);
         }
-    if (first[0])
+    if (first[0] && warn)
         raw_model_warn(s->model, "%s: texture \"%s\" not found (looked beside the file too)", s->path, first);
     return NULL;
+}
+
+/* A texture's image embedded in the file (its Video's `Content`: the bytes in binary files,
+ * base64 in ASCII ones, in one or more pieces) into `out`; false when out of memory. Content
+ * that is not base64 is left out with a warning. */
+static bool embedded_image(scene *s, const fbx_node *content, const char *material, raw_texture *out)
+{
+    size_t total = 0;
+    for (uint32_t v = 0; v < content->value_count; v++)
+        total += content->values[v].type == FBX_STRING ? content->values[v].count : 0;
+    unsigned char *bytes = malloc(total / 4 * 3 + total + 3), *text = bytes + total / 4 * 3 + 3;
+    if (!bytes)
+        return false;
+    size_t n = 0;
+    for (uint32_t v = 0; v < content->value_count; v++)
+        if (content->values[v].type == FBX_STRING) {
+            memcpy((s->doc.binary ? bytes : text) + n, content->values[v].s, content->values[v].count);
+            n += content->values[v].count;
+        }
+    if (!s->doc.binary && (n = import_base64_decode((const char *)text, n, bytes)) == SIZE_MAX) {
+        free(bytes);
+        return raw_model_warn(s->model, "%s: material \"%s\": its embedded texture is not base64; left out", s->path,
+                              material);
+    }
+    if (n == 0 || n > UINT32_MAX) {
+        free(bytes);
+        return true;
+    }
+    out->image = bytes;
+    out->image_size = (uint32_t)n;
+    return true;
 }
 
 static sinew_result build_materials(scene *s)
@@ -1679,12 +1711,9 @@ static sinew_result build_materials(scene *s)
             const fbx_node *c = video ? fbx_child(video->node, "Content") : NULL;
             for (uint32_t v = 0; c && v < c->value_count; v++)
                 content += c->values[v].type == FBX_STRING ? c->values[v].count : 0;
-            r->maps[slot].path = resolve_texture(s, tex);
-            if (!r->maps[slot].path && content)
-                raw_model_warn(m,
-                               "%s: material \"%s\": its %s texture is embedded in the file, which sinew does not "
-                               "carry yet",
-                               s->path, r->name, slots[slot]);
+            r->maps[slot].path = resolve_texture(s, tex, content == 0);
+            if (!r->maps[slot].path && content && !embedded_image(s, c, r->name, &r->maps[slot]))
+                return fbx_oom(s);
         }
     }
     return SINEW_OK;

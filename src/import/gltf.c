@@ -424,44 +424,16 @@ static sinew_result load_document(gltf *g)
     return SINEW_OK;
 }
 
-static int base64_value(int c)
-{
-    if (c >= 'A' && c <= 'Z')
-        return c - 'A';
-    if (c >= 'a' && c <= 'z')
-        return c - 'a' + 26;
-    if (c >= '0' && c <= '9')
-        return c - '0' + 52;
-    return c == '+' ? 62 : c == '/' ? 63 : -1;
-}
-
-/* Decodes base64 (padding optional); false for any other character. */
+/* Decodes base64 (padding optional, at the end only); false for any other character. */
 static bool base64_decode(const char *text, blob *out)
 {
-    size_t len = strlen(text);
+    size_t len = strlen(text), end = strcspn(text, "=");
     out->bytes = malloc(len / 4 * 3 + 3);
     if (!out->bytes)
         return false;
     out->owned = true;
-    uint32_t acc = 0;
-    int bits = 0;
-    size_t n = 0;
-    const char *p = text;
-    for (; *p && *p != '='; p++) {
-        int v = base64_value((unsigned char)*p);
-        if (v < 0)
-            return false;
-        acc = acc << 6 | (uint32_t)v;
-        bits += 6;
-        if (bits >= 8) {
-            bits -= 8;
-            out->bytes[n++] = (unsigned char)(acc >> bits);
-        }
-    }
-    while (*p == '=')
-        p++;
-    out->size = n;
-    return *p == 0;
+    out->size = import_base64_decode(text, end, out->bytes);
+    return out->size != SIZE_MAX && strspn(text + end, "=") == len - end;
 }
 
 /* The bytes of a base64 data: URI (`where` names it in messages); out->bytes is owned. */

@@ -199,6 +199,43 @@ void import_uri_decode(const char *uri, char *out, size_t size)
     out[n] = 0;
 }
 
+static int base64_value(int c)
+{
+    if (c >= 'A' && c <= 'Z')
+        return c - 'A';
+    if (c >= 'a' && c <= 'z')
+        return c - 'a' + 26;
+    if (c >= '0' && c <= '9')
+        return c - '0' + 52;
+    return c == '+' ? 62 : c == '/' ? 63 : -1;
+}
+
+size_t import_base64_decode(const char *text, size_t len, unsigned char *out)
+{
+    uint32_t acc = 0;
+    int bits = 0;
+    size_t n = 0;
+    for (size_t i = 0; i < len; i++) {
+        unsigned char c = (unsigned char)text[i];
+        if (c == '=') { /* padding: the group ends */
+            acc = 0, bits = 0;
+            continue;
+        }
+        if (c == '\n' || c == '\r')
+            continue;
+        int v = base64_value(c);
+        if (v < 0)
+            return SIZE_MAX;
+        acc = acc << 6 | (uint32_t)v;
+        bits += 6;
+        if (bits >= 8) {
+            bits -= 8;
+            out[n++] = (unsigned char)(acc >> bits);
+        }
+    }
+    return n;
+}
+
 char *import_find_texture(const char *model_path, const char *reference, bool by_name, char *looked, size_t looked_size)
 {
     char name[4096], folder[4096], path[8192];

@@ -278,6 +278,11 @@ bool bake_track(const bake_desc *d, const float *times, uint32_t n, const sinew_
  * when it has none. False when out of memory. */
 bool raw_model_rest_diagonal(const raw_model *model, double *diagonal);
 
+/* Base64 (RFC 4648's alphabet) of `len` characters into `out`, which holds len / 4 * 3 + 3 bytes:
+ * the bytes written, or SIZE_MAX at a character outside the alphabet. '=' ends a group, so pieces
+ * padded one by one (FBX's ASCII `Content`) decode as one text; line breaks are skipped. */
+size_t import_base64_decode(const char *text, size_t len, unsigned char *out);
+
 /* Reads a whole file into *bytes (with a NUL byte after the end; import_free frees it: a file
  * of IMPORT_PAGES_MIN and more is in 2 MB pages, others are malloc'd); false when it cannot be
  * read. */

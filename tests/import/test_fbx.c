@@ -415,6 +415,54 @@ static void test_texture_by_name(void **state)
     free(text);
 }
 
+/* A texture embedded in the file (its Video's Content) whose file is not there: the image is
+ * carried (base64 in ASCII, here in two pieces padded one by one; bytes in binary), with no
+ * "not found" warning. maya_slime's binary and ASCII exports carry the same PNG. */
+static void test_embedded_texture(void **state)
+{
+    (void)state;
+    size_t n;
+    char *text = replaced("two_bone_ascii.fbx", "\tDeformer: 400,",
+                          "\tTexture: 600, \"Texture::skin\", \"\" {\n"
+                          "\t\tRelativeFilename: \"skin_gone.png\"\n\t}\n"
+                          "\tVideo: 700, \"Video::skin\", \"Clip\" {\n"
+                          "\t\tContent: , \"iVBORw==\", \"DQoaCg==\"\n\t}\n\tDeformer: 400,",
+                          &n);
+    char *linked = malloc(n + 128);
+    char *at = strstr(text, "\tC: \"OO\", 100, 0");
+    assert_non_null(at);
+    size_t head = (size_t)(at - text);
+    memcpy(linked, text, head);
+    strcpy(linked + head, "\tC: \"OP\", 600, 300, \"DiffuseColor\"\n\tC: \"OO\", 700, 600\n");
+    strcat(linked, at);
+    char path[1024];
+    write_file(tmp_path("embedded.fbx", path, sizeof path), linked, strlen(linked));
+    sinew_model *m = load_or_fail(path);
+    const sinew_texture *map = &m->materials[0].maps[SINEW_MAP_BASE_COLOR];
+    assert_null(map->path);
+    assert_int_equal(map->image_size, 8);
+    assert_memory_equal(map->image, "\x89PNG\r\n\x1a\n", 8);
+    for (uint32_t w = 0; w < m->warning_count; w++)
+        assert_null(strstr(m->warnings[w], "not found"));
+    sinew_model_free(m);
+    free(linked);
+    free(text);
+
+    char ascii[1024], binary[1024];
+    if (!testdata_path("ufbx/maya_slime_7500_ascii.fbx", ascii, sizeof ascii) ||
+        !testdata_path("ufbx/maya_slime_7500_binary.fbx", binary, sizeof binary))
+        return;
+    sinew_model *a = load_or_fail(ascii), *b = load_or_fail(binary);
+    const sinew_texture *ta = &a->materials[0].maps[SINEW_MAP_BASE_COLOR],
+                        *tb = &b->materials[0].maps[SINEW_MAP_BASE_COLOR];
+    assert_non_null(ta->image);
+    assert_int_equal(ta->image_size, tb->image_size);
+    assert_memory_equal(ta->image, tb->image, ta->image_size);
+    assert_memory_equal(ta->image, "\x89PNG", 4);
+    sinew_model_free(a);
+    sinew_model_free(b);
+}
+
 /* Through sinew_import: a file named .fbx that is not FBX is not handed to Assimp. */
 static void test_not_fbx(void **state)
 {
@@ -458,15 +506,11 @@ static void test_fbx5(void **state)
 int main(void)
 {
     const struct CMUnitTest tests[] = {
-        cmocka_unit_test(test_encodings_agree),
-        cmocka_unit_test(test_fbx5),
-        cmocka_unit_test(test_curves),
-        cmocka_unit_test(test_inherit_types_reach_the_runtime),
-        cmocka_unit_test(test_sinew_round_trip),
-        cmocka_unit_test(test_texture_by_name),
-        cmocka_unit_test(test_every_prefix_refused),
-        cmocka_unit_test(test_changed_bytes),
-        cmocka_unit_test(test_refusals),
+        cmocka_unit_test(test_encodings_agree),  cmocka_unit_test(test_fbx5),
+        cmocka_unit_test(test_curves),           cmocka_unit_test(test_inherit_types_reach_the_runtime),
+        cmocka_unit_test(test_sinew_round_trip), cmocka_unit_test(test_texture_by_name),
+        cmocka_unit_test(test_embedded_texture), cmocka_unit_test(test_every_prefix_refused),
+        cmocka_unit_test(test_changed_bytes),    cmocka_unit_test(test_refusals),
         cmocka_unit_test(test_not_fbx),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
