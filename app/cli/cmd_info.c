@@ -20,7 +20,8 @@ static const char info_usage[] =
     "  --json   the same as one JSON object: {\"file\", \"format\", [\"converted_from\", \"converted_from_format\",]\n"
     "           \"counts\": {...}, \"meshes\": [...],\n"
     "           \"materials\": [{\"name\", \"base_color\", \"diffuse_texture\", \"diffuse_image\": null or\n"
-    "           {\"type\": png/jpeg/other, \"bytes\"} (an image embedded in the file)}],\n"
+    "           {\"type\": png/jpeg/other, \"bytes\"} (an image embedded in the file), \"alpha_mode\" (opaque, mask,\n"
+    "           blend) and \"alpha_cutoff\", ...}],\n"
     "           \"clips\": [{\"index\", \"name\", \"duration\", \"start\", \"timeline\", \"frame_rate\",\n"
     "           \"clips_sharing_keys\", \"tracks\", \"keys\": {...}, \"weight_tracks\": [{\"channel\", \"keys\"}]}],\n"
     "           \"morph_channels\": [{\"name\", \"default_weight\"}], meshes also give \"skin_method\"\n"
@@ -207,6 +208,10 @@ static void print_text(const sinew_model *m)
         if (mat->emissive[0] > 0.0f || mat->emissive[1] > 0.0f || mat->emissive[2] > 0.0f)
             printf("  emissive (%.3g %.3g %.3g)", (double)mat->emissive[0], (double)mat->emissive[1],
                    (double)mat->emissive[2]);
+        if (mat->alpha_mode == SINEW_ALPHA_MASK)
+            printf("  alpha mask %.3g", (double)mat->alpha_cutoff);
+        else if (mat->alpha_mode == SINEW_ALPHA_BLEND)
+            printf("  alpha blend");
         printf("\n");
         for (int k = 0; k < SINEW_MAP_COUNT; k++) {
             const sinew_texture *map = &mat->maps[k];
@@ -311,6 +316,9 @@ static cJSON *info_json(const sinew_model *m)
             cJSON_AddItemToArray(emissive, cJSON_CreateNumber(cli_json_float(mat->emissive[k])));
         cJSON_AddNumberToObject(o, "normal_scale", cli_json_float(mat->normal_scale));
         cJSON_AddNumberToObject(o, "occlusion_strength", cli_json_float(mat->occlusion_strength));
+        static const char *const ALPHA[] = {"opaque", "mask", "blend"};
+        cJSON_AddStringToObject(o, "alpha_mode", ALPHA[mat->alpha_mode <= SINEW_ALPHA_BLEND ? mat->alpha_mode : 0]);
+        cJSON_AddNumberToObject(o, "alpha_cutoff", cli_json_float(mat->alpha_cutoff));
         cJSON *maps = cJSON_AddObjectToObject(o, "maps");
         for (int k = 0; k < SINEW_MAP_COUNT; k++) {
             const sinew_texture *map = &mat->maps[k];

@@ -235,6 +235,8 @@ typedef struct sinew_texture {
 /* A material: the colour every renderer shows, and the metallic-roughness parameters of
  * glTF's physically based model (read from glTF; from other formats, values derived from
  * what they store: shininess gives roughness, emission gives emissive). */
+typedef enum sinew_alpha_mode { SINEW_ALPHA_OPAQUE = 0, SINEW_ALPHA_MASK = 1, SINEW_ALPHA_BLEND = 2 } sinew_alpha_mode;
+
 typedef struct sinew_material {
     const char *name;
     float base_color[4];      /* linear RGBA */
@@ -245,6 +247,12 @@ typedef struct sinew_material {
     float occlusion_strength; /* 0..1 */
     bool metallic_roughness;  /* the file gave metallic-roughness parameters (glTF, or Assimp's PBR keys) */
     sinew_texture maps[SINEW_MAP_COUNT];
+    /* How the alpha (base_color[3] times the base colour map's and the vertex colour's) is taken,
+     * as glTF's alphaMode says: opaque (ignored), mask (a fragment below alpha_cutoff is not drawn:
+     * hair cards, leaves) or blend (see-through; sinew's renderer draws it as coverage of the
+     * multisampled pixel, in any order: no sorting). */
+    sinew_alpha_mode alpha_mode;
+    float alpha_cutoff; /* SINEW_ALPHA_MASK's threshold, 0..1 (glTF's default 0.5) */
 } sinew_material;
 
 typedef struct sinew_model {

@@ -20,8 +20,8 @@
  * channel), WTRK (clips' weight tracks), VCCH (vertex caches), SKBL (skins' blend), MDQW (meshes'
  * dual-quaternion weights), CTLN (clips' place on the file's timeline); version 3 files are read
  * (they have none of these) with a warning. Later minor additions to version 4: MFLT (meshes
- * drawn with flat normals), MCOL (vertex colours). The checksum is CRC-32C (Castagnoli) of the whole blob
- * computed with the checksum field set to 0.
+ * drawn with flat normals), MCOL (vertex colours), MALP (materials' alpha modes). The checksum is CRC-32C (Castagnoli)
+ * of the whole blob computed with the checksum field set to 0.
  */
 #ifndef SINEW_CORE_INTERNAL_H
 #define SINEW_CORE_INTERNAL_H
@@ -180,6 +180,7 @@ typedef struct blob_header {
     blob_span clip_timeline;  /* CTLN two floats a clip: sinew_clip.timeline and frame_rate; absent: all 0 */
     blob_span mesh_flat;      /* MFLT uint8_t a mesh: 1 sinew_mesh.flat_normals, else 0; absent: all 0 */
     blob_span mesh_colors;    /* MCOL uint32_t a mesh: offset of 4 floats a vertex or BLOB_NONE; absent: none */
+    blob_span material_alpha; /* MALP blob_alpha a material; absent: all opaque */
 } blob_header;
 
 /* One known section: its tag, where its span lives in blob_header, its element size. */
@@ -267,6 +268,11 @@ typedef struct blob_pbr {
     uint32_t flags;                         /* 1: the file gave metallic-roughness parameters */
     blob_texture maps[SINEW_MAP_COUNT - 1]; /* sinew_map 1.. (the base colour map is in MATL) */
 } blob_pbr;
+
+typedef struct blob_alpha {
+    uint32_t mode; /* sinew_alpha_mode */
+    float cutoff;
+} blob_alpha;
 
 typedef struct blob_muscle {
     double rest_length;                     /* 0: taken from the rest pose */

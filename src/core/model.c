@@ -46,6 +46,7 @@ const blob_section_kind sinew_blob_section_kinds[] = {
     SECTION("CTLN", clip_timeline, float),
     SECTION("MFLT", mesh_flat, uint8_t),
     SECTION("MCOL", mesh_colors, uint32_t),
+    SECTION("MALP", material_alpha, blob_alpha),
 };
 #undef SECTION
 const uint32_t sinew_blob_section_kind_count = sizeof sinew_blob_section_kinds / sizeof sinew_blob_section_kinds[0];
@@ -386,6 +387,12 @@ static sinew_result check_meshes(reader *r)
         if (!maps_ok || !sinew_floats_finite(&pbr[i].metallic, 7) || pbr[i].flags > 1)
             return corrupt(r, "material PBR parameters");
     }
+    if (h->material_alpha.count && h->material_alpha.count != h->materials.count)
+        return corrupt(r, "material alpha table");
+    const blob_alpha *alpha = array_at(r, h->material_alpha.offset, h->material_alpha.count); /* NULL: none */
+    for (uint32_t i = 0; alpha && i < h->materials.count; i++)
+        if (alpha[i].mode > SINEW_ALPHA_BLEND || !(alpha[i].cutoff >= 0.0f && alpha[i].cutoff <= 1.0f))
+            return corrupt(r, "material alpha");
     const blob_instance *instances = array_at(r, h->instances.offset, h->instances.count);
     for (uint32_t i = 0; i < h->instances.count; i++)
         if (instances[i].mesh >= h->meshes.count || instances[i].node >= h->node_names.count)
@@ -744,8 +751,11 @@ static void fill_model(model_block *b, const reader *r, unsigned char *tables)
     sinew_material *materials = take(&cursor, m->material_count * sizeof(sinew_material));
     const blob_material *bmats = array_at(r, h->materials.offset, m->material_count);
     const blob_pbr *pbr = array_at(r, h->materials_pbr.offset, h->materials_pbr.count); /* NULL: none */
+    const blob_alpha *alpha = array_at(r, h->material_alpha.offset, h->material_alpha.count);
     for (uint32_t i = 0; i < m->material_count; i++) {
         materials[i] = (sinew_material){.name = string_at(r, bmats[i].name),
+                                        .alpha_mode = alpha ? (sinew_alpha_mode)alpha[i].mode : SINEW_ALPHA_OPAQUE,
+                                        .alpha_cutoff = alpha ? alpha[i].cutoff : 0.5f,
                                         .metallic = 0.0f,
                                         .roughness = 0.5f,
                                         .normal_scale = 1.0f,

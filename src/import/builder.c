@@ -1284,6 +1284,21 @@ out:
     return span;
 }
 
+/* MALP: a material's alpha mode and cutoff; no section when every material is opaque. */
+static blob_span write_material_alpha(writer *w, const raw_model *m)
+{
+    bool any = false;
+    for (uint32_t i = 0; i < m->material_count; i++)
+        any |= m->materials[i].alpha_mode != SINEW_ALPHA_OPAQUE;
+    if (!any)
+        return (blob_span){0, 0};
+    uint32_t at = writer_space(w, (size_t)m->material_count * sizeof(blob_alpha));
+    blob_alpha *alpha = writer_at(w, at);
+    for (uint32_t i = 0; alpha && i < m->material_count; i++)
+        alpha[i] = (blob_alpha){(uint32_t)m->materials[i].alpha_mode, m->materials[i].alpha_cutoff};
+    return (blob_span){at, m->material_count};
+}
+
 /* Weight tracks of all clips, gathered as the clips are written (WTRK). */
 typedef struct weight_table {
     blob_weight_track *tracks;
@@ -1651,6 +1666,7 @@ static void write_tables(writer *w, const raw_model *m, size_t head, blob_header
     h->instances = write_instances(w, m, &h->instance_morph);
     write_deformers(w, m, h);
     h->materials = write_materials(w, m, &h->materials_pbr);
+    h->material_alpha = write_material_alpha(w, m);
     h->clips = write_clips(w, m, &h->weight_tracks, &h->clip_timeline);
     h->warnings = writer_strings(w, m->warnings, m->warning_count);
     h->muscles = write_muscles(w, m->muscles);
@@ -1729,6 +1745,10 @@ static void fix_material(raw_material *mat)
         mat->normal_scale = 1.0f;
     for (int c = 0; c < 3; c++)
         mat->emissive[c] = isfinite(mat->emissive[c]) ? fmaxf(mat->emissive[c], 0.0f) : 0.0f;
+    if (mat->alpha_mode > SINEW_ALPHA_BLEND)
+        mat->alpha_mode = SINEW_ALPHA_OPAQUE;
+    /* a reader that says nothing leaves 0: glTF's default */
+    mat->alpha_cutoff = mat->alpha_mode == SINEW_ALPHA_MASK ? clamp01(mat->alpha_cutoff) : 0.5f;
 }
 
 sinew_result raw_model_build(raw_model *m, void **bytes, size_t *size, sinew_error *error)

@@ -1136,6 +1136,20 @@ static sinew_result build_materials(gltf *g)
         double gain = json_is_number(strength) && isfinite(strength->number) ? strength->number : 1.0;
         for (int c = 0; c < 3; c++)
             out->emissive[c] = (float)(emissive[c] * gain);
+        const json_node *mode = json_get(mat, "alphaMode");
+        if (mode && !json_is_string(mode))
+            return fail_at(g, "%s.alphaMode: not a string", where);
+        static const char *const MODES[] = {
+            [SINEW_ALPHA_OPAQUE] = "OPAQUE", [SINEW_ALPHA_MASK] = "MASK", [SINEW_ALPHA_BLEND] = "BLEND"};
+        for (int k = 0; mode && k < 3; k++)
+            if (strcmp(mode->string, MODES[k]) == 0)
+                out->alpha_mode = (sinew_alpha_mode)k;
+        if (mode && strcmp(mode->string, MODES[out->alpha_mode]) != 0 &&
+            !raw_model_warn(m, "%s: %s: alphaMode \"%s\" is not OPAQUE, MASK or BLEND; drawn opaque", g->path, where,
+                            mode->string))
+            return oom(g);
+        if ((r = number_at(g, mat, "alphaCutoff", where, 0.5, &out->alpha_cutoff)))
+            return r;
         const json_node *normal = json_get(mat, "normalTexture");
         const json_node *occlusion = json_get(mat, "occlusionTexture");
         if ((r = number_at(g, normal, "scale", where, 1.0, &out->normal_scale)) ||

@@ -125,6 +125,8 @@ typedef struct raw_material {
     float metallic, roughness, emissive[3], normal_scale, occlusion_strength;
     bool metallic_roughness; /* the file gave the PBR parameters */
     raw_texture maps[SINEW_MAP_COUNT];
+    sinew_alpha_mode alpha_mode;
+    float alpha_cutoff;
 } raw_material;
 
 typedef struct raw_model {

@@ -206,6 +206,8 @@ bool raw_model_from_model(const sinew_model *m, raw_model *raw)
         dst->normal_scale = src->normal_scale;
         dst->occlusion_strength = src->occlusion_strength;
         dst->metallic_roughness = src->metallic_roughness;
+        dst->alpha_mode = src->alpha_mode;
+        dst->alpha_cutoff = src->alpha_cutoff;
         for (int k = 0; k < SINEW_MAP_COUNT; k++) {
             dst->maps[k].path = copy_string(src->maps[k].path, &ok);
             dst->maps[k].image = copy_array(src->maps[k].image, src->maps[k].image_size, 1, &ok);

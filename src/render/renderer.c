@@ -68,7 +68,7 @@ typedef struct mesh_uniforms {
         palette, morph, morph_count, morph_vertices, morph_texels, morph_target, morph_weight, heat_joint, heat_rigid,
         gouraud, key_dir, fill_dir, eye, base_color, use_texture, texture, mode, heat, override, normal_length,
         metallic, roughness, emissive, normal_scale, occlusion_strength, maps, map_mr, map_normal, map_occlusion,
-        map_emissive, flat, vertex_colors;
+        map_emissive, flat, vertex_colors, alpha_cutoff, alpha_coverage;
 } mesh_uniforms;
 
 struct sinew_renderer {
@@ -408,7 +408,8 @@ static void lookup_mesh_uniforms(GLuint program, mesh_uniforms *u)
     U(morph), U(morph_count), U(morph_vertices), U(morph_texels), U(morph_target), U(morph_weight);
     U(key_dir), U(fill_dir), U(eye), U(base_color), U(use_texture), U(texture), U(mode), U(heat), U(override);
     U(normal_length), U(metallic), U(roughness), U(emissive), U(normal_scale), U(occlusion_strength), U(maps);
-    U(map_mr), U(map_normal), U(map_occlusion), U(map_emissive), U(flat), U(vertex_colors);
+    U(map_mr), U(map_normal), U(map_occlusion), U(map_emissive), U(flat), U(vertex_colors), U(alpha_cutoff),
+        U(alpha_coverage);
 #undef U
 }
 
@@ -962,6 +963,26 @@ static int shading_mode(const sinew_render_options *o)
                                                : 1;
 }
 
+/* How a material's alpha is drawn (NULL: opaque): a mask discards what is below its cutoff; a
+ * blend is drawn as the multisampled pixel's coverage (and its alpha as one, so that the
+ * resolved alpha is the coverage), in any order, and without multisampling only its wholly
+ * transparent texels are left out. */
+static void set_alpha(const mesh_uniforms *u, const sinew_material *mat)
+{
+    sinew_alpha_mode mode = mat ? mat->alpha_mode : SINEW_ALPHA_OPAQUE;
+    glUniform1f(u->alpha_cutoff, mode == SINEW_ALPHA_MASK    ? mat->alpha_cutoff
+                                 : mode == SINEW_ALPHA_BLEND ? 1.0f / 255.0f
+                                                             : -1.0f);
+    glUniform1i(u->alpha_coverage, mode == SINEW_ALPHA_BLEND);
+    if (mode == SINEW_ALPHA_BLEND) {
+        glEnable(GL_SAMPLE_ALPHA_TO_COVERAGE);
+        glEnable(GL_SAMPLE_ALPHA_TO_ONE);
+    } else {
+        glDisable(GL_SAMPLE_ALPHA_TO_COVERAGE);
+        glDisable(GL_SAMPLE_ALPHA_TO_ONE);
+    }
+}
+
 /* The mesh's material, and its shading: the frame's, each triangle flat for a mesh whose file
  * asks for flat normals (Phong and Gouraud become flat; physically based shading takes the
  * triangle's normal). */
@@ -988,6 +1009,7 @@ static void set_material(sinew_renderer *r, const frame_state *fs, const sinew_m
     }
     glUniform4fv(u->base_color, 1, color);
     glUniform1i(u->vertex_colors, !fs->o->clay && mesh->colors); /* clay: the shape alone */
+    set_alpha(u, !fs->o->clay && mesh->material >= 0 ? &r->model->materials[mesh->material] : NULL);
     glUniform1i(u->use_texture, maps[SINEW_MAP_BASE_COLOR] != 0);
     glUniform1f(u->metallic, metallic);
     glUniform1f(u->roughness, roughness);
@@ -1058,6 +1080,7 @@ static sinew_result draw_meshes(sinew_renderer *r, const frame_state *fs, sinew_
             glPolygonMode(GL_FRONT_AND_BACK, GL_FILL);
         }
     }
+    set_alpha(u, NULL); /* the overlays after: no coverage from alpha */
     return SINEW_OK;
 }
 
@@ -1158,6 +1181,7 @@ static sinew_result draw_muscles(sinew_renderer *r, const frame_state *fs, sinew
     glUniform1i(u->gouraud, mode == 2);
     glUniform1i(u->flat, 0);
     glUniform1i(u->vertex_colors, 0);
+    set_alpha(u, NULL);
     glUniform1i(u->heat, 0);
     glUniform1i(u->gpu_sets, 0);
     glUniform1i(u->heat_joint, -1);
@@ -1763,6 +1787,7 @@ static sinew_result draw_crowd(sinew_renderer *r, const frame_state *fs, sinew_e
     glUniform1i(u->instance_stride, 0);
     glUniform1i(u->rigid_record, -1);
     glUniform1i(u->instance_base, 0);
+    set_alpha(u, NULL);
     return SINEW_OK;
 }
 
@@ -1830,6 +1855,8 @@ sinew_result sinew_renderer_draw(sinew_renderer *r, const sinew_frame *frame, si
     glDepthFunc(GL_LEQUAL);
     glDisable(GL_CULL_FACE);
     glDisable(GL_BLEND);
+    glDisable(GL_SAMPLE_ALPHA_TO_COVERAGE);
+    glDisable(GL_SAMPLE_ALPHA_TO_ONE);
     result = draw_effect_passes(r, &fs, error);
     if (result != SINEW_OK)
         goto failed;
@@ -1847,6 +1874,8 @@ sinew_result sinew_renderer_draw(sinew_renderer *r, const sinew_frame *frame, si
     glDepthFunc(GL_LEQUAL);
     glDisable(GL_CULL_FACE);
     glDisable(GL_BLEND);
+    glDisable(GL_SAMPLE_ALPHA_TO_COVERAGE);
+    glDisable(GL_SAMPLE_ALPHA_TO_ONE);
     glEnable(GL_PROGRAM_POINT_SIZE);
     if (ef.background)
         render_effects_background(&r->fx, &r->programs, &ef);

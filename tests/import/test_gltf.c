@@ -447,6 +447,53 @@ static void test_vertex_colours(void **state)
     free(data);
 }
 
+/* alphaMode and alphaCutoff (0.5 by default) reach the material, kept by a .sinew file; an
+ * unknown mode is drawn opaque with a warning. */
+static void test_alpha_modes(void **state)
+{
+    (void)state;
+    char src[1024], file[1024], saved[1024];
+    size_t size = 0;
+    char *text = (char *)read_file(fixture_path("two_bone_cubic.gltf", src, sizeof src), &size);
+    static const struct {
+        const char *mode;
+        double cutoff; /* < 0: none given */
+        sinew_alpha_mode want;
+        float want_cutoff;
+    } cases[] = {{"MASK", 0.3, SINEW_ALPHA_MASK, 0.3f},
+                 {"MASK", -1, SINEW_ALPHA_MASK, 0.5f},
+                 {"BLEND", -1, SINEW_ALPHA_BLEND, 0.5f},
+                 {"OPAQUE", 0.9, SINEW_ALPHA_OPAQUE, 0.5f},
+                 {"CUTOUT", -1, SINEW_ALPHA_OPAQUE, 0.5f}};
+    for (size_t k = 0; k < sizeof cases / sizeof cases[0]; k++) {
+        cJSON *doc = cJSON_ParseWithLength(text, size), *material = cJSON_CreateObject();
+        cJSON_AddStringToObject(material, "alphaMode", cases[k].mode);
+        if (cases[k].cutoff >= 0)
+            cJSON_AddNumberToObject(material, "alphaCutoff", cases[k].cutoff);
+        cJSON_AddItemToArray(cJSON_AddArrayToObject(doc, "materials"), material);
+        char *out = cJSON_PrintUnformatted(doc);
+        write_file(tmp_path("alpha.gltf", file, sizeof file), out, strlen(out));
+        free(out);
+        cJSON_Delete(doc);
+        sinew_model *m = load_or_fail(file);
+        sinew_error error = {0};
+        assert_int_equal(sinew_model_save(m, NULL, tmp_path("alpha.sinew", saved, sizeof saved), &error), SINEW_OK);
+        sinew_model *back = load_or_fail(saved);
+        for (int pass = 0; pass < 2; pass++) {
+            const sinew_material *mat = &(pass ? back : m)->materials[0];
+            assert_int_equal(mat->alpha_mode, cases[k].want);
+            assert_float_equal(mat->alpha_cutoff, cases[k].want_cutoff, 1e-7f);
+        }
+        bool warned = false;
+        for (uint32_t w = 0; w < m->warning_count; w++)
+            warned |= strstr(m->warnings[w], "CUTOUT") != NULL;
+        assert_int_equal(warned, strcmp(cases[k].mode, "CUTOUT") == 0);
+        sinew_model_free(back);
+        sinew_model_free(m);
+    }
+    free(text);
+}
+
 static void check_pbr_spheres(const sinew_model *m)
 {
     assert_int_equal(m->material_count, 4);
@@ -533,6 +580,7 @@ int main(void)
         cmocka_unit_test(test_glb_header),
         cmocka_unit_test(test_missing_normals_are_flat),
         cmocka_unit_test(test_vertex_colours),
+        cmocka_unit_test(test_alpha_modes),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -18,6 +18,8 @@
 #include <stb_image.h>
 #include <stb_image_write.h>
 
+#include <cjson/cJSON.h>
+
 #include "helpers.h"
 
 #define SIZE "320x240"
@@ -580,6 +582,61 @@ static void test_vertex_colours_drawn(void **state)
     free_image(&clay);
 }
 
+/* glTF's alpha modes on a red mesh (two_bone_cubic.gltf with a material): opaque ignores alpha;
+ * a mask leaves out what is below its cutoff and keeps the rest whole; a blend of alpha 0.5 is
+ * drawn as half the coverage of each multisampled pixel (red mixed with the background), and one
+ * of alpha 0 not at all. */
+static long red_pixels(const char *name, const char *mode, double alpha, bool pure)
+{
+    char src[1024], file[1024];
+    size_t size = 0;
+    char *text = (char *)read_file(fixture_path("two_bone_cubic.gltf", src, sizeof src), &size);
+    cJSON *doc = cJSON_ParseWithLength(text, size);
+    free(text);
+    cJSON *material = cJSON_CreateObject(), *pbr = cJSON_AddObjectToObject(material, "pbrMetallicRoughness");
+    const double color[4] = {1, 0, 0, alpha};
+    cJSON_AddItemToObject(pbr, "baseColorFactor", cJSON_CreateDoubleArray(color, 4));
+    cJSON_AddStringToObject(material, "alphaMode", mode);
+    cJSON_AddItemToArray(cJSON_AddArrayToObject(doc, "materials"), material);
+    cJSON *prim = cJSON_GetArrayItem(
+        cJSON_GetObjectItem(cJSON_GetArrayItem(cJSON_GetObjectItem(doc, "meshes"), 0), "primitives"), 0);
+    cJSON_AddNumberToObject(prim, "material", 0);
+    char *out = cJSON_PrintUnformatted(doc);
+    char gltf_name[64];
+    snprintf(gltf_name, sizeof gltf_name, "%s.gltf", name);
+    write_file(tmp_path(gltf_name, file, sizeof file), out, strlen(out));
+    free(out);
+    cJSON_Delete(doc);
+    char png[64];
+    snprintf(png, sizeof png, "%s.png", name);
+    image im = RENDER(png, file, "--size", SIZE, "--no-grid", "--lighting", "off");
+    long count = 0;
+    for (long i = 0; i < (long)im.width * im.height; i++) {
+        const unsigned char *p = &im.rgb[i * 3];
+        count += pure ? p[0] > 200 && p[1] < 40 : p[0] > p[1] + 40;
+    }
+    free_image(&im);
+    return count;
+}
+
+static void test_alpha_modes(void **state)
+{
+    (void)state;
+    long opaque = red_pixels("alpha-opaque", "OPAQUE", 0.25, true);
+    long masked = red_pixels("alpha-mask-out", "MASK", 0.25, false);
+    long kept = red_pixels("alpha-mask-in", "MASK", 0.75, true);
+    long half_pure = red_pixels("alpha-blend", "BLEND", 0.5, true),
+         half = red_pixels("alpha-blend", "BLEND", 0.5, false);
+    long none = red_pixels("alpha-blend-none", "BLEND", 0.0, false);
+    print_message("red pixels: opaque %ld, mask 0.25 %ld, mask 0.75 %ld, blend 0.5 %ld pure of %ld, blend 0 %ld\n",
+                  opaque, masked, kept, half_pure, half, none);
+    assert_true(opaque > 1000);
+    assert_int_equal(masked, 0);
+    assert_true(labs(kept - opaque) < opaque / 20);
+    assert_true(half > opaque / 2 && half_pure < opaque / 5);
+    assert_int_equal(none, 0);
+}
+
 /* A skeleton-only file shows bones without being asked: bone-coloured pixels appear. */
 static void test_bone_only_file_shows_bones(void **state)
 {
@@ -1031,6 +1088,7 @@ int main(void)
         cmocka_unit_test(test_track),
         cmocka_unit_test(test_missing_normals_drawn_flat),
         cmocka_unit_test(test_vertex_colours_drawn),
+        cmocka_unit_test(test_alpha_modes),
         cmocka_unit_test(test_bad_input),
         cmocka_unit_test(test_bench_render_reports),
     };
