@@ -11,3 +11,4 @@ mkdir -p fuzz/corpus
 "$sinew" convert tests/fixtures/clip_windows.dae fuzz/corpus/clip_windows.sinew --no-muscles
 "$sinew" convert tests/fixtures/two_bone_textured.glb fuzz/corpus/two_bone_textured.sinew --no-muscles
 "$sinew" convert tests/fixtures/bezier_kept.dae fuzz/corpus/bezier_kept.sinew --no-muscles
+"$sinew" convert tests/fixtures/two_bone_painted.gltf fuzz/corpus/two_bone_painted.sinew --no-muscles
