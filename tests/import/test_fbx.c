@@ -384,26 +384,37 @@ static void test_refusals(void **state)
     free(bytes);
 }
 
+/* two_bone_ascii.fbx with `objects` added before its deformer and `connections` before its
+ * first connection, written as `name` in the scratch folder (into path). */
+static void write_with(const char *name, const char *objects, const char *connections, char *path, size_t size)
+{
+    size_t n;
+    char before[512];
+    snprintf(before, sizeof before, "%s\tDeformer: 400,", objects);
+    char *text = replaced("two_bone_ascii.fbx", "\tDeformer: 400,", before, &n);
+    char *linked = malloc(n + strlen(connections) + 1);
+    char *at = strstr(text, "\tC: \"OO\", 100, 0");
+    assert_non_null(at);
+    size_t head = (size_t)(at - text);
+    memcpy(linked, text, head);
+    strcpy(linked + head, connections);
+    strcat(linked, at);
+    write_file(tmp_path(name, path, size), linked, strlen(linked));
+    free(linked);
+    free(text);
+}
+
 /* A texture stored with the path of the machine that wrote the file is found by its name
  * beside the model. */
 static void test_texture_by_name(void **state)
 {
     (void)state;
-    size_t n;
-    char *text = replaced("two_bone_ascii.fbx", "\tDeformer: 400,",
-                          "\tTexture: 600, \"Texture::skin\", \"\" {\n"
-                          "\t\tRelativeFilename: \"..\\..\\art\\skin_diffuse.png\"\n"
-                          "\t\tFileName: \"C:\\art\\skin_diffuse.png\"\n\t}\n\tDeformer: 400,",
-                          &n);
-    char *linked = malloc(n + 64);
-    char *at = strstr(text, "\tC: \"OO\", 100, 0");
-    assert_non_null(at);
-    size_t head = (size_t)(at - text);
-    memcpy(linked, text, head);
-    strcpy(linked + head, "\tC: \"OP\", 600, 300, \"DiffuseColor\"\n");
-    strcat(linked, at);
     char path[1024], image[1024];
-    write_file(tmp_path("textured.fbx", path, sizeof path), linked, strlen(linked));
+    write_with("textured.fbx",
+               "\tTexture: 600, \"Texture::skin\", \"\" {\n"
+               "\t\tRelativeFilename: \"..\\..\\art\\skin_diffuse.png\"\n"
+               "\t\tFileName: \"C:\\art\\skin_diffuse.png\"\n\t}\n",
+               "\tC: \"OP\", 600, 300, \"DiffuseColor\"\n", path, sizeof path);
     write_file(tmp_path("skin_diffuse.png", image, sizeof image), "png", 3);
     sinew_model *m = load_or_fail(path);
     assert_int_equal(m->material_count, 1);
@@ -411,8 +422,6 @@ static void test_texture_by_name(void **state)
     const char *found = strrchr(m->materials[0].maps[SINEW_MAP_BASE_COLOR].path, '/');
     assert_string_equal(found, "/skin_diffuse.png");
     sinew_model_free(m);
-    free(linked);
-    free(text);
 }
 
 /* A texture embedded in the file (its Video's Content) whose file is not there: the image is
@@ -421,22 +430,13 @@ static void test_texture_by_name(void **state)
 static void test_embedded_texture(void **state)
 {
     (void)state;
-    size_t n;
-    char *text = replaced("two_bone_ascii.fbx", "\tDeformer: 400,",
-                          "\tTexture: 600, \"Texture::skin\", \"\" {\n"
-                          "\t\tRelativeFilename: \"skin_gone.png\"\n\t}\n"
-                          "\tVideo: 700, \"Video::skin\", \"Clip\" {\n"
-                          "\t\tContent: , \"iVBORw==\", \"DQoaCg==\"\n\t}\n\tDeformer: 400,",
-                          &n);
-    char *linked = malloc(n + 128);
-    char *at = strstr(text, "\tC: \"OO\", 100, 0");
-    assert_non_null(at);
-    size_t head = (size_t)(at - text);
-    memcpy(linked, text, head);
-    strcpy(linked + head, "\tC: \"OP\", 600, 300, \"DiffuseColor\"\n\tC: \"OO\", 700, 600\n");
-    strcat(linked, at);
     char path[1024];
-    write_file(tmp_path("embedded.fbx", path, sizeof path), linked, strlen(linked));
+    write_with("embedded.fbx",
+               "\tTexture: 600, \"Texture::skin\", \"\" {\n"
+               "\t\tRelativeFilename: \"skin_gone.png\"\n\t}\n"
+               "\tVideo: 700, \"Video::skin\", \"Clip\" {\n"
+               "\t\tContent: , \"iVBORw==\", \"DQoaCg==\"\n\t}\n",
+               "\tC: \"OP\", 600, 300, \"DiffuseColor\"\n\tC: \"OO\", 700, 600\n", path, sizeof path);
     sinew_model *m = load_or_fail(path);
     const sinew_texture *map = &m->materials[0].maps[SINEW_MAP_BASE_COLOR];
     assert_null(map->path);
@@ -445,8 +445,6 @@ static void test_embedded_texture(void **state)
     for (uint32_t w = 0; w < m->warning_count; w++)
         assert_null(strstr(m->warnings[w], "not found"));
     sinew_model_free(m);
-    free(linked);
-    free(text);
 
     char ascii[1024], binary[1024];
     if (!testdata_path("ufbx/maya_slime_7500_ascii.fbx", ascii, sizeof ascii) ||
