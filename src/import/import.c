@@ -615,13 +615,16 @@ static sinew_result session_load(sinew_import_session *session, const char *path
     const sinew_import_desc *d = import_session_desc(session);
     sinew_import_desc one = *d;
     one.path = path;
-    /* what the session's helper does not do: .sinew files, imports not isolated, Assimp's formats
+    /* what the session's helper does not do: imports not isolated, .sinew files, Assimp's formats
      * (the lean helper execs another program for them: one helper for that file) */
+    if (!d->isolate || d->assimp)
+        return sinew_import(&one, out, error);
     file_head head = head_of(path);
     reader_choice choice = choose_reader(path, &head, false);
-    if (!d->isolate || d->assimp || is_sinew_file(&head) || (!choice.read && !choice.refusal))
+    if (is_sinew_file(&head) || (!choice.read && !choice.refusal))
         return sinew_import(&one, out, error);
-    sinew_result result = check_path(path, &head, error);
+    /* head_of() read it: opened again only to say why it could not be */
+    sinew_result result = head.file_size ? SINEW_OK : check_path(path, &head, error);
     if (result)
         return result;
     if (d->progress && !d->progress(-1.0f, d->progress_user))
