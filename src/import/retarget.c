@@ -146,20 +146,21 @@ static sinew_result read_name_map(const char *path, const sinew_model *target, c
     JSON_FOR_EACH(e, members)
     {
         const char *name = e[-1].string; /* the member's key */
-        int line, column;
-        json_line_column((const char *)text, e[-1].offset - 1, &line, &column); /* its opening quote */
         int32_t s = sinew_model_find_node(source, name);
         int32_t t = json_is_string(e) ? sinew_model_find_node(target, e->string) : -1;
+        if (json_is_string(e) && s >= 0 && t >= 0) {
+            match[t] = s;
+            continue;
+        }
+        int line, column; /* counted only for the member refused: a walk from the text's start */
+        json_line_column((const char *)text, e[-1].offset - 1, &line, &column); /* its opening quote */
         if (!json_is_string(e))
             r = sinew_fail(error, SINEW_ERROR_FORMAT, "%s:%d:%d: \"%s\": the target name is not a string", path, line,
                            column, name);
-        else if (s < 0 || t < 0)
+        else
             r = sinew_fail(error, SINEW_ERROR_DATA, "%s:%d:%d: \"%s\" -> \"%s\": %s has no node \"%s\"", path, line,
                            column, name, e->string, s < 0 ? source->source : target->source, s < 0 ? name : e->string);
-        else
-            match[t] = s;
-        if (r)
-            break;
+        break;
     }
     json_free(&doc);
     import_free(text); /* import_read_file's */
