@@ -26,6 +26,7 @@
 #ifndef SINEW_CORE_INTERNAL_H
 #define SINEW_CORE_INTERNAL_H
 
+#include <math.h>
 #include <stdarg.h>
 #include <stdbool.h>
 #include <stddef.h>
@@ -64,6 +65,12 @@ typedef enum sinew_cpu_feature {
     SINEW_CPU_AVX512BW,
 } sinew_cpu_feature;
 bool sinew_cpu_has(sinew_cpu_feature feature);
+/* An sRGB-encoded colour component (0..1) as linear light: the import's vertex colours, the
+ * renderer's muscle colours. */
+static inline float sinew_srgb_to_linear(float c)
+{
+    return c <= 0.04045f ? c / 12.92f : c == 1.0f ? 1.0f : powf((c + 0.055f) / 1.055f, 2.4f);
+}
 /* Up to `size` bytes from fd into buf, as many as there are (a read may return fewer; EINTR is
  * retried); errno set when a read fails. What the file readers use instead of stdio, whose
  * fopen, fseek and fread cost four system calls more a file (its size asked twice, a seek to

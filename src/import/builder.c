@@ -101,11 +101,6 @@ void raw_clip_free(raw_clip *clip)
     free(clip->name);
 }
 
-static float srgb_to_linear(float c)
-{
-    return c <= 0.04045f ? c / 12.92f : c == 1.0f ? 1.0f : powf((c + 0.055f) / 1.055f, 2.4f);
-}
-
 void raw_colors_from_srgb(const float *in, uint32_t stride, uint32_t n, float *out)
 {
     float last_in[3] = {0, 0, 0}, last_out[3] = {0, 0, 0}; /* painted meshes repeat colours: powf once a run */
@@ -114,7 +109,7 @@ void raw_colors_from_srgb(const float *in, uint32_t stride, uint32_t n, float *o
         float *o = &out[(size_t)v * 4];
         if (memcmp(c, last_in, sizeof last_in) != 0) {
             for (int k = 0; k < 3; k++)
-                last_out[k] = srgb_to_linear(c[k]);
+                last_out[k] = sinew_srgb_to_linear(c[k]);
             memcpy(last_in, c, sizeof last_in);
         }
         memcpy(o, last_out, sizeof last_out);

@@ -1165,12 +1165,6 @@ static sinew_result draw_normals(sinew_renderer *r, const frame_state *fs, float
     return SINEW_OK;
 }
 
-/* sRGB colour component to linear (the mesh shader works in linear light). */
-static float srgb_to_linear(float c)
-{
-    return c <= 0.04045f ? c / 12.92f : powf((c + 0.055f) / 1.055f, 2.4f);
-}
-
 /* Muscles as Gouraud-shaded tubes, each built on the CPU into the scratch sized at create. */
 static sinew_result draw_muscles(sinew_renderer *r, const frame_state *fs, sinew_error *error)
 {
@@ -1212,7 +1206,8 @@ static sinew_result draw_muscles(sinew_renderer *r, const frame_state *fs, sinew
                                   "muscle \"%s\" is larger than the muscles the renderer was created for", p->name);
             continue; /* ends at one point: nothing to draw this frame */
         }
-        float color[4] = {srgb_to_linear(p->color[0]), srgb_to_linear(p->color[1]), srgb_to_linear(p->color[2]), 1};
+        float color[4] = {sinew_srgb_to_linear(p->color[0]), sinew_srgb_to_linear(p->color[1]),
+                          sinew_srgb_to_linear(p->color[2]), 1}; /* the mesh shader works in linear light */
         if (!p->in_range) /* stretched or squashed past what it can do: washed out */
             for (int k = 0; k < 3; k++)
                 color[k] = 0.5f * color[k] + 0.25f;
