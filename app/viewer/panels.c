@@ -366,8 +366,10 @@ static GtkWidget *display_page(viewer *v)
     snprintf(label, sizeof label, "follow the model   (%s)", gdk_keyval_name(v->keys[ACTION_FOLLOW].key));
     v->look.follow_check = gtk_check_button_new_with_label(label);
     gtk_check_button_set_active(GTK_CHECK_BUTTON(v->look.follow_check), v->look.follow);
-    gtk_widget_set_tooltip_text(v->look.follow_check,
-                                "The camera moves with the model's centre: a capture that walks away stays in view");
+    gtk_widget_set_tooltip_text(
+        v->look.follow_check,
+        "The camera moves over the ground with the clip's root (a capture's hips): a capture that walks away "
+        "stays in view");
     g_signal_connect(v->look.follow_check, "toggled", G_CALLBACK(on_follow), v);
     gtk_box_append(GTK_BOX(box), v->look.follow_check);
     gtk_box_append(GTK_BOX(box), gtk_label_new("Keys and mouse"));

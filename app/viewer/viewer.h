@@ -192,7 +192,7 @@ void view_recent_changed(viewer *v); /* rebuilds the Recent menu */
 
 double view_duration(const viewer *v); /* of the clip playing; 0 for the rest pose */
 void view_toggle_crowd(viewer *v, bool on);
-void view_set_follow(viewer *v, bool on); /* Follow: from the model's centre now */
+void view_set_follow(viewer *v, bool on); /* Follow: from where the clip's root is now */
 double view_frame_rate(const viewer *v);  /* of the clip: frame numbers and Left/Right steps */
 void view_update_timeline(viewer *v);     /* the scrub bar's range and key ticks */
 void view_show_time(viewer *v);

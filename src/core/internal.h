@@ -20,8 +20,8 @@
  * channel), WTRK (clips' weight tracks), VCCH (vertex caches), SKBL (skins' blend), MDQW (meshes'
  * dual-quaternion weights), CTLN (clips' place on the file's timeline); version 3 files are read
  * (they have none of these) with a warning. Later minor additions to version 4: MFLT (meshes
- * drawn with flat normals), MCOL (vertex colours), MALP (materials' alpha modes). The checksum is CRC-32C (Castagnoli)
- * of the whole blob computed with the checksum field set to 0.
+ * drawn with flat normals), MCOL (vertex colours), MALP (materials' alpha modes). The checksum is
+ * CRC-32C (Castagnoli) of the whole blob computed with the checksum field set to 0.
  */
 #ifndef SINEW_CORE_INTERNAL_H
 #define SINEW_CORE_INTERNAL_H
